@@ -1,0 +1,77 @@
+//! Typed errors of the dynamics: what happened, where (t, q, q̇), and what to try.
+
+use core::fmt;
+
+/// Why the equations of motion could not be solved at a state.
+///
+/// Every variant carries the time and the state at which it happened, and its message says what
+/// to try.
+///
+/// ```
+/// use lagrange_runtime::DynamicsError;
+/// let e = DynamicsError::NonFinite { t: 1.0, q: vec![0.0], qdot: vec![f64::NAN], message: "q̇ is NaN".into() };
+/// assert!(e.to_string().contains("t = 1"));
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum DynamicsError {
+    /// The mass matrix ∂²L/∂q̇∂q̇ is singular (or numerically so) at this state.
+    SingularMassMatrix {
+        /// Time.
+        t: f64,
+        /// Coordinates.
+        q: Vec<f64>,
+        /// Velocities.
+        qdot: Vec<f64>,
+        /// What was found, the likely cause, and what to try.
+        message: String,
+    },
+    /// The state, the Lagrangian's derivatives or the accelerations are not finite.
+    NonFinite {
+        /// Time.
+        t: f64,
+        /// Coordinates.
+        q: Vec<f64>,
+        /// Velocities.
+        qdot: Vec<f64>,
+        /// What was not finite and what to try.
+        message: String,
+    },
+}
+
+impl DynamicsError {
+    /// The time at which the error happened.
+    ///
+    /// ```
+    /// use lagrange_runtime::DynamicsError;
+    /// let e = DynamicsError::NonFinite { t: 2.0, q: vec![], qdot: vec![], message: String::new() };
+    /// assert_eq!(e.t(), 2.0);
+    /// ```
+    pub fn t(&self) -> f64 {
+        match self {
+            DynamicsError::SingularMassMatrix { t, .. } | DynamicsError::NonFinite { t, .. } => *t,
+        }
+    }
+}
+
+impl fmt::Display for DynamicsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (kind, t, q, qdot, message) = match self {
+            DynamicsError::SingularMassMatrix {
+                t,
+                q,
+                qdot,
+                message,
+            } => ("singular mass matrix", t, q, qdot, message),
+            DynamicsError::NonFinite {
+                t,
+                q,
+                qdot,
+                message,
+            } => ("non-finite dynamics", t, q, qdot, message),
+        };
+        write!(f, "{kind} at t = {t}, q = {q:?}, q̇ = {qdot:?}: {message}")
+    }
+}
+
+impl std::error::Error for DynamicsError {}

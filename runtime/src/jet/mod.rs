@@ -1,0 +1,66 @@
+//! Forward-mode jets: number types that carry the derivatives the Euler–Lagrange equations need.
+//!
+//! The calculus is written once, in the [`JetCalculus`] primitives each jet type provides (chain
+//! rule through `chain`, product rule through `mul`); every operator, the elementary functions and
+//! the `nalgebra::RealField` impl are generated from those by `impl_jet_scalar!`.
+//!
+//! - [`ElJet`]: from one evaluation of L, ∂L/∂q, ∂L/∂q̇, the mass matrix ∂²L/∂q̇∂q̇ and the
+//!   directional derivative of ∂L/∂q̇ along (q̇, 0, 1) in (q, q̇, t).
+//! - [`HessianJet`]: the gradient and the full Hessian in (q, q̇), for implicit integrators.
+
+#[macro_use]
+mod scalar_impl;
+mod el;
+mod hessian;
+
+pub use el::ElJet;
+pub use hessian::HessianJet;
+
+/// The calculus primitives a jet type provides; everything else is generated from them.
+///
+/// ```
+/// use lagrange_runtime::jet::{ElJet, JetCalculus};
+/// let x = <ElJet<1> as JetCalculus>::constant(2.0);
+/// assert_eq!(x.mul(x).value(), 4.0);
+/// ```
+pub trait JetCalculus: Copy {
+    /// A constant: value `x`, every derivative zero.
+    fn constant(x: f64) -> Self;
+    /// The value part.
+    fn value(&self) -> f64;
+    /// Replaces the value part, keeping the derivatives (used where a function's value and its
+    /// local derivative formula differ by a constant branch, as in `atan2`).
+    fn with_value(self, v: f64) -> Self;
+    /// Chain rule: `f(self)` from `f`, `f'` and `f''` at the value of `self`.
+    fn chain(self, f0: f64, f1: f64, f2: f64) -> Self;
+    /// Sum rule.
+    fn add(self, other: Self) -> Self;
+    /// Difference.
+    fn sub(self, other: Self) -> Self;
+    /// Product rule.
+    fn mul(self, other: Self) -> Self;
+    /// Multiplication by a constant.
+    fn scale(self, c: f64) -> Self;
+    /// Addition of a constant.
+    fn add_f64(self, c: f64) -> Self;
+    /// Whether the value and every derivative part are finite.
+    fn all_finite(&self) -> bool;
+    /// Whether every derivative part is zero.
+    fn is_constant(&self) -> bool;
+
+    /// Reciprocal, through the chain rule.
+    #[inline(always)]
+    fn recip_jet(self) -> Self {
+        let x = self.value();
+        let r = 1.0 / x;
+        self.chain(r, -r * r, 2.0 * r * r * r)
+    }
+    /// Quotient, as product with the reciprocal.
+    #[inline(always)]
+    fn div(self, other: Self) -> Self {
+        self.mul(other.recip_jet())
+    }
+}
+
+#[cfg(test)]
+mod tests;

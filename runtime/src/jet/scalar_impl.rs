@@ -1,0 +1,714 @@
+//! Operator and trait boilerplate for jet types, generated from [`super::JetCalculus`].
+//!
+//! Nothing here does calculus of its own: every derivative comes from `chain` (with the
+//! elementary function's first and second derivative) or from `mul`/`add`.
+
+/// Implements the operators, `num_traits`, `approx`, `simba` (`RealField`) and `Scalar` traits for
+/// a jet type `$T<const N: usize>` that implements `JetCalculus`.
+macro_rules! impl_jet_scalar {
+    ($T:ident) => {
+        const _: () = {
+            use core::ops::{
+                Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Rem, RemAssign, Sub, SubAssign,
+            };
+            use $crate::jet::JetCalculus as J;
+
+            impl<const N: usize> From<f64> for $T<N> {
+                #[inline(always)]
+                fn from(x: f64) -> Self {
+                    J::constant(x)
+                }
+            }
+            impl<const N: usize> PartialEq for $T<N> {
+                fn eq(&self, o: &Self) -> bool {
+                    J::value(self) == J::value(o)
+                }
+            }
+            impl<const N: usize> PartialOrd for $T<N> {
+                fn partial_cmp(&self, o: &Self) -> Option<core::cmp::Ordering> {
+                    J::value(self).partial_cmp(&J::value(o))
+                }
+            }
+            impl<const N: usize> core::fmt::Display for $T<N> {
+                fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                    write!(f, "{} + ε", J::value(self))
+                }
+            }
+
+            // ---- arithmetic with Self ----
+            impl<const N: usize> Add for $T<N> {
+                type Output = Self;
+                #[inline(always)]
+                fn add(self, o: Self) -> Self {
+                    J::add(self, o)
+                }
+            }
+            impl<const N: usize> Sub for $T<N> {
+                type Output = Self;
+                #[inline(always)]
+                fn sub(self, o: Self) -> Self {
+                    J::sub(self, o)
+                }
+            }
+            impl<const N: usize> Mul for $T<N> {
+                type Output = Self;
+                #[inline(always)]
+                fn mul(self, o: Self) -> Self {
+                    J::mul(self, o)
+                }
+            }
+            impl<const N: usize> Div for $T<N> {
+                type Output = Self;
+                #[inline(always)]
+                fn div(self, o: Self) -> Self {
+                    J::div(self, o)
+                }
+            }
+            impl<const N: usize> Rem for $T<N> {
+                type Output = Self;
+                fn rem(self, o: Self) -> Self {
+                    // a % b = a - trunc(a/b) b, with trunc(a/b) locally constant
+                    let k = (J::value(&self) / J::value(&o)).trunc();
+                    J::sub(self, J::scale(o, k))
+                }
+            }
+            impl<const N: usize> Neg for $T<N> {
+                type Output = Self;
+                #[inline(always)]
+                fn neg(self) -> Self {
+                    J::scale(self, -1.0)
+                }
+            }
+            impl<const N: usize> AddAssign for $T<N> {
+                #[inline(always)]
+                fn add_assign(&mut self, o: Self) {
+                    *self = J::add(*self, o)
+                }
+            }
+            impl<const N: usize> SubAssign for $T<N> {
+                #[inline(always)]
+                fn sub_assign(&mut self, o: Self) {
+                    *self = J::sub(*self, o)
+                }
+            }
+            impl<const N: usize> MulAssign for $T<N> {
+                #[inline(always)]
+                fn mul_assign(&mut self, o: Self) {
+                    *self = J::mul(*self, o)
+                }
+            }
+            impl<const N: usize> DivAssign for $T<N> {
+                #[inline(always)]
+                fn div_assign(&mut self, o: Self) {
+                    *self = J::div(*self, o)
+                }
+            }
+            impl<const N: usize> RemAssign for $T<N> {
+                fn rem_assign(&mut self, o: Self) {
+                    *self = *self % o
+                }
+            }
+
+            // ---- arithmetic with f64, either side ----
+            impl<const N: usize> Add<f64> for $T<N> {
+                type Output = Self;
+                #[inline(always)]
+                fn add(self, c: f64) -> Self {
+                    J::add_f64(self, c)
+                }
+            }
+            impl<const N: usize> Sub<f64> for $T<N> {
+                type Output = Self;
+                #[inline(always)]
+                fn sub(self, c: f64) -> Self {
+                    J::add_f64(self, -c)
+                }
+            }
+            impl<const N: usize> Mul<f64> for $T<N> {
+                type Output = Self;
+                #[inline(always)]
+                fn mul(self, c: f64) -> Self {
+                    J::scale(self, c)
+                }
+            }
+            impl<const N: usize> Div<f64> for $T<N> {
+                type Output = Self;
+                #[inline(always)]
+                fn div(self, c: f64) -> Self {
+                    J::scale(self, 1.0 / c)
+                }
+            }
+            impl<const N: usize> AddAssign<f64> for $T<N> {
+                #[inline(always)]
+                fn add_assign(&mut self, c: f64) {
+                    *self = J::add_f64(*self, c)
+                }
+            }
+            impl<const N: usize> SubAssign<f64> for $T<N> {
+                #[inline(always)]
+                fn sub_assign(&mut self, c: f64) {
+                    *self = J::add_f64(*self, -c)
+                }
+            }
+            impl<const N: usize> MulAssign<f64> for $T<N> {
+                #[inline(always)]
+                fn mul_assign(&mut self, c: f64) {
+                    *self = J::scale(*self, c)
+                }
+            }
+            impl<const N: usize> DivAssign<f64> for $T<N> {
+                #[inline(always)]
+                fn div_assign(&mut self, c: f64) {
+                    *self = J::scale(*self, 1.0 / c)
+                }
+            }
+            impl<const N: usize> Add<$T<N>> for f64 {
+                type Output = $T<N>;
+                #[inline(always)]
+                fn add(self, x: $T<N>) -> $T<N> {
+                    J::add_f64(x, self)
+                }
+            }
+            impl<const N: usize> Sub<$T<N>> for f64 {
+                type Output = $T<N>;
+                #[inline(always)]
+                fn sub(self, x: $T<N>) -> $T<N> {
+                    J::add_f64(J::scale(x, -1.0), self)
+                }
+            }
+            impl<const N: usize> Mul<$T<N>> for f64 {
+                type Output = $T<N>;
+                #[inline(always)]
+                fn mul(self, x: $T<N>) -> $T<N> {
+                    J::scale(x, self)
+                }
+            }
+            impl<const N: usize> Div<$T<N>> for f64 {
+                type Output = $T<N>;
+                #[inline(always)]
+                fn div(self, x: $T<N>) -> $T<N> {
+                    J::scale(J::recip_jet(x), self)
+                }
+            }
+            impl<const N: usize> Mul<nalgebra::Vector3<$T<N>>> for $T<N> {
+                type Output = nalgebra::Vector3<$T<N>>;
+                #[inline(always)]
+                fn mul(self, v: nalgebra::Vector3<$T<N>>) -> nalgebra::Vector3<$T<N>> {
+                    v * self
+                }
+            }
+            impl<const N: usize> core::iter::Sum for $T<N> {
+                fn sum<I: Iterator<Item = Self>>(it: I) -> Self {
+                    it.fold(J::constant(0.0), J::add)
+                }
+            }
+            impl<const N: usize> core::iter::Product for $T<N> {
+                fn product<I: Iterator<Item = Self>>(it: I) -> Self {
+                    it.fold(J::constant(1.0), J::mul)
+                }
+            }
+
+            // ---- num-traits ----
+            impl<const N: usize> num_traits::Zero for $T<N> {
+                fn zero() -> Self {
+                    J::constant(0.0)
+                }
+                fn is_zero(&self) -> bool {
+                    J::value(self) == 0.0
+                }
+            }
+            impl<const N: usize> num_traits::One for $T<N> {
+                fn one() -> Self {
+                    J::constant(1.0)
+                }
+            }
+            impl<const N: usize> num_traits::Num for $T<N> {
+                type FromStrRadixErr = num_traits::ParseFloatError;
+                fn from_str_radix(s: &str, radix: u32) -> Result<Self, Self::FromStrRadixErr> {
+                    <f64 as num_traits::Num>::from_str_radix(s, radix).map(J::constant)
+                }
+            }
+            impl<const N: usize> num_traits::Signed for $T<N> {
+                fn abs(&self) -> Self {
+                    let x = J::value(self);
+                    J::chain(*self, x.abs(), if x < 0.0 { -1.0 } else { 1.0 }, 0.0)
+                }
+                fn abs_sub(&self, o: &Self) -> Self {
+                    if J::value(self) <= J::value(o) {
+                        J::constant(0.0)
+                    } else {
+                        J::sub(*self, *o)
+                    }
+                }
+                fn signum(&self) -> Self {
+                    J::constant(num_traits::Signed::signum(&J::value(self)))
+                }
+                fn is_positive(&self) -> bool {
+                    J::value(self) > 0.0
+                }
+                fn is_negative(&self) -> bool {
+                    J::value(self) < 0.0
+                }
+            }
+            impl<const N: usize> num_traits::Bounded for $T<N> {
+                fn min_value() -> Self {
+                    J::constant(f64::MIN)
+                }
+                fn max_value() -> Self {
+                    J::constant(f64::MAX)
+                }
+            }
+            impl<const N: usize> num_traits::FromPrimitive for $T<N> {
+                fn from_i64(n: i64) -> Option<Self> {
+                    Some(J::constant(n as f64))
+                }
+                fn from_u64(n: u64) -> Option<Self> {
+                    Some(J::constant(n as f64))
+                }
+                fn from_f64(n: f64) -> Option<Self> {
+                    Some(J::constant(n))
+                }
+            }
+
+            // ---- approx (compares values) ----
+            impl<const N: usize> approx::AbsDiffEq for $T<N> {
+                type Epsilon = Self;
+                fn default_epsilon() -> Self {
+                    J::constant(f64::EPSILON)
+                }
+                fn abs_diff_eq(&self, o: &Self, eps: Self) -> bool {
+                    J::value(self).abs_diff_eq(&J::value(o), J::value(&eps))
+                }
+            }
+            impl<const N: usize> approx::RelativeEq for $T<N> {
+                fn default_max_relative() -> Self {
+                    J::constant(f64::EPSILON)
+                }
+                fn relative_eq(&self, o: &Self, eps: Self, rel: Self) -> bool {
+                    J::value(self).relative_eq(&J::value(o), J::value(&eps), J::value(&rel))
+                }
+            }
+            impl<const N: usize> approx::UlpsEq for $T<N> {
+                fn default_max_ulps() -> u32 {
+                    4
+                }
+                fn ulps_eq(&self, o: &Self, eps: Self, ulps: u32) -> bool {
+                    J::value(self).ulps_eq(&J::value(o), J::value(&eps), ulps)
+                }
+            }
+
+            // ---- simba ----
+            // SimdValue declares two `unsafe fn`s without default bodies; a one-lane type
+            // implements them with safe code, but the declaration itself needs the allow.
+            #[allow(unsafe_code)]
+            impl<const N: usize> simba::simd::SimdValue for $T<N> {
+                const LANES: usize = 1;
+                type Element = Self;
+                type SimdBool = bool;
+                #[inline(always)]
+                fn splat(v: Self) -> Self {
+                    v
+                }
+                #[inline(always)]
+                fn extract(&self, _: usize) -> Self {
+                    *self
+                }
+                #[inline(always)]
+                unsafe fn extract_unchecked(&self, _: usize) -> Self {
+                    *self
+                }
+                #[inline(always)]
+                fn replace(&mut self, _: usize, v: Self) {
+                    *self = v
+                }
+                #[inline(always)]
+                unsafe fn replace_unchecked(&mut self, _: usize, v: Self) {
+                    *self = v
+                }
+                #[inline(always)]
+                fn select(self, cond: bool, other: Self) -> Self {
+                    if cond {
+                        self
+                    } else {
+                        other
+                    }
+                }
+            }
+            impl<const N: usize> simba::scalar::Field for $T<N> {}
+            impl<const N: usize> simba::scalar::SubsetOf<$T<N>> for $T<N> {
+                fn to_superset(&self) -> Self {
+                    *self
+                }
+                fn from_superset_unchecked(e: &Self) -> Self {
+                    *e
+                }
+                fn is_in_subset(_: &Self) -> bool {
+                    true
+                }
+            }
+            impl<const N: usize> simba::scalar::SubsetOf<$T<N>> for f64 {
+                fn to_superset(&self) -> $T<N> {
+                    J::constant(*self)
+                }
+                fn from_superset_unchecked(e: &$T<N>) -> f64 {
+                    J::value(e)
+                }
+                fn is_in_subset(_: &$T<N>) -> bool {
+                    true
+                }
+            }
+            impl<const N: usize> simba::scalar::SubsetOf<$T<N>> for f32 {
+                fn to_superset(&self) -> $T<N> {
+                    J::constant(f64::from(*self))
+                }
+                fn from_superset_unchecked(e: &$T<N>) -> f32 {
+                    J::value(e) as f32
+                }
+                fn is_in_subset(_: &$T<N>) -> bool {
+                    true
+                }
+            }
+
+            impl<const N: usize> simba::scalar::ComplexField for $T<N> {
+                type RealField = Self;
+                fn from_real(re: Self) -> Self {
+                    re
+                }
+                fn real(self) -> Self {
+                    self
+                }
+                fn imaginary(self) -> Self {
+                    J::constant(0.0)
+                }
+                fn modulus(self) -> Self {
+                    num_traits::Signed::abs(&self)
+                }
+                fn modulus_squared(self) -> Self {
+                    J::mul(self, self)
+                }
+                fn argument(self) -> Self {
+                    J::constant(if J::value(&self) >= 0.0 {
+                        0.0
+                    } else {
+                        core::f64::consts::PI
+                    })
+                }
+                fn norm1(self) -> Self {
+                    num_traits::Signed::abs(&self)
+                }
+                fn scale(self, f: Self) -> Self {
+                    J::mul(self, f)
+                }
+                fn unscale(self, f: Self) -> Self {
+                    J::div(self, f)
+                }
+                fn floor(self) -> Self {
+                    J::constant(J::value(&self).floor())
+                }
+                fn ceil(self) -> Self {
+                    J::constant(J::value(&self).ceil())
+                }
+                fn round(self) -> Self {
+                    J::constant(J::value(&self).round())
+                }
+                fn trunc(self) -> Self {
+                    J::constant(J::value(&self).trunc())
+                }
+                fn fract(self) -> Self {
+                    J::chain(self, J::value(&self).fract(), 1.0, 0.0)
+                }
+                fn mul_add(self, a: Self, b: Self) -> Self {
+                    J::add(J::mul(self, a), b)
+                }
+                fn abs(self) -> Self {
+                    num_traits::Signed::abs(&self)
+                }
+                fn hypot(self, o: Self) -> Self {
+                    simba::scalar::ComplexField::sqrt(J::add(J::mul(self, self), J::mul(o, o)))
+                }
+                fn recip(self) -> Self {
+                    J::recip_jet(self)
+                }
+                fn conjugate(self) -> Self {
+                    self
+                }
+                #[inline(always)]
+                fn sin(self) -> Self {
+                    let (s, c) = J::value(&self).sin_cos();
+                    J::chain(self, s, c, -s)
+                }
+                #[inline(always)]
+                fn cos(self) -> Self {
+                    let (s, c) = J::value(&self).sin_cos();
+                    J::chain(self, c, -s, -c)
+                }
+                #[inline(always)]
+                fn sin_cos(self) -> (Self, Self) {
+                    let (s, c) = J::value(&self).sin_cos();
+                    (J::chain(self, s, c, -s), J::chain(self, c, -s, -c))
+                }
+                fn tan(self) -> Self {
+                    let t = J::value(&self).tan();
+                    let d = 1.0 + t * t;
+                    J::chain(self, t, d, 2.0 * t * d)
+                }
+                fn asin(self) -> Self {
+                    let x = J::value(&self);
+                    let w = 1.0 - x * x;
+                    let d = 1.0 / w.sqrt();
+                    J::chain(self, x.asin(), d, x * d / w)
+                }
+                fn acos(self) -> Self {
+                    let x = J::value(&self);
+                    let w = 1.0 - x * x;
+                    let d = 1.0 / w.sqrt();
+                    J::chain(self, x.acos(), -d, -x * d / w)
+                }
+                fn atan(self) -> Self {
+                    let x = J::value(&self);
+                    let d = 1.0 / (1.0 + x * x);
+                    J::chain(self, x.atan(), d, -2.0 * x * d * d)
+                }
+                fn sinh(self) -> Self {
+                    let x = J::value(&self);
+                    let (s, c) = (x.sinh(), x.cosh());
+                    J::chain(self, s, c, s)
+                }
+                fn cosh(self) -> Self {
+                    let x = J::value(&self);
+                    let (s, c) = (x.sinh(), x.cosh());
+                    J::chain(self, c, s, c)
+                }
+                fn tanh(self) -> Self {
+                    let t = J::value(&self).tanh();
+                    let d = 1.0 - t * t;
+                    J::chain(self, t, d, -2.0 * t * d)
+                }
+                fn asinh(self) -> Self {
+                    let x = J::value(&self);
+                    let w = x * x + 1.0;
+                    let d = 1.0 / w.sqrt();
+                    J::chain(self, x.asinh(), d, -x * d / w)
+                }
+                fn acosh(self) -> Self {
+                    let x = J::value(&self);
+                    let w = x * x - 1.0;
+                    let d = 1.0 / w.sqrt();
+                    J::chain(self, x.acosh(), d, -x * d / w)
+                }
+                fn atanh(self) -> Self {
+                    let x = J::value(&self);
+                    let d = 1.0 / (1.0 - x * x);
+                    J::chain(self, x.atanh(), d, 2.0 * x * d * d)
+                }
+                fn log(self, base: Self) -> Self {
+                    J::div(
+                        simba::scalar::ComplexField::ln(self),
+                        simba::scalar::ComplexField::ln(base),
+                    )
+                }
+                fn log2(self) -> Self {
+                    J::scale(
+                        simba::scalar::ComplexField::ln(self),
+                        core::f64::consts::LOG2_E,
+                    )
+                }
+                fn log10(self) -> Self {
+                    J::scale(
+                        simba::scalar::ComplexField::ln(self),
+                        core::f64::consts::LOG10_E,
+                    )
+                }
+                #[inline(always)]
+                fn ln(self) -> Self {
+                    let x = J::value(&self);
+                    let r = 1.0 / x;
+                    J::chain(self, x.ln(), r, -r * r)
+                }
+                fn ln_1p(self) -> Self {
+                    let x = J::value(&self);
+                    let r = 1.0 / (1.0 + x);
+                    J::chain(self, x.ln_1p(), r, -r * r)
+                }
+                #[inline(always)]
+                fn sqrt(self) -> Self {
+                    let x = J::value(&self);
+                    let r = x.sqrt();
+                    let d = 0.5 / r;
+                    J::chain(self, r, d, -0.5 * d / x)
+                }
+                #[inline(always)]
+                fn exp(self) -> Self {
+                    let e = J::value(&self).exp();
+                    J::chain(self, e, e, e)
+                }
+                fn exp2(self) -> Self {
+                    let e = J::value(&self).exp2();
+                    let l = core::f64::consts::LN_2;
+                    J::chain(self, e, l * e, l * l * e)
+                }
+                fn exp_m1(self) -> Self {
+                    let x = J::value(&self);
+                    let e = x.exp();
+                    J::chain(self, x.exp_m1(), e, e)
+                }
+                #[inline(always)]
+                fn powi(self, n: i32) -> Self {
+                    let x = J::value(&self);
+                    match n {
+                        0 => J::constant(1.0),
+                        1 => self,
+                        2 => J::chain(self, x * x, 2.0 * x, 2.0),
+                        _ => {
+                            let nf = f64::from(n);
+                            let p2 = x.powi(n - 2);
+                            J::chain(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2)
+                        }
+                    }
+                }
+                fn powf(self, n: Self) -> Self {
+                    if J::is_constant(&n) {
+                        let (x, nf) = (J::value(&self), J::value(&n));
+                        if nf == 0.0 {
+                            return J::constant(1.0);
+                        }
+                        let p2 = x.powf(nf - 2.0);
+                        J::chain(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2)
+                    } else {
+                        let v = J::value(&self).powf(J::value(&n));
+                        simba::scalar::ComplexField::exp(J::mul(
+                            n,
+                            simba::scalar::ComplexField::ln(self),
+                        ))
+                        .with_value(v)
+                    }
+                }
+                fn powc(self, n: Self) -> Self {
+                    simba::scalar::ComplexField::powf(self, n)
+                }
+                fn cbrt(self) -> Self {
+                    let x = J::value(&self);
+                    let c = x.cbrt();
+                    let d = c / (3.0 * x);
+                    J::chain(self, c, d, -2.0 * d / (3.0 * x))
+                }
+                fn is_finite(&self) -> bool {
+                    J::all_finite(self)
+                }
+                fn try_sqrt(self) -> Option<Self> {
+                    if J::value(&self) >= 0.0 {
+                        Some(simba::scalar::ComplexField::sqrt(self))
+                    } else {
+                        None
+                    }
+                }
+            }
+
+            impl<const N: usize> simba::scalar::RealField for $T<N> {
+                fn is_sign_positive(&self) -> bool {
+                    J::value(self).is_sign_positive()
+                }
+                fn is_sign_negative(&self) -> bool {
+                    J::value(self).is_sign_negative()
+                }
+                fn copysign(self, sign: Self) -> Self {
+                    if J::value(&self).is_sign_negative() == J::value(&sign).is_sign_negative() {
+                        self
+                    } else {
+                        -self
+                    }
+                }
+                fn max(self, o: Self) -> Self {
+                    if J::value(&self) >= J::value(&o) {
+                        self
+                    } else {
+                        o
+                    }
+                }
+                fn min(self, o: Self) -> Self {
+                    if J::value(&self) <= J::value(&o) {
+                        self
+                    } else {
+                        o
+                    }
+                }
+                fn clamp(self, lo: Self, hi: Self) -> Self {
+                    simba::scalar::RealField::min(simba::scalar::RealField::max(self, lo), hi)
+                }
+                fn atan2(self, x: Self) -> Self {
+                    // atan2(y, x) equals atan(y/x) or π/2·sign − atan(x/y) up to a locally
+                    // constant branch; take the well-conditioned one for the derivatives.
+                    let (yv, xv) = (J::value(&self), J::value(&x));
+                    let local = if xv.abs() >= yv.abs() {
+                        simba::scalar::ComplexField::atan(J::div(self, x))
+                    } else {
+                        -simba::scalar::ComplexField::atan(J::div(x, self))
+                    };
+                    local.with_value(yv.atan2(xv))
+                }
+                fn min_value() -> Option<Self> {
+                    Some(J::constant(f64::MIN))
+                }
+                fn max_value() -> Option<Self> {
+                    Some(J::constant(f64::MAX))
+                }
+                fn pi() -> Self {
+                    J::constant(core::f64::consts::PI)
+                }
+                fn two_pi() -> Self {
+                    J::constant(core::f64::consts::TAU)
+                }
+                fn frac_pi_2() -> Self {
+                    J::constant(core::f64::consts::FRAC_PI_2)
+                }
+                fn frac_pi_3() -> Self {
+                    J::constant(core::f64::consts::FRAC_PI_3)
+                }
+                fn frac_pi_4() -> Self {
+                    J::constant(core::f64::consts::FRAC_PI_4)
+                }
+                fn frac_pi_6() -> Self {
+                    J::constant(core::f64::consts::FRAC_PI_6)
+                }
+                fn frac_pi_8() -> Self {
+                    J::constant(core::f64::consts::FRAC_PI_8)
+                }
+                fn frac_1_pi() -> Self {
+                    J::constant(core::f64::consts::FRAC_1_PI)
+                }
+                fn frac_2_pi() -> Self {
+                    J::constant(core::f64::consts::FRAC_2_PI)
+                }
+                fn frac_2_sqrt_pi() -> Self {
+                    J::constant(core::f64::consts::FRAC_2_SQRT_PI)
+                }
+                fn e() -> Self {
+                    J::constant(core::f64::consts::E)
+                }
+                fn log2_e() -> Self {
+                    J::constant(core::f64::consts::LOG2_E)
+                }
+                fn log10_e() -> Self {
+                    J::constant(core::f64::consts::LOG10_E)
+                }
+                fn ln_2() -> Self {
+                    J::constant(core::f64::consts::LN_2)
+                }
+                fn ln_10() -> Self {
+                    J::constant(core::f64::consts::LN_10)
+                }
+            }
+
+            impl<const N: usize> $crate::Scalar for $T<N> {
+                #[inline(always)]
+                fn constant(x: f64) -> Self {
+                    J::constant(x)
+                }
+                #[inline(always)]
+                fn value(&self) -> f64 {
+                    J::value(self)
+                }
+            }
+        };
+    };
+}

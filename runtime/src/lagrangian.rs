@@ -1,0 +1,197 @@
+//! The [`Lagrangian`] trait and the Euler–Lagrange solve built on the jets.
+
+use nalgebra::SMatrix;
+
+use crate::error::DynamicsError;
+use crate::jet::{ElJet, HessianJet};
+use crate::linalg::{solve_symmetric, SolveFailure};
+use crate::scalar::Scalar;
+
+/// A mechanical system given by its Lagrangian L(q, q̇, t) in `N` generalized coordinates.
+///
+/// Implement [`Lagrangian::lagrangian`] generically over [`Scalar`] (or let `#[lagrangian]` write
+/// the impl); the equations of motion, the mass matrix, the momenta and the energy are derived
+/// from it with forward-mode jets.
+///
+/// ```
+/// use lagrange_runtime::{Lagrangian, Scalar};
+/// /// A harmonic oscillator, L = m q̇²/2 − k q²/2.
+/// struct Oscillator { m: f64, k: f64 }
+/// impl Lagrangian<1> for Oscillator {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], qdot: &[S; 1], _t: S) -> S {
+///         qdot[0] * qdot[0] * (self.m / 2.0) - q[0] * q[0] * (self.k / 2.0)
+///     }
+/// }
+/// let osc = Oscillator { m: 2.0, k: 8.0 };
+/// assert_eq!(osc.accelerations(&[1.0], &[0.0], 0.0).unwrap(), [-4.0]);
+/// assert_eq!(osc.energy(&[1.0], &[1.0], 0.0), 5.0);
+/// ```
+pub trait Lagrangian<const N: usize> {
+    /// Coordinate names, in declaration order.
+    const COORDINATES: [&'static str; N];
+    /// `true` for a coordinate absent from L: its momentum is conserved.
+    const CYCLIC: [bool; N];
+    /// `true` when L has no explicit time dependence: the energy (Jacobi integral) is conserved.
+    const AUTONOMOUS: bool;
+
+    /// L(q, q̇, t), generic over the number type.
+    fn lagrangian<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S;
+
+    /// The accelerations q̈ from M q̈ = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t.
+    ///
+    /// Fails with [`DynamicsError::SingularMassMatrix`] where M = ∂²L/∂q̇∂q̇ is singular and with
+    /// [`DynamicsError::NonFinite`] where the state or the derivatives are not finite.
+    fn accelerations(
+        &self,
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> Result<[f64; N], DynamicsError> {
+        let l = el_jet(self, q, qdot, t);
+        let mut m = [[0.0; N]; N];
+        for (i, row) in m.iter_mut().enumerate() {
+            for (k, e) in row.iter_mut().enumerate().skip(i) {
+                *e = l.hess_qdot(i, k);
+            }
+        }
+        let gq = l.grad_q();
+        let mixed = l.mixed();
+        let mut rhs = [0.0; N];
+        for i in 0..N {
+            rhs[i] = gq[i] - mixed[i];
+        }
+        solve_mass_matrix(&m, &rhs, Self::COORDINATES, q, qdot, t)
+    }
+
+    /// The mass matrix M = ∂²L/∂q̇∂q̇.
+    fn mass_matrix(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> SMatrix<f64, N, N> {
+        let l = el_jet(self, q, qdot, t);
+        SMatrix::from_fn(|i, k| l.hess_qdot(i, k))
+    }
+
+    /// The generalized momenta p = ∂L/∂q̇.
+    fn momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> [f64; N] {
+        el_jet(self, q, qdot, t).grad_qdot()
+    }
+
+    /// The energy (Jacobi integral) h = q̇·p − L.
+    fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
+        let l = el_jet(self, q, qdot, t);
+        let p = l.grad_qdot();
+        let mut h = -l.value();
+        for i in 0..N {
+            h += qdot[i] * p[i];
+        }
+        h
+    }
+}
+
+/// L evaluated in the Euler–Lagrange jet at (q, q̇, t): value, ∂L/∂q, ∂L/∂q̇, M and the mixed term.
+///
+/// ```
+/// use lagrange_runtime::{el_jet, Lagrangian, Scalar};
+/// struct Free;
+/// impl Lagrangian<1> for Free {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [true];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+/// }
+/// assert_eq!(el_jet(&Free, &[0.0], &[3.0], 0.0).grad_qdot(), [3.0]);
+/// ```
+#[inline(always)]
+pub fn el_jet<L, const N: usize>(sys: &L, q: &[f64; N], qdot: &[f64; N], t: f64) -> ElJet<N>
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let (qj, vj, tj) = ElJet::seed(q, qdot, t);
+    sys.lagrangian(&qj, &vj, tj)
+}
+
+/// L evaluated in the dense Hessian jet at (q, q̇) and fixed t: gradient and full Hessian in (q, q̇).
+///
+/// ```
+/// use lagrange_runtime::{hessian_jet, Lagrangian, Scalar};
+/// struct Spring;
+/// impl Lagrangian<1> for Spring {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+/// }
+/// assert_eq!(hessian_jet(&Spring, &[2.0], &[0.0], 0.0).hess_qq(), [[-1.0]]);
+/// ```
+pub fn hessian_jet<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> HessianJet<N>
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let (qj, vj) = HessianJet::seed(q, qdot);
+    sys.lagrangian(&qj, &vj, HessianJet::from(t))
+}
+
+/// Solves M q̈ = rhs for a mass matrix given by its upper triangle, turning a failure into a
+/// [`DynamicsError`] that names the state, the coordinate and what to try.
+///
+/// ```
+/// use lagrange_runtime::{solve_mass_matrix, DynamicsError};
+/// let ok = solve_mass_matrix(&[[2.0]], &[4.0], ["x"], &[0.0], &[0.0], 0.0).unwrap();
+/// assert_eq!(ok, [2.0]);
+/// let err = solve_mass_matrix(&[[0.0]], &[1.0], ["x"], &[0.0], &[0.0], 0.0).unwrap_err();
+/// assert!(matches!(err, DynamicsError::SingularMassMatrix { .. }));
+/// ```
+pub fn solve_mass_matrix<const N: usize>(
+    m: &[[f64; N]; N],
+    rhs: &[f64; N],
+    names: [&'static str; N],
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> Result<[f64; N], DynamicsError> {
+    match solve_symmetric(m, rhs) {
+        Ok(a) if a.iter().all(|x| x.is_finite()) => Ok(a),
+        Ok(_) | Err(SolveFailure::NonFinite) => Err(non_finite(q, qdot, t)),
+        Err(SolveFailure::Singular { row, relative_pivot }) => {
+            Err(DynamicsError::SingularMassMatrix {
+                t,
+                q: q.to_vec(),
+                qdot: qdot.to_vec(),
+                message: format!(
+                    "the mass matrix ∂²L/∂q̇∂q̇ is singular: elimination broke down at coordinate `{}` \
+                     (pivot {relative_pivot:.1e} of the matrix scale). The likely cause is a coordinate \
+                     singularity of the chart, where two coordinates describe the same motion (for Euler \
+                     angles: sin θ = 0, where φ and ψ turn about the same axis). Try: start away from that \
+                     configuration, or orient the reference axes (or choose other coordinates) so the motion \
+                     avoids it. If a coordinate has no kinetic term at all, L is degenerate there and that \
+                     coordinate is a constraint, not a degree of freedom.",
+                    names.get(row).copied().unwrap_or("?")
+                ),
+            })
+        }
+    }
+}
+
+fn non_finite<const N: usize>(q: &[f64; N], qdot: &[f64; N], t: f64) -> DynamicsError {
+    let what = if q.iter().chain(qdot).any(|x| !x.is_finite()) || !t.is_finite() {
+        "the state itself is not finite"
+    } else {
+        "the derivatives of L are not finite here"
+    };
+    DynamicsError::NonFinite {
+        t,
+        q: q.to_vec(),
+        qdot: qdot.to_vec(),
+        message: format!(
+            "{what} (NaN or ∞). Check the parameters and the initial state, and whether L is defined \
+             at this state (a sqrt or ln of a negative number, a division by zero); if an integrator got \
+             here, a smaller step or a tighter tolerance may keep the solution from blowing up."
+        ),
+    }
+}

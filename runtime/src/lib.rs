@@ -1,0 +1,18 @@
+//! Run-time support for [lagrange](https://docs.rs/lagrange): the [`Scalar`] number trait, the
+//! forward-mode jets that derive the Euler–Lagrange equations of any Lagrangian written generically
+//! over it, the small dense solves for the mass matrix, and the [`Lagrangian`] trait.
+//!
+//! Users normally depend on the facade crate `lagrange`, which re-exports all of this.
+#![deny(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod jet;
+mod lagrangian;
+pub mod linalg;
+mod scalar;
+
+pub use error::DynamicsError;
+pub use lagrangian::{el_jet, hessian_jet, solve_mass_matrix, Lagrangian};
+pub use nalgebra::{SMatrix, Vector3};
+pub use scalar::Scalar;

@@ -1,0 +1,153 @@
+//! Small fixed-size dense solves for the mass matrix: LDLᵀ, with LU (partial pivoting) when the
+//! matrix is indefinite. Written for N ≤ ~20 where loop overhead dominates.
+
+/// Why a small solve failed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolveFailure {
+    /// A pivot vanished (relative to the matrix scale) at this row.
+    Singular {
+        /// Row (coordinate index) where elimination broke down.
+        row: usize,
+        /// The pivot found, relative to the largest diagonal magnitude.
+        relative_pivot: f64,
+    },
+    /// The matrix or right-hand side has a NaN or infinity.
+    NonFinite,
+}
+
+/// Pivots at or below this multiple of the matrix scale count as zero.
+pub const SINGULAR_RELATIVE_PIVOT: f64 = 64.0 * f64::EPSILON;
+
+/// Solves `M x = b` for symmetric `M` given by its upper triangle (`m[i][k]`, `i ≤ k`).
+///
+/// Tries LDLᵀ without pivoting (mass matrices are positive definite away from chart
+/// singularities); if a pivot is not clearly positive it falls back to LU with partial pivoting,
+/// which handles indefinite `M`.
+///
+/// ```
+/// use lagrange_runtime::linalg::solve_symmetric;
+/// let m = [[4.0, 2.0], [0.0, 3.0]]; // upper triangle of [[4, 2], [2, 3]]
+/// let x = solve_symmetric(&m, &[2.0, 1.0]).unwrap();
+/// assert!((x[0] - 0.5).abs() < 1e-15 && x[1].abs() < 1e-15);
+/// ```
+#[inline]
+pub fn solve_symmetric<const N: usize>(
+    m: &[[f64; N]; N],
+    b: &[f64; N],
+) -> Result<[f64; N], SolveFailure> {
+    let mut scale = 0.0_f64;
+    for (i, row) in m.iter().enumerate() {
+        scale = scale.max(row[i].abs());
+    }
+    if !scale.is_finite() || b.iter().any(|x| !x.is_finite()) {
+        return Err(SolveFailure::NonFinite);
+    }
+    let tol = SINGULAR_RELATIVE_PIVOT * scale;
+    // LDLᵀ in place on the upper triangle: l[k][i] (i<k) stored at a[i][k].
+    let mut a = *m;
+    let mut d = [0.0; N];
+    for j in 0..N {
+        let mut dj = a[j][j];
+        for k in 0..j {
+            dj -= a[k][j] * a[k][j] * d[k];
+        }
+        if dj.is_nan() || dj <= tol {
+            return lu_solve_upper(m, b, scale);
+        }
+        d[j] = dj;
+        for i in j + 1..N {
+            let mut s = a[j][i];
+            for k in 0..j {
+                s -= a[k][j] * a[k][i] * d[k];
+            }
+            a[j][i] = s / dj;
+        }
+    }
+    let mut x = *b;
+    for i in 0..N {
+        for k in 0..i {
+            x[i] -= a[k][i] * x[k];
+        }
+    }
+    for i in 0..N {
+        x[i] /= d[i];
+    }
+    for i in (0..N).rev() {
+        for k in i + 1..N {
+            x[i] -= a[i][k] * x[k];
+        }
+    }
+    Ok(x)
+}
+
+fn lu_solve_upper<const N: usize>(
+    m: &[[f64; N]; N],
+    b: &[f64; N],
+    scale: f64,
+) -> Result<[f64; N], SolveFailure> {
+    let mut full = [[0.0; N]; N];
+    for i in 0..N {
+        for k in i..N {
+            full[i][k] = m[i][k];
+            full[k][i] = m[i][k];
+        }
+    }
+    lu_solve(&full, b, scale)
+}
+
+/// Solves `A x = b` by LU with partial pivoting; pivots below `SINGULAR_RELATIVE_PIVOT · scale`
+/// are reported as singular. `scale` is the magnitude the pivots are compared with (pass the
+/// largest absolute entry of `A` when in doubt).
+///
+/// ```
+/// use lagrange_runtime::linalg::lu_solve;
+/// let a = [[0.0, 1.0], [1.0, 0.0]];
+/// assert_eq!(lu_solve(&a, &[2.0, 3.0], 1.0).unwrap(), [3.0, 2.0]);
+/// assert!(lu_solve(&[[1.0, 1.0], [1.0, 1.0]], &[1.0, 1.0], 1.0).is_err());
+/// ```
+pub fn lu_solve<const N: usize>(
+    a: &[[f64; N]; N],
+    b: &[f64; N],
+    scale: f64,
+) -> Result<[f64; N], SolveFailure> {
+    let mut a = *a;
+    let mut x = *b;
+    if a.iter().flatten().chain(x.iter()).any(|v| !v.is_finite()) {
+        return Err(SolveFailure::NonFinite);
+    }
+    let tol = SINGULAR_RELATIVE_PIVOT * scale;
+    for col in 0..N {
+        let mut p = col;
+        for r in col + 1..N {
+            if a[r][col].abs() > a[p][col].abs() {
+                p = r;
+            }
+        }
+        if a[p][col].abs() <= tol {
+            return Err(SolveFailure::Singular {
+                row: col,
+                relative_pivot: if scale > 0.0 {
+                    a[p][col].abs() / scale
+                } else {
+                    0.0
+                },
+            });
+        }
+        a.swap(col, p);
+        x.swap(col, p);
+        for r in col + 1..N {
+            let f = a[r][col] / a[col][col];
+            for c in col..N {
+                a[r][c] -= f * a[col][c];
+            }
+            x[r] -= f * x[col];
+        }
+    }
+    for i in (0..N).rev() {
+        for k in i + 1..N {
+            x[i] -= a[i][k] * x[k];
+        }
+        x[i] /= a[i][i];
+    }
+    Ok(x)
+}

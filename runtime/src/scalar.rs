@@ -1,0 +1,63 @@
+//! The [`Scalar`] trait: the number type a Lagrangian body computes in.
+
+use core::fmt::Debug;
+use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Sub, SubAssign};
+
+use nalgebra::{RealField, Vector3};
+
+/// The number type a Lagrangian is evaluated in: `f64`, or one of the jets that carry derivatives.
+///
+/// Every `Scalar` is a [`nalgebra::RealField`], so the elementary functions (`sin`, `cos`, `tan`,
+/// `sin_cos`, `exp`, `ln`, `sqrt`, `powi`, `powf`, `abs`, `atan2`, `asin`, `acos`, `atan`, `sinh`,
+/// `cosh`, `tanh`, ...) and nalgebra's generic code (`Vector3<S>` with `dot`, `cross`,
+/// `norm_squared`, `norm`, rotations, matrices) work with it. On top of that a `Scalar` mixes with
+/// `f64` on its right-hand side (`x * 2.0`, `x - 1.0`) and multiplies a `Vector3<Self>` from the
+/// left (`x * v`).
+///
+/// ```
+/// use lagrange_runtime::Scalar;
+/// fn kinetic<S: Scalar>(m: f64, v: S) -> S { v * v * (m / 2.0) }
+/// assert_eq!(kinetic(2.0, 3.0_f64), 9.0);
+/// ```
+pub trait Scalar:
+    RealField
+    + Copy
+    + Debug
+    + Add<f64, Output = Self>
+    + Sub<f64, Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+    + AddAssign<f64>
+    + SubAssign<f64>
+    + MulAssign<f64>
+    + DivAssign<f64>
+    + Mul<Vector3<Self>, Output = Vector3<Self>>
+    + From<f64>
+{
+    /// The constant `x` in this number type (all derivative parts zero).
+    ///
+    /// ```
+    /// use lagrange_runtime::Scalar;
+    /// assert_eq!(<f64 as Scalar>::constant(1.5), 1.5);
+    /// ```
+    fn constant(x: f64) -> Self;
+
+    /// The value part (the number itself, without derivatives).
+    ///
+    /// ```
+    /// use lagrange_runtime::Scalar;
+    /// assert_eq!(Scalar::value(&2.5_f64), 2.5);
+    /// ```
+    fn value(&self) -> f64;
+}
+
+impl Scalar for f64 {
+    #[inline(always)]
+    fn constant(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn value(&self) -> f64 {
+        *self
+    }
+}
