@@ -10,6 +10,8 @@ pub mod error;
 pub mod jet;
 mod lagrangian;
 pub mod linalg;
+#[doc(hidden)]
+pub mod mix;
 mod scalar;
 
 pub use error::DynamicsError;
