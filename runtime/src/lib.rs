@@ -11,6 +11,8 @@ pub mod integrate;
 pub mod jet;
 mod lagrangian;
 pub mod linalg;
+#[doc(hidden)]
+pub mod mix;
 mod scalar;
 
 pub use error::DynamicsError;
