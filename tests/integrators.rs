@@ -178,7 +178,7 @@ fn adaptive_methods_at_a_capped_step_show_their_order() {
             kepler_error_capped,
             KEPLER_T,
             [200.0, 400.0, 800.0],
-            [160.0, 200.0, 250.0],
+            [60.0, 80.0, 110.0],
         ),
     ] {
         let pts: Vec<_> = dp_n
