@@ -49,8 +49,8 @@ impl Lagrangian<3> for HeavyTopClosedForm {
         let (s, c) = q[0].sin_cos();
         let (th_d, ph_d, ps_d) = (qd[0], qd[1], qd[2]);
         let w3 = ps_d + ph_d * c;
-        let th_dd = ph_d * ph_d * s * c - top.i_par / top.i_perp * w3 * ph_d * s
-            + top.mgl / top.i_perp * s;
+        let th_dd =
+            ph_d * ph_d * s * c - top.i_par / top.i_perp * w3 * ph_d * s + top.mgl / top.i_perp * s;
         let ph_dd = th_d * (top.i_par * w3 - 2.0 * top.i_perp * ph_d * c) / (top.i_perp * s);
         let ps_dd = ph_d * th_d * s - ph_dd * c;
         Ok([th_dd, ph_dd, ps_dd])
