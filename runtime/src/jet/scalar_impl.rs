@@ -66,6 +66,7 @@ macro_rules! impl_jet_scalar {
             }
             impl<const N: usize> Rem for $T<N> {
                 type Output = Self;
+                #[allow(clippy::suspicious_arithmetic_impl)] // the quotient picks the branch
                 fn rem(self, o: Self) -> Self {
                     // a % b = a - trunc(a/b) b, with trunc(a/b) locally constant
                     let k = (J::value(&self) / J::value(&o)).trunc();
