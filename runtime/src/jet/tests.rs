@@ -680,3 +680,589 @@ fn the_analytic_harness_detects_a_wrong_second_derivative() {
     let caught = std::panic::catch_unwind(|| check_el("wrong", s, &j, &wrong, 1e-14));
     assert!(caught.is_err());
 }
+
+// ---------------------------------------------------------------------------------------------
+// 2. Property tests: random expressions against finite differences and against each other
+// ---------------------------------------------------------------------------------------------
+
+/// A random expression in q₀, q₁, q̇₀, q̇₁, t and constants. The forms that have singularities are
+/// guarded (`Div`: a/(b² + ½), `SqrtPos`: √(a² + ¼), negative `Powi` and `PowfPos` on a² + ½) so
+/// that random trees stay where the function is smooth; `Atan2` is unguarded and cases too close to
+/// its singularity are discarded by the scale filter.
+#[derive(Clone, Debug)]
+enum Expr {
+    Q(usize),
+    V(usize),
+    T,
+    C(f64),
+    Add(Box<Expr>, Box<Expr>),
+    Sub(Box<Expr>, Box<Expr>),
+    Mul(Box<Expr>, Box<Expr>),
+    Div(Box<Expr>, Box<Expr>),
+    Sin(Box<Expr>),
+    Cos(Box<Expr>),
+    Exp(Box<Expr>),
+    SqrtPos(Box<Expr>),
+    Powi(Box<Expr>, i32),
+    Atan(Box<Expr>),
+    Tanh(Box<Expr>),
+    Atan2(Box<Expr>, Box<Expr>),
+    PowfPos(Box<Expr>, Box<Expr>),
+    MulF(Box<Expr>, f64),
+}
+
+fn eval<S: Scalar>(e: &Expr, q: &[S], v: &[S], t: S) -> S {
+    let ev = |x: &Expr| eval(x, q, v, t);
+    match e {
+        Expr::Q(i) => q[*i],
+        Expr::V(i) => v[*i],
+        Expr::T => t,
+        Expr::C(c) => S::constant(*c),
+        Expr::Add(a, b) => ev(a) + ev(b),
+        Expr::Sub(a, b) => ev(a) - ev(b),
+        Expr::Mul(a, b) => ev(a) * ev(b),
+        Expr::Div(a, b) => {
+            let d = ev(b);
+            ev(a) / (d * d + 0.5)
+        }
+        Expr::Sin(a) => ev(a).sin(),
+        Expr::Cos(a) => ev(a).cos(),
+        Expr::Exp(a) => ev(a).exp(),
+        Expr::SqrtPos(a) => {
+            let x = ev(a);
+            (x * x + 0.25).sqrt()
+        }
+        Expr::Powi(a, n) => {
+            let x = ev(a);
+            if *n < 0 {
+                (x * x + 0.5).powi(*n)
+            } else {
+                x.powi(*n)
+            }
+        }
+        Expr::Atan(a) => ev(a).atan(),
+        Expr::Tanh(a) => ev(a).tanh(),
+        Expr::Atan2(a, b) => ev(a).atan2(ev(b)),
+        Expr::PowfPos(a, b) => {
+            let x = ev(a);
+            (x * x + 0.5).powf(ev(b))
+        }
+        Expr::MulF(a, c) => ev(a) * *c,
+    }
+}
+
+fn expr_strategy() -> impl Strategy<Value = Expr> {
+    let leaf = prop_oneof![
+        (0..2usize).prop_map(Expr::Q),
+        (0..2usize).prop_map(Expr::V),
+        Just(Expr::T),
+        (-2.0..2.0f64).prop_map(Expr::C),
+    ];
+    leaf.prop_recursive(4, 32, 2, |inner| {
+        let b = |x: Expr| Box::new(x);
+        prop_oneof![
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Expr::Add(b(x), b(y))),
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Expr::Sub(b(x), b(y))),
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Expr::Mul(b(x), b(y))),
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Expr::Div(b(x), b(y))),
+            inner.clone().prop_map(move |x| Expr::Sin(b(x))),
+            inner.clone().prop_map(move |x| Expr::Cos(b(x))),
+            inner.clone().prop_map(move |x| Expr::Exp(b(x))),
+            inner.clone().prop_map(move |x| Expr::SqrtPos(b(x))),
+            (inner.clone(), -2..5i32).prop_map(move |(x, n)| Expr::Powi(b(x), n)),
+            inner.clone().prop_map(move |x| Expr::Atan(b(x))),
+            inner.clone().prop_map(move |x| Expr::Tanh(b(x))),
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Expr::Atan2(b(x), b(y))),
+            (inner.clone(), inner.clone()).prop_map(move |(x, y)| Expr::PowfPos(b(x), b(y))),
+            (inner, -3.0..3.0f64).prop_map(move |(x, c)| Expr::MulF(b(x), c)),
+        ]
+    })
+}
+
+/// The expression in f64 as a function of x = (q₀, q₁, q̇₀, q̇₁, t).
+fn eval_f64(e: &Expr, x: &[f64; NV]) -> f64 {
+    eval(e, &x[0..2], &x[2..4], x[IT])
+}
+
+/// Finite-difference step and tolerance of the property tests: central differences with steps
+/// h = 1e-3 and h/2 combined by one Richardson extrapolation, (4D(h/2) − D(h))/3, which is
+/// fourth-order (truncation ~h⁴f⁽⁶⁾/360 ≈ 3e-15 f⁽⁶⁾, rounding ~ε|f|/(h/2)² ≈ 1e-9|f|). Plain
+/// second-order differences with h = 1e-4 were not accurate enough for random trees with
+/// fast-oscillating parts such as sin(exp(q̇²)) (their truncation error h²f⁗/12 reached 1.5e-6 of
+/// the scale). Tolerance: 1e-6 times the scale max(1, |f|, max|∇f|, max|∇²f|).
+const FD_H: f64 = 1e-3;
+const FD_TOL: f64 = 1e-6;
+
+/// Value, gradient and Hessian of the f64 evaluation by central finite differences.
+fn finite_differences(e: &Expr, x: &[f64; NV]) -> (f64, [f64; NV], [[f64; NV]; NV]) {
+    let (f0, g1, h1) = central_differences(e, x, FD_H);
+    let (_, g2, h2) = central_differences(e, x, FD_H / 2.0);
+    let richardson = |a: f64, b: f64| (4.0 * b - a) / 3.0;
+    let mut g = [0.0; NV];
+    let mut hs = [[0.0; NV]; NV];
+    for i in 0..NV {
+        g[i] = richardson(g1[i], g2[i]);
+        for j in 0..NV {
+            hs[i][j] = richardson(h1[i][j], h2[i][j]);
+        }
+    }
+    (f0, g, hs)
+}
+
+/// Second-order central differences with step h.
+fn central_differences(e: &Expr, x: &[f64; NV], h: f64) -> (f64, [f64; NV], [[f64; NV]; NV]) {
+    let f = |dx: &[(usize, f64)]| {
+        let mut y = *x;
+        for &(i, d) in dx {
+            y[i] += d;
+        }
+        eval_f64(e, &y)
+    };
+    let f0 = f(&[]);
+    let mut g = [0.0; NV];
+    let mut hs = [[0.0; NV]; NV];
+    for i in 0..NV {
+        let (fp, fm) = (f(&[(i, h)]), f(&[(i, -h)]));
+        g[i] = (fp - fm) / (2.0 * h);
+        hs[i][i] = (fp - 2.0 * f0 + fm) / (h * h);
+        for j in 0..i {
+            let d = (f(&[(i, h), (j, h)]) - f(&[(i, h), (j, -h)]) - f(&[(i, -h), (j, h)])
+                + f(&[(i, -h), (j, -h)]))
+                / (4.0 * h * h);
+            hs[i][j] = d;
+            hs[j][i] = d;
+        }
+    }
+    (f0, g, hs)
+}
+
+/// The expression in the dense jet with time as a third coordinate of velocity 1, which makes
+/// ∂²/∂q̇∂t (row 2 of `hess_qqdot`) and ∂/∂t (`grad_q()[2]`) available.
+fn hessian_with_time(e: &Expr, x: &[f64; NV]) -> HessianJet<3> {
+    let (q, v) = HessianJet::<3>::seed(&[x[0], x[1], x[IT]], &[x[2], x[3], 1.0]);
+    eval(e, &q[0..2], &v[0..2], q[2])
+}
+
+/// The reference (q, q̇, t)-Hessian of the augmented dense jet in the 5-variable layout.
+fn dense_of(h: &HessianJet<3>) -> (f64, [f64; NV], [[f64; NV]; NV]) {
+    // layout: augmented q = (q₀, q₁, t) → 0, 1, 4; augmented q̇ = (q̇₀, q̇₁, ·) → 2, 3
+    let qi = [0, 1, IT];
+    let (gq, gv, hqq, hqv, hvv) = (
+        h.grad_q(),
+        h.grad_qdot(),
+        h.hess_qq(),
+        h.hess_qqdot(),
+        h.hess_qdotqdot(),
+    );
+    let mut g = [0.0; NV];
+    let mut hs = [[0.0; NV]; NV];
+    for a in 0..3 {
+        g[qi[a]] = gq[a];
+        for b in 0..3 {
+            hs[qi[a]][qi[b]] = hqq[a][b];
+        }
+        for k in 0..2 {
+            hs[qi[a]][2 + k] = hqv[a][k];
+            hs[2 + k][qi[a]] = hqv[a][k];
+        }
+    }
+    for i in 0..2 {
+        g[2 + i] = gv[i];
+        for k in 0..2 {
+            hs[2 + i][2 + k] = hvv[i][k];
+        }
+    }
+    (h.value(), g, hs)
+}
+
+/// The ElJet blocks derived from dense (f, ∇f, ∇²f) data: value, grad_q, grad_qdot, hess_qdot,
+/// mixed, directional, flattened for comparison.
+fn el_blocks_from_dense(x: &[f64; NV], d: &(f64, [f64; NV], [[f64; NV]; NV])) -> Vec<f64> {
+    let (f, g, h) = d;
+    let mut out = vec![*f, g[0], g[1], g[2], g[3]];
+    // ElJet stores the upper triangle of M; the dense jet's lower triangle is the same value
+    // summed in another order, so read the upper one for a bitwise comparison.
+    for i in 0..2 {
+        for k in 0..2 {
+            out.push(h[2 + i.min(k)][2 + i.max(k)]);
+        }
+    }
+    for i in 0..2 {
+        out.push(h[2 + i][0] * x[2] + h[2 + i][1] * x[3] + h[2 + i][IT]);
+    }
+    out.push(g[0] * x[2] + g[1] * x[3] + g[IT]);
+    out
+}
+
+fn el_blocks(j: &ElJet<2>) -> Vec<f64> {
+    let mut out = vec![j.value()];
+    out.extend(j.grad_q());
+    out.extend(j.grad_qdot());
+    for i in 0..2 {
+        for k in 0..2 {
+            out.push(j.hess_qdot(i, k));
+        }
+    }
+    out.extend(j.mixed());
+    out.push(j.directional());
+    out
+}
+
+const EL_BLOCK_NAMES: [&str; 12] = [
+    "value",
+    "grad_q[0]",
+    "grad_q[1]",
+    "grad_qdot[0]",
+    "grad_qdot[1]",
+    "hess_qdot(0,0)",
+    "hess_qdot(0,1)",
+    "hess_qdot(1,0)",
+    "hess_qdot(1,1)",
+    "mixed[0]",
+    "mixed[1]",
+    "directional",
+];
+
+fn el_at(e: &Expr, x: &[f64; NV]) -> ElJet<2> {
+    let (q, v, t) = ElJet::<2>::seed(&[x[0], x[1]], &[x[2], x[3]], x[IT]);
+    eval(e, &q, &v, t)
+}
+fn hess_at(e: &Expr, x: &[f64; NV]) -> HessianJet<2> {
+    let (q, v) = HessianJet::<2>::seed(&[x[0], x[1]], &[x[2], x[3]]);
+    eval(e, &q, &v, HessianJet::from(x[IT]))
+}
+
+fn state_strategy() -> impl Strategy<Value = [f64; NV]> {
+    proptest::array::uniform5(-1.5..1.5f64)
+}
+
+/// max(1, |f|, max|∇f|, max|∇²f|) of dense data; infinite if any entry is not finite.
+fn scale_of(d: &(f64, [f64; NV], [[f64; NV]; NV])) -> f64 {
+    let (f, g, h) = d;
+    core::iter::once(f)
+        .chain(g)
+        .chain(h.iter().flatten())
+        .fold(1.0_f64, |m, x| {
+            if x.is_finite() {
+                m.max(x.abs())
+            } else {
+                f64::INFINITY
+            }
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 384, max_global_rejects: 100_000, ..ProptestConfig::default() })]
+
+    /// Both jets against central finite differences of the f64 evaluation.
+    #[test]
+    fn random_expressions_match_finite_differences(e in expr_strategy(), x in state_strategy()) {
+        let reference = dense_of(&hessian_with_time(&e, &x));
+        let scale = scale_of(&reference);
+        // keep to functions whose derivatives are moderate, where the FD reference is meaningful
+        prop_assume!(reference.0.is_finite() && scale < 1e3);
+        let fd = finite_differences(&e, &x);
+        // and to points where f is resolved by the stencil (not astride atan2's branch cut, not
+        // within a few h of its singularity): there the two step sizes agree to 1e-4 of the
+        // scale, and the extrapolated error is far smaller still
+        let (_, g1, h1) = central_differences(&e, &x, FD_H);
+        let (_, g2, h2) = central_differences(&e, &x, FD_H / 2.0);
+        let spread = g1.iter().zip(&g2).chain(h1.iter().flatten().zip(h2.iter().flatten()))
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        prop_assume!(spread <= 1e-4 * scale);
+        let tol = FD_TOL * scale;
+
+        let el = el_blocks(&el_at(&e, &x));
+        let want = el_blocks_from_dense(&x, &fd);
+        // mixed and directional sum three FD entries weighted by |q̇| ≤ 1.5
+        for (n, (a, b)) in el.iter().zip(&want).enumerate() {
+            let tol = if n >= 9 { 4.0 * tol } else { tol };
+            prop_assert!((a - b).abs() <= tol,
+                "ElJet {}: jet {a:e}, FD {b:e}, scale {scale:e}, expr {e:?}", EL_BLOCK_NAMES[n]);
+        }
+
+        let hj = hess_at(&e, &x);
+        let (_, g, h) = &fd;
+        for i in 0..2 {
+            prop_assert!((hj.grad_q()[i] - g[i]).abs() <= tol, "grad_q {i}: {e:?}");
+            prop_assert!((hj.grad_qdot()[i] - g[2 + i]).abs() <= tol, "grad_qdot {i}: {e:?}");
+            for k in 0..2 {
+                prop_assert!((hj.hess_qq()[i][k] - h[i][k]).abs() <= tol, "hess_qq {i}{k}: {e:?}");
+                prop_assert!((hj.hess_qqdot()[i][k] - h[i][2 + k]).abs() <= tol, "hess_qqdot {i}{k}: jet {:e} FD {:e} scale {scale:e} at {x:?}: {e:?}", hj.hess_qqdot()[i][k], h[i][2 + k]);
+                prop_assert!((hj.hess_qdotqdot()[i][k] - h[2 + i][2 + k]).abs() <= tol, "hess_qdotqdot {i}{k}: {e:?}");
+            }
+        }
+    }
+
+    /// ElJet against HessianJet (time as a coordinate) on every shared block, to 1e-12 of the scale.
+    #[test]
+    fn eljet_agrees_with_hessianjet(e in expr_strategy(), x in state_strategy()) {
+        let reference = dense_of(&hessian_with_time(&e, &x));
+        let scale = scale_of(&reference);
+        prop_assume!(scale.is_finite() && reference.0.is_finite());
+        let el = el_blocks(&el_at(&e, &x));
+        let want = el_blocks_from_dense(&x, &reference);
+        for (n, (a, b)) in el.iter().zip(&want).enumerate() {
+            prop_assert!((a - b).abs() <= 1e-12 * scale,
+                "{}: ElJet {a:e}, HessianJet {b:e}, scale {scale:e}, expr {e:?}", EL_BLOCK_NAMES[n]);
+        }
+        // HessianJet with t as a constant agrees with the augmented one on its blocks
+        let hj = hess_at(&e, &x);
+        let (_, g, h) = &reference;
+        for i in 0..2 {
+            for k in 0..2 {
+                prop_assert!((hj.hess_qq()[i][k] - h[i][k]).abs() <= 1e-12 * scale);
+                prop_assert!((hj.hess_qqdot()[i][k] - h[i][2 + k]).abs() <= 1e-12 * scale);
+            }
+            prop_assert!((hj.grad_q()[i] - g[i]).abs() <= 1e-12 * scale);
+        }
+    }
+}
+
+/// A random three-coordinate Lagrangian L = ½q̇ᵀA(q)q̇ + b(q,t)·q̇ − V(q,t) with
+/// A = B(q)ᵀB(q) + ½I (positive definite), B_ij = c_ij + d_ij sin(q_{(i+j) mod 3} + e_ij),
+/// b_i = β_i cos(ωt + q_i) q_{i+1}, V = Σ k_i(1 − cos q_i) + κ q₀q₁q₂ + ε sin(t) q₀.
+#[derive(Clone, Debug)]
+struct RandomSystem {
+    b: [[(f64, f64, f64); 3]; 3],
+    beta: [f64; 3],
+    omega: f64,
+    k: [f64; 3],
+    kappa: f64,
+    eps: f64,
+}
+
+impl RandomSystem {
+    fn l<S: Scalar>(&self, q: &[S], v: &[S], t: S) -> S {
+        let mut kin = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.25;
+        for i in 0..3 {
+            let mut w = S::constant(0.0);
+            for j in 0..3 {
+                let (c, d, e) = self.b[i][j];
+                w += ((q[(i + j) % 3] + e).sin() * d + c) * v[j];
+            }
+            kin += w * w * 0.5;
+        }
+        let mut gyro = S::constant(0.0);
+        let mut pot = q[0] * q[1] * q[2] * self.kappa + t.sin() * q[0] * self.eps;
+        for i in 0..3 {
+            gyro += (t * self.omega + q[i]).cos() * q[(i + 1) % 3] * v[i] * self.beta[i];
+            pot += (S::constant(1.0) - q[i].cos()) * self.k[i];
+        }
+        kin + gyro - pot
+    }
+}
+
+impl Lagrangian<3> for RandomSystem {
+    const COORDINATES: [&'static str; 3] = ["a", "b", "c"];
+    const CYCLIC: [bool; 3] = [false; 3];
+    const AUTONOMOUS: bool = false;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 3], qdot: &[S; 3], t: S) -> S {
+        self.l(q, qdot, t)
+    }
+}
+
+fn system_strategy() -> impl Strategy<Value = RandomSystem> {
+    let entry = (-1.5..1.5f64, -1.0..1.0f64, -3.0..3.0f64);
+    (
+        proptest::array::uniform3(proptest::array::uniform3(entry)),
+        proptest::array::uniform3(-1.0..1.0f64),
+        -2.0..2.0f64,
+        proptest::array::uniform3(-3.0..3.0f64),
+        -1.0..1.0f64,
+        -1.0..1.0f64,
+    )
+        .prop_map(|(b, beta, omega, k, kappa, eps)| RandomSystem {
+            b,
+            beta,
+            omega,
+            k,
+            kappa,
+            eps,
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    /// `accelerations` solves M q̈ = ∂L/∂q − (∂²L/∂q̇∂q)q̇ − ∂²L/∂q̇∂t with M and the right-hand
+    /// side assembled independently from the dense HessianJet (t as a fourth coordinate of velocity
+    /// 1) and solved by nalgebra's LU.
+    #[test]
+    fn accelerations_solve_the_dense_jet_equations(
+        sys in system_strategy(),
+        q in proptest::array::uniform3(-3.0..3.0f64),
+        v in proptest::array::uniform3(-2.0..2.0f64),
+        t in -5.0..5.0f64,
+    ) {
+        let a = sys.accelerations(&q, &v, t).unwrap();
+        let (qa, va) = HessianJet::<4>::seed(&[q[0], q[1], q[2], t], &[v[0], v[1], v[2], 1.0]);
+        let l = sys.l(&qa[0..3], &va[0..3], qa[3]);
+        let (gq, hqv, hvv) = (l.grad_q(), l.hess_qqdot(), l.hess_qdotqdot());
+        let m = nalgebra::Matrix3::from_fn(|i, k| hvv[i][k]);
+        let vaug = [v[0], v[1], v[2], 1.0];
+        let f = nalgebra::Vector3::from_fn(|i, _| {
+            gq[i] - (0..4).map(|j| hqv[j][i] * vaug[j]).sum::<f64>()
+        });
+        let want = m.lu().solve(&f).unwrap();
+        let got = nalgebra::Vector3::from(a);
+        // backward error: the residual of the dense equations
+        let residual = (m * got - f).amax();
+        let size = m.amax() * got.amax() + f.amax();
+        prop_assert!(residual <= 1e-12 * size, "residual {residual:e} of {size:e}");
+        // forward error, allowing for the conditioning of M
+        let cond = m.norm() * m.try_inverse().unwrap().norm();
+        prop_assert!((got - want).amax() <= 1e-13 * cond * want.amax().max(1e-300) + 1e-300,
+            "got {got:?}, want {want:?}, cond {cond:e}");
+    }
+}
+
+fn contains_powf(e: &Expr) -> bool {
+    match e {
+        Expr::Q(_) | Expr::V(_) | Expr::T | Expr::C(_) => false,
+        Expr::PowfPos(..) => true,
+        Expr::Add(a, b)
+        | Expr::Sub(a, b)
+        | Expr::Mul(a, b)
+        | Expr::Div(a, b)
+        | Expr::Atan2(a, b) => contains_powf(a) || contains_powf(b),
+        Expr::Sin(a)
+        | Expr::Cos(a)
+        | Expr::Exp(a)
+        | Expr::SqrtPos(a)
+        | Expr::Powi(a, _)
+        | Expr::Atan(a)
+        | Expr::Tanh(a)
+        | Expr::MulF(a, _) => contains_powf(a),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Structural flags change nothing
+// ---------------------------------------------------------------------------------------------
+
+/// Expressions mixing q-only, q̇-only (linear and non-linear), t-only and constant parts, each
+/// exercising one way a flag is set, propagated or used to skip a block.
+#[allow(clippy::eq_op)] // `q - q` and `t - t` are the point: flagged jets with zero parts
+fn flag_cases<S: Scalar>(q: &[S], v: &[S], t: S) -> Vec<S> {
+    let c = S::constant;
+    vec![
+        q[0].sin() * q[1] + 3.0,                // q only, plus a constant
+        v[0] * 2.0 + v[1] - 1.0,                // linear in q̇: M block skipped
+        v[0] * v[1],                            // q̇ × q̇ sets "non-linear"
+        (v[0] + 1.0).powi(3),                   // chain rule of a linear jet sets "non-linear"
+        c(2.0).sin() * v[0],                    // constant chain × linear
+        q[0].cos() * v[1],                      // q-only × linear: M = 0, mixed ≠ 0
+        q[0].cos() * v[1] + v[0] * v[0] * q[1], // sum of linear and non-linear
+        t * v[0],                               // ∂²/∂q̇∂t
+        t.sin() * v[0] * v[0] + t,              // t-only parts
+        v[0] / (q[1] * q[1] + 1.0),             // divide by a q-only jet
+        q[0] / (v[1] * v[1] + 1.0),             // divide by a q̇-only jet
+        (v[0] * 3.0 - v[1]).exp() * q[0],       // exp of a linear jet
+        (v[0] + v[1]) * (v[0] - v[1]),          // linear × linear
+        (q[0] - q[0]) * v[0] + v[1] * 0.0,      // flagged, numerically zero
+        v[0].powi(0) * q[0],                    // powi(0) is a constant
+        -(v[1] * q[1]) + c(0.5),                // negation
+        (q[0] * v[0] + t).atan2(v[1] + 2.0),    // atan2 of mixed jets
+        (v[0] * v[0] + 1.0).sqrt() * q[1] + (q[0] + t).exp(),
+        (q[0].sin() + q[1].cos()) * (v[0] * v[1]),
+        (v[0] * v[0] + q[0] * q[0] + 1.0).powf(v[1]), // variable exponent
+        (v[0] * v[0] + 1.0).powf(c(2.5)),             // constant exponent
+        (q[0] - 3.0).powf(t - t + 3.0), // negative base, flagged but constant exponent
+        (t * 2.0).cos(),                // t only
+        c(4.0),                         // constant only
+        {
+            let mut x = v[0];
+            x *= q[1];
+            x += t;
+            x -= v[1] * v[1];
+            x /= q[0] + 2.0;
+            x
+        },
+    ]
+}
+
+#[test]
+fn structural_flags_give_the_flag_free_results() {
+    let states = [
+        [0.3, -1.1, 0.7, -0.4, 2.0],
+        [-0.9, 0.2, -1.3, 1.7, -0.5],
+        [1.4, 0.6, 0.0, 0.9, 0.0],
+    ];
+    for x in states {
+        let (q, v, t) = ElJet::<2>::seed(&[x[0], x[1]], &[x[2], x[3]], x[IT]);
+        let el = flag_cases(&q, &v, t);
+        let (qa, va) = HessianJet::<3>::seed(&[x[0], x[1], x[IT]], &[x[2], x[3], 1.0]);
+        let dense = flag_cases(&qa[0..2], &va[0..2], qa[2]);
+        let (q2, v2) = HessianJet::<2>::seed(&[x[0], x[1]], &[x[2], x[3]]);
+        let dense_const_t = flag_cases(&q2, &v2, HessianJet::from(x[IT]));
+        for (n, ((e, d), d2)) in el.iter().zip(&dense).zip(&dense_const_t).enumerate() {
+            let want = el_blocks_from_dense(&x, &dense_of(d));
+            let got = el_blocks(e);
+            // value, gradients and M: same formulas with and without the flags → bitwise equal
+            for b in 0..9 {
+                assert!(
+                    got[b] == want[b],
+                    "case {n} at {x:?}: {} ElJet {:e} vs flag-free {:e}",
+                    EL_BLOCK_NAMES[b],
+                    got[b],
+                    want[b]
+                );
+            }
+            // mixed and directional: the flag-free value is a sum over the dense Hessian, so
+            // compare to 1e-15 of the magnitude of its terms
+            let (_, g, h) = dense_of(d);
+            let mags = [
+                h[2][0].abs() * x[2].abs() + h[2][1].abs() * x[3].abs() + h[2][IT].abs(),
+                h[3][0].abs() * x[2].abs() + h[3][1].abs() * x[3].abs() + h[3][IT].abs(),
+                g[0].abs() * x[2].abs() + g[1].abs() * x[3].abs() + g[IT].abs(),
+            ];
+            for (b, m) in (9..12).zip(mags) {
+                assert!(
+                    (got[b] - want[b]).abs() <= 1e-15 * m,
+                    "case {n} at {x:?}: {} ElJet {:e} vs flag-free {:e}",
+                    EL_BLOCK_NAMES[b],
+                    got[b],
+                    want[b]
+                );
+            }
+            // the constant-time HessianJet gives the same q/q̇ blocks
+            let m = d2.hess_qdotqdot();
+            assert_eq!(
+                [m[0][0], m[0][1], m[1][1]],
+                [want[5], want[6], want[8]],
+                "case {n}"
+            );
+            assert_eq!(d2.grad_q(), [want[1], want[2]], "case {n}");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 384, max_global_rejects: 100_000, ..ProptestConfig::default() })]
+
+    /// On random expressions, the blocks the flags may skip (value, ∂/∂q, ∂/∂q̇, M) are bitwise
+    /// equal to the flag-free dense jet.
+    #[test]
+    fn structural_flags_are_bitwise_neutral_on_random_expressions(
+        e in expr_strategy(), x in state_strategy()
+    ) {
+        let d = hessian_with_time(&e, &x);
+        // Where a derivative is NaN (atan2 at the origin, say) the flag-free jet spreads it into
+        // blocks that are structurally zero (0·NaN = NaN) while ElJet skips them; compare only
+        // where everything is finite.
+        prop_assume!(scale_of(&dense_of(&d)).is_finite());
+        let dense = dense_of(&d);
+        let want = el_blocks_from_dense(&x, &dense);
+        let got = el_blocks(&el_at(&e, &x));
+        // `powf` takes its constant-exponent shortcut when every derivative part of the exponent
+        // is exactly zero; an exponent like atan2(q₀, q₀) has rounding-level parts that may be
+        // zero in one layout and 1 ulp off in the other, so the two jets can take different
+        // (both correct) paths there: allow 1e-15 of the scale in trees with `PowfPos`.
+        let tol = if contains_powf(&e) { 1e-15 * scale_of(&dense) } else { 0.0 };
+        for b in 0..9 {
+            prop_assert!((got[b] - want[b]).abs() <= tol,
+                "{}: ElJet {:e} vs flag-free {:e}, expr {e:?}", EL_BLOCK_NAMES[b], got[b], want[b]);
+        }
+    }
+}
