@@ -52,6 +52,7 @@ pub mod prelude {
 /// Not public API: it may change in any release.
 #[doc(hidden)]
 pub mod __private {
+    pub use lagrange_runtime::mix::*;
     pub use lagrange_runtime::*;
     pub use nalgebra;
 }

@@ -1,0 +1,106 @@
+//! The parsed and validated declaration: what every later stage (analysis, jets emission,
+//! symbolic lowering) works from.
+
+use proc_macro2::{Ident, Span};
+
+/// How the derivatives of L are computed in the generated impl.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Run-time forward-mode jets (`ElJet`): the default `Lagrangian` provided methods.
+    Jets,
+    /// Compile-time symbolic jets: straight-line code for M and the right-hand side.
+    Symbolic,
+}
+
+/// Options from the attribute: `#[lagrangian(mode = "jets")]`.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// The derivation mode.
+    pub mode: Mode,
+    /// Whether `mode` was given explicitly (span of the value if so).
+    pub mode_span: Option<Span>,
+}
+
+/// The kind of a coordinate parameter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoordKind {
+    /// `(x, x_dot): Coord`: one generalized coordinate, bound as `Scalar`.
+    Scalar,
+    /// `(r, r_dot): Coord3`: three coordinates, bound as `Vector3<Scalar>`.
+    Vector3,
+}
+
+/// One coordinate parameter of `fn lagrangian`.
+#[derive(Clone, Debug)]
+pub struct CoordParam {
+    /// Scalar or Vector3.
+    pub kind: CoordKind,
+    /// The coordinate binding (`theta`, `r`).
+    pub name: Ident,
+    /// The velocity binding (`theta_dot`, `r_dot`).
+    pub dot: Ident,
+    /// Index of this parameter's first slot in q (slots are numbered in declaration order).
+    pub first_index: usize,
+}
+
+impl CoordParam {
+    /// How many slots of q this parameter occupies (1 or 3).
+    pub fn width(&self) -> usize {
+        match self.kind {
+            CoordKind::Scalar => 1,
+            CoordKind::Vector3 => 3,
+        }
+    }
+    /// The COORDINATES names of this parameter's slots: `theta`, or `r.x`, `r.y`, `r.z`.
+    pub fn slot_names(&self) -> Vec<String> {
+        let base = unraw(&self.name);
+        match self.kind {
+            CoordKind::Scalar => vec![base],
+            CoordKind::Vector3 => ["x", "y", "z"]
+                .iter()
+                .map(|c| format!("{base}.{c}"))
+                .collect(),
+        }
+    }
+}
+
+/// `fn lagrangian` after parsing and validation.
+#[derive(Clone)]
+pub struct Decl {
+    /// The impl block with `fn lagrangian` removed; everything else is emitted as written.
+    pub rest: syn::ItemImpl,
+    /// Attributes on `fn lagrangian` (doc comments, `#[allow(...)]`, ...), kept on the generated fn.
+    pub fn_attrs: Vec<syn::Attribute>,
+    /// The `lagrangian` identifier (for spans).
+    pub fn_ident: Ident,
+    /// The `Scalar` return type token span.
+    pub ret_span: Span,
+    /// Coordinate parameters in declaration order.
+    pub coords: Vec<CoordParam>,
+    /// The `t: Time` parameter, if any.
+    pub time: Option<Ident>,
+    /// The body as written.
+    pub body: syn::Block,
+    /// Attribute options.
+    pub options: Options,
+}
+
+impl Decl {
+    /// Number of generalized coordinates N.
+    pub fn n(&self) -> usize {
+        self.coords.iter().map(CoordParam::width).sum()
+    }
+    /// COORDINATES, in declaration order.
+    pub fn coordinate_names(&self) -> Vec<String> {
+        self.coords
+            .iter()
+            .flat_map(CoordParam::slot_names)
+            .collect()
+    }
+}
+
+/// An identifier's name without the `r#` prefix.
+pub fn unraw(ident: &Ident) -> String {
+    let s = ident.to_string();
+    s.strip_prefix("r#").map(str::to_owned).unwrap_or(s)
+}
