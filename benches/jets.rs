@@ -12,6 +12,8 @@
 //! written once over it (and once over `Scalar`, the same arithmetic) so every design evaluates
 //! the same formula.
 #![allow(missing_docs)]
+// index loops mirror the jet code in runtime/src/jet/el.rs (same shapes, same formulas)
+#![allow(clippy::needless_range_loop)]
 
 use std::hint::black_box;
 use std::ops::{Add, Mul, Sub};
@@ -402,7 +404,10 @@ fn nested_accelerations<const N: usize, const K: usize>(
     qd: &[f64; N],
 ) -> [f64; N] {
     debug_assert_eq!(K, N + 1);
-    let zero_n = DVec { v: 0.0, d: [0.0; N] };
+    let zero_n = DVec {
+        v: 0.0,
+        d: [0.0; N],
+    };
     let mut q1 = [zero_n; N];
     let mut v1 = [zero_n; N];
     for j in 0..N {
@@ -411,7 +416,10 @@ fn nested_accelerations<const N: usize, const K: usize>(
         v1[j].v = qd[j];
     }
     let gq = l1(&q1, &v1).d;
-    let zero = DVec { v: 0.0, d: [0.0; K] };
+    let zero = DVec {
+        v: 0.0,
+        d: [0.0; K],
+    };
     let mut m = [[0.0; N]; N];
     let mut rhs = [0.0; N];
     for i in 0..N {
