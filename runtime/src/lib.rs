@@ -11,6 +11,7 @@ pub mod integrate;
 pub mod jet;
 mod lagrangian;
 pub mod linalg;
+pub mod rigid;
 #[doc(hidden)]
 pub mod mix;
 mod scalar;
