@@ -165,20 +165,24 @@ fn chart_error(t: f64, q: &[f64], qdot: &[f64], sin_theta: f64, min: f64) -> Dyn
         q: q.to_vec(),
         qdot: qdot.to_vec(),
         message: format!(
-            "the z-x-z Euler-angle chart is singular here: |sin θ| = {:.3e} ≤ {min:.1e}, where φ and ψ \
-             turn about the same axis and the mass matrix of the Euler angles loses rank (its \
+            "the z-x-z Euler-angle chart is (nearly) singular here: sin θ = {:.3e} ≤ {min:.1e} \
+             (θ is expected in (0, π)); at sin θ = 0, φ and ψ turn about the same axis and the mass matrix of the Euler angles loses rank (its \
              determinant ∝ sin²θ). The body is fine; the coordinates are not. Try: orient the lab \
              axes (or pick which body axis is the Euler z axis) so that this body axis never points \
              along the lab z axis during the run, e.g. for a free body put the lab z axis along the \
              angular momentum and choose as Euler z axis a body axis that does not align with it.",
-            sin_theta.abs()
+            sin_theta
         ),
     }
 }
 
-/// A guard against the z-x-z chart's singularity: a terminal [`Event`] when |sin θ| falls to
+/// A guard against the z-x-z chart's singularity: a terminal [`Event`] when sin θ falls to
 /// `min_sin`, and [`EulerChartGuard::check`] that turns a run it stopped into
 /// [`DynamicsError::SingularMassMatrix`] with the time, the state and what to do.
+///
+/// θ is taken in its usual range (0, π), where sin θ > 0 (an orientation with θ in (−π, 0) is the
+/// same as (φ + π, −θ, ψ + π)). The event function sin θ − `min_sin` is smooth, so a run that
+/// would pass straight through θ = 0 or π within one step is still caught.
 ///
 /// ```
 /// use lagrange_runtime::rigid::EulerChartGuard;
@@ -191,7 +195,7 @@ fn chart_error(t: f64, q: &[f64], qdot: &[f64], sin_theta: f64, min: f64) -> Dyn
 pub struct EulerChartGuard {
     /// Index of θ among the coordinates.
     pub theta_index: usize,
-    /// The |sin θ| at which the run is stopped.
+    /// The sin θ at which the run is stopped.
     pub min_sin: f64,
 }
 
@@ -203,7 +207,7 @@ impl EulerChartGuard {
     /// ```
     pub const EVENT_NAME: &'static str = "euler chart singularity";
 
-    /// The terminal event |sin θ| − `min_sin` = 0 (falling), to add to a
+    /// The terminal event sin θ − `min_sin` = 0 (falling), to add to a
     /// [`Simulation`](crate::Simulation). An out-of-range `theta_index` never fires.
     ///
     /// ```
@@ -214,14 +218,14 @@ impl EulerChartGuard {
     pub fn event<const N: usize>(self) -> Event<'static, N> {
         Event::zero_crossing(Self::EVENT_NAME, move |_t, q: &[f64; N], _v| {
             q.get(self.theta_index)
-                .map_or(1.0, |th| th.sin().abs() - self.min_sin)
+                .map_or(1.0, |th| th.sin() - self.min_sin)
         })
         .falling()
         .terminal()
     }
 
-    /// `Err(SingularMassMatrix)` (time and state of the hit, with advice) if the guard's event
-    /// stopped `traj`, else `Ok(())`.
+    /// `Err(SingularMassMatrix)` (time and state, with advice) if the guard's event stopped
+    /// `traj` or it started with sin θ ≤ `min_sin`, else `Ok(())`.
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method, rigid::EulerChartGuard};
@@ -240,6 +244,12 @@ impl EulerChartGuard {
     /// assert!((err.t() - (0.5 - 0.1_f64.asin())).abs() < 1e-9);
     /// ```
     pub fn check<const N: usize>(&self, traj: &Trajectory<N>) -> Result<(), DynamicsError> {
+        if let (Some(t), Some(q), Some(v)) = (traj.t.first(), traj.q.first(), traj.qdot.first()) {
+            let s = q.get(self.theta_index).map_or(1.0, |th| th.sin());
+            if s <= self.min_sin {
+                return Err(chart_error(*t, q, v, s, self.min_sin));
+            }
+        }
         if traj.terminated_by.as_deref() != Some(Self::EVENT_NAME) {
             return Ok(());
         }
