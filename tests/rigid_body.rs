@@ -8,10 +8,10 @@
 
 use lagrange::prelude::*;
 use lagrange::rigid::{
-    body_angular_velocity_zxz, centre_of_mass, euler_rates_zxz, inertia_tensor,
-    moment_about_axis, rotation_zxz, shift_from_centre_of_mass, EulerChartGuard,
+    body_angular_velocity_zxz, centre_of_mass, euler_rates_zxz, inertia_tensor, moment_about_axis,
+    rotation_zxz, shift_from_centre_of_mass, EulerChartGuard,
 };
-use lagrange::{DynamicsError, Direction};
+use lagrange::{Direction, DynamicsError};
 use nalgebra::{Matrix3, Rotation3, Unit};
 use std::f64::consts::PI;
 
@@ -155,7 +155,10 @@ fn eq69_moment_of_inertia_from_point_masses_is_the_pendulum_mass() {
     // The Lagrangian written from positions only has exactly this mass, at every angle (eq. 68).
     for theta in [-2.0, -0.3, 0.0, 0.7, 3.0] {
         let m = p.mass_matrix(&[theta], &[0.4], 0.0)[(0, 0)];
-        assert!((m - eq69).abs() < 1e-13 * eq69, "θ = {theta}: {m} vs {eq69}");
+        assert!(
+            (m - eq69).abs() < 1e-13 * eq69,
+            "θ = {theta}: {m} vs {eq69}"
+        );
     }
 }
 
@@ -208,7 +211,11 @@ fn eq73_74_angular_acceleration_is_torque_over_moment() {
         let tau: f64 = p
             .points
             .iter()
-            .map(|&(m, b)| (rot * v3(b)).cross(&(nalgebra::Vector3::z() * (-m * p.g))).x)
+            .map(|&(m, b)| {
+                (rot * v3(b))
+                    .cross(&(nalgebra::Vector3::z() * (-m * p.g)))
+                    .x
+            })
             .sum();
         let acc = p.accelerations(&[theta], &[theta_dot], 0.0).unwrap()[0];
         assert!((i_n * acc - tau).abs() < 1e-12 * tau.abs().max(1.0));
@@ -238,10 +245,19 @@ fn eq67_70_small_oscillation_period_is_2pi_sqrt_i_over_mgd() {
         (measured / period - 1.0).abs() < 1e-6,
         "measured {measured}, 2π√(I/(Mgd)) = {period}"
     );
+    // The residual is the finite-amplitude correction T = T0 (1 + θ0²/16 + …).
+    let corrected = period * (1.0 + theta0 * theta0 / 16.0);
+    assert!(
+        (measured / corrected - 1.0).abs() < 1e-9,
+        "{measured} vs {corrected}"
+    );
     // With |R_cm| in place of the perpendicular distance the prediction is 63 % off.
     let r = v3(r_cm).norm();
     let wrong = 2.0 * PI * ((m * r * r + i_cm) / (m * p.g * d)).sqrt();
-    assert!((wrong / measured - 1.0).abs() > 0.6, "{wrong} vs {measured}");
+    assert!(
+        (wrong / measured - 1.0).abs() > 0.6,
+        "{wrong} vs {measured}"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -307,7 +323,10 @@ fn eq77_shift_to_centre_of_mass_needs_the_kronecker_delta() {
             assert!((diff[(a, b)] - want).abs() < 1e-12, "entry ({a},{b})");
         }
     }
-    assert!(m * rv.norm_squared() > 0.1, "the test body must have its CM off the origin");
+    assert!(
+        m * rv.norm_squared() > 0.1,
+        "the test body must have its CM off the origin"
+    );
     // Physically: for ω = (1, 1, 1)/√3 about the origin, the kinetic energy Σ ½ m (ω × r)² is
     // ½ ω·Î·ω with the corrected tensor and is missed by M R² with the printed one.
     let w = nalgebra::Vector3::repeat(1.0).normalize();
@@ -336,7 +355,13 @@ fn euler_zxz_rates_are_the_body_angular_velocity() {
     let w_fd = [s[(2, 1)], s[(0, 2)], s[(1, 0)]];
     let w = body_angular_velocity_zxz(q0, v);
     for k in 0..3 {
-        assert!((w[k] - w_fd[k]).abs() < 1e-8, "ϖ{}: {} vs {}", k + 1, w[k], w_fd[k]);
+        assert!(
+            (w[k] - w_fd[k]).abs() < 1e-8,
+            "ϖ{}: {} vs {}",
+            k + 1,
+            w[k],
+            w_fd[k]
+        );
     }
 }
 
@@ -353,7 +378,13 @@ fn eq81_85_body_angular_velocity_satisfies_eulers_equations_along_a_trajectory()
         .method(TIGHT)
         .until(10.0)
         .sample_every(0.05)
-        .event(EulerChartGuard { theta_index: 1, min_sin: 1e-2 }.event())
+        .event(
+            EulerChartGuard {
+                theta_index: 1,
+                min_sin: 1e-2,
+            }
+            .event(),
+        )
         .run()
         .unwrap();
     assert!(traj.terminated_by.is_none());
@@ -371,7 +402,10 @@ fn eq81_85_body_angular_velocity_satisfies_eulers_equations_along_a_trajectory()
         worst = worst.max(res.iter().map(|r| r.abs()).fold(0.0, f64::max) / scale);
     }
     println!("Euler's equations: worst relative residual {worst:.2e}");
-    assert!(worst < 1e-12, "worst relative residual of Euler's equations {worst:e}");
+    assert!(
+        worst < 1e-12,
+        "worst relative residual of Euler's equations {worst:e}"
+    );
 
     // The same, with dϖ/dt by central differences of the sampled trajectory (h = 1e-3):
     // this checks the integrated trajectory, not only the equations of motion.
@@ -446,10 +480,16 @@ fn eq89_symmetry_axis_precesses_about_l_at_l_over_i1() {
         .unwrap();
     let axis = Unit::new_normalize(l0);
     for ((t, q), v) in traj.t.iter().zip(&traj.q).zip(&traj.qdot) {
-        assert!((lab_l(q, v) - l0).norm() < 1e-10 * l0.norm(), "L not fixed at t = {t}");
+        assert!(
+            (lab_l(q, v) - l0).norm() < 1e-10 * l0.norm(),
+            "L not fixed at t = {t}"
+        );
         let n3 = rotation_zxz(q[0], q[1], q[2]).column(2).into_owned();
         let want = Rotation3::from_axis_angle(&axis, rate * t) * n3_0;
-        assert!((n3 - want).norm() < 1e-9, "n3 at t = {t}: {n3:?} vs {want:?}");
+        assert!(
+            (n3 - want).norm() < 1e-9,
+            "n3 at t = {t}: {n3:?} vs {want:?}"
+        );
     }
 }
 
@@ -482,14 +522,23 @@ fn eq90_91_asymmetric_top_conserves_l_squared_and_2e() {
     let mut drift: f64 = 0.0;
     for (q, v) in traj.q.iter().zip(&traj.qdot) {
         let (l2, e2) = invariants(q, v);
-        drift = drift.max((l2 / l2_0 - 1.0).abs()).max((e2 / e2_0 - 1.0).abs());
+        drift = drift
+            .max((l2 / l2_0 - 1.0).abs())
+            .max((e2 / e2_0 - 1.0).abs());
     }
     println!("asymmetric top: relative drift of L² and 2E {drift:.2e}");
     assert!(drift < 1e-10, "relative drift of L² or 2E: {drift:e}");
     // The motion is not trivial: every component of ϖ changes by O(1).
-    let w: Vec<[f64; 3]> = traj.q.iter().zip(&traj.qdot).map(|(q, v)| body_angular_velocity_zxz(*q, *v)).collect();
+    let w: Vec<[f64; 3]> = traj
+        .q
+        .iter()
+        .zip(&traj.qdot)
+        .map(|(q, v)| body_angular_velocity_zxz(*q, *v))
+        .collect();
     for k in 0..3 {
-        let (lo, hi) = w.iter().fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x[k]), b.max(x[k])));
+        let (lo, hi) = w
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x[k]), b.max(x[k])));
         assert!(hi - lo > 0.3, "ϖ{} range {lo}..{hi}", k + 1);
     }
 }
@@ -530,7 +579,7 @@ fn eq90_91_rotation_about_the_intermediate_axis_grows_at_the_predicted_rate() {
     let measured = (w1[i1] / w1[i0]).ln() / (traj.t[i1] - traj.t[i0]);
     println!("intermediate axis: measured growth {measured:.8}, predicted {lambda:.8}");
     assert!(
-        (measured / lambda - 1.0).abs() < 1e-4,
+        (measured / lambda - 1.0).abs() < 1e-6,
         "measured growth {measured}, predicted {lambda}"
     );
     assert!(w1[i1] > 500.0 * eps);
@@ -548,7 +597,13 @@ fn wobble(axis: usize, t_end: f64) -> f64 {
         .method(TIGHT)
         .until(t_end)
         .sample_every(0.05)
-        .event(EulerChartGuard { theta_index: 1, min_sin: 1e-2 }.event())
+        .event(
+            EulerChartGuard {
+                theta_index: 1,
+                min_sin: 1e-2,
+            }
+            .event(),
+        )
         .run()
         .unwrap();
     assert!(traj.terminated_by.is_none());
@@ -557,7 +612,10 @@ fn wobble(axis: usize, t_end: f64) -> f64 {
         .zip(&traj.qdot)
         .map(|(q, v)| {
             let w = body_angular_velocity_zxz(*q, *v);
-            (0..3).filter(|&j| j != axis).map(|j| w[j].abs()).fold(0.0, f64::max)
+            (0..3)
+                .filter(|&j| j != axis)
+                .map(|j| w[j].abs())
+                .fold(0.0, f64::max)
         })
         .fold(0.0, f64::max)
 }
@@ -583,11 +641,19 @@ fn eq90_91_rotation_about_the_largest_and_smallest_axes_is_stable() {
 fn euler_chart_singularity_is_a_typed_error_not_garbage() {
     let top = asymmetric();
     // At θ = 0, φ and ψ turn about the same axis: the mass matrix has rank 2.
-    let err = top.accelerations(&[0.0, 0.0, 0.0], &[1.0, 0.0, 0.5], 0.0).unwrap_err();
-    assert!(matches!(err, DynamicsError::SingularMassMatrix { .. }), "{err}");
+    let err = top
+        .accelerations(&[0.0, 0.0, 0.0], &[1.0, 0.0, 0.5], 0.0)
+        .unwrap_err();
+    assert!(
+        matches!(err, DynamicsError::SingularMassMatrix { .. }),
+        "{err}"
+    );
     assert!(err.to_string().contains("sin θ = 0"), "{err}");
     // A run started there fails before its first step, with the same typed error inside.
-    let run = Simulation::new(&top, [0.0, 0.0, 0.0], [1.0, 0.0, 0.5]).method(TIGHT).until(1.0).run();
+    let run = Simulation::new(&top, [0.0, 0.0, 0.0], [1.0, 0.0, 0.5])
+        .method(TIGHT)
+        .until(1.0)
+        .run();
     match run {
         Err(SimulationError::Dynamics { source, .. }) => {
             assert!(matches!(*source, DynamicsError::SingularMassMatrix { .. }))
@@ -597,7 +663,10 @@ fn euler_chart_singularity_is_a_typed_error_not_garbage() {
     // A steady spin about body axis 1 that carries the Euler z axis onto the lab z axis:
     // θ(t) = 0.8 − 1.0 t exactly (φ̇ = ψ̇ = 0), so sin θ = 0 at t = 0.8. The guard stops the run at
     // |sin θ| = 1e-3 and reports where.
-    let guard = EulerChartGuard { theta_index: 1, min_sin: 1e-3 };
+    let guard = EulerChartGuard {
+        theta_index: 1,
+        min_sin: 1e-3,
+    };
     let traj = Simulation::new(&top, [0.0, 0.8, 0.0], [0.0, -1.0, 0.0])
         .method(TIGHT)
         .until(2.0)
@@ -606,7 +675,11 @@ fn euler_chart_singularity_is_a_typed_error_not_garbage() {
         .unwrap();
     let err = guard.check(&traj).unwrap_err();
     let want_t = 0.8 - 1e-3_f64.asin();
-    assert!((err.t() - want_t).abs() < 1e-9, "guard at t = {}, want {want_t}", err.t());
+    assert!(
+        (err.t() - want_t).abs() < 1e-9,
+        "guard at t = {}, want {want_t}",
+        err.t()
+    );
     match &err {
         DynamicsError::SingularMassMatrix { q, message, .. } => {
             assert!((q[1].sin() - 1e-3).abs() < 1e-9);
@@ -614,7 +687,10 @@ fn euler_chart_singularity_is_a_typed_error_not_garbage() {
         }
         other => panic!("{other:?}"),
     }
-    assert_eq!(traj.events.last().map(|e| e.direction), Some(Direction::Falling));
+    assert_eq!(
+        traj.events.last().map(|e| e.direction),
+        Some(Direction::Falling)
+    );
     // The same run away from the pole passes the guard.
     let ok = Simulation::new(&top, [0.0, 1.5, 0.0], [0.0, -0.1, 0.0])
         .method(TIGHT)
@@ -630,5 +706,8 @@ fn euler_chart_singularity_is_a_typed_error_not_garbage() {
         .event(guard.event())
         .run()
         .unwrap();
-    assert!(matches!(guard.check(&outside), Err(DynamicsError::SingularMassMatrix { .. })));
+    assert!(matches!(
+        guard.check(&outside),
+        Err(DynamicsError::SingularMassMatrix { .. })
+    ));
 }

@@ -11,9 +11,9 @@ pub mod integrate;
 pub mod jet;
 mod lagrangian;
 pub mod linalg;
-pub mod rigid;
 #[doc(hidden)]
 pub mod mix;
+pub mod rigid;
 mod scalar;
 
 pub use error::DynamicsError;

@@ -253,7 +253,12 @@ impl EulerChartGuard {
         if traj.terminated_by.as_deref() != Some(Self::EVENT_NAME) {
             return Ok(());
         }
-        match traj.events.iter().rev().find(|e| e.name == Self::EVENT_NAME) {
+        match traj
+            .events
+            .iter()
+            .rev()
+            .find(|e| e.name == Self::EVENT_NAME)
+        {
             Some(hit) => {
                 let s = hit.q.get(self.theta_index).map_or(0.0, |th| th.sin());
                 Err(chart_error(hit.t, &hit.q, &hit.qdot, s, self.min_sin))

@@ -128,7 +128,11 @@ pub struct Trajectory<const N: usize> {
 }
 
 impl<const N: usize> Trajectory<N> {
-    pub(crate) fn empty(coordinates: [&'static str; N], cyclic: [bool; N], autonomous: bool) -> Self {
+    pub(crate) fn empty(
+        coordinates: [&'static str; N],
+        cyclic: [bool; N],
+        autonomous: bool,
+    ) -> Self {
         Trajectory {
             t: Vec::new(),
             q: Vec::new(),
