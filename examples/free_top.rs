@@ -1,8 +1,8 @@
 //! The intermediate-axis flip (tumbling T-handle, Dzhanibekov effect) of a free asymmetric top,
 //! declared with `#[lagrangian]` in z-x-z Euler angles (reference text, section C, eqs. 81–91).
 //!
-//! A body with I1 > I2 > I3 is spun about its intermediate axis 2 with a tiny wobble ε about axis
-//! 1. Linearising Euler's equations gives growth at λ = ϖ2 √((I1−I2)(I2−I3)/(I1 I3)); the full
+//! A body with I1 > I2 > I3 is spun about its intermediate axis 2 with a tiny wobble ε about the
+//! axis 1. Linearising Euler's equations gives growth at λ = ϖ2 √((I1−I2)(I2−I3)/(I1 I3)); the full
 //! motion flips the body over and back with the period of the Jacobi elliptic functions,
 //! T = 4K(k) √(I1 I2 I3 / ((I1−I2)(L² − 2E I3))) (Landau & Lifshitz §37, in this labelling).
 //! The example integrates it, writes the body angular velocity components to an SVG plot, and
