@@ -12,8 +12,9 @@
 //! z axis is put along the (fixed) angular momentum L, and the Euler z axis is body axis 3, the
 //! axis of least inertia: near the separatrix L never lines up with axis 3, so the chart stays
 //! regular (sin θ = |(L1, L2)|/|L| stays well above zero). A guard event stops the run with a typed
-//! error if it ever gets within |sin θ| = 1e-3 of the singularity. (Had the intermediate axis been
-//! the Euler z axis, every flip would carry θ from 0 to π through the singularity.)
+//! error if it ever gets within sin θ = 1e-3 of the singularity. (Had the intermediate axis been
+//! the Euler z axis, with the lab z axis along L, the run would start at θ ≈ 0 and every flip
+//! would carry θ from 0 to π through the singularity.)
 //!
 //! Run: `cargo run --release --example free_top -- [--eps 1e-4] [--until 40] [--tol 1e-12] [--out out/free_top.svg]`
 

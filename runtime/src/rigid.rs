@@ -153,7 +153,7 @@ pub fn euler_rates_zxz(angles: [f64; 3], w: [f64; 3]) -> Result<[f64; 3], Dynami
     let (st, ct) = theta.sin_cos();
     let (sp, cp) = psi.sin_cos();
     if st.abs() < 1e-12 || !st.is_finite() {
-        return Err(chart_error(0.0, &angles, &[f64::NAN; 3], st, 1e-12));
+        return Err(chart_error(0.0, &angles, &[], st, 1e-12));
     }
     let phi_dot = (w[0] * sp + w[1] * cp) / st;
     Ok([phi_dot, w[0] * cp - w[1] * sp, w[2] - phi_dot * ct])
