@@ -662,7 +662,7 @@ fn euler_chart_singularity_is_a_typed_error_not_garbage() {
     }
     // A steady spin about body axis 1 that carries the Euler z axis onto the lab z axis:
     // θ(t) = 0.8 − 1.0 t exactly (φ̇ = ψ̇ = 0), so sin θ = 0 at t = 0.8. The guard stops the run at
-    // |sin θ| = 1e-3 and reports where.
+    // sin θ = 1e-3 and reports where.
     let guard = EulerChartGuard {
         theta_index: 1,
         min_sin: 1e-3,
