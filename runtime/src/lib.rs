@@ -15,6 +15,7 @@ mod lagrangian;
 pub mod linalg;
 #[doc(hidden)]
 pub mod mix;
+pub mod rigid;
 mod scalar;
 
 pub use error::DynamicsError;
