@@ -1,7 +1,23 @@
+//! The `#[lagrangian]` attribute macro of [lagrange](https://docs.rs/lagrange).
+//!
+//! The pipeline is parse → validate → analyze (lower) → emit, one module each; errors are
+//! collected across stages, spanned at the user's tokens, and nothing but a stub impl is
+//! generated while any exist. See the facade crate for the user-facing documentation.
+#![forbid(unsafe_code)]
+
+mod analyze;
+mod emit;
+mod errors;
 mod model;
+mod parse;
 mod symbolic;
+mod validate;
+
 use proc_macro::TokenStream;
+
+/// Derives `impl Lagrangian<N>` from `fn lagrangian(&self, (q, q_dot): Coord, ...) -> Scalar`
+/// written as plain Rust. See the `lagrange` crate documentation.
 #[proc_macro_attribute]
-pub fn lagrangian(_a: TokenStream, i: TokenStream) -> TokenStream {
-    i
+pub fn lagrangian(args: TokenStream, input: TokenStream) -> TokenStream {
+    emit::expand(args.into(), input.into()).into()
 }

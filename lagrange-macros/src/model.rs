@@ -56,7 +56,10 @@ impl CoordParam {
         let base = unraw(&self.name);
         match self.kind {
             CoordKind::Scalar => vec![base],
-            CoordKind::Vector3 => ["x", "y", "z"].iter().map(|c| format!("{base}.{c}")).collect(),
+            CoordKind::Vector3 => ["x", "y", "z"]
+                .iter()
+                .map(|c| format!("{base}.{c}"))
+                .collect(),
         }
     }
 }
@@ -89,7 +92,10 @@ impl Decl {
     }
     /// COORDINATES, in declaration order.
     pub fn coordinate_names(&self) -> Vec<String> {
-        self.coords.iter().flat_map(CoordParam::slot_names).collect()
+        self.coords
+            .iter()
+            .flat_map(CoordParam::slot_names)
+            .collect()
     }
 }
 

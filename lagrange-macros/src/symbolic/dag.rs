@@ -212,11 +212,8 @@ impl Dag {
         }
     }
 
-    fn is_const(&self, id: Id, c: f64) -> bool {
-        self.as_const(id) == Some(c)
-    }
-
     /// Whether the node depends on no coordinate, velocity or time (parameters and constants only).
+    #[cfg(test)]
     pub fn is_state_free(&self, id: Id) -> bool {
         let w = id as usize * self.words;
         self.deps[w..w + self.words].iter().all(|x| *x == 0)
@@ -467,7 +464,8 @@ impl Dag {
         self.intern(Node::Un(f, a))
     }
 
-    /// Evaluates every node up to `upto` (inclusive) numerically.
+    /// Evaluates every node numerically (parameters flattened: `fields[f] = (start, vector)`).
+    #[cfg(test)]
     pub fn eval_all(
         &self,
         params: &[f64],
@@ -675,6 +673,7 @@ impl Dag {
     }
 }
 
+#[cfg(test)]
 fn val_at(v: &[f64], i: Id) -> f64 {
     v[i as usize]
 }

@@ -37,6 +37,7 @@ pub struct SymbolicOutput {
     /// A rustdoc section (Markdown) presenting the equations, for the user's type.
     pub doc: String,
     /// Size of the generated code: `let` statements over all four bodies.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub generated_lets: usize,
 }
 
@@ -44,6 +45,7 @@ pub struct SymbolicOutput {
 struct Derivation {
     dag: Dag,
     fields: Vec<lower::Field>,
+    #[cfg_attr(not(test), allow(dead_code))]
     lagrangian: Id,
     /// ∂L/∂q̇ᵢ.
     momenta: Vec<Id>,
@@ -234,4 +236,62 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
         doc,
         generated_lets: lets,
     })
+}
+
+/// The four generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
+/// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
+pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStream, TokenStream) {
+    let (q, qdot, t) = idents();
+    let nn = Literal::usize_unsuffixed(n);
+    let SymbolicOutput {
+        accelerations,
+        mass_matrix,
+        momenta,
+        energy,
+        allow,
+        equations,
+        equations_latex,
+        doc,
+        ..
+    } = out;
+    let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
+    let methods = quote! {
+        #allow
+        #[inline]
+        fn accelerations(#sig) -> ::core::result::Result<[f64; #nn], ::lagrange::__private::DynamicsError> {
+            #accelerations
+        }
+        #allow
+        #[inline]
+        fn mass_matrix(#sig) -> ::lagrange::__private::SMatrix<f64, #nn, #nn> {
+            #mass_matrix
+        }
+        #allow
+        #[inline]
+        fn momenta(#sig) -> [f64; #nn] {
+            #momenta
+        }
+        #allow
+        #[inline]
+        fn energy(#sig) -> f64 {
+            #energy
+        }
+    };
+    let eq_doc = format!(
+        "The Euler–Lagrange equations, derived at compile time by `#[lagrangian]`: one line per \
+         coordinate, `Σₖ Mᵢₖ q̈ₖ = fᵢ` (accelerations on the left).\n\n```text\n{equations}\n```"
+    );
+    let latex_doc = "The Euler–Lagrange equations in LaTeX, one line per coordinate (the same \
+                     equations as `EQUATIONS`).";
+    let consts = quote! {
+        #[doc = #doc]
+        #[automatically_derived]
+        impl #self_ty {
+            #[doc = #eq_doc]
+            pub const EQUATIONS: &'static str = #equations;
+            #[doc = #latex_doc]
+            pub const EQUATIONS_LATEX: &'static str = #equations_latex;
+        }
+    };
+    (methods, consts)
 }

@@ -1,0 +1,539 @@
+//! Analyze and lower for the jets path: which bindings the body uses (CYCLIC, AUTONOMOUS), and
+//! the body rewritten so constants (`2.0`, `self.m`, `Vector3<f64>` fields) meet coordinate
+//! values through the runtime's mixed-arithmetic traits.
+//!
+//! Each expression gets a kind: `Const` (no dependence on q, q̇ or t: an `f64`, a
+//! `Vector3<f64>`, a bool...) or `Var` (a `Scalar` or `Vector3<Scalar>`), or a tuple of kinds.
+//! Where a `Const` meets a `Var` in `+ - * /`, the operation becomes
+//! `__private::ConstMul::const_mul(c, v)` (or `MulConst::mul_const(v, c)`, ...): the constant stays
+//! an `f64`. Elsewhere (method arguments, comparisons, `Vector3::new`, branches of an `if`) the
+//! constant is lifted with `__private::lift::<Scalar, _>(c)`. Generated calls carry the span of
+//! the user's expression, so a type error points at the user's code.
+
+use std::collections::{HashMap, HashSet};
+
+use proc_macro2::{TokenStream, TokenTree};
+use quote::{quote, quote_spanned};
+use syn::spanned::Spanned;
+use syn::visit::Visit;
+use syn::{BinOp, Block, Expr, Pat, Stmt};
+
+use crate::model::{unraw, Decl};
+
+/// What the analysis found.
+pub struct Analysis {
+    /// Names mentioned anywhere in the body.
+    pub used: HashSet<String>,
+    /// CYCLIC, one per slot.
+    pub cyclic: Vec<bool>,
+    /// AUTONOMOUS.
+    pub autonomous: bool,
+}
+
+/// Names used in the body, and from them CYCLIC and AUTONOMOUS.
+pub fn analyze(decl: &Decl) -> Analysis {
+    let mut v = Mentions::default();
+    v.visit_block(&decl.body);
+    let used = v.0;
+    let mut cyclic = Vec::with_capacity(decl.n());
+    for c in &decl.coords {
+        let absent = !used.contains(&unraw(&c.name));
+        cyclic.extend(std::iter::repeat_n(absent, c.width()));
+    }
+    let autonomous = decl.time.as_ref().is_none_or(|t| !used.contains(&unraw(t)));
+    Analysis {
+        used,
+        cyclic,
+        autonomous,
+    }
+}
+
+/// Every identifier in a single-segment path expression, and every identifier inside macro
+/// invocations (their tokens are opaque, so any mention counts).
+#[derive(Default)]
+struct Mentions(HashSet<String>);
+
+impl<'ast> Visit<'ast> for Mentions {
+    fn visit_expr_path(&mut self, p: &'ast syn::ExprPath) {
+        if p.qself.is_none() && p.path.segments.len() == 1 {
+            self.0.insert(unraw(&p.path.segments[0].ident));
+        }
+        syn::visit::visit_expr_path(self, p);
+    }
+    fn visit_macro(&mut self, m: &'ast syn::Macro) {
+        idents_in(m.tokens.clone(), &mut self.0);
+    }
+}
+
+fn idents_in(ts: TokenStream, out: &mut HashSet<String>) {
+    for tt in ts {
+        match tt {
+            TokenTree::Ident(i) => {
+                out.insert(unraw(&i));
+            }
+            TokenTree::Group(g) => idents_in(g.stream(), out),
+            _ => {}
+        }
+    }
+}
+
+/// The kind of an expression's value.
+#[derive(Clone, Debug, PartialEq)]
+enum Kind {
+    Const,
+    Var,
+    Tuple(Vec<Kind>),
+}
+
+impl Kind {
+    fn is_var(&self) -> bool {
+        match self {
+            Kind::Const => false,
+            Kind::Var => true,
+            Kind::Tuple(ks) => ks.iter().any(Kind::is_var),
+        }
+    }
+    fn join(a: Kind, b: Kind) -> Kind {
+        match (a, b) {
+            (Kind::Tuple(x), Kind::Tuple(y)) if x.len() == y.len() => Kind::Tuple(
+                x.into_iter()
+                    .zip(y)
+                    .map(|(a, b)| Kind::join(a, b))
+                    .collect(),
+            ),
+            (a, b) if a.is_var() || b.is_var() => Kind::Var,
+            _ => Kind::Const,
+        }
+    }
+}
+
+/// Rewrites the body for the jets path. `vars` are the bindings that carry coordinates or time.
+pub fn lower_for_jets(body: &Block, vars: &[String]) -> Block {
+    let mut rw = Rewriter {
+        scopes: vec![vars.iter().map(|v| (v.clone(), Kind::Var)).collect()],
+    };
+    let mut body = body.clone();
+    let kind = rw.block(&mut body);
+    if kind == Kind::Const {
+        lift_block_tail(&mut body);
+    }
+    body
+}
+
+struct Rewriter {
+    scopes: Vec<HashMap<String, Kind>>,
+}
+
+fn lift_tokens(e: &Expr) -> Expr {
+    let span = e.span();
+    let e = Expr::Verbatim(quote_spanned!(span=> ::lagrange::__private::lift::<Scalar, _>(#e)));
+    e
+}
+
+fn lift_in_place(e: &mut Expr) {
+    // Lift under a reference so `&self.g` becomes `&lift(self.g)`.
+    if let Expr::Reference(r) = e {
+        lift_in_place(&mut r.expr);
+        return;
+    }
+    if let Expr::Paren(p) = e {
+        lift_in_place(&mut p.expr);
+        return;
+    }
+    *e = lift_tokens(e);
+}
+
+fn lift_block_tail(b: &mut Block) {
+    if let Some(Stmt::Expr(e, None)) = b.stmts.last_mut() {
+        lift_in_place(e);
+    }
+}
+
+impl Rewriter {
+    fn lookup(&self, name: &str) -> Option<Kind> {
+        self.scopes.iter().rev().find_map(|s| s.get(name).cloned())
+    }
+
+    fn bind(&mut self, pat: &Pat, kind: Kind) {
+        match pat {
+            Pat::Ident(pi) => {
+                if let Some(scope) = self.scopes.last_mut() {
+                    scope.insert(unraw(&pi.ident), kind.clone());
+                }
+                if let Some((_, sub)) = &pi.subpat {
+                    self.bind(sub, kind);
+                }
+            }
+            Pat::Tuple(t) => {
+                for (i, p) in t.elems.iter().enumerate() {
+                    let k = match &kind {
+                        Kind::Tuple(ks) => ks.get(i).cloned().unwrap_or(Kind::Var),
+                        other => other.clone(),
+                    };
+                    self.bind(p, k);
+                }
+            }
+            Pat::Type(pt) => {
+                let k = if mentions_scalar(&pt.ty) {
+                    Kind::Var
+                } else {
+                    kind
+                };
+                self.bind(&pt.pat, k);
+            }
+            Pat::Reference(r) => self.bind(&r.pat, kind),
+            Pat::Paren(p) => self.bind(&p.pat, kind),
+            Pat::Slice(s) => {
+                for p in &s.elems {
+                    self.bind(p, kind.clone());
+                }
+            }
+            Pat::TupleStruct(ts) => {
+                for p in &ts.elems {
+                    self.bind(p, kind.clone());
+                }
+            }
+            Pat::Struct(ps) => {
+                for f in &ps.fields {
+                    self.bind(&f.pat, kind.clone());
+                }
+            }
+            Pat::Or(o) => {
+                for p in &o.cases {
+                    self.bind(p, kind.clone());
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn block(&mut self, b: &mut Block) -> Kind {
+        self.scopes.push(HashMap::new());
+        let mut kind = Kind::Const;
+        let n = b.stmts.len();
+        for (i, stmt) in b.stmts.iter_mut().enumerate() {
+            let k = self.stmt(stmt);
+            if i + 1 == n {
+                kind = k;
+            }
+        }
+        self.scopes.pop();
+        kind
+    }
+
+    fn stmt(&mut self, s: &mut Stmt) -> Kind {
+        match s {
+            Stmt::Local(local) => {
+                let mut kind = Kind::Const;
+                if let Some(init) = &mut local.init {
+                    kind = self.expr(&mut init.expr);
+                    if let Some((_, diverge)) = &mut init.diverge {
+                        self.expr(diverge);
+                    }
+                    if let Pat::Type(pt) = &local.pat {
+                        if mentions_scalar(&pt.ty) && !kind.is_var() {
+                            lift_in_place(&mut init.expr);
+                            kind = Kind::Var;
+                        }
+                    }
+                }
+                self.bind(&local.pat, kind);
+                Kind::Const
+            }
+            Stmt::Expr(e, semi) => {
+                let k = self.expr(e);
+                if semi.is_some() {
+                    Kind::Const
+                } else {
+                    k
+                }
+            }
+            Stmt::Macro(m) => self.macro_kind(&m.mac.tokens),
+            Stmt::Item(_) => Kind::Const,
+        }
+    }
+
+    fn macro_kind(&self, tokens: &TokenStream) -> Kind {
+        let mut ids = HashSet::new();
+        idents_in(tokens.clone(), &mut ids);
+        if ids
+            .iter()
+            .any(|i| self.lookup(i).is_some_and(|k| k.is_var()))
+        {
+            Kind::Var
+        } else {
+            Kind::Const
+        }
+    }
+
+    fn expr(&mut self, e: &mut Expr) -> Kind {
+        match e {
+            Expr::Lit(_) => Kind::Const,
+            Expr::Path(p) => {
+                if p.qself.is_none() && p.path.segments.len() == 1 {
+                    self.lookup(&unraw(&p.path.segments[0].ident))
+                        .unwrap_or(Kind::Const)
+                } else {
+                    Kind::Const
+                }
+            }
+            Expr::Field(f) => {
+                let k = self.expr(&mut f.base);
+                match (&k, &f.member) {
+                    (Kind::Tuple(ks), syn::Member::Unnamed(i)) => {
+                        ks.get(i.index as usize).cloned().unwrap_or(Kind::Var)
+                    }
+                    _ => Kind::join(k, Kind::Const),
+                }
+            }
+            Expr::Paren(p) => self.expr(&mut p.expr),
+            Expr::Group(g) => self.expr(&mut g.expr),
+            Expr::Reference(r) => self.expr(&mut r.expr),
+            Expr::Unary(u) => {
+                let k = self.expr(&mut u.expr);
+                match u.op {
+                    syn::UnOp::Not(_) => Kind::Const,
+                    _ => k,
+                }
+            }
+            Expr::Binary(_) => self.binary(e),
+            Expr::MethodCall(m) => {
+                let kr = self.expr(&mut m.receiver);
+                let kargs: Vec<Kind> = m.args.iter_mut().map(|a| self.expr(a)).collect();
+                if m.method == "powi" {
+                    return kr;
+                }
+                let any_var = kr.is_var() || kargs.iter().any(Kind::is_var);
+                if !any_var {
+                    return Kind::Const;
+                }
+                if kr == Kind::Const {
+                    lift_in_place(&mut m.receiver);
+                }
+                for (a, k) in m.args.iter_mut().zip(&kargs) {
+                    if *k == Kind::Const {
+                        lift_in_place(a);
+                    }
+                }
+                Kind::Var
+            }
+            Expr::Call(c) => {
+                let kf = self.expr(&mut c.func);
+                let kargs: Vec<Kind> = c.args.iter_mut().map(|a| self.expr(a)).collect();
+                let any_var = kf.is_var() || kargs.iter().any(Kind::is_var);
+                if any_var && is_constructor(&c.func) {
+                    for (a, k) in c.args.iter_mut().zip(&kargs) {
+                        if *k == Kind::Const {
+                            lift_in_place(a);
+                        }
+                    }
+                }
+                if any_var {
+                    Kind::Var
+                } else {
+                    Kind::Const
+                }
+            }
+            Expr::Tuple(t) => Kind::Tuple(t.elems.iter_mut().map(|x| self.expr(x)).collect()),
+            Expr::Array(a) => {
+                let ks: Vec<Kind> = a.elems.iter_mut().map(|x| self.expr(x)).collect();
+                let any_var = ks.iter().any(Kind::is_var);
+                if any_var {
+                    for (x, k) in a.elems.iter_mut().zip(&ks) {
+                        if *k == Kind::Const {
+                            lift_in_place(x);
+                        }
+                    }
+                    Kind::Var
+                } else {
+                    Kind::Const
+                }
+            }
+            Expr::Block(b) => self.block(&mut b.block),
+            Expr::Unsafe(b) => self.block(&mut b.block),
+            Expr::If(i) => {
+                self.expr(&mut i.cond);
+                let kt = self.block(&mut i.then_branch);
+                match &mut i.else_branch {
+                    Some((_, els)) => {
+                        let ke = self.expr(els);
+                        if kt == Kind::Const && ke == Kind::Var {
+                            lift_block_tail(&mut i.then_branch);
+                        } else if kt == Kind::Var && ke == Kind::Const {
+                            lift_in_place(els);
+                        }
+                        Kind::join(kt, ke)
+                    }
+                    None => Kind::Const,
+                }
+            }
+            Expr::Match(m) => {
+                let ks = self.expr(&mut m.expr);
+                let mut kinds = Vec::new();
+                for arm in &mut m.arms {
+                    self.scopes.push(HashMap::new());
+                    self.bind(&arm.pat, ks.clone());
+                    kinds.push(self.expr(&mut arm.body));
+                    self.scopes.pop();
+                }
+                let joined = kinds.iter().cloned().fold(Kind::Const, Kind::join);
+                if joined == Kind::Var {
+                    for (arm, k) in m.arms.iter_mut().zip(&kinds) {
+                        if *k == Kind::Const {
+                            lift_in_place(&mut arm.body);
+                        }
+                    }
+                }
+                joined
+            }
+            Expr::Let(l) => {
+                let k = self.expr(&mut l.expr);
+                self.bind(&l.pat, k);
+                Kind::Const
+            }
+            Expr::Cast(c) => self.expr(&mut c.expr),
+            Expr::Index(i) => {
+                let k = self.expr(&mut i.expr);
+                self.expr(&mut i.index);
+                Kind::join(k, Kind::Const)
+            }
+            Expr::Assign(a) => {
+                let kl = self.expr(&mut a.left);
+                let kr = self.expr(&mut a.right);
+                if kl.is_var() && kr == Kind::Const {
+                    lift_in_place(&mut a.right);
+                }
+                Kind::Const
+            }
+            Expr::Closure(c) => {
+                self.scopes.push(HashMap::new());
+                for p in &c.inputs {
+                    self.bind(p, Kind::Var);
+                }
+                let k = self.expr(&mut c.body);
+                self.scopes.pop();
+                if k.is_var() || self.macro_kind(&quote!(#c)).is_var() {
+                    Kind::Var
+                } else {
+                    Kind::Const
+                }
+            }
+            Expr::ForLoop(f) => {
+                let k = self.expr(&mut f.expr);
+                self.scopes.push(HashMap::new());
+                self.bind(&f.pat, k);
+                self.block(&mut f.body);
+                self.scopes.pop();
+                Kind::Const
+            }
+            Expr::While(w) => {
+                self.expr(&mut w.cond);
+                self.block(&mut w.body);
+                Kind::Const
+            }
+            Expr::Loop(l) => {
+                self.block(&mut l.body);
+                Kind::Const
+            }
+            Expr::Return(r) => {
+                if let Some(x) = &mut r.expr {
+                    if self.expr(x) == Kind::Const {
+                        lift_in_place(x);
+                    }
+                }
+                Kind::Const
+            }
+            Expr::Macro(m) => self.macro_kind(&m.mac.tokens),
+            other => self.macro_kind(&quote!(#other)),
+        }
+    }
+
+    fn binary(&mut self, e: &mut Expr) -> Kind {
+        let Expr::Binary(b) = e else {
+            return Kind::Const;
+        };
+        let kl = self.expr(&mut b.left);
+        let kr = self.expr(&mut b.right);
+        let mixed = |kl: &Kind, kr: &Kind| {
+            (kl.is_var() && *kr == Kind::Const) || (*kl == Kind::Const && kr.is_var())
+        };
+        let arith = match b.op {
+            BinOp::Add(_) => Some(("ConstAdd", "const_add", "AddConst", "add_const")),
+            BinOp::Sub(_) => Some(("ConstSub", "const_sub", "SubConst", "sub_const")),
+            BinOp::Mul(_) => Some(("ConstMul", "const_mul", "MulConst", "mul_const")),
+            BinOp::Div(_) => Some(("ConstDiv", "const_div", "DivConst", "div_const")),
+            _ => None,
+        };
+        if let Some((ct, cf, vt, vf)) = arith {
+            if mixed(&kl, &kr) {
+                let span = b.op.span();
+                let (l, r) = (&b.left, &b.right);
+                let (tr, f) = if kl == Kind::Const {
+                    (ct, cf)
+                } else {
+                    (vt, vf)
+                };
+                let tr = syn::Ident::new(tr, span);
+                let f = syn::Ident::new(f, span);
+                *e = Expr::Verbatim(quote_spanned!(span=> ::lagrange::__private::#tr::#f(#l, #r)));
+                return Kind::Var;
+            }
+            return Kind::join(kl, kr);
+        }
+        match b.op {
+            BinOp::Rem(_) => {
+                if mixed(&kl, &kr) {
+                    if kl == Kind::Const {
+                        lift_in_place(&mut b.left);
+                    } else {
+                        lift_in_place(&mut b.right);
+                    }
+                }
+                Kind::join(kl, kr)
+            }
+            BinOp::Eq(_)
+            | BinOp::Ne(_)
+            | BinOp::Lt(_)
+            | BinOp::Le(_)
+            | BinOp::Gt(_)
+            | BinOp::Ge(_) => {
+                if mixed(&kl, &kr) {
+                    if kl == Kind::Const {
+                        lift_in_place(&mut b.left);
+                    } else {
+                        lift_in_place(&mut b.right);
+                    }
+                }
+                Kind::Const
+            }
+            BinOp::AddAssign(_)
+            | BinOp::SubAssign(_)
+            | BinOp::MulAssign(_)
+            | BinOp::DivAssign(_)
+            | BinOp::RemAssign(_) => {
+                if kl.is_var() && kr == Kind::Const {
+                    lift_in_place(&mut b.right);
+                }
+                Kind::Const
+            }
+            _ => Kind::join(kl, kr),
+        }
+    }
+}
+
+/// `Vector3::new(..)`-like calls (a path of two or more segments ending in `new`): their
+/// arguments must all be of one number type, so constants are lifted.
+fn is_constructor(func: &Expr) -> bool {
+    match func {
+        Expr::Path(p) => {
+            p.path.segments.len() >= 2 && p.path.segments.last().is_some_and(|s| s.ident == "new")
+        }
+        _ => false,
+    }
+}
+
+fn mentions_scalar(ty: &syn::Type) -> bool {
+    let mut ids = HashSet::new();
+    idents_in(quote!(#ty), &mut ids);
+    ids.contains("Scalar")
+}

@@ -1,0 +1,195 @@
+//! Emit: the `impl Lagrangian<N>` (or, while errors exist, the errors and a stub impl).
+
+use proc_macro2::{Span, TokenStream};
+use quote::{format_ident, quote, quote_spanned};
+
+use crate::analyze::{analyze, lower_for_jets};
+use crate::errors::Errors;
+use crate::model::{unraw, CoordKind, Decl, Mode};
+use crate::{parse, validate};
+
+/// The whole macro: parse → validate → analyze/lower → emit.
+pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
+    let mut errors = Errors::default();
+    let options = parse::options(args, &mut errors);
+    let split = match parse::split(input.clone()) {
+        Ok(s) => s,
+        Err(e) => {
+            errors.push(e);
+            let errs = errors.to_compile_errors();
+            return quote!(#errs #input);
+        }
+    };
+    let rest = split.rest.clone();
+    let n_hint = split
+        .funcs
+        .first()
+        .map(count_coordinate_params)
+        .unwrap_or(1)
+        .max(1);
+    let decl = validate::validate(split, options, &mut errors);
+    match decl {
+        Some(decl) if errors.is_empty() => generate(&decl),
+        _ => {
+            let errs = errors.to_compile_errors();
+            let stub = stub_impl(&rest, n_hint);
+            quote!(#errs #rest #stub)
+        }
+    }
+}
+
+fn generate(decl: &Decl) -> TokenStream {
+    let analysis = analyze(decl);
+    let n = decl.n();
+    let self_ty = &decl.rest.self_ty;
+    let rest = &decl.rest;
+    let names = decl.coordinate_names();
+    let cyclic = &analysis.cyclic;
+    let autonomous = analysis.autonomous;
+
+    // Bindings of the user's names to the jets' slots; names the body never mentions are not
+    // bound (no unused-variable warnings for cyclic coordinates).
+    let q = Ident::q();
+    let qdot = Ident::qdot();
+    let t = Ident::t();
+    let mut bindings = Vec::new();
+    let mut vars = Vec::new();
+    let (mut uses_q, mut uses_qdot) = (false, false);
+    for c in &decl.coords {
+        for (ident, array, used_flag) in
+            [(&c.name, &q, &mut uses_q), (&c.dot, &qdot, &mut uses_qdot)]
+        {
+            if !analysis.used.contains(&unraw(ident)) {
+                continue;
+            }
+            *used_flag = true;
+            vars.push(unraw(ident));
+            let i = c.first_index;
+            bindings.push(match c.kind {
+                CoordKind::Scalar => quote!(let #ident = #array[#i];),
+                CoordKind::Vector3 => {
+                    let (i1, i2) = (i + 1, i + 2);
+                    quote!(let #ident = ::lagrange::__private::Vector3::new(#array[#i], #array[#i1], #array[#i2]);)
+                }
+            });
+        }
+    }
+    let mut uses_t = false;
+    if let Some(time) = &decl.time {
+        if analysis.used.contains(&unraw(time)) {
+            uses_t = true;
+            vars.push(unraw(time));
+            bindings.push(quote!(let #time = #t;));
+        }
+    }
+    let q_pat = if uses_q { quote!(#q) } else { quote!(_) };
+    let qdot_pat = if uses_qdot { quote!(#qdot) } else { quote!(_) };
+    let t_pat = if uses_t { quote!(#t) } else { quote!(_) };
+
+    let body = lower_for_jets(&decl.body, &vars);
+    let stmts = &body.stmts;
+    let fn_attrs = &decl.fn_attrs;
+    let ret = quote_spanned!(decl.ret_span=> Scalar);
+    let fn_ident = &decl.fn_ident;
+    let (symbolic_note, symbolic_consts) = match decl.options.mode {
+        Mode::Jets => (quote!(), quote!()),
+        Mode::Symbolic => match crate::symbolic::expand(decl) {
+            Ok(out) => crate::symbolic::methods(&out, n, self_ty),
+            Err(errs) => {
+                let errs = errs.iter().map(syn::Error::to_compile_error);
+                let stub = stub_impl(rest, n);
+                return quote!(#(#errs)* #rest #stub);
+            }
+        },
+    };
+
+    quote! {
+        #rest
+
+        #[automatically_derived]
+        impl ::lagrange::__private::Lagrangian<#n> for #self_ty {
+            const COORDINATES: [&'static str; #n] = [#(#names),*];
+            const CYCLIC: [bool; #n] = [#(#cyclic),*];
+            const AUTONOMOUS: bool = #autonomous;
+
+            #(#fn_attrs)*
+            #[inline]
+            #[allow(
+                clippy::all,
+                clippy::pedantic,
+                clippy::nursery,
+                unused_parens,
+                unused_braces,
+                non_snake_case
+            )]
+            fn #fn_ident<Scalar: ::lagrange::__private::Scalar>(
+                &self,
+                #q_pat: &[Scalar; #n],
+                #qdot_pat: &[Scalar; #n],
+                #t_pat: Scalar,
+            ) -> #ret {
+                #(#bindings)*
+                #(#stmts)*
+            }
+            #symbolic_note
+        }
+        #symbolic_consts
+    }
+}
+
+/// Hygienic names for the generated parameters (the user's body cannot see or clash with them).
+struct Ident;
+impl Ident {
+    fn q() -> proc_macro2::Ident {
+        format_ident!("__lagrange_q", span = Span::mixed_site())
+    }
+    fn qdot() -> proc_macro2::Ident {
+        format_ident!("__lagrange_qdot", span = Span::mixed_site())
+    }
+    fn t() -> proc_macro2::Ident {
+        format_ident!("__lagrange_t", span = Span::mixed_site())
+    }
+}
+
+/// A stub impl emitted next to the errors, so uses of the type elsewhere do not cascade into
+/// "trait not implemented" errors.
+fn stub_impl(rest: &syn::ItemImpl, n: usize) -> TokenStream {
+    if rest.trait_.is_some() || !rest.generics.params.is_empty() {
+        return quote!();
+    }
+    let self_ty = &rest.self_ty;
+    let names = (0..n).map(|i| format!("q{i}"));
+    quote! {
+        #[automatically_derived]
+        impl ::lagrange::__private::Lagrangian<#n> for #self_ty {
+            const COORDINATES: [&'static str; #n] = [#(#names),*];
+            const CYCLIC: [bool; #n] = [false; #n];
+            const AUTONOMOUS: bool = true;
+            fn lagrangian<S: ::lagrange::__private::Scalar>(&self, _: &[S; #n], _: &[S; #n], _: S) -> S {
+                ::core::unreachable!("`#[lagrangian]` reported errors for this impl")
+            }
+        }
+    }
+}
+
+/// How many coordinate slots a (possibly invalid) `fn lagrangian` declares, for the stub.
+fn count_coordinate_params(f: &syn::ImplItemFn) -> usize {
+    f.sig
+        .inputs
+        .iter()
+        .map(|a| match a {
+            syn::FnArg::Typed(pt) => {
+                let ty = &pt.ty;
+                let s = quote!(#ty).to_string();
+                if s.ends_with("Coord3") {
+                    3
+                } else if s.ends_with("Coord") {
+                    1
+                } else {
+                    0
+                }
+            }
+            syn::FnArg::Receiver(_) => 0,
+        })
+        .sum()
+}

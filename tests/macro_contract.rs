@@ -1,0 +1,153 @@
+//! The two declarations of the macro contract (issue 3), against hand-derived equations.
+
+use lagrange::prelude::*;
+
+/// Symmetric heavy top, eq. (92).
+#[derive(Debug, Clone)]
+pub struct HeavyTop {
+    pub i_perp: f64,
+    pub i_par: f64,
+    pub m: f64,
+    pub g: f64,
+    pub l: f64,
+}
+
+#[lagrangian]
+impl HeavyTop {
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let (s, c) = theta.sin_cos();
+        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
+            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
+            - self.m * self.g * self.l * c
+    }
+}
+
+/// A vector coordinate and explicit time.
+pub struct Spinning {
+    pub m: f64,
+    pub k: f64,
+    pub w: f64,
+    pub gravity: Vector3<f64>,
+}
+
+#[lagrangian]
+impl Spinning {
+    fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
+        let omega = Vector3::new(0.0, 0.0, self.w * (1.0 + 0.1 * t.sin()));
+        let v = r_dot + omega.cross(&r);
+        self.m / 2.0 * v.norm_squared() - 0.5 * self.k * r.norm_squared()
+            + self.m * self.gravity.dot(&r)
+    }
+}
+
+struct Rng(u64);
+impl Rng {
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+    }
+}
+
+fn assert_close(got: &[f64], want: &[f64], rel: f64, ctx: &str) {
+    let scale = want.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+    for (g, w) in got.iter().zip(want) {
+        assert!(
+            (g - w).abs() <= rel * scale,
+            "{ctx}: got {got:?}, want {want:?}"
+        );
+    }
+}
+
+#[test]
+fn heavy_top_constants() {
+    assert_eq!(
+        <HeavyTop as Lagrangian<3>>::COORDINATES,
+        ["theta", "phi", "psi"]
+    );
+    assert_eq!(<HeavyTop as Lagrangian<3>>::CYCLIC, [false, true, true]);
+    const { assert!(<HeavyTop as Lagrangian<3>>::AUTONOMOUS) };
+}
+
+#[test]
+fn spinning_constants() {
+    assert_eq!(
+        <Spinning as Lagrangian<3>>::COORDINATES,
+        ["r.x", "r.y", "r.z"]
+    );
+    assert_eq!(<Spinning as Lagrangian<3>>::CYCLIC, [false; 3]);
+    const { assert!(!<Spinning as Lagrangian<3>>::AUTONOMOUS) };
+}
+
+#[test]
+fn heavy_top_matches_closed_form() {
+    let mut rng = Rng(12345);
+    for _ in 0..2000 {
+        let top = HeavyTop {
+            i_perp: rng.uniform(0.2, 3.0),
+            i_par: rng.uniform(0.1, 3.0),
+            m: rng.uniform(0.1, 2.0),
+            g: 9.81,
+            l: rng.uniform(-1.0, 1.0),
+        };
+        let q = [
+            rng.uniform(0.05, 3.09),
+            rng.uniform(-7.0, 7.0),
+            rng.uniform(-7.0, 7.0),
+        ];
+        let qd = [
+            rng.uniform(-10.0, 10.0),
+            rng.uniform(-10.0, 10.0),
+            rng.uniform(-30.0, 30.0),
+        ];
+        let (s, c) = q[0].sin_cos();
+        let mgl = top.m * top.g * top.l;
+        let w3 = qd[2] + qd[1] * c;
+        let th =
+            qd[1] * qd[1] * s * c - top.i_par / top.i_perp * w3 * qd[1] * s + mgl / top.i_perp * s;
+        let ph = qd[0] * (top.i_par * w3 - 2.0 * top.i_perp * qd[1] * c) / (top.i_perp * s);
+        let ps = qd[1] * qd[0] * s - ph * c;
+        let got = top.accelerations(&q, &qd, 0.0).unwrap();
+        assert_close(&got, &[th, ph, ps], 1e-12, "heavy top");
+    }
+}
+
+#[test]
+fn spinning_matches_closed_form() {
+    // m r̈ = −m Ω̇×r − 2m Ω×ṙ − m Ω×(Ω×r) − k r + m g, with Ω = (0, 0, w(1 + 0.1 sin t)).
+    let mut rng = Rng(999);
+    for _ in 0..2000 {
+        let sys = Spinning {
+            m: rng.uniform(0.1, 3.0),
+            k: rng.uniform(0.0, 5.0),
+            w: rng.uniform(-3.0, 3.0),
+            gravity: Vector3::new(rng.uniform(-1.0, 1.0), 0.3, -9.81),
+        };
+        let r = Vector3::new(
+            rng.uniform(-2.0, 2.0),
+            rng.uniform(-2.0, 2.0),
+            rng.uniform(-2.0, 2.0),
+        );
+        let v = Vector3::new(
+            rng.uniform(-2.0, 2.0),
+            rng.uniform(-2.0, 2.0),
+            rng.uniform(-2.0, 2.0),
+        );
+        let t = rng.uniform(0.0, 20.0);
+        let om = Vector3::new(0.0, 0.0, sys.w * (1.0 + 0.1 * t.sin()));
+        let om_dot = Vector3::new(0.0, 0.0, sys.w * 0.1 * t.cos());
+        let a =
+            -om_dot.cross(&r) - 2.0 * om.cross(&v) - om.cross(&om.cross(&r)) - sys.k / sys.m * r
+                + sys.gravity;
+        let got = sys
+            .accelerations(&[r.x, r.y, r.z], &[v.x, v.y, v.z], t)
+            .unwrap();
+        assert_close(&got, &[a.x, a.y, a.z], 1e-12, "spinning");
+    }
+}
