@@ -112,9 +112,16 @@ pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
         } else {
             quote!(f64)
         };
-        let this = Ident::new("self", field.span);
+        // `self` must resolve like the receiver of the generated method (call-site hygiene),
+        // while errors point at the user's field.
+        let this = Ident::new("self", Span::call_site().located_at(field.span));
         stmts.extend(quote_spanned!(field.span=> let #local: #ty = #this.#member;));
     }
+    // Every `let` opens a lexical scope, and debug info nests them: thousands of sequential
+    // `let`s overflow LLVM's stack. Nodes are grouped by level (1 + the deepest inner operand)
+    // into one tuple `let` per level, so the nesting depth is the depth of the DAG.
+    let mut level = vec![0usize; dag.len()];
+    let mut by_level: Vec<Vec<(Ident, TokenStream)>> = Vec::new();
     let mut lets = 0;
     for (id, needed) in need.iter().enumerate() {
         let id = id as Id;
@@ -168,9 +175,28 @@ pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
             }
             Node::Const(_) | Node::Param(..) | Node::Q(_) | Node::V(_) | Node::T => continue,
         };
-        let x = format_ident!("x{}", id);
-        stmts.extend(quote!(let #x: f64 = #rhs;));
+        let lv = node
+            .children()
+            .filter(|&c| !dag.node(c).is_leaf())
+            .map(|c| level[c as usize] + 1)
+            .max()
+            .unwrap_or(0);
+        level[id as usize] = lv;
+        if by_level.len() <= lv {
+            by_level.resize_with(lv + 1, Vec::new);
+        }
+        by_level[lv].push((format_ident!("x{}", id), rhs));
         lets += 1;
+    }
+    for group in by_level {
+        if let [(x, rhs)] = group.as_slice() {
+            stmts.extend(quote!(let #x: f64 = #rhs;));
+        } else if !group.is_empty() {
+            let xs = group.iter().map(|(x, _)| x);
+            let tys = group.iter().map(|_| quote!(f64));
+            let rhss = group.iter().map(|(_, r)| r);
+            stmts.extend(quote!(let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
+        }
     }
     Code { stmts, lets }
 }

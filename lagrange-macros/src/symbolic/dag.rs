@@ -282,9 +282,11 @@ impl Dag {
         if let Node::Neg(na) = self.node(a) {
             return self.sub(b, na);
         }
-        if a == b {
-            let two = self.constant(2.0);
-            return self.mul(two, a);
+        // Like terms: c₁ x + c₂ x = (c₁ + c₂) x.
+        let ((ca, xa), (cb, xb)) = (self.split_coef(a), self.split_coef(b));
+        if xa == xb {
+            let c = self.constant(ca + cb);
+            return self.mul(c, xa);
         }
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
         self.intern(Node::Add(a, b))
@@ -307,7 +309,22 @@ impl Dag {
             let s = self.add(na, b);
             return self.neg(s);
         }
+        let ((ca, xa), (cb, xb)) = (self.split_coef(a), self.split_coef(b));
+        if xa == xb {
+            let c = self.constant(ca - cb);
+            return self.mul(c, xa);
+        }
         self.intern(Node::Sub(a, b))
+    }
+
+    /// `c · x` as `(c, x)`; anything else as `(1, a)`.
+    fn split_coef(&self, a: Id) -> (f64, Id) {
+        if let Node::Mul(c, x) = self.node(a) {
+            if let Some(c) = self.as_const(c) {
+                return (c, x);
+            }
+        }
+        (1.0, a)
     }
 
     pub fn neg(&mut self, a: Id) -> Id {

@@ -119,6 +119,116 @@ fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
     })
 }
 
+/// Straight-line LDLᵀ of the mass matrix (upper triangle, `None` = structural zero) with the
+/// sparsity known at compile time: the same elimination, in the same order, as the runtime's
+/// `solve_symmetric`, with the structurally zero products left out. Whenever a pivot is not
+/// clearly positive (or anything is not finite), it hands over to `fallback()`, i.e.
+/// `solve_mass_matrix`, which decides between LU and a `DynamicsError` exactly as the jets path.
+fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStream {
+    let n = m.len();
+    let a_id = |j: usize, i: usize| quote::format_ident!("l_{}_{}", j, i);
+    let d_id = |j: usize| quote::format_ident!("d_{}", j);
+    let x_id = |i: usize| quote::format_ident!("y_{}", i);
+    let mut out = TokenStream::new();
+    let diag = (0..n).map(|j| match &m[j][j] {
+        Some(e) => quote!(f64::abs(#e)),
+        None => quote!(0.0_f64),
+    });
+    out.extend(quote! {
+        let scale = 0.0_f64#(.max(#diag))*;
+        let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
+    });
+    // l[j][i] (i > j): Some(ident) when not structurally zero.
+    let mut l: Vec<Vec<bool>> = vec![vec![false; n]; n];
+    for j in 0..n {
+        let dj = d_id(j);
+        let mut e = match &m[j][j] {
+            Some(x) => quote!(#x),
+            None => quote!(0.0_f64),
+        };
+        for k in 0..j {
+            if l[k][j] {
+                let (lk, dk) = (a_id(k, j), d_id(k));
+                e = quote!(#e - #lk * #lk * #dk);
+            }
+        }
+        out.extend(quote! {
+            let #dj: f64 = #e;
+            if !(#dj > tol) {
+                return fallback();
+            }
+        });
+        let mut row: Vec<(Ident, TokenStream)> = Vec::new();
+        for i in j + 1..n {
+            let mut terms = Vec::new();
+            for k in 0..j {
+                if l[k][j] && l[k][i] {
+                    let (lkj, lki, dk) = (a_id(k, j), a_id(k, i), d_id(k));
+                    terms.push(quote!(#lkj * #lki * #dk));
+                }
+            }
+            if m[j][i].is_none() && terms.is_empty() {
+                continue;
+            }
+            let mut s = match &m[j][i] {
+                Some(x) => quote!(#x),
+                None => quote!(0.0_f64),
+            };
+            for t in terms {
+                s = quote!(#s - #t);
+            }
+            row.push((a_id(j, i), quote!((#s) / #dj)));
+            l[j][i] = true;
+        }
+        // One `let` per row keeps the scope nesting shallow (see codegen).
+        let ls = row.iter().map(|(x, _)| x);
+        let tys = row.iter().map(|_| quote!(f64));
+        let es = row.iter().map(|(_, e)| e);
+        if !row.is_empty() {
+            out.extend(quote!(let (#(#ls,)*): (#(#tys,)*) = (#(#es,)*);));
+        }
+    }
+    for i in 0..n {
+        let xi = x_id(i);
+        let mut e = match &b[i] {
+            Some(x) => quote!(#x),
+            None => quote!(0.0_f64),
+        };
+        for k in 0..i {
+            if l[k][i] {
+                let (lki, xk) = (a_id(k, i), x_id(k));
+                e = quote!(#e - #lki * #xk);
+            }
+        }
+        out.extend(quote!(let #xi: f64 = #e;));
+    }
+    for i in 0..n {
+        let (xi, di) = (x_id(i), d_id(i));
+        out.extend(quote!(let #xi: f64 = #xi / #di;));
+    }
+    for i in (0..n).rev() {
+        let xi = x_id(i);
+        let mut e = quote!(#xi);
+        for k in i + 1..n {
+            if l[i][k] {
+                let (lik, xk) = (a_id(i, k), x_id(k));
+                e = quote!(#e - #lik * #xk);
+            }
+        }
+        out.extend(quote!(let #xi: f64 = #e;));
+    }
+    let xs = (0..n).map(x_id);
+    out.extend(quote! {
+        let x = [#(#xs),*];
+        if x.iter().all(|v| v.is_finite()) {
+            ::core::result::Result::Ok(x)
+        } else {
+            fallback()
+        }
+    });
+    out
+}
+
 fn idents() -> (Ident, Ident, Ident) {
     (
         Ident::new("q", Span::call_site()),
@@ -153,19 +263,37 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     });
     let f = d.force.iter().map(|&x| op(x));
     let stmts = code.stmts;
+    let mass: Vec<Vec<Option<TokenStream>>> = d
+        .mass
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|&m| (m != Dag::ZERO).then(|| op(m)))
+                .collect()
+        })
+        .collect();
+    let rhs: Vec<Option<TokenStream>> = d
+        .force
+        .iter()
+        .map(|&x| (x != Dag::ZERO).then(|| op(x)))
+        .collect();
+    let solve = ldlt(&mass, &rhs);
     let accelerations = quote! {
         #touch
         #stmts
         let m: [[f64; #nn]; #nn] = [#(#rows),*];
         let f: [f64; #nn] = [#(#f),*];
-        ::lagrange::__private::solve_mass_matrix(
-            &m,
-            &f,
-            <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
-            #q,
-            #qdot,
-            #t,
-        )
+        let fallback = || {
+            ::lagrange::__private::solve_mass_matrix(
+                &m,
+                &f,
+                <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
+                #q,
+                #qdot,
+                #t,
+            )
+        };
+        #solve
     };
 
     // mass_matrix

@@ -125,6 +125,12 @@ fn folding_and_hash_consing() {
     let x2 = d.powi(x, 2);
     let x6 = d.powi(x2, 3);
     assert_eq!(d.node(x6), Node::Powi(x, 6));
+    // Like terms: x + 2x = 3x, 3x − x = 2x, x + x = 2x.
+    let twox = d.mul(two, x);
+    let threex = d.add(x, twox);
+    assert_eq!(d.node(threex), Node::Mul(three, x));
+    assert_eq!(d.sub(threex, x), twox);
+    assert_eq!(d.add(x, x), twox);
     assert!(d.is_state_free(six));
     assert!(!d.is_state_free(a));
 }
