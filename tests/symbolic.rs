@@ -1014,3 +1014,9 @@ impl Chain16Jets {
         lag
     }
 }
+
+#[test]
+fn ui_symbolic_errors_say_use_jets() {
+    let t = trybuild::TestCases::new();
+    t.compile_fail("tests/ui/symbolic/*.rs");
+}
