@@ -272,8 +272,8 @@ impl Dag {
     pub fn add(&mut self, a: Id, b: Id) -> Id {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x + y),
-            (Some(x), None) if x == 0.0 => return b,
-            (None, Some(y)) if y == 0.0 => return a,
+            (Some(0.0), None) => return b,
+            (None, Some(0.0)) => return a,
             _ => {}
         }
         if let Node::Neg(nb) = self.node(b) {
@@ -295,8 +295,8 @@ impl Dag {
     pub fn sub(&mut self, a: Id, b: Id) -> Id {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x - y),
-            (Some(x), None) if x == 0.0 => return self.neg(b),
-            (None, Some(y)) if y == 0.0 => return a,
+            (Some(0.0), None) => return self.neg(b),
+            (None, Some(0.0)) => return a,
             _ => {}
         }
         if a == b {
@@ -408,9 +408,9 @@ impl Dag {
     pub fn div(&mut self, a: Id, b: Id) -> Id {
         match (self.as_const(a), self.as_const(b)) {
             (Some(x), Some(y)) => return self.constant(x / y),
-            (Some(x), _) if x == 0.0 => return Self::ZERO,
-            (_, Some(y)) if y == 1.0 => return a,
-            (_, Some(y)) if y == -1.0 => return self.neg(a),
+            (Some(0.0), _) => return Self::ZERO,
+            (_, Some(1.0)) => return a,
+            (_, Some(-1.0)) => return self.neg(a),
             (_, Some(y)) if y != 0.0 && y.is_finite() => {
                 // Multiplying by an exactly representable reciprocal is the same number.
                 let r = 1.0 / y;
@@ -619,7 +619,8 @@ impl Dag {
                 }
                 Node::Un(f, a) => {
                     let da = d(a);
-                    let k = match f {
+
+                    match f {
                         Fun::Sqrt => {
                             let two = self.constant(2.0);
                             let den = self.mul(two, id);
@@ -675,8 +676,7 @@ impl Dag {
                             let k = self.sub(Dag::ONE, r2);
                             self.mul(k, da)
                         }
-                    };
-                    k
+                    }
                 }
             };
             if t != Dag::ZERO {

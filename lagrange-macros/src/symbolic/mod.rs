@@ -3,6 +3,8 @@
 //! over the DAG, structural zeros skipped), and emitted as straight-line Rust for the mass matrix,
 //! the right-hand side of the Euler–Lagrange equations, the momenta and the energy; the equations
 //! are also printed for people (Unicode and LaTeX).
+// Index loops mirror the textbook elimination formulas; iterator forms would obscure them.
+#![allow(clippy::needless_range_loop)]
 
 mod codegen;
 mod dag;

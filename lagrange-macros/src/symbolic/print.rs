@@ -639,7 +639,6 @@ fn join_signed(parts: &[(bool, String)], latex: bool) -> String {
         match (k, neg) {
             (0, true) => {
                 s.push_str(minus);
-                s.push_str(if latex { "" } else { "" });
             }
             (0, false) => {}
             (_, true) => {

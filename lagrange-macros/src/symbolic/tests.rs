@@ -450,10 +450,15 @@ fn chain_16_expands_fast_and_compactly() {
     let start = std::time::Instant::now();
     let out = expand(&dcl).unwrap_or_else(|_| panic!("expands"));
     let elapsed = start.elapsed();
-    let tokens: usize = [&out.accelerations, &out.mass_matrix, &out.momenta, &out.energy]
-        .iter()
-        .map(|t| t.to_string().len())
-        .sum();
+    let tokens: usize = [
+        &out.accelerations,
+        &out.mass_matrix,
+        &out.momenta,
+        &out.energy,
+    ]
+    .iter()
+    .map(|t| t.to_string().len())
+    .sum();
     println!(
         "N=16 chain: expand {:.1} ms, {} lets, {} bytes of generated bodies, equations {} bytes",
         elapsed.as_secs_f64() * 1e3,
