@@ -95,9 +95,16 @@ fn generate(decl: &Decl) -> TokenStream {
     let fn_attrs = &decl.fn_attrs;
     let ret = quote_spanned!(decl.ret_span=> Scalar);
     let fn_ident = &decl.fn_ident;
-    let symbolic_note = match decl.options.mode {
-        Mode::Jets => quote!(),
-        Mode::Symbolic => quote!(),
+    let (symbolic_note, symbolic_consts) = match decl.options.mode {
+        Mode::Jets => (quote!(), quote!()),
+        Mode::Symbolic => match crate::symbolic::expand(decl) {
+            Ok(out) => crate::symbolic::methods(&out, n, self_ty),
+            Err(errs) => {
+                let errs = errs.iter().map(syn::Error::to_compile_error);
+                let stub = stub_impl(rest, n);
+                return quote!(#(#errs)* #rest #stub);
+            }
+        },
     };
 
     let n = proc_macro2::Literal::usize_unsuffixed(n);
@@ -137,6 +144,7 @@ fn generate(decl: &Decl) -> TokenStream {
             }
             #symbolic_note
         }
+        #symbolic_consts
     }
 }
 

@@ -10,6 +10,7 @@ mod emit;
 mod errors;
 mod model;
 mod parse;
+mod symbolic;
 mod validate;
 
 use proc_macro::TokenStream;
