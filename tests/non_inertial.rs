@@ -205,7 +205,13 @@ impl Terms {
 
 /// The text's final equation divided by m: r̈ = −a + 2 ṙ×Ω + Ω² r⊥ − F/m, a = v̇0 + Ω̇×r,
 /// with the text's F taken as given (`f_text`).
-fn text_rhs(p: &Particle, r: &Vector3<f64>, rd: &Vector3<f64>, t: f64, f_text: &Vector3<f64>) -> Vector3<f64> {
+fn text_rhs(
+    p: &Particle,
+    r: &Vector3<f64>,
+    rd: &Vector3<f64>,
+    t: f64,
+    f_text: &Vector3<f64>,
+) -> Vector3<f64> {
     let om = frame_omega(&p.frame, t);
     let a = frame_v0_dot(&p.frame, t) + frame_omega_dot(&p.frame, t).cross(r);
     let r_perp = r - om * (om.dot(r) / om.norm_squared());
@@ -411,7 +417,10 @@ fn text_final_equation_agrees_exactly_when_v0_cross_omega_and_force_vanish() {
     let r = Vector3::new(0.1, 0.2, 0.3);
     let rd = Vector3::new(-0.2, 0.5, 0.1);
     let diff = generated(&p, &r, &rd, 1.0) - text_rhs(&p, &r, &rd, 1.0, &Vector3::zeros());
-    assert!((diff - Vector3::new(0.0, -6.0, 0.0)).norm() < 1e-13, "{diff:?}");
+    assert!(
+        (diff - Vector3::new(0.0, -6.0, 0.0)).norm() < 1e-13,
+        "{diff:?}"
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -442,7 +451,13 @@ fn inertial_rhs(p: &Particle, t: f64, y: &[f64; 18]) -> [f64; 18] {
 }
 
 /// Classical RK4 with `steps_per_sample` fixed steps between samples; returns the samples.
-fn rk4_samples(p: &Particle, y0: [f64; 18], dt_sample: f64, steps_per_sample: usize, n_samples: usize) -> Vec<[f64; 18]> {
+fn rk4_samples(
+    p: &Particle,
+    y0: [f64; 18],
+    dt_sample: f64,
+    steps_per_sample: usize,
+    n_samples: usize,
+) -> Vec<[f64; 18]> {
     let h = dt_sample / steps_per_sample as f64;
     let axpy = |y: &[f64; 18], a: f64, k: &[f64; 18]| {
         let mut out = *y;
@@ -533,9 +548,17 @@ fn moving_frame_maps_onto_the_inertial_trajectory() {
         worst = worst.max((x_mapped - x).norm()).max((v_mapped - v).norm());
         travelled = travelled.max(x.norm());
     }
-    eprintln!("frame check: worst {worst:e}, reference convergence {worst_ref:e}, max |X| {travelled}");
-    assert!(worst_ref < 5e-11, "RK4 reference not converged: {worst_ref:e}");
-    assert!(travelled > 5.0, "the frame origin should wander: {travelled}");
+    eprintln!(
+        "frame check: worst {worst:e}, reference convergence {worst_ref:e}, max |X| {travelled}"
+    );
+    assert!(
+        worst_ref < 5e-11,
+        "RK4 reference not converged: {worst_ref:e}"
+    );
+    assert!(
+        travelled > 5.0,
+        "the frame origin should wander: {travelled}"
+    );
     assert!(worst < 1e-9, "moving-frame vs inertial: {worst:e}");
 }
 
@@ -642,7 +665,8 @@ fn time_dependent_omega_is_not_autonomous_and_dh_dt_is_minus_dl_dt() {
     }
     let h = |k: usize| p.energy(&traj.q[k], &traj.qdot[k], traj.t[k]);
     let change = h(n) - h(0);
-    let swing = (0..=n).map(h).fold(f64::NEG_INFINITY, f64::max) - (0..=n).map(h).fold(f64::INFINITY, f64::min);
+    let swing = (0..=n).map(h).fold(f64::NEG_INFINITY, f64::max)
+        - (0..=n).map(h).fold(f64::INFINITY, f64::min);
     eprintln!("energy balance: Δh {change}, ∫∂L/∂t {integral}, swing {swing}");
     assert!(swing > 0.1, "h should vary: {swing}");
     assert!(
@@ -681,7 +705,10 @@ impl Foucault {
 fn swing_plane_rate(events: &[(f64, f64, f64)]) -> f64 {
     let mut prev: Option<f64> = None;
     let mut pts = Vec::new();
-    for &(t, x, y) in events {
+    // The chord joining successive turning points (the two ends of one swing) gives the swing
+    // line's direction without reference to the centre, which the centrifugal force shifts.
+    for w in events.windows(2) {
+        let (t, x, y) = ((w[0].0 + w[1].0) / 2.0, w[1].1 - w[0].1, w[1].2 - w[0].2);
         let mut psi = y.atan2(x);
         if let Some(p) = prev {
             while psi - p > std::f64::consts::FRAC_PI_2 {
@@ -731,9 +758,12 @@ fn foucault_swing_plane_precesses_at_omega_sin_latitude() {
     assert!(hits.len() > 70, "{} turning points", hits.len());
     let rate = swing_plane_rate(&hits);
     let theory = -om * lat.sin(); // clockwise seen from above in the northern hemisphere
-    // Corrections to Ω sin λ are O((Ω/ω0)², (a/l)²) ≈ 1e-4 and 3e-4 here.
+                                  // Corrections to Ω sin λ are O((Ω/ω0)², (a/l)²) ≈ 1e-4 and 3e-4 here.
     let rel = (rate - theory).abs() / theory.abs();
-    eprintln!("foucault: rate {rate:e}, theory {theory:e}, rel {rel:e}, turning points {}", hits.len());
+    eprintln!(
+        "foucault: rate {rate:e}, theory {theory:e}, rel {rel:e}, turning points {}",
+        hits.len()
+    );
     assert!(rel < 2e-3, "rate {rate}, theory {theory}, rel {rel:e}");
     // At the equator there is no precession.
     let pend0 = Foucault {
@@ -800,7 +830,10 @@ fn dropped_body_lands_east_by_one_third_omega_g_t_cubed_cos_latitude() {
         let (east, north) = (hit.q[0], hit.q[1]);
         let ot2 = (om * t).powi(2);
         eprintln!("drop: (Ωt)² {ot2:e}; east−east1 {:e} vs {d_east:e} (ratio {}); north {north:e} vs {north2:e} (ratio {})", east - east1, (east - east1) / d_east, north / north2);
-        assert!((east - east1).abs() < 2.0 * ot2 * east1, "{east} vs {east1}");
+        assert!(
+            (east - east1).abs() < 2.0 * ot2 * east1,
+            "{east} vs {east1}"
+        );
         assert!(
             ((east - east1) - d_east).abs() < 3.0 * ot2 * d_east.abs(),
             "east − east1 = {:e}, predicted {d_east:e}",
