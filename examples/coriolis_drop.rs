@@ -38,6 +38,9 @@ impl Drop {
 const USAGE: &str =
     "usage: coriolis_drop [--height M (100)] [--lat DEG (48.85)] [--out PATH (out/coriolis_drop.svg)]";
 
+/// A theory curve of the figure: legend, colour, displacement as a function of Ω.
+type Curve<'a> = (&'static str, RGBColor, Box<dyn Fn(f64) -> f64 + 'a>);
+
 struct Landing {
     scale: f64,
     t: f64,
@@ -189,7 +192,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let fine: Vec<f64> = (0..=100)
         .map(|i| xmin * (xmax / xmin).powf(i as f64 / 100.0))
         .collect();
-    let curves: [(&str, RGBColor, Box<dyn Fn(f64) -> f64>); 3] = [
+    let curves: [Curve; 3] = [
         ("east, first order (1/3)Ωg t³ cos λ", BLUE, Box::new(first)),
         (
             "|east − first order|, theory ∝ Ω³",
