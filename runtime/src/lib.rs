@@ -5,6 +5,8 @@
 //! Users normally depend on the facade crate `lagrange`, which re-exports all of this.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
+// Numeric kernels over fixed-size arrays index several arrays at once and read as the math.
+#![allow(clippy::needless_range_loop)]
 
 pub mod error;
 pub mod integrate;

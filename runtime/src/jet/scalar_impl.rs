@@ -64,6 +64,7 @@ macro_rules! impl_jet_scalar {
                     J::div(self, o)
                 }
             }
+            #[allow(clippy::suspicious_arithmetic_impl)]
             impl<const N: usize> Rem for $T<N> {
                 type Output = Self;
                 fn rem(self, o: Self) -> Self {
