@@ -17,9 +17,20 @@
 //!
 //! and the macro emits the code between the markers below (kept in sync by a test in
 //! `lagrange-macros`; regenerate with `UPDATE_EXPANDED=1 cargo test -p lagrange-macros expanded`).
-//! Note how constants meet coordinate values through `ConstMul`/`MulConst` (the constant stays an
-//! `f64`), `phi` is not bound (it is cyclic), and every runtime path goes through
-//! `::lagrange::__private`. Run it: `cargo run --example heavy_top_expanded`.
+//!
+//! What to look for:
+//! - `lagrangian<Scalar>` is the body as written, generic over the number type, with the constants
+//!   routed through `ConstMul` (an `f64` times a jet is a scale, not a jet product); `phi` is not
+//!   bound because it is cyclic. The run-time jets use it, and so can you.
+//! - `accelerations`, `mass_matrix`, `momenta` and `energy` are the symbolic mode (the default):
+//!   the derivatives of L were taken at compile time, common subexpressions are computed once,
+//!   entries of M that are structurally zero are skipped, and M q̈ = f is solved by a
+//!   straight-line LDLᵀ that falls back to the runtime's pivoting solve (and its typed error) if a
+//!   pivot is not clearly positive.
+//! - `HeavyTop::EQUATIONS` / `EQUATIONS_LATEX`: the Euler–Lagrange equations for people.
+//! - Every runtime path goes through `::lagrange::__private`.
+//!
+//! Run it: `cargo run --example heavy_top_expanded`.
 
 use lagrange::prelude::*;
 
@@ -73,6 +84,204 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             (psi_dot + phi_dot * c).powi(2),
         ) - ::lagrange::__private::ConstMul::const_mul(self.m * self.g * self.l, c)
     }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn accelerations(
+        &self,
+        q: &[f64; 3],
+        qdot: &[f64; 3],
+        t: f64,
+    ) -> ::core::result::Result<[f64; 3], ::lagrange::__private::DynamicsError> {
+        let _ = (q, qdot, t);
+        let p_i_perp: f64 = self.i_perp;
+        let p_i_par: f64 = self.i_par;
+        let p_m: f64 = self.m;
+        let p_g: f64 = self.g;
+        let p_l: f64 = self.l;
+        let (x8, x9, x30): (f64, f64, f64) = (q[0].sin(), q[0].cos(), p_m * p_g);
+        let (x15, x22, x32, x51, x53, x56, x57, x58): (f64, f64, f64, f64, f64, f64, f64, f64) = (
+            qdot[1] * x8,
+            qdot[1] * x9,
+            x30 * p_l,
+            x8 * x8,
+            x9 * x9,
+            x9 * p_i_par,
+            qdot[0] * x9,
+            qdot[0] * x8,
+        );
+        let (x23, x52, x54, x60, x61, x63, x79, x93): (f64, f64, f64, f64, f64, f64, f64, f64) = (
+            qdot[2] + x22,
+            p_i_perp * x51,
+            p_i_par * x53,
+            qdot[1] * x57,
+            qdot[1] * x58,
+            x15 * x57,
+            x15 * x22,
+            x8 * x32,
+        );
+        let (x55, x64, x67, x69, x76, x81, x84): (f64, f64, f64, f64, f64, f64, f64) = (
+            x52 + x54,
+            x8 * x60,
+            x23 * x58,
+            x9 * x61,
+            p_i_par * x61,
+            p_i_perp * x79,
+            x15 * x23,
+        );
+        let (x65, x71, x88): (f64, f64, f64) = (x63 + x64, x67 + x69, p_i_par * x84);
+        let (x66, x73, x92): (f64, f64, f64) = (p_i_perp * x65, p_i_par * x71, x81 - x88);
+        let (x95, x96): (f64, f64) = (x92 + x93, x73 - x66);
+        let m: [[f64; 3]; 3] = [[p_i_perp, 0.0, 0.0], [0.0, x55, x56], [0.0, 0.0, p_i_par]];
+        let f: [f64; 3] = [x95, x96, x76];
+        let fallback = || {
+            ::lagrange::__private::solve_mass_matrix(
+                &m,
+                &f,
+                <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
+                q,
+                qdot,
+                t,
+            )
+        };
+        let scale = 0.0_f64
+            .max(f64::abs(p_i_perp))
+            .max(f64::abs(x55))
+            .max(f64::abs(p_i_par));
+        let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
+        let d_0: f64 = p_i_perp;
+        if !(d_0 > tol) {
+            return fallback();
+        }
+        let d_1: f64 = x55;
+        if !(d_1 > tol) {
+            return fallback();
+        }
+        let (l_1_2,): (f64,) = ((x56) / d_1,);
+        let d_2: f64 = p_i_par - l_1_2 * l_1_2 * d_1;
+        if !(d_2 > tol) {
+            return fallback();
+        }
+        let y_0: f64 = x95;
+        let y_1: f64 = x96;
+        let y_2: f64 = x76 - l_1_2 * y_1;
+        let y_0: f64 = y_0 / d_0;
+        let y_1: f64 = y_1 / d_1;
+        let y_2: f64 = y_2 / d_2;
+        let y_2: f64 = y_2;
+        let y_1: f64 = y_1 - l_1_2 * y_2;
+        let y_0: f64 = y_0;
+        let x = [y_0, y_1, y_2];
+        if x.iter().all(|v| v.is_finite()) {
+            ::core::result::Result::Ok(x)
+        } else {
+            fallback()
+        }
+    }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn mass_matrix(
+        &self,
+        q: &[f64; 3],
+        qdot: &[f64; 3],
+        t: f64,
+    ) -> ::lagrange::__private::SMatrix<f64, 3, 3> {
+        let _ = (q, qdot, t);
+        let p_i_perp: f64 = self.i_perp;
+        let p_i_par: f64 = self.i_par;
+        let (x8, x9): (f64, f64) = (q[0].sin(), q[0].cos());
+        let (x51, x53, x56): (f64, f64, f64) = (x8 * x8, x9 * x9, x9 * p_i_par);
+        let (x52, x54): (f64, f64) = (p_i_perp * x51, p_i_par * x53);
+        let x55: f64 = x52 + x54;
+        ::lagrange::__private::SMatrix::<f64, 3, 3>::from_row_slice(&[
+            p_i_perp, 0.0, 0.0, 0.0, x55, x56, 0.0, x56, p_i_par,
+        ])
+    }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn momenta(&self, q: &[f64; 3], qdot: &[f64; 3], t: f64) -> [f64; 3] {
+        let _ = (q, qdot, t);
+        let p_i_perp: f64 = self.i_perp;
+        let p_i_par: f64 = self.i_par;
+        let (x8, x9, x36): (f64, f64, f64) = (q[0].sin(), q[0].cos(), qdot[0] * p_i_perp);
+        let (x15, x22): (f64, f64) = (qdot[1] * x8, qdot[1] * x9);
+        let (x23, x39): (f64, f64) = (qdot[2] + x22, x8 * x15);
+        let (x41, x44, x49): (f64, f64, f64) = (p_i_perp * x39, x9 * x23, p_i_par * x23);
+        let x46: f64 = p_i_par * x44;
+        let x48: f64 = x41 + x46;
+        [x36, x48, x49]
+    }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn energy(&self, q: &[f64; 3], qdot: &[f64; 3], t: f64) -> f64 {
+        let _ = (q, qdot, t);
+        let p_i_perp: f64 = self.i_perp;
+        let p_i_par: f64 = self.i_par;
+        let p_m: f64 = self.m;
+        let p_g: f64 = self.g;
+        let p_l: f64 = self.l;
+        let (x8, x9, x14, x30, x36): (f64, f64, f64, f64, f64) = (
+            q[0].sin(),
+            q[0].cos(),
+            qdot[0] * qdot[0],
+            p_m * p_g,
+            qdot[0] * p_i_perp,
+        );
+        let (x15, x22, x32, x98): (f64, f64, f64, f64) =
+            (qdot[1] * x8, qdot[1] * x9, x30 * p_l, qdot[0] * x36);
+        let (x16, x23, x33, x39): (f64, f64, f64, f64) =
+            (x15 * x15, qdot[2] + x22, x9 * x32, x8 * x15);
+        let (x17, x24, x41, x44, x49): (f64, f64, f64, f64, f64) = (
+            x14 + x16,
+            x23 * x23,
+            p_i_perp * x39,
+            x9 * x23,
+            p_i_par * x23,
+        );
+        let (x18, x25, x46, x102): (f64, f64, f64, f64) =
+            (p_i_perp * x17, p_i_par * x24, p_i_par * x44, qdot[2] * x49);
+        let (x19, x26, x48): (f64, f64, f64) = (0.5 * x18, 0.5 * x25, x41 + x46);
+        let (x27, x100): (f64, f64) = (x19 + x26, qdot[1] * x48);
+        let x97: f64 = x33 - x27;
+        let x99: f64 = x97 + x98;
+        let x101: f64 = x99 + x100;
+        let x103: f64 = x101 + x102;
+        x103
+    }
+}
+#[doc = "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` (d/dt ∂L/∂q\u{307} = ∂L/∂q, one line per coordinate):\n\n```text\ntheta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)\nphi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)\npsi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)\n```\n"]
+impl HeavyTop {
+    #[doc = "The Euler–Lagrange equations, derived at compile time by `#[lagrangian]`: one line per coordinate, `Σₖ Mᵢₖ q\u{308}ₖ = fᵢ` (accelerations on the left).\n\n```text\ntheta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)\nphi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)\npsi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)\n```"]
+    pub const EQUATIONS : & 'static str = "theta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)\nphi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)\npsi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)" ;
+    #[doc = "The Euler–Lagrange equations in LaTeX, one line per coordinate (the same equations as `EQUATIONS`)."]
+    pub const EQUATIONS_LATEX : & 'static str = "i_{\\mathrm{perp}} \\ddot{\\theta} = -i_{\\mathrm{par}} \\dot{\\phi} \\dot{\\psi} \\sin\\left(\\theta\\right) + \\left(i_{\\mathrm{perp}} - i_{\\mathrm{par}}\\right) \\dot{\\phi}^{2} \\sin\\left(\\theta\\right) \\cos\\left(\\theta\\right) + m g l \\sin\\left(\\theta\\right)\ni_{\\mathrm{perp}} \\ddot{\\phi} \\sin^{2}\\left(\\theta\\right) + i_{\\mathrm{par}} \\ddot{\\phi} \\cos^{2}\\left(\\theta\\right) + i_{\\mathrm{par}} \\ddot{\\psi} \\cos\\left(\\theta\\right) = 2 \\left(i_{\\mathrm{par}} - i_{\\mathrm{perp}}\\right) \\dot{\\theta} \\dot{\\phi} \\sin\\left(\\theta\\right) \\cos\\left(\\theta\\right) + i_{\\mathrm{par}} \\dot{\\theta} \\dot{\\psi} \\sin\\left(\\theta\\right)\ni_{\\mathrm{par}} \\ddot{\\phi} \\cos\\left(\\theta\\right) + i_{\\mathrm{par}} \\ddot{\\psi} = i_{\\mathrm{par}} \\dot{\\theta} \\dot{\\phi} \\sin\\left(\\theta\\right)" ;
 }
 // ---- END GENERATED ----
 
@@ -90,6 +299,7 @@ fn main() {
         <HeavyTop as Lagrangian<3>>::COORDINATES
     );
     println!("CYCLIC      = {:?}", <HeavyTop as Lagrangian<3>>::CYCLIC);
+    println!("EQUATIONS:\n{}", HeavyTop::EQUATIONS);
     match top.accelerations(&q, &qdot, 0.0) {
         Ok(a) => println!("q̈ at θ = 1, φ̇ = −0.5, ψ̇ = 8: {a:?}"),
         Err(e) => println!("error: {e}"),

@@ -151,3 +151,91 @@ fn spinning_matches_closed_form() {
         assert_close(&got, &[a.x, a.y, a.z], 1e-12, "spinning");
     }
 }
+
+/// A rotating frame whose rate is a method of the system: `self.omega(t)` with a time-dependent
+/// argument (jets mode: the symbolic lowering does not call user functions).
+pub struct Carousel {
+    pub w: f64,
+}
+
+impl Carousel {
+    fn omega<S: Scalar>(&self, t: S) -> Vector3<S> {
+        Vector3::new(S::constant(0.0), S::constant(0.0), t.sin() * self.w)
+    }
+}
+
+#[lagrangian(mode = "jets")]
+impl Carousel {
+    fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
+        let v = r_dot + self.omega(t).cross(&r);
+        0.5 * v.norm_squared()
+    }
+}
+
+#[test]
+fn methods_of_self_take_coordinate_arguments() {
+    let c = Carousel { w: 0.7 };
+    let (r, v, t) = (
+        Vector3::new(0.3, -0.2, 0.5),
+        Vector3::new(0.1, 0.4, -0.3),
+        1.3_f64,
+    );
+    let om = Vector3::new(0.0, 0.0, c.w * t.sin());
+    let om_dot = Vector3::new(0.0, 0.0, c.w * t.cos());
+    let a = -om_dot.cross(&r) - 2.0 * om.cross(&v) - om.cross(&om.cross(&r));
+    let got = c
+        .accelerations(&[r.x, r.y, r.z], &[v.x, v.y, v.z], t)
+        .unwrap();
+    assert_close(&got, &[a.x, a.y, a.z], 1e-12, "carousel");
+}
+
+/// `#[lagrangian]` on an impl block that a `macro_rules!` writes: `self` in the body must resolve.
+macro_rules! oscillator {
+    ($name:ident, $mode:literal) => {
+        pub struct $name {
+            pub k: f64,
+        }
+        #[lagrangian(mode = $mode)]
+        impl $name {
+            fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+                0.5 * x_dot * x_dot - 0.5 * self.k * x * x
+            }
+        }
+    };
+}
+oscillator!(OscJets, "jets");
+oscillator!(OscSymbolic, "symbolic");
+
+#[test]
+fn declarations_inside_macro_rules_work_in_both_modes() {
+    assert_eq!(
+        OscJets { k: 4.0 }
+            .accelerations(&[0.5], &[0.0], 0.0)
+            .unwrap(),
+        [-2.0]
+    );
+    assert_eq!(
+        OscSymbolic { k: 4.0 }
+            .accelerations(&[0.5], &[0.0], 0.0)
+            .unwrap(),
+        [-2.0]
+    );
+}
+
+/// Constants from the user's scope (`const`, imported `PI`) in the default symbolic mode.
+const STIFFNESS: f64 = 3.0;
+use std::f64::consts::PI;
+pub struct ScopedConstants;
+
+#[lagrangian]
+impl ScopedConstants {
+    fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+        0.5 * x_dot.powi(2) - 0.5 * STIFFNESS * x.powi(2) + PI * x
+    }
+}
+
+#[test]
+fn names_from_the_users_scope_are_constants() {
+    let a = ScopedConstants.accelerations(&[0.5], &[0.0], 0.0).unwrap();
+    assert!((a[0] - (-STIFFNESS * 0.5 + std::f64::consts::PI)).abs() < 1e-15);
+}

@@ -83,7 +83,9 @@ pub struct Particle {
     pub frame: Frame,
 }
 
-#[lagrangian]
+// Calls generic helper functions (frame_v0, frame_omega, trap_potential): run-time jets.
+// The same particle in the default symbolic mode is checked in tests/symbolic.rs.
+#[lagrangian(mode = "jets")]
 impl Particle {
     fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
         let v = r_dot + frame_v0(&self.frame, t) + frame_omega(&self.frame, t).cross(&r);
@@ -99,7 +101,9 @@ pub struct Rotating {
     pub omega: Vector3<f64>,
 }
 
-#[lagrangian]
+// Calls generic helper functions (frame_v0, frame_omega, trap_potential): run-time jets.
+// The same particle in the default symbolic mode is checked in tests/symbolic.rs.
+#[lagrangian(mode = "jets")]
 impl Rotating {
     fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
         let v = r_dot + self.omega.cross(&r);

@@ -306,7 +306,9 @@ impl Rewriter {
                 if !any_var {
                     return Kind::Const;
                 }
-                if kr == Kind::Const {
+                // A method of the user's own type (`self.omega(t)`) takes its arguments as
+                // declared: `self` is never lifted.
+                if kr == Kind::Const && !is_self(&m.receiver) {
                     lift_in_place(&mut m.receiver);
                 }
                 for (a, k) in m.args.iter_mut().zip(&kargs) {
@@ -518,6 +520,11 @@ impl Rewriter {
             _ => Kind::join(kl, kr),
         }
     }
+}
+
+/// The bare `self` path.
+fn is_self(e: &Expr) -> bool {
+    matches!(e, Expr::Path(p) if p.qself.is_none() && p.path.is_ident("self"))
 }
 
 /// `Vector3::new(..)`-like calls (a path of two or more segments ending in `new`): their

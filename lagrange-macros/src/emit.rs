@@ -95,14 +95,17 @@ fn generate(decl: &Decl) -> TokenStream {
     let fn_attrs = &decl.fn_attrs;
     let ret = quote_spanned!(decl.ret_span=> Scalar);
     let fn_ident = &decl.fn_ident;
+    let self_token = &decl.self_token;
     let (symbolic_note, symbolic_consts) = match decl.options.mode {
         Mode::Jets => (quote!(), quote!()),
         Mode::Symbolic => match crate::symbolic::expand(decl) {
             Ok(out) => crate::symbolic::methods(&out, n, self_ty),
+            // The errors, and the impl without the symbolic methods: rustc still type-checks
+            // the body as written, so a genuine type error there is reported at the user's
+            // token too, and nothing cascades. The build fails either way: no silent fallback.
             Err(errs) => {
                 let errs = errs.iter().map(syn::Error::to_compile_error);
-                let stub = stub_impl(rest, n);
-                return quote!(#(#errs)* #rest #stub);
+                (quote!(), quote!(#(#errs)*))
             }
         },
     };
@@ -134,7 +137,7 @@ fn generate(decl: &Decl) -> TokenStream {
                 non_snake_case
             )]
             fn #fn_ident<Scalar: ::lagrange::__private::Scalar>(
-                &self,
+                &#self_token,
                 #q_pat: &[Scalar; #n],
                 #qdot_pat: &[Scalar; #n],
                 #t_pat: Scalar,

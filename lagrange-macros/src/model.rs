@@ -81,6 +81,9 @@ pub struct Decl {
     pub time: Option<Ident>,
     /// The body as written.
     pub body: syn::Block,
+    /// The `self` token of the receiver as written (its span makes `self` in the body resolve,
+    /// also when the impl block comes out of a `macro_rules!`).
+    pub self_token: syn::Token![self],
     /// Attribute options.
     pub options: Options,
 }

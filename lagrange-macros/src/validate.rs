@@ -119,8 +119,10 @@ fn check_fn(
     };
 
     let mut inputs = sig.inputs.iter();
+    let mut self_token = syn::Token![self](sig.ident.span());
     match inputs.next() {
         Some(FnArg::Receiver(r)) => {
+            self_token = r.self_token;
             let ok =
                 matches!(&r.kind, ReceiverKind::Reference(_, _, None)) && r.mutability.is_none();
             if !ok {
@@ -220,6 +222,7 @@ fn check_fn(
         coords,
         time,
         body: func.block,
+        self_token,
         options,
     })
 }

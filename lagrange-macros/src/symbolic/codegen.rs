@@ -16,7 +16,11 @@ pub struct Code {
 }
 
 fn field_local(f: &Field) -> Ident {
-    format_ident!("p_{}", f.name)
+    if f.free {
+        format_ident!("c_{}", f.name)
+    } else {
+        format_ident!("p_{}", f.name)
+    }
 }
 
 fn const_tokens(c: f64) -> TokenStream {
@@ -115,7 +119,11 @@ pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
         // `self` must resolve like the receiver of the generated method (call-site hygiene),
         // while errors point at the user's field.
         let this = Ident::new("self", Span::call_site().located_at(field.span));
-        stmts.extend(quote_spanned!(field.span=> let #local: #ty = #this.#member;));
+        if field.free {
+            stmts.extend(quote_spanned!(field.span=> let #local: #ty = #member;));
+        } else {
+            stmts.extend(quote_spanned!(field.span=> let #local: #ty = #this.#member;));
+        }
     }
     // Every `let` opens a lexical scope, and debug info nests them: thousands of sequential
     // `let`s overflow LLVM's stack. Nodes are grouped by level (1 + the deepest inner operand)

@@ -27,6 +27,9 @@ pub struct Field {
     pub vector: bool,
     /// Seen directly in a scalar-only position: never re-typed as a vector.
     confirmed_scalar: bool,
+    /// A free name from the user's scope (a `const`, a `static`, an imported `PI`), loaded as
+    /// written instead of through `self`; rustc resolves it (and reports it if it is undefined).
+    pub free: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -208,11 +211,19 @@ impl Lower {
     }
 
     fn field(&mut self, member: &Member, span: Span) -> Val {
+        self.param(member, span, false)
+    }
+
+    fn param(&mut self, member: &Member, span: Span, free: bool) -> Val {
         let name = match member {
             Member::Named(n) => unraw(n),
             Member::Unnamed(i) => i.index.to_string(),
         };
-        let idx = match self.fields.iter().position(|f| f.name == name) {
+        let idx = match self
+            .fields
+            .iter()
+            .position(|f| f.name == name && f.free == free)
+        {
             Some(i) => i,
             None => {
                 self.fields.push(Field {
@@ -221,6 +232,7 @@ impl Lower {
                     member: member.clone(),
                     vector: false,
                     confirmed_scalar: false,
+                    free,
                 });
                 self.fields.len() - 1
             }
@@ -463,12 +475,8 @@ impl Lower {
                 if let Some(v) = self.lookup(&unraw(id)) {
                     return v;
                 }
-                return self.unsupported(
-                    id.span(),
-                    &format!(
-                        "`{id}`, which is not a coordinate, velocity, time, `self` field or local binding,"
-                    ),
-                );
+                // A name from the user's scope: an opaque constant, loaded once as written.
+                return self.param(&Member::Named(id.clone()), id.span(), true);
             }
             let segs: Vec<String> = p
                 .path
@@ -695,6 +703,12 @@ impl Lower {
                     return Ok(
                         match int_literal(args[0]).and_then(|k| i32::try_from(k).ok()) {
                             Some(k) => Val::S(self.dag.powi(x, k)),
+                            None if matches!(paren_less(args[0]), Expr::Lit(l) if matches!(l.lit, Lit::Float(_))) => {
+                                self.err(syn::Error::new(
+                                    args[0].span(),
+                                    "`powi` takes an integer exponent (`powi(2)`); for a real exponent use `powf`",
+                                ))
+                            }
                             None => self.unsupported(
                                 args[0].span(),
                                 "a `powi` exponent that is not an integer literal",

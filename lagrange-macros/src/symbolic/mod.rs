@@ -415,7 +415,6 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
                      equations as `EQUATIONS`).";
     let consts = quote! {
         #[doc = #doc]
-        #[automatically_derived]
         impl #self_ty {
             #[doc = #eq_doc]
             pub const EQUATIONS: &'static str = #equations;

@@ -37,6 +37,7 @@ fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
         coords,
         time: time.map(|t| format_ident!("{}", t)),
         body: syn::parse_str(body).expect("test body parses"),
+        self_token: syn::Token![self](Span::call_site()),
         options: Options {
             mode: Mode::Symbolic,
             mode_span: None,
