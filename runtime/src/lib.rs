@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod error;
+pub mod integrate;
 pub mod jet;
 mod lagrangian;
 pub mod linalg;
@@ -15,6 +16,10 @@ pub mod mix;
 mod scalar;
 
 pub use error::DynamicsError;
+pub use integrate::{
+    Direction, Drift, Event, EventHit, Invariants, Method, PartialTrajectory, Simulation,
+    SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
+};
 pub use lagrangian::{el_jet, hessian_jet, solve_mass_matrix, Lagrangian};
 pub use nalgebra::{SMatrix, Vector3};
 pub use scalar::Scalar;
