@@ -14,6 +14,7 @@ pub mod linalg;
 #[doc(hidden)]
 pub mod mix;
 mod scalar;
+pub mod theory;
 
 pub use error::DynamicsError;
 pub use integrate::{
