@@ -97,8 +97,8 @@ pub(crate) fn eval_dense<const N: usize>(r: &[Y<N>; 8], s: f64) -> Y<N> {
     for c in 0..2 {
         for i in 0..N {
             let conpar = r[4][c][i] + s * (r[5][c][i] + s1 * (r[6][c][i] + s * r[7][c][i]));
-            out[c][i] = r[0][c][i]
-                + s * (r[1][c][i] + s1 * (r[2][c][i] + s * (r[3][c][i] + s1 * conpar)));
+            out[c][i] =
+                r[0][c][i] + s * (r[1][c][i] + s1 * (r[2][c][i] + s * (r[3][c][i] + s1 * conpar)));
         }
     }
     out

@@ -18,8 +18,18 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
 ) -> Result<Y<N>, Fault> {
     let k1 = *f0;
     let k2 = rhs(sys, t + 0.5 * h, &combine(y, h, &[0.5], &[k1]), stats)?;
-    let k3 = rhs(sys, t + 0.5 * h, &combine(y, h, &[0.0, 0.5], &[k1, k2]), stats)?;
-    let k4 = rhs(sys, t + h, &combine(y, h, &[0.0, 0.0, 1.0], &[k1, k2, k3]), stats)?;
+    let k3 = rhs(
+        sys,
+        t + 0.5 * h,
+        &combine(y, h, &[0.0, 0.5], &[k1, k2]),
+        stats,
+    )?;
+    let k4 = rhs(
+        sys,
+        t + h,
+        &combine(y, h, &[0.0, 0.0, 1.0], &[k1, k2, k3]),
+        stats,
+    )?;
     let y1 = combine(
         y,
         h,

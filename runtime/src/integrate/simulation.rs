@@ -55,7 +55,10 @@ impl Method {
     /// assert!(lagrange_runtime::Method::Rk4 { dt: 0.1 }.is_fixed_step());
     /// ```
     pub fn is_fixed_step(&self) -> bool {
-        matches!(self, Method::Rk4 { .. } | Method::VariationalMidpoint { .. })
+        matches!(
+            self,
+            Method::Rk4 { .. } | Method::VariationalMidpoint { .. }
+        )
     }
 }
 

@@ -80,7 +80,9 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> VariationalMidpoint<'a, L, N
             if !r.iter().all(|x| x.is_finite()) {
                 return Err(Fault::NonFinite);
             }
-            if inf_norm(&r) <= 8.0 * f64::EPSILON * scale || last_dv <= 4.0 * f64::EPSILON * inf_norm(&v) {
+            if inf_norm(&r) <= 8.0 * f64::EPSILON * scale
+                || last_dv <= 4.0 * f64::EPSILON * inf_norm(&v)
+            {
                 return Ok(v);
             }
             let m = jet.hess_qdotqdot();
@@ -173,7 +175,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
             let mut jscale = 0.0_f64;
             for i in 0..N {
                 for kk in 0..N {
-                    jac[i][kk] = hvv[i][kk] - 0.25 * h * h * hqq[i][kk]
+                    jac[i][kk] = hvv[i][kk]
+                        - 0.25 * h * h * hqq[i][kk]
                         - 0.5 * h * (hqv[i][kk] - hqv[kk][i]);
                     jscale = jscale.max(jac[i][kk].abs());
                 }
@@ -237,7 +240,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
         let h11 = s * s * (s - 1.0);
         let mut out = [[0.0; N]; 2];
         for i in 0..N {
-            out[0][i] = h00 * self.q_old[i] + h10 * h * self.v_old[i] + h01 * q1[i] + h11 * h * v1[i];
+            out[0][i] =
+                h00 * self.q_old[i] + h10 * h * self.v_old[i] + h01 * q1[i] + h11 * h * v1[i];
             out[1][i] = (1.0 - s) * self.v_old[i] + s * v1[i];
         }
         Ok(out)
