@@ -291,6 +291,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+/// A named, coloured polyline.
+type Curve = (&'static str, RGBColor, Vec<(f64, f64)>);
+
 fn plot(
     path: &str,
     traj: &Trajectory<3>,
@@ -385,7 +388,7 @@ fn plot(
     let e0 = traj.energy.first().copied().unwrap_or(0.0);
     let m0 = traj.momenta.first().copied().unwrap_or([0.0; 3]);
     let drift = |x: f64, x0: f64| (x - x0) / x0.abs().max(f64::MIN_POSITIVE);
-    let series: [(&str, RGBColor, Vec<(f64, f64)>); 3] = [
+    let series: [Curve; 3] = [
         (
             "E",
             BLACK,

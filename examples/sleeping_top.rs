@@ -206,7 +206,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let diff = predicted.map(|p| ((th - p) / p).abs());
                 let every = (results.len() / 20).max(1);
                 let k = ((r - o.from) / (o.to - o.from) * (o.points - 1) as f64).round() as usize;
-                if k % every == 0 || (r - 2.0).abs() < 1e-9 {
+                if k.is_multiple_of(every) || (r - 2.0).abs() < 1e-9 {
                     println!(
                         "  {r:5.3}   {th:.9e}  {}  {}",
                         predicted.map_or("      —        ".to_string(), |p| format!("{p:.9e}")),

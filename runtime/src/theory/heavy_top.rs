@@ -282,7 +282,7 @@ impl Shifted {
     fn roots(&self) -> Result<[f64; 3], TheoryError> {
         let (a, b) = (self.a, self.b);
         let disc = a * a - 3.0 * b;
-        if !(disc > 0.0) {
+        if disc.is_nan() || disc <= 0.0 {
             return Err(TheoryError::NoNutationInterval);
         }
         // Critical points of g, from g' = 3x² + 2ax + b, in the cancellation-free form.
@@ -653,6 +653,7 @@ fn agm(mut a: f64, mut b: f64) -> f64 {
 }
 
 /// Gauss–Kronrod (7, 15) nodes on [−1, 1] (QUADPACK `qk15`), non-negative half.
+#[allow(clippy::excessive_precision)] // the published QUADPACK digits
 const XGK: [f64; 8] = [
     0.991_455_371_120_812_639_206_854_697_526_329,
     0.949_107_912_342_758_524_526_189_684_047_851,
@@ -664,6 +665,7 @@ const XGK: [f64; 8] = [
     0.0,
 ];
 /// Kronrod weights for `XGK`.
+#[allow(clippy::excessive_precision)] // the published QUADPACK digits
 const WGK: [f64; 8] = [
     0.022_935_322_010_529_224_963_732_008_058_970,
     0.063_092_092_629_978_553_290_700_663_189_204,
@@ -675,6 +677,7 @@ const WGK: [f64; 8] = [
     0.209_482_141_084_727_828_012_999_174_891_714,
 ];
 /// Gauss weights for the nodes `XGK[1], XGK[3], XGK[5], XGK[7]`.
+#[allow(clippy::excessive_precision)] // the published QUADPACK digits
 const WG: [f64; 4] = [
     0.129_484_966_168_869_693_270_611_432_679_082,
     0.279_705_391_489_276_667_901_467_771_423_780,
