@@ -567,7 +567,7 @@ impl Nutation {
     /// ```
     /// use lagrange_runtime::theory::heavy_top::{Motion, Nutation};
     /// assert_eq!(Nutation::new(5.0, 0.3, 1.0, 0.5).unwrap().motion().unwrap(), Motion::Loops);
-    /// assert_eq!(Nutation::new(5.0, 0.3, 1.0, 0.2).unwrap().motion().unwrap(), Motion::Wavy);
+    /// assert_eq!(Nutation::new(5.0, 0.3, 1.0, 0.29).unwrap().motion().unwrap(), Motion::Wavy);
     /// ```
     pub fn motion(&self) -> Result<Motion, TheoryError> {
         let [x1, x2, _] = self.cubic.roots()?;
