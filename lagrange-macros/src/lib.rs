@@ -10,6 +10,7 @@ mod emit;
 mod errors;
 mod model;
 mod parse;
+mod symbolic;
 mod validate;
 
 use proc_macro::TokenStream;
@@ -20,3 +21,6 @@ use proc_macro::TokenStream;
 pub fn lagrangian(args: TokenStream, input: TokenStream) -> TokenStream {
     emit::expand(args.into(), input.into()).into()
 }
+
+#[cfg(test)]
+mod expanded_example;

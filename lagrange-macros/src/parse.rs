@@ -9,7 +9,7 @@ use crate::errors::Errors;
 use crate::model::{Mode, Options};
 
 /// The mode used when the attribute does not name one.
-pub const DEFAULT_MODE: Mode = Mode::Jets;
+pub const DEFAULT_MODE: Mode = Mode::Symbolic;
 
 /// Parses `mode = "jets" | "symbolic"`; anything else is an error at that argument.
 pub fn options(args: TokenStream, errors: &mut Errors) -> Options {

@@ -5,6 +5,8 @@
 //! Users normally depend on the facade crate `lagrange`, which re-exports all of this.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
+// Numeric kernels over fixed-size arrays index several arrays at once and read as the math.
+#![allow(clippy::needless_range_loop)]
 
 pub mod error;
 pub mod integrate;
@@ -13,6 +15,7 @@ mod lagrangian;
 pub mod linalg;
 #[doc(hidden)]
 pub mod mix;
+pub mod rigid;
 mod scalar;
 pub mod theory;
 

@@ -1,0 +1,202 @@
+//! Emission of straight-line Rust from the DAG: each reachable node once, in id (topological)
+//! order, as `let xN = ...;`; leaves (constants, `q[i]`, `qdot[i]`, `t`, parameters) inline.
+
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::{format_ident, quote, quote_spanned};
+
+use super::dag::{Dag, Id, Node};
+use super::lower::Field;
+
+/// Straight-line code computing a set of DAG nodes.
+pub struct Code {
+    /// The `let` statements (parameter loads first).
+    pub stmts: TokenStream,
+    /// How many `let` statements were emitted for DAG nodes.
+    pub lets: usize,
+}
+
+fn field_local(f: &Field) -> Ident {
+    format_ident!("p_{}", f.name)
+}
+
+fn const_tokens(c: f64) -> TokenStream {
+    if c.is_nan() {
+        quote!(f64::NAN)
+    } else if c == f64::INFINITY {
+        quote!(f64::INFINITY)
+    } else if c == f64::NEG_INFINITY {
+        quote!(f64::NEG_INFINITY)
+    } else if c < 0.0 {
+        let l = Literal::f64_unsuffixed(-c);
+        quote!(-#l)
+    } else {
+        let l = Literal::f64_unsuffixed(c);
+        quote!(#l)
+    }
+}
+
+/// The tokens of an operand: a leaf inline, an inner node by its local name.
+pub fn operand(dag: &Dag, fields: &[Field], id: Id) -> TokenStream {
+    let q = Ident::new("q", Span::call_site());
+    let qdot = Ident::new("qdot", Span::call_site());
+    let t = Ident::new("t", Span::call_site());
+    match dag.node(id) {
+        Node::Const(b) => const_tokens(f64::from_bits(b)),
+        Node::Q(i) => {
+            let i = Literal::usize_unsuffixed(i as usize);
+            quote!(#q[#i])
+        }
+        Node::V(i) => {
+            let i = Literal::usize_unsuffixed(i as usize);
+            quote!(#qdot[#i])
+        }
+        Node::T => quote!(#t),
+        Node::Param(f, c) => {
+            let local = field_local(&fields[f as usize]);
+            match c {
+                1 => quote!(#local.x),
+                2 => quote!(#local.y),
+                3 => quote!(#local.z),
+                _ => quote!(#local),
+            }
+        }
+        _ => {
+            let x = format_ident!("x{}", id);
+            quote!(#x)
+        }
+    }
+}
+
+/// An operand in method-receiver position (a constant needs its type and, if negative, parens).
+fn receiver(dag: &Dag, fields: &[Field], id: Id) -> TokenStream {
+    match dag.as_const(id) {
+        Some(c) if c.is_finite() => {
+            let l = Literal::f64_suffixed(c.abs());
+            if c < 0.0 {
+                quote!((-#l))
+            } else {
+                quote!(#l)
+            }
+        }
+        _ => operand(dag, fields, id),
+    }
+}
+
+/// Emits the code computing `outputs` (and everything they need).
+pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
+    let mut need = vec![false; dag.len()];
+    let mut stack: Vec<Id> = outputs.to_vec();
+    while let Some(id) = stack.pop() {
+        if need[id as usize] {
+            continue;
+        }
+        need[id as usize] = true;
+        stack.extend(dag.node(id).children());
+    }
+    // Parameter loads, typed, spanned at the field's first use.
+    let mut stmts = TokenStream::new();
+    let mut loaded = vec![false; fields.len()];
+    for (id, needed) in need.iter().enumerate() {
+        if let (true, Node::Param(f, _)) = (*needed, dag.node(id as Id)) {
+            loaded[f as usize] = true;
+        }
+    }
+    for (f, field) in fields.iter().enumerate() {
+        if !loaded[f] {
+            continue;
+        }
+        let local = field_local(field);
+        let member = &field.member;
+        let ty = if field.vector {
+            quote!(::lagrange::__private::Vector3<f64>)
+        } else {
+            quote!(f64)
+        };
+        // `self` must resolve like the receiver of the generated method (call-site hygiene),
+        // while errors point at the user's field.
+        let this = Ident::new("self", Span::call_site().located_at(field.span));
+        stmts.extend(quote_spanned!(field.span=> let #local: #ty = #this.#member;));
+    }
+    // Every `let` opens a lexical scope, and debug info nests them: thousands of sequential
+    // `let`s overflow LLVM's stack. Nodes are grouped by level (1 + the deepest inner operand)
+    // into one tuple `let` per level, so the nesting depth is the depth of the DAG.
+    let mut level = vec![0usize; dag.len()];
+    let mut by_level: Vec<Vec<(Ident, TokenStream)>> = Vec::new();
+    let mut lets = 0;
+    for (id, needed) in need.iter().enumerate() {
+        let id = id as Id;
+        let node = dag.node(id);
+        if !*needed || node.is_leaf() {
+            continue;
+        }
+        let o = |i: Id| operand(dag, fields, i);
+        let rhs = match node {
+            Node::Add(a, b) => {
+                let (a, b) = (o(a), o(b));
+                quote!(#a + #b)
+            }
+            Node::Sub(a, b) => {
+                let (a, b) = (o(a), o(b));
+                quote!(#a - #b)
+            }
+            Node::Mul(a, b) => {
+                let (a, b) = (o(a), o(b));
+                quote!(#a * #b)
+            }
+            Node::Div(a, b) => {
+                let (a, b) = (o(a), o(b));
+                quote!(#a / #b)
+            }
+            Node::Neg(a) => {
+                let a = o(a);
+                quote!(-#a)
+            }
+            Node::Powi(a, 2) => {
+                let a = o(a);
+                quote!(#a * #a)
+            }
+            Node::Powi(a, n) => {
+                let a = receiver(dag, fields, a);
+                let n = Literal::i32_unsuffixed(n);
+                quote!(#a.powi(#n))
+            }
+            Node::Powf(a, b) => {
+                let (a, b) = (receiver(dag, fields, a), o(b));
+                quote!(#a.powf(#b))
+            }
+            Node::Atan2(y, x) => {
+                let (y, x) = (receiver(dag, fields, y), o(x));
+                quote!(#y.atan2(#x))
+            }
+            Node::Un(f, a) => {
+                let a = receiver(dag, fields, a);
+                let m = Ident::new(f.method(), Span::call_site());
+                quote!(#a.#m())
+            }
+            Node::Const(_) | Node::Param(..) | Node::Q(_) | Node::V(_) | Node::T => continue,
+        };
+        let lv = node
+            .children()
+            .filter(|&c| !dag.node(c).is_leaf())
+            .map(|c| level[c as usize] + 1)
+            .max()
+            .unwrap_or(0);
+        level[id as usize] = lv;
+        if by_level.len() <= lv {
+            by_level.resize_with(lv + 1, Vec::new);
+        }
+        by_level[lv].push((format_ident!("x{}", id), rhs));
+        lets += 1;
+    }
+    for group in by_level {
+        if let [(x, rhs)] = group.as_slice() {
+            stmts.extend(quote!(let #x: f64 = #rhs;));
+        } else if !group.is_empty() {
+            let xs = group.iter().map(|(x, _)| x);
+            let tys = group.iter().map(|_| quote!(f64));
+            let rhss = group.iter().map(|(_, r)| r);
+            stmts.extend(quote!(let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
+        }
+    }
+    Code { stmts, lets }
+}

@@ -1,0 +1,696 @@
+//! The hash-consed scalar expression DAG with constant folding, numeric evaluation and
+//! forward-mode (tangent) differentiation.
+//!
+//! Node ids are handed out in creation order and every node's operands are created before it, so
+//! id order is a topological order: emission and differentiation walk ids upwards.
+
+use std::collections::HashMap;
+
+/// A node id.
+pub type Id = u32;
+
+/// A smooth elementary function of one argument.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Fun {
+    Sqrt,
+    Sin,
+    Cos,
+    Tan,
+    Exp,
+    Ln,
+    Abs,
+    Signum,
+    Asin,
+    Acos,
+    Atan,
+    Sinh,
+    Cosh,
+    Tanh,
+}
+
+impl Fun {
+    /// The Rust method name.
+    pub fn method(self) -> &'static str {
+        match self {
+            Fun::Sqrt => "sqrt",
+            Fun::Sin => "sin",
+            Fun::Cos => "cos",
+            Fun::Tan => "tan",
+            Fun::Exp => "exp",
+            Fun::Ln => "ln",
+            Fun::Abs => "abs",
+            Fun::Signum => "signum",
+            Fun::Asin => "asin",
+            Fun::Acos => "acos",
+            Fun::Atan => "atan",
+            Fun::Sinh => "sinh",
+            Fun::Cosh => "cosh",
+            Fun::Tanh => "tanh",
+        }
+    }
+
+    /// Evaluates the function on an `f64`.
+    pub fn eval(self, x: f64) -> f64 {
+        match self {
+            Fun::Sqrt => x.sqrt(),
+            Fun::Sin => x.sin(),
+            Fun::Cos => x.cos(),
+            Fun::Tan => x.tan(),
+            Fun::Exp => x.exp(),
+            Fun::Ln => x.ln(),
+            Fun::Abs => x.abs(),
+            Fun::Signum => x.signum(),
+            Fun::Asin => x.asin(),
+            Fun::Acos => x.acos(),
+            Fun::Atan => x.atan(),
+            Fun::Sinh => x.sinh(),
+            Fun::Cosh => x.cosh(),
+            Fun::Tanh => x.tanh(),
+        }
+    }
+}
+
+/// One node of the DAG.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Node {
+    /// An `f64` constant, stored as its bits (normalized: no `-0.0`, one NaN).
+    Const(u64),
+    /// `self.<field>`: field index, component (0 for an `f64` field, 1..=3 for x, y, z).
+    Param(u32, u8),
+    /// Generalized coordinate `q[i]`.
+    Q(u32),
+    /// Generalized velocity `qdot[i]`.
+    V(u32),
+    /// Time.
+    T,
+    Add(Id, Id),
+    Sub(Id, Id),
+    Mul(Id, Id),
+    Div(Id, Id),
+    Neg(Id),
+    Powi(Id, i32),
+    Powf(Id, Id),
+    Atan2(Id, Id),
+    Un(Fun, Id),
+}
+
+impl Node {
+    /// The operands of this node.
+    pub fn children(&self) -> impl Iterator<Item = Id> {
+        let (a, b) = match *self {
+            Node::Const(_) | Node::Param(..) | Node::Q(_) | Node::V(_) | Node::T => (None, None),
+            Node::Add(a, b)
+            | Node::Sub(a, b)
+            | Node::Mul(a, b)
+            | Node::Div(a, b)
+            | Node::Powf(a, b)
+            | Node::Atan2(a, b) => (Some(a), Some(b)),
+            Node::Neg(a) | Node::Powi(a, _) | Node::Un(_, a) => (Some(a), None),
+        };
+        a.into_iter().chain(b)
+    }
+
+    /// Whether this node is a leaf (constant, parameter, coordinate, velocity or time).
+    pub fn is_leaf(&self) -> bool {
+        matches!(
+            self,
+            Node::Const(_) | Node::Param(..) | Node::Q(_) | Node::V(_) | Node::T
+        )
+    }
+}
+
+fn bits(c: f64) -> u64 {
+    if c.is_nan() {
+        f64::NAN.to_bits()
+    } else if c == 0.0 {
+        0.0_f64.to_bits()
+    } else {
+        c.to_bits()
+    }
+}
+
+/// The variable numbering used for dependency sets: q[i] → i, qdot[i] → n + i, t → 2n.
+#[derive(Clone, Copy, Debug)]
+pub struct Vars {
+    pub n: usize,
+}
+
+impl Vars {
+    pub fn q(self, i: usize) -> usize {
+        i
+    }
+    pub fn v(self, i: usize) -> usize {
+        self.n + i
+    }
+    pub fn t(self) -> usize {
+        2 * self.n
+    }
+    pub fn count(self) -> usize {
+        2 * self.n + 1
+    }
+    fn words(self) -> usize {
+        self.count().div_ceil(64)
+    }
+}
+
+/// The hash-consed expression DAG.
+pub struct Dag {
+    nodes: Vec<Node>,
+    index: HashMap<Node, Id>,
+    /// Dependency bit sets, `words` u64s per node.
+    deps: Vec<u64>,
+    words: usize,
+    pub vars: Vars,
+}
+
+/// A variable set, as a bit set over [`Vars`] numbering.
+#[derive(Clone, Debug)]
+pub struct VarSet(Vec<u64>);
+
+impl VarSet {
+    pub fn new(vars: Vars) -> Self {
+        VarSet(vec![0; vars.words()])
+    }
+    pub fn insert(&mut self, var: usize) {
+        self.0[var / 64] |= 1 << (var % 64);
+    }
+}
+
+impl Dag {
+    /// An empty DAG for `n` generalized coordinates.
+    pub fn new(n: usize) -> Self {
+        let vars = Vars { n };
+        let mut dag = Dag {
+            nodes: Vec::new(),
+            index: HashMap::new(),
+            deps: Vec::new(),
+            words: vars.words(),
+            vars,
+        };
+        // Ids 0 and 1 are the constants 0 and 1.
+        dag.constant(0.0);
+        dag.constant(1.0);
+        dag
+    }
+
+    pub const ZERO: Id = 0;
+    pub const ONE: Id = 1;
+
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn node(&self, id: Id) -> Node {
+        self.nodes[id as usize]
+    }
+
+    /// The constant value of a node, if it is a constant.
+    pub fn as_const(&self, id: Id) -> Option<f64> {
+        match self.node(id) {
+            Node::Const(b) => Some(f64::from_bits(b)),
+            _ => None,
+        }
+    }
+
+    /// Whether the node depends on no coordinate, velocity or time (parameters and constants only).
+    #[cfg(test)]
+    pub fn is_state_free(&self, id: Id) -> bool {
+        let w = id as usize * self.words;
+        self.deps[w..w + self.words].iter().all(|x| *x == 0)
+    }
+
+    /// Whether the node depends on any variable in `set`.
+    pub fn depends_on(&self, id: Id, set: &VarSet) -> bool {
+        let w = id as usize * self.words;
+        self.deps[w..w + self.words]
+            .iter()
+            .zip(&set.0)
+            .any(|(a, b)| a & b != 0)
+    }
+
+    fn intern(&mut self, node: Node) -> Id {
+        if let Some(&id) = self.index.get(&node) {
+            return id;
+        }
+        let id = self.nodes.len() as Id;
+        let mut d = vec![0u64; self.words];
+        match node {
+            Node::Q(i) => d[self.vars.q(i as usize) / 64] |= 1 << (self.vars.q(i as usize) % 64),
+            Node::V(i) => d[self.vars.v(i as usize) / 64] |= 1 << (self.vars.v(i as usize) % 64),
+            Node::T => d[self.vars.t() / 64] |= 1 << (self.vars.t() % 64),
+            _ => {
+                for c in node.children() {
+                    let w = c as usize * self.words;
+                    for (k, x) in d.iter_mut().enumerate() {
+                        *x |= self.deps[w + k];
+                    }
+                }
+            }
+        }
+        self.deps.extend(d);
+        self.nodes.push(node);
+        self.index.insert(node, id);
+        id
+    }
+
+    pub fn constant(&mut self, c: f64) -> Id {
+        self.intern(Node::Const(bits(c)))
+    }
+    pub fn param(&mut self, field: u32, comp: u8) -> Id {
+        self.intern(Node::Param(field, comp))
+    }
+    pub fn q(&mut self, i: usize) -> Id {
+        self.intern(Node::Q(i as u32))
+    }
+    pub fn v(&mut self, i: usize) -> Id {
+        self.intern(Node::V(i as u32))
+    }
+    pub fn t(&mut self) -> Id {
+        self.intern(Node::T)
+    }
+
+    pub fn add(&mut self, a: Id, b: Id) -> Id {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x + y),
+            (Some(0.0), None) => return b,
+            (None, Some(0.0)) => return a,
+            _ => {}
+        }
+        if let Node::Neg(nb) = self.node(b) {
+            return self.sub(a, nb);
+        }
+        if let Node::Neg(na) = self.node(a) {
+            return self.sub(b, na);
+        }
+        // Like terms: c₁ x + c₂ x = (c₁ + c₂) x.
+        let ((ca, xa), (cb, xb)) = (self.split_coef(a), self.split_coef(b));
+        if xa == xb {
+            let c = self.constant(ca + cb);
+            return self.mul(c, xa);
+        }
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Node::Add(a, b))
+    }
+
+    pub fn sub(&mut self, a: Id, b: Id) -> Id {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x - y),
+            (Some(0.0), None) => return self.neg(b),
+            (None, Some(0.0)) => return a,
+            _ => {}
+        }
+        if a == b {
+            return Self::ZERO;
+        }
+        if let Node::Neg(nb) = self.node(b) {
+            return self.add(a, nb);
+        }
+        if let Node::Neg(na) = self.node(a) {
+            let s = self.add(na, b);
+            return self.neg(s);
+        }
+        let ((ca, xa), (cb, xb)) = (self.split_coef(a), self.split_coef(b));
+        if xa == xb {
+            let c = self.constant(ca - cb);
+            return self.mul(c, xa);
+        }
+        self.intern(Node::Sub(a, b))
+    }
+
+    /// `c · x` as `(c, x)`; anything else as `(1, a)`.
+    fn split_coef(&self, a: Id) -> (f64, Id) {
+        if let Node::Mul(c, x) = self.node(a) {
+            if let Some(c) = self.as_const(c) {
+                return (c, x);
+            }
+        }
+        (1.0, a)
+    }
+
+    pub fn neg(&mut self, a: Id) -> Id {
+        match self.node(a) {
+            Node::Const(b) => self.constant(-f64::from_bits(b)),
+            Node::Neg(x) => x,
+            Node::Sub(x, y) => self.sub(y, x),
+            Node::Mul(x, y) if self.as_const(x).is_some() => {
+                let c = -self.as_const(x).unwrap_or(0.0);
+                let c = self.constant(c);
+                self.mul(c, y)
+            }
+            _ => self.intern(Node::Neg(a)),
+        }
+    }
+
+    pub fn mul(&mut self, a: Id, b: Id) -> Id {
+        // Constants go to the left.
+        let (a, b) = if self.as_const(b).is_some() && self.as_const(a).is_none() {
+            (b, a)
+        } else {
+            (a, b)
+        };
+        if let Some(x) = self.as_const(a) {
+            if let Some(y) = self.as_const(b) {
+                return self.constant(x * y);
+            }
+            if x == 0.0 {
+                return Self::ZERO;
+            }
+            if x == 1.0 {
+                return b;
+            }
+            if x == -1.0 {
+                return self.neg(b);
+            }
+            match self.node(b) {
+                // c1 * (c2 * y) = (c1 c2) * y
+                Node::Mul(c, y) if self.as_const(c).is_some() => {
+                    let k = x * self.as_const(c).unwrap_or(1.0);
+                    let k = self.constant(k);
+                    return self.mul(k, y);
+                }
+                Node::Neg(y) => {
+                    let k = self.constant(-x);
+                    return self.mul(k, y);
+                }
+                _ => {}
+            }
+            return self.intern(Node::Mul(a, b));
+        }
+        // Pull constant factors out: (c x) y = c (x y).
+        if let Node::Mul(c, x) = self.node(a) {
+            if self.as_const(c).is_some() {
+                let p = self.mul(x, b);
+                return self.mul(c, p);
+            }
+        }
+        if let Node::Mul(c, y) = self.node(b) {
+            if self.as_const(c).is_some() {
+                let p = self.mul(a, y);
+                return self.mul(c, p);
+            }
+        }
+        match (self.node(a), self.node(b)) {
+            (Node::Neg(x), Node::Neg(y)) => return self.mul(x, y),
+            (Node::Neg(x), _) => {
+                let p = self.mul(x, b);
+                return self.neg(p);
+            }
+            (_, Node::Neg(y)) => {
+                let p = self.mul(a, y);
+                return self.neg(p);
+            }
+            _ => {}
+        }
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Node::Mul(a, b))
+    }
+
+    pub fn div(&mut self, a: Id, b: Id) -> Id {
+        match (self.as_const(a), self.as_const(b)) {
+            (Some(x), Some(y)) => return self.constant(x / y),
+            (Some(0.0), _) => return Self::ZERO,
+            (_, Some(1.0)) => return a,
+            (_, Some(-1.0)) => return self.neg(a),
+            (_, Some(y)) if y != 0.0 && y.is_finite() => {
+                // Multiplying by an exactly representable reciprocal is the same number.
+                let r = 1.0 / y;
+                if r.is_finite() && r * y == 1.0 && (r.to_bits() & ((1 << 52) - 1)) == 0 {
+                    let r = self.constant(r);
+                    return self.mul(r, a);
+                }
+            }
+            _ => {}
+        }
+        if a == b {
+            return Self::ONE;
+        }
+        self.intern(Node::Div(a, b))
+    }
+
+    pub fn powi(&mut self, a: Id, n: i32) -> Id {
+        if n == 0 {
+            return Self::ONE;
+        }
+        if n == 1 {
+            return a;
+        }
+        if let Some(x) = self.as_const(a) {
+            return self.constant(x.powi(n));
+        }
+        if let Node::Powi(x, m) = self.node(a) {
+            if let Some(k) = m.checked_mul(n) {
+                return self.powi(x, k);
+            }
+        }
+        self.intern(Node::Powi(a, n))
+    }
+
+    pub fn powf(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.as_const(a), self.as_const(b)) {
+            return self.constant(x.powf(y));
+        }
+        if let Some(y) = self.as_const(b) {
+            if y == 0.0 {
+                return Self::ONE;
+            }
+            if y == 1.0 {
+                return a;
+            }
+        }
+        self.intern(Node::Powf(a, b))
+    }
+
+    pub fn atan2(&mut self, y: Id, x: Id) -> Id {
+        if let (Some(a), Some(b)) = (self.as_const(y), self.as_const(x)) {
+            return self.constant(a.atan2(b));
+        }
+        self.intern(Node::Atan2(y, x))
+    }
+
+    pub fn un(&mut self, f: Fun, a: Id) -> Id {
+        if let Some(x) = self.as_const(a) {
+            return self.constant(f.eval(x));
+        }
+        match (f, self.node(a)) {
+            (Fun::Abs, Node::Neg(x)) => return self.un(Fun::Abs, x),
+            (Fun::Abs, Node::Un(Fun::Abs, _)) => return a,
+            (Fun::Cos | Fun::Cosh, Node::Neg(x)) => return self.un(f, x),
+            (Fun::Signum, Node::Un(Fun::Signum, _)) => return a,
+            _ => {}
+        }
+        self.intern(Node::Un(f, a))
+    }
+
+    /// Evaluates every node numerically (parameters flattened: `fields[f] = (start, vector)`).
+    #[cfg(test)]
+    pub fn eval_all(
+        &self,
+        params: &[f64],
+        fields: &[(usize, bool)],
+        q: &[f64],
+        v: &[f64],
+        t: f64,
+    ) -> Vec<f64> {
+        let mut val = Vec::with_capacity(self.nodes.len());
+        for node in &self.nodes {
+            let g = |i: Id| val_at(&val, i);
+            let x = match *node {
+                Node::Const(b) => f64::from_bits(b),
+                Node::Param(f, c) => {
+                    let (start, vector) = fields[f as usize];
+                    params[start + if vector { c as usize - 1 } else { 0 }]
+                }
+                Node::Q(i) => q[i as usize],
+                Node::V(i) => v[i as usize],
+                Node::T => t,
+                Node::Add(a, b) => g(a) + g(b),
+                Node::Sub(a, b) => g(a) - g(b),
+                Node::Mul(a, b) => g(a) * g(b),
+                Node::Div(a, b) => g(a) / g(b),
+                Node::Neg(a) => -g(a),
+                Node::Powi(a, n) => g(a).powi(n),
+                Node::Powf(a, b) => g(a).powf(g(b)),
+                Node::Atan2(a, b) => g(a).atan2(g(b)),
+                Node::Un(f, a) => f.eval(g(a)),
+            };
+            val.push(x);
+        }
+        val
+    }
+
+    /// Forward-mode tangents of `targets` along the direction that gives each leaf the tangent
+    /// `seed(leaf)` (`None`: zero). `support` is the set of variables with a nonzero seed:
+    /// nodes that depend on none of them get the structural zero without being visited.
+    pub fn tangents(
+        &mut self,
+        targets: &[Id],
+        support: &VarSet,
+        seed: &dyn Fn(&mut Dag, Node) -> Option<Id>,
+    ) -> Vec<Id> {
+        // Mark the nodes that need a tangent.
+        let mut need = vec![false; self.nodes.len()];
+        let mut stack: Vec<Id> = targets
+            .iter()
+            .copied()
+            .filter(|&t| self.depends_on(t, support))
+            .collect();
+        while let Some(id) = stack.pop() {
+            if need[id as usize] {
+                continue;
+            }
+            need[id as usize] = true;
+            for c in self.node(id).children() {
+                if !need[c as usize] && self.depends_on(c, support) {
+                    stack.push(c);
+                }
+            }
+        }
+        let mut tan: HashMap<Id, Id> = HashMap::new();
+        for id in 0..need.len() {
+            if !need[id] {
+                continue;
+            }
+            let id = id as Id;
+            let node = self.node(id);
+            let d = |i: Id| tan.get(&i).copied().unwrap_or(Dag::ZERO);
+            let t = match node {
+                Node::Const(_) | Node::Param(..) => Dag::ZERO,
+                Node::Q(_) | Node::V(_) | Node::T => seed(self, node).unwrap_or(Dag::ZERO),
+                Node::Add(a, b) => {
+                    let (da, db) = (d(a), d(b));
+                    self.add(da, db)
+                }
+                Node::Sub(a, b) => {
+                    let (da, db) = (d(a), d(b));
+                    self.sub(da, db)
+                }
+                Node::Neg(a) => {
+                    let da = d(a);
+                    self.neg(da)
+                }
+                Node::Mul(a, b) => {
+                    let (da, db) = (d(a), d(b));
+                    let x = self.mul(da, b);
+                    let y = self.mul(a, db);
+                    self.add(x, y)
+                }
+                Node::Div(a, b) => {
+                    // (a' − (a/b) b') / b
+                    let (da, db) = (d(a), d(b));
+                    let x = self.mul(id, db);
+                    let y = self.sub(da, x);
+                    self.div(y, b)
+                }
+                Node::Powi(a, n) => {
+                    let da = d(a);
+                    let p = self.powi(a, n - 1);
+                    let k = self.constant(f64::from(n));
+                    let kp = self.mul(k, p);
+                    self.mul(kp, da)
+                }
+                Node::Powf(a, b) => {
+                    let (da, db) = (d(a), d(b));
+                    // a^b (b' ln a + b a'/a)
+                    let mut s = Dag::ZERO;
+                    if da != Dag::ZERO {
+                        let one = Dag::ONE;
+                        let bm1 = self.sub(b, one);
+                        let p = self.powf(a, bm1);
+                        let bp = self.mul(b, p);
+                        s = self.mul(bp, da);
+                    }
+                    if db != Dag::ZERO {
+                        let ln = self.un(Fun::Ln, a);
+                        let x = self.mul(id, ln);
+                        let x = self.mul(x, db);
+                        s = self.add(s, x);
+                    }
+                    s
+                }
+                Node::Atan2(y, x) => {
+                    let (dy, dx) = (d(y), d(x));
+                    let a = self.mul(x, dy);
+                    let b = self.mul(y, dx);
+                    let num = self.sub(a, b);
+                    let x2 = self.powi(x, 2);
+                    let y2 = self.powi(y, 2);
+                    let den = self.add(x2, y2);
+                    self.div(num, den)
+                }
+                Node::Un(f, a) => {
+                    let da = d(a);
+
+                    match f {
+                        Fun::Sqrt => {
+                            let two = self.constant(2.0);
+                            let den = self.mul(two, id);
+                            self.div(da, den)
+                        }
+                        Fun::Sin => {
+                            let c = self.un(Fun::Cos, a);
+                            self.mul(c, da)
+                        }
+                        Fun::Cos => {
+                            let s = self.un(Fun::Sin, a);
+                            let m = self.mul(s, da);
+                            self.neg(m)
+                        }
+                        Fun::Tan => {
+                            let r2 = self.powi(id, 2);
+                            let k = self.add(Dag::ONE, r2);
+                            self.mul(k, da)
+                        }
+                        Fun::Exp => self.mul(id, da),
+                        Fun::Ln => self.div(da, a),
+                        Fun::Abs => {
+                            let s = self.un(Fun::Signum, a);
+                            self.mul(s, da)
+                        }
+                        Fun::Signum => Dag::ZERO,
+                        Fun::Asin | Fun::Acos => {
+                            let a2 = self.powi(a, 2);
+                            let w = self.sub(Dag::ONE, a2);
+                            let r = self.un(Fun::Sqrt, w);
+                            let k = self.div(da, r);
+                            if f == Fun::Acos {
+                                self.neg(k)
+                            } else {
+                                k
+                            }
+                        }
+                        Fun::Atan => {
+                            let a2 = self.powi(a, 2);
+                            let w = self.add(Dag::ONE, a2);
+                            self.div(da, w)
+                        }
+                        Fun::Sinh => {
+                            let c = self.un(Fun::Cosh, a);
+                            self.mul(c, da)
+                        }
+                        Fun::Cosh => {
+                            let s = self.un(Fun::Sinh, a);
+                            self.mul(s, da)
+                        }
+                        Fun::Tanh => {
+                            let r2 = self.powi(id, 2);
+                            let k = self.sub(Dag::ONE, r2);
+                            self.mul(k, da)
+                        }
+                    }
+                }
+            };
+            if t != Dag::ZERO {
+                tan.insert(id, t);
+            }
+        }
+        targets
+            .iter()
+            .map(|t| tan.get(t).copied().unwrap_or(Dag::ZERO))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+fn val_at(v: &[f64], i: Id) -> f64 {
+    v[i as usize]
+}

@@ -1,0 +1,826 @@
+//! Lowering of the Lagrangian body (a `syn::Block`) into the expression DAG.
+//!
+//! Values are scalars (one node), vectors (three nodes), tuples, or poison (after an error, so
+//! that every unsupported construct in the body is reported at once). `self.<field>` becomes a
+//! parameter symbol; whether a field is an `f64` or a `Vector3<f64>` is inferred from its use:
+//! every field starts as a scalar and is re-typed as a vector (and the body lowered again) when a
+//! vector is required where it flows. The emitted code loads each field with its inferred type,
+//! so a wrong inference is a compile error at the field.
+
+use proc_macro2::Span;
+use syn::spanned::Spanned;
+use syn::{BinOp, Expr, Lit, Member, Pat, Stmt, UnOp};
+
+use super::dag::{Dag, Fun, Id, Node};
+use crate::model::{unraw, CoordKind, Decl};
+
+/// A `self.<field>` used in the body.
+#[derive(Clone, Debug)]
+pub struct Field {
+    /// The field name.
+    pub name: String,
+    /// Span of the first use (typed loads point here).
+    pub span: Span,
+    /// The member as written (`gravity`, `r#type`, `0`).
+    pub member: Member,
+    /// Inferred as `Vector3<f64>`.
+    pub vector: bool,
+    /// Seen directly in a scalar-only position: never re-typed as a vector.
+    confirmed_scalar: bool,
+}
+
+#[derive(Clone, Debug)]
+enum Val {
+    S(Id),
+    V([Id; 3]),
+    Tuple(Vec<Val>),
+    Poison,
+}
+
+/// Lowering must restart because a field turned out to be a vector.
+struct Retype(usize);
+
+type R<T> = Result<T, Retype>;
+
+/// The lowered body: the DAG, the node of L, and the fields it reads.
+pub struct Lowered {
+    pub dag: Dag,
+    pub lagrangian: Id,
+    pub fields: Vec<Field>,
+}
+
+/// The error message for a construct the symbolic lowering cannot handle.
+pub fn unsupported(span: Span, what: &str) -> syn::Error {
+    syn::Error::new(
+        span,
+        format!(
+            "{what} is not supported in symbolic mode; use `#[lagrangian(mode = \"jets\")]` on this \
+             impl block to derive the equations with run-time jets instead"
+        ),
+    )
+}
+
+/// Lowers the body of `decl` into a DAG.
+pub fn lower(decl: &Decl) -> Result<Lowered, Vec<syn::Error>> {
+    let mut fields: Vec<Field> = Vec::new();
+    // Each retry turns one more field into a vector, so this terminates.
+    loop {
+        let mut lw = Lower {
+            dag: Dag::new(decl.n()),
+            scopes: Vec::new(),
+            errors: Vec::new(),
+            fields: std::mem::take(&mut fields),
+        };
+        for c in &decl.coords {
+            let i = c.first_index;
+            match c.kind {
+                CoordKind::Scalar => {
+                    let (q, v) = (lw.dag.q(i), lw.dag.v(i));
+                    lw.scopes.push((unraw(&c.name), Val::S(q)));
+                    lw.scopes.push((unraw(&c.dot), Val::S(v)));
+                }
+                CoordKind::Vector3 => {
+                    let q = [lw.dag.q(i), lw.dag.q(i + 1), lw.dag.q(i + 2)];
+                    let v = [lw.dag.v(i), lw.dag.v(i + 1), lw.dag.v(i + 2)];
+                    lw.scopes.push((unraw(&c.name), Val::V(q)));
+                    lw.scopes.push((unraw(&c.dot), Val::V(v)));
+                }
+            }
+        }
+        if let Some(t) = &decl.time {
+            let t_id = lw.dag.t();
+            lw.scopes.push((unraw(t), Val::S(t_id)));
+        }
+        match lw.block(&decl.body) {
+            Err(Retype(f)) => {
+                fields = lw.fields;
+                fields[f].vector = true;
+                continue;
+            }
+            Ok(val) => {
+                let mut errors = lw.errors;
+                let l = match val {
+                    Val::S(id) => Some(id),
+                    Val::Poison => None,
+                    Val::V(_) | Val::Tuple(_) => {
+                        errors.push(syn::Error::new(
+                            body_tail_span(&decl.body),
+                            "the Lagrangian must be a scalar; this is a vector or a tuple",
+                        ));
+                        None
+                    }
+                };
+                return match (l, errors.is_empty()) {
+                    (Some(l), true) => Ok(Lowered {
+                        dag: lw.dag,
+                        lagrangian: l,
+                        fields: lw.fields,
+                    }),
+                    _ => Err(errors),
+                };
+            }
+        }
+    }
+}
+
+fn body_tail_span(b: &syn::Block) -> Span {
+    match b.stmts.last() {
+        Some(s) => s.span(),
+        None => b.brace_token.span.join(),
+    }
+}
+
+struct Lower {
+    dag: Dag,
+    scopes: Vec<(String, Val)>,
+    errors: Vec<syn::Error>,
+    fields: Vec<Field>,
+}
+
+fn paren_less(e: &Expr) -> &Expr {
+    match e {
+        Expr::Paren(p) => paren_less(&p.expr),
+        Expr::Group(g) => paren_less(&g.expr),
+        _ => e,
+    }
+}
+
+/// An integer literal, possibly negated and parenthesized.
+fn int_literal(e: &Expr) -> Option<i64> {
+    match paren_less(e) {
+        Expr::Lit(l) => match &l.lit {
+            Lit::Int(i) => i.base10_parse::<i64>().ok(),
+            _ => None,
+        },
+        Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => int_literal(&u.expr).map(|x| -x),
+        _ => None,
+    }
+}
+
+fn expr_kind(e: &Expr) -> &'static str {
+    match e {
+        Expr::If(_) => "`if`",
+        Expr::Match(_) => "`match`",
+        Expr::ForLoop(_) => "a `for` loop",
+        Expr::While(_) => "a `while` loop",
+        Expr::Loop(_) => "a `loop`",
+        Expr::Closure(_) => "a closure",
+        Expr::Macro(_) => "a macro call",
+        Expr::Cast(_) => "an `as` cast",
+        Expr::Return(_) => "`return`",
+        Expr::Break(_) | Expr::Continue(_) => "`break`/`continue`",
+        Expr::Array(_) | Expr::Repeat(_) => "an array",
+        Expr::Range(_) => "a range",
+        Expr::Struct(_) => "a struct literal",
+        Expr::Try(_) => "the `?` operator",
+        Expr::Unsafe(_) => "an `unsafe` block",
+        Expr::Async(_) | Expr::Await(_) => "async code",
+        _ => "this expression",
+    }
+}
+
+impl Lower {
+    fn err(&mut self, e: syn::Error) -> Val {
+        self.errors.push(e);
+        Val::Poison
+    }
+
+    fn unsupported(&mut self, span: Span, what: &str) -> Val {
+        self.err(unsupported(span, what))
+    }
+
+    fn lookup(&self, name: &str) -> Option<Val> {
+        self.scopes
+            .iter()
+            .rev()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.clone())
+    }
+
+    fn assign(&mut self, name: &str, val: Val) -> bool {
+        match self.scopes.iter_mut().rev().find(|(n, _)| n == name) {
+            Some(slot) => {
+                slot.1 = val;
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn field(&mut self, member: &Member, span: Span) -> Val {
+        let name = match member {
+            Member::Named(n) => unraw(n),
+            Member::Unnamed(i) => i.index.to_string(),
+        };
+        let idx = match self.fields.iter().position(|f| f.name == name) {
+            Some(i) => i,
+            None => {
+                self.fields.push(Field {
+                    name,
+                    span,
+                    member: member.clone(),
+                    vector: false,
+                    confirmed_scalar: false,
+                });
+                self.fields.len() - 1
+            }
+        };
+        if self.fields[idx].vector {
+            let c = [1, 2, 3].map(|k| self.dag.param(idx as u32, k));
+            Val::V(c)
+        } else {
+            Val::S(self.dag.param(idx as u32, 0))
+        }
+    }
+
+    /// A scalar-only position. `None`: an error was recorded (or the value is poison).
+    fn scalar(&mut self, v: Val, span: Span, what: &str) -> Option<Id> {
+        match v {
+            Val::S(id) => {
+                if let Node::Param(f, 0) = self.dag.node(id) {
+                    self.fields[f as usize].confirmed_scalar = true;
+                }
+                Some(id)
+            }
+            Val::Poison => None,
+            Val::V(_) => {
+                self.err(syn::Error::new(
+                    span,
+                    format!("{what} must be a scalar, but this is a Vector3"),
+                ));
+                None
+            }
+            Val::Tuple(_) => {
+                self.err(syn::Error::new(
+                    span,
+                    format!("{what} must be a scalar, but this is a tuple"),
+                ));
+                None
+            }
+        }
+    }
+
+    /// A vector-only position: a scalar that a field could make a vector triggers a retype.
+    fn vector(&mut self, v: Val, span: Span, what: &str) -> R<Option<[Id; 3]>> {
+        match v {
+            Val::V(c) => Ok(Some(c)),
+            Val::Poison => Ok(None),
+            Val::S(id) => {
+                if let Some(f) = self.retype_candidate(id) {
+                    return Err(Retype(f));
+                }
+                self.err(syn::Error::new(
+                    span,
+                    format!("{what} must be a Vector3, but this is a scalar"),
+                ));
+                Ok(None)
+            }
+            Val::Tuple(_) => {
+                self.err(syn::Error::new(
+                    span,
+                    format!("{what} must be a Vector3, but this is a tuple"),
+                ));
+                Ok(None)
+            }
+        }
+    }
+
+    /// The last-read scalar field feeding `id` that may still be a vector.
+    fn retype_candidate(&self, id: Id) -> Option<usize> {
+        let mut seen = std::collections::HashSet::new();
+        let mut stack = vec![id];
+        let mut best: Option<(Id, usize)> = None;
+        while let Some(n) = stack.pop() {
+            if !seen.insert(n) {
+                continue;
+            }
+            let node = self.dag.node(n);
+            if let Node::Param(f, 0) = node {
+                let fi = &self.fields[f as usize];
+                if !fi.vector && !fi.confirmed_scalar && best.is_none_or(|(b, _)| n > b) {
+                    best = Some((n, f as usize));
+                }
+            }
+            // Only through operations a vector could flow through unchanged in kind.
+            match node {
+                Node::Add(..) | Node::Sub(..) | Node::Mul(..) | Node::Neg(_) => {
+                    stack.extend(node.children())
+                }
+                Node::Div(a, _) => stack.push(a),
+                _ => {}
+            }
+        }
+        best.map(|(_, f)| f)
+    }
+
+    fn block(&mut self, b: &syn::Block) -> R<Val> {
+        let depth = self.scopes.len();
+        let mut result = Val::Tuple(Vec::new());
+        let n = b.stmts.len();
+        for (k, stmt) in b.stmts.iter().enumerate() {
+            let last = k + 1 == n;
+            match stmt {
+                Stmt::Local(local) => {
+                    let Some(init) = &local.init else {
+                        self.unsupported(local.span(), "a `let` without a value");
+                        continue;
+                    };
+                    if let Some((else_tok, _)) = &init.diverge {
+                        self.unsupported(else_tok.span, "`let ... else`");
+                        continue;
+                    }
+                    let v = self.expr(&init.expr)?;
+                    self.bind(&local.pat, v);
+                }
+                Stmt::Expr(e, semi) => {
+                    let v = self.expr(e)?;
+                    if last && semi.is_none() {
+                        result = v;
+                    }
+                }
+                Stmt::Item(item) => {
+                    self.unsupported(item.span(), "an item inside the Lagrangian body");
+                }
+                Stmt::Macro(m) => {
+                    self.unsupported(m.span(), "a macro call");
+                }
+            }
+        }
+        self.scopes.truncate(depth);
+        Ok(result)
+    }
+
+    fn bind(&mut self, pat: &Pat, v: Val) {
+        match pat {
+            Pat::Ident(p) if p.by_ref.is_none() && p.subpat.is_none() => {
+                self.scopes.push((unraw(&p.ident), v));
+            }
+            Pat::Wild(_) => {}
+            Pat::Type(t) => self.bind(&t.pat, v),
+            Pat::Paren(p) => self.bind(&p.pat, v),
+            Pat::Tuple(t) => match v {
+                Val::Tuple(items) if items.len() == t.elems.len() => {
+                    for (p, item) in t.elems.iter().zip(items) {
+                        self.bind(p, item);
+                    }
+                }
+                Val::Poison => {
+                    for p in &t.elems {
+                        self.bind(p, Val::Poison);
+                    }
+                }
+                _ => {
+                    self.err(syn::Error::new(
+                        t.span(),
+                        "this tuple pattern does not match the value's shape",
+                    ));
+                    for p in &t.elems {
+                        self.bind(p, Val::Poison);
+                    }
+                }
+            },
+            other => {
+                self.unsupported(other.span(), "this pattern");
+            }
+        }
+    }
+
+    fn expr(&mut self, e: &Expr) -> R<Val> {
+        Ok(match e {
+            Expr::Paren(p) => self.expr(&p.expr)?,
+            Expr::Group(g) => self.expr(&g.expr)?,
+            Expr::Reference(r) => self.expr(&r.expr)?,
+            Expr::Unary(u) => match u.op {
+                UnOp::Deref(_) => self.expr(&u.expr)?,
+                UnOp::Neg(_) => {
+                    let v = self.expr(&u.expr)?;
+                    self.neg(v)
+                }
+                _ => self.unsupported(u.span(), "this operator"),
+            },
+            Expr::Lit(l) => match &l.lit {
+                Lit::Float(f) => match f.base10_parse::<f64>() {
+                    Ok(x) => Val::S(self.dag.constant(x)),
+                    Err(e) => self.err(e),
+                },
+                Lit::Int(i) => match i.base10_parse::<f64>() {
+                    Ok(x) => Val::S(self.dag.constant(x)),
+                    Err(e) => self.err(e),
+                },
+                other => self.unsupported(other.span(), "this literal"),
+            },
+            Expr::Path(p) => self.path(p),
+            Expr::Tuple(t) => {
+                let mut items = Vec::new();
+                for e in &t.elems {
+                    items.push(self.expr(e)?);
+                }
+                Val::Tuple(items)
+            }
+            Expr::Block(b) if b.label.is_none() => self.block(&b.block)?,
+            Expr::Field(f) => self.field_access(f)?,
+            Expr::Index(ix) => {
+                let base = self.expr(&ix.expr)?;
+                match int_literal(&ix.index) {
+                    Some(k @ 0..=2) => {
+                        match self.vector(base, ix.expr.span(), "an indexed value")? {
+                            Some(c) => Val::S(c[k as usize]),
+                            None => Val::Poison,
+                        }
+                    }
+                    _ => self.unsupported(ix.index.span(), "indexing other than by 0, 1 or 2"),
+                }
+            }
+            Expr::Binary(b) => self.binary(b)?,
+            Expr::Assign(a) => {
+                let v = self.expr(&a.right)?;
+                self.store(&a.left, v);
+                Val::Tuple(Vec::new())
+            }
+            Expr::MethodCall(m) => self.method(m)?,
+            Expr::Call(c) => self.call(c)?,
+            other => {
+                let kind = expr_kind(other);
+                self.unsupported(other.span(), kind)
+            }
+        })
+    }
+
+    fn store(&mut self, target: &Expr, v: Val) {
+        if let Expr::Path(p) = paren_less(target) {
+            if let Some(id) = p.path.get_ident() {
+                if self.assign(&unraw(id), v) {
+                    return;
+                }
+            }
+        }
+        self.unsupported(target.span(), "assigning to anything but a local binding");
+    }
+
+    fn path(&mut self, p: &syn::ExprPath) -> Val {
+        if p.qself.is_none() {
+            if let Some(id) = p.path.get_ident() {
+                if let Some(v) = self.lookup(&unraw(id)) {
+                    return v;
+                }
+                return self.unsupported(
+                    id.span(),
+                    &format!(
+                        "`{id}`, which is not a coordinate, velocity, time, `self` field or local binding,"
+                    ),
+                );
+            }
+            let segs: Vec<String> = p
+                .path
+                .segments
+                .iter()
+                .map(|s| s.ident.to_string())
+                .collect();
+            let n = segs.len();
+            if n >= 3 && segs[n - 3] == "f64" && segs[n - 2] == "consts" {
+                if let Some(c) = f64_const(&segs[n - 1]) {
+                    return Val::S(self.dag.constant(c));
+                }
+            }
+        }
+        self.unsupported(p.span(), "this path")
+    }
+
+    fn field_access(&mut self, f: &syn::ExprField) -> R<Val> {
+        if let Expr::Path(p) = paren_less(&f.base) {
+            if p.path.is_ident("self") {
+                return Ok(self.field(&f.member, f.span()));
+            }
+        }
+        let base = self.expr(&f.base)?;
+        Ok(match &f.member {
+            Member::Named(name) => {
+                let k = match name.to_string().as_str() {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    other => {
+                        return Ok(self.unsupported(name.span(), &format!("the field `.{other}`")))
+                    }
+                };
+                match self.vector(base, f.base.span(), "the value of `.x`/`.y`/`.z`")? {
+                    Some(c) => Val::S(c[k]),
+                    None => Val::Poison,
+                }
+            }
+            Member::Unnamed(i) => match base {
+                Val::Tuple(items) if (i.index as usize) < items.len() => {
+                    items[i.index as usize].clone()
+                }
+                Val::Poison => Val::Poison,
+                _ => self.err(syn::Error::new(i.span, "no such tuple field")),
+            },
+        })
+    }
+
+    fn neg(&mut self, v: Val) -> Val {
+        match v {
+            Val::S(a) => Val::S(self.dag.neg(a)),
+            Val::V(c) => Val::V(c.map(|a| self.dag.neg(a))),
+            Val::Poison => Val::Poison,
+            Val::Tuple(_) => Val::Poison,
+        }
+    }
+
+    fn binary(&mut self, b: &syn::ExprBinary) -> R<Val> {
+        let (op, assign) = match b.op {
+            BinOp::Add(_) => ('+', false),
+            BinOp::Sub(_) => ('-', false),
+            BinOp::Mul(_) => ('*', false),
+            BinOp::Div(_) => ('/', false),
+            BinOp::AddAssign(_) => ('+', true),
+            BinOp::SubAssign(_) => ('-', true),
+            BinOp::MulAssign(_) => ('*', true),
+            BinOp::DivAssign(_) => ('/', true),
+            _ => return Ok(self.unsupported(b.span(), "this operator")),
+        };
+        let l = self.expr(&b.left)?;
+        let r = self.expr(&b.right)?;
+        let v = self.arith(op, l, r, &b.left, &b.right)?;
+        if assign {
+            self.store(&b.left, v);
+            Ok(Val::Tuple(Vec::new()))
+        } else {
+            Ok(v)
+        }
+    }
+
+    fn arith(&mut self, op: char, l: Val, r: Val, le: &Expr, re: &Expr) -> R<Val> {
+        let d = &mut self.dag;
+        Ok(match (op, l, r) {
+            (_, Val::Poison, _) | (_, _, Val::Poison) => Val::Poison,
+            ('+', Val::S(a), Val::S(b)) => Val::S(d.add(a, b)),
+            ('-', Val::S(a), Val::S(b)) => Val::S(d.sub(a, b)),
+            ('*', Val::S(a), Val::S(b)) => Val::S(d.mul(a, b)),
+            ('/', Val::S(a), Val::S(b)) => Val::S(d.div(a, b)),
+            ('+', Val::V(a), Val::V(b)) => Val::V([0, 1, 2].map(|k| d.add(a[k], b[k]))),
+            ('-', Val::V(a), Val::V(b)) => Val::V([0, 1, 2].map(|k| d.sub(a[k], b[k]))),
+            ('*', Val::S(s), Val::V(v)) | ('*', Val::V(v), Val::S(s)) => {
+                Val::V(v.map(|x| d.mul(s, x)))
+            }
+            ('/', Val::V(v), Val::S(s)) => Val::V(v.map(|x| d.div(x, s))),
+            ('+' | '-', Val::S(s), Val::V(_)) => {
+                let _ = self.vector(Val::S(s), le.span(), "the left operand")?;
+                Val::Poison
+            }
+            ('+' | '-', Val::V(_), Val::S(s)) => {
+                let _ = self.vector(Val::S(s), re.span(), "the right operand")?;
+                Val::Poison
+            }
+            ('*', Val::V(_), Val::V(_)) => self.err(syn::Error::new(
+                re.span(),
+                "two Vector3 values cannot be multiplied with `*`; use `.dot(&v)` or `.cross(&v)`",
+            )),
+            ('/', _, Val::V(_)) => {
+                self.err(syn::Error::new(re.span(), "cannot divide by a Vector3"))
+            }
+            _ => self.err(syn::Error::new(
+                le.span().join(re.span()).unwrap_or_else(|| le.span()),
+                "these operands cannot be combined (a tuple or unit value is involved)",
+            )),
+        })
+    }
+
+    fn call(&mut self, c: &syn::ExprCall) -> R<Val> {
+        let Expr::Path(p) = paren_less(&c.func) else {
+            return Ok(self.unsupported(c.func.span(), "calling this"));
+        };
+        let segs: Vec<String> = p
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect();
+        let n = segs.len();
+        if n >= 2 && segs[n - 2] == "Vector3" {
+            match segs[n - 1].as_str() {
+                "new" if c.args.len() == 3 => {
+                    let mut comps = [Dag::ZERO; 3];
+                    let mut poison = false;
+                    for (k, a) in c.args.iter().enumerate() {
+                        let v = self.expr(a)?;
+                        match self.scalar(v, a.span(), "a component of `Vector3::new`") {
+                            Some(id) => comps[k] = id,
+                            None => poison = true,
+                        }
+                    }
+                    return Ok(if poison { Val::Poison } else { Val::V(comps) });
+                }
+                "zeros" if c.args.is_empty() => return Ok(Val::V([Dag::ZERO; 3])),
+                _ => {}
+            }
+        }
+        // `f64::sin(x)`, `Scalar::powi(x, 2)`: method calls in function form.
+        if n == 2 && matches!(segs[0].as_str(), "f64" | "Scalar") && !c.args.is_empty() {
+            let mut args = c.args.iter();
+            if let Some(recv) = args.next() {
+                let rest: Vec<&Expr> = args.collect();
+                let method = &p.path.segments[1].ident;
+                return self.apply_method(recv, method, &rest, c.span());
+            }
+        }
+        let name = segs.join("::");
+        Ok(self.unsupported(c.func.span(), &format!("a call to the function `{name}`")))
+    }
+
+    fn method(&mut self, m: &syn::ExprMethodCall) -> R<Val> {
+        let args: Vec<&Expr> = m.args.iter().collect();
+        self.apply_method(&m.receiver, &m.method, &args, m.span())
+    }
+
+    fn apply_method(
+        &mut self,
+        recv_e: &Expr,
+        method: &syn::Ident,
+        args: &[&Expr],
+        span: Span,
+    ) -> R<Val> {
+        let name = method.to_string();
+        let recv = self.expr(recv_e)?;
+        let rspan = recv_e.span();
+        let nargs = args.len();
+        let bad_arity = |this: &mut Self, k: usize| -> Val {
+            this.err(syn::Error::new(
+                span,
+                format!("`.{name}()` takes {k} argument(s) here"),
+            ))
+        };
+        let fun = match name.as_str() {
+            "sqrt" => Some(Fun::Sqrt),
+            "sin" => Some(Fun::Sin),
+            "cos" => Some(Fun::Cos),
+            "tan" => Some(Fun::Tan),
+            "exp" => Some(Fun::Exp),
+            "ln" => Some(Fun::Ln),
+            "abs" => Some(Fun::Abs),
+            "signum" => Some(Fun::Signum),
+            "asin" => Some(Fun::Asin),
+            "acos" => Some(Fun::Acos),
+            "atan" => Some(Fun::Atan),
+            "sinh" => Some(Fun::Sinh),
+            "cosh" => Some(Fun::Cosh),
+            "tanh" => Some(Fun::Tanh),
+            _ => None,
+        };
+        if let Some(f) = fun {
+            if nargs != 0 {
+                return Ok(bad_arity(self, 0));
+            }
+            let Some(x) = self.scalar(recv, rspan, &format!("the receiver of `.{name}()`")) else {
+                return Ok(Val::Poison);
+            };
+            return Ok(Val::S(self.dag.un(f, x)));
+        }
+        match name.as_str() {
+            "clone" | "to_owned" if nargs == 0 => return Ok(recv),
+            "sin_cos" | "recip" | "powi" | "powf" | "atan2" | "hypot" | "mul_add" => {
+                let want = match name.as_str() {
+                    "sin_cos" | "recip" => 0,
+                    "mul_add" => 2,
+                    _ => 1,
+                };
+                if nargs != want {
+                    return Ok(bad_arity(self, want));
+                }
+                let Some(x) = self.scalar(recv, rspan, &format!("the receiver of `.{name}()`"))
+                else {
+                    return Ok(Val::Poison);
+                };
+                if name == "powi" {
+                    return Ok(
+                        match int_literal(args[0]).and_then(|k| i32::try_from(k).ok()) {
+                            Some(k) => Val::S(self.dag.powi(x, k)),
+                            None => self.unsupported(
+                                args[0].span(),
+                                "a `powi` exponent that is not an integer literal",
+                            ),
+                        },
+                    );
+                }
+                let mut ys = Vec::new();
+                for a in args {
+                    let v = self.expr(a)?;
+                    match self.scalar(v, a.span(), &format!("the argument of `.{name}()`")) {
+                        Some(y) => ys.push(y),
+                        None => return Ok(Val::Poison),
+                    }
+                }
+                let d = &mut self.dag;
+                return Ok(match name.as_str() {
+                    "sin_cos" => {
+                        Val::Tuple(vec![Val::S(d.un(Fun::Sin, x)), Val::S(d.un(Fun::Cos, x))])
+                    }
+                    "recip" => Val::S(d.div(Dag::ONE, x)),
+                    "powf" => Val::S(d.powf(x, ys[0])),
+                    "atan2" => Val::S(d.atan2(x, ys[0])),
+                    "hypot" => {
+                        let a = d.powi(x, 2);
+                        let b = d.powi(ys[0], 2);
+                        let s = d.add(a, b);
+                        Val::S(d.un(Fun::Sqrt, s))
+                    }
+                    _ => {
+                        let p = d.mul(x, ys[0]);
+                        Val::S(d.add(p, ys[1]))
+                    }
+                });
+            }
+            "dot" | "cross" | "norm" | "norm_squared" | "magnitude" | "magnitude_squared"
+            | "normalize" | "scale" | "component_mul" => {
+                let want = match name.as_str() {
+                    "dot" | "cross" | "scale" | "component_mul" => 1,
+                    _ => 0,
+                };
+                if nargs != want {
+                    return Ok(bad_arity(self, want));
+                }
+                let Some(a) = self.vector(recv, rspan, &format!("the receiver of `.{name}()`"))?
+                else {
+                    return Ok(Val::Poison);
+                };
+                if name == "scale" {
+                    let v = self.expr(args[0])?;
+                    let Some(s) = self.scalar(v, args[0].span(), "the argument of `.scale()`")
+                    else {
+                        return Ok(Val::Poison);
+                    };
+                    return Ok(Val::V(a.map(|x| self.dag.mul(s, x))));
+                }
+                let b = if want == 1 {
+                    let v = self.expr(args[0])?;
+                    match self.vector(v, args[0].span(), &format!("the argument of `.{name}()`"))? {
+                        Some(b) => b,
+                        None => return Ok(Val::Poison),
+                    }
+                } else {
+                    a
+                };
+                let d = &mut self.dag;
+                let dot = |d: &mut Dag| {
+                    let x = d.mul(a[0], b[0]);
+                    let y = d.mul(a[1], b[1]);
+                    let z = d.mul(a[2], b[2]);
+                    let s = d.add(x, y);
+                    d.add(s, z)
+                };
+                let sq = |d: &mut Dag| {
+                    let x = d.powi(a[0], 2);
+                    let y = d.powi(a[1], 2);
+                    let z = d.powi(a[2], 2);
+                    let s = d.add(x, y);
+                    d.add(s, z)
+                };
+                return Ok(match name.as_str() {
+                    "dot" => Val::S(dot(d)),
+                    "component_mul" => Val::V([0, 1, 2].map(|k| d.mul(a[k], b[k]))),
+                    "cross" => {
+                        let c = |d: &mut Dag, i: usize, j: usize| {
+                            let p = d.mul(a[i], b[j]);
+                            let q = d.mul(a[j], b[i]);
+                            d.sub(p, q)
+                        };
+                        Val::V([c(d, 1, 2), c(d, 2, 0), c(d, 0, 1)])
+                    }
+                    "norm_squared" | "magnitude_squared" => Val::S(sq(d)),
+                    "norm" | "magnitude" => {
+                        let s = sq(d);
+                        Val::S(d.un(Fun::Sqrt, s))
+                    }
+                    _ => {
+                        let s = sq(d);
+                        let n = d.un(Fun::Sqrt, s);
+                        Val::V(a.map(|x| d.div(x, n)))
+                    }
+                });
+            }
+            _ => {}
+        }
+        Ok(self.unsupported(method.span(), &format!("the method `.{name}()`")))
+    }
+}
+
+fn f64_const(name: &str) -> Option<f64> {
+    use std::f64::consts as c;
+    Some(match name {
+        "PI" => c::PI,
+        "TAU" => c::TAU,
+        "E" => c::E,
+        "SQRT_2" => c::SQRT_2,
+        "FRAC_PI_2" => c::FRAC_PI_2,
+        "FRAC_PI_3" => c::FRAC_PI_3,
+        "FRAC_PI_4" => c::FRAC_PI_4,
+        "FRAC_PI_6" => c::FRAC_PI_6,
+        "FRAC_PI_8" => c::FRAC_PI_8,
+        "FRAC_1_PI" => c::FRAC_1_PI,
+        "FRAC_2_PI" => c::FRAC_2_PI,
+        "FRAC_1_SQRT_2" => c::FRAC_1_SQRT_2,
+        "LN_2" => c::LN_2,
+        "LN_10" => c::LN_10,
+        _ => return None,
+    })
+}

@@ -1,0 +1,427 @@
+//! Compile-time derivation (`mode = "symbolic"`, the default): the body of `fn lagrangian` is
+//! lowered into a hash-consed expression DAG, differentiated symbolically (forward-mode tangents
+//! over the DAG, structural zeros skipped), and emitted as straight-line Rust for the mass matrix,
+//! the right-hand side of the Euler–Lagrange equations, the momenta and the energy; the equations
+//! are also printed for people (Unicode and LaTeX).
+// Index loops mirror the textbook elimination formulas; iterator forms would obscure them.
+#![allow(clippy::needless_range_loop)]
+
+mod codegen;
+mod dag;
+mod lower;
+mod print;
+#[cfg(test)]
+mod tests;
+
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::quote;
+
+use crate::model::Decl;
+use dag::{Dag, Id, Node, VarSet};
+
+/// What the symbolic path contributes to the generated impl.
+pub struct SymbolicOutput {
+    /// Body of `fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64)
+    /// -> Result<[f64; N], ::lagrange::__private::DynamicsError>`.
+    pub accelerations: TokenStream,
+    /// Body of `fn mass_matrix(&self, q, qdot, t) -> ::lagrange::__private::SMatrix<f64, N, N>`.
+    pub mass_matrix: TokenStream,
+    /// Body of `fn momenta(&self, q, qdot, t) -> [f64; N]`.
+    pub momenta: TokenStream,
+    /// Body of `fn energy(&self, q, qdot, t) -> f64`.
+    pub energy: TokenStream,
+    /// Lint attributes to put on each of the four generated methods (machine-written code).
+    pub allow: TokenStream,
+    /// The Euler–Lagrange equations, plain Unicode, one line per coordinate.
+    pub equations: String,
+    /// The same equations in LaTeX, one line per coordinate.
+    pub equations_latex: String,
+    /// A rustdoc section (Markdown) presenting the equations, for the user's type.
+    pub doc: String,
+    /// Size of the generated code: `let` statements over all four bodies.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub generated_lets: usize,
+}
+
+/// The derivatives of L as DAG nodes.
+struct Derivation {
+    dag: Dag,
+    fields: Vec<lower::Field>,
+    #[cfg_attr(not(test), allow(dead_code))]
+    lagrangian: Id,
+    /// ∂L/∂q̇ᵢ.
+    momenta: Vec<Id>,
+    /// Mᵢₖ = ∂²L/∂q̇ᵢ∂q̇ₖ, upper triangle (`m[i][k]`, k ≥ i; zeros below).
+    mass: Vec<Vec<Id>>,
+    /// fᵢ = ∂L/∂qᵢ − Σₖ (∂²L/∂q̇ᵢ∂qₖ) q̇ₖ − ∂²L/∂q̇ᵢ∂t.
+    force: Vec<Id>,
+    /// h = Σ q̇ᵢ pᵢ − L.
+    energy: Id,
+}
+
+fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
+    let lowered = lower::lower(decl)?;
+    let mut dag = lowered.dag;
+    let l = lowered.lagrangian;
+    let n = decl.n();
+    let vars = dag.vars;
+    let unit = |var: usize| {
+        let mut s = VarSet::new(vars);
+        s.insert(var);
+        s
+    };
+    let mut momenta = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = dag.tangents(&[l], &unit(vars.v(i)), &|_, node| {
+            (node == Node::V(i as u32)).then_some(Dag::ONE)
+        });
+        momenta.push(p[0]);
+    }
+    let mut mass = vec![vec![Dag::ZERO; n]; n];
+    for k in 0..n {
+        let col = dag.tangents(&momenta[..=k], &unit(vars.v(k)), &|_, node| {
+            (node == Node::V(k as u32)).then_some(Dag::ONE)
+        });
+        for (i, m) in col.into_iter().enumerate() {
+            mass[i][k] = m;
+        }
+    }
+    // The total time derivative of the momenta at fixed q̇: Σₖ q̇ₖ ∂/∂qₖ + ∂/∂t.
+    let mut along = VarSet::new(vars);
+    for k in 0..n {
+        along.insert(vars.q(k));
+    }
+    along.insert(vars.t());
+    let dp = dag.tangents(&momenta, &along, &|dag, node| match node {
+        Node::Q(k) => Some(dag.v(k as usize)),
+        Node::T => Some(Dag::ONE),
+        _ => None,
+    });
+    let mut force = Vec::with_capacity(n);
+    for (i, dpi) in dp.into_iter().enumerate() {
+        let g = dag.tangents(&[l], &unit(vars.q(i)), &|_, node| {
+            (node == Node::Q(i as u32)).then_some(Dag::ONE)
+        });
+        force.push(dag.sub(g[0], dpi));
+    }
+    let mut energy = dag.neg(l);
+    for (i, &p) in momenta.iter().enumerate() {
+        let v = dag.v(i);
+        let vp = dag.mul(v, p);
+        energy = dag.add(energy, vp);
+    }
+    Ok(Derivation {
+        dag,
+        fields: lowered.fields,
+        lagrangian: l,
+        momenta,
+        mass,
+        force,
+        energy,
+    })
+}
+
+/// Straight-line LDLᵀ of the mass matrix (upper triangle, `None` = structural zero) with the
+/// sparsity known at compile time: the same elimination, in the same order, as the runtime's
+/// `solve_symmetric`, with the structurally zero products left out. Whenever a pivot is not
+/// clearly positive (or anything is not finite), it hands over to `fallback()`, i.e.
+/// `solve_mass_matrix`, which decides between LU and a `DynamicsError` exactly as the jets path.
+fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStream {
+    let n = m.len();
+    let a_id = |j: usize, i: usize| quote::format_ident!("l_{}_{}", j, i);
+    let d_id = |j: usize| quote::format_ident!("d_{}", j);
+    let x_id = |i: usize| quote::format_ident!("y_{}", i);
+    let mut out = TokenStream::new();
+    let diag = (0..n).map(|j| match &m[j][j] {
+        Some(e) => quote!(f64::abs(#e)),
+        None => quote!(0.0_f64),
+    });
+    out.extend(quote! {
+        let scale = 0.0_f64#(.max(#diag))*;
+        let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
+    });
+    // l[j][i] (i > j): Some(ident) when not structurally zero.
+    let mut l: Vec<Vec<bool>> = vec![vec![false; n]; n];
+    for j in 0..n {
+        let dj = d_id(j);
+        let mut e = match &m[j][j] {
+            Some(x) => quote!(#x),
+            None => quote!(0.0_f64),
+        };
+        for k in 0..j {
+            if l[k][j] {
+                let (lk, dk) = (a_id(k, j), d_id(k));
+                e = quote!(#e - #lk * #lk * #dk);
+            }
+        }
+        out.extend(quote! {
+            let #dj: f64 = #e;
+            if !(#dj > tol) {
+                return fallback();
+            }
+        });
+        let mut row: Vec<(Ident, TokenStream)> = Vec::new();
+        for i in j + 1..n {
+            let mut terms = Vec::new();
+            for k in 0..j {
+                if l[k][j] && l[k][i] {
+                    let (lkj, lki, dk) = (a_id(k, j), a_id(k, i), d_id(k));
+                    terms.push(quote!(#lkj * #lki * #dk));
+                }
+            }
+            if m[j][i].is_none() && terms.is_empty() {
+                continue;
+            }
+            let mut s = match &m[j][i] {
+                Some(x) => quote!(#x),
+                None => quote!(0.0_f64),
+            };
+            for t in terms {
+                s = quote!(#s - #t);
+            }
+            row.push((a_id(j, i), quote!((#s) / #dj)));
+            l[j][i] = true;
+        }
+        // One `let` per row keeps the scope nesting shallow (see codegen).
+        let ls = row.iter().map(|(x, _)| x);
+        let tys = row.iter().map(|_| quote!(f64));
+        let es = row.iter().map(|(_, e)| e);
+        if !row.is_empty() {
+            out.extend(quote!(let (#(#ls,)*): (#(#tys,)*) = (#(#es,)*);));
+        }
+    }
+    for i in 0..n {
+        let xi = x_id(i);
+        let mut e = match &b[i] {
+            Some(x) => quote!(#x),
+            None => quote!(0.0_f64),
+        };
+        for k in 0..i {
+            if l[k][i] {
+                let (lki, xk) = (a_id(k, i), x_id(k));
+                e = quote!(#e - #lki * #xk);
+            }
+        }
+        out.extend(quote!(let #xi: f64 = #e;));
+    }
+    for i in 0..n {
+        let (xi, di) = (x_id(i), d_id(i));
+        out.extend(quote!(let #xi: f64 = #xi / #di;));
+    }
+    for i in (0..n).rev() {
+        let xi = x_id(i);
+        let mut e = quote!(#xi);
+        for k in i + 1..n {
+            if l[i][k] {
+                let (lik, xk) = (a_id(i, k), x_id(k));
+                e = quote!(#e - #lik * #xk);
+            }
+        }
+        out.extend(quote!(let #xi: f64 = #e;));
+    }
+    let xs = (0..n).map(x_id);
+    out.extend(quote! {
+        let x = [#(#xs),*];
+        if x.iter().all(|v| v.is_finite()) {
+            ::core::result::Result::Ok(x)
+        } else {
+            fallback()
+        }
+    });
+    out
+}
+
+fn idents() -> (Ident, Ident, Ident) {
+    (
+        Ident::new("q", Span::call_site()),
+        Ident::new("qdot", Span::call_site()),
+        Ident::new("t", Span::call_site()),
+    )
+}
+
+/// Lowers, differentiates and emits the symbolic implementation of `decl`.
+pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
+    let d = derive(decl)?;
+    let n = decl.n();
+    let (q, qdot, t) = idents();
+    let nn = Literal::usize_unsuffixed(n);
+    let touch = quote!(let _ = (#q, #qdot, #t););
+    let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
+
+    // accelerations
+    let mut outs: Vec<Id> = Vec::new();
+    for (i, row) in d.mass.iter().enumerate() {
+        outs.extend(&row[i..]);
+    }
+    outs.extend(&d.force);
+    let code = codegen::emit(&d.dag, &d.fields, &outs);
+    let mut lets = code.lets;
+    let rows = d.mass.iter().enumerate().map(|(i, row)| {
+        let cells = row
+            .iter()
+            .enumerate()
+            .map(|(k, &m)| if k < i { quote!(0.0) } else { op(m) });
+        quote!([#(#cells),*])
+    });
+    let f = d.force.iter().map(|&x| op(x));
+    let stmts = code.stmts;
+    let mass: Vec<Vec<Option<TokenStream>>> = d
+        .mass
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|&m| (m != Dag::ZERO).then(|| op(m)))
+                .collect()
+        })
+        .collect();
+    let rhs: Vec<Option<TokenStream>> = d
+        .force
+        .iter()
+        .map(|&x| (x != Dag::ZERO).then(|| op(x)))
+        .collect();
+    let solve = ldlt(&mass, &rhs);
+    let accelerations = quote! {
+        #touch
+        #stmts
+        let m: [[f64; #nn]; #nn] = [#(#rows),*];
+        let f: [f64; #nn] = [#(#f),*];
+        let fallback = || {
+            ::lagrange::__private::solve_mass_matrix(
+                &m,
+                &f,
+                <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
+                #q,
+                #qdot,
+                #t,
+            )
+        };
+        #solve
+    };
+
+    // mass_matrix
+    let mut outs: Vec<Id> = Vec::new();
+    for (i, row) in d.mass.iter().enumerate() {
+        outs.extend(&row[i..]);
+    }
+    let code = codegen::emit(&d.dag, &d.fields, &outs);
+    lets += code.lets;
+    let cells = (0..n)
+        .flat_map(|i| (0..n).map(move |k| (i, k)))
+        .map(|(i, k)| {
+            let id = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
+            op(id)
+        });
+    let stmts = code.stmts;
+    let mass_matrix = quote! {
+        #touch
+        #stmts
+        ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_row_slice(&[#(#cells),*])
+    };
+
+    // momenta
+    let code = codegen::emit(&d.dag, &d.fields, &d.momenta);
+    lets += code.lets;
+    let p = d.momenta.iter().map(|&x| op(x));
+    let stmts = code.stmts;
+    let momenta = quote! {
+        #touch
+        #stmts
+        [#(#p),*]
+    };
+
+    // energy
+    let code = codegen::emit(&d.dag, &d.fields, &[d.energy]);
+    lets += code.lets;
+    let h = op(d.energy);
+    let stmts = code.stmts;
+    let energy = quote! {
+        #touch
+        #stmts
+        #h
+    };
+
+    let eq = print::equations(&d, decl);
+    let doc = format!(
+        "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` \
+         (d/dt ∂L/∂q̇ = ∂L/∂q, one line per coordinate):\n\n```text\n{}\n```\n",
+        eq.unicode
+    );
+    Ok(SymbolicOutput {
+        accelerations,
+        mass_matrix,
+        momenta,
+        energy,
+        allow: quote! {
+            #[allow(
+                unused_variables,
+                unused_parens,
+                non_snake_case,
+                clippy::all,
+                clippy::pedantic,
+                clippy::nursery
+            )]
+        },
+        equations: eq.unicode,
+        equations_latex: eq.latex,
+        doc,
+        generated_lets: lets,
+    })
+}
+
+/// The four generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
+/// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
+pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStream, TokenStream) {
+    let (q, qdot, t) = idents();
+    let nn = Literal::usize_unsuffixed(n);
+    let SymbolicOutput {
+        accelerations,
+        mass_matrix,
+        momenta,
+        energy,
+        allow,
+        equations,
+        equations_latex,
+        doc,
+        ..
+    } = out;
+    let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
+    let methods = quote! {
+        #allow
+        #[inline]
+        fn accelerations(#sig) -> ::core::result::Result<[f64; #nn], ::lagrange::__private::DynamicsError> {
+            #accelerations
+        }
+        #allow
+        #[inline]
+        fn mass_matrix(#sig) -> ::lagrange::__private::SMatrix<f64, #nn, #nn> {
+            #mass_matrix
+        }
+        #allow
+        #[inline]
+        fn momenta(#sig) -> [f64; #nn] {
+            #momenta
+        }
+        #allow
+        #[inline]
+        fn energy(#sig) -> f64 {
+            #energy
+        }
+    };
+    let eq_doc = format!(
+        "The Euler–Lagrange equations, derived at compile time by `#[lagrangian]`: one line per \
+         coordinate, `Σₖ Mᵢₖ q̈ₖ = fᵢ` (accelerations on the left).\n\n```text\n{equations}\n```"
+    );
+    let latex_doc = "The Euler–Lagrange equations in LaTeX, one line per coordinate (the same \
+                     equations as `EQUATIONS`).";
+    let consts = quote! {
+        #[doc = #doc]
+        #[automatically_derived]
+        impl #self_ty {
+            #[doc = #eq_doc]
+            pub const EQUATIONS: &'static str = #equations;
+            #[doc = #latex_doc]
+            pub const EQUATIONS_LATEX: &'static str = #equations_latex;
+        }
+    };
+    (methods, consts)
+}

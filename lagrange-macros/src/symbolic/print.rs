@@ -1,0 +1,737 @@
+//! The Euler–Lagrange equations for people: each equation is expanded into a sum of monomials
+//! over atoms (parameters, coordinates, velocities, accelerations, time, and elementary
+//! functions of sub-expressions), like terms are collected, terms that share the same
+//! state-dependent part are grouped under a parameter coefficient (`(I∥ − I⊥) φ̇² sin(θ) cos(θ)`),
+//! and the acceleration terms are put on the left: `Σₖ Mᵢₖ q̈ₖ = fᵢ`.
+
+use std::collections::{BTreeMap, HashMap};
+use std::fmt::Write as _;
+
+use super::dag::{Dag, Fun, Id, Node};
+use super::Derivation;
+use crate::model::{unraw, CoordKind, Decl};
+
+/// The equations as text.
+pub struct Equations {
+    pub unicode: String,
+    pub latex: String,
+}
+
+/// Past this many terms a sub-expression is not expanded any further.
+const MAX_TERMS: usize = 600;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+enum Atom {
+    Param(u32, u8),
+    A(u32),
+    V(u32),
+    Q(u32),
+    T,
+    Fun(Fun, Id),
+    Atan2(Id, Id),
+    Powf(Id, Id),
+    /// A sum that could not be expanded (a denominator, a negative power, a too-large product).
+    Paren(Id),
+}
+
+impl Atom {
+    fn is_param(self) -> bool {
+        matches!(self, Atom::Param(..))
+    }
+}
+
+type Mono = Vec<(Atom, i32)>;
+
+#[derive(Clone, Debug, Default)]
+struct Poly(BTreeMap<Mono, f64>);
+
+impl Poly {
+    fn constant(c: f64) -> Self {
+        let mut p = Poly::default();
+        if c != 0.0 {
+            p.0.insert(Vec::new(), c);
+        }
+        p
+    }
+    fn atom(a: Atom, e: i32) -> Self {
+        let mut p = Poly::default();
+        p.0.insert(vec![(a, e)], 1.0);
+        p
+    }
+    fn add(&self, o: &Poly, sign: f64) -> Poly {
+        let mut r = self.clone();
+        for (m, c) in &o.0 {
+            let e = r.0.entry(m.clone()).or_insert(0.0);
+            let before = *e;
+            *e += sign * c;
+            if e.abs() <= 1e-14 * before.abs().max(c.abs()) {
+                r.0.remove(m);
+            }
+        }
+        r
+    }
+    fn scale(&self, k: f64) -> Poly {
+        if k == 0.0 {
+            return Poly::default();
+        }
+        Poly(self.0.iter().map(|(m, c)| (m.clone(), c * k)).collect())
+    }
+    fn mul(&self, o: &Poly) -> Option<Poly> {
+        if self.0.len() * o.0.len() > MAX_TERMS * 8 {
+            return None;
+        }
+        let mut r = Poly::default();
+        for (m1, c1) in &self.0 {
+            for (m2, c2) in &o.0 {
+                let m = mono_mul(m1, m2, 1);
+                let e = r.0.entry(m.clone()).or_insert(0.0);
+                let before = *e;
+                *e += c1 * c2;
+                if e.abs() <= 1e-14 * before.abs().max((c1 * c2).abs()) {
+                    r.0.remove(&m);
+                }
+            }
+        }
+        (r.0.len() <= MAX_TERMS).then_some(r)
+    }
+    fn single(&self) -> Option<(&Mono, f64)> {
+        if self.0.len() == 1 {
+            self.0.iter().next().map(|(m, c)| (m, *c))
+        } else {
+            None
+        }
+    }
+}
+
+fn mono_mul(a: &Mono, b: &Mono, sign: i32) -> Mono {
+    let mut r: BTreeMap<Atom, i32> = a.iter().copied().collect();
+    for &(x, e) in b {
+        *r.entry(x).or_insert(0) += sign * e;
+    }
+    r.into_iter().filter(|(_, e)| *e != 0).collect()
+}
+
+struct Expander<'a> {
+    dag: &'a Dag,
+    memo: HashMap<Id, Poly>,
+}
+
+impl Expander<'_> {
+    fn poly(&mut self, id: Id) -> Poly {
+        if let Some(p) = self.memo.get(&id) {
+            return p.clone();
+        }
+        // Expand children first, iteratively, to bound the recursion depth.
+        let mut order = Vec::new();
+        let mut stack = vec![(id, false)];
+        while let Some((x, done)) = stack.pop() {
+            if self.memo.contains_key(&x) {
+                continue;
+            }
+            if done {
+                order.push(x);
+                continue;
+            }
+            stack.push((x, true));
+            for c in self.expandable_children(x) {
+                if !self.memo.contains_key(&c) {
+                    stack.push((c, false));
+                }
+            }
+        }
+        for x in order {
+            if !self.memo.contains_key(&x) {
+                let p = self.one(x);
+                self.memo.insert(x, p);
+            }
+        }
+        self.memo.get(&id).cloned().unwrap_or_default()
+    }
+
+    fn expandable_children(&self, id: Id) -> Vec<Id> {
+        match self.dag.node(id) {
+            Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
+            Node::Neg(a) | Node::Powi(a, _) => vec![a],
+            _ => Vec::new(),
+        }
+    }
+
+    fn get(&self, id: Id) -> Poly {
+        self.memo.get(&id).cloned().unwrap_or_default()
+    }
+
+    fn one(&mut self, id: Id) -> Poly {
+        let dag = self.dag;
+        match dag.node(id) {
+            Node::Const(b) => Poly::constant(f64::from_bits(b)),
+            Node::Param(f, c) => Poly::atom(Atom::Param(f, c), 1),
+            Node::Q(i) => Poly::atom(Atom::Q(i), 1),
+            Node::V(i) => Poly::atom(Atom::V(i), 1),
+            Node::T => Poly::atom(Atom::T, 1),
+            Node::Add(a, b) => self.get(a).add(&self.get(b), 1.0),
+            Node::Sub(a, b) => self.get(a).add(&self.get(b), -1.0),
+            Node::Neg(a) => self.get(a).scale(-1.0),
+            Node::Mul(a, b) => self
+                .get(a)
+                .mul(&self.get(b))
+                .unwrap_or_else(|| Poly::atom(Atom::Paren(id), 1)),
+            Node::Div(a, b) => {
+                let pb = self.get(b);
+                let inv = match pb.single() {
+                    Some((m, c)) => {
+                        let mut p = Poly::default();
+                        p.0.insert(mono_mul(&Vec::new(), m, -1), 1.0 / c);
+                        p
+                    }
+                    None => Poly::atom(Atom::Paren(b), -1),
+                };
+                self.get(a)
+                    .mul(&inv)
+                    .unwrap_or_else(|| Poly::atom(Atom::Paren(id), 1))
+            }
+            Node::Powi(a, n) => {
+                let pa = self.get(a);
+                if let Some((m, c)) = pa.single() {
+                    let mut p = Poly::default();
+                    let m: Mono = m.iter().map(|&(x, e)| (x, e * n)).collect();
+                    p.0.insert(m, c.powi(n));
+                    return p;
+                }
+                if (1..=4).contains(&n) {
+                    let mut r = Poly::constant(1.0);
+                    for _ in 0..n {
+                        match r.mul(&pa) {
+                            Some(x) => r = x,
+                            None => return Poly::atom(Atom::Paren(a), n),
+                        }
+                    }
+                    r
+                } else {
+                    Poly::atom(Atom::Paren(a), n)
+                }
+            }
+            Node::Powf(a, b) => Poly::atom(Atom::Powf(a, b), 1),
+            Node::Atan2(a, b) => Poly::atom(Atom::Atan2(a, b), 1),
+            Node::Un(f, a) => Poly::atom(Atom::Fun(f, a), 1),
+        }
+    }
+}
+
+/// How a coordinate slot is displayed.
+struct SlotName {
+    /// Single-symbol base (`θ`, `x`, `r`): dots go over it. Otherwise a multi-letter name.
+    base_u: String,
+    base_l: String,
+    single: bool,
+    /// Subscript (`₁`) or component (`.x`), Unicode and LaTeX.
+    sub_u: String,
+    sub_l: String,
+}
+
+const GREEK: &[(&str, &str, &str)] = &[
+    ("alpha", "α", "\\alpha"),
+    ("beta", "β", "\\beta"),
+    ("gamma", "γ", "\\gamma"),
+    ("delta", "δ", "\\delta"),
+    ("epsilon", "ε", "\\epsilon"),
+    ("zeta", "ζ", "\\zeta"),
+    ("eta", "η", "\\eta"),
+    ("theta", "θ", "\\theta"),
+    ("iota", "ι", "\\iota"),
+    ("kappa", "κ", "\\kappa"),
+    ("lambda", "λ", "\\lambda"),
+    ("mu", "μ", "\\mu"),
+    ("nu", "ν", "\\nu"),
+    ("xi", "ξ", "\\xi"),
+    ("pi", "π", "\\pi"),
+    ("rho", "ρ", "\\rho"),
+    ("sigma", "σ", "\\sigma"),
+    ("tau", "τ", "\\tau"),
+    ("upsilon", "υ", "\\upsilon"),
+    ("phi", "φ", "\\phi"),
+    ("chi", "χ", "\\chi"),
+    ("psi", "ψ", "\\psi"),
+    ("omega", "ω", "\\omega"),
+    ("Gamma", "Γ", "\\Gamma"),
+    ("Delta", "Δ", "\\Delta"),
+    ("Theta", "Θ", "\\Theta"),
+    ("Lambda", "Λ", "\\Lambda"),
+    ("Phi", "Φ", "\\Phi"),
+    ("Psi", "Ψ", "\\Psi"),
+    ("Omega", "Ω", "\\Omega"),
+];
+
+fn subscript_digits(s: &str) -> String {
+    s.chars()
+        .map(|c| match c {
+            '0'..='9' => char::from_u32(0x2080 + (c as u32 - '0' as u32)).unwrap_or(c),
+            _ => c,
+        })
+        .collect()
+}
+
+fn superscript(n: i32) -> String {
+    let digits = |c: char| match c {
+        '0' => '⁰',
+        '1' => '¹',
+        '2' => '²',
+        '3' => '³',
+        '4' => '⁴',
+        '5' => '⁵',
+        '6' => '⁶',
+        '7' => '⁷',
+        '8' => '⁸',
+        '9' => '⁹',
+        '-' => '⁻',
+        other => other,
+    };
+    n.to_string().chars().map(digits).collect()
+}
+
+/// Splits `theta_1`/`theta1` into (`theta`, `1`) and maps Greek names.
+fn symbol(name: &str) -> SlotName {
+    let trimmed = name.trim_end_matches(|c: char| c.is_ascii_digit());
+    let digits = &name[trimmed.len()..];
+    let base = if digits.is_empty() {
+        name
+    } else {
+        trimmed.strip_suffix('_').unwrap_or(trimmed)
+    };
+    let (bu, bl, single) = match GREEK.iter().find(|(n, _, _)| *n == base) {
+        Some((_, u, l)) => ((*u).to_owned(), (*l).to_owned(), true),
+        None if base.chars().count() == 1 => (base.to_owned(), base.to_owned(), true),
+        None => (base.to_owned(), latex_name(base), false),
+    };
+    if base.is_empty() {
+        return SlotName {
+            base_u: name.to_owned(),
+            base_l: latex_name(name),
+            single: false,
+            sub_u: String::new(),
+            sub_l: String::new(),
+        };
+    }
+    SlotName {
+        base_u: bu,
+        base_l: bl,
+        single,
+        sub_u: subscript_digits(digits),
+        sub_l: if digits.is_empty() {
+            String::new()
+        } else {
+            format!("_{{{digits}}}")
+        },
+    }
+}
+
+fn latex_name(s: &str) -> String {
+    match s.split_once('_') {
+        Some((a, b)) if !a.is_empty() && !b.is_empty() => {
+            let head = if a.chars().count() == 1 {
+                a.to_owned()
+            } else {
+                format!("\\mathrm{{{a}}}")
+            };
+            format!("{head}_{{\\mathrm{{{}}}}}", b.replace('_', "\\_"))
+        }
+        _ if s.chars().count() == 1 => s.to_owned(),
+        _ => format!("\\mathrm{{{}}}", s.replace('_', "\\_")),
+    }
+}
+
+struct Names {
+    slots: Vec<SlotName>,
+    params: Vec<(String, String)>,
+}
+
+impl Names {
+    fn slot(&self, i: u32, dots: usize, latex: bool) -> String {
+        let Some(s) = self.slots.get(i as usize) else {
+            return "?".to_owned();
+        };
+        if latex {
+            let b = match dots {
+                0 => s.base_l.clone(),
+                1 => format!("\\dot{{{}}}", s.base_l),
+                _ => format!("\\ddot{{{}}}", s.base_l),
+            };
+            return format!("{b}{}", s.sub_l);
+        }
+        if s.single {
+            let mark = match dots {
+                0 => "",
+                1 => "\u{307}",
+                _ => "\u{308}",
+            };
+            format!("{}{mark}{}", s.base_u, s.sub_u)
+        } else {
+            match dots {
+                0 => format!("{}{}", s.base_u, s.sub_u),
+                1 => format!("d({}{})/dt", s.base_u, s.sub_u),
+                _ => format!("d²({}{})/dt²", s.base_u, s.sub_u),
+            }
+        }
+    }
+}
+
+fn number(c: f64, latex: bool) -> String {
+    if c == c.trunc() && c.abs() < 1e15 {
+        return format!("{}", c as i64);
+    }
+    for den in 2..=16_i64 {
+        let num = c * den as f64;
+        if num == num.trunc() && num.abs() < 1e6 {
+            let num = num as i64;
+            return if latex {
+                format!("\\frac{{{num}}}{{{den}}}")
+            } else {
+                format!("{num}/{den}")
+            };
+        }
+    }
+    format!("{c}")
+}
+
+struct Printer<'a> {
+    ex: Expander<'a>,
+    names: Names,
+    latex: bool,
+}
+
+impl Printer<'_> {
+    fn fun_name(&self, f: Fun) -> &'static str {
+        match (f, self.latex) {
+            (Fun::Sqrt, false) => "√",
+            (Fun::Sqrt, true) => "\\sqrt",
+            (Fun::Sin, true) => "\\sin",
+            (Fun::Cos, true) => "\\cos",
+            (Fun::Tan, true) => "\\tan",
+            (Fun::Exp, true) => "\\exp",
+            (Fun::Ln, true) => "\\ln",
+            (Fun::Asin, true) => "\\arcsin",
+            (Fun::Acos, true) => "\\arccos",
+            (Fun::Atan, true) => "\\arctan",
+            (Fun::Sinh, true) => "\\sinh",
+            (Fun::Cosh, true) => "\\cosh",
+            (Fun::Tanh, true) => "\\tanh",
+            (Fun::Signum, true) => "\\operatorname{sgn}",
+            (Fun::Abs, _) => "abs",
+            (Fun::Signum, false) => "sgn",
+            (f, false) => f.method(),
+        }
+    }
+
+    fn pow(&self, base: String, e: i32) -> String {
+        if e == 1 {
+            base
+        } else if self.latex {
+            format!("{base}^{{{e}}}")
+        } else {
+            format!("{base}{}", superscript(e))
+        }
+    }
+
+    /// A flat rendering of a sub-expression (a function argument).
+    fn flat(&mut self, id: Id) -> String {
+        let p = self.ex.poly(id);
+        self.sum(&p)
+    }
+
+    fn paren(&self, s: String) -> String {
+        if self.latex {
+            format!("\\left({s}\\right)")
+        } else {
+            format!("({s})")
+        }
+    }
+
+    fn atom(&mut self, a: Atom, e: i32) -> String {
+        let latex = self.latex;
+        match a {
+            Atom::Param(f, c) => {
+                let (u, l) = self
+                    .names
+                    .params
+                    .get(f as usize)
+                    .cloned()
+                    .unwrap_or_default();
+                let base = if latex { l } else { u };
+                let base = match c {
+                    1 => format!("{base}.x"),
+                    2 => format!("{base}.y"),
+                    3 => format!("{base}.z"),
+                    _ => base,
+                };
+                self.pow(base, e)
+            }
+            Atom::Q(i) => {
+                let s = self.names.slot(i, 0, latex);
+                self.pow(s, e)
+            }
+            Atom::V(i) => {
+                let s = self.names.slot(i, 1, latex);
+                self.pow(s, e)
+            }
+            Atom::A(i) => {
+                let s = self.names.slot(i, 2, latex);
+                self.pow(s, e)
+            }
+            Atom::T => self.pow("t".to_owned(), e),
+            Atom::Fun(f, arg) => {
+                let inner = self.flat(arg);
+                let name = self.fun_name(f);
+                match f {
+                    Fun::Abs => {
+                        let s = if latex {
+                            format!("\\left|{inner}\\right|")
+                        } else {
+                            format!("|{inner}|")
+                        };
+                        self.pow(s, e)
+                    }
+                    Fun::Sqrt if latex => self.pow(format!("\\sqrt{{{inner}}}"), e),
+                    Fun::Sqrt => self.pow(format!("√({inner})"), e),
+                    _ => {
+                        let arg = self.paren(inner);
+                        if e == 1 {
+                            format!("{name}{arg}")
+                        } else if latex {
+                            format!("{name}^{{{e}}}{arg}")
+                        } else {
+                            format!("{name}{}{arg}", superscript(e))
+                        }
+                    }
+                }
+            }
+            Atom::Atan2(y, x) => {
+                let (y, x) = (self.flat(y), self.flat(x));
+                let s = if latex {
+                    format!("\\operatorname{{atan2}}\\left({y}, {x}\\right)")
+                } else {
+                    format!("atan2({y}, {x})")
+                };
+                self.pow(s, e)
+            }
+            Atom::Powf(a, b) => {
+                let (a, b) = (self.flat(a), self.flat(b));
+                let s = if latex {
+                    format!("\\left({a}\\right)^{{{b}}}")
+                } else {
+                    format!("({a})^({b})")
+                };
+                self.pow(s, e)
+            }
+            Atom::Paren(x) => {
+                let s = self.flat(x);
+                let s = self.paren(s);
+                self.pow(s, e)
+            }
+        }
+    }
+
+    /// Renders a product of atoms as "num" or "num/den" (magnitude only, no sign).
+    fn product(&mut self, k: f64, atoms: &[(Atom, i32)], coef: Option<String>) -> String {
+        let sep = " ";
+        let mut num: Vec<String> = Vec::new();
+        let mut den: Vec<String> = Vec::new();
+        let k = k.abs();
+        if k != 1.0 {
+            num.push(number(k, self.latex));
+        }
+        if let Some(c) = coef {
+            num.push(c);
+        }
+        for &(a, e) in atoms {
+            if e > 0 {
+                let s = self.atom(a, e);
+                num.push(s);
+            } else {
+                let s = self.atom(a, -e);
+                den.push(s);
+            }
+        }
+        // A fraction 1/2 directly before a symbol reads better as a leading factor.
+        let n = if num.is_empty() {
+            "1".to_owned()
+        } else {
+            num.join(sep)
+        };
+        if den.is_empty() {
+            n
+        } else if self.latex {
+            format!("\\frac{{{n}}}{{{}}}", den.join(sep))
+        } else if den.len() == 1 {
+            format!("{n}/{}", den[0])
+        } else {
+            format!("{n}/({})", den.join(" "))
+        }
+    }
+
+    /// A plain sum of terms (no grouping); a positive term leads when there is one.
+    fn sum(&mut self, p: &Poly) -> String {
+        let mut terms: Vec<(Mono, f64)> = p.0.iter().map(|(m, c)| (m.clone(), *c)).collect();
+        if let Some(k) = terms.iter().position(|(_, c)| *c > 0.0) {
+            let t = terms.remove(k);
+            terms.insert(0, t);
+        }
+        let parts: Vec<(bool, String)> = terms
+            .iter()
+            .map(|(m, c)| (*c < 0.0, self.product(*c, m, None)))
+            .collect();
+        join_signed(&parts, self.latex)
+    }
+
+    /// Groups terms by their state part and renders them with parameter coefficients.
+    fn grouped(&mut self, p: &Poly) -> String {
+        let mut groups: BTreeMap<Mono, Poly> = BTreeMap::new();
+        for (m, c) in &p.0 {
+            let (par, st): (Mono, Mono) = m.iter().partition(|(a, _)| a.is_param());
+            groups.entry(st).or_default().0.insert(par, *c);
+        }
+        // Acceleration terms first, then by the state part.
+        let mut keys: Vec<Mono> = groups.keys().cloned().collect();
+        keys.sort_by_key(|m| {
+            let acc = m.iter().find_map(|(a, _)| match a {
+                Atom::A(i) => Some(*i),
+                _ => None,
+            });
+            (acc.is_none(), acc)
+        });
+        let mut parts = Vec::new();
+        for st in keys {
+            let Some(coef) = groups.get(&st) else {
+                continue;
+            };
+            if let Some((par, c)) = coef.single() {
+                let mut atoms = par.clone();
+                atoms.extend(st.iter().copied());
+                parts.push((c < 0.0, self.product(c, &atoms, None)));
+                continue;
+            }
+            // Common numeric factor, and a leading sign when all are negative.
+            let first = coef.0.values().next().copied().unwrap_or(1.0);
+            let same = coef.0.values().all(|c| c.abs() == first.abs());
+            let all_neg = coef.0.values().all(|c| *c < 0.0);
+            let mut k = if same { first.abs() } else { 1.0 };
+            if all_neg {
+                k = -k;
+            }
+            let inner = coef.scale(1.0 / k);
+            let inner = self.sum(&inner);
+            let inner = self.paren(inner);
+            if st.is_empty() && k.abs() == 1.0 {
+                parts.push((k < 0.0, inner));
+            } else {
+                parts.push((k < 0.0, self.product(k, &st, Some(inner))));
+            }
+        }
+        join_signed(&parts, self.latex)
+    }
+}
+
+fn join_signed(parts: &[(bool, String)], latex: bool) -> String {
+    if parts.is_empty() {
+        return "0".to_owned();
+    }
+    let minus = if latex { "-" } else { "−" };
+    let mut s = String::new();
+    for (k, (neg, t)) in parts.iter().enumerate() {
+        match (k, neg) {
+            (0, true) => {
+                s.push_str(minus);
+            }
+            (0, false) => {}
+            (_, true) => {
+                let _ = write!(s, " {minus} ");
+            }
+            (_, false) => s.push_str(" + "),
+        }
+        s.push_str(t);
+    }
+    s
+}
+
+/// Prints the Euler–Lagrange equation of every coordinate, `Σₖ Mᵢₖ q̈ₖ = fᵢ`.
+pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
+    let mut slots = Vec::new();
+    for c in &decl.coords {
+        let name = unraw(&c.name);
+        match c.kind {
+            CoordKind::Scalar => slots.push(symbol(&name)),
+            CoordKind::Vector3 => {
+                for comp in ["x", "y", "z"] {
+                    let mut s = symbol(&name);
+                    s.sub_u = format!("{}.{comp}", s.sub_u);
+                    s.sub_l = format!("{}_{{{comp}}}", s.sub_l);
+                    slots.push(s);
+                }
+            }
+        }
+    }
+    let params = d
+        .fields
+        .iter()
+        .map(|f| {
+            let s = symbol(&f.name);
+            let u = format!("{}{}", s.base_u, s.sub_u);
+            let l = format!("{}{}", s.base_l, s.sub_l);
+            (u, l)
+        })
+        .collect::<Vec<_>>();
+    let names = decl.coordinate_names();
+    let mut out = Equations {
+        unicode: String::new(),
+        latex: String::new(),
+    };
+    for latex in [false, true] {
+        let mut pr = Printer {
+            ex: Expander {
+                dag: &d.dag,
+                memo: HashMap::new(),
+            },
+            names: Names {
+                slots: slots.iter().map(clone_slot).collect(),
+                params: params.clone(),
+            },
+            latex,
+        };
+        let mut text = String::new();
+        for i in 0..decl.n() {
+            let mut lhs = Poly::default();
+            for k in 0..decl.n() {
+                let m = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
+                let pm = pr.ex.poly(m);
+                let term = pm
+                    .mul(&Poly::atom(Atom::A(k as u32), 1))
+                    .unwrap_or_else(|| Poly::atom(Atom::Paren(m), 1));
+                lhs = lhs.add(&term, 1.0);
+            }
+            let rhs = pr.ex.poly(d.force[i]);
+            let l = pr.grouped(&lhs);
+            let r = pr.grouped(&rhs);
+            let label = names.get(i).cloned().unwrap_or_default();
+            if latex {
+                let _ = writeln!(text, "{l} = {r}");
+            } else {
+                let _ = writeln!(text, "{label}: {l} = {r}");
+            }
+        }
+        let text = text.trim_end().to_owned();
+        if latex {
+            out.latex = text;
+        } else {
+            out.unicode = text;
+        }
+    }
+    out
+}
+
+fn clone_slot(s: &SlotName) -> SlotName {
+    SlotName {
+        base_u: s.base_u.clone(),
+        base_l: s.base_l.clone(),
+        single: s.single,
+        sub_u: s.sub_u.clone(),
+        sub_l: s.sub_l.clone(),
+    }
+}

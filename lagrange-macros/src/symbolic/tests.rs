@@ -1,0 +1,473 @@
+//! Unit tests of the symbolic path: DAG folding, derivative rules against finite differences of
+//! the numerically evaluated DAG, the whole derivation against closed forms, equation printing
+//! and the "use mode = jets" errors.
+
+use proc_macro2::Span;
+use quote::format_ident;
+
+use super::dag::{Dag, Fun, Id, Node, VarSet};
+use super::{derive, expand, Derivation};
+use crate::model::{CoordKind, CoordParam, Decl, Mode, Options};
+
+/// A declaration from coordinates `(name, dot, vector?)`, an optional time name and a body.
+fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
+    let mut first = 0;
+    let coords = coords
+        .iter()
+        .map(|&(name, dot, vector)| {
+            let c = CoordParam {
+                kind: if vector {
+                    CoordKind::Vector3
+                } else {
+                    CoordKind::Scalar
+                },
+                name: format_ident!("{}", name),
+                dot: format_ident!("{}", dot),
+                first_index: first,
+            };
+            first += c.width();
+            c
+        })
+        .collect();
+    Decl {
+        rest: syn::parse_quote!(impl X {}),
+        fn_attrs: Vec::new(),
+        fn_ident: format_ident!("lagrangian"),
+        ret_span: Span::call_site(),
+        coords,
+        time: time.map(|t| format_ident!("{}", t)),
+        body: syn::parse_str(body).expect("test body parses"),
+        options: Options {
+            mode: Mode::Symbolic,
+            mode_span: None,
+        },
+    }
+}
+
+/// Evaluates nodes of a derivation at a state with the given field values (by field name).
+fn eval(d: &Derivation, params: &[(&str, &[f64])], q: &[f64], v: &[f64], t: f64) -> Vec<f64> {
+    let mut flat = Vec::new();
+    let mut layout = Vec::new();
+    for f in &d.fields {
+        let vals = params
+            .iter()
+            .find(|(n, _)| *n == f.name)
+            .map(|(_, v)| *v)
+            .expect("test gives every field");
+        assert_eq!(vals.len(), if f.vector { 3 } else { 1 }, "field {}", f.name);
+        layout.push((flat.len(), f.vector));
+        flat.extend_from_slice(vals);
+    }
+    d.dag.eval_all(&flat, &layout, q, v, t)
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
+}
+
+const HEAVY_TOP: &str = "{
+    let (s, c) = theta.sin_cos();
+    self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
+        + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
+        - self.m * self.g * self.l * c
+}";
+
+fn heavy_top() -> Decl {
+    decl(
+        &[
+            ("theta", "theta_dot", false),
+            ("phi", "phi_dot", false),
+            ("psi", "psi_dot", false),
+        ],
+        None,
+        HEAVY_TOP,
+    )
+}
+
+#[test]
+fn folding_and_hash_consing() {
+    let mut d = Dag::new(2);
+    let x = d.q(0);
+    let y = d.v(1);
+    let one = d.constant(1.0);
+    let zero = d.constant(0.0);
+    assert_eq!(d.mul(x, one), x);
+    assert_eq!(d.mul(one, x), x);
+    assert_eq!(d.add(zero, x), x);
+    assert_eq!(d.add(x, zero), x);
+    assert_eq!(d.mul(zero, x), Dag::ZERO);
+    assert_eq!(d.sub(x, x), Dag::ZERO);
+    let a = d.add(x, y);
+    let b = d.add(y, x);
+    assert_eq!(a, b, "commutative operands are canonically ordered");
+    let two = d.constant(2.0);
+    let three = d.constant(3.0);
+    let six = d.mul(two, three);
+    assert_eq!(d.as_const(six), Some(6.0));
+    // 2 (3 x) = 6 x
+    let tx = d.mul(three, x);
+    let st = d.mul(two, tx);
+    let sx = d.mul(six, x);
+    assert_eq!(st, sx);
+    // −(−x) = x, x − (−y) = x + y, x / 2 = 0.5 x
+    let nx = d.neg(x);
+    assert_eq!(d.neg(nx), x);
+    let ny = d.neg(y);
+    assert_eq!(d.sub(x, ny), a);
+    let half = d.div(x, two);
+    assert_eq!(d.node(half), Node::Mul(d.constant(0.5), x));
+    // x / 3 stays a division (1/3 is not exact)
+    let third = d.div(x, three);
+    assert!(matches!(d.node(third), Node::Div(..)));
+    // sin(0) folds, (x²)³ = x⁶
+    let s0 = d.un(Fun::Sin, zero);
+    assert_eq!(s0, Dag::ZERO);
+    let x2 = d.powi(x, 2);
+    let x6 = d.powi(x2, 3);
+    assert_eq!(d.node(x6), Node::Powi(x, 6));
+    // Like terms: x + 2x = 3x, 3x − x = 2x, x + x = 2x.
+    let twox = d.mul(two, x);
+    let threex = d.add(x, twox);
+    assert_eq!(d.node(threex), Node::Mul(three, x));
+    assert_eq!(d.sub(threex, x), twox);
+    assert_eq!(d.add(x, x), twox);
+    assert!(d.is_state_free(six));
+    assert!(!d.is_state_free(a));
+}
+
+/// Every elementary rule against a central finite difference of the evaluated DAG.
+#[test]
+fn derivative_rules_match_finite_differences() {
+    let mut d = Dag::new(1);
+    let x = d.q(0);
+    let c = d.constant(0.3);
+    let xc = d.add(x, c); // 0.3 + x, positive near the test point
+    let half = d.constant(0.5);
+    let xh = d.mul(half, x); // inside (−1, 1) for asin/acos
+    let mut exprs: Vec<Id> = Vec::new();
+    for f in [
+        Fun::Sqrt,
+        Fun::Sin,
+        Fun::Cos,
+        Fun::Tan,
+        Fun::Exp,
+        Fun::Ln,
+        Fun::Abs,
+        Fun::Sinh,
+        Fun::Cosh,
+        Fun::Tanh,
+        Fun::Atan,
+    ] {
+        exprs.push(d.un(f, xc));
+    }
+    exprs.push(d.un(Fun::Asin, xh));
+    exprs.push(d.un(Fun::Acos, xh));
+    exprs.push(d.powi(xc, -3));
+    exprs.push(d.powi(xc, 5));
+    let k = d.constant(1.7);
+    exprs.push(d.powf(xc, k));
+    exprs.push(d.powf(xc, x));
+    exprs.push(d.atan2(x, xc));
+    exprs.push(d.atan2(xc, k));
+    let s = d.un(Fun::Sin, x);
+    exprs.push(d.div(s, xc));
+    exprs.push(d.mul(s, xc));
+    let e = d.un(Fun::Exp, s);
+    exprs.push(d.sub(e, xc));
+    exprs.push(d.neg(e));
+    let mut support = VarSet::new(d.vars);
+    support.insert(0);
+    let tans = d.tangents(&exprs, &support, &|_, n| {
+        (n == Node::Q(0)).then_some(Dag::ONE)
+    });
+    for x0 in [0.4, 0.9, 1.3] {
+        let h = 1e-6;
+        let at = |x: f64| d.eval_all(&[], &[], &[x], &[0.0], 0.0);
+        let (vp, vm, v0) = (at(x0 + h), at(x0 - h), at(x0));
+        for (k, (&e, &t)) in exprs.iter().zip(&tans).enumerate() {
+            let fd = (vp[e as usize] - vm[e as usize]) / (2.0 * h);
+            let an = v0[t as usize];
+            assert!(close(an, fd, 1e-7), "expr {k} at {x0}: {an} vs {fd}");
+        }
+    }
+}
+
+#[test]
+fn heavy_top_matches_closed_form() {
+    let d = derive(&heavy_top()).expect("derives");
+    let (ip, ia, m, g, l) = (2.0, 0.7, 1.3, 9.81, 0.4);
+    let params: [(&str, &[f64]); 5] = [
+        ("i_perp", &[ip]),
+        ("i_par", &[ia]),
+        ("m", &[m]),
+        ("g", &[g]),
+        ("l", &[l]),
+    ];
+    let q = [0.7, 0.2, -0.4];
+    let v = [0.3, -1.1, 2.5];
+    let val = eval(&d, &params, &q, &v, 0.0);
+    let at = |id: Id| val[id as usize];
+    let (s, c) = q[0].sin_cos();
+    let (td, pd, sd) = (v[0], v[1], v[2]);
+    let big_m = [
+        [ip, 0.0, 0.0],
+        [0.0, ip * s * s + ia * c * c, ia * c],
+        [0.0, ia * c, ia],
+    ];
+    for i in 0..3 {
+        for k in i..3 {
+            assert!(close(at(d.mass[i][k]), big_m[i][k], 1e-14), "M[{i}][{k}]");
+        }
+    }
+    // Structural zeros are constants, not computed.
+    assert_eq!(d.mass[0][1], Dag::ZERO);
+    assert_eq!(d.mass[0][2], Dag::ZERO);
+    let w = sd + pd * c;
+    let f = [
+        ip * pd * pd * s * c - ia * w * pd * s + m * g * l * s,
+        -(2.0 * ip * s * c * td * pd - ia * s * td * c * w - ia * c * (-pd * s * td)) + 0.0,
+        ia * pd * s * td,
+    ];
+    // f₁ = −d/dt(∂L/∂φ̇) at fixed q̇ = −(2 I⊥ s c θ̇ φ̇ − I∥ s θ̇ w − I∥ c φ̇ s θ̇)
+    let f1 = -(2.0 * ip * s * c * td * pd - ia * s * td * w - ia * c * pd * s * td);
+    assert!(close(at(d.force[0]), f[0], 1e-13));
+    assert!(close(at(d.force[1]), f1, 1e-13));
+    assert!(close(at(d.force[2]), f[2], 1e-13));
+    let lval = ip / 2.0 * (td * td + (pd * s).powi(2)) + ia / 2.0 * w * w - m * g * l * c;
+    let h = ip / 2.0 * (td * td + (pd * s).powi(2)) + ia / 2.0 * w * w + m * g * l * c;
+    assert!(close(at(d.lagrangian), lval, 1e-14));
+    assert!(close(at(d.energy), h, 1e-14));
+    assert!(close(at(d.momenta[2]), ia * w, 1e-14));
+}
+
+/// Mass matrix and right-hand side against finite differences of the DAG's own L, for a system
+/// with a vector coordinate, time, vector fields and most of the supported syntax.
+#[test]
+fn vector_system_matches_finite_differences() {
+    let body = "{
+        let omega = Vector3::new(0.0, 0.3 * t.sin(), self.w * (1.0 + 0.1 * t.cos()));
+        let v = r_dot + self.v0 * t.cos() + omega.cross(&r);
+        let mut u = 0.5 * self.k * r.norm_squared();
+        u += self.m * self.gravity.dot(&r);
+        let (a, _b) = (r.norm(), 2.0);
+        self.m / 2.0 * v.norm_squared() - u - self.k2 / (1.0 + a).powi(2) + r.x.atan2(r.y + 3.0) * s_dot.powi(2)
+            + (s * r[2]).exp() * 0.01 + std::f64::consts::PI * s_dot * r.z
+    }";
+    let dcl = decl(
+        &[("r", "r_dot", true), ("s", "s_dot", false)],
+        Some("t"),
+        body,
+    );
+    let d = derive(&dcl).expect("derives");
+    let vector_fields: Vec<&str> = d
+        .fields
+        .iter()
+        .filter(|f| f.vector)
+        .map(|f| f.name.as_str())
+        .collect();
+    assert_eq!(
+        vector_fields,
+        ["v0", "gravity"],
+        "field types are inferred from use"
+    );
+    let params: [(&str, &[f64]); 6] = [
+        ("w", &[0.8]),
+        ("v0", &[0.1, -0.2, 0.3]),
+        ("k", &[2.0]),
+        ("m", &[1.5]),
+        ("gravity", &[0.0, 0.0, -9.8]),
+        ("k2", &[0.7]),
+    ];
+    let q0 = [0.3, -0.5, 0.8, 0.2];
+    let v0 = [0.4, 0.1, -0.7, 1.2];
+    let t0 = 0.6;
+    let l_at = |q: &[f64], v: &[f64], t: f64| eval(&d, &params, q, v, t)[d.lagrangian as usize];
+    let val = eval(&d, &params, &q0, &v0, t0);
+    let h = 1e-5;
+    let bump = |x: &[f64], i: usize, e: f64| {
+        let mut y = x.to_vec();
+        y[i] += e;
+        y
+    };
+    let p_at = |q: &[f64], v: &[f64], t: f64, i: usize| {
+        (l_at(q, &bump(v, i, h), t) - l_at(q, &bump(v, i, -h), t)) / (2.0 * h)
+    };
+    for i in 0..4 {
+        let p = p_at(&q0, &v0, t0, i);
+        assert!(close(val[d.momenta[i] as usize], p, 1e-7), "p[{i}]");
+        for k in i..4 {
+            let mk = (p_at(&q0, &bump(&v0, k, h), t0, i) - p_at(&q0, &bump(&v0, k, -h), t0, i))
+                / (2.0 * h);
+            assert!(close(val[d.mass[i][k] as usize], mk, 1e-5), "M[{i}][{k}]");
+        }
+        let gq = (l_at(&bump(&q0, i, h), &v0, t0) - l_at(&bump(&q0, i, -h), &v0, t0)) / (2.0 * h);
+        // d/dt p along q̇ at fixed q̇: Σₖ q̇ₖ ∂p/∂qₖ + ∂p/∂t
+        let mut dp = (p_at(&q0, &v0, t0 + h, i) - p_at(&q0, &v0, t0 - h, i)) / (2.0 * h);
+        for (k, vk) in v0.iter().enumerate() {
+            dp += vk * (p_at(&bump(&q0, k, h), &v0, t0, i) - p_at(&bump(&q0, k, -h), &v0, t0, i))
+                / (2.0 * h);
+        }
+        assert!(close(val[d.force[i] as usize], gq - dp, 1e-5), "f[{i}]");
+    }
+}
+
+#[test]
+fn heavy_top_equations_read_like_the_hand_derivation() {
+    let out = expand(&heavy_top()).unwrap_or_else(|_| panic!("expands"));
+    let lines: Vec<&str> = out.equations.lines().collect();
+    assert_eq!(lines.len(), 3, "{}", out.equations);
+    // θ: I⊥ θ̈ = (I⊥ − I∥) φ̇² sinθ cosθ − I∥ φ̇ ψ̇ sinθ + m g l sinθ
+    assert_eq!(
+        lines[0],
+        "theta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)",
+        "{}",
+        out.equations
+    );
+    // ψ: d/dt [I∥ (ψ̇ + φ̇ cos θ)] = 0
+    assert_eq!(
+        lines[2], "psi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)",
+        "{}",
+        out.equations
+    );
+    // φ: d/dt [I⊥ φ̇ sin²θ + I∥ (ψ̇ + φ̇ cos θ) cos θ] = 0
+    assert_eq!(
+        lines[1],
+        "phi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) \
+         = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)",
+        "{}",
+        out.equations
+    );
+    assert!(
+        out.equations_latex.contains("\\ddot{\\theta}"),
+        "{}",
+        out.equations_latex
+    );
+    assert!(out.doc.contains(&out.equations));
+}
+
+#[test]
+fn no_unit_factors_or_zero_terms_in_print() {
+    let dcl = decl(
+        &[("x", "x_dot", false)],
+        None,
+        "{ 1.0 * self.m / 2.0 * x_dot.powi(2) + 0.0 * x - 0.5 * self.k * x * x * 1.0 }",
+    );
+    let out = expand(&dcl).unwrap_or_else(|_| panic!("expands"));
+    assert_eq!(out.equations, "x: m x\u{308} = −k x");
+    assert_eq!(out.equations_latex, "m \\ddot{x} = -k x");
+}
+
+fn errors(body: &str) -> Vec<String> {
+    let dcl = decl(&[("x", "x_dot", false)], None, body);
+    match expand(&dcl) {
+        Ok(_) => Vec::new(),
+        Err(e) => e.into_iter().map(|e| e.to_string()).collect(),
+    }
+}
+
+#[test]
+fn unsupported_constructs_say_use_jets() {
+    for (body, what) in [
+        (
+            "{ let mut s = 0.0; for _ in 0..3 { s += x; } s }",
+            "a `for` loop",
+        ),
+        ("{ helper(x) * x_dot }", "a call to the function `helper`"),
+        ("{ x.frobnicate() * x_dot }", "the method `.frobnicate()`"),
+        ("{ if x > 0.0 { x } else { x_dot } }", "`if`"),
+        ("{ let f = |y: f64| y; x_dot }", "a closure"),
+        ("{ println!(\"hi\"); x_dot }", "a macro call"),
+        (
+            "{ x.powi(self.n) }",
+            "a `powi` exponent that is not an integer literal",
+        ),
+    ] {
+        let errs = errors(body);
+        assert_eq!(errs.len(), 1, "{body}: {errs:?}");
+        assert!(errs[0].starts_with(what), "{body}: {errs:?}");
+        assert!(errs[0].contains("mode = \"jets\""), "{body}: {errs:?}");
+    }
+    // Errors accumulate.
+    assert_eq!(errors("{ a(x) + x.foo() + b(x_dot) }").len(), 3);
+}
+
+#[test]
+fn type_errors_are_reported_not_panicked() {
+    let e = errors("{ Vector3::new(x, x, x) * Vector3::new(x_dot, 0.0, 0.0) }");
+    assert!(e[0].contains("cannot be multiplied"), "{e:?}");
+    let e = errors("{ Vector3::new(x, x, x) }");
+    assert!(e[0].contains("must be a scalar"), "{e:?}");
+    let e = errors("{ x.norm() }");
+    assert!(e[0].contains("must be a Vector3"), "{e:?}");
+}
+
+#[test]
+fn emitted_code_is_straight_line_and_shares_subexpressions() {
+    let out = expand(&heavy_top()).unwrap_or_else(|_| panic!("expands"));
+    let acc = out.accelerations.to_string();
+    assert!(acc.contains("solve_mass_matrix"));
+    assert_eq!(acc.matches(". sin ()").count(), 1, "{acc}");
+    assert_eq!(acc.matches(". cos ()").count(), 1, "{acc}");
+    assert!(
+        acc.contains("let p_i_perp : f64 = self . i_perp ;"),
+        "{acc}"
+    );
+    assert!(!acc.contains("* 1.0"), "{acc}");
+}
+
+/// The N-link chain of tools/gen_chain.py, built as source text.
+fn chain_decl(n: usize) -> Decl {
+    let mut body = String::from("{");
+    for k in 1..=n {
+        body += &format!("let (s{k}, c{k}) = th{k}.sin_cos();");
+        if k == 1 {
+            body += "let mut vx = self.l * c1 * th1_dot; let mut vy = self.l * s1 * th1_dot;";
+            body += "let mut y = -self.l * c1;";
+            body += "let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;";
+        } else {
+            body += &format!(
+                "vx += self.l * c{k} * th{k}_dot; vy += self.l * s{k} * th{k}_dot; y -= self.l * c{k};"
+            );
+            body += "lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;";
+        }
+    }
+    body += "lag }";
+    let names: Vec<(String, String)> = (1..=n)
+        .map(|k| (format!("th{k}"), format!("th{k}_dot")))
+        .collect();
+    let coords: Vec<(&str, &str, bool)> = names
+        .iter()
+        .map(|(a, b)| (a.as_str(), b.as_str(), false))
+        .collect();
+    decl(&coords, None, &body)
+}
+
+/// Scale (issue 7): the N = 16 chain expands in well under 5 s; prints the expansion time and
+/// the generated size (`cargo test -p lagrange-macros --release chain_16 -- --nocapture`).
+#[test]
+fn chain_16_expands_fast_and_compactly() {
+    let dcl = chain_decl(16);
+    let start = std::time::Instant::now();
+    let out = expand(&dcl).unwrap_or_else(|_| panic!("expands"));
+    let elapsed = start.elapsed();
+    let tokens: usize = [
+        &out.accelerations,
+        &out.mass_matrix,
+        &out.momenta,
+        &out.energy,
+    ]
+    .iter()
+    .map(|t| t.to_string().len())
+    .sum();
+    println!(
+        "N=16 chain: expand {:.1} ms, {} lets, {} bytes of generated bodies, equations {} bytes",
+        elapsed.as_secs_f64() * 1e3,
+        out.generated_lets,
+        tokens,
+        out.equations.len()
+    );
+    assert!(elapsed.as_secs_f64() < 5.0, "{elapsed:?}");
+    // CSE keeps it near O(N²) per method: far from the O(N³) of an unshared expansion.
+    assert!(out.generated_lets < 20_000, "{}", out.generated_lets);
+    assert_eq!(out.equations.lines().count(), 16);
+}

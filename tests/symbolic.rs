@@ -1,0 +1,1022 @@
+//! Symbolic mode (issue 7) against run-time jets: for the heavy top, the non-inertial particle,
+//! the gallery systems and pendulum chains, the compile-time derived accelerations, mass matrix,
+//! momenta and energy agree with the jets twin (`mode = "jets"`, same body) to 1e-12 relative at
+//! random states (each system is declared twice, once per mode, with the same body); the printed equations of the heavy top have the hand-derived structure.
+#![deny(warnings)]
+
+use lagrange::prelude::*;
+
+struct Rng(u64);
+impl Rng {
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        let u = (self.0 >> 11) as f64 / (1u64 << 53) as f64;
+        lo + (hi - lo) * u
+    }
+    fn array<const N: usize>(&mut self, lo: f64, hi: f64) -> [f64; N] {
+        std::array::from_fn(|_| self.uniform(lo, hi))
+    }
+}
+
+fn assert_close(what: &str, a: &[f64], b: &[f64], state: &str) {
+    let scale = b.iter().fold(1e-300_f64, |s, x| s.max(x.abs()));
+    for (k, (x, y)) in a.iter().zip(b).enumerate() {
+        assert!(
+            (x - y).abs() <= 1e-12 * scale,
+            "{what}[{k}]: symbolic {x} vs jets {y} (scale {scale}) at {state}"
+        );
+    }
+}
+
+/// Symbolic and jets agree at one state in everything the trait provides.
+fn agree<const N: usize>(
+    s: &impl Lagrangian<N>,
+    j: &impl Lagrangian<N>,
+    q: [f64; N],
+    v: [f64; N],
+    t: f64,
+) {
+    let state = format!("q = {q:?}, q̇ = {v:?}, t = {t}");
+    let (a, b) = (
+        s.accelerations(&q, &v, t).expect("symbolic accelerations"),
+        j.accelerations(&q, &v, t).expect("jets accelerations"),
+    );
+    assert_close("q̈", &a, &b, &state);
+    let (ms, mj) = (s.mass_matrix(&q, &v, t), j.mass_matrix(&q, &v, t));
+    assert_close("M", ms.as_slice(), mj.as_slice(), &state);
+    assert_close("p", &s.momenta(&q, &v, t), &j.momenta(&q, &v, t), &state);
+    assert_close("h", &[s.energy(&q, &v, t)], &[j.energy(&q, &v, t)], &state);
+    assert_eq!(
+        <_ as Lagrangian<N>>::lagrangian(s, &q, &v, t),
+        <_ as Lagrangian<N>>::lagrangian(j, &q, &v, t)
+    );
+}
+
+/// Runs `agree` at `count` random states with q in [lo, hi] and q̇, t in [−2, 2].
+fn agree_random<const N: usize>(
+    s: &impl Lagrangian<N>,
+    j: &impl Lagrangian<N>,
+    seed: u64,
+    (lo, hi): (f64, f64),
+) {
+    let mut rng = Rng(seed);
+    for _ in 0..40 {
+        let q = rng.array(lo, hi);
+        let v = rng.array(-2.0, 2.0);
+        let t = rng.uniform(-2.0, 2.0);
+        agree(s, j, q, v, t);
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct HeavyTop {
+    pub i_perp: f64,
+    pub i_par: f64,
+    pub m: f64,
+    pub g: f64,
+    pub l: f64,
+}
+
+#[lagrangian]
+impl HeavyTop {
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let (s, c) = theta.sin_cos();
+        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
+            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
+            - self.m * self.g * self.l * c
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct HeavyTopJets {
+    pub i_perp: f64,
+    pub i_par: f64,
+    pub m: f64,
+    pub g: f64,
+    pub l: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl HeavyTopJets {
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let (s, c) = theta.sin_cos();
+        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
+            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
+            - self.m * self.g * self.l * c
+    }
+}
+
+impl HeavyTop {
+    fn jets(&self) -> HeavyTopJets {
+        HeavyTopJets {
+            i_perp: self.i_perp,
+            i_par: self.i_par,
+            m: self.m,
+            g: self.g,
+            l: self.l,
+        }
+    }
+}
+
+const TOP: HeavyTop = HeavyTop {
+    i_perp: 2.0,
+    i_par: 0.7,
+    m: 1.3,
+    g: 9.81,
+    l: 0.4,
+};
+
+#[test]
+fn heavy_top_symbolic_equals_jets() {
+    // θ away from the chart singularity sin θ = 0.
+    agree_random(&TOP, &TOP.jets(), 1, (0.3, 2.8));
+}
+
+#[test]
+fn heavy_top_symbolic_equals_closed_form() {
+    let HeavyTop {
+        i_perp: ip,
+        i_par: ia,
+        m,
+        g,
+        l,
+    } = TOP;
+    let mut rng = Rng(11);
+    for _ in 0..20 {
+        let q: [f64; 3] = [
+            rng.uniform(0.3, 2.8),
+            rng.uniform(-3.0, 3.0),
+            rng.uniform(-3.0, 3.0),
+        ];
+        let v: [f64; 3] = rng.array(-2.0, 2.0);
+        let (s, c) = q[0].sin_cos();
+        let (td, pd, sd) = (v[0], v[1], v[2]);
+        let th = ((ip - ia) * pd * pd * s * c - ia * pd * sd * s + m * g * l * s) / ip;
+        let f1 = 2.0 * (ia - ip) * td * pd * s * c + ia * td * sd * s;
+        let f2 = ia * td * pd * s;
+        let ph = (f1 - c * f2) / (ip * s * s);
+        let ps = f2 / ia - c * ph;
+        let a = TOP.accelerations(&q, &v, 0.0).expect("accelerations");
+        assert_close("q̈", &a, &[th, ph, ps], &format!("{q:?} {v:?}"));
+    }
+}
+
+#[test]
+fn heavy_top_equations_show_the_hand_derived_structure() {
+    let lines: Vec<&str> = HeavyTop::EQUATIONS.lines().collect();
+    assert_eq!(lines.len(), 3, "{}", HeavyTop::EQUATIONS);
+    // θ: I⊥ θ̈ = (I⊥ − I∥) φ̇² sin θ cos θ − I∥ φ̇ ψ̇ sin θ + m g l sin θ
+    assert!(
+        lines[0].starts_with("theta: i_perp θ\u{308} = "),
+        "{}",
+        lines[0]
+    );
+    for term in [
+        "(i_perp − i_par) φ\u{307}² sin(θ) cos(θ)",
+        "−i_par φ\u{307} ψ\u{307} sin(θ)",
+        "+ m g l sin(θ)",
+    ] {
+        assert!(lines[0].contains(term), "{term} in {}", lines[0]);
+    }
+    // φ: d/dt [I⊥ φ̇ sin²θ + I∥ (ψ̇ + φ̇ cos θ) cos θ] = 0, expanded.
+    assert!(
+        lines[1].starts_with(
+            "phi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = "
+        ),
+        "{}",
+        lines[1]
+    );
+    assert!(lines[1].contains("2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ)"));
+    // ψ: d/dt [I∥ (ψ̇ + φ̇ cos θ)] = 0, eq. (93).
+    assert_eq!(
+        lines[2],
+        "psi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)"
+    );
+    assert!(HeavyTop::EQUATIONS_LATEX.contains("i_{\\mathrm{perp}} \\ddot{\\theta} = "));
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct NonInertial {
+    pub m: f64,
+    pub k: f64,
+    pub w: f64,
+    pub w1: f64,
+    pub nu: f64,
+    pub a: f64,
+    pub v0: Vector3<f64>,
+    pub gravity: Vector3<f64>,
+}
+
+#[lagrangian]
+impl NonInertial {
+    fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
+        // L = m (ṙ + v₀(t) + Ω(t) × r)² / 2 − U(r)
+        let v0 = self.v0 * (self.nu * t).cos();
+        let omega = Vector3::new(self.w1 * t.sin(), 0.2 * self.w1, self.w * (1.0 + 0.1 * t));
+        let v = r_dot + v0 + omega.cross(&r);
+        let u = 0.5 * self.k * r.norm_squared() - self.m * self.gravity.dot(&r)
+            + self.a / (1.0 + r.norm_squared()).sqrt();
+        self.m / 2.0 * v.norm_squared() - u
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct NonInertialJets {
+    pub m: f64,
+    pub k: f64,
+    pub w: f64,
+    pub w1: f64,
+    pub nu: f64,
+    pub a: f64,
+    pub v0: Vector3<f64>,
+    pub gravity: Vector3<f64>,
+}
+
+#[lagrangian(mode = "jets")]
+impl NonInertialJets {
+    fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
+        // L = m (ṙ + v₀(t) + Ω(t) × r)² / 2 − U(r)
+        let v0 = self.v0 * (self.nu * t).cos();
+        let omega = Vector3::new(self.w1 * t.sin(), 0.2 * self.w1, self.w * (1.0 + 0.1 * t));
+        let v = r_dot + v0 + omega.cross(&r);
+        let u = 0.5 * self.k * r.norm_squared() - self.m * self.gravity.dot(&r)
+            + self.a / (1.0 + r.norm_squared()).sqrt();
+        self.m / 2.0 * v.norm_squared() - u
+    }
+}
+
+impl NonInertial {
+    fn jets(&self) -> NonInertialJets {
+        NonInertialJets {
+            m: self.m,
+            k: self.k,
+            w: self.w,
+            w1: self.w1,
+            nu: self.nu,
+            a: self.a,
+            v0: self.v0,
+            gravity: self.gravity,
+        }
+    }
+}
+
+#[test]
+fn non_inertial_particle_symbolic_equals_jets() {
+    let s = NonInertial {
+        m: 1.7,
+        k: 3.0,
+        w: 0.9,
+        w1: 0.4,
+        nu: 1.3,
+        a: 0.6,
+        v0: Vector3::new(0.3, -0.2, 0.5),
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+    };
+    agree_random(&s, &s.jets(), 2, (-2.0, 2.0));
+    assert!(!<NonInertial as Lagrangian<3>>::AUTONOMOUS);
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct DoublePendulum {
+    pub m1: f64,
+    pub m2: f64,
+    pub l1: f64,
+    pub l2: f64,
+    pub g: f64,
+}
+
+#[lagrangian]
+impl DoublePendulum {
+    fn lagrangian(&self, (theta1, theta1_dot): Coord, (theta2, theta2_dot): Coord) -> Scalar {
+        let v1 = self.l1 * theta1_dot;
+        let v2 = self.l2 * theta2_dot;
+        (self.m1 + self.m2) / 2.0 * v1.powi(2)
+            + self.m2 / 2.0 * v2.powi(2)
+            + self.m2 * v1 * v2 * (theta1 - theta2).cos()
+            + (self.m1 + self.m2) * self.g * self.l1 * theta1.cos()
+            + self.m2 * self.g * self.l2 * theta2.cos()
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct DoublePendulumJets {
+    pub m1: f64,
+    pub m2: f64,
+    pub l1: f64,
+    pub l2: f64,
+    pub g: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl DoublePendulumJets {
+    fn lagrangian(&self, (theta1, theta1_dot): Coord, (theta2, theta2_dot): Coord) -> Scalar {
+        let v1 = self.l1 * theta1_dot;
+        let v2 = self.l2 * theta2_dot;
+        (self.m1 + self.m2) / 2.0 * v1.powi(2)
+            + self.m2 / 2.0 * v2.powi(2)
+            + self.m2 * v1 * v2 * (theta1 - theta2).cos()
+            + (self.m1 + self.m2) * self.g * self.l1 * theta1.cos()
+            + self.m2 * self.g * self.l2 * theta2.cos()
+    }
+}
+
+impl DoublePendulum {
+    fn jets(&self) -> DoublePendulumJets {
+        DoublePendulumJets {
+            m1: self.m1,
+            m2: self.m2,
+            l1: self.l1,
+            l2: self.l2,
+            g: self.g,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct SphericalPendulum {
+    pub m: f64,
+    pub l: f64,
+    pub g: f64,
+}
+
+#[lagrangian]
+impl SphericalPendulum {
+    fn lagrangian(&self, (theta, theta_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
+        self.m * self.l.powi(2) / 2.0 * (theta_dot.powi(2) + (theta.sin() * phi_dot).powi(2))
+            + self.m * self.g * self.l * theta.cos()
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct SphericalPendulumJets {
+    pub m: f64,
+    pub l: f64,
+    pub g: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl SphericalPendulumJets {
+    fn lagrangian(&self, (theta, theta_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
+        self.m * self.l.powi(2) / 2.0 * (theta_dot.powi(2) + (theta.sin() * phi_dot).powi(2))
+            + self.m * self.g * self.l * theta.cos()
+    }
+}
+
+impl SphericalPendulum {
+    fn jets(&self) -> SphericalPendulumJets {
+        SphericalPendulumJets {
+            m: self.m,
+            l: self.l,
+            g: self.g,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct Kepler {
+    pub m: f64,
+    pub k: f64,
+}
+
+#[lagrangian]
+impl Kepler {
+    fn lagrangian(&self, (r, r_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
+        self.m / 2.0 * (r_dot * r_dot + r * r * phi_dot * phi_dot) + self.k / r
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct KeplerJets {
+    pub m: f64,
+    pub k: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl KeplerJets {
+    fn lagrangian(&self, (r, r_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
+        self.m / 2.0 * (r_dot * r_dot + r * r * phi_dot * phi_dot) + self.k / r
+    }
+}
+
+impl Kepler {
+    fn jets(&self) -> KeplerJets {
+        KeplerJets {
+            m: self.m,
+            k: self.k,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct Charged {
+    pub m: f64,
+    pub q: f64,
+    pub c: f64,
+    pub b: Vector3<f64>,
+}
+
+#[lagrangian]
+impl Charged {
+    fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
+        // A = B × r / 2 + ∇(c x y): the gauge term must drop out of the equations.
+        let a = 0.5 * self.b.cross(&r);
+        let gauge = Vector3::new(self.c * r.y, self.c * r.x, 0.0);
+        self.m / 2.0 * r_dot.norm_squared() + self.q * r_dot.dot(&(a + gauge))
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct ChargedJets {
+    pub m: f64,
+    pub q: f64,
+    pub c: f64,
+    pub b: Vector3<f64>,
+}
+
+#[lagrangian(mode = "jets")]
+impl ChargedJets {
+    fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
+        // A = B × r / 2 + ∇(c x y): the gauge term must drop out of the equations.
+        let a = 0.5 * self.b.cross(&r);
+        let gauge = Vector3::new(self.c * r.y, self.c * r.x, 0.0);
+        self.m / 2.0 * r_dot.norm_squared() + self.q * r_dot.dot(&(a + gauge))
+    }
+}
+
+impl Charged {
+    fn jets(&self) -> ChargedJets {
+        ChargedJets {
+            m: self.m,
+            q: self.q,
+            c: self.c,
+            b: self.b,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct DrivenPendulum {
+    pub m: f64,
+    pub l: f64,
+    pub g: f64,
+    pub a: f64,
+    pub w: f64,
+}
+
+#[lagrangian]
+impl DrivenPendulum {
+    fn lagrangian(&self, (theta, theta_dot): Coord, t: Time) -> Scalar {
+        // Pivot at height a cos ωt.
+        let (s, c) = theta.sin_cos();
+        let xd = self.l * c * theta_dot;
+        let yd = -self.a * self.w * (self.w * t).sin() + self.l * s * theta_dot;
+        let y = self.a * (self.w * t).cos() - self.l * c;
+        self.m / 2.0 * (xd * xd + yd * yd) - self.m * self.g * y
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct DrivenPendulumJets {
+    pub m: f64,
+    pub l: f64,
+    pub g: f64,
+    pub a: f64,
+    pub w: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl DrivenPendulumJets {
+    fn lagrangian(&self, (theta, theta_dot): Coord, t: Time) -> Scalar {
+        // Pivot at height a cos ωt.
+        let (s, c) = theta.sin_cos();
+        let xd = self.l * c * theta_dot;
+        let yd = -self.a * self.w * (self.w * t).sin() + self.l * s * theta_dot;
+        let y = self.a * (self.w * t).cos() - self.l * c;
+        self.m / 2.0 * (xd * xd + yd * yd) - self.m * self.g * y
+    }
+}
+
+impl DrivenPendulum {
+    fn jets(&self) -> DrivenPendulumJets {
+        DrivenPendulumJets {
+            m: self.m,
+            l: self.l,
+            g: self.g,
+            a: self.a,
+            w: self.w,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct ElasticPendulum {
+    pub m: f64,
+    pub k: f64,
+    pub l0: f64,
+    pub g: f64,
+}
+
+#[lagrangian]
+impl ElasticPendulum {
+    fn lagrangian(&self, (r, r_dot): Coord, (theta, theta_dot): Coord) -> Scalar {
+        self.m / 2.0 * (r_dot.powi(2) + (r * theta_dot).powi(2)) + self.m * self.g * r * theta.cos()
+            - self.k / 2.0 * (r - self.l0).powi(2)
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct ElasticPendulumJets {
+    pub m: f64,
+    pub k: f64,
+    pub l0: f64,
+    pub g: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl ElasticPendulumJets {
+    fn lagrangian(&self, (r, r_dot): Coord, (theta, theta_dot): Coord) -> Scalar {
+        self.m / 2.0 * (r_dot.powi(2) + (r * theta_dot).powi(2)) + self.m * self.g * r * theta.cos()
+            - self.k / 2.0 * (r - self.l0).powi(2)
+    }
+}
+
+impl ElasticPendulum {
+    fn jets(&self) -> ElasticPendulumJets {
+        ElasticPendulumJets {
+            m: self.m,
+            k: self.k,
+            l0: self.l0,
+            g: self.g,
+        }
+    }
+}
+
+#[test]
+fn gallery_symbolic_equals_jets() {
+    let dp = DoublePendulum {
+        m1: 1.2,
+        m2: 0.8,
+        l1: 1.1,
+        l2: 0.7,
+        g: 9.81,
+    };
+    agree_random(&dp, &dp.jets(), 3, (-3.0, 3.0));
+    let sp = SphericalPendulum {
+        m: 0.9,
+        l: 1.4,
+        g: 9.81,
+    };
+    agree_random(&sp, &sp.jets(), 4, (0.3, 2.8));
+    let kp = Kepler { m: 2.0, k: 5.0 };
+    agree_random(&kp, &kp.jets(), 5, (0.5, 3.0));
+    let ch = Charged {
+        m: 1.3,
+        q: -0.7,
+        c: 2.5,
+        b: Vector3::new(0.2, -0.4, 1.5),
+    };
+    agree_random(&ch, &ch.jets(), 6, (-2.0, 2.0));
+    let dr = DrivenPendulum {
+        m: 1.0,
+        l: 0.8,
+        g: 9.81,
+        a: 0.1,
+        w: 30.0,
+    };
+    agree_random(&dr, &dr.jets(), 7, (-3.0, 3.0));
+    let el = ElasticPendulum {
+        m: 0.5,
+        k: 20.0,
+        l0: 1.0,
+        g: 9.81,
+    };
+    agree_random(&el, &el.jets(), 8, (0.5, 2.0));
+}
+
+#[test]
+fn charged_particle_gauge_term_drops_out() {
+    // m r̈ = q ṙ × B, whatever the gauge constant c.
+    let ch = Charged {
+        m: 1.3,
+        q: -0.7,
+        c: 2.5,
+        b: Vector3::new(0.2, -0.4, 1.5),
+    };
+    let v = [0.3, -1.2, 0.8];
+    let a = ch
+        .accelerations(&[0.4, 0.1, -0.3], &v, 0.0)
+        .expect("accelerations");
+    let f = Vector3::from(v).cross(&ch.b) * (ch.q / ch.m);
+    assert_close("q̈", &a, f.as_slice(), "charged");
+    assert!(!Charged::EQUATIONS.contains('c'), "{}", Charged::EQUATIONS);
+}
+
+/// Hand-derived chain equations: M_ij = m l² (N − max(i, j)) cos(θᵢ − θⱼ),
+/// f_i = −m l² Σⱼ (N − max(i, j)) sin(θᵢ − θⱼ) θ̇ⱼ² − m g l (N − i) sin θᵢ.
+fn chain_closed_form<const N: usize>(
+    m: f64,
+    l: f64,
+    g: f64,
+    q: &[f64; N],
+    v: &[f64; N],
+) -> [f64; N] {
+    let mut mm = [[0.0; N]; N];
+    let mut f = [0.0; N];
+    for i in 0..N {
+        f[i] = -m * g * l * (N - i) as f64 * q[i].sin();
+        for j in 0..N {
+            let w = m * l * l * (N - i.max(j)) as f64;
+            mm[i][j] = w * (q[i] - q[j]).cos();
+            f[i] -= w * (q[i] - q[j]).sin() * v[j] * v[j];
+        }
+    }
+    lagrange::__private::solve_mass_matrix(&mm, &f, ["q"; N], q, v, 0.0).expect("solve")
+}
+
+#[test]
+fn pendulum_chains_symbolic_equal_jets_and_closed_form() {
+    let c4 = Chain4 {
+        m: 0.7,
+        l: 0.9,
+        g: 9.81,
+    };
+    agree_random(&c4, &c4.jets(), 9, (-3.0, 3.0));
+    let c16 = Chain16 {
+        m: 0.7,
+        l: 0.9,
+        g: 9.81,
+    };
+    let mut rng = Rng(10);
+    for _ in 0..5 {
+        let q: [f64; 16] = rng.array(-1.0, 1.0);
+        let v: [f64; 16] = rng.array(-1.0, 1.0);
+        agree(&c16, &c16.jets(), q, v, 0.0);
+        let a = c16.accelerations(&q, &v, 0.0).expect("accelerations");
+        // The chain's M is worse conditioned at N = 16: compare with a looser, conditioning-aware bound.
+        let b = chain_closed_form(0.7, 0.9, 9.81, &q, &v);
+        let scale = b.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+        for (x, y) in a.iter().zip(&b) {
+            assert!((x - y).abs() <= 1e-9 * scale, "{x} vs {y}");
+        }
+    }
+}
+
+#[test]
+fn symbolic_mode_is_the_default_and_documents_equations() {
+    assert!(
+        Kepler::EQUATIONS.starts_with("r: m r\u{308} = "),
+        "{}",
+        Kepler::EQUATIONS
+    );
+    assert!(Kepler::EQUATIONS.contains("k/r²"), "{}", Kepler::EQUATIONS);
+}
+
+impl Chain4 {
+    fn jets(&self) -> Chain4Jets {
+        Chain4Jets {
+            m: self.m,
+            l: self.l,
+            g: self.g,
+        }
+    }
+}
+impl Chain16 {
+    fn jets(&self) -> Chain16Jets {
+        Chain16Jets {
+            m: self.m,
+            l: self.l,
+            g: self.g,
+        }
+    }
+}
+
+/// A 4-link pendulum chain (equal masses and lengths), L written out.
+#[derive(Debug, Clone, Copy)]
+pub struct Chain4 {
+    pub m: f64,
+    pub l: f64,
+    pub g: f64,
+}
+
+#[lagrangian]
+impl Chain4 {
+    #[allow(clippy::too_many_arguments)]
+    fn lagrangian(
+        &self,
+        (th1, th1_dot): Coord,
+        (th2, th2_dot): Coord,
+        (th3, th3_dot): Coord,
+        (th4, th4_dot): Coord,
+    ) -> Scalar {
+        let (s1, c1) = th1.sin_cos();
+        let mut vx = self.l * c1 * th1_dot;
+        let mut vy = self.l * s1 * th1_dot;
+        let mut y = -self.l * c1;
+        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s2, c2) = th2.sin_cos();
+        vx += self.l * c2 * th2_dot;
+        vy += self.l * s2 * th2_dot;
+        y -= self.l * c2;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s3, c3) = th3.sin_cos();
+        vx += self.l * c3 * th3_dot;
+        vy += self.l * s3 * th3_dot;
+        y -= self.l * c3;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s4, c4) = th4.sin_cos();
+        vx += self.l * c4 * th4_dot;
+        vy += self.l * s4 * th4_dot;
+        y -= self.l * c4;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        lag
+    }
+}
+
+/// A 4-link pendulum chain (equal masses and lengths), L written out.
+#[derive(Debug, Clone, Copy)]
+pub struct Chain4Jets {
+    pub m: f64,
+    pub l: f64,
+    pub g: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl Chain4Jets {
+    #[allow(clippy::too_many_arguments)]
+    fn lagrangian(
+        &self,
+        (th1, th1_dot): Coord,
+        (th2, th2_dot): Coord,
+        (th3, th3_dot): Coord,
+        (th4, th4_dot): Coord,
+    ) -> Scalar {
+        let (s1, c1) = th1.sin_cos();
+        let mut vx = self.l * c1 * th1_dot;
+        let mut vy = self.l * s1 * th1_dot;
+        let mut y = -self.l * c1;
+        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s2, c2) = th2.sin_cos();
+        vx += self.l * c2 * th2_dot;
+        vy += self.l * s2 * th2_dot;
+        y -= self.l * c2;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s3, c3) = th3.sin_cos();
+        vx += self.l * c3 * th3_dot;
+        vy += self.l * s3 * th3_dot;
+        y -= self.l * c3;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s4, c4) = th4.sin_cos();
+        vx += self.l * c4 * th4_dot;
+        vy += self.l * s4 * th4_dot;
+        y -= self.l * c4;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        lag
+    }
+}
+
+/// A 16-link pendulum chain (equal masses and lengths), L written out.
+#[derive(Debug, Clone, Copy)]
+pub struct Chain16 {
+    pub m: f64,
+    pub l: f64,
+    pub g: f64,
+}
+
+#[lagrangian]
+impl Chain16 {
+    #[allow(clippy::too_many_arguments)]
+    fn lagrangian(
+        &self,
+        (th1, th1_dot): Coord,
+        (th2, th2_dot): Coord,
+        (th3, th3_dot): Coord,
+        (th4, th4_dot): Coord,
+        (th5, th5_dot): Coord,
+        (th6, th6_dot): Coord,
+        (th7, th7_dot): Coord,
+        (th8, th8_dot): Coord,
+        (th9, th9_dot): Coord,
+        (th10, th10_dot): Coord,
+        (th11, th11_dot): Coord,
+        (th12, th12_dot): Coord,
+        (th13, th13_dot): Coord,
+        (th14, th14_dot): Coord,
+        (th15, th15_dot): Coord,
+        (th16, th16_dot): Coord,
+    ) -> Scalar {
+        let (s1, c1) = th1.sin_cos();
+        let mut vx = self.l * c1 * th1_dot;
+        let mut vy = self.l * s1 * th1_dot;
+        let mut y = -self.l * c1;
+        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s2, c2) = th2.sin_cos();
+        vx += self.l * c2 * th2_dot;
+        vy += self.l * s2 * th2_dot;
+        y -= self.l * c2;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s3, c3) = th3.sin_cos();
+        vx += self.l * c3 * th3_dot;
+        vy += self.l * s3 * th3_dot;
+        y -= self.l * c3;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s4, c4) = th4.sin_cos();
+        vx += self.l * c4 * th4_dot;
+        vy += self.l * s4 * th4_dot;
+        y -= self.l * c4;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s5, c5) = th5.sin_cos();
+        vx += self.l * c5 * th5_dot;
+        vy += self.l * s5 * th5_dot;
+        y -= self.l * c5;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s6, c6) = th6.sin_cos();
+        vx += self.l * c6 * th6_dot;
+        vy += self.l * s6 * th6_dot;
+        y -= self.l * c6;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s7, c7) = th7.sin_cos();
+        vx += self.l * c7 * th7_dot;
+        vy += self.l * s7 * th7_dot;
+        y -= self.l * c7;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s8, c8) = th8.sin_cos();
+        vx += self.l * c8 * th8_dot;
+        vy += self.l * s8 * th8_dot;
+        y -= self.l * c8;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s9, c9) = th9.sin_cos();
+        vx += self.l * c9 * th9_dot;
+        vy += self.l * s9 * th9_dot;
+        y -= self.l * c9;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s10, c10) = th10.sin_cos();
+        vx += self.l * c10 * th10_dot;
+        vy += self.l * s10 * th10_dot;
+        y -= self.l * c10;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s11, c11) = th11.sin_cos();
+        vx += self.l * c11 * th11_dot;
+        vy += self.l * s11 * th11_dot;
+        y -= self.l * c11;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s12, c12) = th12.sin_cos();
+        vx += self.l * c12 * th12_dot;
+        vy += self.l * s12 * th12_dot;
+        y -= self.l * c12;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s13, c13) = th13.sin_cos();
+        vx += self.l * c13 * th13_dot;
+        vy += self.l * s13 * th13_dot;
+        y -= self.l * c13;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s14, c14) = th14.sin_cos();
+        vx += self.l * c14 * th14_dot;
+        vy += self.l * s14 * th14_dot;
+        y -= self.l * c14;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s15, c15) = th15.sin_cos();
+        vx += self.l * c15 * th15_dot;
+        vy += self.l * s15 * th15_dot;
+        y -= self.l * c15;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s16, c16) = th16.sin_cos();
+        vx += self.l * c16 * th16_dot;
+        vy += self.l * s16 * th16_dot;
+        y -= self.l * c16;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        lag
+    }
+}
+
+/// A 16-link pendulum chain (equal masses and lengths), L written out.
+#[derive(Debug, Clone, Copy)]
+pub struct Chain16Jets {
+    pub m: f64,
+    pub l: f64,
+    pub g: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl Chain16Jets {
+    #[allow(clippy::too_many_arguments)]
+    fn lagrangian(
+        &self,
+        (th1, th1_dot): Coord,
+        (th2, th2_dot): Coord,
+        (th3, th3_dot): Coord,
+        (th4, th4_dot): Coord,
+        (th5, th5_dot): Coord,
+        (th6, th6_dot): Coord,
+        (th7, th7_dot): Coord,
+        (th8, th8_dot): Coord,
+        (th9, th9_dot): Coord,
+        (th10, th10_dot): Coord,
+        (th11, th11_dot): Coord,
+        (th12, th12_dot): Coord,
+        (th13, th13_dot): Coord,
+        (th14, th14_dot): Coord,
+        (th15, th15_dot): Coord,
+        (th16, th16_dot): Coord,
+    ) -> Scalar {
+        let (s1, c1) = th1.sin_cos();
+        let mut vx = self.l * c1 * th1_dot;
+        let mut vy = self.l * s1 * th1_dot;
+        let mut y = -self.l * c1;
+        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s2, c2) = th2.sin_cos();
+        vx += self.l * c2 * th2_dot;
+        vy += self.l * s2 * th2_dot;
+        y -= self.l * c2;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s3, c3) = th3.sin_cos();
+        vx += self.l * c3 * th3_dot;
+        vy += self.l * s3 * th3_dot;
+        y -= self.l * c3;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s4, c4) = th4.sin_cos();
+        vx += self.l * c4 * th4_dot;
+        vy += self.l * s4 * th4_dot;
+        y -= self.l * c4;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s5, c5) = th5.sin_cos();
+        vx += self.l * c5 * th5_dot;
+        vy += self.l * s5 * th5_dot;
+        y -= self.l * c5;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s6, c6) = th6.sin_cos();
+        vx += self.l * c6 * th6_dot;
+        vy += self.l * s6 * th6_dot;
+        y -= self.l * c6;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s7, c7) = th7.sin_cos();
+        vx += self.l * c7 * th7_dot;
+        vy += self.l * s7 * th7_dot;
+        y -= self.l * c7;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s8, c8) = th8.sin_cos();
+        vx += self.l * c8 * th8_dot;
+        vy += self.l * s8 * th8_dot;
+        y -= self.l * c8;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s9, c9) = th9.sin_cos();
+        vx += self.l * c9 * th9_dot;
+        vy += self.l * s9 * th9_dot;
+        y -= self.l * c9;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s10, c10) = th10.sin_cos();
+        vx += self.l * c10 * th10_dot;
+        vy += self.l * s10 * th10_dot;
+        y -= self.l * c10;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s11, c11) = th11.sin_cos();
+        vx += self.l * c11 * th11_dot;
+        vy += self.l * s11 * th11_dot;
+        y -= self.l * c11;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s12, c12) = th12.sin_cos();
+        vx += self.l * c12 * th12_dot;
+        vy += self.l * s12 * th12_dot;
+        y -= self.l * c12;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s13, c13) = th13.sin_cos();
+        vx += self.l * c13 * th13_dot;
+        vy += self.l * s13 * th13_dot;
+        y -= self.l * c13;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s14, c14) = th14.sin_cos();
+        vx += self.l * c14 * th14_dot;
+        vy += self.l * s14 * th14_dot;
+        y -= self.l * c14;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s15, c15) = th15.sin_cos();
+        vx += self.l * c15 * th15_dot;
+        vy += self.l * s15 * th15_dot;
+        y -= self.l * c15;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        let (s16, c16) = th16.sin_cos();
+        vx += self.l * c16 * th16_dot;
+        vy += self.l * s16 * th16_dot;
+        y -= self.l * c16;
+        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        lag
+    }
+}
+
+#[test]
+fn ui_symbolic_errors_say_use_jets() {
+    let t = trybuild::TestCases::new();
+    t.compile_fail("tests/ui/symbolic/*.rs");
+}
