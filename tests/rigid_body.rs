@@ -21,13 +21,15 @@ use std::f64::consts::PI;
 
 /// A rigid body of point masses on a fixed horizontal axis (the body x axis through the origin),
 /// gravity along −z. L is written from the positions alone, r_a(θ) = R_x(θ) b_a and
-/// ṙ_a = (∂r_a/∂θ) θ̇: no moment of inertia, no ω × r is assumed.
+/// ṙ_a = (∂r_a/∂θ) θ̇: no moment of inertia, no ω × r is assumed. The body loops over the
+/// masses, which the symbolic mode cannot unroll (their number is a run-time value), so this one
+/// uses the run-time jets.
 pub struct PhysicalPendulum {
     pub points: Vec<(f64, [f64; 3])>,
     pub g: f64,
 }
 
-#[lagrangian]
+#[lagrangian(mode = "jets")]
 impl PhysicalPendulum {
     fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
         let (s, c) = theta.sin_cos();
