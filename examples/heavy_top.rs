@@ -161,6 +161,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "initial state: θ = {}, φ = {}, ψ = {};  θ̇ = {}, φ̇ = {}, ψ̇ = {}",
         o.q0[0], o.q0[1], o.q0[2], o.qdot0[0], o.qdot0[1], o.qdot0[2]
     );
+    println!("\nEuler–Lagrange equations of eq. 92, derived at compile time by #[lagrangian]:");
+    for line in HeavyTop::EQUATIONS.lines() {
+        println!("  {line}");
+    }
     println!("\nconstants of the motion (eqs. 93–96)");
     println!(
         "  L∥  = {:.12}   L_φ = {:.12}   E = {:.12}",
