@@ -17,6 +17,7 @@ pub mod linalg;
 pub mod mix;
 pub mod rigid;
 mod scalar;
+pub mod theory;
 
 pub use error::DynamicsError;
 pub use integrate::{
