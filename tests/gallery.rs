@@ -638,3 +638,44 @@ fn atwood_and_free_particle() {
         assert_eq!(got, [0.0, 0.0]);
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// 9. Values the user spells with `Scalar` (regression: these were classified as constants)
+// ---------------------------------------------------------------------------------------------
+
+fn zero<S: Scalar>() -> S {
+    S::constant(0.0)
+}
+
+/// A harmonic oscillator whose body names `Scalar` explicitly in calls.
+#[derive(Debug, Clone)]
+pub struct ExplicitScalar {
+    pub m: f64,
+    pub k: f64,
+}
+
+#[lagrangian]
+impl ExplicitScalar {
+    fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+        let half_m = Scalar::constant(self.m) / 2.0;
+        let origin = Vector3::<Scalar>::zeros();
+        let offset = zero::<Scalar>() + <Scalar as From<f64>>::from(0.0);
+        half_m * x_dot * x_dot - 0.5 * self.k * (x - offset).powi(2) + origin.norm_squared()
+    }
+}
+
+#[test]
+fn explicit_scalar_calls_are_values_of_the_coordinates_type() {
+    let mut rng = Rng(6060);
+    for _ in 0..STATES {
+        let p = ExplicitScalar {
+            m: rng.uniform(0.1, 5.0),
+            k: rng.uniform(0.0, 20.0),
+        };
+        let x = rng.uniform(-3.0, 3.0);
+        let got = p
+            .accelerations(&[x], &[rng.uniform(-3.0, 3.0)], 0.0)
+            .unwrap();
+        assert_close(&got, &[-p.k / p.m * x], REL, "explicit Scalar");
+    }
+}
