@@ -126,8 +126,7 @@ struct Rewriter {
 
 fn lift_tokens(e: &Expr) -> Expr {
     let span = e.span();
-    let e = Expr::Verbatim(quote_spanned!(span=> ::lagrange::__private::lift::<Scalar, _>(#e)));
-    e
+    Expr::Verbatim(quote_spanned!(span=> ::lagrange::__private::lift::<Scalar, _>(#e)))
 }
 
 fn lift_in_place(e: &mut Expr) {

@@ -20,7 +20,10 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
             return quote!(#errs #input);
         }
     };
-    let rest = split.rest.clone();
+    // On error the impl block is re-emitted without anything that uses the macro's own
+    // vocabulary (`Coord`, `Scalar`), so the user sees our errors and not cascades.
+    let mut rest = split.rest.clone();
+    rest.items.retain(|item| !matches!(item, syn::ImplItem::Fn(f) if f.sig.inputs.iter().any(validate::is_coordinate_param)));
     let n_hint = split
         .funcs
         .first()
@@ -65,10 +68,11 @@ fn generate(decl: &Decl) -> TokenStream {
             *used_flag = true;
             vars.push(unraw(ident));
             let i = c.first_index;
+            let lit = proc_macro2::Literal::usize_unsuffixed;
+            let (i, i1, i2) = (lit(i), lit(i + 1), lit(i + 2));
             bindings.push(match c.kind {
                 CoordKind::Scalar => quote!(let #ident = #array[#i];),
                 CoordKind::Vector3 => {
-                    let (i1, i2) = (i + 1, i + 2);
                     quote!(let #ident = ::lagrange::__private::Vector3::new(#array[#i], #array[#i1], #array[#i2]);)
                 }
             });
@@ -96,6 +100,13 @@ fn generate(decl: &Decl) -> TokenStream {
         Mode::Symbolic => quote!(),
     };
 
+    let n = proc_macro2::Literal::usize_unsuffixed(n);
+    // The rest of the user's impl block, unless it was only the Lagrangian.
+    let rest = if rest.items.is_empty() && rest.attrs.is_empty() {
+        quote!()
+    } else {
+        quote!(#rest)
+    };
     quote! {
         #rest
 

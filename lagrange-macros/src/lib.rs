@@ -20,3 +20,6 @@ use proc_macro::TokenStream;
 pub fn lagrangian(args: TokenStream, input: TokenStream) -> TokenStream {
     emit::expand(args.into(), input.into()).into()
 }
+
+#[cfg(test)]
+mod expanded_example;

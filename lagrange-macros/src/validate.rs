@@ -34,12 +34,24 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         errors.at(u, "`#[lagrangian]` impl blocks cannot be `unsafe`");
     }
     if funcs.is_empty() {
-        errors.at(
-            &rest.self_ty,
-            format!(
-                "no `fn lagrangian` in this impl block: `#[lagrangian]` needs `{SIGNATURE_HINT}`"
+        let misnamed = rest.items.iter().find_map(|item| match item {
+            syn::ImplItem::Fn(f) if f.sig.inputs.iter().any(is_coordinate_param) => {
+                Some(&f.sig.ident)
+            }
+            _ => None,
+        });
+        match misnamed {
+            Some(ident) => errors.at(
+                ident,
+                "`#[lagrangian]` looks for a fn named `lagrangian`; this one takes coordinates: rename it to `lagrangian`",
             ),
-        );
+            None => errors.at(
+                &rest.self_ty,
+                format!(
+                    "no `fn lagrangian` in this impl block: `#[lagrangian]` needs `{SIGNATURE_HINT}`"
+                ),
+            ),
+        }
         return None;
     }
     for extra in funcs.iter().skip(1) {
@@ -139,6 +151,7 @@ fn check_fn(
         }
     };
     let mut next_index = 0;
+    let mut declared_coordinates = 0;
     for arg in inputs {
         let pt = match arg {
             FnArg::Typed(pt) => pt,
@@ -160,6 +173,9 @@ fn check_fn(
             );
             continue;
         };
+        if kind.is_some() {
+            declared_coordinates += 1;
+        }
         match kind {
             Some(kind) => match coord_pattern(&pt.pat) {
                 Some((name, dot)) => {
@@ -187,7 +203,7 @@ fn check_fn(
             },
         }
     }
-    if coords.is_empty() {
+    if declared_coordinates == 0 {
         errors.at(
             &sig.ident,
             format!("`fn lagrangian` needs at least one coordinate, e.g. `(x, x_dot): Coord`: `{SIGNATURE_HINT}`"),
@@ -206,6 +222,16 @@ fn check_fn(
         body: func.block,
         options,
     })
+}
+
+/// Whether a parameter is typed `Coord`, `Coord3` or `Time` (to recognise a misnamed Lagrangian).
+pub fn is_coordinate_param(arg: &FnArg) -> bool {
+    match arg {
+        FnArg::Typed(pt) => ["Coord", "Coord3", "Time"]
+            .iter()
+            .any(|n| is_ident_type(&pt.ty, n)),
+        FnArg::Receiver(_) => false,
+    }
 }
 
 /// `(name, name)` with plain identifiers.

@@ -5,8 +5,11 @@
 //! Users normally depend on the facade crate `lagrange`, which re-exports all of this.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
+// Numeric kernels over fixed-size arrays index several arrays at once and read as the math.
+#![allow(clippy::needless_range_loop)]
 
 pub mod error;
+pub mod integrate;
 pub mod jet;
 mod lagrangian;
 pub mod linalg;
@@ -15,6 +18,10 @@ pub mod mix;
 mod scalar;
 
 pub use error::DynamicsError;
+pub use integrate::{
+    Direction, Drift, Event, EventHit, Invariants, Method, PartialTrajectory, Simulation,
+    SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
+};
 pub use lagrangian::{el_jet, hessian_jet, solve_mass_matrix, Lagrangian};
 pub use nalgebra::{SMatrix, Vector3};
 pub use scalar::Scalar;

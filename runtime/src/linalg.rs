@@ -137,8 +137,9 @@ pub fn lu_solve<const N: usize>(
         x.swap(col, p);
         for r in col + 1..N {
             let f = a[r][col] / a[col][col];
-            for c in col..N {
-                a[r][c] -= f * a[col][c];
+            let pivot_row = a[col];
+            for (e, p) in a[r].iter_mut().zip(pivot_row).skip(col) {
+                *e -= f * p;
             }
             x[r] -= f * x[col];
         }

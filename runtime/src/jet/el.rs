@@ -306,7 +306,17 @@ impl<const N: usize> JetCalculus for ElJet<N> {
     }
 
     fn is_constant(&self) -> bool {
+        // A flagged jet can still have all-zero parts (`t - t`, `q * 0.0`); report it as constant
+        // too, so `powf` takes the same (constant-exponent) path as the flag-free HessianJet.
         self.flags == 0
+            || (self.gd == 0.0
+                && self
+                    .gq
+                    .iter()
+                    .chain(&self.gv)
+                    .chain(&self.hvd)
+                    .chain(self.hvv.iter().flatten())
+                    .all(|x| *x == 0.0))
     }
 
     fn all_finite(&self) -> bool {

@@ -64,8 +64,10 @@ macro_rules! impl_jet_scalar {
                     J::div(self, o)
                 }
             }
+            #[allow(clippy::suspicious_arithmetic_impl)]
             impl<const N: usize> Rem for $T<N> {
                 type Output = Self;
+                #[allow(clippy::suspicious_arithmetic_impl)] // the quotient picks the branch
                 fn rem(self, o: Self) -> Self {
                     // a % b = a - trunc(a/b) b, with trunc(a/b) locally constant
                     let k = (J::value(&self) / J::value(&o)).trunc();
@@ -454,13 +456,13 @@ macro_rules! impl_jet_scalar {
                 }
                 fn asin(self) -> Self {
                     let x = J::value(&self);
-                    let w = 1.0 - x * x;
+                    let w = (1.0 - x) * (1.0 + x);
                     let d = 1.0 / w.sqrt();
                     J::chain(self, x.asin(), d, x * d / w)
                 }
                 fn acos(self) -> Self {
                     let x = J::value(&self);
-                    let w = 1.0 - x * x;
+                    let w = (1.0 - x) * (1.0 + x);
                     let d = 1.0 / w.sqrt();
                     J::chain(self, x.acos(), -d, -x * d / w)
                 }
@@ -480,8 +482,10 @@ macro_rules! impl_jet_scalar {
                     J::chain(self, c, s, c)
                 }
                 fn tanh(self) -> Self {
-                    let t = J::value(&self).tanh();
-                    let d = 1.0 - t * t;
+                    // sech² = 1/cosh², not 1 − tanh² (which cancels for large |x|)
+                    let x = J::value(&self);
+                    let (t, c) = (x.tanh(), x.cosh());
+                    let d = 1.0 / (c * c);
                     J::chain(self, t, d, -2.0 * t * d)
                 }
                 fn asinh(self) -> Self {
@@ -492,13 +496,13 @@ macro_rules! impl_jet_scalar {
                 }
                 fn acosh(self) -> Self {
                     let x = J::value(&self);
-                    let w = x * x - 1.0;
+                    let w = (x - 1.0) * (x + 1.0);
                     let d = 1.0 / w.sqrt();
                     J::chain(self, x.acosh(), d, -x * d / w)
                 }
                 fn atanh(self) -> Self {
                     let x = J::value(&self);
-                    let d = 1.0 / (1.0 - x * x);
+                    let d = 1.0 / ((1.0 - x) * (1.0 + x));
                     J::chain(self, x.atanh(), d, 2.0 * x * d * d)
                 }
                 fn log(self, base: Self) -> Self {

@@ -1,0 +1,110 @@
+//! Heavy top (I⊥ = 1, I∥ = 0.5, m g l = 4.905; θ0 = 0.7, φ̇0 = 2, ψ̇0 = 12) for 100 nutation
+//! periods (t = 114.3) with DOP853 at rtol 1e-10, atol 1e-12.
+//!
+//! Measures in one run: the jet-derived dynamics (`HeavyTop`, only L written) against the same
+//! integrator on a hand-written closed-form baseline (`HeavyTopClosedForm`, accelerations
+//! overridden with the hand-derived formulas). Prints steps, right-hand-side evaluations and the
+//! invariant drift once; compare with `benches/peers/scipy_dop853.py` (see BENCHMARKS.md).
+//!
+//! Run: `cargo bench --bench integrators`
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use lagrange::prelude::*;
+use std::hint::black_box;
+
+/// The heavy top, eq. 92: only L is written, the dynamics come from the jets.
+struct HeavyTop {
+    i_perp: f64,
+    i_par: f64,
+    mgl: f64,
+}
+impl Lagrangian<3> for HeavyTop {
+    const COORDINATES: [&'static str; 3] = ["theta", "phi", "psi"];
+    const CYCLIC: [bool; 3] = [false, true, true];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 3], qd: &[S; 3], _t: S) -> S {
+        let (s, c) = q[0].sin_cos();
+        let w3 = qd[2] + qd[1] * c;
+        (qd[0] * qd[0] + qd[1] * qd[1] * s * s) * (self.i_perp / 2.0) + w3 * w3 * (self.i_par / 2.0)
+            - c * self.mgl
+    }
+}
+
+/// The same top with the hand-derived accelerations (the closed-form baseline).
+struct HeavyTopClosedForm(HeavyTop);
+impl Lagrangian<3> for HeavyTopClosedForm {
+    const COORDINATES: [&'static str; 3] = ["theta", "phi", "psi"];
+    const CYCLIC: [bool; 3] = [false, true, true];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 3], qd: &[S; 3], t: S) -> S {
+        self.0.lagrangian(q, qd, t)
+    }
+    fn accelerations(
+        &self,
+        q: &[f64; 3],
+        qd: &[f64; 3],
+        _t: f64,
+    ) -> Result<[f64; 3], DynamicsError> {
+        let top = &self.0;
+        let (s, c) = q[0].sin_cos();
+        let (th_d, ph_d, ps_d) = (qd[0], qd[1], qd[2]);
+        let w3 = ps_d + ph_d * c;
+        let th_dd =
+            ph_d * ph_d * s * c - top.i_par / top.i_perp * w3 * ph_d * s + top.mgl / top.i_perp * s;
+        let ph_dd = th_d * (top.i_par * w3 - 2.0 * top.i_perp * ph_d * c) / (top.i_perp * s);
+        let ps_dd = ph_d * th_d * s - ph_dd * c;
+        Ok([th_dd, ph_dd, ps_dd])
+    }
+}
+
+const TOP: HeavyTop = HeavyTop {
+    i_perp: 1.0,
+    i_par: 0.5,
+    mgl: 4.905,
+};
+const Q0: [f64; 3] = [0.7, 0.0, 0.0];
+const V0: [f64; 3] = [0.0, 2.0, 12.0];
+const T_END: f64 = 114.3;
+const METHOD: Method = Method::Dop853 {
+    rtol: 1e-10,
+    atol: 1e-12,
+};
+
+fn run<L: Lagrangian<3>>(sys: &L) -> Trajectory<3> {
+    Simulation::new(sys, Q0, V0)
+        .method(METHOD)
+        .until(T_END)
+        .run()
+        .expect("the heavy top integrates")
+}
+
+fn report(name: &str, tr: &Trajectory<3>) {
+    let inv = tr.invariants();
+    let e = inv.energy.map_or(f64::NAN, |d| d.max_rel);
+    let p_phi = inv.momenta[1].map_or(f64::NAN, |d| d.max_rel);
+    let p_psi = inv.momenta[2].map_or(f64::NAN, |d| d.max_rel);
+    eprintln!(
+        "{name}: steps {}, rejected {}, rhs evals {}, max rel drift: energy {e:.2e}, p_phi {p_phi:.2e}, \
+         p_psi {p_psi:.2e}, final theta {:.12}",
+        tr.stats.steps,
+        tr.stats.rejected,
+        tr.stats.rhs_evals,
+        tr.q.last().map_or(f64::NAN, |q| q[0]),
+    );
+}
+
+fn bench(c: &mut Criterion) {
+    let closed = HeavyTopClosedForm(HeavyTop { ..TOP });
+    report("lagrange DOP853 (jets)", &run(&TOP));
+    report("closed-form baseline DOP853", &run(&closed));
+    let mut g = c.benchmark_group("heavy_top_dop853_t114.3");
+    g.sample_size(20);
+    g.bench_function("lagrange_jets", |b| b.iter(|| run(black_box(&TOP))));
+    g.bench_function("closed_form_baseline", |b| {
+        b.iter(|| run(black_box(&closed)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

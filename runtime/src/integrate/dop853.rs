@@ -1,0 +1,259 @@
+//! DOP853 (Hairer, Nørsett & Wanner): explicit Runge–Kutta of order 8 with the 5th/3rd-order
+//! combined error estimate, PI step-size control and the 7th-order dense output (three extra
+//! stages, evaluated only for steps where a sample or an event needs the interpolant).
+
+use crate::lagrangian::Lagrangian;
+
+use super::dop853_coefficients::{A, C, D, E3, E5};
+use super::simulation::Stepper;
+use super::tableau::{
+    combine, finite, initial_step, rhs, scales, too_small, weighted, Controller, Fault, Y,
+};
+use super::trajectory::Stats;
+
+/// One DOP853 step of size h from (t, y) with k₀ = f(t, y): the 12 stages, y₁ and the error
+/// norm (Hairer's blend of the 5th- and 3rd-order estimates). Stage 12 (f at y₁) is not yet
+/// evaluated.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
+    sys: &L,
+    t: f64,
+    y: &Y<N>,
+    f0: &Y<N>,
+    h: f64,
+    rtol: f64,
+    atol: f64,
+    stats: &mut Stats,
+) -> Result<([Y<N>; 16], Y<N>, f64), Fault> {
+    let mut k = [[[0.0; N]; 2]; 16];
+    k[0] = *f0;
+    for s in 1..12 {
+        let ys = combine(y, h, &A[s][..s], &k[..s]);
+        k[s] = rhs(sys, t + C[s] * h, &ys, stats)?;
+    }
+    let y1 = combine(y, h, &A[12][..12], &k[..12]);
+    if !finite(&y1) {
+        return Err(Fault::NonFinite);
+    }
+    let e5 = weighted(&E5[..12], &k[..12]);
+    let e3 = weighted(&E3[..12], &k[..12]);
+    let sk = scales(rtol, atol, y, &y1);
+    let (mut err5, mut err3) = (0.0, 0.0);
+    for c in 0..2 {
+        for i in 0..N {
+            err5 += (e5[c][i] / sk[c][i]).powi(2);
+            err3 += (e3[c][i] / sk[c][i]).powi(2);
+        }
+    }
+    let mut deno = err5 + 0.01 * err3;
+    if deno <= 0.0 {
+        deno = 1.0;
+    }
+    let err = h.abs() * err5 * (1.0 / ((2 * N) as f64 * deno)).sqrt();
+    Ok((k, y1, err))
+}
+
+/// The 7th-order dense-output coefficients on [t, t + h]; `k[12]` must hold f(t + h, y₁).
+/// Evaluates the three extra stages into `k[13..16]`.
+pub(crate) fn dense<L: Lagrangian<N> + ?Sized, const N: usize>(
+    sys: &L,
+    t: f64,
+    y: &Y<N>,
+    y1: &Y<N>,
+    k: &mut [Y<N>; 16],
+    h: f64,
+    stats: &mut Stats,
+) -> Result<[Y<N>; 8], Fault> {
+    for s in 13..16 {
+        let ys = combine(y, h, &A[s][..s], &k[..s]);
+        k[s] = rhs(sys, t + C[s] * h, &ys, stats)?;
+    }
+    let mut r = [[[0.0; N]; 2]; 8];
+    for (j, dj) in D.iter().enumerate() {
+        let w = weighted(dj, &k[..]);
+        for c in 0..2 {
+            for i in 0..N {
+                r[4 + j][c][i] = h * w[c][i];
+            }
+        }
+    }
+    for c in 0..2 {
+        for i in 0..N {
+            let ydiff = y1[c][i] - y[c][i];
+            let bspl = h * k[0][c][i] - ydiff;
+            r[0][c][i] = y[c][i];
+            r[1][c][i] = ydiff;
+            r[2][c][i] = bspl;
+            r[3][c][i] = ydiff - h * k[12][c][i] - bspl;
+        }
+    }
+    Ok(r)
+}
+
+/// Evaluates the dense output at s = (t − t_old)/h ∈ [0, 1].
+pub(crate) fn eval_dense<const N: usize>(r: &[Y<N>; 8], s: f64) -> Y<N> {
+    let s1 = 1.0 - s;
+    let mut out = [[0.0; N]; 2];
+    for c in 0..2 {
+        for i in 0..N {
+            let conpar = r[4][c][i] + s * (r[5][c][i] + s1 * (r[6][c][i] + s * r[7][c][i]));
+            out[c][i] =
+                r[0][c][i] + s * (r[1][c][i] + s1 * (r[2][c][i] + s * (r[3][c][i] + s1 * conpar)));
+        }
+    }
+    out
+}
+
+/// The adaptive DOP853 stepper.
+pub(crate) struct Dop853<'a, L: ?Sized, const N: usize> {
+    sys: &'a L,
+    rtol: f64,
+    atol: f64,
+    hmax: f64,
+    t: f64,
+    y: Y<N>,
+    t_old: f64,
+    y_old: Y<N>,
+    h_old: f64,
+    /// Stages of the last accepted step; k[12] = f(t, y) at the current node.
+    k: [Y<N>; 16],
+    /// Dense-output coefficients of the last step, once evaluated.
+    r: Option<[Y<N>; 8]>,
+    h: f64,
+    ctrl: Controller,
+    rejected_last: bool,
+}
+
+impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
+    /// Starts at (t0, y0); evaluates f there and picks the first step.
+    pub(crate) fn new(
+        sys: &'a L,
+        t0: f64,
+        y0: Y<N>,
+        rtol: f64,
+        atol: f64,
+        hmax: f64,
+        stats: &mut Stats,
+    ) -> Result<Self, Fault> {
+        let f = rhs(sys, t0, &y0, stats)?;
+        let h = initial_step(sys, t0, &y0, &f, 8, rtol, atol, hmax, stats)?;
+        let mut k = [[[0.0; N]; 2]; 16];
+        k[12] = f;
+        Ok(Dop853 {
+            sys,
+            rtol,
+            atol,
+            hmax,
+            t: t0,
+            y: y0,
+            t_old: t0,
+            y_old: y0,
+            h_old: 0.0,
+            k,
+            r: None,
+            h,
+            // The shared PI controller with β = 0.04 (expo1 = 1/8 − 0.2 β) and Hairer's dop853
+            // factor limits [1/3, 6].
+            ctrl: Controller::new(1.0 / 8.0 - 0.04 * 0.2, 0.04, 0.333, 6.0),
+            rejected_last: false,
+        })
+    }
+}
+
+impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_old
+    }
+    fn last_state(&self) -> Y<N> {
+        self.y
+    }
+    fn node(&mut self, _stats: &mut Stats) -> Result<Y<N>, Fault> {
+        Ok(self.y)
+    }
+    fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
+        let mut last_failure: Option<Fault> = None;
+        let f0 = self.k[12];
+        loop {
+            let mut h = self.h.min(self.hmax);
+            let mut last = false;
+            if self.t + 1.01 * h >= t_end {
+                h = t_end - self.t;
+                last = true;
+            }
+            if too_small(h, self.t) {
+                return Err(last_failure.unwrap_or(Fault::Underflow { h }));
+            }
+            let attempt = step(
+                self.sys, self.t, &self.y, &f0, h, self.rtol, self.atol, stats,
+            )
+            .and_then(|(k, y1, err)| {
+                if err <= 1.0 {
+                    // f at the new point: needed for the next step (FSAL) and the dense output.
+                    let f1 = rhs(self.sys, self.t + h, &y1, stats)?;
+                    Ok((k, y1, err, Some(f1)))
+                } else {
+                    Ok((k, y1, err, None))
+                }
+            });
+            match attempt {
+                Ok((mut k, y1, err, Some(f1))) => {
+                    stats.steps += 1;
+                    k[12] = f1;
+                    self.k = k;
+                    self.r = None;
+                    self.h = self.ctrl.accepted(h, err, self.rejected_last);
+                    self.rejected_last = false;
+                    self.t_old = self.t;
+                    self.y_old = self.y;
+                    self.h_old = h;
+                    self.t = if last { t_end } else { self.t + h };
+                    self.y = y1;
+                    return Ok(());
+                }
+                Ok((_, _, err, None)) if err.is_finite() => {
+                    stats.rejected += 1;
+                    self.rejected_last = true;
+                    self.h = self.ctrl.rejected(h, err);
+                }
+                Ok(_) => {
+                    stats.rejected += 1;
+                    self.rejected_last = true;
+                    self.h = 0.25 * h;
+                    last_failure = Some(Fault::NonFinite);
+                }
+                Err(f) => {
+                    // A stage left the domain of the dynamics: retry with a smaller step.
+                    stats.rejected += 1;
+                    self.rejected_last = true;
+                    self.h = 0.25 * h;
+                    last_failure = Some(f);
+                }
+            }
+        }
+    }
+    fn interp(&mut self, t: f64, stats: &mut Stats) -> Result<Y<N>, Fault> {
+        if t >= self.t {
+            return Ok(self.y);
+        }
+        let r = match self.r {
+            Some(r) => r,
+            None => {
+                let r = dense(
+                    self.sys,
+                    self.t_old,
+                    &self.y_old,
+                    &self.y,
+                    &mut self.k,
+                    self.h_old,
+                    stats,
+                )?;
+                self.r = Some(r);
+                r
+            }
+        };
+        Ok(eval_dense(&r, (t - self.t_old) / self.h_old))
+    }
+}

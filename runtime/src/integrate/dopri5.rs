@@ -1,0 +1,245 @@
+//! Dormand–Prince 5(4) (`dopri5` of Hairer, Nørsett & Wanner): FSAL, local extrapolation, PI
+//! step-size control and the 4th-order continuous extension of Dormand & Prince / Shampine.
+
+use crate::lagrangian::Lagrangian;
+
+use super::simulation::Stepper;
+use super::tableau::{
+    combine, finite, initial_step, rhs, scales, sum_sq, too_small, weighted, Controller, Fault, Y,
+};
+use super::trajectory::Stats;
+
+const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+const A: [[f64; 6]; 7] = [
+    [0.0; 6],
+    [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+        0.0,
+    ],
+    // the 5th-order weights b (FSAL: stage 7 is f(t + h, y₁))
+    [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+    ],
+];
+/// b − b̂ (the embedded 4th-order solution), over the 7 stages.
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+/// Dense-output coefficients (rcont5 of `dopri5.f`), over the 7 stages.
+const D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
+
+/// One Dormand–Prince step of size h from (t, y) with k₀ = f(t, y): the stages (k₆ = f(t+h, y₁)),
+/// y₁ and the error estimate h Σ eⱼkⱼ.
+#[allow(clippy::type_complexity)]
+pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
+    sys: &L,
+    t: f64,
+    y: &Y<N>,
+    f0: &Y<N>,
+    h: f64,
+    stats: &mut Stats,
+) -> Result<([Y<N>; 7], Y<N>, Y<N>), Fault> {
+    let mut k = [[[0.0; N]; 2]; 7];
+    k[0] = *f0;
+    for s in 1..6 {
+        let ys = combine(y, h, &A[s][..s], &k[..s]);
+        k[s] = rhs(sys, t + C[s] * h, &ys, stats)?;
+    }
+    let y1 = combine(y, h, &A[6], &k[..6]);
+    if !finite(&y1) {
+        return Err(Fault::NonFinite);
+    }
+    k[6] = rhs(sys, t + h, &y1, stats)?;
+    let mut err = weighted(&E, &k);
+    for row in err.iter_mut() {
+        for e in row.iter_mut() {
+            *e *= h;
+        }
+    }
+    Ok((k, y1, err))
+}
+
+/// The coefficients of the continuous extension on [t, t + h].
+pub(crate) fn dense<const N: usize>(y: &Y<N>, y1: &Y<N>, k: &[Y<N>; 7], h: f64) -> [Y<N>; 5] {
+    let mut r = [[[0.0; N]; 2]; 5];
+    let d = weighted(&D, k);
+    for c in 0..2 {
+        for i in 0..N {
+            let ydiff = y1[c][i] - y[c][i];
+            let bspl = h * k[0][c][i] - ydiff;
+            r[0][c][i] = y[c][i];
+            r[1][c][i] = ydiff;
+            r[2][c][i] = bspl;
+            r[3][c][i] = ydiff - h * k[6][c][i] - bspl;
+            r[4][c][i] = h * d[c][i];
+        }
+    }
+    r
+}
+
+/// Evaluates the continuous extension at θ = (t − t_old)/h ∈ [0, 1].
+pub(crate) fn eval_dense<const N: usize>(r: &[Y<N>; 5], theta: f64) -> Y<N> {
+    let t1 = 1.0 - theta;
+    let mut out = [[0.0; N]; 2];
+    for c in 0..2 {
+        for i in 0..N {
+            out[c][i] = r[0][c][i]
+                + theta * (r[1][c][i] + t1 * (r[2][c][i] + theta * (r[3][c][i] + t1 * r[4][c][i])));
+        }
+    }
+    out
+}
+
+/// The adaptive Dormand–Prince 5(4) stepper.
+pub(crate) struct Dopri5<'a, L: ?Sized, const N: usize> {
+    sys: &'a L,
+    rtol: f64,
+    atol: f64,
+    hmax: f64,
+    t: f64,
+    y: Y<N>,
+    f: Y<N>,
+    t_old: f64,
+    h_old: f64,
+    r: [Y<N>; 5],
+    h: f64,
+    ctrl: Controller,
+    rejected_last: bool,
+}
+
+impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dopri5<'a, L, N> {
+    /// Starts at (t0, y0); evaluates f there and picks the first step.
+    pub(crate) fn new(
+        sys: &'a L,
+        t0: f64,
+        y0: Y<N>,
+        rtol: f64,
+        atol: f64,
+        hmax: f64,
+        stats: &mut Stats,
+    ) -> Result<Self, Fault> {
+        let f = rhs(sys, t0, &y0, stats)?;
+        let h = initial_step(sys, t0, &y0, &f, 5, rtol, atol, hmax, stats)?;
+        Ok(Dopri5 {
+            sys,
+            rtol,
+            atol,
+            hmax,
+            t: t0,
+            y: y0,
+            f,
+            t_old: t0,
+            h_old: 0.0,
+            r: [y0; 5],
+            h,
+            // β = 0.04, expo1 = 1/5 − 0.75 β: Hairer's defaults for dopri5.
+            ctrl: Controller::new(0.2 - 0.04 * 0.75, 0.04, 0.2, 10.0),
+            rejected_last: false,
+        })
+    }
+}
+
+impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_old
+    }
+    fn last_state(&self) -> Y<N> {
+        self.y
+    }
+    fn node(&mut self, _stats: &mut Stats) -> Result<Y<N>, Fault> {
+        Ok(self.y)
+    }
+    fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
+        let mut last_failure: Option<Fault> = None;
+        loop {
+            let mut h = self.h.min(self.hmax);
+            let mut last = false;
+            if self.t + 1.01 * h >= t_end {
+                h = t_end - self.t;
+                last = true;
+            }
+            if too_small(h, self.t) {
+                return Err(last_failure.unwrap_or(Fault::Underflow { h }));
+            }
+            match step(self.sys, self.t, &self.y, &self.f, h, stats) {
+                Ok((k, y1, e)) => {
+                    let sk = scales(self.rtol, self.atol, &self.y, &y1);
+                    let err = (sum_sq(&e, &sk) / (2 * N) as f64).sqrt();
+                    if !err.is_finite() {
+                        stats.rejected += 1;
+                        self.rejected_last = true;
+                        self.h = 0.25 * h;
+                        last_failure = Some(Fault::NonFinite);
+                        continue;
+                    }
+                    if err <= 1.0 {
+                        stats.steps += 1;
+                        self.r = dense(&self.y, &y1, &k, h);
+                        self.h = self.ctrl.accepted(h, err, self.rejected_last);
+                        self.rejected_last = false;
+                        self.t_old = self.t;
+                        self.h_old = h;
+                        self.t = if last { t_end } else { self.t + h };
+                        self.y = y1;
+                        self.f = k[6];
+                        return Ok(());
+                    }
+                    stats.rejected += 1;
+                    self.rejected_last = true;
+                    self.h = self.ctrl.rejected(h, err);
+                }
+                Err(f) => {
+                    // A stage left the domain of the dynamics: retry with a smaller step.
+                    stats.rejected += 1;
+                    self.rejected_last = true;
+                    self.h = 0.25 * h;
+                    last_failure = Some(f);
+                }
+            }
+        }
+    }
+    fn interp(&mut self, t: f64, _stats: &mut Stats) -> Result<Y<N>, Fault> {
+        if t >= self.t {
+            return Ok(self.y);
+        }
+        let theta = (t - self.t_old) / self.h_old;
+        Ok(eval_dense(&self.r, theta))
+    }
+}

@@ -1,0 +1,276 @@
+//! [`SimulationError`]: what stopped a run, where (t and the state), what to try, and the
+//! trajectory up to that point.
+
+use core::any::Any;
+use core::fmt;
+
+use crate::error::DynamicsError;
+
+use super::trajectory::Trajectory;
+
+/// The trajectory computed before a run failed (type-erased so that [`SimulationError`] does not
+/// depend on the number of coordinates). Get it back with
+/// [`SimulationError::partial_trajectory`].
+///
+/// ```
+/// use lagrange_runtime::PartialTrajectory;
+/// let p = PartialTrajectory::none();
+/// assert!(p.get::<2>().is_none());
+/// ```
+pub struct PartialTrajectory(Option<Box<dyn Any + Send + Sync>>);
+
+impl PartialTrajectory {
+    pub(crate) fn new<const N: usize>(t: Trajectory<N>) -> Self {
+        PartialTrajectory(Some(Box::new(t)))
+    }
+    /// No trajectory (the run was rejected before the first step).
+    ///
+    /// ```
+    /// assert!(lagrange_runtime::PartialTrajectory::none().get::<1>().is_none());
+    /// ```
+    pub fn none() -> Self {
+        PartialTrajectory(None)
+    }
+    /// The trajectory, if there is one and it has `N` coordinates.
+    ///
+    /// ```
+    /// assert!(lagrange_runtime::PartialTrajectory::none().get::<3>().is_none());
+    /// ```
+    pub fn get<const N: usize>(&self) -> Option<&Trajectory<N>> {
+        self.0.as_ref()?.downcast_ref::<Trajectory<N>>()
+    }
+    fn take<const N: usize>(self) -> Option<Trajectory<N>> {
+        self.0?.downcast::<Trajectory<N>>().ok().map(|b| *b)
+    }
+}
+
+impl fmt::Debug for PartialTrajectory {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Some(_) => f.write_str("PartialTrajectory(..)"),
+            None => f.write_str("PartialTrajectory(none)"),
+        }
+    }
+}
+
+/// Why a [`Simulation`](crate::Simulation) stopped before reaching its end time.
+///
+/// Every variant after [`SimulationError::InvalidOptions`] carries the time and the last accepted
+/// state, and the trajectory computed up to it ([`SimulationError::partial_trajectory`]).
+///
+/// ```
+/// use lagrange_runtime::{Lagrangian, Scalar, Simulation, SimulationError, Method};
+/// struct Osc;
+/// impl Lagrangian<1> for Osc {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+/// }
+/// let err = Simulation::new(&Osc, [1.0], [0.0]).method(Method::Rk4 { dt: 0.1 }).until(10.0).max_steps(5).run().unwrap_err();
+/// assert!(matches!(err, SimulationError::MaxSteps { .. }));
+/// assert_eq!(err.partial_trajectory::<1>().unwrap().t.len(), 6);
+/// ```
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum SimulationError {
+    /// The options were rejected by `run()` before any step.
+    InvalidOptions {
+        /// What is wrong and what to do.
+        message: String,
+    },
+    /// The adaptive step size fell below the round-off limit at t.
+    StepSizeUnderflow {
+        /// Time of the last accepted state.
+        t: f64,
+        /// Last accepted coordinates.
+        q: Vec<f64>,
+        /// Last accepted velocities.
+        qdot: Vec<f64>,
+        /// The step that was too small.
+        h: f64,
+        /// The trajectory up to t.
+        partial: PartialTrajectory,
+    },
+    /// The run needed more steps than `max_steps`.
+    MaxSteps {
+        /// Time reached.
+        t: f64,
+        /// Coordinates there.
+        q: Vec<f64>,
+        /// Velocities there.
+        qdot: Vec<f64>,
+        /// The limit.
+        max_steps: usize,
+        /// The trajectory up to t.
+        partial: PartialTrajectory,
+    },
+    /// The state became NaN or infinite in the step after t.
+    NonFinite {
+        /// Time of the last finite state.
+        t: f64,
+        /// Last finite coordinates.
+        q: Vec<f64>,
+        /// Last finite velocities.
+        qdot: Vec<f64>,
+        /// The trajectory up to t.
+        partial: PartialTrajectory,
+    },
+    /// The equations of motion could not be solved (singular mass matrix, non-finite derivatives);
+    /// the inner error carries the state where it happened.
+    Dynamics {
+        /// The dynamics' error (its t, q, q̇ are where it happened).
+        source: Box<DynamicsError>,
+        /// Time of the last accepted state.
+        t: f64,
+        /// Last accepted coordinates.
+        q: Vec<f64>,
+        /// Last accepted velocities.
+        qdot: Vec<f64>,
+        /// The trajectory up to t.
+        partial: PartialTrajectory,
+    },
+    /// Newton's method of the variational integrator did not converge in the step after t.
+    NewtonFailed {
+        /// Time of the last accepted state.
+        t: f64,
+        /// Last accepted coordinates.
+        q: Vec<f64>,
+        /// Last accepted velocities.
+        qdot: Vec<f64>,
+        /// Newton iterations made.
+        iterations: usize,
+        /// The residual (∞-norm, in momentum units) when it gave up.
+        residual: f64,
+        /// Which solve failed and why.
+        reason: &'static str,
+        /// The trajectory up to t.
+        partial: PartialTrajectory,
+    },
+}
+
+impl SimulationError {
+    /// The time of the last accepted state (`None` for invalid options).
+    ///
+    /// ```
+    /// use lagrange_runtime::SimulationError;
+    /// assert_eq!(SimulationError::InvalidOptions { message: String::new() }.t(), None);
+    /// ```
+    pub fn t(&self) -> Option<f64> {
+        match self {
+            SimulationError::InvalidOptions { .. } => None,
+            SimulationError::StepSizeUnderflow { t, .. }
+            | SimulationError::MaxSteps { t, .. }
+            | SimulationError::NonFinite { t, .. }
+            | SimulationError::Dynamics { t, .. }
+            | SimulationError::NewtonFailed { t, .. } => Some(*t),
+        }
+    }
+
+    fn partial(&self) -> Option<&PartialTrajectory> {
+        match self {
+            SimulationError::InvalidOptions { .. } => None,
+            SimulationError::StepSizeUnderflow { partial, .. }
+            | SimulationError::MaxSteps { partial, .. }
+            | SimulationError::NonFinite { partial, .. }
+            | SimulationError::Dynamics { partial, .. }
+            | SimulationError::NewtonFailed { partial, .. } => Some(partial),
+        }
+    }
+
+    /// The trajectory computed up to the failure (samples, events, counters), if the run started
+    /// and it has `N` coordinates. Its last sample is the last accepted state.
+    ///
+    /// ```
+    /// use lagrange_runtime::SimulationError;
+    /// let e = SimulationError::InvalidOptions { message: "dt ≤ 0".into() };
+    /// assert!(e.partial_trajectory::<1>().is_none());
+    /// ```
+    pub fn partial_trajectory<const N: usize>(&self) -> Option<&Trajectory<N>> {
+        self.partial()?.get::<N>()
+    }
+
+    /// Takes the partial trajectory out of the error.
+    ///
+    /// ```
+    /// use lagrange_runtime::SimulationError;
+    /// assert!(SimulationError::InvalidOptions { message: String::new() }.into_partial_trajectory::<1>().is_none());
+    /// ```
+    pub fn into_partial_trajectory<const N: usize>(self) -> Option<Trajectory<N>> {
+        match self {
+            SimulationError::InvalidOptions { .. } => None,
+            SimulationError::StepSizeUnderflow { partial, .. }
+            | SimulationError::MaxSteps { partial, .. }
+            | SimulationError::NonFinite { partial, .. }
+            | SimulationError::Dynamics { partial, .. }
+            | SimulationError::NewtonFailed { partial, .. } => partial.take::<N>(),
+        }
+    }
+}
+
+impl fmt::Display for SimulationError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SimulationError::InvalidOptions { message } => {
+                write!(f, "invalid simulation options: {message}")
+            }
+            SimulationError::StepSizeUnderflow { t, q, qdot, h, .. } => write!(
+                f,
+                "step size underflow at t = {t}, q = {q:?}, q̇ = {qdot:?}: the adaptive step shrank to \
+                 h = {h:e}, below what round-off in t allows. The solution is probably singular or \
+                 extremely stiff here (a collision, a blow-up, a chart singularity). Try: check the state \
+                 and parameters near this time, loosen rtol/atol, or use other coordinates. The \
+                 trajectory up to t is kept (partial_trajectory())."
+            ),
+            SimulationError::MaxSteps {
+                t,
+                q,
+                qdot,
+                max_steps,
+                ..
+            } => write!(
+                f,
+                "maximum number of steps ({max_steps}) reached at t = {t}, q = {q:?}, q̇ = {qdot:?}. \
+                 Try: raise .max_steps(), loosen the tolerances or enlarge dt, or shorten the run. The \
+                 trajectory up to t is kept (partial_trajectory())."
+            ),
+            SimulationError::NonFinite { t, q, qdot, .. } => write!(
+                f,
+                "the state became NaN or infinite in the step after t = {t} (last finite state q = \
+                 {q:?}, q̇ = {qdot:?}). Try: a smaller dt or tighter tolerances, and check that L is \
+                 defined along the motion. The trajectory up to t is kept (partial_trajectory())."
+            ),
+            SimulationError::Dynamics {
+                source, t, q, qdot, ..
+            } => write!(
+                f,
+                "the equations of motion failed in the step after t = {t} (last accepted q = {q:?}, \
+                 q̇ = {qdot:?}): {source} The trajectory up to t is kept (partial_trajectory())."
+            ),
+            SimulationError::NewtonFailed {
+                t,
+                q,
+                qdot,
+                iterations,
+                residual,
+                reason,
+                ..
+            } => write!(
+                f,
+                "the variational integrator's Newton solve failed in the step after t = {t} (q = {q:?}, \
+                 q̇ = {qdot:?}): {reason}; {iterations} iterations, residual {residual:e}. Try: a smaller \
+                 dt, or an explicit method (Dop853) to see whether the motion itself is singular here. \
+                 The trajectory up to t is kept (partial_trajectory())."
+            ),
+        }
+    }
+}
+
+impl std::error::Error for SimulationError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            SimulationError::Dynamics { source, .. } => Some(source.as_ref()),
+            _ => None,
+        }
+    }
+}

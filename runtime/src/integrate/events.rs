@@ -1,0 +1,290 @@
+//! Events: zero crossings of a user function g(t, q, q̇), located by Brent's method on the
+//! method's interpolant.
+
+use core::fmt;
+
+/// Which sign changes of g count as an event.
+///
+/// ```
+/// use lagrange_runtime::{Direction, Event};
+/// let e = Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).falling();
+/// assert_eq!(e.direction(), Direction::Falling);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// g goes from negative to non-negative.
+    Rising,
+    /// g goes from positive to non-positive.
+    Falling,
+    /// Either.
+    Any,
+}
+
+/// The event function's type: g(t, q, q̇).
+type EventFn<'a, const N: usize> = Box<dyn Fn(f64, &[f64; N], &[f64; N]) -> f64 + 'a>;
+
+/// A zero crossing to detect during a run: g(t, q, q̇) = 0, with a direction filter and an
+/// optional terminal flag (the run stops at the first terminal hit).
+///
+/// ```
+/// use lagrange_runtime::{Direction, Event};
+/// let e = Event::zero_crossing("apex", |_t, _q, v: &[f64; 2]| v[1]).rising().terminal();
+/// assert_eq!((e.name(), e.direction(), e.is_terminal()), ("apex", Direction::Rising, true));
+/// ```
+pub struct Event<'a, const N: usize> {
+    name: String,
+    g: EventFn<'a, N>,
+    direction: Direction,
+    terminal: bool,
+}
+
+impl<'a, const N: usize> Event<'a, N> {
+    /// An event at the zeros of g(t, q, q̇), in either direction, not terminal.
+    ///
+    /// ```
+    /// use lagrange_runtime::Event;
+    /// let e = Event::zero_crossing("turning point", |_t, _q, v: &[f64; 1]| v[0]);
+    /// assert_eq!(e.value(0.0, &[1.0], &[-2.0]), -2.0);
+    /// ```
+    pub fn zero_crossing<F>(name: impl Into<String>, g: F) -> Self
+    where
+        F: Fn(f64, &[f64; N], &[f64; N]) -> f64 + 'a,
+    {
+        Event {
+            name: name.into(),
+            g: Box::new(g),
+            direction: Direction::Any,
+            terminal: false,
+        }
+    }
+
+    /// Only crossings with this direction count.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Direction, Event};
+    /// let e = Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).direction_filter(Direction::Rising);
+    /// assert_eq!(e.direction(), Direction::Rising);
+    /// ```
+    pub fn direction_filter(mut self, direction: Direction) -> Self {
+        self.direction = direction;
+        self
+    }
+
+    /// Only crossings where g increases (− to +) count.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Direction, Event};
+    /// assert_eq!(Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).rising().direction(), Direction::Rising);
+    /// ```
+    pub fn rising(self) -> Self {
+        self.direction_filter(Direction::Rising)
+    }
+
+    /// Only crossings where g decreases (+ to −) count.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Direction, Event};
+    /// assert_eq!(Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).falling().direction(), Direction::Falling);
+    /// ```
+    pub fn falling(self) -> Self {
+        self.direction_filter(Direction::Falling)
+    }
+
+    /// Stop the run at the first hit of this event (the trajectory ends at the event).
+    ///
+    /// ```
+    /// use lagrange_runtime::Event;
+    /// assert!(Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).terminal().is_terminal());
+    /// ```
+    pub fn terminal(mut self) -> Self {
+        self.terminal = true;
+        self
+    }
+
+    /// The event's name.
+    ///
+    /// ```
+    /// use lagrange_runtime::Event;
+    /// assert_eq!(Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).name(), "x");
+    /// ```
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The direction filter.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Direction, Event};
+    /// assert_eq!(Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).direction(), Direction::Any);
+    /// ```
+    pub fn direction(&self) -> Direction {
+        self.direction
+    }
+
+    /// Whether the run stops at this event.
+    ///
+    /// ```
+    /// use lagrange_runtime::Event;
+    /// assert!(!Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).is_terminal());
+    /// ```
+    pub fn is_terminal(&self) -> bool {
+        self.terminal
+    }
+
+    /// g(t, q, q̇).
+    ///
+    /// ```
+    /// use lagrange_runtime::Event;
+    /// let e = Event::zero_crossing("x", |t, q: &[f64; 1], _v| q[0] - t);
+    /// assert_eq!(e.value(1.0, &[3.0], &[0.0]), 2.0);
+    /// ```
+    pub fn value(&self, t: f64, q: &[f64; N], qdot: &[f64; N]) -> f64 {
+        (self.g)(t, q, qdot)
+    }
+
+    /// Whether a change of g from `g0` to `g1` over a step is a crossing this event reports.
+    pub(crate) fn crosses(&self, g0: f64, g1: f64) -> Option<Direction> {
+        let rising = g0 < 0.0 && g1 >= 0.0;
+        let falling = g0 > 0.0 && g1 <= 0.0;
+        match self.direction {
+            Direction::Rising if rising => Some(Direction::Rising),
+            Direction::Falling if falling => Some(Direction::Falling),
+            Direction::Any if rising => Some(Direction::Rising),
+            Direction::Any if falling => Some(Direction::Falling),
+            _ => None,
+        }
+    }
+}
+
+impl<const N: usize> fmt::Debug for Event<'_, N> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Event")
+            .field("name", &self.name)
+            .field("direction", &self.direction)
+            .field("terminal", &self.terminal)
+            .finish_non_exhaustive()
+    }
+}
+
+/// One located event: which event, when, the state there and the direction of the crossing.
+///
+/// ```
+/// use lagrange_runtime::{Direction, EventHit};
+/// let hit = EventHit { name: "x".to_string(), t: 1.0, q: [0.0], qdot: [1.0], direction: Direction::Rising };
+/// assert_eq!(hit.t, 1.0);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct EventHit<const N: usize> {
+    /// The event's name.
+    pub name: String,
+    /// Time of the zero (to 1e-12 on the interpolant).
+    pub t: f64,
+    /// Coordinates at the zero.
+    pub q: [f64; N],
+    /// Velocities at the zero.
+    pub qdot: [f64; N],
+    /// Whether g was rising or falling through zero.
+    pub direction: Direction,
+}
+
+/// Brent's method (Numerical Recipes `zbrent`) for a root of f in [a, b] where f(a), f(b) have
+/// opposite signs (or one is zero), to `tol` in the argument.
+pub(crate) fn brent<E>(
+    mut f: impl FnMut(f64) -> Result<f64, E>,
+    a: f64,
+    b: f64,
+    fa: f64,
+    fb: f64,
+    tol: f64,
+) -> Result<f64, E> {
+    let (mut a, mut b, mut fa, mut fb) = (a, b, fa, fb);
+    if fa == 0.0 {
+        return Ok(a);
+    }
+    if fb == 0.0 {
+        return Ok(b);
+    }
+    let (mut c, mut fc) = (b, fb);
+    let mut d = b - a;
+    let mut e = d;
+    for _ in 0..200 {
+        if (fb > 0.0 && fc > 0.0) || (fb < 0.0 && fc < 0.0) {
+            c = a;
+            fc = fa;
+            d = b - a;
+            e = d;
+        }
+        if fc.abs() < fb.abs() {
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
+        }
+        let tol1 = 2.0 * f64::EPSILON * b.abs() + 0.5 * tol;
+        let xm = 0.5 * (c - b);
+        if xm.abs() <= tol1 || fb == 0.0 {
+            return Ok(b);
+        }
+        if e.abs() >= tol1 && fa.abs() > fb.abs() {
+            let s = fb / fa;
+            let (mut p, mut q) = if a == c {
+                (2.0 * xm * s, 1.0 - s)
+            } else {
+                let q = fa / fc;
+                let r = fb / fc;
+                (
+                    s * (2.0 * xm * q * (q - r) - (b - a) * (r - 1.0)),
+                    (q - 1.0) * (r - 1.0) * (s - 1.0),
+                )
+            };
+            if p > 0.0 {
+                q = -q;
+            }
+            p = p.abs();
+            let min1 = 3.0 * xm * q - (tol1 * q).abs();
+            let min2 = (e * q).abs();
+            if 2.0 * p < min1.min(min2) {
+                e = d;
+                d = p / q;
+            } else {
+                d = xm;
+                e = d;
+            }
+        } else {
+            d = xm;
+            e = d;
+        }
+        a = b;
+        fa = fb;
+        b += if d.abs() > tol1 { d } else { tol1.copysign(xm) };
+        fb = f(b)?;
+        if !fb.is_finite() {
+            return Ok(b);
+        }
+    }
+    Ok(b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn brent_finds_cos_root_to_1e_12() {
+        let r: Result<f64, ()> = brent(|x| Ok(x.cos()), 1.0, 2.0, 1f64.cos(), 2f64.cos(), 1e-12);
+        assert!((r.unwrap() - core::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn crossing_directions() {
+        let any = Event::zero_crossing("g", |_t, q: &[f64; 1], _v| q[0]);
+        assert_eq!(any.crosses(-1.0, 1.0), Some(Direction::Rising));
+        assert_eq!(any.crosses(1.0, 0.0), Some(Direction::Falling));
+        assert_eq!(any.crosses(0.0, 1.0), None);
+        let up = Event::zero_crossing("g", |_t, q: &[f64; 1], _v| q[0]).rising();
+        assert_eq!(up.crosses(1.0, -1.0), None);
+        assert_eq!(up.crosses(-1.0, 2.0), Some(Direction::Rising));
+    }
+}

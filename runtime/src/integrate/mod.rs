@@ -1,0 +1,49 @@
+//! Time integration of any [`Lagrangian`](crate::Lagrangian): RK4, Dormand–Prince 5(4), DOP853
+//! and a variational midpoint integrator, with dense output, events and invariant reports.
+//!
+//! Build a run with [`Simulation`], pick a [`Method`], add [`Event`]s, and [`Simulation::run`] it to
+//! get a [`Trajectory`] (or a [`SimulationError`] that still holds the trajectory up to the
+//! failure).
+//!
+//! ```
+//! use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method, Event};
+//! /// x'' = -x.
+//! struct Osc;
+//! impl Lagrangian<1> for Osc {
+//!     const COORDINATES: [&'static str; 1] = ["x"];
+//!     const CYCLIC: [bool; 1] = [false];
+//!     const AUTONOMOUS: bool = true;
+//!     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+//!         (v[0] * v[0] - q[0] * q[0]) * 0.5
+//!     }
+//! }
+//! let traj = Simulation::new(&Osc, [1.0], [0.0])
+//!     .method(Method::Dop853 { rtol: 1e-10, atol: 1e-12 })
+//!     .until(4.0)
+//!     .sample_every(0.5)
+//!     .event(Event::zero_crossing("x = 0", |_t, q: &[f64; 1], _v| q[0]))
+//!     .run()
+//!     .unwrap();
+//! assert!((traj.events[0].t - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
+//! assert_eq!(traj.t.len(), 9);
+//! assert!((traj.q[8][0] - 4.0_f64.cos()).abs() < 1e-8);
+//! ```
+
+mod dop853;
+mod dop853_coefficients;
+mod dopri5;
+mod error;
+mod events;
+mod rk4;
+mod simulation;
+mod tableau;
+mod trajectory;
+mod variational;
+
+pub use error::{PartialTrajectory, SimulationError};
+pub use events::{Direction, Event, EventHit};
+pub use simulation::{Method, Simulation};
+pub use trajectory::{Drift, Invariants, Stats, Trajectory, INVARIANT_FLOOR};
+
+#[cfg(test)]
+mod tests;

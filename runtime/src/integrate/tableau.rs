@@ -1,0 +1,197 @@
+//! Shared machinery of the explicit Runge–Kutta methods: the first-order state y = (q, q̇), the
+//! right-hand side, linear combinations of stages, the weighted error norm, Hairer's initial step
+//! and the PI step-size controller.
+
+use crate::error::DynamicsError;
+use crate::lagrangian::Lagrangian;
+
+use super::trajectory::Stats;
+
+/// The first-order state y = (q, q̇): `y[0]` = q, `y[1]` = q̇.
+pub(crate) type Y<const N: usize> = [[f64; N]; 2];
+
+/// Why a stepper could not go on (the driver adds t, the state and the partial trajectory).
+#[derive(Debug)]
+pub(crate) enum Fault {
+    /// The dynamics failed at an accepted state (or every retry failed).
+    Dynamics(DynamicsError),
+    /// The adaptive step fell below the round-off limit.
+    Underflow { h: f64 },
+    /// The state became NaN or infinite.
+    NonFinite,
+    /// The step budget is used up.
+    MaxSteps(usize),
+    /// The implicit step (or the inverse Legendre map) did not converge.
+    Newton {
+        iterations: usize,
+        residual: f64,
+        reason: &'static str,
+    },
+}
+
+impl From<DynamicsError> for Fault {
+    fn from(e: DynamicsError) -> Self {
+        Fault::Dynamics(e)
+    }
+}
+
+/// f(t, y) = (q̇, q̈(q, q̇, t)), counted in `stats`.
+#[inline(always)]
+pub(crate) fn rhs<L: Lagrangian<N> + ?Sized, const N: usize>(
+    sys: &L,
+    t: f64,
+    y: &Y<N>,
+    stats: &mut Stats,
+) -> Result<Y<N>, DynamicsError> {
+    stats.rhs_evals += 1;
+    let a = sys.accelerations(&y[0], &y[1], t)?;
+    Ok([y[1], a])
+}
+
+/// y + h Σ_j a_j k_j over the stages given (zero coefficients skipped).
+#[inline(always)]
+pub(crate) fn combine<const N: usize>(y: &Y<N>, h: f64, a: &[f64], k: &[Y<N>]) -> Y<N> {
+    let mut out = *y;
+    for (aj, kj) in a.iter().zip(k) {
+        if *aj != 0.0 {
+            let c = h * aj;
+            for r in 0..2 {
+                for i in 0..N {
+                    out[r][i] += c * kj[r][i];
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Σ_j a_j k_j (no base, no h).
+#[inline(always)]
+pub(crate) fn weighted<const N: usize>(a: &[f64], k: &[Y<N>]) -> Y<N> {
+    combine(&[[0.0; N]; 2], 1.0, a, k)
+}
+
+/// Whether every component is finite.
+#[inline(always)]
+pub(crate) fn finite<const N: usize>(y: &Y<N>) -> bool {
+    y.iter().flatten().all(|x| x.is_finite())
+}
+
+/// The error weights sk = atol + rtol · max(|y|, |y_new|), per component.
+#[inline(always)]
+pub(crate) fn scales<const N: usize>(rtol: f64, atol: f64, y: &Y<N>, y_new: &Y<N>) -> Y<N> {
+    let mut s = [[0.0; N]; 2];
+    for r in 0..2 {
+        for i in 0..N {
+            s[r][i] = atol + rtol * y[r][i].abs().max(y_new[r][i].abs());
+        }
+    }
+    s
+}
+
+/// Σ (e_i / sk_i)² over all 2N components.
+#[inline(always)]
+pub(crate) fn sum_sq<const N: usize>(e: &Y<N>, sk: &Y<N>) -> f64 {
+    let mut s = 0.0;
+    for r in 0..2 {
+        for i in 0..N {
+            let x = e[r][i] / sk[r][i];
+            s += x * x;
+        }
+    }
+    s
+}
+
+/// Hairer's starting step (`hinit` of `dopri5.f`/`dop853.f`) for a method of order `order`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn initial_step<L: Lagrangian<N> + ?Sized, const N: usize>(
+    sys: &L,
+    t: f64,
+    y: &Y<N>,
+    f0: &Y<N>,
+    order: i32,
+    rtol: f64,
+    atol: f64,
+    hmax: f64,
+    stats: &mut Stats,
+) -> Result<f64, DynamicsError> {
+    let sk = scales(rtol, atol, y, y);
+    let dnf = sum_sq(f0, &sk);
+    let dny = sum_sq(y, &sk);
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+        1e-6
+    } else {
+        (dny / dnf).sqrt() * 0.01
+    };
+    h = h.min(hmax);
+    let y1 = combine(y, h, &[1.0], core::slice::from_ref(f0));
+    let f1 = rhs(sys, t + h, &y1, stats)?;
+    let mut d = [[0.0; N]; 2];
+    for r in 0..2 {
+        for i in 0..N {
+            d[r][i] = f1[r][i] - f0[r][i];
+        }
+    }
+    let der2 = sum_sq(&d, &sk).sqrt() / h;
+    let der12 = der2.abs().max(dnf.sqrt());
+    let h1 = if der12 <= 1e-15 {
+        (h * 1e-3).max(1e-6)
+    } else {
+        (0.01 / der12).powf(1.0 / f64::from(order))
+    };
+    Ok((100.0 * h).min(h1).min(hmax))
+}
+
+/// Hairer's PI step-size controller (Lund stabilisation, section IV.2 of Hairer & Wanner):
+/// h_new = h · safe · err^(−expo1) · err_old^β, the factor clamped to [1/fac_max, 1/fac_min].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Controller {
+    safe: f64,
+    /// 1/fac_min: the largest allowed shrink divisor (h_new ≥ h · fac_min).
+    facc1: f64,
+    /// 1/fac_max.
+    facc2: f64,
+    expo1: f64,
+    beta: f64,
+    facold: f64,
+}
+
+impl Controller {
+    /// A controller for an error estimate of order `q_err + 1` in h (expo1 = 1/(q_err+1) − β·γ).
+    pub(crate) fn new(expo1: f64, beta: f64, fac_min: f64, fac_max: f64) -> Self {
+        Controller {
+            safe: 0.9,
+            facc1: 1.0 / fac_min,
+            facc2: 1.0 / fac_max,
+            expo1,
+            beta,
+            facold: 1e-4,
+        }
+    }
+
+    /// The next step after an accepted step with error `err` ≤ 1.
+    pub(crate) fn accepted(&mut self, h: f64, err: f64, rejected_last: bool) -> f64 {
+        let fac11 = err.powf(self.expo1);
+        let fac = fac11 / self.facold.powf(self.beta);
+        let fac = self.facc2.max(self.facc1.min(fac / self.safe));
+        self.facold = err.max(1e-4);
+        let h_new = h / fac;
+        if rejected_last {
+            h_new.min(h)
+        } else {
+            h_new
+        }
+    }
+
+    /// The retry step after a rejected step with error `err` > 1.
+    pub(crate) fn rejected(&self, h: f64, err: f64) -> f64 {
+        let fac11 = err.powf(self.expo1);
+        h / self.facc1.min(fac11 / self.safe)
+    }
+}
+
+/// The smallest step the adaptive methods accept at time t (Hairer: 0.1|h| ≤ |t|·uround).
+#[inline]
+pub(crate) fn too_small(h: f64, t: f64) -> bool {
+    0.1 * h.abs() <= t.abs() * 2.3e-16 || h < 1e-300
+}

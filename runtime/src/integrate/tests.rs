@@ -1,0 +1,190 @@
+//! Unit tests of the single steps and interpolants: convergence orders with fixed steps.
+
+use super::tableau::Y;
+use super::trajectory::Stats;
+use super::{dop853, dopri5, rk4};
+use crate::lagrangian::Lagrangian;
+use crate::scalar::Scalar;
+
+/// x'' = −x.
+struct Osc;
+impl Lagrangian<1> for Osc {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        (v[0] * v[0] - q[0] * q[0]) * 0.5
+    }
+}
+
+/// Kepler problem (GM = 1) in Cartesian coordinates.
+struct Kepler;
+impl Lagrangian<2> for Kepler {
+    const COORDINATES: [&'static str; 2] = ["x", "y"];
+    const CYCLIC: [bool; 2] = [false, false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+        (v[0] * v[0] + v[1] * v[1]) * 0.5 + S::constant(1.0) / (q[0] * q[0] + q[1] * q[1]).sqrt()
+    }
+}
+
+/// Kepler ellipse with e = 0.5, a = 1 from perihelion: period 2π.
+fn kepler_start() -> Y<2> {
+    [[0.5, 0.0], [0.0, 3.0_f64.sqrt()]]
+}
+
+fn slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
+    for &(h, e) in points {
+        let (x, y) = (h.ln(), e.ln());
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
+    }
+    (n * sxy - sx * sy) / (n * sxx - sx * sx)
+}
+
+fn dist<const N: usize>(a: &Y<N>, b: &Y<N>) -> f64 {
+    let mut m = 0.0_f64;
+    for c in 0..2 {
+        for i in 0..N {
+            m = m.max((a[c][i] - b[c][i]).abs());
+        }
+    }
+    m
+}
+
+/// Integrates over one Kepler period with n fixed steps of the given single-step method.
+fn kepler_period<F>(n: usize, mut step: F) -> f64
+where
+    F: FnMut(f64, &Y<2>, &Y<2>, f64, &mut Stats) -> Y<2>,
+{
+    let mut stats = Stats::default();
+    let h = 2.0 * core::f64::consts::PI / n as f64;
+    let mut y = kepler_start();
+    for k in 0..n {
+        let t = k as f64 * h;
+        let f = super::tableau::rhs(&Kepler, t, &y, &mut stats).unwrap();
+        y = step(t, &y, &f, h, &mut stats);
+    }
+    dist(&y, &kepler_start())
+}
+
+#[test]
+fn rk4_fixed_step_is_order_4_on_kepler() {
+    let pts: Vec<_> = [400, 800, 1600]
+        .iter()
+        .map(|&n| {
+            let e = kepler_period(n, |t, y, f, h, s| {
+                rk4::step(&Kepler, t, y, f, h, s).unwrap()
+            });
+            (1.0 / n as f64, e)
+        })
+        .collect();
+    let p = slope(&pts);
+    assert!((p - 4.0).abs() < 0.2, "order {p}, points {pts:?}");
+}
+
+#[test]
+fn dopri5_fixed_step_is_order_5_on_kepler() {
+    let pts: Vec<_> = [200, 400, 800]
+        .iter()
+        .map(|&n| {
+            let e = kepler_period(n, |t, y, f, h, s| {
+                dopri5::step(&Kepler, t, y, f, h, s).unwrap().1
+            });
+            (1.0 / n as f64, e)
+        })
+        .collect();
+    let p = slope(&pts);
+    assert!((p - 5.0).abs() < 0.25, "order {p}, points {pts:?}");
+}
+
+#[test]
+fn dop853_fixed_step_is_order_8_on_kepler() {
+    let pts: Vec<_> = [160, 200, 250]
+        .iter()
+        .map(|&n| {
+            let e = kepler_period(n, |t, y, f, h, s| {
+                dop853::step(&Kepler, t, y, f, h, 1e-6, 1e-6, s).unwrap().1
+            });
+            (1.0 / n as f64, e)
+        })
+        .collect();
+    let p = slope(&pts);
+    assert!((p - 8.0).abs() < 0.4, "order {p}, points {pts:?}");
+}
+
+/// Local error of the interpolant at θ = 0.37 on the oscillator: O(h^(p+1)) for dense order p.
+fn dense_local_error(h: f64, which: &str) -> f64 {
+    let mut stats = Stats::default();
+    let (t0, y0) = (0.3, [[0.3_f64.cos()], [-(0.3_f64.sin())]]);
+    let f0 = super::tableau::rhs(&Osc, t0, &y0, &mut stats).unwrap();
+    let th = 0.37;
+    let got = match which {
+        "dopri5" => {
+            let (k, y1, _) = dopri5::step(&Osc, t0, &y0, &f0, h, &mut stats).unwrap();
+            dopri5::eval_dense(&dopri5::dense(&y0, &y1, &k, h), th)
+        }
+        _ => {
+            let (mut k, y1, _) =
+                dop853::step(&Osc, t0, &y0, &f0, h, 1e-6, 1e-6, &mut stats).unwrap();
+            k[12] = super::tableau::rhs(&Osc, t0 + h, &y1, &mut stats).unwrap();
+            let r = dop853::dense(&Osc, t0, &y0, &y1, &mut k, h, &mut stats).unwrap();
+            dop853::eval_dense(&r, th)
+        }
+    };
+    let t = t0 + th * h;
+    dist(&got, &[[t.cos()], [-t.sin()]])
+}
+
+#[test]
+fn dopri5_dense_output_is_order_4() {
+    let pts: Vec<_> = [0.4, 0.2, 0.1]
+        .iter()
+        .map(|&h| (h, dense_local_error(h, "dopri5")))
+        .collect();
+    let p = slope(&pts) - 1.0;
+    assert!((p - 4.0).abs() < 0.3, "order {p}, points {pts:?}");
+}
+
+#[test]
+fn dop853_dense_output_is_order_7() {
+    let pts: Vec<_> = [0.8, 0.4, 0.2]
+        .iter()
+        .map(|&h| (h, dense_local_error(h, "dop853")))
+        .collect();
+    let p = slope(&pts) - 1.0;
+    assert!((p - 7.0).abs() < 0.4, "order {p}, points {pts:?}");
+}
+
+#[test]
+fn dense_outputs_hit_both_ends_exactly() {
+    let mut stats = Stats::default();
+    let y0 = [[1.0], [0.2]];
+    let f0 = super::tableau::rhs(&Osc, 0.0, &y0, &mut stats).unwrap();
+    let (k, y1, _) = dopri5::step(&Osc, 0.0, &y0, &f0, 0.3, &mut stats).unwrap();
+    let r = dopri5::dense(&y0, &y1, &k, 0.3);
+    assert!(dist(&dopri5::eval_dense(&r, 0.0), &y0) < 1e-15);
+    assert!(dist(&dopri5::eval_dense(&r, 1.0), &y1) < 1e-15);
+}
+
+#[test]
+fn dop853_error_estimate_scales_like_h8() {
+    // The blended estimate err ~ |h|·err5²/sqrt(err5² + 0.01 err3²) behaves like h^8 for small h.
+    let mut stats = Stats::default();
+    let y0 = kepler_start();
+    let f0 = super::tableau::rhs(&Kepler, 0.0, &y0, &mut stats).unwrap();
+    let pts: Vec<_> = [0.08, 0.04, 0.02]
+        .iter()
+        .map(|&h| {
+            let (_, _, err) =
+                dop853::step(&Kepler, 0.0, &y0, &f0, h, 0.0, 1e-6, &mut stats).unwrap();
+            (h, err)
+        })
+        .collect();
+    let p = slope(&pts);
+    assert!(p > 6.5 && p < 9.5, "estimate order {p}, {pts:?}");
+}

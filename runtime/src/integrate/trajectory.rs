@@ -1,0 +1,270 @@
+//! The result of a run: samples, the energy and momenta at each sample, events, statistics,
+//! invariant drift and CSV output.
+
+use std::io::Write;
+use std::path::Path;
+
+use super::events::EventHit;
+
+/// Counters of a run.
+///
+/// For the explicit methods `rhs_evals` counts evaluations of the accelerations; for the
+/// variational midpoint it counts evaluations of L in the Hessian jet (Newton residual and
+/// Jacobian, and the inverse Legendre map at reported nodes).
+///
+/// ```
+/// let s = lagrange_runtime::Stats::default();
+/// assert_eq!((s.steps, s.rejected, s.rhs_evals, s.newton_iterations), (0, 0, 0, 0));
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected step attempts (adaptive methods).
+    pub rejected: usize,
+    /// Right-hand-side evaluations (see the type's documentation).
+    pub rhs_evals: usize,
+    /// Newton iterations (variational midpoint).
+    pub newton_iterations: usize,
+}
+
+/// Drift of one conserved quantity over the samples of a run.
+///
+/// ```
+/// use lagrange_runtime::Drift;
+/// let d = Drift { initial: 2.0, max_abs: 1e-9, max_rel: 5e-10 };
+/// assert_eq!(d.max_rel, d.max_abs / d.initial);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drift {
+    /// The value at the first sample.
+    pub initial: f64,
+    /// max |X(t) − X(t₀)| over the samples.
+    pub max_abs: f64,
+    /// `max_abs / max(|X(t₀)|, INVARIANT_FLOOR)`.
+    pub max_rel: f64,
+}
+
+/// The floor of the denominator of relative drifts: a quantity that starts at exactly zero
+/// (|X(t₀)| < 1e-12) is measured relative to 1e-12, i.e. its `max_rel` is 10¹² × its absolute drift.
+///
+/// ```
+/// assert_eq!(lagrange_runtime::INVARIANT_FLOOR, 1e-12);
+/// ```
+pub const INVARIANT_FLOOR: f64 = 1e-12;
+
+/// Drift of the energy (when the system is autonomous) and of each cyclic momentum.
+///
+/// ```
+/// use lagrange_runtime::{Drift, Invariants};
+/// let inv = Invariants::<2> { energy: Some(Drift { initial: 1.0, max_abs: 1e-9, max_rel: 1e-9 }), momenta: [None, None] };
+/// assert_eq!(inv.max_rel(), 1e-9);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Invariants<const N: usize> {
+    /// Energy drift; `None` when L depends on t explicitly.
+    pub energy: Option<Drift>,
+    /// Momentum drift per coordinate; `None` for non-cyclic coordinates.
+    pub momenta: [Option<Drift>; N],
+}
+
+impl<const N: usize> Invariants<N> {
+    /// The largest relative drift among the conserved quantities (0 if there are none).
+    ///
+    /// ```
+    /// use lagrange_runtime::{Drift, Invariants};
+    /// let d = |r| Some(Drift { initial: 1.0, max_abs: r, max_rel: r });
+    /// assert_eq!(Invariants::<1> { energy: d(1e-8), momenta: [d(1e-6)] }.max_rel(), 1e-6);
+    /// ```
+    pub fn max_rel(&self) -> f64 {
+        self.energy
+            .iter()
+            .chain(self.momenta.iter().flatten())
+            .fold(0.0, |m, d| m.max(d.max_rel))
+    }
+}
+
+/// A simulated trajectory: samples (t, q, q̇) with the energy and momenta there, the located
+/// events and the run's counters.
+///
+/// ```
+/// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
+/// struct Free;
+/// impl Lagrangian<1> for Free {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [true];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+/// }
+/// let tr = Simulation::new(&Free, [0.0], [2.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+/// assert_eq!(tr.t, vec![0.0, 0.5, 1.0]);
+/// assert!((tr.q[2][0] - 2.0).abs() < 1e-15);
+/// assert_eq!(tr.momenta[2], [2.0]);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trajectory<const N: usize> {
+    /// Sample times.
+    pub t: Vec<f64>,
+    /// Coordinates at the samples.
+    pub q: Vec<[f64; N]>,
+    /// Velocities at the samples.
+    pub qdot: Vec<[f64; N]>,
+    /// Energy (Jacobi integral q̇·∂L/∂q̇ − L) at the samples.
+    pub energy: Vec<f64>,
+    /// Momenta ∂L/∂q̇ at the samples.
+    pub momenta: Vec<[f64; N]>,
+    /// Located events, in time order.
+    pub events: Vec<EventHit<N>>,
+    /// Counters.
+    pub stats: Stats,
+    /// The coordinate names.
+    pub coordinates: [&'static str; N],
+    /// Which coordinates are cyclic.
+    pub cyclic: [bool; N],
+    /// Whether L has no explicit time dependence.
+    pub autonomous: bool,
+    /// The terminal event that ended the run early, if any.
+    pub terminated_by: Option<String>,
+}
+
+impl<const N: usize> Trajectory<N> {
+    pub(crate) fn empty(
+        coordinates: [&'static str; N],
+        cyclic: [bool; N],
+        autonomous: bool,
+    ) -> Self {
+        Trajectory {
+            t: Vec::new(),
+            q: Vec::new(),
+            qdot: Vec::new(),
+            energy: Vec::new(),
+            momenta: Vec::new(),
+            events: Vec::new(),
+            stats: Stats::default(),
+            coordinates,
+            cyclic,
+            autonomous,
+            terminated_by: None,
+        }
+    }
+
+    /// Number of samples.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.25 }).until(1.0).run().unwrap();
+    /// assert_eq!(tr.len(), 5);
+    /// ```
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether there are no samples.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let tr = Simulation::new(&Free, [0.0], [1.0]).until(1.0).run().unwrap();
+    /// assert!(!tr.is_empty());
+    /// ```
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// Max drift of the energy (when autonomous) and of each cyclic momentum over the samples,
+    /// relative to max(|initial value|, [`INVARIANT_FLOOR`]).
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
+    /// struct Free;
+    /// impl Lagrangian<1> for Free {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [true];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// }
+    /// let tr = Simulation::new(&Free, [0.0], [1.0]).until(3.0).run().unwrap();
+    /// let inv = tr.invariants();
+    /// assert_eq!(inv.energy.unwrap().max_rel, 0.0);
+    /// assert_eq!(inv.momenta[0].unwrap().initial, 1.0);
+    /// ```
+    pub fn invariants(&self) -> Invariants<N> {
+        fn drift(xs: impl Iterator<Item = f64>) -> Option<Drift> {
+            let mut it = xs;
+            let initial = it.next()?;
+            let max_abs = it.fold(0.0_f64, |m, x| m.max((x - initial).abs()));
+            Some(Drift {
+                initial,
+                max_abs,
+                max_rel: max_abs / initial.abs().max(INVARIANT_FLOOR),
+            })
+        }
+        let energy = if self.autonomous {
+            drift(self.energy.iter().copied())
+        } else {
+            None
+        };
+        let mut momenta = [None; N];
+        for (i, m) in momenta.iter_mut().enumerate() {
+            if self.cyclic[i] {
+                *m = drift(self.momenta.iter().map(|p| p[i]));
+            }
+        }
+        Invariants { energy, momenta }
+    }
+
+    /// Writes the samples as CSV: `t`, the coordinate names, their velocities (`name_dot`), `energy`
+    /// and the momenta (`p_name`), one row per sample, full precision.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
+    /// struct Free;
+    /// impl Lagrangian<1> for Free {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [true];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// }
+    /// let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 1.0 }).until(1.0).run().unwrap();
+    /// let path = std::env::temp_dir().join("lagrange_doctest_free.csv");
+    /// tr.write_csv(&path).unwrap();
+    /// let text = std::fs::read_to_string(&path).unwrap();
+    /// assert_eq!(text.lines().next(), Some("t,x,x_dot,energy,p_x"));
+    /// let row: Vec<f64> = text.lines().nth(2).unwrap().split(',').map(|x| x.parse().unwrap()).collect();
+    /// assert_eq!(row.len(), 5);
+    /// assert!((row[1] - 1.0).abs() < 1e-15 && row[3] == 0.5);
+    /// ```
+    pub fn write_csv(&self, path: impl AsRef<Path>) -> std::io::Result<()> {
+        let file = std::fs::File::create(path)?;
+        let mut w = std::io::BufWriter::new(file);
+        let mut header = vec!["t".to_string()];
+        header.extend(self.coordinates.iter().map(|n| n.to_string()));
+        header.extend(self.coordinates.iter().map(|n| format!("{n}_dot")));
+        header.push("energy".to_string());
+        header.extend(self.coordinates.iter().map(|n| format!("p_{n}")));
+        writeln!(w, "{}", header.join(","))?;
+        for k in 0..self.len() {
+            let mut row = vec![self.t[k]];
+            row.extend_from_slice(&self.q[k]);
+            row.extend_from_slice(&self.qdot[k]);
+            row.push(self.energy[k]);
+            row.extend_from_slice(&self.momenta[k]);
+            let cells: Vec<String> = row.iter().map(|x| format!("{x}")).collect();
+            writeln!(w, "{}", cells.join(","))?;
+        }
+        w.flush()
+    }
+}

@@ -1,0 +1,249 @@
+//! The variational midpoint integrator: the discrete Lagrangian
+//! L_d(q_k, q_{k+1}) = h · L((q_k + q_{k+1})/2, (q_{k+1} − q_k)/h, t_k + h/2) in position–momentum
+//! form, p_k = −D₁L_d(q_k, q_{k+1}), p_{k+1} = D₂L_d(q_k, q_{k+1}), solved by Newton's method with
+//! the exact Jacobian from the Hessian jet.
+//!
+//! Written out, the implicit equation for q_{k+1} is
+//! R(q_{k+1}) = p_k + (h/2) ∂L/∂q − ∂L/∂q̇ = 0 (L and its derivatives at the midpoint), and then
+//! p_{k+1} = (h/2) ∂L/∂q + ∂L/∂q̇ = p_k + h ∂L/∂q − R. At the converged solution (R at round-off)
+//! we use p_{k+1} = p_k + h ∂L/∂q: for a cyclic coordinate ∂L/∂q is exactly zero, so its
+//! momentum is carried over bit for bit.
+//!
+//! Velocities at the nodes are *not* the secant (q_{k+1} − q_k)/h: the integrator reports
+//! q̇_k = (∂L/∂q̇)⁻¹(q_k, p_k, t_k), the velocity whose Legendre transform is the discrete momentum
+//! (solved by Newton with the mass matrix). So (q_k, q̇_k) is a consistent state: the momenta
+//! computed from it are the conserved p_k, and the energy from it is the integrator's energy.
+
+use crate::lagrangian::{hessian_jet, solve_mass_matrix, Lagrangian};
+use crate::linalg::lu_solve;
+
+use super::simulation::{FixedGrid, Stepper};
+use super::tableau::{Fault, Y};
+use super::trajectory::Stats;
+
+/// At most this many Newton iterations per step (or per Legendre inversion).
+const MAX_NEWTON: usize = 30;
+
+fn inf_norm<const N: usize>(x: &[f64; N]) -> f64 {
+    x.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
+}
+
+/// The variational midpoint stepper; its own state is (t_k, q_k, p_k).
+pub(crate) struct VariationalMidpoint<'a, L: ?Sized, const N: usize> {
+    sys: &'a L,
+    grid: FixedGrid,
+    k: u64,
+    t: f64,
+    q: [f64; N],
+    p: [f64; N],
+    /// q̇ at the node, once the Legendre map has been inverted there.
+    v: Option<[f64; N]>,
+    /// The best velocity guess at the node (the last secant velocity).
+    v_guess: [f64; N],
+    t_old: f64,
+    q_old: [f64; N],
+    v_old: [f64; N],
+}
+
+impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> VariationalMidpoint<'a, L, N> {
+    /// Starts at (t0, q0, q̇0) with p0 = ∂L/∂q̇(q0, q̇0, t0).
+    pub(crate) fn new(sys: &'a L, grid: FixedGrid, q0: [f64; N], v0: [f64; N]) -> Self {
+        let p = sys.momenta(&q0, &v0, grid.t0);
+        VariationalMidpoint {
+            sys,
+            grid,
+            k: 0,
+            t: grid.t0,
+            q: q0,
+            p,
+            v: Some(v0),
+            v_guess: v0,
+            t_old: grid.t0,
+            q_old: q0,
+            v_old: v0,
+        }
+    }
+
+    /// Solves ∂L/∂q̇(q, v, t) = p for v by Newton's method with the mass matrix.
+    fn legendre_inverse(&self, stats: &mut Stats) -> Result<[f64; N], Fault> {
+        let mut v = self.v_guess;
+        let mut last_dv = f64::INFINITY;
+        for it in 0..MAX_NEWTON {
+            let jet = hessian_jet(self.sys, &self.q, &v, self.t);
+            stats.rhs_evals += 1;
+            let lv = jet.grad_qdot();
+            let mut r = [0.0; N];
+            for i in 0..N {
+                r[i] = self.p[i] - lv[i];
+            }
+            let scale = inf_norm(&self.p).max(inf_norm(&lv));
+            if !r.iter().all(|x| x.is_finite()) {
+                return Err(Fault::NonFinite);
+            }
+            if inf_norm(&r) <= 8.0 * f64::EPSILON * scale
+                || last_dv <= 4.0 * f64::EPSILON * inf_norm(&v)
+            {
+                return Ok(v);
+            }
+            let m = jet.hess_qdotqdot();
+            let dv = solve_mass_matrix(&m, &r, L::COORDINATES, &self.q, &v, self.t)?;
+            for i in 0..N {
+                v[i] += dv[i];
+            }
+            last_dv = inf_norm(&dv);
+            stats.newton_iterations += 1;
+            if it + 1 == MAX_NEWTON {
+                return Err(Fault::Newton {
+                    iterations: MAX_NEWTON,
+                    residual: inf_norm(&r),
+                    reason: "the inverse Legendre map (solving ∂L/∂q̇ = p for q̇) did not converge",
+                });
+            }
+        }
+        Err(Fault::Newton {
+            iterations: MAX_NEWTON,
+            residual: f64::NAN,
+            reason: "the inverse Legendre map (solving ∂L/∂q̇ = p for q̇) did not converge",
+        })
+    }
+}
+
+impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoint<'_, L, N> {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_old
+    }
+    fn last_state(&self) -> Y<N> {
+        [self.q, self.v.unwrap_or(self.v_guess)]
+    }
+    fn node(&mut self, stats: &mut Stats) -> Result<Y<N>, Fault> {
+        if let Some(v) = self.v {
+            return Ok([self.q, v]);
+        }
+        let v = self.legendre_inverse(stats)?;
+        self.v = Some(v);
+        Ok([self.q, v])
+    }
+    fn advance(&mut self, _t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
+        // The left node's velocity is needed by the interpolant (events); compute it lazily there.
+        let t1 = self.grid.time(self.k + 1);
+        let h = t1 - self.t;
+        let tm = self.t + 0.5 * h;
+        let q0 = self.q;
+        // Predictor: the last secant velocity (exact for uniform motion).
+        let mut q1 = [0.0; N];
+        for i in 0..N {
+            q1[i] = q0[i] + h * self.v_guess[i];
+        }
+        let mut last_dq = f64::INFINITY;
+        let mut converged = None;
+        let mut residual = f64::NAN;
+        for _ in 0..MAX_NEWTON {
+            let mut qm = [0.0; N];
+            let mut v = [0.0; N];
+            for i in 0..N {
+                qm[i] = 0.5 * (q0[i] + q1[i]);
+                v[i] = (q1[i] - q0[i]) / h;
+            }
+            let jet = hessian_jet(self.sys, &qm, &v, tm);
+            stats.rhs_evals += 1;
+            let lq = jet.grad_q();
+            let lv = jet.grad_qdot();
+            let mut r = [0.0; N];
+            let mut scale = 0.0_f64;
+            for i in 0..N {
+                r[i] = self.p[i] + 0.5 * h * lq[i] - lv[i];
+                scale = scale
+                    .max(self.p[i].abs())
+                    .max(lv[i].abs())
+                    .max((0.5 * h * lq[i]).abs());
+            }
+            residual = inf_norm(&r);
+            if !residual.is_finite() || !q1.iter().all(|x| x.is_finite()) {
+                return Err(Fault::NonFinite);
+            }
+            let q_scale = inf_norm(&q1).max(h * inf_norm(&v));
+            if residual <= 8.0 * f64::EPSILON * scale || last_dq <= 4.0 * f64::EPSILON * q_scale {
+                converged = Some((lq, v));
+                break;
+            }
+            // −h·∂R/∂q_{k+1} = M − (h²/4) L_qq − (h/2)(L_qq̇ − L_qq̇ᵀ), solved for −h·Δq.
+            let (hqq, hqv, hvv) = (jet.hess_qq(), jet.hess_qqdot(), jet.hess_qdotqdot());
+            let mut jac = [[0.0; N]; N];
+            let mut jscale = 0.0_f64;
+            for i in 0..N {
+                for kk in 0..N {
+                    jac[i][kk] = hvv[i][kk]
+                        - 0.25 * h * h * hqq[i][kk]
+                        - 0.5 * h * (hqv[i][kk] - hqv[kk][i]);
+                    jscale = jscale.max(jac[i][kk].abs());
+                }
+            }
+            // R + J Δq = 0 with J = −(1/h)·jac ⇒ jac · Δq = h R.
+            let mut rhs = [0.0; N];
+            for i in 0..N {
+                rhs[i] = h * r[i];
+            }
+            let dq = match lu_solve(&jac, &rhs, jscale) {
+                Ok(dq) => dq,
+                Err(_) => {
+                    return Err(Fault::Newton {
+                        iterations: stats.newton_iterations,
+                        residual,
+                        reason: "the Newton Jacobian of the implicit step is singular (the mass \
+                                 matrix ∂²L/∂q̇∂q̇ is singular or nearly so at the midpoint)",
+                    })
+                }
+            };
+            for i in 0..N {
+                q1[i] += dq[i];
+            }
+            last_dq = inf_norm(&dq);
+            stats.newton_iterations += 1;
+        }
+        let Some((lq, v_secant)) = converged else {
+            return Err(Fault::Newton {
+                iterations: MAX_NEWTON,
+                residual,
+                reason: "Newton's method on the implicit midpoint step did not converge",
+            });
+        };
+        let mut p1 = self.p;
+        for i in 0..N {
+            p1[i] += h * lq[i];
+        }
+        stats.steps += 1;
+        self.k += 1;
+        self.t_old = self.t;
+        self.q_old = self.q;
+        self.v_old = self.v.unwrap_or(v_secant);
+        self.t = t1;
+        self.q = q1;
+        self.p = p1;
+        self.v = None;
+        self.v_guess = v_secant;
+        Ok(())
+    }
+    fn interp(&mut self, t: f64, stats: &mut Stats) -> Result<Y<N>, Fault> {
+        let [q1, v1] = self.node(stats)?;
+        if t >= self.t {
+            return Ok([q1, v1]);
+        }
+        // Cubic Hermite in q from (q, q̇) at both nodes; q̇ linear between the nodes.
+        let h = self.t - self.t_old;
+        let s = (t - self.t_old) / h;
+        let h00 = (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s);
+        let h10 = s * (1.0 - s) * (1.0 - s);
+        let h01 = s * s * (3.0 - 2.0 * s);
+        let h11 = s * s * (s - 1.0);
+        let mut out = [[0.0; N]; 2];
+        for i in 0..N {
+            out[0][i] =
+                h00 * self.q_old[i] + h10 * h * self.v_old[i] + h01 * q1[i] + h11 * h * v1[i];
+            out[1][i] = (1.0 - s) * self.v_old[i] + s * v1[i];
+        }
+        Ok(out)
+    }
+}

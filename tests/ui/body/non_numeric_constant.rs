@@ -1,0 +1,15 @@
+use lagrange::prelude::*;
+
+pub struct Pendulum {
+    pub g: f64,
+    pub name: &'static str,
+}
+
+#[lagrangian]
+impl Pendulum {
+    fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
+        theta_dot.powi(2) / 2.0 + self.name * theta.cos()
+    }
+}
+
+fn main() {}

@@ -1,0 +1,14 @@
+use lagrange::prelude::*;
+
+pub struct Clock {
+    pub w: f64,
+}
+
+#[lagrangian]
+impl Clock {
+    fn lagrangian(&self, t: Time) -> Scalar {
+        (self.w * t).sin()
+    }
+}
+
+fn main() {}
