@@ -264,6 +264,51 @@ fn kepler_matches_closed_form_and_conserves_areal_velocity() {
     }
 }
 
+#[test]
+fn kepler_orbit_closes_after_one_period_with_constant_angular_momentum() {
+    // Start at periapsis (ṙ = 0) with φ̇ above the circular rate: an ellipse of energy E < 0,
+    // semi-major axis a = −k/(2E), period T = 2π √(m a³ / k) (Kepler's third law).
+    let sys = Kepler { m: 1.5, k: 4.0 };
+    let (r0, phid0): (f64, f64) = (1.0, 2.0);
+    let e = sys.m / 2.0 * (r0 * phid0).powi(2) - sys.k / r0;
+    assert!(e < 0.0);
+    let a = -sys.k / (2.0 * e);
+    let period = 2.0 * std::f64::consts::PI * (sys.m * a.powi(3) / sys.k).sqrt();
+    let traj = Simulation::new(&sys, [r0, 0.0], [0.0, phid0])
+        .method(Method::Dop853 {
+            rtol: 1e-11,
+            atol: 1e-12,
+        })
+        .until(2.5 * period)
+        .sample_every(period / 50.0)
+        .event(Event::zero_crossing("periapsis", |_t, _q, qd: &[f64; 2]| qd[0]).rising())
+        .run()
+        .unwrap();
+    let hits: Vec<f64> = traj.events.iter().map(|h| h.t).collect();
+    assert_eq!(hits.len(), 2, "periapsis passages: {hits:?}");
+    for (n, t) in hits.iter().enumerate() {
+        let want = period * (n + 1) as f64;
+        assert!(
+            (t - want).abs() < 1e-8 * want,
+            "passage {n}: t = {t}, T = {period}"
+        );
+    }
+    // φ advanced by exactly 2π per period, r returned to r0.
+    let h = &traj.events[0];
+    assert!(
+        (h.q[1] - 2.0 * std::f64::consts::PI).abs() < 1e-8,
+        "{:?}",
+        h.q
+    );
+    assert!((h.q[0] - r0).abs() < 1e-8, "{:?}", h.q);
+    // Areal velocity r²φ̇/2 (∝ the cyclic momentum) is constant along the samples.
+    let areal0 = r0 * r0 * phid0 / 2.0;
+    for (q, qd) in traj.q.iter().zip(&traj.qdot) {
+        let areal = q[0] * q[0] * qd[1] / 2.0;
+        assert!((areal - areal0).abs() < 1e-9 * areal0, "r²φ̇/2 = {areal}");
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // 4. Charged particle in uniform B (through a vector potential) and uniform E; gauge terms
 // ---------------------------------------------------------------------------------------------
