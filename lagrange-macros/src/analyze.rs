@@ -13,7 +13,7 @@
 use std::collections::{HashMap, HashSet};
 
 use proc_macro2::{TokenStream, TokenTree};
-use quote::{quote, quote_spanned};
+use quote::{quote, quote_spanned, ToTokens};
 use syn::spanned::Spanned;
 use syn::visit::Visit;
 use syn::{BinOp, Block, Expr, Pat, Stmt};
@@ -272,6 +272,9 @@ impl Rewriter {
                 if p.qself.is_none() && p.path.segments.len() == 1 {
                     self.lookup(&unraw(&p.path.segments[0].ident))
                         .unwrap_or(Kind::Const)
+                } else if tokens_mention_scalar(quote!(#p)) {
+                    // `<Scalar as Trait>::CONST`, `Scalar::from_...`: a value of the scalar type.
+                    Kind::Var
                 } else {
                     Kind::Const
                 }
@@ -319,7 +322,15 @@ impl Rewriter {
                 Kind::Var
             }
             Expr::Call(c) => {
-                let kf = self.expr(&mut c.func);
+                // A callee that names `Scalar` (`Scalar::constant(2.0)`, `zero::<Scalar>()`,
+                // `Vector3::<Scalar>::zeros()`) returns a scalar-typed value even when every
+                // argument is a constant.
+                let kf = if tokens_mention_scalar(c.func.to_token_stream()) {
+                    self.expr(&mut c.func);
+                    Kind::Var
+                } else {
+                    self.expr(&mut c.func)
+                };
                 let kargs: Vec<Kind> = c.args.iter_mut().map(|a| self.expr(a)).collect();
                 let any_var = kf.is_var() || kargs.iter().any(Kind::is_var);
                 if any_var && is_constructor(&c.func) {
@@ -539,7 +550,11 @@ fn is_constructor(func: &Expr) -> bool {
 }
 
 fn mentions_scalar(ty: &syn::Type) -> bool {
+    tokens_mention_scalar(quote!(#ty))
+}
+
+fn tokens_mention_scalar(ts: TokenStream) -> bool {
     let mut ids = HashSet::new();
-    idents_in(quote!(#ty), &mut ids);
+    idents_in(ts, &mut ids);
     ids.contains("Scalar")
 }

@@ -1,0 +1,122 @@
+//! Macro uses compile cleanly under `#![deny(warnings)]` (checked by `cargo test`) and
+//! `#![deny(clippy::pedantic)]` (checked by `cargo clippy --workspace --all-targets -- -D warnings`):
+//! cyclic coordinates, an unused `t: Time`, `Coord3`, doc comments, `pub` and private structs,
+//! derives and other items in the impl block.
+#![deny(warnings)]
+#![deny(clippy::pedantic)]
+
+use lagrange::prelude::*;
+
+/// Symmetric heavy top, φ and ψ cyclic.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeavyTop {
+    /// Transverse moment of inertia.
+    pub i_perp: f64,
+    /// Axial moment of inertia.
+    pub i_par: f64,
+    /// m g l.
+    pub mgl: f64,
+}
+
+#[lagrangian]
+impl HeavyTop {
+    /// Eq. (92) of the reference text.
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let (s, c) = theta.sin_cos();
+        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
+            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
+            - self.mgl * c
+    }
+
+    /// Another item in the impl block, kept as written.
+    #[must_use]
+    pub fn spin(&self, precession: f64, rotation: f64, theta: f64) -> f64 {
+        self.i_par * (rotation + precession * theta.cos())
+    }
+}
+
+/// A private struct with a vector coordinate and a time parameter it never uses.
+#[derive(Default)]
+struct Trapped {
+    k: f64,
+    gravity: Vector3<f64>,
+}
+
+#[lagrangian]
+impl Trapped {
+    fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
+        0.5 * r_dot.norm_squared() - self.k / 2.0 * r.norm_squared() + self.gravity.dot(&r)
+    }
+}
+
+/// Explicit time, an `if` on a field, and a private field.
+pub struct Driven {
+    amplitude: f64,
+    /// Drive frequency.
+    pub w: f64,
+}
+
+#[lagrangian]
+impl Driven {
+    #[allow(clippy::suboptimal_flops)]
+    fn lagrangian(&self, (x, x_dot): Coord, t: Time) -> Scalar {
+        let force = if self.amplitude > 0.0 {
+            self.amplitude * (self.w * t).cos()
+        } else {
+            0.0
+        };
+        x_dot * x_dot / 2.0 - x * x / 2.0 + force * x
+    }
+}
+
+/// Everything cyclic: a free particle.
+#[derive(Debug)]
+pub(crate) struct Free;
+
+#[lagrangian]
+impl Free {
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        (x_dot * x_dot + y_dot * y_dot) / 2.0
+    }
+}
+
+#[test]
+fn lint_clean_systems_work() {
+    let top = HeavyTop {
+        i_perp: 1.0,
+        i_par: 0.5,
+        mgl: 1.0,
+    };
+    assert_eq!(<HeavyTop as Lagrangian<3>>::CYCLIC, [false, true, true]);
+    assert!(top.spin(1.0, 2.0, 0.0).to_bits() == 1.5_f64.to_bits());
+
+    let trap = Trapped {
+        k: 2.0,
+        gravity: Vector3::new(0.0, 0.0, -1.0),
+    };
+    const { assert!(<Trapped as Lagrangian<3>>::AUTONOMOUS) };
+    let a = trap
+        .accelerations(&[1.0, 0.0, 0.0], &[0.0; 3], 0.0)
+        .unwrap_or([f64::NAN; 3]);
+    assert_eq!(a.map(f64::to_bits), [-2.0_f64, 0.0, -1.0].map(f64::to_bits));
+    assert_eq!(Trapped::default().k.to_bits(), 0.0_f64.to_bits());
+
+    let driven = Driven {
+        amplitude: 1.0,
+        w: 0.0,
+    };
+    const { assert!(!<Driven as Lagrangian<1>>::AUTONOMOUS) };
+    let a = driven
+        .accelerations(&[0.5], &[0.0], 3.0)
+        .unwrap_or([f64::NAN]);
+    assert!((a[0] - 0.5).abs() < 1e-15);
+
+    assert_eq!(<Free as Lagrangian<2>>::CYCLIC, [true, true]);
+    let a = Free.accelerations(&[1.0, 2.0], &[3.0, 4.0], 0.0);
+    assert!(matches!(a, Ok([x, y]) if x == 0.0 && y == 0.0), "{a:?}");
+}
