@@ -165,7 +165,9 @@ fn sphere_speed_sq<S: Scalar>(theta: S, theta_dot: S, phi_dot: S) -> S {
     theta_dot * theta_dot + s * s * phi_dot * phi_dot
 }
 
-#[lagrangian]
+// This body calls a helper generic over `S: Scalar`: the symbolic mode (the default) rejects that with a
+// pointed error, so it uses the run-time jets.
+#[lagrangian(mode = "jets")]
 impl SphericalPendulum {
     fn lagrangian(&self, (theta, theta_dot): Coord, (phi, phi_dot): Coord) -> Scalar {
         let ml2 = self.m * self.l.powi(2);
@@ -338,7 +340,9 @@ pub struct ChargedParticle {
     pub c: Vector3<f64>,
 }
 
-#[lagrangian]
+// This body uses `match` and `if` on its parameters: the symbolic mode (the default) rejects that with a
+// pointed error, so it uses the run-time jets.
+#[lagrangian(mode = "jets")]
 impl ChargedParticle {
     fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
         let a = self.b.cross(&r) / 2.0;
@@ -520,7 +524,9 @@ pub struct ElasticPendulum {
     pub g: f64,
 }
 
-#[lagrangian]
+// This body uses `if` on a parameter: the symbolic mode (the default) rejects that with a
+// pointed error, so it uses the run-time jets.
+#[lagrangian(mode = "jets")]
 impl ElasticPendulum {
     fn lagrangian(&self, (r, r_dot): Coord, (theta, theta_dot): Coord) -> Scalar {
         let spring = if self.k > 0.0 {
@@ -699,7 +705,9 @@ pub struct ExplicitScalar {
     pub k: f64,
 }
 
-#[lagrangian]
+// This body calls generic helpers and `Scalar::constant`: the symbolic mode (the default) rejects that with a
+// pointed error, so it uses the run-time jets.
+#[lagrangian(mode = "jets")]
 impl ExplicitScalar {
     fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
         let half_m = Scalar::constant(self.m) / 2.0;

@@ -61,7 +61,8 @@ pub struct Driven {
     pub w: f64,
 }
 
-#[lagrangian]
+// `if` on a parameter: run-time jets (the symbolic default rejects `if`).
+#[lagrangian(mode = "jets")]
 impl Driven {
     #[allow(clippy::suboptimal_flops)]
     fn lagrangian(&self, (x, x_dot): Coord, t: Time) -> Scalar {
