@@ -1,9 +1,10 @@
 //! Heavy top (I⊥ = 1, I∥ = 0.5, m g l = 4.905; θ0 = 0.7, φ̇0 = 2, ψ̇0 = 12) for 100 nutation
 //! periods (t = 114.3) with DOP853 at rtol 1e-10, atol 1e-12.
 //!
-//! Measures in one run: the jet-derived dynamics (`HeavyTop`, only L written) against the same
-//! integrator on a hand-written closed-form baseline (`HeavyTopClosedForm`, accelerations
-//! overridden with the hand-derived formulas). Prints steps, right-hand-side evaluations and the
+//! Measures in one run: the jet-derived dynamics (`HeavyTop`, only L written), the macro-declared
+//! top in the default symbolic mode (`MacroTop`), and the same integrator on a hand-written
+//! closed-form baseline (`HeavyTopClosedForm`: accelerations, momenta and energy overridden with
+//! the hand-derived formulas). Prints steps, right-hand-side evaluations and the
 //! invariant drift once; compare with `benches/peers/scipy_dop853.py` (see BENCHMARKS.md).
 //!
 //! Run: `cargo bench --bench integrators`
@@ -55,6 +56,46 @@ impl Lagrangian<3> for HeavyTopClosedForm {
         let ps_dd = ph_d * th_d * s - ph_dd * c;
         Ok([th_dd, ph_dd, ps_dd])
     }
+    fn momenta(&self, q: &[f64; 3], qd: &[f64; 3], _t: f64) -> [f64; 3] {
+        let top = &self.0;
+        let (s, c) = q[0].sin_cos();
+        let l_par = top.i_par * (qd[2] + qd[1] * c);
+        [
+            top.i_perp * qd[0],
+            top.i_perp * qd[1] * s * s + l_par * c,
+            l_par,
+        ]
+    }
+    fn energy(&self, q: &[f64; 3], qd: &[f64; 3], _t: f64) -> f64 {
+        let top = &self.0;
+        let (s, c) = q[0].sin_cos();
+        let w3 = qd[2] + qd[1] * c;
+        top.i_perp / 2.0 * (qd[0] * qd[0] + qd[1] * qd[1] * s * s)
+            + top.i_par / 2.0 * w3 * w3
+            + top.mgl * c
+    }
+}
+
+/// The top as a user writes it: `#[lagrangian]` in the default (symbolic) mode.
+struct MacroTop {
+    i_perp: f64,
+    i_par: f64,
+    mgl: f64,
+}
+
+#[lagrangian]
+impl MacroTop {
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let (s, c) = theta.sin_cos();
+        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
+            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
+            - self.mgl * c
+    }
 }
 
 const TOP: HeavyTop = HeavyTop {
@@ -97,9 +138,21 @@ fn bench(c: &mut Criterion) {
     let closed = HeavyTopClosedForm(HeavyTop { ..TOP });
     report("lagrange DOP853 (jets)", &run(&TOP));
     report("closed-form baseline DOP853", &run(&closed));
+    let macro_top = MacroTop {
+        i_perp: TOP.i_perp,
+        i_par: TOP.i_par,
+        mgl: TOP.mgl,
+    };
+    report(
+        "lagrange DOP853 (#[lagrangian], symbolic)",
+        &run(&macro_top),
+    );
     let mut g = c.benchmark_group("heavy_top_dop853_t114.3");
     g.sample_size(20);
     g.bench_function("lagrange_jets", |b| b.iter(|| run(black_box(&TOP))));
+    g.bench_function("lagrange_macro_symbolic", |b| {
+        b.iter(|| run(black_box(&macro_top)))
+    });
     g.bench_function("closed_form_baseline", |b| {
         b.iter(|| run(black_box(&closed)))
     });
