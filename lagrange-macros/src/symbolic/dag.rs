@@ -228,6 +228,11 @@ impl Dag {
             .any(|(a, b)| a & b != 0)
     }
 
+    /// The id of `node` if it is already in the DAG.
+    pub fn find(&self, node: Node) -> Option<Id> {
+        self.index.get(&node).copied()
+    }
+
     fn intern(&mut self, node: Node) -> Id {
         if let Some(&id) = self.index.get(&node) {
             return id;

@@ -123,25 +123,34 @@ fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
 
 /// Straight-line LDLᵀ of the mass matrix (upper triangle, `None` = structural zero) with the
 /// sparsity known at compile time: the same elimination, in the same order, as the runtime's
-/// `solve_symmetric`, with the structurally zero products left out. Whenever a pivot is not
-/// clearly positive (or anything is not finite), it hands over to `fallback()`, i.e.
-/// `solve_mass_matrix`, which decides between LU and a `DynamicsError` exactly as the jets path.
+/// `solve_symmetric`, with the structurally zero products left out and one reciprocal per pivot
+/// whose row of L has two or more entries. The tokens are the statements of a block labelled `'fast` that
+/// evaluates to `Some(q̈)`, or breaks with `None` whenever a pivot is not clearly positive (or
+/// anything is not finite); the caller then hands over to `solve_mass_matrix`, which decides
+/// between LU and a `DynamicsError` exactly as the jets path.
 fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStream {
     let n = m.len();
     let a_id = |j: usize, i: usize| quote::format_ident!("l_{}_{}", j, i);
     let d_id = |j: usize| quote::format_ident!("d_{}", j);
+    let r_id = |j: usize| quote::format_ident!("r_{}", j);
     let x_id = |i: usize| quote::format_ident!("y_{}", i);
     let mut out = TokenStream::new();
-    let diag = (0..n).map(|j| match &m[j][j] {
-        Some(e) => quote!(f64::abs(#e)),
-        None => quote!(0.0_f64),
-    });
+    // The largest diagonal magnitude (a NaN on the diagonal is caught by its pivot test).
+    let mut scale = quote!(0.0_f64);
+    for j in 0..n {
+        if let Some(e) = &m[j][j] {
+            scale = quote!(__lagrange_max(#scale, f64::abs(#e)));
+        }
+    }
     out.extend(quote! {
-        let scale = 0.0_f64#(.max(#diag))*;
+        let __lagrange_max = |s: f64, a: f64| if a > s { a } else { s };
+        let scale: f64 = #scale;
         let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
     });
-    // l[j][i] (i > j): Some(ident) when not structurally zero.
+    // l[j][i] (i > j): true when not structurally zero.
     let mut l: Vec<Vec<bool>> = vec![vec![false; n]; n];
+    // Whether pivot j has a reciprocal `r_j` (used by its row of l and by y_j).
+    let mut recip = vec![false; n];
     for j in 0..n {
         let dj = d_id(j);
         let mut e = match &m[j][j] {
@@ -157,7 +166,7 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
         out.extend(quote! {
             let #dj: f64 = #e;
             if !(#dj > tol) {
-                return fallback();
+                break 'fast ::core::option::Option::None;
             }
         });
         let mut row: Vec<(Ident, TokenStream)> = Vec::new();
@@ -179,13 +188,26 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
             for t in terms {
                 s = quote!(#s - #t);
             }
-            row.push((a_id(j, i), quote!((#s) / #dj)));
+            row.push((a_id(j, i), s));
             l[j][i] = true;
+        }
+        // A reciprocal adds a multiplication to the (latency-bound) critical path; it pays off
+        // only when it replaces several divisions.
+        let rj = r_id(j);
+        if row.len() >= 2 {
+            recip[j] = true;
+            out.extend(quote!(let #rj: f64 = 1.0 / #dj;));
         }
         // One `let` per row keeps the scope nesting shallow (see codegen).
         let ls = row.iter().map(|(x, _)| x);
         let tys = row.iter().map(|_| quote!(f64));
-        let es = row.iter().map(|(_, e)| e);
+        let es = row.iter().map(|(_, e)| {
+            if recip[j] {
+                quote!((#e) * #rj)
+            } else {
+                quote!((#e) / #dj)
+            }
+        });
         if !row.is_empty() {
             out.extend(quote!(let (#(#ls,)*): (#(#tys,)*) = (#(#es,)*);));
         }
@@ -205,27 +227,35 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
         out.extend(quote!(let #xi: f64 = #e;));
     }
     for i in 0..n {
-        let (xi, di) = (x_id(i), d_id(i));
-        out.extend(quote!(let #xi: f64 = #xi / #di;));
+        let (xi, di, ri) = (x_id(i), d_id(i), r_id(i));
+        if recip[i] {
+            out.extend(quote!(let #xi: f64 = #xi * #ri;));
+        } else {
+            out.extend(quote!(let #xi: f64 = #xi / #di;));
+        }
     }
     for i in (0..n).rev() {
         let xi = x_id(i);
         let mut e = quote!(#xi);
+        let mut any = false;
         for k in i + 1..n {
             if l[i][k] {
                 let (lik, xk) = (a_id(i, k), x_id(k));
                 e = quote!(#e - #lik * #xk);
+                any = true;
             }
         }
-        out.extend(quote!(let #xi: f64 = #e;));
+        if any {
+            out.extend(quote!(let #xi: f64 = #e;));
+        }
     }
     let xs = (0..n).map(x_id);
     out.extend(quote! {
         let x = [#(#xs),*];
         if x.iter().all(|v| v.is_finite()) {
-            ::core::result::Result::Ok(x)
+            ::core::option::Option::Some(x)
         } else {
-            fallback()
+            ::core::option::Option::None
         }
     });
     out
@@ -283,19 +313,19 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     let accelerations = quote! {
         #touch
         #stmts
-        let m: [[f64; #nn]; #nn] = [#(#rows),*];
-        let f: [f64; #nn] = [#(#f),*];
-        let fallback = || {
-            ::lagrange::__private::solve_mass_matrix(
-                &m,
-                &f,
+        // The fast path; the arrays for the runtime's solve are only built when it fails.
+        let fast: ::core::option::Option<[f64; #nn]> = 'fast: { #solve };
+        match fast {
+            ::core::option::Option::Some(x) => ::core::result::Result::Ok(x),
+            ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
+                &[#(#rows),*],
+                &[#(#f),*],
                 <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
                 #q,
                 #qdot,
                 #t,
-            )
-        };
-        #solve
+            ),
+        }
     };
 
     // mass_matrix
