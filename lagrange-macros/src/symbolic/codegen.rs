@@ -5,7 +5,7 @@ use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote, quote_spanned};
 
 use super::dag::{Dag, Fun, Id, Node};
-use super::lower::Field;
+use super::lower::{Cond, Field};
 
 /// Straight-line code computing a set of DAG nodes.
 pub struct Code {
@@ -96,7 +96,7 @@ fn node_level(dag: &Dag, level: &[usize], node: Node) -> usize {
 }
 
 /// Emits the code computing `outputs` (and everything they need).
-pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
+pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code {
     let mut need = vec![false; dag.len()];
     let mut stack: Vec<Id> = outputs.to_vec();
     while let Some(id) = stack.pop() {
@@ -132,6 +132,21 @@ pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
             stmts.extend(quote_spanned!(field.span=> let #local: #ty = #member;));
         } else {
             stmts.extend(quote_spanned!(field.span=> let #local: #ty = #this.#member;));
+        }
+    }
+    // Conditions of constant `if`s: one `bool` each, evaluated as written (spanned at the user's
+    // condition, `self` resolved like the field loads).
+    let mut used = vec![false; conds.len()];
+    for (id, needed) in need.iter().enumerate() {
+        if let (true, Node::Select(c, _, _)) = (*needed, dag.node(id as Id)) {
+            used[c as usize] = true;
+        }
+    }
+    for (k, cond) in conds.iter().enumerate() {
+        if used[k] {
+            let b = format_ident!("b_{}", k);
+            let tokens = &cond.tokens;
+            stmts.extend(quote_spanned!(cond.span=> let #b: bool = #tokens;));
         }
     }
     // Every `let` opens a lexical scope, and debug info nests them: thousands of sequential
@@ -204,6 +219,11 @@ pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
             Node::Powf(a, b) => {
                 let (a, b) = (receiver(dag, fields, a), o(b));
                 quote!(#a.powf(#b))
+            }
+            Node::Select(c, a, b) => {
+                let (a, b) = (o(a), o(b));
+                let c = format_ident!("b_{}", c);
+                quote!(if #c { #a } else { #b })
             }
             Node::Atan2(y, x) => {
                 let (y, x) = (receiver(dag, fields, y), o(x));

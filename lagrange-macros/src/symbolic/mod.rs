@@ -3,6 +3,14 @@
 //! over the DAG, structural zeros skipped), and emitted as straight-line Rust for the mass matrix,
 //! the right-hand side of the Euler–Lagrange equations, the momenta and the energy; the equations
 //! are also printed for people (Unicode and LaTeX).
+//!
+//! An `if` whose condition uses only constants (`self` fields, literals, names from the user's
+//! scope; no coordinate, velocity, time or local binding) is supported: the condition is
+//! evaluated once per call as `let b_k: bool = <condition as written>;`, both branches are
+//! lowered, and every value that differs between them becomes `Node::Select(k, a, b)`, emitted as
+//! `if b_k { a } else { b }` and differentiated branch by branch. The equations print it as
+//! `(a if cond else b)` (LaTeX: `\left(a \;\text{if}\; \texttt{cond} \;\text{else}\; b\right)`).
+//! A condition on the state is an error at the offending name that says to use `mode = "jets"`.
 // Index loops mirror the textbook elimination formulas; iterator forms would obscure them.
 #![allow(clippy::needless_range_loop)]
 
@@ -47,6 +55,8 @@ pub struct SymbolicOutput {
 struct Derivation {
     dag: Dag,
     fields: Vec<lower::Field>,
+    /// Conditions of constant `if`s (`Node::Select`).
+    conds: Vec<lower::Cond>,
     #[cfg_attr(not(test), allow(dead_code))]
     lagrangian: Id,
     /// ∂L/∂q̇ᵢ.
@@ -113,6 +123,7 @@ fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
     Ok(Derivation {
         dag,
         fields: lowered.fields,
+        conds: lowered.conds,
         lagrangian: l,
         momenta,
         mass,
@@ -284,7 +295,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
         outs.extend(&row[i..]);
     }
     outs.extend(&d.force);
-    let code = codegen::emit(&d.dag, &d.fields, &outs);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
     let mut lets = code.lets;
     let rows = d.mass.iter().enumerate().map(|(i, row)| {
         let cells = row
@@ -333,7 +344,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     for (i, row) in d.mass.iter().enumerate() {
         outs.extend(&row[i..]);
     }
-    let code = codegen::emit(&d.dag, &d.fields, &outs);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
     lets += code.lets;
     let cells = (0..n)
         .flat_map(|i| (0..n).map(move |k| (i, k)))
@@ -349,7 +360,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     };
 
     // momenta
-    let code = codegen::emit(&d.dag, &d.fields, &d.momenta);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &d.momenta);
     lets += code.lets;
     let p = d.momenta.iter().map(|&x| op(x));
     let stmts = code.stmts;
@@ -360,7 +371,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     };
 
     // energy
-    let code = codegen::emit(&d.dag, &d.fields, &[d.energy]);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.energy]);
     lets += code.lets;
     let h = op(d.energy);
     let stmts = code.stmts;
