@@ -1124,3 +1124,47 @@ fn constant_if_symbolic_equals_jets_on_every_branch() {
         Switched::EQUATIONS
     );
 }
+
+/// `Scalar::constant`, `Scalar::from` and `<Scalar as From<f64>>::from` on constants.
+#[derive(Debug, Clone, Copy)]
+pub struct Converted {
+    pub k: f64,
+}
+
+#[lagrangian]
+impl Converted {
+    fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+        let half = Scalar::constant(0.5);
+        let k = <Scalar as From<f64>>::from(self.k);
+        half * x_dot * x_dot - Scalar::from(2.0) * k * x.cos()
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct ConvertedJets {
+    pub k: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl ConvertedJets {
+    fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+        let half = Scalar::constant(0.5);
+        let k = <Scalar as From<f64>>::from(self.k);
+        half * x_dot * x_dot - Scalar::from(2.0) * k * x.cos()
+    }
+}
+
+#[test]
+fn scalar_conversions_of_constants_symbolic_equals_jets() {
+    agree_random(
+        &Converted { k: 1.7 },
+        &ConvertedJets { k: 1.7 },
+        40,
+        (-3.0, 3.0),
+    );
+    // ∂L/∂x = 2k sin x, so ẍ = 2k sin x.
+    let a = Converted { k: 1.7 }
+        .accelerations(&[0.3], &[0.0], 0.0)
+        .unwrap();
+    assert!((a[0] - 2.0 * 1.7 * 0.3_f64.sin()).abs() < 1e-14);
+}

@@ -217,7 +217,6 @@ impl Dag {
     }
 
     /// Whether the node depends on no coordinate, velocity or time (parameters and constants only).
-    #[cfg(test)]
     pub fn is_state_free(&self, id: Id) -> bool {
         let w = id as usize * self.words;
         self.deps[w..w + self.words].iter().all(|x| *x == 0)

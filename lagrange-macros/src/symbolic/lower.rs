@@ -756,6 +756,36 @@ impl Lower {
             .map(|s| s.ident.to_string())
             .collect();
         let n = segs.len();
+        // `Scalar::constant(c)`, `Scalar::from(c)`, `<Scalar as From<f64>>::from(c)`: the
+        // identity on a constant.
+        let scalar_self = match &p.qself {
+            Some(q) => {
+                matches!(&*q.ty, syn::Type::Path(t) if t.qself.is_none() && t.path.is_ident("Scalar"))
+            }
+            None => false,
+        };
+        let is_constant_ctor = c.args.len() == 1
+            && match (&p.qself, segs.as_slice()) {
+                (None, [s, m]) => s == "Scalar" && (m == "constant" || m == "from"),
+                (Some(_), [t, m]) => scalar_self && t == "From" && m == "from",
+                _ => false,
+            };
+        if is_constant_ctor {
+            let arg = &c.args[0];
+            let v = self.expr(arg)?;
+            let Some(id) = self.scalar(v, arg.span(), "the argument of this conversion") else {
+                return Ok(Val::Poison);
+            };
+            if !self.dag.is_state_free(id) {
+                return Ok(self.err(syn::Error::new(
+                    arg.span(),
+                    "this converts an f64 constant into a Scalar, but the argument depends on \
+                     the coordinates, velocities or time; it is already a Scalar, so write it \
+                     without the conversion",
+                )));
+            }
+            return Ok(Val::S(id));
+        }
         if n >= 2 && segs[n - 2] == "Vector3" {
             match segs[n - 1].as_str() {
                 "new" if c.args.len() == 3 => {

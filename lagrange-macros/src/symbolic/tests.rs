@@ -565,3 +565,28 @@ fn state_dependent_if_says_why_and_use_jets() {
     // Method names and `self` fields are not mistaken for bindings.
     assert!(errors("{ let k = x; if self.k.abs() > 0.0 { k } else { x_dot } }").is_empty());
 }
+
+#[test]
+fn scalar_constant_conversions_are_the_identity_on_constants() {
+    let body = "{
+        let a = Scalar::constant(self.k);
+        let b = Scalar::from(2.0);
+        let c = <Scalar as From<f64>>::from(self.k * 3.0);
+        a * x_dot * x_dot + b * x + c
+    }";
+    let dcl = decl(&[("x", "x_dot", false)], None, body);
+    let d = derive(&dcl).unwrap_or_else(|e| panic!("derives: {}", e[0]));
+    let v = d
+        .dag
+        .eval_all(&[0.5], &[(0, false)], &[], &[0.3], &[0.7], 0.0);
+    assert!(close(v[d.mass[0][0] as usize], 1.0, 1e-15));
+    assert!(close(v[d.force[0] as usize], 2.0, 1e-15));
+    assert!(close(
+        v[d.lagrangian as usize],
+        0.5 * 0.49 + 0.6 + 1.5,
+        1e-15
+    ));
+    let e = errors("{ Scalar::constant(x) * x_dot }");
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(e[0].contains("depends on the coordinates"), "{e:?}");
+}
