@@ -153,8 +153,9 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             if !(d_1 > tol) {
                 break 'fast ::core::option::Option::None;
             }
-            let (l_1_2,): (f64,) = ((x56) / d_1,);
-            let d_2: f64 = p_i_par - l_1_2 * l_1_2 * d_1;
+            let (u_1_2,): (f64,) = (x56,);
+            let (l_1_2,): (f64,) = (u_1_2 / d_1,);
+            let d_2: f64 = p_i_par - l_1_2 * u_1_2;
             if !(d_2 > tol) {
                 break 'fast ::core::option::Option::None;
             }

@@ -144,6 +144,7 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
     let a_id = |j: usize, i: usize| quote::format_ident!("l_{}_{}", j, i);
     let d_id = |j: usize| quote::format_ident!("d_{}", j);
     let r_id = |j: usize| quote::format_ident!("r_{}", j);
+    let u_id = |j: usize, i: usize| quote::format_ident!("u_{}_{}", j, i);
     let x_id = |i: usize| quote::format_ident!("y_{}", i);
     let mut out = TokenStream::new();
     // The largest diagonal magnitude (a NaN on the diagonal is caught by its pivot test).
@@ -168,10 +169,11 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
             Some(x) => quote!(#x),
             None => quote!(0.0_f64),
         };
+        // l_kj² d_k = l_kj u_kj, with u_kj = l_kj d_k the row before its division.
         for k in 0..j {
             if l[k][j] {
-                let (lk, dk) = (a_id(k, j), d_id(k));
-                e = quote!(#e - #lk * #lk * #dk);
+                let (lk, uk) = (a_id(k, j), u_id(k, j));
+                e = quote!(#e - #lk * #uk);
             }
         }
         out.extend(quote! {
@@ -185,8 +187,8 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
             let mut terms = Vec::new();
             for k in 0..j {
                 if l[k][j] && l[k][i] {
-                    let (lkj, lki, dk) = (a_id(k, j), a_id(k, i), d_id(k));
-                    terms.push(quote!(#lkj * #lki * #dk));
+                    let (lkj, uki) = (a_id(k, j), u_id(k, i));
+                    terms.push(quote!(#lkj * #uki));
                 }
             }
             if m[j][i].is_none() && terms.is_empty() {
@@ -199,7 +201,7 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
             for t in terms {
                 s = quote!(#s - #t);
             }
-            row.push((a_id(j, i), s));
+            row.push((u_id(j, i), s));
             l[j][i] = true;
         }
         // A reciprocal adds a multiplication to the (latency-bound) critical path; it pays off
@@ -209,18 +211,25 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
             recip[j] = true;
             out.extend(quote!(let #rj: f64 = 1.0 / #dj;));
         }
-        // One `let` per row keeps the scope nesting shallow (see codegen).
-        let ls = row.iter().map(|(x, _)| x);
-        let tys = row.iter().map(|_| quote!(f64));
-        let es = row.iter().map(|(_, e)| {
-            if recip[j] {
-                quote!((#e) * #rj)
-            } else {
-                quote!((#e) / #dj)
-            }
-        });
+        // Two `let`s per row keep the scope nesting shallow (see codegen): the row before its
+        // division by the pivot (u), then L's row.
         if !row.is_empty() {
-            out.extend(quote!(let (#(#ls,)*): (#(#tys,)*) = (#(#es,)*);));
+            let us: Vec<Ident> = row.iter().map(|(x, _)| x.clone()).collect();
+            let ls = row.iter().map(|(x, _)| {
+                let s = x.to_string();
+                quote::format_ident!("l{}", &s[1..])
+            });
+            let tys: Vec<TokenStream> = row.iter().map(|_| quote!(f64)).collect();
+            let es = row.iter().map(|(_, e)| e);
+            out.extend(quote!(let (#(#us,)*): (#(#tys,)*) = (#(#es,)*);));
+            let divided = us.iter().map(|u| {
+                if recip[j] {
+                    quote!(#u * #rj)
+                } else {
+                    quote!(#u / #dj)
+                }
+            });
+            out.extend(quote!(let (#(#ls,)*): (#(#tys,)*) = (#(#divided,)*);));
         }
     }
     for i in 0..n {
