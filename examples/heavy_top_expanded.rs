@@ -105,7 +105,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let p_m: f64 = self.m;
         let p_g: f64 = self.g;
         let p_l: f64 = self.l;
-        let (x8, x9, x30): (f64, f64, f64) = (q[0].sin(), q[0].cos(), p_m * p_g);
+        let ((x8, x9), x30): ((f64, f64), f64) = (q[0].sin_cos(), p_m * p_g);
         let (x15, x22, x32, x51, x53, x56, x57, x58): (f64, f64, f64, f64, f64, f64, f64, f64) = (
             qdot[1] * x8,
             qdot[1] * x9,
@@ -138,50 +138,51 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let (x65, x71, x88): (f64, f64, f64) = (x63 + x64, x67 + x69, p_i_par * x84);
         let (x66, x73, x92): (f64, f64, f64) = (p_i_perp * x65, p_i_par * x71, x81 - x88);
         let (x95, x96): (f64, f64) = (x92 + x93, x73 - x66);
-        let m: [[f64; 3]; 3] = [[p_i_perp, 0.0, 0.0], [0.0, x55, x56], [0.0, 0.0, p_i_par]];
-        let f: [f64; 3] = [x95, x96, x76];
-        let fallback = || {
-            ::lagrange::__private::solve_mass_matrix(
-                &m,
-                &f,
+        let fast: ::core::option::Option<[f64; 3]> = 'fast: {
+            let __lagrange_max = |s: f64, a: f64| if a > s { a } else { s };
+            let scale: f64 = __lagrange_max(
+                __lagrange_max(__lagrange_max(0.0_f64, f64::abs(p_i_perp)), f64::abs(x55)),
+                f64::abs(p_i_par),
+            );
+            let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
+            let d_0: f64 = p_i_perp;
+            if !(d_0 > tol) {
+                break 'fast ::core::option::Option::None;
+            }
+            let d_1: f64 = x55;
+            if !(d_1 > tol) {
+                break 'fast ::core::option::Option::None;
+            }
+            let (u_1_2,): (f64,) = (x56,);
+            let (l_1_2,): (f64,) = (u_1_2 / d_1,);
+            let d_2: f64 = p_i_par - l_1_2 * u_1_2;
+            if !(d_2 > tol) {
+                break 'fast ::core::option::Option::None;
+            }
+            let y_0: f64 = x95;
+            let y_1: f64 = x96;
+            let y_2: f64 = x76 - l_1_2 * y_1;
+            let y_0: f64 = y_0 / d_0;
+            let y_1: f64 = y_1 / d_1;
+            let y_2: f64 = y_2 / d_2;
+            let y_1: f64 = y_1 - l_1_2 * y_2;
+            let x = [y_0, y_1, y_2];
+            if x.iter().all(|v| v.is_finite()) {
+                ::core::option::Option::Some(x)
+            } else {
+                ::core::option::Option::None
+            }
+        };
+        match fast {
+            ::core::option::Option::Some(x) => ::core::result::Result::Ok(x),
+            ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
+                &[[p_i_perp, 0.0, 0.0], [0.0, x55, x56], [0.0, 0.0, p_i_par]],
+                &[x95, x96, x76],
                 <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
                 q,
                 qdot,
                 t,
-            )
-        };
-        let scale = 0.0_f64
-            .max(f64::abs(p_i_perp))
-            .max(f64::abs(x55))
-            .max(f64::abs(p_i_par));
-        let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
-        let d_0: f64 = p_i_perp;
-        if !(d_0 > tol) {
-            return fallback();
-        }
-        let d_1: f64 = x55;
-        if !(d_1 > tol) {
-            return fallback();
-        }
-        let (l_1_2,): (f64,) = ((x56) / d_1,);
-        let d_2: f64 = p_i_par - l_1_2 * l_1_2 * d_1;
-        if !(d_2 > tol) {
-            return fallback();
-        }
-        let y_0: f64 = x95;
-        let y_1: f64 = x96;
-        let y_2: f64 = x76 - l_1_2 * y_1;
-        let y_0: f64 = y_0 / d_0;
-        let y_1: f64 = y_1 / d_1;
-        let y_2: f64 = y_2 / d_2;
-        let y_2: f64 = y_2;
-        let y_1: f64 = y_1 - l_1_2 * y_2;
-        let y_0: f64 = y_0;
-        let x = [y_0, y_1, y_2];
-        if x.iter().all(|v| v.is_finite()) {
-            ::core::result::Result::Ok(x)
-        } else {
-            fallback()
+            ),
         }
     }
     #[allow(
@@ -202,7 +203,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let _ = (q, qdot, t);
         let p_i_perp: f64 = self.i_perp;
         let p_i_par: f64 = self.i_par;
-        let (x8, x9): (f64, f64) = (q[0].sin(), q[0].cos());
+        let (x8, x9): (f64, f64) = q[0].sin_cos();
         let (x51, x53, x56): (f64, f64, f64) = (x8 * x8, x9 * x9, x9 * p_i_par);
         let (x52, x54): (f64, f64) = (p_i_perp * x51, p_i_par * x53);
         let x55: f64 = x52 + x54;
@@ -223,7 +224,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let _ = (q, qdot, t);
         let p_i_perp: f64 = self.i_perp;
         let p_i_par: f64 = self.i_par;
-        let (x8, x9, x36): (f64, f64, f64) = (q[0].sin(), q[0].cos(), qdot[0] * p_i_perp);
+        let ((x8, x9), x36): ((f64, f64), f64) = (q[0].sin_cos(), qdot[0] * p_i_perp);
         let (x15, x22): (f64, f64) = (qdot[1] * x8, qdot[1] * x9);
         let (x23, x39): (f64, f64) = (qdot[2] + x22, x8 * x15);
         let (x41, x44, x49): (f64, f64, f64) = (p_i_perp * x39, x9 * x23, p_i_par * x23);
@@ -247,9 +248,8 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let p_m: f64 = self.m;
         let p_g: f64 = self.g;
         let p_l: f64 = self.l;
-        let (x8, x9, x14, x30, x36): (f64, f64, f64, f64, f64) = (
-            q[0].sin(),
-            q[0].cos(),
+        let ((x8, x9), x14, x30, x36): ((f64, f64), f64, f64, f64) = (
+            q[0].sin_cos(),
             qdot[0] * qdot[0],
             p_m * p_g,
             qdot[0] * p_i_perp,

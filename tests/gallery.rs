@@ -524,9 +524,9 @@ pub struct ElasticPendulum {
     pub g: f64,
 }
 
-// This body uses `if` on a parameter: the symbolic mode (the default) rejects that with a
-// pointed error, so it uses the run-time jets.
-#[lagrangian(mode = "jets")]
+// `if` on a parameter: the symbolic mode (the default) evaluates the condition once per call and
+// derives both branches at compile time.
+#[lagrangian]
 impl ElasticPendulum {
     fn lagrangian(&self, (r, r_dot): Coord, (theta, theta_dot): Coord) -> Scalar {
         let spring = if self.k > 0.0 {

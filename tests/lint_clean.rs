@@ -61,8 +61,8 @@ pub struct Driven {
     pub w: f64,
 }
 
-// `if` on a parameter: run-time jets (the symbolic default rejects `if`).
-#[lagrangian(mode = "jets")]
+// `if` on a parameter: the symbolic default derives both branches (the condition is a constant).
+#[lagrangian]
 impl Driven {
     #[allow(clippy::suboptimal_flops)]
     fn lagrangian(&self, (x, x_dot): Coord, t: Time) -> Scalar {

@@ -1020,3 +1020,151 @@ fn ui_symbolic_errors_say_use_jets() {
     let t = trybuild::TestCases::new();
     t.compile_fail("tests/ui/symbolic/*.rs");
 }
+
+/// `if` on constants (issue 7): an `if` expression, an `if`/`else if` statement that assigns a
+/// local, and a vector-valued `if`; the conditions use only `self` fields and literals.
+#[derive(Debug, Clone, Copy)]
+pub struct Switched {
+    pub m: f64,
+    pub k: f64,
+    pub c: f64,
+}
+
+#[lagrangian]
+impl Switched {
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord, t: Time) -> Scalar {
+        let f = if self.k > 0.0 {
+            self.k * x * x
+        } else {
+            0.0 * x
+        };
+        let mut lag = self.m / 2.0 * (x_dot * x_dot + y_dot * y_dot) - f;
+        if self.c > 1.0 {
+            lag += self.c * x_dot * y.sin() * t.cos();
+        } else if self.c > 0.0 {
+            lag -= self.c * x * y * y;
+        }
+        let w = if self.k > 0.0 {
+            Vector3::new(x, y, 1.0)
+        } else {
+            Vector3::new(y, 0.5 * x, 2.0)
+        };
+        lag - 0.1 * w.norm_squared() * (1.0 + x_dot * x_dot)
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct SwitchedJets {
+    pub m: f64,
+    pub k: f64,
+    pub c: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl SwitchedJets {
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord, t: Time) -> Scalar {
+        let f = if self.k > 0.0 {
+            self.k * x * x
+        } else {
+            0.0 * x
+        };
+        let mut lag = self.m / 2.0 * (x_dot * x_dot + y_dot * y_dot) - f;
+        if self.c > 1.0 {
+            lag += self.c * x_dot * y.sin() * t.cos();
+        } else if self.c > 0.0 {
+            lag -= self.c * x * y * y;
+        }
+        let w = if self.k > 0.0 {
+            Vector3::new(x, y, 1.0)
+        } else {
+            Vector3::new(y, 0.5 * x, 2.0)
+        };
+        lag - 0.1 * w.norm_squared() * (1.0 + x_dot * x_dot)
+    }
+}
+
+#[test]
+fn constant_if_symbolic_equals_jets_on_every_branch() {
+    // k > 0 and k ≤ 0; c > 1, 0 < c ≤ 1 and c ≤ 0: every branch is taken.
+    let mut seed = 20;
+    for k in [1.5, -1.0] {
+        for c in [2.0, 0.5, -1.0] {
+            let s = Switched { m: 1.3, k, c };
+            let j = SwitchedJets { m: 1.3, k, c };
+            agree_random(&s, &j, seed, (-1.5, 1.5));
+            seed += 1;
+        }
+    }
+    // The branches really differ: the spring force −2k x is there only for k > 0.
+    let (q, v) = ([0.7, 0.0], [0.0, 0.0]);
+    let on = Switched {
+        m: 1.0,
+        k: 3.0,
+        c: -1.0,
+    };
+    let off = Switched {
+        m: 1.0,
+        k: -3.0,
+        c: -1.0,
+    };
+    let (a_on, a_off) = (
+        on.accelerations(&q, &v, 0.0).unwrap(),
+        off.accelerations(&q, &v, 0.0).unwrap(),
+    );
+    assert!((a_on[0] - a_off[0]).abs() > 1.0, "{a_on:?} vs {a_off:?}");
+    // The equations show the condition and both branches.
+    assert!(
+        Switched::EQUATIONS.contains(" if k > 0.0 else "),
+        "{}",
+        Switched::EQUATIONS
+    );
+    assert!(
+        Switched::EQUATIONS.contains(" if c > 1.0 else "),
+        "{}",
+        Switched::EQUATIONS
+    );
+}
+
+/// `Scalar::constant`, `Scalar::from` and `<Scalar as From<f64>>::from` on constants.
+#[derive(Debug, Clone, Copy)]
+pub struct Converted {
+    pub k: f64,
+}
+
+#[lagrangian]
+impl Converted {
+    fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+        let half = Scalar::constant(0.5);
+        let k = <Scalar as From<f64>>::from(self.k);
+        half * x_dot * x_dot - Scalar::from(2.0) * k * x.cos()
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct ConvertedJets {
+    pub k: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl ConvertedJets {
+    fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+        let half = Scalar::constant(0.5);
+        let k = <Scalar as From<f64>>::from(self.k);
+        half * x_dot * x_dot - Scalar::from(2.0) * k * x.cos()
+    }
+}
+
+#[test]
+fn scalar_conversions_of_constants_symbolic_equals_jets() {
+    agree_random(
+        &Converted { k: 1.7 },
+        &ConvertedJets { k: 1.7 },
+        40,
+        (-3.0, 3.0),
+    );
+    // ∂L/∂x = 2k sin x, so ẍ = 2k sin x.
+    let a = Converted { k: 1.7 }
+        .accelerations(&[0.3], &[0.0], 0.0)
+        .unwrap();
+    assert!((a[0] - 2.0 * 1.7 * 0.3_f64.sin()).abs() < 1e-14);
+}

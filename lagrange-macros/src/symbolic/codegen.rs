@@ -4,8 +4,8 @@
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote, quote_spanned};
 
-use super::dag::{Dag, Id, Node};
-use super::lower::Field;
+use super::dag::{Dag, Fun, Id, Node};
+use super::lower::{Cond, Field};
 
 /// Straight-line code computing a set of DAG nodes.
 pub struct Code {
@@ -86,8 +86,17 @@ fn receiver(dag: &Dag, fields: &[Field], id: Id) -> TokenStream {
     }
 }
 
+/// 1 + the deepest level of the inner (non-leaf) operands of `node`; 0 if it has none.
+fn node_level(dag: &Dag, level: &[usize], node: Node) -> usize {
+    node.children()
+        .filter(|&c| !dag.node(c).is_leaf())
+        .map(|c| level[c as usize] + 1)
+        .max()
+        .unwrap_or(0)
+}
+
 /// Emits the code computing `outputs` (and everything they need).
-pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
+pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code {
     let mut need = vec![false; dag.len()];
     let mut stack: Vec<Id> = outputs.to_vec();
     while let Some(id) = stack.pop() {
@@ -125,11 +134,27 @@ pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
             stmts.extend(quote_spanned!(field.span=> let #local: #ty = #this.#member;));
         }
     }
+    // Conditions of constant `if`s: one `bool` each, evaluated as written (spanned at the user's
+    // condition, `self` resolved like the field loads).
+    let mut used = vec![false; conds.len()];
+    for (id, needed) in need.iter().enumerate() {
+        if let (true, Node::Select(c, _, _)) = (*needed, dag.node(id as Id)) {
+            used[c as usize] = true;
+        }
+    }
+    for (k, cond) in conds.iter().enumerate() {
+        if used[k] {
+            let b = format_ident!("b_{}", k);
+            let tokens = &cond.tokens;
+            stmts.extend(quote_spanned!(cond.span=> let #b: bool = #tokens;));
+        }
+    }
     // Every `let` opens a lexical scope, and debug info nests them: thousands of sequential
     // `let`s overflow LLVM's stack. Nodes are grouped by level (1 + the deepest inner operand)
     // into one tuple `let` per level, so the nesting depth is the depth of the DAG.
     let mut level = vec![0usize; dag.len()];
-    let mut by_level: Vec<Vec<(Ident, TokenStream)>> = Vec::new();
+    // (pattern, type, value) per level.
+    let mut by_level: Vec<Vec<(TokenStream, TokenStream, TokenStream)>> = Vec::new();
     let mut lets = 0;
     for (id, needed) in need.iter().enumerate() {
         let id = id as Id;
@@ -137,8 +162,31 @@ pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
         if !*needed || node.is_leaf() {
             continue;
         }
+        // A needed sin(a) and cos(a) become one `a.sin_cos()` (emitted with the sin).
+        let partner = match node {
+            Node::Un(Fun::Sin, a) => dag
+                .find(Node::Un(Fun::Cos, a))
+                .filter(|&c| need[c as usize])
+                .map(|c| (id, c)),
+            Node::Un(Fun::Cos, a) => {
+                if dag
+                    .find(Node::Un(Fun::Sin, a))
+                    .is_some_and(|s| need[s as usize])
+                {
+                    // Emitted with the sin.
+                    level[id as usize] = node_level(dag, &level, node);
+                    continue;
+                }
+                None
+            }
+            _ => None,
+        };
         let o = |i: Id| operand(dag, fields, i);
         let rhs = match node {
+            Node::Un(_, a) if partner.is_some() => {
+                let a = receiver(dag, fields, a);
+                quote!(#a.sin_cos())
+            }
             Node::Add(a, b) => {
                 let (a, b) = (o(a), o(b));
                 quote!(#a + #b)
@@ -172,6 +220,11 @@ pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
                 let (a, b) = (receiver(dag, fields, a), o(b));
                 quote!(#a.powf(#b))
             }
+            Node::Select(c, a, b) => {
+                let (a, b) = (o(a), o(b));
+                let c = format_ident!("b_{}", c);
+                quote!(if #c { #a } else { #b })
+            }
             Node::Atan2(y, x) => {
                 let (y, x) = (receiver(dag, fields, y), o(x));
                 quote!(#y.atan2(#x))
@@ -183,26 +236,32 @@ pub fn emit(dag: &Dag, fields: &[Field], outputs: &[Id]) -> Code {
             }
             Node::Const(_) | Node::Param(..) | Node::Q(_) | Node::V(_) | Node::T => continue,
         };
-        let lv = node
-            .children()
-            .filter(|&c| !dag.node(c).is_leaf())
-            .map(|c| level[c as usize] + 1)
-            .max()
-            .unwrap_or(0);
+        let lv = node_level(dag, &level, node);
         level[id as usize] = lv;
         if by_level.len() <= lv {
             by_level.resize_with(lv + 1, Vec::new);
         }
-        by_level[lv].push((format_ident!("x{}", id), rhs));
+        let (pat, ty) = match partner {
+            Some((s, c)) => {
+                let (s, c) = (format_ident!("x{}", s), format_ident!("x{}", c));
+                lets += 1;
+                (quote!((#s, #c)), quote!((f64, f64)))
+            }
+            None => {
+                let x = format_ident!("x{}", id);
+                (quote!(#x), quote!(f64))
+            }
+        };
+        by_level[lv].push((pat, ty, rhs));
         lets += 1;
     }
     for group in by_level {
-        if let [(x, rhs)] = group.as_slice() {
-            stmts.extend(quote!(let #x: f64 = #rhs;));
+        if let [(x, ty, rhs)] = group.as_slice() {
+            stmts.extend(quote!(let #x: #ty = #rhs;));
         } else if !group.is_empty() {
-            let xs = group.iter().map(|(x, _)| x);
-            let tys = group.iter().map(|_| quote!(f64));
-            let rhss = group.iter().map(|(_, r)| r);
+            let xs = group.iter().map(|(x, _, _)| x);
+            let tys = group.iter().map(|(_, t, _)| t);
+            let rhss = group.iter().map(|(_, _, r)| r);
             stmts.extend(quote!(let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
         }
     }

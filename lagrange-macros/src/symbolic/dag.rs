@@ -92,6 +92,9 @@ pub enum Node {
     Powf(Id, Id),
     Atan2(Id, Id),
     Un(Fun, Id),
+    /// `if b { a } else { c }` on a condition that depends on constants only (the index of a
+    /// run-time `bool` evaluated once per call, see `lower::Cond`).
+    Select(u32, Id, Id),
 }
 
 impl Node {
@@ -104,7 +107,8 @@ impl Node {
             | Node::Mul(a, b)
             | Node::Div(a, b)
             | Node::Powf(a, b)
-            | Node::Atan2(a, b) => (Some(a), Some(b)),
+            | Node::Atan2(a, b)
+            | Node::Select(_, a, b) => (Some(a), Some(b)),
             Node::Neg(a) | Node::Powi(a, _) | Node::Un(_, a) => (Some(a), None),
         };
         a.into_iter().chain(b)
@@ -213,7 +217,6 @@ impl Dag {
     }
 
     /// Whether the node depends on no coordinate, velocity or time (parameters and constants only).
-    #[cfg(test)]
     pub fn is_state_free(&self, id: Id) -> bool {
         let w = id as usize * self.words;
         self.deps[w..w + self.words].iter().all(|x| *x == 0)
@@ -226,6 +229,11 @@ impl Dag {
             .iter()
             .zip(&set.0)
             .any(|(a, b)| a & b != 0)
+    }
+
+    /// The id of `node` if it is already in the DAG.
+    pub fn find(&self, node: Node) -> Option<Id> {
+        self.index.get(&node).copied()
     }
 
     fn intern(&mut self, node: Node) -> Id {
@@ -481,12 +489,32 @@ impl Dag {
         self.intern(Node::Un(f, a))
     }
 
-    /// Evaluates every node numerically (parameters flattened: `fields[f] = (start, vector)`).
+    /// `if cond { a } else { b }`; equal branches fold, and a nested select on the same
+    /// condition takes its own branch.
+    pub fn select(&mut self, cond: u32, a: Id, b: Id) -> Id {
+        let a = match self.node(a) {
+            Node::Select(c, x, _) if c == cond => x,
+            _ => a,
+        };
+        let b = match self.node(b) {
+            Node::Select(c, _, y) if c == cond => y,
+            _ => b,
+        };
+        if a == b {
+            return a;
+        }
+        self.intern(Node::Select(cond, a, b))
+    }
+
+    /// Evaluates every node numerically (parameters flattened: `fields[f] = (start, vector)`;
+    /// `conds[k]`: the value of condition k).
     #[cfg(test)]
+    #[allow(clippy::too_many_arguments)]
     pub fn eval_all(
         &self,
         params: &[f64],
         fields: &[(usize, bool)],
+        conds: &[bool],
         q: &[f64],
         v: &[f64],
         t: f64,
@@ -512,6 +540,13 @@ impl Dag {
                 Node::Powf(a, b) => g(a).powf(g(b)),
                 Node::Atan2(a, b) => g(a).atan2(g(b)),
                 Node::Un(f, a) => f.eval(g(a)),
+                Node::Select(c, a, b) => {
+                    if conds[c as usize] {
+                        g(a)
+                    } else {
+                        g(b)
+                    }
+                }
             };
             val.push(x);
         }
@@ -606,6 +641,10 @@ impl Dag {
                         s = self.add(s, x);
                     }
                     s
+                }
+                Node::Select(c, a, b) => {
+                    let (da, db) = (d(a), d(b));
+                    self.select(c, da, db)
                 }
                 Node::Atan2(y, x) => {
                     let (dy, dx) = (d(y), d(x));

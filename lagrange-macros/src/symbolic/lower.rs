@@ -32,6 +32,18 @@ pub struct Field {
     pub free: bool,
 }
 
+/// The condition of an `if` that depends on constants only: evaluated once per call, at run
+/// time, as a `bool` (`let b_k: bool = <tokens>;`).
+#[derive(Clone, Debug)]
+pub struct Cond {
+    /// The condition as written, with `self` resolved like the field loads.
+    pub tokens: proc_macro2::TokenStream,
+    /// The condition for people (`k > 0.0`).
+    pub text: String,
+    /// Where it is written.
+    pub span: Span,
+}
+
 #[derive(Clone, Debug)]
 enum Val {
     S(Id),
@@ -50,6 +62,7 @@ pub struct Lowered {
     pub dag: Dag,
     pub lagrangian: Id,
     pub fields: Vec<Field>,
+    pub conds: Vec<Cond>,
 }
 
 /// The error message for a construct the symbolic lowering cannot handle.
@@ -73,6 +86,7 @@ pub fn lower(decl: &Decl) -> Result<Lowered, Vec<syn::Error>> {
             scopes: Vec::new(),
             errors: Vec::new(),
             fields: std::mem::take(&mut fields),
+            conds: Vec::new(),
         };
         for c in &decl.coords {
             let i = c.first_index;
@@ -118,6 +132,7 @@ pub fn lower(decl: &Decl) -> Result<Lowered, Vec<syn::Error>> {
                         dag: lw.dag,
                         lagrangian: l,
                         fields: lw.fields,
+                        conds: lw.conds,
                     }),
                     _ => Err(errors),
                 };
@@ -138,6 +153,7 @@ struct Lower {
     scopes: Vec<(String, Val)>,
     errors: Vec<syn::Error>,
     fields: Vec<Field>,
+    conds: Vec<Cond>,
 }
 
 fn paren_less(e: &Expr) -> &Expr {
@@ -451,11 +467,146 @@ impl Lower {
             }
             Expr::MethodCall(m) => self.method(m)?,
             Expr::Call(c) => self.call(c)?,
+            Expr::If(i) => self.if_expr(i)?,
             other => {
                 let kind = expr_kind(other);
                 self.unsupported(other.span(), kind)
             }
         })
+    }
+
+    /// `if cond { .. } else { .. }` on a constant condition: both branches are lowered, and every
+    /// value that differs between them (the result and any binding assigned in a branch) becomes
+    /// a `Select` on the condition.
+    fn if_expr(&mut self, i: &syn::ExprIf) -> R<Val> {
+        let cond = self.condition(&i.cond);
+        let before = self.scopes.clone();
+        let a = self.block(&i.then_branch)?;
+        let after_a = std::mem::replace(&mut self.scopes, before.clone());
+        let b = match &i.else_branch {
+            Some((_, e)) => self.expr(e)?,
+            None => Val::Tuple(Vec::new()),
+        };
+        let after_b = std::mem::replace(&mut self.scopes, before);
+        let Some(c) = cond else {
+            return Ok(Val::Poison);
+        };
+        let span = i.if_token.span;
+        for (k, ((_, va), (_, vb))) in after_a.into_iter().zip(after_b).enumerate() {
+            let v = self.merge(c, va, vb, span);
+            self.scopes[k].1 = v;
+        }
+        Ok(self.merge(c, a, b, span))
+    }
+
+    fn merge(&mut self, c: u32, a: Val, b: Val, span: Span) -> Val {
+        match (a, b) {
+            (Val::S(x), Val::S(y)) => Val::S(self.dag.select(c, x, y)),
+            (Val::V(x), Val::V(y)) => Val::V([0, 1, 2].map(|k| self.dag.select(c, x[k], y[k]))),
+            (Val::Tuple(x), Val::Tuple(y)) if x.len() == y.len() => Val::Tuple(
+                x.into_iter()
+                    .zip(y)
+                    .map(|(p, q)| self.merge(c, p, q, span))
+                    .collect(),
+            ),
+            (Val::Poison, _) | (_, Val::Poison) => Val::Poison,
+            _ => self.err(syn::Error::new(
+                span,
+                "the two branches of this `if` give values of different shapes (scalar, Vector3 \
+                 or tuple)",
+            )),
+        }
+    }
+
+    /// Checks that an `if` condition depends on constants only and registers it. A name bound
+    /// in the body (a coordinate, a velocity, the time or a local binding) is an error at it.
+    fn condition(&mut self, e: &Expr) -> Option<u32> {
+        if let Expr::Let(l) = paren_less(e) {
+            self.unsupported(l.span(), "`if let`");
+            return None;
+        }
+        let mut bad = false;
+        let tokens = self.cond_tokens(quote::ToTokens::to_token_stream(e), &mut bad);
+        if bad {
+            return None;
+        }
+        let text = cond_text(&tokens);
+        if let Some(k) = self.conds.iter().position(|c| c.text == text) {
+            return Some(k as u32);
+        }
+        self.conds.push(Cond {
+            tokens,
+            text,
+            span: e.span(),
+        });
+        Some(self.conds.len() as u32 - 1)
+    }
+
+    fn cond_tokens(
+        &mut self,
+        ts: proc_macro2::TokenStream,
+        bad: &mut bool,
+    ) -> proc_macro2::TokenStream {
+        use proc_macro2::{Group, TokenTree};
+        let mut out = Vec::new();
+        let mut prev: Option<TokenTree> = None;
+        let mut prev2: Option<TokenTree> = None;
+        for tt in ts {
+            let new = match &tt {
+                TokenTree::Group(g) => {
+                    let inner = self.cond_tokens(g.stream(), bad);
+                    let mut ng = Group::new(g.delimiter(), inner);
+                    ng.set_span(g.span());
+                    TokenTree::Group(ng)
+                }
+                TokenTree::Ident(id) => {
+                    let member = matches!(&prev, Some(TokenTree::Punct(p)) if p.as_char() == '.');
+                    let path_seg = matches!(
+                        (&prev2, &prev),
+                        (Some(TokenTree::Punct(a)), Some(TokenTree::Punct(b)))
+                            if a.as_char() == ':' && b.as_char() == ':'
+                    );
+                    if id == "self" {
+                        TokenTree::Ident(proc_macro2::Ident::new(
+                            "self",
+                            Span::call_site().located_at(id.span()),
+                        ))
+                    } else {
+                        if !member && !path_seg {
+                            if let Some(v) = self.lookup(&unraw(id)) {
+                                let what = match v {
+                                    Val::S(n) | Val::V([n, ..]) => match self.dag.node(n) {
+                                        Node::Q(_) => "a generalized coordinate",
+                                        Node::V(_) => "a generalized velocity",
+                                        Node::T => "the time",
+                                        _ => "a local binding of the body",
+                                    },
+                                    _ => "a local binding of the body",
+                                };
+                                self.err(syn::Error::new(
+                                    id.span(),
+                                    format!(
+                                        "this `if` condition uses `{id}`, {what}: in symbolic mode \
+                                         the equations are derived once for every state, so an `if` \
+                                         condition may only use constants (`self` fields, literals, \
+                                         names from the enclosing scope); use \
+                                         `#[lagrangian(mode = \"jets\")]` on this impl block to \
+                                         branch at run time"
+                                    ),
+                                ));
+                                *bad = true;
+                            }
+                        }
+                        tt.clone()
+                    }
+                }
+                _ => tt.clone(),
+            };
+            prev2 = prev.take();
+            prev = Some(tt);
+            out.push(new);
+        }
+        out.into_iter().collect()
     }
 
     fn store(&mut self, target: &Expr, v: Val) {
@@ -605,6 +756,36 @@ impl Lower {
             .map(|s| s.ident.to_string())
             .collect();
         let n = segs.len();
+        // `Scalar::constant(c)`, `Scalar::from(c)`, `<Scalar as From<f64>>::from(c)`: the
+        // identity on a constant.
+        let scalar_self = match &p.qself {
+            Some(q) => {
+                matches!(&*q.ty, syn::Type::Path(t) if t.qself.is_none() && t.path.is_ident("Scalar"))
+            }
+            None => false,
+        };
+        let is_constant_ctor = c.args.len() == 1
+            && match (&p.qself, segs.as_slice()) {
+                (None, [s, m]) => s == "Scalar" && (m == "constant" || m == "from"),
+                (Some(_), [t, m]) => scalar_self && t == "From" && m == "from",
+                _ => false,
+            };
+        if is_constant_ctor {
+            let arg = &c.args[0];
+            let v = self.expr(arg)?;
+            let Some(id) = self.scalar(v, arg.span(), "the argument of this conversion") else {
+                return Ok(Val::Poison);
+            };
+            if !self.dag.is_state_free(id) {
+                return Ok(self.err(syn::Error::new(
+                    arg.span(),
+                    "this converts an f64 constant into a Scalar, but the argument depends on \
+                     the coordinates, velocities or time; it is already a Scalar, so write it \
+                     without the conversion",
+                )));
+            }
+            return Ok(Val::S(id));
+        }
         if n >= 2 && segs[n - 2] == "Vector3" {
             match segs[n - 1].as_str() {
                 "new" if c.args.len() == 3 => {
@@ -816,6 +997,31 @@ impl Lower {
         }
         Ok(self.unsupported(method.span(), &format!("the method `.{name}()`")))
     }
+}
+
+/// A condition for people: the tokens with Rust's spacing tidied and `self.` dropped.
+fn cond_text(ts: &proc_macro2::TokenStream) -> String {
+    let s = ts.to_string();
+    let s = s
+        .replace(" . ", ".")
+        .replace(" :: ", "::")
+        .replace("( ", "(")
+        .replace(" )", ")")
+        .replace(" ,", ",")
+        .replace("! ", "!");
+    // A call's parenthesis follows its name directly.
+    let mut out = String::with_capacity(s.len());
+    let chars: Vec<char> = s.chars().collect();
+    for (k, &ch) in chars.iter().enumerate() {
+        let call = ch == ' '
+            && chars.get(k + 1) == Some(&'(')
+            && k > 0
+            && (chars[k - 1].is_alphanumeric() || chars[k - 1] == '_');
+        if !call {
+            out.push(ch);
+        }
+    }
+    out.replace("self.", "")
 }
 
 fn f64_const(name: &str) -> Option<f64> {

@@ -3,6 +3,14 @@
 //! over the DAG, structural zeros skipped), and emitted as straight-line Rust for the mass matrix,
 //! the right-hand side of the Euler–Lagrange equations, the momenta and the energy; the equations
 //! are also printed for people (Unicode and LaTeX).
+//!
+//! An `if` whose condition uses only constants (`self` fields, literals, names from the user's
+//! scope; no coordinate, velocity, time or local binding) is supported: the condition is
+//! evaluated once per call as `let b_k: bool = <condition as written>;`, both branches are
+//! lowered, and every value that differs between them becomes `Node::Select(k, a, b)`, emitted as
+//! `if b_k { a } else { b }` and differentiated branch by branch. The equations print it as
+//! `(a if cond else b)` (LaTeX: `\left(a \;\text{if}\; \texttt{cond} \;\text{else}\; b\right)`).
+//! A condition on the state is an error at the offending name that says to use `mode = "jets"`.
 // Index loops mirror the textbook elimination formulas; iterator forms would obscure them.
 #![allow(clippy::needless_range_loop)]
 
@@ -47,6 +55,8 @@ pub struct SymbolicOutput {
 struct Derivation {
     dag: Dag,
     fields: Vec<lower::Field>,
+    /// Conditions of constant `if`s (`Node::Select`).
+    conds: Vec<lower::Cond>,
     #[cfg_attr(not(test), allow(dead_code))]
     lagrangian: Id,
     /// ∂L/∂q̇ᵢ.
@@ -113,6 +123,7 @@ fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
     Ok(Derivation {
         dag,
         fields: lowered.fields,
+        conds: lowered.conds,
         lagrangian: l,
         momenta,
         mass,
@@ -123,41 +134,52 @@ fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
 
 /// Straight-line LDLᵀ of the mass matrix (upper triangle, `None` = structural zero) with the
 /// sparsity known at compile time: the same elimination, in the same order, as the runtime's
-/// `solve_symmetric`, with the structurally zero products left out. Whenever a pivot is not
-/// clearly positive (or anything is not finite), it hands over to `fallback()`, i.e.
-/// `solve_mass_matrix`, which decides between LU and a `DynamicsError` exactly as the jets path.
+/// `solve_symmetric`, with the structurally zero products left out and one reciprocal per pivot
+/// whose row of L has two or more entries. The tokens are the statements of a block labelled `'fast` that
+/// evaluates to `Some(q̈)`, or breaks with `None` whenever a pivot is not clearly positive (or
+/// anything is not finite); the caller then hands over to `solve_mass_matrix`, which decides
+/// between LU and a `DynamicsError` exactly as the jets path.
 fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStream {
     let n = m.len();
     let a_id = |j: usize, i: usize| quote::format_ident!("l_{}_{}", j, i);
     let d_id = |j: usize| quote::format_ident!("d_{}", j);
+    let r_id = |j: usize| quote::format_ident!("r_{}", j);
+    let u_id = |j: usize, i: usize| quote::format_ident!("u_{}_{}", j, i);
     let x_id = |i: usize| quote::format_ident!("y_{}", i);
     let mut out = TokenStream::new();
-    let diag = (0..n).map(|j| match &m[j][j] {
-        Some(e) => quote!(f64::abs(#e)),
-        None => quote!(0.0_f64),
-    });
+    // The largest diagonal magnitude (a NaN on the diagonal is caught by its pivot test).
+    let mut scale = quote!(0.0_f64);
+    for j in 0..n {
+        if let Some(e) = &m[j][j] {
+            scale = quote!(__lagrange_max(#scale, f64::abs(#e)));
+        }
+    }
     out.extend(quote! {
-        let scale = 0.0_f64#(.max(#diag))*;
+        let __lagrange_max = |s: f64, a: f64| if a > s { a } else { s };
+        let scale: f64 = #scale;
         let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
     });
-    // l[j][i] (i > j): Some(ident) when not structurally zero.
+    // l[j][i] (i > j): true when not structurally zero.
     let mut l: Vec<Vec<bool>> = vec![vec![false; n]; n];
+    // Whether pivot j has a reciprocal `r_j` (used by its row of l and by y_j).
+    let mut recip = vec![false; n];
     for j in 0..n {
         let dj = d_id(j);
         let mut e = match &m[j][j] {
             Some(x) => quote!(#x),
             None => quote!(0.0_f64),
         };
+        // l_kj² d_k = l_kj u_kj, with u_kj = l_kj d_k the row before its division.
         for k in 0..j {
             if l[k][j] {
-                let (lk, dk) = (a_id(k, j), d_id(k));
-                e = quote!(#e - #lk * #lk * #dk);
+                let (lk, uk) = (a_id(k, j), u_id(k, j));
+                e = quote!(#e - #lk * #uk);
             }
         }
         out.extend(quote! {
             let #dj: f64 = #e;
             if !(#dj > tol) {
-                return fallback();
+                break 'fast ::core::option::Option::None;
             }
         });
         let mut row: Vec<(Ident, TokenStream)> = Vec::new();
@@ -165,8 +187,8 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
             let mut terms = Vec::new();
             for k in 0..j {
                 if l[k][j] && l[k][i] {
-                    let (lkj, lki, dk) = (a_id(k, j), a_id(k, i), d_id(k));
-                    terms.push(quote!(#lkj * #lki * #dk));
+                    let (lkj, uki) = (a_id(k, j), u_id(k, i));
+                    terms.push(quote!(#lkj * #uki));
                 }
             }
             if m[j][i].is_none() && terms.is_empty() {
@@ -179,15 +201,35 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
             for t in terms {
                 s = quote!(#s - #t);
             }
-            row.push((a_id(j, i), quote!((#s) / #dj)));
+            row.push((u_id(j, i), s));
             l[j][i] = true;
         }
-        // One `let` per row keeps the scope nesting shallow (see codegen).
-        let ls = row.iter().map(|(x, _)| x);
-        let tys = row.iter().map(|_| quote!(f64));
-        let es = row.iter().map(|(_, e)| e);
+        // A reciprocal adds a multiplication to the (latency-bound) critical path; it pays off
+        // only when it replaces several divisions.
+        let rj = r_id(j);
+        if row.len() >= 2 {
+            recip[j] = true;
+            out.extend(quote!(let #rj: f64 = 1.0 / #dj;));
+        }
+        // Two `let`s per row keep the scope nesting shallow (see codegen): the row before its
+        // division by the pivot (u), then L's row.
         if !row.is_empty() {
-            out.extend(quote!(let (#(#ls,)*): (#(#tys,)*) = (#(#es,)*);));
+            let us: Vec<Ident> = row.iter().map(|(x, _)| x.clone()).collect();
+            let ls = row.iter().map(|(x, _)| {
+                let s = x.to_string();
+                quote::format_ident!("l{}", &s[1..])
+            });
+            let tys: Vec<TokenStream> = row.iter().map(|_| quote!(f64)).collect();
+            let es = row.iter().map(|(_, e)| e);
+            out.extend(quote!(let (#(#us,)*): (#(#tys,)*) = (#(#es,)*);));
+            let divided = us.iter().map(|u| {
+                if recip[j] {
+                    quote!(#u * #rj)
+                } else {
+                    quote!(#u / #dj)
+                }
+            });
+            out.extend(quote!(let (#(#ls,)*): (#(#tys,)*) = (#(#divided,)*);));
         }
     }
     for i in 0..n {
@@ -205,27 +247,35 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
         out.extend(quote!(let #xi: f64 = #e;));
     }
     for i in 0..n {
-        let (xi, di) = (x_id(i), d_id(i));
-        out.extend(quote!(let #xi: f64 = #xi / #di;));
+        let (xi, di, ri) = (x_id(i), d_id(i), r_id(i));
+        if recip[i] {
+            out.extend(quote!(let #xi: f64 = #xi * #ri;));
+        } else {
+            out.extend(quote!(let #xi: f64 = #xi / #di;));
+        }
     }
     for i in (0..n).rev() {
         let xi = x_id(i);
         let mut e = quote!(#xi);
+        let mut any = false;
         for k in i + 1..n {
             if l[i][k] {
                 let (lik, xk) = (a_id(i, k), x_id(k));
                 e = quote!(#e - #lik * #xk);
+                any = true;
             }
         }
-        out.extend(quote!(let #xi: f64 = #e;));
+        if any {
+            out.extend(quote!(let #xi: f64 = #e;));
+        }
     }
     let xs = (0..n).map(x_id);
     out.extend(quote! {
         let x = [#(#xs),*];
         if x.iter().all(|v| v.is_finite()) {
-            ::core::result::Result::Ok(x)
+            ::core::option::Option::Some(x)
         } else {
-            fallback()
+            ::core::option::Option::None
         }
     });
     out
@@ -254,7 +304,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
         outs.extend(&row[i..]);
     }
     outs.extend(&d.force);
-    let code = codegen::emit(&d.dag, &d.fields, &outs);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
     let mut lets = code.lets;
     let rows = d.mass.iter().enumerate().map(|(i, row)| {
         let cells = row
@@ -283,19 +333,19 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     let accelerations = quote! {
         #touch
         #stmts
-        let m: [[f64; #nn]; #nn] = [#(#rows),*];
-        let f: [f64; #nn] = [#(#f),*];
-        let fallback = || {
-            ::lagrange::__private::solve_mass_matrix(
-                &m,
-                &f,
+        // The fast path; the arrays for the runtime's solve are only built when it fails.
+        let fast: ::core::option::Option<[f64; #nn]> = 'fast: { #solve };
+        match fast {
+            ::core::option::Option::Some(x) => ::core::result::Result::Ok(x),
+            ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
+                &[#(#rows),*],
+                &[#(#f),*],
                 <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
                 #q,
                 #qdot,
                 #t,
-            )
-        };
-        #solve
+            ),
+        }
     };
 
     // mass_matrix
@@ -303,7 +353,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     for (i, row) in d.mass.iter().enumerate() {
         outs.extend(&row[i..]);
     }
-    let code = codegen::emit(&d.dag, &d.fields, &outs);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
     lets += code.lets;
     let cells = (0..n)
         .flat_map(|i| (0..n).map(move |k| (i, k)))
@@ -319,7 +369,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     };
 
     // momenta
-    let code = codegen::emit(&d.dag, &d.fields, &d.momenta);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &d.momenta);
     lets += code.lets;
     let p = d.momenta.iter().map(|&x| op(x));
     let stmts = code.stmts;
@@ -330,7 +380,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     };
 
     // energy
-    let code = codegen::emit(&d.dag, &d.fields, &[d.energy]);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.energy]);
     lets += code.lets;
     let h = op(d.energy);
     let stmts = code.stmts;

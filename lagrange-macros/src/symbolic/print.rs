@@ -30,6 +30,8 @@ enum Atom {
     Fun(Fun, Id),
     Atan2(Id, Id),
     Powf(Id, Id),
+    /// `(a if cond else b)` (a `Node::Select`).
+    Select(Id),
     /// A sum that could not be expanded (a denominator, a negative power, a too-large product).
     Paren(Id),
 }
@@ -213,6 +215,7 @@ impl Expander<'_> {
             Node::Powf(a, b) => Poly::atom(Atom::Powf(a, b), 1),
             Node::Atan2(a, b) => Poly::atom(Atom::Atan2(a, b), 1),
             Node::Un(f, a) => Poly::atom(Atom::Fun(f, a), 1),
+            Node::Select(..) => Poly::atom(Atom::Select(id), 1),
         }
     }
 }
@@ -342,6 +345,8 @@ fn latex_name(s: &str) -> String {
 struct Names {
     slots: Vec<SlotName>,
     params: Vec<(String, String)>,
+    /// Conditions of constant `if`s, as written (`self.` dropped).
+    conds: Vec<String>,
 }
 
 impl Names {
@@ -521,6 +526,33 @@ impl Printer<'_> {
                 };
                 self.pow(s, e)
             }
+            Atom::Select(x) => {
+                let Node::Select(c, a, b) = self.ex.dag.node(x) else {
+                    return "?".to_owned();
+                };
+                let (a, b) = (self.flat(a), self.flat(b));
+                let cond = self
+                    .names
+                    .conds
+                    .get(c as usize)
+                    .cloned()
+                    .unwrap_or_default();
+                let s = if latex {
+                    let cond: String = cond
+                        .chars()
+                        .map(|ch| match ch {
+                            '_' | '{' | '}' | '&' | '%' | '#' | '$' => format!("\\{ch}"),
+                            other => other.to_string(),
+                        })
+                        .collect();
+                    format!(
+                        "\\left({a} \\;\\text{{if}}\\; \\texttt{{{cond}}} \\;\\text{{else}}\\; {b}\\right)"
+                    )
+                } else {
+                    format!("({a} if {cond} else {b})")
+                };
+                self.pow(s, e)
+            }
             Atom::Paren(x) => {
                 let s = self.flat(x);
                 let s = self.paren(s);
@@ -692,6 +724,7 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
             names: Names {
                 slots: slots.iter().map(clone_slot).collect(),
                 params: params.clone(),
+                conds: d.conds.iter().map(|c| c.text.clone()).collect(),
             },
             latex,
         };

@@ -59,7 +59,7 @@ fn eval(d: &Derivation, params: &[(&str, &[f64])], q: &[f64], v: &[f64], t: f64)
         layout.push((flat.len(), f.vector));
         flat.extend_from_slice(vals);
     }
-    d.dag.eval_all(&flat, &layout, q, v, t)
+    d.dag.eval_all(&flat, &layout, &[], q, v, t)
 }
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
@@ -183,7 +183,7 @@ fn derivative_rules_match_finite_differences() {
     });
     for x0 in [0.4, 0.9, 1.3] {
         let h = 1e-6;
-        let at = |x: f64| d.eval_all(&[], &[], &[x], &[0.0], 0.0);
+        let at = |x: f64| d.eval_all(&[], &[], &[], &[x], &[0.0], 0.0);
         let (vp, vm, v0) = (at(x0 + h), at(x0 - h), at(x0));
         for (k, (&e, &t)) in exprs.iter().zip(&tans).enumerate() {
             let fd = (vp[e as usize] - vm[e as usize]) / (2.0 * h);
@@ -375,7 +375,7 @@ fn unsupported_constructs_say_use_jets() {
         ),
         ("{ helper(x) * x_dot }", "a call to the function `helper`"),
         ("{ x.frobnicate() * x_dot }", "the method `.frobnicate()`"),
-        ("{ if x > 0.0 { x } else { x_dot } }", "`if`"),
+        ("{ match 1 { _ => x } }", "`match`"),
         ("{ let f = |y: f64| y; x_dot }", "a closure"),
         ("{ println!(\"hi\"); x_dot }", "a macro call"),
         (
@@ -407,8 +407,10 @@ fn emitted_code_is_straight_line_and_shares_subexpressions() {
     let out = expand(&heavy_top()).unwrap_or_else(|_| panic!("expands"));
     let acc = out.accelerations.to_string();
     assert!(acc.contains("solve_mass_matrix"));
-    assert_eq!(acc.matches(". sin ()").count(), 1, "{acc}");
-    assert_eq!(acc.matches(". cos ()").count(), 1, "{acc}");
+    // sin θ and cos θ are computed once, together.
+    assert_eq!(acc.matches(". sin_cos ()").count(), 1, "{acc}");
+    assert_eq!(acc.matches(". sin ()").count(), 0, "{acc}");
+    assert_eq!(acc.matches(". cos ()").count(), 0, "{acc}");
     assert!(
         acc.contains("let p_i_perp : f64 = self . i_perp ;"),
         "{acc}"
@@ -471,4 +473,120 @@ fn chain_16_expands_fast_and_compactly() {
     // CSE keeps it near O(N²) per method: far from the O(N³) of an unshared expansion.
     assert!(out.generated_lets < 20_000, "{}", out.generated_lets);
     assert_eq!(out.equations.lines().count(), 16);
+}
+
+#[test]
+fn constant_if_becomes_a_select_on_a_runtime_bool() {
+    let body = "{
+        let f = if self.k > 0.0 { self.k * x * x } else { 0.0 * x };
+        let mut l = 0.5 * x_dot * x_dot - f;
+        if self.k > 0.0 { l += x_dot * x; } else if K_MAX < 2.0 { l -= x.sin(); }
+        l
+    }";
+    let dcl = decl(&[("x", "x_dot", false)], None, body);
+    let out = expand(&dcl).unwrap_or_else(|e| panic!("expands: {:?}", e[0].to_string()));
+    let acc = out.accelerations.to_string();
+    // One bool per distinct condition, loaded as written; selects on it.
+    assert_eq!(
+        acc.matches("let b_0 : bool = self . k > 0.0 ;").count(),
+        1,
+        "{acc}"
+    );
+    assert_eq!(
+        acc.matches("let b_1 : bool = K_MAX < 2.0 ;").count(),
+        1,
+        "{acc}"
+    );
+    assert!(acc.contains("if b_0 {"), "{acc}");
+    // ẋ x is a total derivative (its force contribution cancels); the spring −2kx and the −cos x
+    // of −sin x survive in their branches.
+    assert!(
+        out.equations.contains("if k > 0.0 else"),
+        "{}",
+        out.equations
+    );
+    assert!(
+        out.equations.contains("if K_MAX < 2.0 else"),
+        "{}",
+        out.equations
+    );
+    assert!(
+        out.equations_latex.contains("\\texttt{k > 0.0}"),
+        "{}",
+        out.equations_latex
+    );
+    // Numerically: both branches, against the hand-derived force.
+    let d = derive(&dcl).unwrap_or_else(|_| panic!("derives"));
+    let mut flat = Vec::new();
+    let mut layout = Vec::new();
+    for (kk, f) in d.fields.iter().enumerate() {
+        layout.push((kk, false));
+        flat.push(if f.name == "k" { 3.0 } else { 1.0 });
+    }
+    for (b0, b1) in [(true, true), (false, true), (false, false)] {
+        let x = 0.4;
+        let v = d.dag.eval_all(&flat, &layout, &[b0, b1], &[x], &[0.9], 0.0);
+        let want = if b0 {
+            -2.0 * 3.0 * x
+        } else if b1 {
+            -x.cos()
+        } else {
+            0.0
+        };
+        assert!(close(v[d.force[0] as usize], want, 1e-14), "{b0} {b1}");
+        assert!(close(v[d.mass[0][0] as usize], 1.0, 1e-14));
+    }
+}
+
+#[test]
+fn state_dependent_if_says_why_and_use_jets() {
+    for (body, name, what) in [
+        (
+            "{ if x > 0.0 { x } else { x_dot } }",
+            "x",
+            "a generalized coordinate",
+        ),
+        (
+            "{ if x_dot.abs() > 1.0 { x } else { 0.0 * x } }",
+            "x_dot",
+            "a generalized velocity",
+        ),
+        (
+            "{ let e = x_dot * x_dot; if e > self.k { e } else { x } }",
+            "e",
+            "a local binding",
+        ),
+    ] {
+        let e = errors(body);
+        assert_eq!(e.len(), 1, "{e:?}");
+        assert!(e[0].contains(&format!("uses `{name}`, {what}")), "{e:?}");
+        assert!(e[0].contains("mode = \"jets\""), "{e:?}");
+    }
+    // Method names and `self` fields are not mistaken for bindings.
+    assert!(errors("{ let k = x; if self.k.abs() > 0.0 { k } else { x_dot } }").is_empty());
+}
+
+#[test]
+fn scalar_constant_conversions_are_the_identity_on_constants() {
+    let body = "{
+        let a = Scalar::constant(self.k);
+        let b = Scalar::from(2.0);
+        let c = <Scalar as From<f64>>::from(self.k * 3.0);
+        a * x_dot * x_dot + b * x + c
+    }";
+    let dcl = decl(&[("x", "x_dot", false)], None, body);
+    let d = derive(&dcl).unwrap_or_else(|e| panic!("derives: {}", e[0]));
+    let v = d
+        .dag
+        .eval_all(&[0.5], &[(0, false)], &[], &[0.3], &[0.7], 0.0);
+    assert!(close(v[d.mass[0][0] as usize], 1.0, 1e-15));
+    assert!(close(v[d.force[0] as usize], 2.0, 1e-15));
+    assert!(close(
+        v[d.lagrangian as usize],
+        0.5 * 0.49 + 0.6 + 1.5,
+        1e-15
+    ));
+    let e = errors("{ Scalar::constant(x) * x_dot }");
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(e[0].contains("depends on the coordinates"), "{e:?}");
 }
