@@ -1,10 +1,18 @@
 //! Symbolic mode (issue 7) against run-time jets: for the heavy top, the non-inertial particle,
 //! the gallery systems and pendulum chains, the compile-time derived accelerations, mass matrix,
 //! momenta and energy agree with the jets twin (`mode = "jets"`, same body) to 1e-12 relative at
-//! random states (each system is declared twice, once per mode, with the same body); the printed equations of the heavy top have the hand-derived structure.
+//! random states; the printed equations of the heavy top have the hand-derived structure. Each
+//! system is declared once by `twins!` (tests/support/systems.rs), which writes the symbolic and
+//! the jets declaration from the same body; the heavy top and the chains live in that file,
+//! shared with benches/symbolic.rs.
 #![deny(warnings)]
 
 use lagrange::prelude::*;
+
+#[macro_use]
+#[path = "support/systems.rs"]
+mod systems;
+use systems::{Chain16, Chain4, HeavyTop};
 
 struct Rng(u64);
 impl Rng {
@@ -68,66 +76,6 @@ fn agree_random<const N: usize>(
         let v = rng.array(-2.0, 2.0);
         let t = rng.uniform(-2.0, 2.0);
         agree(s, j, q, v, t);
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct HeavyTop {
-    pub i_perp: f64,
-    pub i_par: f64,
-    pub m: f64,
-    pub g: f64,
-    pub l: f64,
-}
-
-#[lagrangian]
-impl HeavyTop {
-    fn lagrangian(
-        &self,
-        (theta, theta_dot): Coord,
-        (phi, phi_dot): Coord,
-        (psi, psi_dot): Coord,
-    ) -> Scalar {
-        let (s, c) = theta.sin_cos();
-        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
-            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
-            - self.m * self.g * self.l * c
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct HeavyTopJets {
-    pub i_perp: f64,
-    pub i_par: f64,
-    pub m: f64,
-    pub g: f64,
-    pub l: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl HeavyTopJets {
-    fn lagrangian(
-        &self,
-        (theta, theta_dot): Coord,
-        (phi, phi_dot): Coord,
-        (psi, psi_dot): Coord,
-    ) -> Scalar {
-        let (s, c) = theta.sin_cos();
-        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
-            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
-            - self.m * self.g * self.l * c
-    }
-}
-
-impl HeavyTop {
-    fn jets(&self) -> HeavyTopJets {
-        HeavyTopJets {
-            i_perp: self.i_perp,
-            i_par: self.i_par,
-            m: self.m,
-            g: self.g,
-            l: self.l,
-        }
     }
 }
 
@@ -208,20 +156,10 @@ fn heavy_top_equations_show_the_hand_derived_structure() {
     assert!(HeavyTop::EQUATIONS_LATEX.contains("i_{\\mathrm{perp}} \\ddot{\\theta} = "));
 }
 
-#[derive(Debug, Clone, Copy)]
-pub struct NonInertial {
-    pub m: f64,
-    pub k: f64,
-    pub w: f64,
-    pub w1: f64,
-    pub nu: f64,
-    pub a: f64,
-    pub v0: Vector3<f64>,
-    pub gravity: Vector3<f64>,
-}
-
-#[lagrangian]
-impl NonInertial {
+twins! {
+    NonInertial, NonInertialJets {
+        m: f64, k: f64, w: f64, w1: f64, nu: f64, a: f64, v0: Vector3<f64>, gravity: Vector3<f64>
+    }
     fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
         // L = m (ṙ + v₀(t) + Ω(t) × r)² / 2 − U(r)
         let v0 = self.v0 * (self.nu * t).cos();
@@ -230,46 +168,6 @@ impl NonInertial {
         let u = 0.5 * self.k * r.norm_squared() - self.m * self.gravity.dot(&r)
             + self.a / (1.0 + r.norm_squared()).sqrt();
         self.m / 2.0 * v.norm_squared() - u
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct NonInertialJets {
-    pub m: f64,
-    pub k: f64,
-    pub w: f64,
-    pub w1: f64,
-    pub nu: f64,
-    pub a: f64,
-    pub v0: Vector3<f64>,
-    pub gravity: Vector3<f64>,
-}
-
-#[lagrangian(mode = "jets")]
-impl NonInertialJets {
-    fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
-        // L = m (ṙ + v₀(t) + Ω(t) × r)² / 2 − U(r)
-        let v0 = self.v0 * (self.nu * t).cos();
-        let omega = Vector3::new(self.w1 * t.sin(), 0.2 * self.w1, self.w * (1.0 + 0.1 * t));
-        let v = r_dot + v0 + omega.cross(&r);
-        let u = 0.5 * self.k * r.norm_squared() - self.m * self.gravity.dot(&r)
-            + self.a / (1.0 + r.norm_squared()).sqrt();
-        self.m / 2.0 * v.norm_squared() - u
-    }
-}
-
-impl NonInertial {
-    fn jets(&self) -> NonInertialJets {
-        NonInertialJets {
-            m: self.m,
-            k: self.k,
-            w: self.w,
-            w1: self.w1,
-            nu: self.nu,
-            a: self.a,
-            v0: self.v0,
-            gravity: self.gravity,
-        }
     }
 }
 
@@ -289,17 +187,8 @@ fn non_inertial_particle_symbolic_equals_jets() {
     const { assert!(!<NonInertial as Lagrangian<3>>::AUTONOMOUS) };
 }
 
-#[derive(Debug, Clone, Copy)]
-pub struct DoublePendulum {
-    pub m1: f64,
-    pub m2: f64,
-    pub l1: f64,
-    pub l2: f64,
-    pub g: f64,
-}
-
-#[lagrangian]
-impl DoublePendulum {
+twins! {
+    DoublePendulum, DoublePendulumJets { m1: f64, m2: f64, l1: f64, l2: f64, g: f64 }
     fn lagrangian(&self, (theta1, theta1_dot): Coord, (theta2, theta2_dot): Coord) -> Scalar {
         let v1 = self.l1 * theta1_dot;
         let v2 = self.l2 * theta2_dot;
@@ -311,125 +200,23 @@ impl DoublePendulum {
     }
 }
 
-#[derive(Debug, Clone, Copy)]
-pub struct DoublePendulumJets {
-    pub m1: f64,
-    pub m2: f64,
-    pub l1: f64,
-    pub l2: f64,
-    pub g: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl DoublePendulumJets {
-    fn lagrangian(&self, (theta1, theta1_dot): Coord, (theta2, theta2_dot): Coord) -> Scalar {
-        let v1 = self.l1 * theta1_dot;
-        let v2 = self.l2 * theta2_dot;
-        (self.m1 + self.m2) / 2.0 * v1.powi(2)
-            + self.m2 / 2.0 * v2.powi(2)
-            + self.m2 * v1 * v2 * (theta1 - theta2).cos()
-            + (self.m1 + self.m2) * self.g * self.l1 * theta1.cos()
-            + self.m2 * self.g * self.l2 * theta2.cos()
-    }
-}
-
-impl DoublePendulum {
-    fn jets(&self) -> DoublePendulumJets {
-        DoublePendulumJets {
-            m1: self.m1,
-            m2: self.m2,
-            l1: self.l1,
-            l2: self.l2,
-            g: self.g,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct SphericalPendulum {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-}
-
-#[lagrangian]
-impl SphericalPendulum {
+twins! {
+    SphericalPendulum, SphericalPendulumJets { m: f64, l: f64, g: f64 }
     fn lagrangian(&self, (theta, theta_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
         self.m * self.l.powi(2) / 2.0 * (theta_dot.powi(2) + (theta.sin() * phi_dot).powi(2))
             + self.m * self.g * self.l * theta.cos()
     }
 }
 
-#[derive(Debug, Clone, Copy)]
-pub struct SphericalPendulumJets {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl SphericalPendulumJets {
-    fn lagrangian(&self, (theta, theta_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
-        self.m * self.l.powi(2) / 2.0 * (theta_dot.powi(2) + (theta.sin() * phi_dot).powi(2))
-            + self.m * self.g * self.l * theta.cos()
-    }
-}
-
-impl SphericalPendulum {
-    fn jets(&self) -> SphericalPendulumJets {
-        SphericalPendulumJets {
-            m: self.m,
-            l: self.l,
-            g: self.g,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct Kepler {
-    pub m: f64,
-    pub k: f64,
-}
-
-#[lagrangian]
-impl Kepler {
+twins! {
+    Kepler, KeplerJets { m: f64, k: f64 }
     fn lagrangian(&self, (r, r_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
         self.m / 2.0 * (r_dot * r_dot + r * r * phi_dot * phi_dot) + self.k / r
     }
 }
 
-#[derive(Debug, Clone, Copy)]
-pub struct KeplerJets {
-    pub m: f64,
-    pub k: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl KeplerJets {
-    fn lagrangian(&self, (r, r_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
-        self.m / 2.0 * (r_dot * r_dot + r * r * phi_dot * phi_dot) + self.k / r
-    }
-}
-
-impl Kepler {
-    fn jets(&self) -> KeplerJets {
-        KeplerJets {
-            m: self.m,
-            k: self.k,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct Charged {
-    pub m: f64,
-    pub q: f64,
-    pub c: f64,
-    pub b: Vector3<f64>,
-}
-
-#[lagrangian]
-impl Charged {
+twins! {
+    Charged, ChargedJets { m: f64, q: f64, c: f64, b: Vector3<f64> }
     fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
         // A = B × r / 2 + ∇(c x y): the gauge term must drop out of the equations.
         let a = 0.5 * self.b.cross(&r);
@@ -438,46 +225,8 @@ impl Charged {
     }
 }
 
-#[derive(Debug, Clone, Copy)]
-pub struct ChargedJets {
-    pub m: f64,
-    pub q: f64,
-    pub c: f64,
-    pub b: Vector3<f64>,
-}
-
-#[lagrangian(mode = "jets")]
-impl ChargedJets {
-    fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
-        // A = B × r / 2 + ∇(c x y): the gauge term must drop out of the equations.
-        let a = 0.5 * self.b.cross(&r);
-        let gauge = Vector3::new(self.c * r.y, self.c * r.x, 0.0);
-        self.m / 2.0 * r_dot.norm_squared() + self.q * r_dot.dot(&(a + gauge))
-    }
-}
-
-impl Charged {
-    fn jets(&self) -> ChargedJets {
-        ChargedJets {
-            m: self.m,
-            q: self.q,
-            c: self.c,
-            b: self.b,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct DrivenPendulum {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-    pub a: f64,
-    pub w: f64,
-}
-
-#[lagrangian]
-impl DrivenPendulum {
+twins! {
+    DrivenPendulum, DrivenPendulumJets { m: f64, l: f64, g: f64, a: f64, w: f64 }
     fn lagrangian(&self, (theta, theta_dot): Coord, t: Time) -> Scalar {
         // Pivot at height a cos ωt.
         let (s, c) = theta.sin_cos();
@@ -488,79 +237,11 @@ impl DrivenPendulum {
     }
 }
 
-#[derive(Debug, Clone, Copy)]
-pub struct DrivenPendulumJets {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-    pub a: f64,
-    pub w: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl DrivenPendulumJets {
-    fn lagrangian(&self, (theta, theta_dot): Coord, t: Time) -> Scalar {
-        // Pivot at height a cos ωt.
-        let (s, c) = theta.sin_cos();
-        let xd = self.l * c * theta_dot;
-        let yd = -self.a * self.w * (self.w * t).sin() + self.l * s * theta_dot;
-        let y = self.a * (self.w * t).cos() - self.l * c;
-        self.m / 2.0 * (xd * xd + yd * yd) - self.m * self.g * y
-    }
-}
-
-impl DrivenPendulum {
-    fn jets(&self) -> DrivenPendulumJets {
-        DrivenPendulumJets {
-            m: self.m,
-            l: self.l,
-            g: self.g,
-            a: self.a,
-            w: self.w,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct ElasticPendulum {
-    pub m: f64,
-    pub k: f64,
-    pub l0: f64,
-    pub g: f64,
-}
-
-#[lagrangian]
-impl ElasticPendulum {
+twins! {
+    ElasticPendulum, ElasticPendulumJets { m: f64, k: f64, l0: f64, g: f64 }
     fn lagrangian(&self, (r, r_dot): Coord, (theta, theta_dot): Coord) -> Scalar {
         self.m / 2.0 * (r_dot.powi(2) + (r * theta_dot).powi(2)) + self.m * self.g * r * theta.cos()
             - self.k / 2.0 * (r - self.l0).powi(2)
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct ElasticPendulumJets {
-    pub m: f64,
-    pub k: f64,
-    pub l0: f64,
-    pub g: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl ElasticPendulumJets {
-    fn lagrangian(&self, (r, r_dot): Coord, (theta, theta_dot): Coord) -> Scalar {
-        self.m / 2.0 * (r_dot.powi(2) + (r * theta_dot).powi(2)) + self.m * self.g * r * theta.cos()
-            - self.k / 2.0 * (r - self.l0).powi(2)
-    }
-}
-
-impl ElasticPendulum {
-    fn jets(&self) -> ElasticPendulumJets {
-        ElasticPendulumJets {
-            m: self.m,
-            k: self.k,
-            l0: self.l0,
-            g: self.g,
-        }
     }
 }
 
@@ -684,384 +365,16 @@ fn symbolic_mode_is_the_default_and_documents_equations() {
     assert!(Kepler::EQUATIONS.contains("k/r²"), "{}", Kepler::EQUATIONS);
 }
 
-impl Chain4 {
-    fn jets(&self) -> Chain4Jets {
-        Chain4Jets {
-            m: self.m,
-            l: self.l,
-            g: self.g,
-        }
-    }
-}
-impl Chain16 {
-    fn jets(&self) -> Chain16Jets {
-        Chain16Jets {
-            m: self.m,
-            l: self.l,
-            g: self.g,
-        }
-    }
-}
-
-/// A 4-link pendulum chain (equal masses and lengths), L written out.
-#[derive(Debug, Clone, Copy)]
-pub struct Chain4 {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-}
-
-#[lagrangian]
-impl Chain4 {
-    #[allow(clippy::too_many_arguments)]
-    fn lagrangian(
-        &self,
-        (th1, th1_dot): Coord,
-        (th2, th2_dot): Coord,
-        (th3, th3_dot): Coord,
-        (th4, th4_dot): Coord,
-    ) -> Scalar {
-        let (s1, c1) = th1.sin_cos();
-        let mut vx = self.l * c1 * th1_dot;
-        let mut vy = self.l * s1 * th1_dot;
-        let mut y = -self.l * c1;
-        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s2, c2) = th2.sin_cos();
-        vx += self.l * c2 * th2_dot;
-        vy += self.l * s2 * th2_dot;
-        y -= self.l * c2;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s3, c3) = th3.sin_cos();
-        vx += self.l * c3 * th3_dot;
-        vy += self.l * s3 * th3_dot;
-        y -= self.l * c3;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s4, c4) = th4.sin_cos();
-        vx += self.l * c4 * th4_dot;
-        vy += self.l * s4 * th4_dot;
-        y -= self.l * c4;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        lag
-    }
-}
-
-/// A 4-link pendulum chain (equal masses and lengths), L written out.
-#[derive(Debug, Clone, Copy)]
-pub struct Chain4Jets {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl Chain4Jets {
-    #[allow(clippy::too_many_arguments)]
-    fn lagrangian(
-        &self,
-        (th1, th1_dot): Coord,
-        (th2, th2_dot): Coord,
-        (th3, th3_dot): Coord,
-        (th4, th4_dot): Coord,
-    ) -> Scalar {
-        let (s1, c1) = th1.sin_cos();
-        let mut vx = self.l * c1 * th1_dot;
-        let mut vy = self.l * s1 * th1_dot;
-        let mut y = -self.l * c1;
-        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s2, c2) = th2.sin_cos();
-        vx += self.l * c2 * th2_dot;
-        vy += self.l * s2 * th2_dot;
-        y -= self.l * c2;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s3, c3) = th3.sin_cos();
-        vx += self.l * c3 * th3_dot;
-        vy += self.l * s3 * th3_dot;
-        y -= self.l * c3;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s4, c4) = th4.sin_cos();
-        vx += self.l * c4 * th4_dot;
-        vy += self.l * s4 * th4_dot;
-        y -= self.l * c4;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        lag
-    }
-}
-
-/// A 16-link pendulum chain (equal masses and lengths), L written out.
-#[derive(Debug, Clone, Copy)]
-pub struct Chain16 {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-}
-
-#[lagrangian]
-impl Chain16 {
-    #[allow(clippy::too_many_arguments)]
-    fn lagrangian(
-        &self,
-        (th1, th1_dot): Coord,
-        (th2, th2_dot): Coord,
-        (th3, th3_dot): Coord,
-        (th4, th4_dot): Coord,
-        (th5, th5_dot): Coord,
-        (th6, th6_dot): Coord,
-        (th7, th7_dot): Coord,
-        (th8, th8_dot): Coord,
-        (th9, th9_dot): Coord,
-        (th10, th10_dot): Coord,
-        (th11, th11_dot): Coord,
-        (th12, th12_dot): Coord,
-        (th13, th13_dot): Coord,
-        (th14, th14_dot): Coord,
-        (th15, th15_dot): Coord,
-        (th16, th16_dot): Coord,
-    ) -> Scalar {
-        let (s1, c1) = th1.sin_cos();
-        let mut vx = self.l * c1 * th1_dot;
-        let mut vy = self.l * s1 * th1_dot;
-        let mut y = -self.l * c1;
-        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s2, c2) = th2.sin_cos();
-        vx += self.l * c2 * th2_dot;
-        vy += self.l * s2 * th2_dot;
-        y -= self.l * c2;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s3, c3) = th3.sin_cos();
-        vx += self.l * c3 * th3_dot;
-        vy += self.l * s3 * th3_dot;
-        y -= self.l * c3;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s4, c4) = th4.sin_cos();
-        vx += self.l * c4 * th4_dot;
-        vy += self.l * s4 * th4_dot;
-        y -= self.l * c4;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s5, c5) = th5.sin_cos();
-        vx += self.l * c5 * th5_dot;
-        vy += self.l * s5 * th5_dot;
-        y -= self.l * c5;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s6, c6) = th6.sin_cos();
-        vx += self.l * c6 * th6_dot;
-        vy += self.l * s6 * th6_dot;
-        y -= self.l * c6;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s7, c7) = th7.sin_cos();
-        vx += self.l * c7 * th7_dot;
-        vy += self.l * s7 * th7_dot;
-        y -= self.l * c7;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s8, c8) = th8.sin_cos();
-        vx += self.l * c8 * th8_dot;
-        vy += self.l * s8 * th8_dot;
-        y -= self.l * c8;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s9, c9) = th9.sin_cos();
-        vx += self.l * c9 * th9_dot;
-        vy += self.l * s9 * th9_dot;
-        y -= self.l * c9;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s10, c10) = th10.sin_cos();
-        vx += self.l * c10 * th10_dot;
-        vy += self.l * s10 * th10_dot;
-        y -= self.l * c10;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s11, c11) = th11.sin_cos();
-        vx += self.l * c11 * th11_dot;
-        vy += self.l * s11 * th11_dot;
-        y -= self.l * c11;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s12, c12) = th12.sin_cos();
-        vx += self.l * c12 * th12_dot;
-        vy += self.l * s12 * th12_dot;
-        y -= self.l * c12;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s13, c13) = th13.sin_cos();
-        vx += self.l * c13 * th13_dot;
-        vy += self.l * s13 * th13_dot;
-        y -= self.l * c13;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s14, c14) = th14.sin_cos();
-        vx += self.l * c14 * th14_dot;
-        vy += self.l * s14 * th14_dot;
-        y -= self.l * c14;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s15, c15) = th15.sin_cos();
-        vx += self.l * c15 * th15_dot;
-        vy += self.l * s15 * th15_dot;
-        y -= self.l * c15;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s16, c16) = th16.sin_cos();
-        vx += self.l * c16 * th16_dot;
-        vy += self.l * s16 * th16_dot;
-        y -= self.l * c16;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        lag
-    }
-}
-
-/// A 16-link pendulum chain (equal masses and lengths), L written out.
-#[derive(Debug, Clone, Copy)]
-pub struct Chain16Jets {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl Chain16Jets {
-    #[allow(clippy::too_many_arguments)]
-    fn lagrangian(
-        &self,
-        (th1, th1_dot): Coord,
-        (th2, th2_dot): Coord,
-        (th3, th3_dot): Coord,
-        (th4, th4_dot): Coord,
-        (th5, th5_dot): Coord,
-        (th6, th6_dot): Coord,
-        (th7, th7_dot): Coord,
-        (th8, th8_dot): Coord,
-        (th9, th9_dot): Coord,
-        (th10, th10_dot): Coord,
-        (th11, th11_dot): Coord,
-        (th12, th12_dot): Coord,
-        (th13, th13_dot): Coord,
-        (th14, th14_dot): Coord,
-        (th15, th15_dot): Coord,
-        (th16, th16_dot): Coord,
-    ) -> Scalar {
-        let (s1, c1) = th1.sin_cos();
-        let mut vx = self.l * c1 * th1_dot;
-        let mut vy = self.l * s1 * th1_dot;
-        let mut y = -self.l * c1;
-        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s2, c2) = th2.sin_cos();
-        vx += self.l * c2 * th2_dot;
-        vy += self.l * s2 * th2_dot;
-        y -= self.l * c2;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s3, c3) = th3.sin_cos();
-        vx += self.l * c3 * th3_dot;
-        vy += self.l * s3 * th3_dot;
-        y -= self.l * c3;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s4, c4) = th4.sin_cos();
-        vx += self.l * c4 * th4_dot;
-        vy += self.l * s4 * th4_dot;
-        y -= self.l * c4;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s5, c5) = th5.sin_cos();
-        vx += self.l * c5 * th5_dot;
-        vy += self.l * s5 * th5_dot;
-        y -= self.l * c5;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s6, c6) = th6.sin_cos();
-        vx += self.l * c6 * th6_dot;
-        vy += self.l * s6 * th6_dot;
-        y -= self.l * c6;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s7, c7) = th7.sin_cos();
-        vx += self.l * c7 * th7_dot;
-        vy += self.l * s7 * th7_dot;
-        y -= self.l * c7;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s8, c8) = th8.sin_cos();
-        vx += self.l * c8 * th8_dot;
-        vy += self.l * s8 * th8_dot;
-        y -= self.l * c8;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s9, c9) = th9.sin_cos();
-        vx += self.l * c9 * th9_dot;
-        vy += self.l * s9 * th9_dot;
-        y -= self.l * c9;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s10, c10) = th10.sin_cos();
-        vx += self.l * c10 * th10_dot;
-        vy += self.l * s10 * th10_dot;
-        y -= self.l * c10;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s11, c11) = th11.sin_cos();
-        vx += self.l * c11 * th11_dot;
-        vy += self.l * s11 * th11_dot;
-        y -= self.l * c11;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s12, c12) = th12.sin_cos();
-        vx += self.l * c12 * th12_dot;
-        vy += self.l * s12 * th12_dot;
-        y -= self.l * c12;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s13, c13) = th13.sin_cos();
-        vx += self.l * c13 * th13_dot;
-        vy += self.l * s13 * th13_dot;
-        y -= self.l * c13;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s14, c14) = th14.sin_cos();
-        vx += self.l * c14 * th14_dot;
-        vy += self.l * s14 * th14_dot;
-        y -= self.l * c14;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s15, c15) = th15.sin_cos();
-        vx += self.l * c15 * th15_dot;
-        vy += self.l * s15 * th15_dot;
-        y -= self.l * c15;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        let (s16, c16) = th16.sin_cos();
-        vx += self.l * c16 * th16_dot;
-        vy += self.l * s16 * th16_dot;
-        y -= self.l * c16;
-        lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        lag
-    }
-}
-
 #[test]
 fn ui_symbolic_errors_say_use_jets() {
     let t = trybuild::TestCases::new();
     t.compile_fail("tests/ui/symbolic/*.rs");
 }
 
-/// `if` on constants (issue 7): an `if` expression, an `if`/`else if` statement that assigns a
-/// local, and a vector-valued `if`; the conditions use only `self` fields and literals.
-#[derive(Debug, Clone, Copy)]
-pub struct Switched {
-    pub m: f64,
-    pub k: f64,
-    pub c: f64,
-}
-
-#[lagrangian]
-impl Switched {
-    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord, t: Time) -> Scalar {
-        let f = if self.k > 0.0 {
-            self.k * x * x
-        } else {
-            0.0 * x
-        };
-        let mut lag = self.m / 2.0 * (x_dot * x_dot + y_dot * y_dot) - f;
-        if self.c > 1.0 {
-            lag += self.c * x_dot * y.sin() * t.cos();
-        } else if self.c > 0.0 {
-            lag -= self.c * x * y * y;
-        }
-        let w = if self.k > 0.0 {
-            Vector3::new(x, y, 1.0)
-        } else {
-            Vector3::new(y, 0.5 * x, 2.0)
-        };
-        lag - 0.1 * w.norm_squared() * (1.0 + x_dot * x_dot)
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct SwitchedJets {
-    pub m: f64,
-    pub k: f64,
-    pub c: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl SwitchedJets {
+twins! {
+    /// `if` on constants (issue 7): an `if` expression, an `if`/`else if` statement that assigns a
+    /// local, and a vector-valued `if`; the conditions use only `self` fields and literals.
+    Switched, SwitchedJets { m: f64, k: f64, c: f64 }
     fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord, t: Time) -> Scalar {
         let f = if self.k > 0.0 {
             self.k * x * x
@@ -1125,28 +438,9 @@ fn constant_if_symbolic_equals_jets_on_every_branch() {
     );
 }
 
-/// `Scalar::constant`, `Scalar::from` and `<Scalar as From<f64>>::from` on constants.
-#[derive(Debug, Clone, Copy)]
-pub struct Converted {
-    pub k: f64,
-}
-
-#[lagrangian]
-impl Converted {
-    fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
-        let half = Scalar::constant(0.5);
-        let k = <Scalar as From<f64>>::from(self.k);
-        half * x_dot * x_dot - Scalar::from(2.0) * k * x.cos()
-    }
-}
-
-#[derive(Debug, Clone, Copy)]
-pub struct ConvertedJets {
-    pub k: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl ConvertedJets {
+twins! {
+    /// `Scalar::constant`, `Scalar::from` and `<Scalar as From<f64>>::from` on constants.
+    Converted, ConvertedJets { k: f64 }
     fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
         let half = Scalar::constant(0.5);
         let k = <Scalar as From<f64>>::from(self.k);

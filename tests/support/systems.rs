@@ -1,0 +1,112 @@
+//! Systems shared by tests/symbolic.rs and benches/symbolic.rs: each declared ONCE as a twin pair
+//! (the default symbolic mode and `mode = "jets"`) from one body, by `twins!`; the pendulum
+//! chains N = 2, 4, 8, 16 by `chain!`. Included with `#[path = ...] mod systems;` (this file is
+//! not a test target: it sits in tests/support/).
+// Each includer uses a subset of the systems.
+#![allow(dead_code)]
+
+/// Declares `$sym` (symbolic mode) and `$jet` (`mode = "jets"`) with the same public `f64`-like
+/// fields and the same `fn lagrangian`, plus `$sym::jets()` copying the fields into the twin.
+/// `#[lagrangian]` sees the caller's plain tokens for the `fn` item.
+macro_rules! twins {
+    (
+        $(#[$meta:meta])*
+        $sym:ident, $jet:ident { $($field:ident : $ty:ty),* $(,)? }
+        $($lagrangian:tt)*
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy)]
+        pub struct $sym {
+            $(pub $field: $ty,)*
+        }
+
+        #[::lagrange::lagrangian]
+        impl $sym {
+            $($lagrangian)*
+        }
+
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy)]
+        pub struct $jet {
+            $(pub $field: $ty,)*
+        }
+
+        #[::lagrange::lagrangian(mode = "jets")]
+        impl $jet {
+            $($lagrangian)*
+        }
+
+        impl $sym {
+            /// The same system with run-time jets.
+            #[allow(dead_code)]
+            pub fn jets(&self) -> $jet {
+                $jet {
+                    $($field: self.$field,)*
+                }
+            }
+        }
+    };
+}
+
+/// An N-link planar pendulum chain (equal masses m and lengths l), L written out link by link:
+/// one `(θₖ, θ̇ₖ, sin θₖ, cos θₖ)` name tuple per link.
+macro_rules! chain {
+    (
+        $n:literal, $sym:ident, $jet:ident;
+        ($th1:ident, $v1:ident, $s1:ident, $c1:ident)
+        $(($th:ident, $v:ident, $s:ident, $c:ident))*
+    ) => {
+        twins! {
+            #[doc = concat!("A ", stringify!($n), "-link pendulum chain (equal masses and lengths), L written out.")]
+            $sym, $jet { m: f64, l: f64, g: f64 }
+            #[allow(clippy::too_many_arguments)]
+            fn lagrangian(&self, ($th1, $v1): Coord $(, ($th, $v): Coord)*) -> Scalar {
+                let ($s1, $c1) = $th1.sin_cos();
+                let mut vx = self.l * $c1 * $v1;
+                let mut vy = self.l * $s1 * $v1;
+                let mut y = -self.l * $c1;
+                let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+                $(
+                    let ($s, $c) = $th.sin_cos();
+                    vx += self.l * $c * $v;
+                    vy += self.l * $s * $v;
+                    y -= self.l * $c;
+                    lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+                )*
+                lag
+            }
+        }
+    };
+}
+
+twins! {
+    /// Symmetric heavy top, eq. (92).
+    HeavyTop, HeavyTopJets { i_perp: f64, i_par: f64, m: f64, g: f64, l: f64 }
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let (s, c) = theta.sin_cos();
+        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
+            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
+            - self.m * self.g * self.l * c
+    }
+}
+
+chain!(2, Chain2, Chain2Jets; (th1, th1_dot, s1, c1) (th2, th2_dot, s2, c2));
+
+chain!(4, Chain4, Chain4Jets;
+    (th1, th1_dot, s1, c1) (th2, th2_dot, s2, c2) (th3, th3_dot, s3, c3) (th4, th4_dot, s4, c4));
+
+chain!(8, Chain8, Chain8Jets;
+    (th1, th1_dot, s1, c1) (th2, th2_dot, s2, c2) (th3, th3_dot, s3, c3) (th4, th4_dot, s4, c4)
+    (th5, th5_dot, s5, c5) (th6, th6_dot, s6, c6) (th7, th7_dot, s7, c7) (th8, th8_dot, s8, c8));
+
+chain!(16, Chain16, Chain16Jets;
+    (th1, th1_dot, s1, c1) (th2, th2_dot, s2, c2) (th3, th3_dot, s3, c3) (th4, th4_dot, s4, c4)
+    (th5, th5_dot, s5, c5) (th6, th6_dot, s6, c6) (th7, th7_dot, s7, c7) (th8, th8_dot, s8, c8)
+    (th9, th9_dot, s9, c9) (th10, th10_dot, s10, c10) (th11, th11_dot, s11, c11)
+    (th12, th12_dot, s12, c12) (th13, th13_dot, s13, c13) (th14, th14_dot, s14, c14)
+    (th15, th15_dot, s15, c15) (th16, th16_dot, s16, c16));
