@@ -418,7 +418,7 @@ fn emitted_code_is_straight_line_and_shares_subexpressions() {
     assert!(!acc.contains("* 1.0"), "{acc}");
 }
 
-/// The N-link chain of tools/gen_chain.py, built as source text.
+/// The N-link chain of `chain!` in tests/support/systems.rs, built as source text.
 fn chain_decl(n: usize) -> Decl {
     let mut body = String::from("{");
     for k in 1..=n {
