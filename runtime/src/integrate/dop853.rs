@@ -7,7 +7,7 @@ use crate::lagrangian::Lagrangian;
 use super::dop853_coefficients::{A, C, D, E3, E5};
 use super::simulation::Stepper;
 use super::tableau::{
-    combine, finite, initial_step, rhs, scales, too_small, weighted, Controller, Fault, Y,
+    combine, finite, initial_step, rhs, scales, weighted, Controller, Fault, StepControl, Y,
 };
 use super::trajectory::Stats;
 
@@ -109,7 +109,6 @@ pub(crate) struct Dop853<'a, L: ?Sized, const N: usize> {
     sys: &'a L,
     rtol: f64,
     atol: f64,
-    hmax: f64,
     t: f64,
     y: Y<N>,
     t_old: f64,
@@ -119,9 +118,7 @@ pub(crate) struct Dop853<'a, L: ?Sized, const N: usize> {
     k: [Y<N>; 16],
     /// Dense-output coefficients of the last step, once evaluated.
     r: Option<[Y<N>; 8]>,
-    h: f64,
-    ctrl: Controller,
-    rejected_last: bool,
+    sc: StepControl,
 }
 
 impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
@@ -143,7 +140,6 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
             sys,
             rtol,
             atol,
-            hmax,
             t: t0,
             y: y0,
             t_old: t0,
@@ -151,11 +147,13 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
             h_old: 0.0,
             k,
             r: None,
-            h,
             // The shared PI controller with β = 0.04 (expo1 = 1/8 − 0.2 β) and Hairer's dop853
             // factor limits [1/3, 6].
-            ctrl: Controller::new(1.0 / 8.0 - 0.04 * 0.2, 0.04, 0.333, 6.0),
-            rejected_last: false,
+            sc: StepControl::new(
+                h,
+                hmax,
+                Controller::new(1.0 / 8.0 - 0.04 * 0.2, 0.04, 0.333, 6.0),
+            ),
         })
     }
 }
@@ -174,18 +172,9 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
         Ok(self.y)
     }
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
-        let mut last_failure: Option<Fault> = None;
         let f0 = self.k[12];
         loop {
-            let mut h = self.h.min(self.hmax);
-            let mut last = false;
-            if self.t + 1.01 * h >= t_end {
-                h = t_end - self.t;
-                last = true;
-            }
-            if too_small(h, self.t) {
-                return Err(last_failure.unwrap_or(Fault::Underflow { h }));
-            }
+            let (h, last) = self.sc.trial(self.t, t_end)?;
             let attempt = step(
                 self.sys, self.t, &self.y, &f0, h, self.rtol, self.atol, stats,
             )
@@ -200,12 +189,10 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
             });
             match attempt {
                 Ok((mut k, y1, err, Some(f1))) => {
-                    stats.steps += 1;
+                    self.sc.accept(h, err, stats);
                     k[12] = f1;
                     self.k = k;
                     self.r = None;
-                    self.h = self.ctrl.accepted(h, err, self.rejected_last);
-                    self.rejected_last = false;
                     self.t_old = self.t;
                     self.y_old = self.y;
                     self.h_old = h;
@@ -213,24 +200,10 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
                     self.y = y1;
                     return Ok(());
                 }
-                Ok((_, _, err, None)) if err.is_finite() => {
-                    stats.rejected += 1;
-                    self.rejected_last = true;
-                    self.h = self.ctrl.rejected(h, err);
-                }
-                Ok(_) => {
-                    stats.rejected += 1;
-                    self.rejected_last = true;
-                    self.h = 0.25 * h;
-                    last_failure = Some(Fault::NonFinite);
-                }
-                Err(f) => {
-                    // A stage left the domain of the dynamics: retry with a smaller step.
-                    stats.rejected += 1;
-                    self.rejected_last = true;
-                    self.h = 0.25 * h;
-                    last_failure = Some(f);
-                }
+                Ok((_, _, err, None)) if err.is_finite() => self.sc.reject(h, err, stats),
+                Ok(_) => self.sc.shrink(h, Fault::NonFinite, stats),
+                // A stage left the domain of the dynamics: retry with a smaller step.
+                Err(f) => self.sc.shrink(h, f, stats),
             }
         }
     }

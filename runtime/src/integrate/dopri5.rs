@@ -5,7 +5,7 @@ use crate::lagrangian::Lagrangian;
 
 use super::simulation::Stepper;
 use super::tableau::{
-    combine, finite, initial_step, rhs, scales, sum_sq, too_small, weighted, Controller, Fault, Y,
+    combine, finite, initial_step, rhs, scales, sum_sq, weighted, Controller, Fault, StepControl, Y,
 };
 use super::trajectory::Stats;
 
@@ -129,16 +129,13 @@ pub(crate) struct Dopri5<'a, L: ?Sized, const N: usize> {
     sys: &'a L,
     rtol: f64,
     atol: f64,
-    hmax: f64,
     t: f64,
     y: Y<N>,
     f: Y<N>,
     t_old: f64,
     h_old: f64,
     r: [Y<N>; 5],
-    h: f64,
-    ctrl: Controller,
-    rejected_last: bool,
+    sc: StepControl,
 }
 
 impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dopri5<'a, L, N> {
@@ -158,17 +155,14 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dopri5<'a, L, N> {
             sys,
             rtol,
             atol,
-            hmax,
             t: t0,
             y: y0,
             f,
             t_old: t0,
             h_old: 0.0,
             r: [y0; 5],
-            h,
             // β = 0.04, expo1 = 1/5 − 0.75 β: Hairer's defaults for dopri5.
-            ctrl: Controller::new(0.2 - 0.04 * 0.75, 0.04, 0.2, 10.0),
-            rejected_last: false,
+            sc: StepControl::new(h, hmax, Controller::new(0.2 - 0.04 * 0.75, 0.04, 0.2, 10.0)),
         })
     }
 }
@@ -187,33 +181,19 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
         Ok(self.y)
     }
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
-        let mut last_failure: Option<Fault> = None;
         loop {
-            let mut h = self.h.min(self.hmax);
-            let mut last = false;
-            if self.t + 1.01 * h >= t_end {
-                h = t_end - self.t;
-                last = true;
-            }
-            if too_small(h, self.t) {
-                return Err(last_failure.unwrap_or(Fault::Underflow { h }));
-            }
+            let (h, last) = self.sc.trial(self.t, t_end)?;
             match step(self.sys, self.t, &self.y, &self.f, h, stats) {
                 Ok((k, y1, e)) => {
                     let sk = scales(self.rtol, self.atol, &self.y, &y1);
                     let err = (sum_sq(&e, &sk) / (2 * N) as f64).sqrt();
                     if !err.is_finite() {
-                        stats.rejected += 1;
-                        self.rejected_last = true;
-                        self.h = 0.25 * h;
-                        last_failure = Some(Fault::NonFinite);
+                        self.sc.shrink(h, Fault::NonFinite, stats);
                         continue;
                     }
                     if err <= 1.0 {
-                        stats.steps += 1;
+                        self.sc.accept(h, err, stats);
                         self.r = dense(&self.y, &y1, &k, h);
-                        self.h = self.ctrl.accepted(h, err, self.rejected_last);
-                        self.rejected_last = false;
                         self.t_old = self.t;
                         self.h_old = h;
                         self.t = if last { t_end } else { self.t + h };
@@ -221,17 +201,10 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
                         self.f = k[6];
                         return Ok(());
                     }
-                    stats.rejected += 1;
-                    self.rejected_last = true;
-                    self.h = self.ctrl.rejected(h, err);
+                    self.sc.reject(h, err, stats);
                 }
-                Err(f) => {
-                    // A stage left the domain of the dynamics: retry with a smaller step.
-                    stats.rejected += 1;
-                    self.rejected_last = true;
-                    self.h = 0.25 * h;
-                    last_failure = Some(f);
-                }
+                // A stage left the domain of the dynamics: retry with a smaller step.
+                Err(f) => self.sc.shrink(h, f, stats),
             }
         }
     }

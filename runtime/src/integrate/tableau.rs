@@ -195,3 +195,68 @@ impl Controller {
 pub(crate) fn too_small(h: f64, t: f64) -> bool {
     0.1 * h.abs() <= t.abs() * 2.3e-16 || h < 1e-300
 }
+
+/// Step-size bookkeeping shared by the adaptive methods (dopri5, dop853): the proposed step, the
+/// PI controller, whether the last attempt was rejected and why the latest retry was needed.
+#[derive(Debug)]
+pub(crate) struct StepControl {
+    h: f64,
+    hmax: f64,
+    ctrl: Controller,
+    rejected_last: bool,
+    /// The fault behind the latest forced shrink since the last accepted step: reported instead
+    /// of a bare underflow when the step then becomes too small.
+    last_failure: Option<Fault>,
+}
+
+impl StepControl {
+    /// Starts with the proposed first step `h`, never exceeding `hmax`.
+    pub(crate) fn new(h: f64, hmax: f64, ctrl: Controller) -> Self {
+        StepControl {
+            h,
+            hmax,
+            ctrl,
+            rejected_last: false,
+            last_failure: None,
+        }
+    }
+
+    /// The next trial step from `t` and whether it ends exactly at `t_end` (a step within 1 % of
+    /// the end is stretched to it); the fault that ends the run when the step has underflowed.
+    pub(crate) fn trial(&mut self, t: f64, t_end: f64) -> Result<(f64, bool), Fault> {
+        let h = self.h.min(self.hmax);
+        let (h, last) = if t + 1.01 * h >= t_end {
+            (t_end - t, true)
+        } else {
+            (h, false)
+        };
+        if too_small(h, t) {
+            return Err(self.last_failure.take().unwrap_or(Fault::Underflow { h }));
+        }
+        Ok((h, last))
+    }
+
+    /// Records the accepted step `h` with error `err` ≤ 1 and proposes the next one.
+    pub(crate) fn accept(&mut self, h: f64, err: f64, stats: &mut Stats) {
+        stats.steps += 1;
+        self.h = self.ctrl.accepted(h, err, self.rejected_last);
+        self.rejected_last = false;
+        self.last_failure = None;
+    }
+
+    /// Records the rejected step `h` with finite error `err` > 1 and proposes the retry.
+    pub(crate) fn reject(&mut self, h: f64, err: f64, stats: &mut Stats) {
+        stats.rejected += 1;
+        self.rejected_last = true;
+        self.h = self.ctrl.rejected(h, err);
+    }
+
+    /// Records the step `h` that failed with `fault` (non-finite error, or a stage outside the
+    /// domain of the dynamics) and retries with a quarter of it.
+    pub(crate) fn shrink(&mut self, h: f64, fault: Fault, stats: &mut Stats) {
+        stats.rejected += 1;
+        self.rejected_last = true;
+        self.h = 0.25 * h;
+        self.last_failure = Some(fault);
+    }
+}
