@@ -19,27 +19,11 @@ use lagrange::prelude::*;
 use lagrange::theory::heavy_top::{Constants, Motion, Top};
 use plotters::prelude::*;
 
-/// The symmetric heavy top, eq. 92 (m g l given as one parameter).
-#[derive(Debug, Clone, Copy)]
-pub struct HeavyTop {
-    pub i_perp: f64,
-    pub i_par: f64,
-    pub mgl: f64,
-}
-
-#[lagrangian]
-impl HeavyTop {
-    fn lagrangian(
-        &self,
-        (theta, theta_dot): Coord,
-        (phi, phi_dot): Coord,
-        (psi, psi_dot): Coord,
-    ) -> Scalar {
-        self.i_perp / 2.0 * (theta_dot.powi(2) + phi_dot.powi(2) * theta.sin().powi(2))
-            + self.i_par / 2.0 * (psi_dot + phi_dot * theta.cos()).powi(2)
-            - self.mgl * theta.cos()
-    }
-}
+// The top of eq. 92, declared with `#[lagrangian]` exactly as the equation reads; shared by the
+// heavy-top examples.
+#[path = "support/heavy_top_system.rs"]
+mod heavy_top_system;
+use heavy_top_system::HeavyTop;
 
 const USAGE: &str = "\
 usage: cargo run --release --example heavy_top -- [options]
