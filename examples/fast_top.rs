@@ -19,6 +19,8 @@ use plotters::prelude::*;
 
 // The top of eq. 92, declared with `#[lagrangian]` exactly as the equation reads; shared by the
 // heavy-top examples.
+#[path = "support/cli.rs"]
+mod cli;
 #[path = "support/heavy_top_system.rs"]
 mod heavy_top_system;
 use heavy_top_system::HeavyTop;
@@ -52,32 +54,18 @@ fn parse() -> Result<Options, String> {
         },
         svg: "out/fast_top.svg".into(),
     };
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let mut i = 0;
-    while i < args.len() {
-        let key = args[i].as_str();
-        if key == "--help" || key == "-h" {
-            return Err(String::new());
-        }
-        let val = args
-            .get(i + 1)
-            .ok_or_else(|| format!("{key} needs a value"))?;
-        let num = |s: &str| {
-            s.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("{key}: not a number: {s}"))
-        };
-        match key {
-            "--theta0" => o.theta0 = num(val)?,
+    for (key, val) in cli::pairs()? {
+        let num = |s: &str| cli::number(&key, s);
+        match key.as_str() {
+            "--theta0" => o.theta0 = num(&val)?,
             "--ratios" => o.ratios = val.split(',').map(num).collect::<Result<_, _>>()?,
-            "--plot-ratio" => o.plot_ratio = num(val)?,
-            "--i-perp" => o.top.i_perp = num(val)?,
-            "--i-par" => o.top.i_par = num(val)?,
-            "--mgl" => o.top.mgl = num(val)?,
-            "--svg" => o.svg = val.clone(),
+            "--plot-ratio" => o.plot_ratio = num(&val)?,
+            "--i-perp" => o.top.i_perp = num(&val)?,
+            "--i-par" => o.top.i_par = num(&val)?,
+            "--mgl" => o.top.mgl = num(&val)?,
+            "--svg" => o.svg = val,
             _ => return Err(format!("unknown option {key}")),
         }
-        i += 2;
     }
     Ok(o)
 }
@@ -117,16 +105,7 @@ fn run(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let o = match parse() {
-        Ok(o) => o,
-        Err(msg) => {
-            if !msg.is_empty() {
-                eprintln!("error: {msg}\n");
-            }
-            eprint!("{USAGE}");
-            std::process::exit(if msg.is_empty() { 0 } else { 2 });
-        }
-    };
+    let o = cli::or_exit(parse(), USAGE);
     let top = o.top;
     println!(
         "fast top released at rest from θ0 = {} (I⊥ = {}, I∥ = {}, mgl = {})\n",

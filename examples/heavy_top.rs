@@ -21,6 +21,8 @@ use plotters::prelude::*;
 
 // The top of eq. 92, declared with `#[lagrangian]` exactly as the equation reads; shared by the
 // heavy-top examples.
+#[path = "support/cli.rs"]
+mod cli;
 #[path = "support/heavy_top_system.rs"]
 mod heavy_top_system;
 use heavy_top_system::HeavyTop;
@@ -73,21 +75,9 @@ fn parse() -> Result<Options, String> {
         csv: None,
         samples: 4000,
     };
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let mut i = 0;
-    while i < args.len() {
-        let key = args[i].as_str();
-        if key == "--help" || key == "-h" {
-            return Err(String::new());
-        }
-        let val = args
-            .get(i + 1)
-            .ok_or_else(|| format!("{key} needs a value"))?;
-        let num = || {
-            val.parse::<f64>()
-                .map_err(|_| format!("{key}: not a number: {val}"))
-        };
-        match key {
+    for (key, val) in cli::pairs()? {
+        let num = || cli::number(&key, &val);
+        match key.as_str() {
             "--i-perp" => o.top.i_perp = num()?,
             "--i-par" => o.top.i_par = num()?,
             "--mgl" => o.top.mgl = num()?,
@@ -103,27 +93,17 @@ fn parse() -> Result<Options, String> {
             "--dt" => o.dt = Some(num()?),
             "--periods" => o.periods = Some(num()?),
             "--until" => o.until = Some(num()?),
-            "--svg" => o.svg = val.clone(),
-            "--csv" => o.csv = Some(val.clone()),
+            "--svg" => o.svg = val,
+            "--csv" => o.csv = Some(val),
             "--samples" => o.samples = num()? as usize,
             _ => return Err(format!("unknown option {key}")),
         }
-        i += 2;
     }
     Ok(o)
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let o = match parse() {
-        Ok(o) => o,
-        Err(msg) => {
-            if !msg.is_empty() {
-                eprintln!("error: {msg}\n");
-            }
-            eprint!("{USAGE}");
-            std::process::exit(if msg.is_empty() { 0 } else { 2 });
-        }
-    };
+    let o = cli::or_exit(parse(), USAGE);
     let top = o.top;
     let theory = Top {
         i_perp: top.i_perp,

@@ -25,6 +25,8 @@ use rayon::prelude::*;
 
 // The top of eq. 92, declared with `#[lagrangian]` exactly as the equation reads; shared by the
 // heavy-top examples.
+#[path = "support/cli.rs"]
+mod cli;
 #[path = "support/heavy_top_system.rs"]
 mod heavy_top_system;
 use heavy_top_system::HeavyTop;
@@ -60,21 +62,9 @@ fn parse() -> Result<Options, String> {
         },
         svg: "out/sleeping_top.svg".into(),
     };
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let mut i = 0;
-    while i < args.len() {
-        let key = args[i].as_str();
-        if key == "--help" || key == "-h" {
-            return Err(String::new());
-        }
-        let val = args
-            .get(i + 1)
-            .ok_or_else(|| format!("{key} needs a value"))?;
-        let num = || {
-            val.parse::<f64>()
-                .map_err(|_| format!("{key}: not a number: {val}"))
-        };
-        match key {
+    for (key, val) in cli::pairs()? {
+        let num = || cli::number(&key, &val);
+        match key.as_str() {
             "--theta0" => o.theta0 = num()?,
             "--from" => o.from = num()?,
             "--to" => o.to = num()?,
@@ -82,10 +72,9 @@ fn parse() -> Result<Options, String> {
             "--i-perp" => o.top.i_perp = num()?,
             "--i-par" => o.top.i_par = num()?,
             "--mgl" => o.top.mgl = num()?,
-            "--svg" => o.svg = val.clone(),
+            "--svg" => o.svg = val,
             _ => return Err(format!("unknown option {key}")),
         }
-        i += 2;
     }
     if !(o.theta0 > 0.0 && o.theta0 < 0.5) {
         return Err("--theta0 must be in (0, 0.5): θ = 0 is the chart's singular point".into());
@@ -138,16 +127,7 @@ fn largest_nutation(top: &HeavyTop, theta0: f64, ratio: f64) -> Result<f64, Stri
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let o = match parse() {
-        Ok(o) => o,
-        Err(msg) => {
-            if !msg.is_empty() {
-                eprintln!("error: {msg}\n");
-            }
-            eprint!("{USAGE}");
-            std::process::exit(if msg.is_empty() { 0 } else { 2 });
-        }
-    };
+    let o = cli::or_exit(parse(), USAGE);
     let ratios: Vec<f64> = (0..o.points)
         .map(|k| o.from + (o.to - o.from) * k as f64 / (o.points - 1) as f64)
         .collect();
