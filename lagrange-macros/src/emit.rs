@@ -52,9 +52,7 @@ fn generate(decl: &Decl) -> TokenStream {
 
     // Bindings of the user's names to the jets' slots; names the body never mentions are not
     // bound (no unused-variable warnings for cyclic coordinates).
-    let q = Ident::q();
-    let qdot = Ident::qdot();
-    let t = Ident::t();
+    let (q, qdot, t) = param_idents();
     let mut bindings = Vec::new();
     let mut vars = Vec::new();
     let (mut uses_q, mut uses_qdot) = (false, false);
@@ -96,7 +94,7 @@ fn generate(decl: &Decl) -> TokenStream {
     let ret = quote_spanned!(decl.ret_span=> Scalar);
     let fn_ident = &decl.fn_ident;
     let self_token = &decl.self_token;
-    let (symbolic_note, symbolic_consts) = match decl.options.mode {
+    let (symbolic_methods, symbolic_consts) = match decl.options.mode {
         Mode::Jets => (quote!(), quote!()),
         Mode::Symbolic => match crate::symbolic::expand(decl) {
             Ok(out) => crate::symbolic::methods(&out, n, self_ty),
@@ -145,24 +143,21 @@ fn generate(decl: &Decl) -> TokenStream {
                 #(#bindings)*
                 #(#stmts)*
             }
-            #symbolic_note
+            #symbolic_methods
         }
         #symbolic_consts
     }
 }
 
-/// Hygienic names for the generated parameters (the user's body cannot see or clash with them).
-struct Ident;
-impl Ident {
-    fn q() -> proc_macro2::Ident {
-        format_ident!("__lagrange_q", span = Span::mixed_site())
-    }
-    fn qdot() -> proc_macro2::Ident {
-        format_ident!("__lagrange_qdot", span = Span::mixed_site())
-    }
-    fn t() -> proc_macro2::Ident {
-        format_ident!("__lagrange_t", span = Span::mixed_site())
-    }
+/// Hygienic names for the generated parameters q, q̇, t (the user's body cannot see or clash
+/// with them).
+fn param_idents() -> (proc_macro2::Ident, proc_macro2::Ident, proc_macro2::Ident) {
+    let site = Span::mixed_site();
+    (
+        format_ident!("__lagrange_q", span = site),
+        format_ident!("__lagrange_qdot", span = site),
+        format_ident!("__lagrange_t", span = site),
+    )
 }
 
 /// A stub impl emitted next to the errors, so uses of the type elsewhere do not cascade into
