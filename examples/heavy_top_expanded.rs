@@ -92,7 +92,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         clippy::pedantic,
         clippy::nursery
     )]
-    #[inline]
+    #[inline(always)]
     fn accelerations(
         &self,
         q: &[f64; 3],

@@ -27,6 +27,10 @@ use quote::quote;
 use crate::model::Decl;
 use dag::{Dag, Id, Node, VarSet};
 
+/// Up to this many generated operations (values plus N² for the solve), `accelerations` is
+/// `#[inline(always)]`.
+const INLINE_ALWAYS_MAX_OPS: usize = 256;
+
 /// What the symbolic path contributes to the generated impl.
 pub struct SymbolicOutput {
     /// Body of `fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64)
@@ -34,6 +38,8 @@ pub struct SymbolicOutput {
     pub accelerations: TokenStream,
     /// Body of `fn mass_matrix(&self, q, qdot, t) -> ::lagrange::__private::SMatrix<f64, N, N>`.
     pub mass_matrix: TokenStream,
+    /// `#[inline(always)]` for a small `accelerations`, `#[inline]` otherwise.
+    pub accelerations_inline: TokenStream,
     /// Body of `fn momenta(&self, q, qdot, t) -> [f64; N]`.
     pub momenta: TokenStream,
     /// Body of `fn energy(&self, q, qdot, t) -> f64`.
@@ -306,6 +312,14 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     outs.extend(&d.force);
     let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
     let mut lets = code.lets;
+    // A small right-hand side is inlined at every call site (the twelve stages of DOP853 call
+    // it from unrolled code; `#[inline]` alone let LLVM keep it out of line and the whole run
+    // was 11 % slower); a large one is left to LLVM so code size stays in bounds.
+    let accelerations_inline = if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
+        quote!(#[inline(always)])
+    } else {
+        quote!(#[inline])
+    };
     let rows = d.mass.iter().enumerate().map(|(i, row)| {
         let cells = row
             .iter()
@@ -398,6 +412,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     );
     Ok(SymbolicOutput {
         accelerations,
+        accelerations_inline,
         mass_matrix,
         momenta,
         energy,
@@ -425,6 +440,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
     let nn = Literal::usize_unsuffixed(n);
     let SymbolicOutput {
         accelerations,
+        accelerations_inline,
         mass_matrix,
         momenta,
         energy,
@@ -437,7 +453,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
     let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
     let methods = quote! {
         #allow
-        #[inline]
+        #accelerations_inline
         fn accelerations(#sig) -> ::core::result::Result<[f64; #nn], ::lagrange::__private::DynamicsError> {
             #accelerations
         }

@@ -475,6 +475,19 @@ fn chain_16_expands_fast_and_compactly() {
     assert_eq!(out.equations.lines().count(), 16);
 }
 
+/// Small right-hand sides are `#[inline(always)]` (every stage of an integrator inlines them);
+/// large ones are left to LLVM.
+#[test]
+fn small_accelerations_are_always_inlined_large_ones_are_not() {
+    let inline = |d: &Decl| {
+        let out = expand(d).unwrap_or_else(|_| panic!("expands"));
+        out.accelerations_inline.to_string().replace(' ', "")
+    };
+    assert_eq!(inline(&heavy_top()), "#[inline(always)]");
+    assert_eq!(inline(&chain_decl(2)), "#[inline(always)]");
+    assert_eq!(inline(&chain_decl(16)), "#[inline]");
+}
+
 #[test]
 fn constant_if_becomes_a_select_on_a_runtime_bool() {
     let body = "{

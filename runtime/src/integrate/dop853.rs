@@ -11,32 +11,34 @@ use super::tableau::{
 };
 use super::trajectory::Stats;
 
-/// One DOP853 step of size h from (t, y) with k₀ = f(t, y): the 12 stages, y₁ and the error
-/// norm (Hairer's blend of the 5th- and 3rd-order estimates). Stage 12 (f at y₁) is not yet
-/// evaluated.
+/// One DOP853 step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages 1..=11
+/// into `k` (in place: no copy of the stage array per step), y₁ and the error norm (Hairer's
+/// blend of the 5th- and 3rd-order estimates). Stage 12 (f at y₁) is not yet evaluated.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     sys: &L,
     t: f64,
     y: &Y<N>,
-    f0: &Y<N>,
+    k: &mut [Y<N>; 16],
     h: f64,
     rtol: f64,
     atol: f64,
     stats: &mut Stats,
-) -> Result<([Y<N>; 16], Y<N>, f64), Fault> {
-    let mut k = [[[0.0; N]; 2]; 16];
-    k[0] = *f0;
-    for s in 1..12 {
-        let ys = combine(y, h, &A[s][..s], &k[..s]);
-        k[s] = rhs(sys, t + C[s] * h, &ys, stats)?;
+) -> Result<(Y<N>, f64), Fault> {
+    macro_rules! stages {
+        ($($s:literal)*) => {$(
+            let ys = combine::<$s, N, 16, 16>(y, h, &A[$s], k);
+            k[$s] = rhs(sys, t + C[$s] * h, &ys, stats)?;
+        )*};
     }
-    let y1 = combine(y, h, &A[12][..12], &k[..12]);
+    stages!(1 2 3 4 5 6 7 8 9 10 11);
+    let y1 = combine::<12, N, 16, 16>(y, h, &A[12], k);
     if !finite(&y1) {
         return Err(Fault::NonFinite);
     }
-    let e5 = weighted(&E5[..12], &k[..12]);
-    let e3 = weighted(&E3[..12], &k[..12]);
+    let e5 = weighted::<12, N, 13, 16>(&E5, k);
+    let e3 = weighted::<12, N, 13, 16>(&E3, k);
     let sk = scales(rtol, atol, y, &y1);
     let (mut err5, mut err3) = (0.0, 0.0);
     for c in 0..2 {
@@ -50,7 +52,23 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
         deno = 1.0;
     }
     let err = h.abs() * err5 * (1.0 / ((2 * N) as f64 * deno)).sqrt();
-    Ok((k, y1, err))
+    Ok((y1, err))
+}
+
+/// The input of stage `s` (1 ≤ s ≤ 15), y + h Σ_{j<s} a_sj k_j: one constant-length sum per stage
+/// (unrolled and vectorised) behind one call site of the right-hand side, so the dynamics are
+/// inlined once, not once per stage.
+#[inline(always)]
+fn stage_input<const N: usize>(s: usize, y: &Y<N>, h: f64, k: &[Y<N>; 16]) -> Y<N> {
+    macro_rules! arms {
+        ($($s:literal)*) => {
+            match s {
+                $($s => combine::<$s, N, 16, 16>(y, h, &A[$s], k),)*
+                _ => combine::<15, N, 16, 16>(y, h, &A[15], k),
+            }
+        };
+    }
+    arms!(1 2 3 4 5 6 7 8 9 10 11 12 13 14)
 }
 
 /// The 7th-order dense-output coefficients on [t, t + h]; `k[12]` must hold f(t + h, y₁).
@@ -65,12 +83,12 @@ pub(crate) fn dense<L: Lagrangian<N> + ?Sized, const N: usize>(
     stats: &mut Stats,
 ) -> Result<[Y<N>; 8], Fault> {
     for s in 13..16 {
-        let ys = combine(y, h, &A[s][..s], &k[..s]);
+        let ys = stage_input(s, y, h, k);
         k[s] = rhs(sys, t + C[s] * h, &ys, stats)?;
     }
     let mut r = [[[0.0; N]; 2]; 8];
     for (j, dj) in D.iter().enumerate() {
-        let w = weighted(dj, &k[..]);
+        let w = weighted::<16, N, 16, 16>(dj, k);
         for c in 0..2 {
             for i in 0..N {
                 r[4 + j][c][i] = h * w[c][i];
@@ -114,7 +132,8 @@ pub(crate) struct Dop853<'a, L: ?Sized, const N: usize> {
     t_old: f64,
     y_old: Y<N>,
     h_old: f64,
-    /// Stages of the last accepted step; k[12] = f(t, y) at the current node.
+    /// Stages of the last accepted step (the trial steps of `advance` overwrite them in place);
+    /// k[12] = f(t, y) at the current node.
     k: [Y<N>; 16],
     /// Dense-output coefficients of the last step, once evaluated.
     r: Option<[Y<N>; 8]>,
@@ -172,26 +191,32 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
         Ok(self.y)
     }
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
-        let f0 = self.k[12];
+        self.k[0] = self.k[12];
         loop {
             let (h, last) = self.sc.trial(self.t, t_end)?;
             let attempt = step(
-                self.sys, self.t, &self.y, &f0, h, self.rtol, self.atol, stats,
+                self.sys,
+                self.t,
+                &self.y,
+                &mut self.k,
+                h,
+                self.rtol,
+                self.atol,
+                stats,
             )
-            .and_then(|(k, y1, err)| {
+            .and_then(|(y1, err)| {
                 if err <= 1.0 {
                     // f at the new point: needed for the next step (FSAL) and the dense output.
                     let f1 = rhs(self.sys, self.t + h, &y1, stats)?;
-                    Ok((k, y1, err, Some(f1)))
+                    Ok((y1, err, Some(f1)))
                 } else {
-                    Ok((k, y1, err, None))
+                    Ok((y1, err, None))
                 }
             });
             match attempt {
-                Ok((mut k, y1, err, Some(f1))) => {
+                Ok((y1, err, Some(f1))) => {
                     self.sc.accept(h, err, stats);
-                    k[12] = f1;
-                    self.k = k;
+                    self.k[12] = f1;
                     self.r = None;
                     self.t_old = self.t;
                     self.y_old = self.y;
@@ -200,7 +225,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
                     self.y = y1;
                     return Ok(());
                 }
-                Ok((_, _, err, None)) if err.is_finite() => self.sc.reject(h, err, stats),
+                Ok((_, err, None)) if err.is_finite() => self.sc.reject(h, err, stats),
                 Ok(_) => self.sc.shrink(h, Fault::NonFinite, stats),
                 // A stage left the domain of the dynamics: retry with a smaller step.
                 Err(f) => self.sc.shrink(h, f, stats),

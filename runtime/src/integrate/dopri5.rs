@@ -62,41 +62,43 @@ const D: [f64; 7] = [
     69997945.0 / 29380423.0,
 ];
 
-/// One Dormand–Prince step of size h from (t, y) with k₀ = f(t, y): the stages (k₆ = f(t+h, y₁)),
-/// y₁ and the error estimate h Σ eⱼkⱼ.
-#[allow(clippy::type_complexity)]
+/// One Dormand–Prince step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages
+/// into `k` in place (k₆ = f(t+h, y₁)), y₁ and the error estimate h Σ eⱼkⱼ.
+#[inline(always)]
 pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     sys: &L,
     t: f64,
     y: &Y<N>,
-    f0: &Y<N>,
+    k: &mut [Y<N>; 7],
     h: f64,
     stats: &mut Stats,
-) -> Result<([Y<N>; 7], Y<N>, Y<N>), Fault> {
-    let mut k = [[[0.0; N]; 2]; 7];
-    k[0] = *f0;
-    for s in 1..6 {
-        let ys = combine(y, h, &A[s][..s], &k[..s]);
-        k[s] = rhs(sys, t + C[s] * h, &ys, stats)?;
+) -> Result<(Y<N>, Y<N>), Fault> {
+    // Unrolled: each stage's sum has a constant length.
+    macro_rules! stages {
+        ($($s:literal)*) => {$(
+            let ys = combine::<$s, N, 6, 7>(y, h, &A[$s], k);
+            k[$s] = rhs(sys, t + C[$s] * h, &ys, stats)?;
+        )*};
     }
-    let y1 = combine(y, h, &A[6], &k[..6]);
+    stages!(1 2 3 4 5);
+    let y1 = combine::<6, N, 6, 7>(y, h, &A[6], k);
     if !finite(&y1) {
         return Err(Fault::NonFinite);
     }
     k[6] = rhs(sys, t + h, &y1, stats)?;
-    let mut err = weighted(&E, &k);
+    let mut err = weighted::<7, N, 7, 7>(&E, k);
     for row in err.iter_mut() {
         for e in row.iter_mut() {
             *e *= h;
         }
     }
-    Ok((k, y1, err))
+    Ok((y1, err))
 }
 
 /// The coefficients of the continuous extension on [t, t + h].
 pub(crate) fn dense<const N: usize>(y: &Y<N>, y1: &Y<N>, k: &[Y<N>; 7], h: f64) -> [Y<N>; 5] {
     let mut r = [[[0.0; N]; 2]; 5];
-    let d = weighted(&D, k);
+    let d = weighted::<7, N, 7, 7>(&D, k);
     for c in 0..2 {
         for i in 0..N {
             let ydiff = y1[c][i] - y[c][i];
@@ -131,7 +133,8 @@ pub(crate) struct Dopri5<'a, L: ?Sized, const N: usize> {
     atol: f64,
     t: f64,
     y: Y<N>,
-    f: Y<N>,
+    /// The stages of the latest step; `k[0]` = f(t, y) at the current node.
+    k: [Y<N>; 7],
     t_old: f64,
     h_old: f64,
     r: [Y<N>; 5],
@@ -157,7 +160,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dopri5<'a, L, N> {
             atol,
             t: t0,
             y: y0,
-            f,
+            k: [f; 7],
             t_old: t0,
             h_old: 0.0,
             r: [y0; 5],
@@ -183,8 +186,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
         loop {
             let (h, last) = self.sc.trial(self.t, t_end)?;
-            match step(self.sys, self.t, &self.y, &self.f, h, stats) {
-                Ok((k, y1, e)) => {
+            match step(self.sys, self.t, &self.y, &mut self.k, h, stats) {
+                Ok((y1, e)) => {
                     let sk = scales(self.rtol, self.atol, &self.y, &y1);
                     let err = (sum_sq(&e, &sk) / (2 * N) as f64).sqrt();
                     if !err.is_finite() {
@@ -193,12 +196,12 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
                     }
                     if err <= 1.0 {
                         self.sc.accept(h, err, stats);
-                        self.r = dense(&self.y, &y1, &k, h);
+                        self.r = dense(&self.y, &y1, &self.k, h);
                         self.t_old = self.t;
                         self.h_old = h;
                         self.t = if last { t_end } else { self.t + h };
                         self.y = y1;
-                        self.f = k[6];
+                        self.k[0] = self.k[6];
                         return Ok(());
                     }
                     self.sc.reject(h, err, stats);

@@ -17,20 +17,25 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     stats: &mut Stats,
 ) -> Result<Y<N>, Fault> {
     let k1 = *f0;
-    let k2 = rhs(sys, t + 0.5 * h, &combine(y, h, &[0.5], &[k1]), stats)?;
+    let k2 = rhs(
+        sys,
+        t + 0.5 * h,
+        &combine::<1, N, 1, 1>(y, h, &[0.5], &[k1]),
+        stats,
+    )?;
     let k3 = rhs(
         sys,
         t + 0.5 * h,
-        &combine(y, h, &[0.0, 0.5], &[k1, k2]),
+        &combine::<1, N, 1, 1>(y, h, &[0.5], &[k2]),
         stats,
     )?;
     let k4 = rhs(
         sys,
         t + h,
-        &combine(y, h, &[0.0, 0.0, 1.0], &[k1, k2, k3]),
+        &combine::<1, N, 1, 1>(y, h, &[1.0], &[k3]),
         stats,
     )?;
-    let y1 = combine(
+    let y1 = combine::<4, N, 4, 4>(
         y,
         h,
         &[1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
