@@ -11,6 +11,14 @@ use super::tableau::{
 };
 use super::trajectory::Stats;
 
+/// Evaluates the listed stages into `k`, unrolled: each stage's sum has a constant length.
+macro_rules! stages {
+    ($sys:ident, $t:ident, $y:ident, $h:ident, $k:ident, $stats:ident; $($s:literal)*) => {$(
+        let ys = combine::<$s, N, 16, 16>($y, $h, &A[$s], $k);
+        $k[$s] = rhs($sys, $t + C[$s] * $h, &ys, $stats)?;
+    )*};
+}
+
 /// One DOP853 step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages 1..=11
 /// into `k` (in place: no copy of the stage array per step), y₁ and the error norm (Hairer's
 /// blend of the 5th- and 3rd-order estimates). Stage 12 (f at y₁) is not yet evaluated.
@@ -26,13 +34,7 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     atol: f64,
     stats: &mut Stats,
 ) -> Result<(Y<N>, f64), Fault> {
-    macro_rules! stages {
-        ($($s:literal)*) => {$(
-            let ys = combine::<$s, N, 16, 16>(y, h, &A[$s], k);
-            k[$s] = rhs(sys, t + C[$s] * h, &ys, stats)?;
-        )*};
-    }
-    stages!(1 2 3 4 5 6 7 8 9 10 11);
+    stages!(sys, t, y, h, k, stats; 1 2 3 4 5 6 7 8 9 10 11);
     let y1 = combine::<12, N, 16, 16>(y, h, &A[12], k);
     if !finite(&y1) {
         return Err(Fault::NonFinite);
@@ -55,22 +57,6 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     Ok((y1, err))
 }
 
-/// The input of stage `s` (1 ≤ s ≤ 15), y + h Σ_{j<s} a_sj k_j: one constant-length sum per stage
-/// (unrolled and vectorised) behind one call site of the right-hand side, so the dynamics are
-/// inlined once, not once per stage.
-#[inline(always)]
-fn stage_input<const N: usize>(s: usize, y: &Y<N>, h: f64, k: &[Y<N>; 16]) -> Y<N> {
-    macro_rules! arms {
-        ($($s:literal)*) => {
-            match s {
-                $($s => combine::<$s, N, 16, 16>(y, h, &A[$s], k),)*
-                _ => combine::<15, N, 16, 16>(y, h, &A[15], k),
-            }
-        };
-    }
-    arms!(1 2 3 4 5 6 7 8 9 10 11 12 13 14)
-}
-
 /// The 7th-order dense-output coefficients on [t, t + h]; `k[12]` must hold f(t + h, y₁).
 /// Evaluates the three extra stages into `k[13..16]`.
 pub(crate) fn dense<L: Lagrangian<N> + ?Sized, const N: usize>(
@@ -82,10 +68,7 @@ pub(crate) fn dense<L: Lagrangian<N> + ?Sized, const N: usize>(
     h: f64,
     stats: &mut Stats,
 ) -> Result<[Y<N>; 8], Fault> {
-    for s in 13..16 {
-        let ys = stage_input(s, y, h, k);
-        k[s] = rhs(sys, t + C[s] * h, &ys, stats)?;
-    }
+    stages!(sys, t, y, h, k, stats; 13 14 15);
     let mut r = [[[0.0; N]; 2]; 8];
     for (j, dj) in D.iter().enumerate() {
         let w = weighted::<16, N, 16, 16>(dj, k);
