@@ -66,6 +66,9 @@ impl Lagrangian<3> for HeavyTopClosedForm {
             l_par,
         ]
     }
+    fn energy_and_momenta(&self, q: &[f64; 3], qd: &[f64; 3], t: f64) -> (f64, [f64; 3]) {
+        (self.energy(q, qd, t), self.momenta(q, qd, t))
+    }
     fn energy(&self, q: &[f64; 3], qd: &[f64; 3], _t: f64) -> f64 {
         let top = &self.0;
         let (s, c) = q[0].sin_cos();

@@ -275,6 +275,49 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let x103: f64 = x101 + x102;
         x103
     }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn energy_and_momenta(&self, q: &[f64; 3], qdot: &[f64; 3], t: f64) -> (f64, [f64; 3]) {
+        let _ = (q, qdot, t);
+        let p_i_perp: f64 = self.i_perp;
+        let p_i_par: f64 = self.i_par;
+        let p_m: f64 = self.m;
+        let p_g: f64 = self.g;
+        let p_l: f64 = self.l;
+        let ((x8, x9), x14, x30, x36): ((f64, f64), f64, f64, f64) = (
+            q[0].sin_cos(),
+            qdot[0] * qdot[0],
+            p_m * p_g,
+            qdot[0] * p_i_perp,
+        );
+        let (x15, x22, x32, x98): (f64, f64, f64, f64) =
+            (qdot[1] * x8, qdot[1] * x9, x30 * p_l, qdot[0] * x36);
+        let (x16, x23, x33, x39): (f64, f64, f64, f64) =
+            (x15 * x15, qdot[2] + x22, x9 * x32, x8 * x15);
+        let (x17, x24, x41, x44, x49): (f64, f64, f64, f64, f64) = (
+            x14 + x16,
+            x23 * x23,
+            p_i_perp * x39,
+            x9 * x23,
+            p_i_par * x23,
+        );
+        let (x18, x25, x46, x102): (f64, f64, f64, f64) =
+            (p_i_perp * x17, p_i_par * x24, p_i_par * x44, qdot[2] * x49);
+        let (x19, x26, x48): (f64, f64, f64) = (0.5 * x18, 0.5 * x25, x41 + x46);
+        let (x27, x100): (f64, f64) = (x19 + x26, qdot[1] * x48);
+        let x97: f64 = x33 - x27;
+        let x99: f64 = x97 + x98;
+        let x101: f64 = x99 + x100;
+        let x103: f64 = x101 + x102;
+        (x103, [x36, x48, x49])
+    }
 }
 #[doc = "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` (d/dt ∂L/∂q\u{307} = ∂L/∂q, one line per coordinate):\n\n```text\ntheta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)\nphi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)\npsi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)\n```\n"]
 impl HeavyTop {

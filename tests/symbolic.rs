@@ -57,6 +57,16 @@ fn agree<const N: usize>(
     assert_close("M", ms.as_slice(), mj.as_slice(), &state);
     assert_close("p", &s.momenta(&q, &v, t), &j.momenta(&q, &v, t), &state);
     assert_close("h", &[s.energy(&q, &v, t)], &[j.energy(&q, &v, t)], &state);
+    // The fused method (generated straight-line in symbolic mode, one jet pass in jets mode)
+    // against the separate ones of the other twin.
+    let ((hs, ps), (hj, pj)) = (
+        s.energy_and_momenta(&q, &v, t),
+        j.energy_and_momenta(&q, &v, t),
+    );
+    assert_close("p (fused)", &ps, &j.momenta(&q, &v, t), &state);
+    assert_close("p (fused, jets)", &pj, &s.momenta(&q, &v, t), &state);
+    assert_close("h (fused)", &[hs], &[j.energy(&q, &v, t)], &state);
+    assert_close("h (fused, jets)", &[hj], &[s.energy(&q, &v, t)], &state);
     assert_eq!(
         <_ as Lagrangian<N>>::lagrangian(s, &q, &v, t),
         <_ as Lagrangian<N>>::lagrangian(j, &q, &v, t)

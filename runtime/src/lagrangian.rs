@@ -77,6 +77,32 @@ pub trait Lagrangian<const N: usize> {
         el_jet(self, q, qdot, t).grad_qdot()
     }
 
+    /// The energy h = q̇·p − L and the momenta p together (what an integrator records at every
+    /// step): one jet pass where [`energy`](Self::energy) and [`momenta`](Self::momenta) take
+    /// two. `#[lagrangian]` generates it (fused straight-line code in symbolic mode); a
+    /// hand-written impl that overrides `energy` and `momenta` should override this too.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// struct Osc;
+    /// impl Lagrangian<1> for Osc {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// }
+    /// assert_eq!(Osc.energy_and_momenta(&[1.0], &[2.0], 0.0), (2.5, [2.0]));
+    /// ```
+    fn energy_and_momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> (f64, [f64; N]) {
+        let l = el_jet(self, q, qdot, t);
+        let p = l.grad_qdot();
+        let mut h = -l.value();
+        for i in 0..N {
+            h += qdot[i] * p[i];
+        }
+        (h, p)
+    }
+
     /// The energy (Jacobi integral) h = q̇·p − L.
     fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
         let l = el_jet(self, q, qdot, t);

@@ -44,7 +44,9 @@ pub struct SymbolicOutput {
     pub momenta: TokenStream,
     /// Body of `fn energy(&self, q, qdot, t) -> f64`.
     pub energy: TokenStream,
-    /// Lint attributes to put on each of the four generated methods (machine-written code).
+    /// Body of `fn energy_and_momenta(&self, q, qdot, t) -> (f64, [f64; N])`.
+    pub energy_and_momenta: TokenStream,
+    /// Lint attributes to put on each of the five generated methods (machine-written code).
     pub allow: TokenStream,
     /// The Euler–Lagrange equations, plain Unicode, one line per coordinate.
     pub equations: String,
@@ -52,7 +54,7 @@ pub struct SymbolicOutput {
     pub equations_latex: String,
     /// A rustdoc section (Markdown) presenting the equations, for the user's type.
     pub doc: String,
-    /// Size of the generated code: `let` statements over all four bodies.
+    /// Size of the generated code: `let` statements over all five bodies.
     #[cfg_attr(not(test), allow(dead_code))]
     pub generated_lets: usize,
 }
@@ -404,6 +406,20 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
         #h
     };
 
+    // energy and momenta together (what an integrator records every step): shared subexpressions
+    let mut outs = vec![d.energy];
+    outs.extend(&d.momenta);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+    lets += code.lets;
+    let h = op(d.energy);
+    let p = d.momenta.iter().map(|&x| op(x));
+    let stmts = code.stmts;
+    let energy_and_momenta = quote! {
+        #touch
+        #stmts
+        (#h, [#(#p),*])
+    };
+
     let eq = print::equations(&d, decl);
     let doc = format!(
         "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` \
@@ -416,6 +432,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
         mass_matrix,
         momenta,
         energy,
+        energy_and_momenta,
         allow: quote! {
             #[allow(
                 unused_variables,
@@ -433,7 +450,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     })
 }
 
-/// The four generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
+/// The five generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
 /// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
 pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStream, TokenStream) {
     let (q, qdot, t) = idents();
@@ -444,6 +461,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         mass_matrix,
         momenta,
         energy,
+        energy_and_momenta,
         allow,
         equations,
         equations_latex,
@@ -471,6 +489,11 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         #[inline]
         fn energy(#sig) -> f64 {
             #energy
+        }
+        #allow
+        #[inline]
+        fn energy_and_momenta(#sig) -> (f64, [f64; #nn]) {
+            #energy_and_momenta
         }
     };
     let eq_doc = format!(

@@ -1,7 +1,7 @@
 //! [`Simulation`]: the builder and the driver loop shared by all methods (sampling, events,
 //! limits, errors with the partial trajectory).
 
-use crate::lagrangian::{el_jet, Lagrangian};
+use crate::lagrangian::Lagrangian;
 
 use super::dop853::Dop853;
 use super::dopri5::Dopri5;
@@ -480,12 +480,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
         if self.traj.t.last() == Some(&t) {
             return;
         }
-        let jet = el_jet(self.sys, &y[0], &y[1], t);
-        let p = jet.grad_qdot();
-        let mut e = -jet.value();
-        for i in 0..N {
-            e += y[1][i] * p[i];
-        }
+        let (e, p) = self.sys.energy_and_momenta(&y[0], &y[1], t);
         self.traj.t.push(t);
         self.traj.q.push(y[0]);
         self.traj.qdot.push(y[1]);
