@@ -105,43 +105,41 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let p_m: f64 = self.m;
         let p_g: f64 = self.g;
         let p_l: f64 = self.l;
-        let ((x8, x9), x30): ((f64, f64), f64) = (q[0].sin_cos(), p_m * p_g);
-        let (x15, x22, x32, x51, x53, x56, x57, x58): (f64, f64, f64, f64, f64, f64, f64, f64) = (
+        let ((x8, x9), x31): ((f64, f64), f64) = (q[0].sin_cos(), p_m * p_g);
+        let (x15, x22, x33, x53, x55, x58, x59, x60): (f64, f64, f64, f64, f64, f64, f64, f64) = (
             qdot[1] * x8,
             qdot[1] * x9,
-            x30 * p_l,
+            x31 * p_l,
             x8 * x8,
             x9 * x9,
             x9 * p_i_par,
             qdot[0] * x9,
             qdot[0] * x8,
         );
-        let (x23, x52, x54, x60, x61, x63, x79, x93): (f64, f64, f64, f64, f64, f64, f64, f64) = (
+        let (x23, x54, x56, x63, x65, x80, x93): (f64, f64, f64, f64, f64, f64, f64) = (
             qdot[2] + x22,
-            p_i_perp * x51,
-            p_i_par * x53,
-            qdot[1] * x57,
-            qdot[1] * x58,
-            x15 * x57,
+            p_i_perp * x53,
+            p_i_par * x55,
+            qdot[1] * x60,
+            x15 * x59,
             x15 * x22,
-            x8 * x32,
+            x8 * x33,
         );
-        let (x55, x64, x67, x69, x76, x81, x84): (f64, f64, f64, f64, f64, f64, f64) = (
-            x52 + x54,
-            x8 * x60,
-            x23 * x58,
-            x9 * x61,
-            p_i_par * x61,
-            p_i_perp * x79,
+        let (x57, x67, x69, x77, x82, x85): (f64, f64, f64, f64, f64, f64) = (
+            x54 + x56,
+            p_i_perp * x65,
+            x23 * x60,
+            p_i_par * x63,
+            p_i_perp * x80,
             x15 * x23,
         );
-        let (x65, x71, x88): (f64, f64, f64) = (x63 + x64, x67 + x69, p_i_par * x84);
-        let (x66, x73, x92): (f64, f64, f64) = (p_i_perp * x65, p_i_par * x71, x81 - x88);
-        let (x95, x96): (f64, f64) = (x92 + x93, x73 - x66);
+        let (x68, x72, x89): (f64, f64, f64) = (2.0 * x67, x65 + x69, p_i_par * x85);
+        let (x74, x91): (f64, f64) = (p_i_par * x72, x82 - x89);
+        let (x95, x96): (f64, f64) = (x91 + x93, x74 - x68);
         let fast: ::core::option::Option<[f64; 3]> = 'fast: {
             let __lagrange_max = |s: f64, a: f64| if a > s { a } else { s };
             let scale: f64 = __lagrange_max(
-                __lagrange_max(__lagrange_max(0.0_f64, f64::abs(p_i_perp)), f64::abs(x55)),
+                __lagrange_max(__lagrange_max(0.0_f64, f64::abs(p_i_perp)), f64::abs(x57)),
                 f64::abs(p_i_par),
             );
             let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
@@ -149,11 +147,11 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             if !(d_0 > tol) {
                 break 'fast ::core::option::Option::None;
             }
-            let d_1: f64 = x55;
+            let d_1: f64 = x57;
             if !(d_1 > tol) {
                 break 'fast ::core::option::Option::None;
             }
-            let (u_1_2,): (f64,) = (x56,);
+            let (u_1_2,): (f64,) = (x58,);
             let (l_1_2,): (f64,) = (u_1_2 / d_1,);
             let d_2: f64 = p_i_par - l_1_2 * u_1_2;
             if !(d_2 > tol) {
@@ -161,7 +159,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             }
             let y_0: f64 = x95;
             let y_1: f64 = x96;
-            let y_2: f64 = x76 - l_1_2 * y_1;
+            let y_2: f64 = x77 - l_1_2 * y_1;
             let y_0: f64 = y_0 / d_0;
             let y_1: f64 = y_1 / d_1;
             let y_2: f64 = y_2 / d_2;
@@ -176,8 +174,8 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         match fast {
             ::core::option::Option::Some(x) => ::core::result::Result::Ok(x),
             ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
-                &[[p_i_perp, 0.0, 0.0], [0.0, x55, x56], [0.0, 0.0, p_i_par]],
-                &[x95, x96, x76],
+                &[[p_i_perp, 0.0, 0.0], [0.0, x57, x58], [0.0, 0.0, p_i_par]],
+                &[x95, x96, x77],
                 <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
                 q,
                 qdot,
@@ -204,11 +202,11 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let p_i_perp: f64 = self.i_perp;
         let p_i_par: f64 = self.i_par;
         let (x8, x9): (f64, f64) = q[0].sin_cos();
-        let (x51, x53, x56): (f64, f64, f64) = (x8 * x8, x9 * x9, x9 * p_i_par);
-        let (x52, x54): (f64, f64) = (p_i_perp * x51, p_i_par * x53);
-        let x55: f64 = x52 + x54;
+        let (x53, x55, x58): (f64, f64, f64) = (x8 * x8, x9 * x9, x9 * p_i_par);
+        let (x54, x56): (f64, f64) = (p_i_perp * x53, p_i_par * x55);
+        let x57: f64 = x54 + x56;
         ::lagrange::__private::SMatrix::<f64, 3, 3>::from_row_slice(&[
-            p_i_perp, 0.0, 0.0, 0.0, x55, x56, 0.0, x56, p_i_par,
+            p_i_perp, 0.0, 0.0, 0.0, x57, x58, 0.0, x58, p_i_par,
         ])
     }
     #[allow(
@@ -224,13 +222,13 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let _ = (q, qdot, t);
         let p_i_perp: f64 = self.i_perp;
         let p_i_par: f64 = self.i_par;
-        let ((x8, x9), x36): ((f64, f64), f64) = (q[0].sin_cos(), qdot[0] * p_i_perp);
+        let ((x8, x9), x37): ((f64, f64), f64) = (q[0].sin_cos(), qdot[0] * p_i_perp);
         let (x15, x22): (f64, f64) = (qdot[1] * x8, qdot[1] * x9);
-        let (x23, x39): (f64, f64) = (qdot[2] + x22, x8 * x15);
-        let (x41, x44, x49): (f64, f64, f64) = (p_i_perp * x39, x9 * x23, p_i_par * x23);
-        let x46: f64 = p_i_par * x44;
-        let x48: f64 = x41 + x46;
-        [x36, x48, x49]
+        let (x23, x40): (f64, f64) = (qdot[2] + x22, x8 * x15);
+        let (x42, x45, x51): (f64, f64, f64) = (p_i_perp * x40, x9 * x23, p_i_par * x23);
+        let x47: f64 = p_i_par * x45;
+        let x49: f64 = x42 + x47;
+        [x37, x49, x51]
     }
     #[allow(
         unused_variables,
@@ -248,28 +246,28 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let p_m: f64 = self.m;
         let p_g: f64 = self.g;
         let p_l: f64 = self.l;
-        let ((x8, x9), x14, x30, x36): ((f64, f64), f64, f64, f64) = (
+        let ((x8, x9), x14, x31, x37): ((f64, f64), f64, f64, f64) = (
             q[0].sin_cos(),
             qdot[0] * qdot[0],
             p_m * p_g,
             qdot[0] * p_i_perp,
         );
-        let (x15, x22, x32, x98): (f64, f64, f64, f64) =
-            (qdot[1] * x8, qdot[1] * x9, x30 * p_l, qdot[0] * x36);
-        let (x16, x23, x33, x39): (f64, f64, f64, f64) =
-            (x15 * x15, qdot[2] + x22, x9 * x32, x8 * x15);
-        let (x17, x24, x41, x44, x49): (f64, f64, f64, f64, f64) = (
+        let (x15, x22, x33, x98): (f64, f64, f64, f64) =
+            (qdot[1] * x8, qdot[1] * x9, x31 * p_l, qdot[0] * x37);
+        let (x16, x23, x34, x40): (f64, f64, f64, f64) =
+            (x15 * x15, qdot[2] + x22, x9 * x33, x8 * x15);
+        let (x17, x24, x42, x45, x51): (f64, f64, f64, f64, f64) = (
             x14 + x16,
             x23 * x23,
-            p_i_perp * x39,
+            p_i_perp * x40,
             x9 * x23,
             p_i_par * x23,
         );
-        let (x18, x25, x46, x102): (f64, f64, f64, f64) =
-            (p_i_perp * x17, p_i_par * x24, p_i_par * x44, qdot[2] * x49);
-        let (x19, x26, x48): (f64, f64, f64) = (0.5 * x18, 0.5 * x25, x41 + x46);
-        let (x27, x100): (f64, f64) = (x19 + x26, qdot[1] * x48);
-        let x97: f64 = x33 - x27;
+        let (x18, x25, x47, x102): (f64, f64, f64, f64) =
+            (p_i_perp * x17, p_i_par * x24, p_i_par * x45, qdot[2] * x51);
+        let (x27, x49): (f64, f64) = (x18 + x25, x42 + x47);
+        let (x28, x100): (f64, f64) = (0.5 * x27, qdot[1] * x49);
+        let x97: f64 = x34 - x28;
         let x99: f64 = x97 + x98;
         let x101: f64 = x99 + x100;
         let x103: f64 = x101 + x102;
@@ -291,32 +289,32 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let p_m: f64 = self.m;
         let p_g: f64 = self.g;
         let p_l: f64 = self.l;
-        let ((x8, x9), x14, x30, x36): ((f64, f64), f64, f64, f64) = (
+        let ((x8, x9), x14, x31, x37): ((f64, f64), f64, f64, f64) = (
             q[0].sin_cos(),
             qdot[0] * qdot[0],
             p_m * p_g,
             qdot[0] * p_i_perp,
         );
-        let (x15, x22, x32, x98): (f64, f64, f64, f64) =
-            (qdot[1] * x8, qdot[1] * x9, x30 * p_l, qdot[0] * x36);
-        let (x16, x23, x33, x39): (f64, f64, f64, f64) =
-            (x15 * x15, qdot[2] + x22, x9 * x32, x8 * x15);
-        let (x17, x24, x41, x44, x49): (f64, f64, f64, f64, f64) = (
+        let (x15, x22, x33, x98): (f64, f64, f64, f64) =
+            (qdot[1] * x8, qdot[1] * x9, x31 * p_l, qdot[0] * x37);
+        let (x16, x23, x34, x40): (f64, f64, f64, f64) =
+            (x15 * x15, qdot[2] + x22, x9 * x33, x8 * x15);
+        let (x17, x24, x42, x45, x51): (f64, f64, f64, f64, f64) = (
             x14 + x16,
             x23 * x23,
-            p_i_perp * x39,
+            p_i_perp * x40,
             x9 * x23,
             p_i_par * x23,
         );
-        let (x18, x25, x46, x102): (f64, f64, f64, f64) =
-            (p_i_perp * x17, p_i_par * x24, p_i_par * x44, qdot[2] * x49);
-        let (x19, x26, x48): (f64, f64, f64) = (0.5 * x18, 0.5 * x25, x41 + x46);
-        let (x27, x100): (f64, f64) = (x19 + x26, qdot[1] * x48);
-        let x97: f64 = x33 - x27;
+        let (x18, x25, x47, x102): (f64, f64, f64, f64) =
+            (p_i_perp * x17, p_i_par * x24, p_i_par * x45, qdot[2] * x51);
+        let (x27, x49): (f64, f64) = (x18 + x25, x42 + x47);
+        let (x28, x100): (f64, f64) = (0.5 * x27, qdot[1] * x49);
+        let x97: f64 = x34 - x28;
         let x99: f64 = x97 + x98;
         let x101: f64 = x99 + x100;
         let x103: f64 = x101 + x102;
-        (x103, [x36, x48, x49])
+        (x103, [x37, x49, x51])
     }
 }
 #[doc = "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` (d/dt ∂L/∂q\u{307} = ∂L/∂q, one line per coordinate):\n\n```text\ntheta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)\nphi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)\npsi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)\n```\n"]

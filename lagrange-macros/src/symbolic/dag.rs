@@ -165,7 +165,13 @@ pub struct Dag {
     deps: Vec<u64>,
     words: usize,
     pub vars: Vars,
+    /// Products by their sorted factors (hash-consing modulo associativity and commutativity of
+    /// `*`): `(a b) c` and `a (c b)` are one node, so like terms meet (`x + x = 2 x`).
+    monomials: HashMap<Vec<Id>, Id>,
 }
+
+/// Products with more factors than this are not canonicalized (bounds the work per `mul`).
+const MONOMIAL_MAX_FACTORS: usize = 16;
 
 /// A variable set, as a bit set over [`Vars`] numbering.
 #[derive(Clone, Debug)]
@@ -190,6 +196,7 @@ impl Dag {
             deps: Vec::new(),
             words: vars.words(),
             vars,
+            monomials: HashMap::new(),
         };
         // Ids 0 and 1 are the constants 0 and 1.
         dag.constant(0.0);
@@ -296,6 +303,17 @@ impl Dag {
             let c = self.constant(ca + cb);
             return self.mul(c, xa);
         }
+        // A common constant factor goes outside: c x + c y = c (x + y), c x − c y = c (x − y)
+        // (the 2 of d(v²) = 2v dv then meets the ½ of ½ m v² and both vanish).
+        if ca != 1.0 && ca.abs() == cb.abs() {
+            let s = if ca == cb {
+                self.add(xa, xb)
+            } else {
+                self.sub(xa, xb)
+            };
+            let c = self.constant(ca);
+            return self.mul(c, s);
+        }
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
         self.intern(Node::Add(a, b))
     }
@@ -321,6 +339,16 @@ impl Dag {
         if xa == xb {
             let c = self.constant(ca - cb);
             return self.mul(c, xa);
+        }
+        // c x − c y = c (x − y), c x − (−c) y = c (x + y).
+        if ca != 1.0 && ca.abs() == cb.abs() {
+            let s = if ca == cb {
+                self.sub(xa, xb)
+            } else {
+                self.add(xa, xb)
+            };
+            let c = self.constant(ca);
+            return self.mul(c, s);
         }
         self.intern(Node::Sub(a, b))
     }
@@ -410,7 +438,31 @@ impl Dag {
             _ => {}
         }
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        let mut key = Vec::new();
+        if self.factors(a, &mut key) && self.factors(b, &mut key) {
+            key.sort_unstable();
+            if let Some(&id) = self.monomials.get(&key) {
+                return id;
+            }
+            let id = self.intern(Node::Mul(a, b));
+            self.monomials.entry(key).or_insert(id);
+            return id;
+        }
         self.intern(Node::Mul(a, b))
+    }
+
+    /// Appends the factors of a product without constant factors (a non-product is its own
+    /// factor); false when there are more than [`MONOMIAL_MAX_FACTORS`].
+    fn factors(&self, id: Id, out: &mut Vec<Id>) -> bool {
+        match self.node(id) {
+            Node::Mul(a, b) if self.as_const(a).is_none() => {
+                self.factors(a, out) && self.factors(b, out)
+            }
+            _ => {
+                out.push(id);
+                out.len() <= MONOMIAL_MAX_FACTORS
+            }
+        }
     }
 
     pub fn div(&mut self, a: Id, b: Id) -> Id {
