@@ -125,13 +125,14 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             x15 * x22,
             x8 * x33,
         );
-        let (x57, x67, x69, x77, x82, x85): (f64, f64, f64, f64, f64, f64) = (
+        let (x57, x67, x69, x77, x82, x85, x104): (f64, f64, f64, f64, f64, f64, f64) = (
             x54 + x56,
             p_i_perp * x65,
             x23 * x60,
             p_i_par * x63,
             p_i_perp * x80,
             x15 * x23,
+            p_i_par * x54,
         );
         let (x68, x72, x89): (f64, f64, f64) = (2.0 * x67, x65 + x69, p_i_par * x85);
         let (x74, x91): (f64, f64) = (p_i_par * x72, x82 - x89);
@@ -143,27 +144,21 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
                 f64::abs(p_i_par),
             );
             let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
+            if !(x57 > tol) {
+                break 'fast ::core::option::Option::None;
+            }
+            let det_1_2: f64 = x104;
+            if !(det_1_2 > tol * x57) {
+                break 'fast ::core::option::Option::None;
+            }
+            let y_1: f64 = (p_i_par * x96 - x58 * x77) / det_1_2;
+            let y_2: f64 = (x57 * x77 - x58 * x96) / det_1_2;
             let d_0: f64 = p_i_perp;
             if !(d_0 > tol) {
                 break 'fast ::core::option::Option::None;
             }
-            let d_1: f64 = x57;
-            if !(d_1 > tol) {
-                break 'fast ::core::option::Option::None;
-            }
-            let (u_1_2,): (f64,) = (x58,);
-            let (l_1_2,): (f64,) = (u_1_2 / d_1,);
-            let d_2: f64 = p_i_par - l_1_2 * u_1_2;
-            if !(d_2 > tol) {
-                break 'fast ::core::option::Option::None;
-            }
             let y_0: f64 = x95;
-            let y_1: f64 = x96;
-            let y_2: f64 = x77 - l_1_2 * y_1;
             let y_0: f64 = y_0 / d_0;
-            let y_1: f64 = y_1 / d_1;
-            let y_2: f64 = y_2 / d_2;
-            let y_1: f64 = y_1 - l_1_2 * y_2;
             let x = [y_0, y_1, y_2];
             if x.iter().all(|v| v.is_finite()) {
                 ::core::option::Option::Some(x)

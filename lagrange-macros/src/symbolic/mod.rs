@@ -17,6 +17,7 @@
 mod codegen;
 mod dag;
 mod lower;
+mod poly;
 mod print;
 #[cfg(test)]
 mod tests;
@@ -75,6 +76,31 @@ struct Derivation {
     force: Vec<Id>,
     /// h = Σ q̇ᵢ pᵢ − L.
     energy: Id,
+    /// The 2×2 diagonal blocks of M coupled to nothing else, (i, k, det), i < k: solved by
+    /// Cramer's rule with the determinant expanded and cancelled (see `poly::det2`).
+    pairs: Vec<(usize, usize, Id)>,
+}
+
+/// The 2×2 blocks {i, k} of M (upper triangle) that no other coordinate couples to.
+fn decoupled_pairs(mass: &[Vec<Id>]) -> Vec<(usize, usize)> {
+    let n = mass.len();
+    let coupled = |i: usize, k: usize| {
+        let (a, b) = if i < k { (i, k) } else { (k, i) };
+        mass[a][b] != Dag::ZERO
+    };
+    let mut pairs = Vec::new();
+    for i in 0..n {
+        for k in i + 1..n {
+            if coupled(i, k)
+                && (0..n)
+                    .filter(|&j| j != i && j != k)
+                    .all(|j| !coupled(i, j) && !coupled(k, j))
+            {
+                pairs.push((i, k));
+            }
+        }
+    }
+    pairs
 }
 
 fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
@@ -128,7 +154,18 @@ fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
         let vp = dag.mul(v, p);
         energy = dag.add(energy, vp);
     }
+    let pairs = decoupled_pairs(&mass)
+        .into_iter()
+        .map(|(i, k)| {
+            (
+                i,
+                k,
+                poly::det2(&mut dag, mass[i][i], mass[k][k], mass[i][k]),
+            )
+        })
+        .collect();
     Ok(Derivation {
+        pairs,
         dag,
         fields: lowered.fields,
         conds: lowered.conds,
@@ -147,8 +184,18 @@ fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
 /// evaluates to `Some(q̈)`, or breaks with `None` whenever a pivot is not clearly positive (or
 /// anything is not finite); the caller then hands over to `solve_mass_matrix`, which decides
 /// between LU and a `DynamicsError` exactly as the jets path.
-fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStream {
+fn ldlt(
+    m: &[Vec<Option<TokenStream>>],
+    b: &[Option<TokenStream>],
+    pairs: &[(usize, usize, TokenStream)],
+) -> TokenStream {
     let n = m.len();
+    // Indices solved as a decoupled 2×2 block (Cramer) instead of by the elimination.
+    let mut paired = vec![false; n];
+    for &(i, k, _) in pairs {
+        paired[i] = true;
+        paired[k] = true;
+    }
     let a_id = |j: usize, i: usize| quote::format_ident!("l_{}_{}", j, i);
     let d_id = |j: usize| quote::format_ident!("d_{}", j);
     let r_id = |j: usize| quote::format_ident!("r_{}", j);
@@ -171,7 +218,13 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
     let mut l: Vec<Vec<bool>> = vec![vec![false; n]; n];
     // Whether pivot j has a reciprocal `r_j` (used by its row of l and by y_j).
     let mut recip = vec![false; n];
+    for (i, k, det) in pairs {
+        out.extend(cramer(m, b, *i, *k, det));
+    }
     for j in 0..n {
+        if paired[j] {
+            continue;
+        }
         let dj = d_id(j);
         let mut e = match &m[j][j] {
             Some(x) => quote!(#x),
@@ -240,7 +293,7 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
             out.extend(quote!(let (#(#ls,)*): (#(#tys,)*) = (#(#divided,)*);));
         }
     }
-    for i in 0..n {
+    for i in (0..n).filter(|&i| !paired[i]) {
         let xi = x_id(i);
         let mut e = match &b[i] {
             Some(x) => quote!(#x),
@@ -254,7 +307,7 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
         }
         out.extend(quote!(let #xi: f64 = #e;));
     }
-    for i in 0..n {
+    for i in (0..n).filter(|&i| !paired[i]) {
         let (xi, di, ri) = (x_id(i), d_id(i), r_id(i));
         if recip[i] {
             out.extend(quote!(let #xi: f64 = #xi * #ri;));
@@ -289,6 +342,45 @@ fn ldlt(m: &[Vec<Option<TokenStream>>], b: &[Option<TokenStream>]) -> TokenStrea
     out
 }
 
+/// The decoupled 2×2 block {i, k} of M q̈ = f by Cramer's rule: the same pivot tests as the
+/// elimination (mᵢᵢ > tol, and the second pivot det/mᵢᵢ > tol), one division depth, and the
+/// determinant as `derive` simplified it (exact where its terms cancel).
+fn cramer(
+    m: &[Vec<Option<TokenStream>>],
+    b: &[Option<TokenStream>],
+    i: usize,
+    k: usize,
+    det: &TokenStream,
+) -> TokenStream {
+    let zero = quote!(0.0_f64);
+    let get = |e: &Option<TokenStream>| e.clone().unwrap_or_else(|| zero.clone());
+    let (mii, mkk, mik) = (get(&m[i][i]), get(&m[k][k]), get(&m[i][k]));
+    // a·x − m_ik·y with the structurally zero products left out.
+    let minus = |a: &TokenStream, x: &Option<TokenStream>, y: &Option<TokenStream>| match (x, y) {
+        (Some(x), Some(y)) => quote!(#a * #x - #mik * #y),
+        (Some(x), None) => quote!(#a * #x),
+        (None, Some(y)) => quote!(-(#mik * #y)),
+        (None, None) => quote!(0.0_f64),
+    };
+    let (ni, nk) = (minus(&mkk, &b[i], &b[k]), minus(&mii, &b[k], &b[i]));
+    let det_id = quote::format_ident!("det_{}_{}", i, k);
+    let (yi, yk) = (
+        quote::format_ident!("y_{}", i),
+        quote::format_ident!("y_{}", k),
+    );
+    quote! {
+        if !(#mii > tol) {
+            break 'fast ::core::option::Option::None;
+        }
+        let #det_id: f64 = #det;
+        if !(#det_id > tol * #mii) {
+            break 'fast ::core::option::Option::None;
+        }
+        let #yi: f64 = (#ni) / #det_id;
+        let #yk: f64 = (#nk) / #det_id;
+    }
+}
+
 fn idents() -> (Ident, Ident, Ident) {
     (
         Ident::new("q", Span::call_site()),
@@ -312,6 +404,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
         outs.extend(&row[i..]);
     }
     outs.extend(&d.force);
+    outs.extend(d.pairs.iter().map(|p| p.2));
     let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
     let mut lets = code.lets;
     // A small right-hand side is inlined at every call site (the twelve stages of DOP853 call
@@ -345,7 +438,9 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
         .iter()
         .map(|&x| (x != Dag::ZERO).then(|| op(x)))
         .collect();
-    let solve = ldlt(&mass, &rhs);
+    let pairs: Vec<(usize, usize, TokenStream)> =
+        d.pairs.iter().map(|&(i, k, det)| (i, k, op(det))).collect();
+    let solve = ldlt(&mass, &rhs, &pairs);
     let accelerations = quote! {
         #touch
         #stmts

@@ -603,3 +603,42 @@ fn scalar_constant_conversions_are_the_identity_on_constants() {
     assert_eq!(e.len(), 1, "{e:?}");
     assert!(e[0].contains("depends on the coordinates"), "{e:?}");
 }
+
+/// The heavy top's φ–ψ block is decoupled from θ: it is solved as a pair whose determinant
+/// (I⊥ s² + I∥ c²) I∥ − (I∥ c)² cancels at expansion to the single monomial I⊥ I∥ s².
+#[test]
+fn decoupled_pair_determinant_cancels_to_a_monomial() {
+    let d = derive(&heavy_top()).expect("derives");
+    assert_eq!(d.pairs.len(), 1);
+    let (i, k, det) = d.pairs[0];
+    assert_eq!((i, k), (1, 2));
+    let p = super::poly::expand(&d.dag, det).expect("small");
+    assert_eq!(p.len(), 1, "{p:?}");
+    // And it is the determinant, to round-off, where the unexpanded form is still accurate.
+    let (ip, ia) = (2.0, 0.7);
+    let params: [(&str, &[f64]); 5] = [
+        ("i_perp", &[ip]),
+        ("i_par", &[ia]),
+        ("m", &[1.3]),
+        ("g", &[9.81]),
+        ("l", &[0.4]),
+    ];
+    let q = [0.7, 0.2, -0.4];
+    let val = eval(&d, &params, &q, &[0.3, -1.1, 2.5], 0.0);
+    let s = q[0].sin();
+    assert!(close(val[det as usize], ia * ip * s * s, 1e-15));
+}
+
+/// Where nothing cancels (the double pendulum's 2×2 M: the cross term is a cos(θ₁ − θ₂)
+/// written as c₁c₂ + s₁s₂) the determinant is kept as m₁₁m₂₂ − m₁₂², not expanded into more terms.
+#[test]
+fn pair_determinant_without_cancellation_is_kept_as_written() {
+    let d = derive(&chain_decl(2)).expect("derives");
+    assert_eq!(d.pairs.len(), 1);
+    let det = d.pairs[0].2;
+    assert!(
+        matches!(d.dag.node(det), Node::Sub(..)),
+        "{:?}",
+        d.dag.node(det)
+    );
+}
