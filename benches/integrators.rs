@@ -5,13 +5,17 @@
 //! top in the default symbolic mode (`MacroTop`), and the same integrator on a hand-written
 //! closed-form baseline (`HeavyTopClosedForm`: accelerations, momenta and energy overridden with
 //! the hand-derived formulas). Prints steps, right-hand-side evaluations and the
-//! invariant drift once; compare with `benches/peers/scipy_dop853.py` (see BENCHMARKS.md).
+//! invariant drift once; then, when python3 with SciPy is installed, runs the SciPy peer
+//! (`benches/peers/scipy_dop853.py`, best of 5) and ours (best of 20) side by side and prints the
+//! ratios; then criterion's measurements (see BENCHMARKS.md).
 //!
 //! Run: `cargo bench --bench integrators`
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 use std::hint::black_box;
+use std::process::Command;
+use std::time::Instant;
 
 /// The heavy top, eq. 92: only L is written, the dynamics come from the jets.
 struct HeavyTop {
@@ -137,6 +141,43 @@ fn report(name: &str, tr: &Trajectory<3>) {
     );
 }
 
+/// Best of `n` wall times of `f`, in seconds.
+fn best_of(n: usize, mut f: impl FnMut()) -> f64 {
+    (0..n)
+        .map(|_| {
+            let t0 = Instant::now();
+            f();
+            t0.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The SciPy peer in the same run (`benches/peers/scipy_dop853.py`, best of 5), when python3 with
+/// SciPy is installed: its best wall time in seconds, and its report line.
+fn scipy_peer() -> Option<(f64, String)> {
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/scipy_dop853.py");
+    let out = Command::new("python3").arg(script).output().ok()?;
+    let line = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    if !out.status.success() {
+        eprintln!(
+            "SciPy peer not run ({}): python3 -m pip install scipy",
+            String::from_utf8_lossy(&out.stderr)
+                .lines()
+                .last()
+                .unwrap_or("?")
+        );
+        return None;
+    }
+    let ms: f64 = line
+        .split("best of 5 wall ")
+        .nth(1)?
+        .split(" ms")
+        .next()?
+        .parse()
+        .ok()?;
+    Some((ms * 1e-3, line))
+}
+
 fn bench(c: &mut Criterion) {
     let closed = HeavyTopClosedForm(HeavyTop { ..TOP });
     report("lagrange DOP853 (jets)", &run(&TOP));
@@ -150,6 +191,30 @@ fn bench(c: &mut Criterion) {
         "lagrange DOP853 (#[lagrangian], symbolic)",
         &run(&macro_top),
     );
+    // Side by side in one run: SciPy (best of 5) and ours (best of 20), as ratios.
+    if let Some((scipy, line)) = scipy_peer() {
+        eprintln!("{line}");
+        for (name, t) in [
+            (
+                "lagrange #[lagrangian] (symbolic)",
+                best_of(20, || drop(black_box(run(black_box(&macro_top))))),
+            ),
+            (
+                "lagrange run-time jets",
+                best_of(20, || drop(black_box(run(black_box(&TOP))))),
+            ),
+            (
+                "hand-written closed form",
+                best_of(20, || drop(black_box(run(black_box(&closed))))),
+            ),
+        ] {
+            eprintln!(
+                "{name}: best of 20 {:.3} ms, SciPy / this = {:.0}x",
+                t * 1e3,
+                scipy / t
+            );
+        }
+    }
     let mut g = c.benchmark_group("heavy_top_dop853_t114.3");
     g.sample_size(20);
     g.bench_function("lagrange_jets", |b| b.iter(|| run(black_box(&TOP))));
