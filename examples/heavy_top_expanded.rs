@@ -160,7 +160,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             let y_0: f64 = x95;
             let y_0: f64 = y_0 / d_0;
             let x = [y_0, y_1, y_2];
-            if x.iter().all(|v| v.is_finite()) {
+            if (y_0 + y_1 + y_2).is_finite() {
                 ::core::option::Option::Some(x)
             } else {
                 ::core::option::Option::None

@@ -511,3 +511,59 @@ fn scalar_conversions_of_constants_symbolic_equals_jets() {
         .unwrap();
     assert!((a[0] - 2.0 * 1.7 * 0.3_f64.sin()).abs() < 1e-14);
 }
+
+twins! {
+    /// q̈ = (k, k) for a huge k: the sum of q̈ overflows while every component is finite.
+    Pushed, PushedJets { k: f64 }
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * (x_dot * x_dot + y_dot * y_dot) + self.k * (x + y)
+    }
+}
+
+twins! {
+    /// An indefinite (but regular) M = diag(1, −1): no LDLᵀ pivot is positive.
+    Indefinite, IndefiniteJets { k: f64 }
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * (x_dot * x_dot - y_dot * y_dot) - 0.5 * self.k * (x * x + y * y)
+    }
+}
+
+/// Every way off the generated fast path ends where the runtime's solve would: a singular M is
+/// `SingularMassMatrix`, a NaN state is `NonFinite`, an indefinite M is solved by the pivoting
+/// fallback, and finite accelerations whose sum overflows (the fast path's one finiteness test)
+/// are returned as they are.
+#[test]
+fn off_the_fast_path_the_symbolic_code_agrees_with_the_runtime_solve() {
+    let (q, v) = ([0.0, 0.2, -0.4], [0.3, -1.1, 2.5]);
+    assert!(matches!(
+        TOP.accelerations(&q, &v, 0.0),
+        Err(DynamicsError::SingularMassMatrix { .. })
+    ));
+    assert!(matches!(
+        TOP.accelerations(&[f64::NAN, 0.2, -0.4], &v, 0.0),
+        Err(DynamicsError::NonFinite { .. })
+    ));
+    let ind = Indefinite { k: 2.0 };
+    let a = ind
+        .accelerations(&[1.0, 3.0], &[0.0, 0.0], 0.0)
+        .expect("regular M");
+    assert_eq!(a, [-2.0, 6.0]);
+    assert_eq!(
+        a,
+        ind.jets()
+            .accelerations(&[1.0, 3.0], &[0.0, 0.0], 0.0)
+            .unwrap()
+    );
+    let k = 1e308;
+    let p = Pushed { k };
+    assert_eq!(
+        p.accelerations(&[0.0, 0.0], &[0.0, 0.0], 0.0).unwrap(),
+        [k, k]
+    );
+    assert_eq!(
+        p.jets()
+            .accelerations(&[0.0, 0.0], &[0.0, 0.0], 0.0)
+            .unwrap(),
+        [k, k]
+    );
+}

@@ -330,10 +330,12 @@ fn ldlt(
             out.extend(quote!(let #xi: f64 = #e;));
         }
     }
-    let xs = (0..n).map(x_id);
+    let xs: Vec<Ident> = (0..n).map(x_id).collect();
+    // One test for all: a sum is finite only if every term is (a finite sum that overflows only
+    // sends the solve to the runtime's path, which then returns the same finite values).
     out.extend(quote! {
         let x = [#(#xs),*];
-        if x.iter().all(|v| v.is_finite()) {
+        if (#(#xs)+*).is_finite() {
             ::core::option::Option::Some(x)
         } else {
             ::core::option::Option::None
