@@ -2,7 +2,9 @@
 //! lowered into a hash-consed expression DAG, differentiated symbolically (forward-mode tangents
 //! over the DAG, structural zeros skipped), and emitted as straight-line Rust for the mass matrix,
 //! the right-hand side of the Euler–Lagrange equations, the momenta and the energy; the equations
-//! are also printed for people (Unicode and LaTeX).
+//! are also printed for people (Unicode and LaTeX). M q̈ = f is solved by straight-line LDLᵀ,
+//! except that a 2×2 block of M coupled to nothing else is solved by Cramer's rule with its
+//! determinant simplified where its terms cancel (`poly.rs`; exact near chart singularities).
 //!
 //! An `if` whose condition uses only constants (`self` fields, literals, names from the user's
 //! scope; no coordinate, velocity, time or local binding) is supported: the condition is
@@ -180,7 +182,8 @@ fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
 /// Straight-line LDLᵀ of the mass matrix (upper triangle, `None` = structural zero) with the
 /// sparsity known at compile time: the same elimination, in the same order, as the runtime's
 /// `solve_symmetric`, with the structurally zero products left out and one reciprocal per pivot
-/// whose row of L has two or more entries. The tokens are the statements of a block labelled `'fast` that
+/// whose row of L has two or more entries; the decoupled 2×2 blocks in `pairs` by Cramer's rule
+/// instead (see [`cramer`]). The tokens are the statements of a block labelled `'fast` that
 /// evaluates to `Some(q̈)`, or breaks with `None` whenever a pivot is not clearly positive (or
 /// anything is not finite); the caller then hands over to `solve_mass_matrix`, which decides
 /// between LU and a `DynamicsError` exactly as the jets path.
