@@ -52,7 +52,7 @@ pub(crate) fn rhs<L: Lagrangian<N> + ?Sized, const N: usize>(
 /// constant, so the loops unroll and the 2N components vectorise; the rows of a tableau can be
 /// longer than S (padded with the later stages' coefficients or zeros).
 ///
-/// Zero coefficients are multiplied, not tested: branch-free is faster on the whole run.
+/// Zero coefficients are skipped (a test decided at compile time: the tableaux are constants).
 #[inline(always)]
 pub(crate) fn combine<const S: usize, const N: usize, const R: usize, const K: usize>(
     y: &Y<N>,
@@ -84,6 +84,11 @@ pub(crate) fn weighted<const S: usize, const N: usize, const R: usize, const K: 
         }
     }
     for j in 1..S {
+        // The tableaux are constants and S is too: after inlining this test is decided at
+        // compile time, so the zeros of the tableau cost nothing.
+        if a[j] == 0.0 {
+            continue;
+        }
         for r in 0..2 {
             for i in 0..N {
                 w[r][i] += a[j] * k[j][r][i];
