@@ -454,15 +454,20 @@ impl Dag {
     /// Appends the factors of a product without constant factors (a non-product is its own
     /// factor); false when there are more than [`MONOMIAL_MAX_FACTORS`].
     fn factors(&self, id: Id, out: &mut Vec<Id>) -> bool {
-        match self.node(id) {
-            Node::Mul(a, b) if self.as_const(a).is_none() => {
-                self.factors(a, out) && self.factors(b, out)
-            }
-            _ => {
-                out.push(id);
-                out.len() <= MONOMIAL_MAX_FACTORS
+        // Iterative (a long product must not deepen the macro's stack); stops at the bound.
+        let mut todo = vec![id];
+        while let Some(x) = todo.pop() {
+            match self.node(x) {
+                Node::Mul(a, b) if self.as_const(a).is_none() => todo.extend([b, a]),
+                _ => {
+                    out.push(x);
+                    if out.len() > MONOMIAL_MAX_FACTORS {
+                        return false;
+                    }
+                }
             }
         }
+        true
     }
 
     pub fn div(&mut self, a: Id, b: Id) -> Id {

@@ -92,18 +92,27 @@ impl Poly {
 }
 
 /// Expands `id` into a polynomial over its atoms, or `None` when it has more than
-/// [`MAX_TERMS`] terms (at any step).
+/// [`MAX_TERMS`] terms (at any step) or is nested deeper than [`MAX_DEPTH`].
 pub fn expand(dag: &Dag, id: Id) -> Option<Poly> {
+    expand_within(dag, id, MAX_DEPTH)
+}
+
+/// Expression depth beyond which expansion gives up (bounds the recursion).
+pub const MAX_DEPTH: usize = 64;
+
+fn expand_within(dag: &Dag, id: Id, depth: usize) -> Option<Poly> {
     if let Some(c) = dag.as_const(id) {
         return Some(Poly::constant(c));
     }
+    let depth = depth.checked_sub(1)?;
+    let ex = |x: Id| expand_within(dag, x, depth);
     match dag.node(id) {
-        Node::Add(a, b) => expand(dag, a)?.add(&expand(dag, b)?, 1.0),
-        Node::Sub(a, b) => expand(dag, a)?.add(&expand(dag, b)?, -1.0),
-        Node::Neg(a) => Poly::constant(0.0).add(&expand(dag, a)?, -1.0),
-        Node::Mul(a, b) => expand(dag, a)?.mul(&expand(dag, b)?),
+        Node::Add(a, b) => ex(a)?.add(&ex(b)?, 1.0),
+        Node::Sub(a, b) => ex(a)?.add(&ex(b)?, -1.0),
+        Node::Neg(a) => Poly::constant(0.0).add(&ex(a)?, -1.0),
+        Node::Mul(a, b) => ex(a)?.mul(&ex(b)?),
         Node::Powi(a, n @ 2..=4) => {
-            let base = expand(dag, a)?;
+            let base = ex(a)?;
             let mut p = base.clone();
             for _ in 1..n {
                 p = p.mul(&base)?;

@@ -642,3 +642,36 @@ fn pair_determinant_without_cancellation_is_kept_as_written() {
         d.dag.node(det)
     );
 }
+
+/// Expansion gives up (None) on too many terms or too deep an expression instead of blowing up.
+#[test]
+fn polynomial_expansion_is_bounded() {
+    let mut dag = Dag::new(1);
+    let x = dag.q(0);
+    let v = dag.v(0);
+    // (x + v)^4 = 5 terms: fine; a product of six binomials in distinct atoms, 64 terms: None.
+    let s = dag.add(x, v);
+    let p4 = dag.powi(s, 4);
+    assert_eq!(super::poly::expand(&dag, p4).map(|p| p.len()), Some(5));
+    let mut big = Dag::ONE;
+    for k in 0..6 {
+        let c = dag.constant(f64::from(k) + 2.0);
+        let kx = dag.mul(c, x);
+        let (sk, ck) = (dag.un(Fun::Sin, kx), dag.un(Fun::Cos, kx));
+        let sum = dag.add(sk, ck);
+        big = dag.mul(big, sum);
+    }
+    assert!(super::poly::expand(&dag, big).is_none());
+    // A sum nested deeper than the bound.
+    let mut deep = x;
+    for _ in 0..100 {
+        let sin = dag.un(Fun::Sin, deep);
+        deep = dag.add(sin, v);
+    }
+    let mut chain = v;
+    for _ in 0..100 {
+        chain = dag.add(chain, deep);
+        chain = dag.mul(chain, x);
+    }
+    assert!(super::poly::expand(&dag, chain).is_none());
+}
