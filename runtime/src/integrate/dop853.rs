@@ -14,7 +14,7 @@ use super::trajectory::Stats;
 /// Evaluates the listed stages into `k`, unrolled: each stage's sum has a constant length.
 macro_rules! stages {
     ($sys:ident, $t:ident, $y:ident, $h:ident, $k:ident, $stats:ident; $($s:literal)*) => {$(
-        let ys = combine::<$s, N, 16, 16>($y, $h, &A[$s], $k);
+        let ys = combine::<$s, _, _, _>($y, $h, &A[$s], $k);
         $k[$s] = rhs($sys, $t + C[$s] * $h, &ys, $stats)?;
     )*};
 }
@@ -35,12 +35,12 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     stats: &mut Stats,
 ) -> Result<(Y<N>, f64), Fault> {
     stages!(sys, t, y, h, k, stats; 1 2 3 4 5 6 7 8 9 10 11);
-    let y1 = combine::<12, N, 16, 16>(y, h, &A[12], k);
+    let y1 = combine::<12, _, _, _>(y, h, &A[12], k);
     if !finite(&y1) {
         return Err(Fault::NonFinite);
     }
-    let e5 = weighted::<12, N, 13, 16>(&E5, k);
-    let e3 = weighted::<12, N, 13, 16>(&E3, k);
+    let e5 = weighted::<12, _, _, _>(&E5, k);
+    let e3 = weighted::<12, _, _, _>(&E3, k);
     let sk = scales(rtol, atol, y, &y1);
     let (mut err5, mut err3) = (0.0, 0.0);
     for c in 0..2 {
@@ -71,7 +71,7 @@ pub(crate) fn dense<L: Lagrangian<N> + ?Sized, const N: usize>(
     stages!(sys, t, y, h, k, stats; 13 14 15);
     let mut r = [[[0.0; N]; 2]; 8];
     for (j, dj) in D.iter().enumerate() {
-        let w = weighted::<16, N, 16, 16>(dj, k);
+        let w = weighted::<16, _, _, _>(dj, k);
         for c in 0..2 {
             for i in 0..N {
                 r[4 + j][c][i] = h * w[c][i];

@@ -76,17 +76,17 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     // Unrolled: each stage's sum has a constant length.
     macro_rules! stages {
         ($($s:literal)*) => {$(
-            let ys = combine::<$s, N, 6, 7>(y, h, &A[$s], k);
+            let ys = combine::<$s, _, _, _>(y, h, &A[$s], k);
             k[$s] = rhs(sys, t + C[$s] * h, &ys, stats)?;
         )*};
     }
     stages!(1 2 3 4 5);
-    let y1 = combine::<6, N, 6, 7>(y, h, &A[6], k);
+    let y1 = combine::<6, _, _, _>(y, h, &A[6], k);
     if !finite(&y1) {
         return Err(Fault::NonFinite);
     }
     k[6] = rhs(sys, t + h, &y1, stats)?;
-    let mut err = weighted::<7, N, 7, 7>(&E, k);
+    let mut err = weighted::<7, _, _, _>(&E, k);
     for row in err.iter_mut() {
         for e in row.iter_mut() {
             *e *= h;
@@ -98,7 +98,7 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
 /// The coefficients of the continuous extension on [t, t + h].
 pub(crate) fn dense<const N: usize>(y: &Y<N>, y1: &Y<N>, k: &[Y<N>; 7], h: f64) -> [Y<N>; 5] {
     let mut r = [[[0.0; N]; 2]; 5];
-    let d = weighted::<7, N, 7, 7>(&D, k);
+    let d = weighted::<7, _, _, _>(&D, k);
     for c in 0..2 {
         for i in 0..N {
             let ydiff = y1[c][i] - y[c][i];
