@@ -734,17 +734,9 @@ fn swing_plane_rate(events: &[(f64, f64, f64)]) -> f64 {
     num / den
 }
 
-#[test]
-fn foucault_swing_plane_precesses_at_omega_sin_latitude() {
-    let lat = 48.85_f64.to_radians(); // the Panthéon
-    let om = 0.01; // Earth's rate scaled up ~137×, still ≪ ω0 ≈ 0.99 rad/s
-    let pend = Foucault {
-        g: 9.81,
-        l: 10.0,
-        omega: Vector3::new(0.0, om * lat.cos(), om * lat.sin()),
-    };
-    let a = 0.3; // released from rest (in Earth's frame) 0.3 m east of the bottom
-    let traj = Simulation::new(&pend, [a, 0.0], [0.0, 0.0])
+/// The outward turning points (t, x, y) of the pendulum released from rest at x = a, over 250 s.
+fn turning_points(pend: &Foucault, a: f64) -> Vec<(f64, f64, f64)> {
+    let traj = Simulation::new(pend, [a, 0.0], [0.0, 0.0])
         .method(Method::Dop853 {
             rtol: 1e-11,
             atol: 1e-12,
@@ -758,7 +750,20 @@ fn foucault_swing_plane_precesses_at_omega_sin_latitude() {
         )
         .run()
         .unwrap();
-    let hits: Vec<(f64, f64, f64)> = traj.events.iter().map(|e| (e.t, e.q[0], e.q[1])).collect();
+    traj.events.iter().map(|e| (e.t, e.q[0], e.q[1])).collect()
+}
+
+#[test]
+fn foucault_swing_plane_precesses_at_omega_sin_latitude() {
+    let lat = 48.85_f64.to_radians(); // the Panthéon
+    let om = 0.01; // Earth's rate scaled up ~137×, still ≪ ω0 ≈ 0.99 rad/s
+    let pend = Foucault {
+        g: 9.81,
+        l: 10.0,
+        omega: Vector3::new(0.0, om * lat.cos(), om * lat.sin()),
+    };
+    let a = 0.3; // released from rest (in Earth's frame) 0.3 m east of the bottom
+    let hits = turning_points(&pend, a);
     assert!(hits.len() > 70, "{} turning points", hits.len());
     let rate = swing_plane_rate(&hits);
     let theory = -om * lat.sin(); // clockwise seen from above in the northern hemisphere
@@ -774,21 +779,7 @@ fn foucault_swing_plane_precesses_at_omega_sin_latitude() {
         omega: Vector3::new(0.0, om, 0.0),
         ..pend
     };
-    let traj = Simulation::new(&pend0, [a, 0.0], [0.0, 0.0])
-        .method(Method::Dop853 {
-            rtol: 1e-11,
-            atol: 1e-12,
-        })
-        .until(250.0)
-        .event(
-            Event::zero_crossing("turning point", |_t, q: &[f64; 2], v: &[f64; 2]| {
-                q[0] * v[0] + q[1] * v[1]
-            })
-            .falling(),
-        )
-        .run()
-        .unwrap();
-    let hits: Vec<(f64, f64, f64)> = traj.events.iter().map(|e| (e.t, e.q[0], e.q[1])).collect();
+    let hits = turning_points(&pend0, a);
     let rate0 = swing_plane_rate(&hits);
     assert!(rate0.abs() < 1e-3 * om, "equator rate {rate0:e}");
 }

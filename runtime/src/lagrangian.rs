@@ -94,25 +94,33 @@ pub trait Lagrangian<const N: usize> {
     /// assert_eq!(Osc.energy_and_momenta(&[1.0], &[2.0], 0.0), (2.5, [2.0]));
     /// ```
     fn energy_and_momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> (f64, [f64; N]) {
-        let l = el_jet(self, q, qdot, t);
-        let p = l.grad_qdot();
-        let mut h = -l.value();
-        for i in 0..N {
-            h += qdot[i] * p[i];
-        }
-        (h, p)
+        jet_energy_and_momenta(self, q, qdot, t)
     }
 
     /// The energy (Jacobi integral) h = q̇·p − L.
     fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
-        let l = el_jet(self, q, qdot, t);
-        let p = l.grad_qdot();
-        let mut h = -l.value();
-        for i in 0..N {
-            h += qdot[i] * p[i];
-        }
-        h
+        // Not through `energy_and_momenta`: an override of that one may call this.
+        jet_energy_and_momenta(self, q, qdot, t).0
     }
+}
+
+/// h = q̇·p − L and p from one jet pass: the defaults of `energy` and `energy_and_momenta`.
+fn jet_energy_and_momenta<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> (f64, [f64; N])
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let l = el_jet(sys, q, qdot, t);
+    let p = l.grad_qdot();
+    let mut h = -l.value();
+    for i in 0..N {
+        h += qdot[i] * p[i];
+    }
+    (h, p)
 }
 
 /// L evaluated in the Euler–Lagrange jet at (q, q̇, t): value, ∂L/∂q, ∂L/∂q̇, M and the mixed term.

@@ -156,6 +156,11 @@ struct Lower {
     conds: Vec<Cond>,
 }
 
+/// The identifiers of a path's segments (`f64::consts::PI` → ["f64", "consts", "PI"]).
+fn segment_names(path: &syn::Path) -> Vec<String> {
+    path.segments.iter().map(|s| s.ident.to_string()).collect()
+}
+
 fn paren_less(e: &Expr) -> &Expr {
     match e {
         Expr::Paren(p) => paren_less(&p.expr),
@@ -629,12 +634,7 @@ impl Lower {
                 // A name from the user's scope: an opaque constant, loaded once as written.
                 return self.param(&Member::Named(id.clone()), id.span(), true);
             }
-            let segs: Vec<String> = p
-                .path
-                .segments
-                .iter()
-                .map(|s| s.ident.to_string())
-                .collect();
+            let segs = segment_names(&p.path);
             let n = segs.len();
             if n >= 3 && segs[n - 3] == "f64" && segs[n - 2] == "consts" {
                 if let Some(c) = f64_const(&segs[n - 1]) {
@@ -749,12 +749,7 @@ impl Lower {
         let Expr::Path(p) = paren_less(&c.func) else {
             return Ok(self.unsupported(c.func.span(), "calling this"));
         };
-        let segs: Vec<String> = p
-            .path
-            .segments
-            .iter()
-            .map(|s| s.ident.to_string())
-            .collect();
+        let segs = segment_names(&p.path);
         let n = segs.len();
         // `Scalar::constant(c)`, `Scalar::from(c)`, `<Scalar as From<f64>>::from(c)`: the
         // identity on a constant.

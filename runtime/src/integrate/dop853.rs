@@ -7,17 +7,9 @@ use crate::lagrangian::Lagrangian;
 use super::dop853_coefficients::{A, C, D, E3, E5};
 use super::simulation::Stepper;
 use super::tableau::{
-    combine, finite, initial_step, rhs, scales, weighted, Controller, Fault, StepControl, Y,
+    combine, finite, initial_step, rhs, scales, stages, weighted, Controller, Fault, StepControl, Y,
 };
 use super::trajectory::Stats;
-
-/// Evaluates the listed stages into `k`, unrolled: each stage's sum has a constant length.
-macro_rules! stages {
-    ($sys:ident, $t:ident, $y:ident, $h:ident, $k:ident, $stats:ident; $($s:literal)*) => {$(
-        let ys = combine::<$s, _, _, _>($y, $h, &A[$s], $k);
-        $k[$s] = rhs($sys, $t + C[$s] * $h, &ys, $stats)?;
-    )*};
-}
 
 /// One DOP853 step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages 1..=11
 /// into `k` (in place: no copy of the stage array per step), y₁ and the error norm (Hairer's
@@ -34,7 +26,7 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     atol: f64,
     stats: &mut Stats,
 ) -> Result<(Y<N>, f64), Fault> {
-    stages!(sys, t, y, h, k, stats; 1 2 3 4 5 6 7 8 9 10 11);
+    stages!((A, C), sys, t, y, h, k, stats; 1 2 3 4 5 6 7 8 9 10 11);
     let y1 = combine::<12, _, _, _>(y, h, &A[12], k);
     if !finite(&y1) {
         return Err(Fault::NonFinite);
@@ -68,7 +60,7 @@ pub(crate) fn dense<L: Lagrangian<N> + ?Sized, const N: usize>(
     h: f64,
     stats: &mut Stats,
 ) -> Result<[Y<N>; 8], Fault> {
-    stages!(sys, t, y, h, k, stats; 13 14 15);
+    stages!((A, C), sys, t, y, h, k, stats; 13 14 15);
     let mut r = [[[0.0; N]; 2]; 8];
     for (j, dj) in D.iter().enumerate() {
         let w = weighted::<16, _, _, _>(dj, k);
@@ -169,9 +161,6 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
     }
     fn last_state(&self) -> Y<N> {
         self.y
-    }
-    fn node(&mut self, _stats: &mut Stats) -> Result<Y<N>, Fault> {
-        Ok(self.y)
     }
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
         self.k[0] = self.k[12];

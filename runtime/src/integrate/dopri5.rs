@@ -5,7 +5,8 @@ use crate::lagrangian::Lagrangian;
 
 use super::simulation::Stepper;
 use super::tableau::{
-    combine, finite, initial_step, rhs, scales, sum_sq, weighted, Controller, Fault, StepControl, Y,
+    combine, finite, initial_step, rhs, scales, stages, sum_sq, weighted, Controller, Fault,
+    StepControl, Y,
 };
 use super::trajectory::Stats;
 
@@ -73,14 +74,7 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     h: f64,
     stats: &mut Stats,
 ) -> Result<(Y<N>, Y<N>), Fault> {
-    // Unrolled: each stage's sum has a constant length.
-    macro_rules! stages {
-        ($($s:literal)*) => {$(
-            let ys = combine::<$s, _, _, _>(y, h, &A[$s], k);
-            k[$s] = rhs(sys, t + C[$s] * h, &ys, stats)?;
-        )*};
-    }
-    stages!(1 2 3 4 5);
+    stages!((A, C), sys, t, y, h, k, stats; 1 2 3 4 5);
     let y1 = combine::<6, _, _, _>(y, h, &A[6], k);
     if !finite(&y1) {
         return Err(Fault::NonFinite);
@@ -179,9 +173,6 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
     }
     fn last_state(&self) -> Y<N> {
         self.y
-    }
-    fn node(&mut self, _stats: &mut Stats) -> Result<Y<N>, Fault> {
-        Ok(self.y)
     }
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
         loop {

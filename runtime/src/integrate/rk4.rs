@@ -116,9 +116,6 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Rk4<'_, L, N> {
     fn last_state(&self) -> Y<N> {
         self.y
     }
-    fn node(&mut self, _stats: &mut Stats) -> Result<Y<N>, Fault> {
-        Ok(self.y)
-    }
     fn advance(&mut self, _t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
         let t1 = self.grid.time(self.k + 1);
         let h = t1 - self.t;

@@ -94,8 +94,12 @@ pub(crate) trait Stepper<const N: usize> {
     fn t_prev(&self) -> f64;
     /// The last accepted state as known without further computation (for error reports).
     fn last_state(&self) -> Y<N>;
-    /// (q, q̇) at the current node.
-    fn node(&mut self, stats: &mut Stats) -> Result<Y<N>, Fault>;
+    /// (q, q̇) at the current node: the last state for the explicit methods; the variational
+    /// method recovers q̇ from the momenta here, on demand.
+    #[inline(always)]
+    fn node(&mut self, _stats: &mut Stats) -> Result<Y<N>, Fault> {
+        Ok(self.last_state())
+    }
     /// Takes one accepted step, not beyond `t_end`.
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault>;
     /// (q, q̇) at t in [t_prev, t] from the method's interpolant.

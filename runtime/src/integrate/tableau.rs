@@ -48,6 +48,18 @@ pub(crate) fn rhs<L: Lagrangian<N> + ?Sized, const N: usize>(
     Ok([y[1], a])
 }
 
+/// Evaluates the listed stages of the tableau `(A, C)` into `k`, unrolled so that each stage's
+/// sum has a constant length: `k[s] = f(t + C[s] h, y + h Σ_{j<s} A[s][j] k[j])`, returning the
+/// fault of a failing right-hand side from the enclosing function.
+macro_rules! stages {
+    (($a:ident, $c:ident), $sys:ident, $t:ident, $y:ident, $h:ident, $k:ident, $stats:ident;
+     $($s:literal)*) => {$(
+        let ys = $crate::integrate::tableau::combine::<$s, _, _, _>($y, $h, &$a[$s], $k);
+        $k[$s] = $crate::integrate::tableau::rhs($sys, $t + $c[$s] * $h, &ys, $stats)?;
+    )*};
+}
+pub(crate) use stages;
+
 /// y + h Σ_{j<S} a_j k_j: the weighted sum first, then h and y (the order of `dop853.f`). `S` is a
 /// constant, so the loops unroll and the 2N components vectorise; the rows of a tableau can be
 /// longer than S (padded with the later stages' coefficients or zeros).
