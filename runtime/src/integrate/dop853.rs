@@ -7,13 +7,14 @@ use crate::lagrangian::Lagrangian;
 use super::dop853_coefficients::{A, C, D, E3, E5};
 use super::simulation::Stepper;
 use super::tableau::{
-    combine, finite, initial_step, rhs, scales, stages, weighted, Controller, Fault, StepControl, Y,
+    combine, finite, initial_step, rhs, scales, stages, sum_sq, weighted, Controller, Fault,
+    StepControl, Y,
 };
 use super::trajectory::Stats;
 
 /// One DOP853 step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages 1..=11
-/// into `k` (in place: no copy of the stage array per step), y₁ and the error norm (Hairer's
-/// blend of the 5th- and 3rd-order estimates). Stage 12 (f at y₁) is not yet evaluated.
+/// into `k` (in place: no copy of the stage array per step), y₁ and the logarithm of the error
+/// norm (Hairer's blend of the 5th- and 3rd-order estimates). Stage 12 (f at y₁) is not yet evaluated.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
@@ -34,19 +35,16 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     let e5 = weighted::<12, _, _, _>(&E5, k);
     let e3 = weighted::<12, _, _, _>(&E3, k);
     let sk = scales(rtol, atol, y, &y1);
-    let (mut err5, mut err3) = (0.0, 0.0);
-    for c in 0..2 {
-        for i in 0..N {
-            err5 += (e5[c][i] / sk[c][i]).powi(2);
-            err3 += (e3[c][i] / sk[c][i]).powi(2);
-        }
-    }
+    let err5 = sum_sq(&e5, &sk);
+    let err3 = sum_sq(&e3, &sk);
     let mut deno = err5 + 0.01 * err3;
     if deno <= 0.0 {
         deno = 1.0;
     }
-    let err = h.abs() * err5 * (1.0 / ((2 * N) as f64 * deno)).sqrt();
-    Ok((y1, err))
+    // err = h · err5 / √(2N · deno), as its logarithm: the three logarithms run in parallel where
+    // the division and the square root were a chain between this step and the next.
+    let ln_err = h.ln() + err5.ln() - 0.5 * ((2 * N) as f64 * deno).ln();
+    Ok((y1, ln_err))
 }
 
 /// The 7th-order dense-output coefficients on [t, t + h]; `k[12]` must hold f(t + h, y₁).
@@ -176,18 +174,18 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
                 self.atol,
                 stats,
             )
-            .and_then(|(y1, err)| {
-                if err <= 1.0 {
+            .and_then(|(y1, ln_err)| {
+                if ln_err <= 0.0 {
                     // f at the new point: needed for the next step (FSAL) and the dense output.
                     let f1 = rhs(self.sys, self.t + h, &y1, stats)?;
-                    Ok((y1, err, Some(f1)))
+                    Ok((y1, ln_err, Some(f1)))
                 } else {
-                    Ok((y1, err, None))
+                    Ok((y1, ln_err, None))
                 }
             });
             match attempt {
-                Ok((y1, err, Some(f1))) => {
-                    self.sc.accept(h, err, stats);
+                Ok((y1, ln_err, Some(f1))) => {
+                    self.sc.accept(h, ln_err, stats);
                     self.k[12] = f1;
                     self.r = None;
                     self.t_old = self.t;
@@ -197,7 +195,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
                     self.y = y1;
                     return Ok(());
                 }
-                Ok((_, err, None)) if err.is_finite() => self.sc.reject(h, err, stats),
+                // ln err = +∞ or NaN: a non-finite error estimate.
+                Ok((_, ln_err, None)) if ln_err < f64::INFINITY => self.sc.reject(h, ln_err, stats),
                 Ok(_) => self.sc.shrink(h, Fault::NonFinite, stats),
                 // A stage left the domain of the dynamics: retry with a smaller step.
                 Err(f) => self.sc.shrink(h, f, stats),

@@ -180,13 +180,14 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
             match step(self.sys, self.t, &self.y, &mut self.k, h, stats) {
                 Ok((y1, e)) => {
                     let sk = scales(self.rtol, self.atol, &self.y, &y1);
-                    let err = (sum_sq(&e, &sk) / (2 * N) as f64).sqrt();
-                    if !err.is_finite() {
+                    // ln of err = √(Σ / 2N); +∞ or NaN for a non-finite estimate.
+                    let ln_err = 0.5 * (sum_sq(&e, &sk) / (2 * N) as f64).ln();
+                    if !(ln_err < f64::INFINITY) {
                         self.sc.shrink(h, Fault::NonFinite, stats);
                         continue;
                     }
-                    if err <= 1.0 {
-                        self.sc.accept(h, err, stats);
+                    if ln_err <= 0.0 {
+                        self.sc.accept(h, ln_err, stats);
                         self.r = dense(&self.y, &y1, &self.k, h);
                         self.t_old = self.t;
                         self.h_old = h;
@@ -195,7 +196,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
                         self.k[0] = self.k[6];
                         return Ok(());
                     }
-                    self.sc.reject(h, err, stats);
+                    self.sc.reject(h, ln_err, stats);
                 }
                 // A stage left the domain of the dynamics: retry with a smaller step.
                 Err(f) => self.sc.shrink(h, f, stats),
