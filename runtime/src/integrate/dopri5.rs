@@ -182,7 +182,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
                     let sk = scales(self.rtol, self.atol, &self.y, &y1);
                     // ln of err = √(Σ / 2N); +∞ or NaN for a non-finite estimate.
                     let ln_err = 0.5 * (sum_sq(&e, &sk) / (2 * N) as f64).ln();
-                    if !(ln_err < f64::INFINITY) {
+                    if ln_err.is_nan() || ln_err == f64::INFINITY {
                         self.sc.shrink(h, Fault::NonFinite, stats);
                         continue;
                     }
