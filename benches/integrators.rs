@@ -5,14 +5,16 @@
 //! top in the default symbolic mode (`MacroTop`), and the same integrator on a hand-written
 //! closed-form baseline (`HeavyTopClosedForm`: accelerations, momenta and energy overridden with
 //! the hand-derived formulas). Prints steps, right-hand-side evaluations and the
-//! invariant drift once; then, when python3 with SciPy is installed, runs the SciPy peer
-//! (`benches/peers/scipy_dop853.py`, best of 5) and ours (best of 20) side by side and prints the
-//! ratios; then criterion's measurements (see BENCHMARKS.md).
+//! invariant drift once; then, when python3 with SciPy is installed, compares the drift of ours
+//! and SciPy's over 30 tops (one trajectory's drift is partly the luck of its step sequence), runs
+//! the SciPy peer (`benches/peers/scipy_dop853.py`, best of 5) and ours (best of 20) side by side
+//! and prints the ratios; then criterion's measurements (see BENCHMARKS.md).
 //!
 //! Run: `cargo bench --bench integrators`
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
+use lagrange::Drift;
 use std::hint::black_box;
 use std::process::Command;
 use std::time::Instant;
@@ -178,6 +180,97 @@ fn scipy_peer() -> Option<(f64, String)> {
     Some((ms * 1e-3, line))
 }
 
+/// The initial conditions (θ0, φ̇0, ψ̇0) of the drift comparison: 5 × 3 × 2 = 30 tops with the
+/// benchmark's parameters, θ̇0 = φ0 = ψ0 = 0, each run to t = 114.3.
+fn family() -> Vec<[f64; 3]> {
+    let mut ics = Vec::new();
+    for th in [0.3, 0.7, 1.1, 1.5, 2.0] {
+        for ph_d in [0.5, 2.0, 4.0] {
+            for ps_d in [6.0, 12.0] {
+                ics.push([th, ph_d, ps_d]);
+            }
+        }
+    }
+    ics
+}
+
+/// SciPy's right-hand-side evaluations and drifts (energy, p_φ, p_ψ) for each initial condition,
+/// when python3 with SciPy is installed.
+fn scipy_family(ics: &[[f64; 3]]) -> Option<Vec<[f64; 4]>> {
+    use std::io::Write;
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/scipy_dop853.py");
+    let mut child = Command::new("python3")
+        .args([script, "--family"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .ok()?;
+    let input: String = ics
+        .iter()
+        .map(|[a, b, c]| format!("{a} {b} {c}\n"))
+        .collect();
+    child.stdin.take()?.write_all(input.as_bytes()).ok()?;
+    let out = child.wait_with_output().ok()?;
+    let rows: Vec<[f64; 4]> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| {
+            let v: Vec<f64> = l
+                .split_whitespace()
+                .filter_map(|x| x.parse().ok())
+                .collect();
+            v.try_into().ok()
+        })
+        .collect();
+    (out.status.success() && rows.len() == ics.len()).then_some(rows)
+}
+
+/// The drift of one trajectory is partly the luck of its step sequence: compare ours with SciPy's
+/// over the 30 tops of [`family`] (same tolerances), as ratios ours / SciPy.
+fn drift_over_family(top: &MacroTop) {
+    let ics = family();
+    let Some(scipy) = scipy_family(&ics) else {
+        eprintln!("SciPy family comparison not run (python3 with SciPy needed)");
+        return;
+    };
+    // Per initial condition: ratios of RHS evaluations and of the three drifts.
+    let ratios: Vec<[f64; 4]> = ics
+        .iter()
+        .zip(&scipy)
+        .map(|(&[th, ph_d, ps_d], s)| {
+            let tr = Simulation::new(top, [th, 0.0, 0.0], [0.0, ph_d, ps_d])
+                .method(METHOD)
+                .until(T_END)
+                .run()
+                .expect("the heavy top integrates");
+            let inv = tr.invariants();
+            let d = |x: Option<Drift>| x.map_or(f64::NAN, |d| d.max_rel);
+            [
+                tr.stats.rhs_evals as f64 / s[0],
+                d(inv.energy) / s[1],
+                d(inv.momenta[1]) / s[2],
+                d(inv.momenta[2]) / s[3],
+            ]
+        })
+        .collect();
+    let n = ratios.len() as f64;
+    let geo = |i: usize| (ratios.iter().map(|r| r[i].ln()).sum::<f64>() / n).exp();
+    let at_most = |i: usize| ratios.iter().filter(|r| r[i] <= 1.0).count();
+    eprintln!(
+        "drift over {} tops (ours / SciPy, geometric mean): rhs evals {:.3}, energy {:.2}, p_phi {:.2}, \
+         p_psi {:.2}; ours <= SciPy in {} / {} / {} of {}",
+        ratios.len(),
+        geo(0),
+        geo(1),
+        geo(2),
+        geo(3),
+        at_most(1),
+        at_most(2),
+        at_most(3),
+        ratios.len()
+    );
+}
+
 fn bench(c: &mut Criterion) {
     let closed = HeavyTopClosedForm(HeavyTop { ..TOP });
     report("lagrange DOP853 (jets)", &run(&TOP));
@@ -191,6 +284,7 @@ fn bench(c: &mut Criterion) {
         "lagrange DOP853 (#[lagrangian], symbolic)",
         &run(&macro_top),
     );
+    drift_over_family(&macro_top);
     // Side by side in one run: SciPy (best of 5) and ours (best of 20), as ratios.
     if let Some((scipy, line)) = scipy_peer() {
         eprintln!("{line}");

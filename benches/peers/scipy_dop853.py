@@ -5,8 +5,13 @@ solve_ivp(method="DOP853", rtol=1e-10, atol=1e-12).
 Reports the best-of-5 wall time, steps, nfev and the max relative drift of the energy and of the
 two cyclic momenta over the returned steps.
 
+With --family, reads initial conditions "theta0 phidot0 psidot0" (one per line) from stdin and
+prints, for each, "nfev drift_energy drift_p_phi drift_p_psi" of the same untimed run (the drift of
+one trajectory is partly luck of its step sequence; benches/integrators.rs compares many).
+
 Install: python3 -m pip install scipy      Run: python3 benches/peers/scipy_dop853.py
 """
+import sys
 import time
 
 import numpy as np
@@ -56,5 +61,20 @@ def main():
           f"final theta {sol.y[0, -1]:.12f}")
 
 
+def family():
+    for line in sys.stdin:
+        if not line.strip():
+            continue
+        th, ph_d, ps_d = map(float, line.split())
+        y0 = np.array([th, 0.0, 0.0, 0.0, ph_d, ps_d])
+        sol = solve_ivp(rhs, (0.0, T_END), y0, method="DOP853", rtol=1e-10, atol=1e-12)
+        assert sol.success, sol.message
+        e, p_phi, p_psi = invariants(sol.y)
+        print(sol.nfev, drift(e), drift(p_phi), drift(p_psi), flush=True)
+
+
 if __name__ == "__main__":
-    main()
+    if "--family" in sys.argv[1:]:
+        family()
+    else:
+        main()
