@@ -41,9 +41,9 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     if deno <= 0.0 {
         deno = 1.0;
     }
-    // err = h · err5 / √(2N · deno), as its logarithm: the three logarithms run in parallel where
-    // the division and the square root were a chain between this step and the next.
-    let ln_err = h.ln() + err5.ln() - 0.5 * ((2 * N) as f64 * deno).ln();
+    // err = h · err5 / √(2N · deno), as its logarithm: the two logarithms run in parallel where
+    // a division and a square root were a chain between this step and the next.
+    let ln_err = (h * err5).ln() - 0.5 * ((2 * N) as f64 * deno).ln();
     Ok((y1, ln_err))
 }
 
