@@ -476,6 +476,86 @@ fn invalid_options_are_rejected_before_any_step() {
     );
 }
 
+/// The Kepler problem declared with no cyclic coordinate: the same dynamics, nothing held.
+struct KeplerUndeclared;
+impl Lagrangian<2> for KeplerUndeclared {
+    const COORDINATES: [&'static str; 2] = ["r", "phi"];
+    const CYCLIC: [bool; 2] = [false, false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], t: S) -> S {
+        Kepler.lagrangian(q, v, t)
+    }
+}
+
+/// The explicit methods do not form the stage positions of cyclic coordinates; since q̈ does not
+/// read them, the trajectory is bit for bit the one where every position is formed.
+#[test]
+fn held_cyclic_stage_positions_change_nothing() {
+    for method in [
+        Method::Dop853 {
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+        Method::DormandPrince {
+            rtol: 1e-8,
+            atol: 1e-10,
+        },
+    ] {
+        fn run<L: Lagrangian<2>>(sys: &L, method: Method) -> Trajectory<2> {
+            Simulation::new(sys, [1.0, 0.3], [0.0, 1.2])
+                .method(method)
+                .until(20.0)
+                .sample_every(0.5)
+                .run()
+                .unwrap()
+        }
+        let held = run(&Kepler, method);
+        let formed = run(&KeplerUndeclared, method);
+        assert_eq!(held.t, formed.t, "{method:?}");
+        assert_eq!(held.q, formed.q, "{method:?}");
+        assert_eq!(held.qdot, formed.qdot, "{method:?}");
+        assert_eq!(held.stats, formed.stats, "{method:?}");
+    }
+}
+
+/// Kepler with a "perturbation" that depends on φ, wrongly declared cyclic.
+struct WronglyCyclic;
+impl Lagrangian<2> for WronglyCyclic {
+    const COORDINATES: [&'static str; 2] = ["r", "phi"];
+    const CYCLIC: [bool; 2] = [false, true];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], t: S) -> S {
+        Kepler.lagrangian(q, v, t) + q[1].cos() * 0.01
+    }
+}
+
+/// A `CYCLIC` declaration the dynamics contradict is rejected before any step, naming the
+/// coordinate and the fix; every method checks it.
+#[test]
+fn a_wrong_cyclic_declaration_is_rejected_before_any_step() {
+    for method in [
+        Method::Dop853 {
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+        Method::Rk4 { dt: 0.01 },
+        Method::VariationalMidpoint { dt: 0.01 },
+    ] {
+        let err = Simulation::new(&WronglyCyclic, [1.0, 0.3], [0.0, 1.2])
+            .method(method)
+            .until(1.0)
+            .run()
+            .unwrap_err();
+        let SimulationError::InvalidOptions { message } = &err else {
+            panic!("expected InvalidOptions, got {err}");
+        };
+        assert!(
+            message.contains("`phi`") && message.contains("CYCLIC[1] = false"),
+            "{message}"
+        );
+    }
+}
+
 #[test]
 fn singular_mass_matrix_is_a_typed_error_with_the_state() {
     // θ = 0 exactly: the Euler-angle chart is singular.

@@ -32,7 +32,8 @@ use crate::scalar::Scalar;
 pub trait Lagrangian<const N: usize> {
     /// Coordinate names, in declaration order.
     const COORDINATES: [&'static str; N];
-    /// `true` for a coordinate absent from L: its momentum is conserved.
+    /// `true` for a coordinate absent from L: its momentum is conserved, and q̈ does not depend on
+    /// it (the explicit integrators rely on that; `Simulation::run` checks it at the initial state).
     const CYCLIC: [bool; N];
     /// `true` when L has no explicit time dependence: the energy (Jacobi integral) is conserved.
     const AUTONOMOUS: bool;

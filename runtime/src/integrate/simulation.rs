@@ -393,12 +393,46 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
         Ok(until)
     }
 
+    /// Checks the system's `CYCLIC` declaration at the initial state: q̈ must not change when a
+    /// coordinate declared cyclic is shifted. The explicit methods rely on it (they do not form
+    /// the stage positions of cyclic coordinates), and the momenta reported as conserved do too.
+    /// Skipped where the dynamics fail at the initial state (the run reports that).
+    fn check_cyclic(&self) -> Result<(), String> {
+        const SHIFT: f64 = 0.739_085_133_215_160_6;
+        let Ok(a0) = self.sys.accelerations(&self.q0, &self.qdot0, self.t0) else {
+            return Ok(());
+        };
+        for i in (0..N).filter(|&i| L::CYCLIC[i]) {
+            let mut q = self.q0;
+            q[i] += SHIFT;
+            let a1 = self.sys.accelerations(&q, &self.qdot0, self.t0);
+            let same = a1.as_ref().is_ok_and(|a1| {
+                a0.iter()
+                    .zip(a1)
+                    .all(|(x, y)| (x - y).abs() <= 1e-9 * (x.abs() + y.abs()) + 1e-300)
+            });
+            if !same {
+                let name = L::COORDINATES[i];
+                let shifted = a1.map_or_else(|e| format!("an error ({e})"), |a| format!("{a:?}"));
+                return Err(format!(
+                    "CYCLIC declares the coordinate `{name}` absent from L, but the accelerations \
+                     change with it (at t = {}, q = {:?}, q̇ = {:?}, shifting {name} by {SHIFT} \
+                     changes q̈ from {a0:?} to {shifted}): set CYCLIC[{i}] = false, or derive the \
+                     declaration with #[lagrangian], which finds the cyclic coordinates itself",
+                    self.t0, self.q0, self.qdot0,
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Runs the simulation.
     ///
     /// Fails with [`SimulationError::InvalidOptions`] (before any step) for dt ≤ 0, rtol ≤ 0, an
-    /// end time not after the start, a non-finite initial state or a sample interval that is not a
-    /// multiple of a fixed dt; with the other variants (each holding the trajectory so far) when
-    /// the run cannot continue.
+    /// end time not after the start, a non-finite initial state, a sample interval that is not a
+    /// multiple of a fixed dt, or a system whose `CYCLIC` declares a coordinate absent from L while
+    /// its accelerations change with it; with the other variants (each holding the trajectory so
+    /// far) when the run cannot continue.
     ///
     /// ```
     /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation, SimulationError, Method};
@@ -415,6 +449,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
     pub fn run(self) -> Result<Trajectory<N>, SimulationError> {
         let until = self
             .validate()
+            .and_then(|until| self.check_cyclic().map(|()| until))
             .map_err(|message| SimulationError::InvalidOptions { message })?;
         let mut driver = Driver {
             sys: self.sys,
