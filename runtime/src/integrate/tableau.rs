@@ -234,7 +234,7 @@ pub(crate) fn initial_step<L: Lagrangian<N> + ?Sized, const N: usize>(
 const LN_FACOLD_MIN: f64 = -9.210_340_371_976_182;
 
 /// Hairer's PI step-size controller (Lund stabilisation, section IV.2 of Hairer & Wanner):
-/// h_new = h · safe · err^(−expo1) · err_old^β, the factor clamped to [1/fac_max, 1/fac_min].
+/// h_new = h · safe · err^(−expo1) · err_old^β, the factor h_new / h clamped to [fac_min, fac_max].
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Controller {
     safe: f64,
