@@ -154,11 +154,13 @@ fn best_of(n: usize, mut f: impl FnMut()) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The SciPy peer script.
+const SCIPY_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/scipy_dop853.py");
+
 /// The SciPy peer in the same run (`benches/peers/scipy_dop853.py`, best of 5), when python3 with
 /// SciPy is installed: its best wall time in seconds, and its report line.
 fn scipy_peer() -> Option<(f64, String)> {
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/scipy_dop853.py");
-    let out = Command::new("python3").arg(script).output().ok()?;
+    let out = Command::new("python3").arg(SCIPY_PEER).output().ok()?;
     let line = String::from_utf8_lossy(&out.stdout).trim().to_string();
     if !out.status.success() {
         eprintln!(
@@ -198,9 +200,8 @@ fn family() -> Vec<[f64; 3]> {
 /// when python3 with SciPy is installed.
 fn scipy_family(ics: &[[f64; 3]]) -> Option<Vec<[f64; 4]>> {
     use std::io::Write;
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/scipy_dop853.py");
     let mut child = Command::new("python3")
-        .args([script, "--family"])
+        .args([SCIPY_PEER, "--family"])
         .stdin(std::process::Stdio::piped())
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::null())

@@ -197,9 +197,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
                     self.y = y1;
                     return Ok(());
                 }
-                // ln err = +∞ or NaN: a non-finite error estimate.
-                Ok((_, ln_err, None)) if ln_err < f64::INFINITY => self.sc.reject(h, ln_err, stats),
-                Ok(_) => self.sc.shrink(h, Fault::NonFinite, stats),
+                Ok((_, ln_err, None)) => self.sc.reject(h, ln_err, stats),
                 // A stage left the domain of the dynamics: retry with a smaller step.
                 Err(f) => self.sc.shrink(h, f, stats),
             }

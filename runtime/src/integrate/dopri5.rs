@@ -180,12 +180,9 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
             match step(self.sys, self.t, &self.y, &mut self.k, h, stats) {
                 Ok((y1, e)) => {
                     let sk = scales(self.rtol, self.atol, &self.y, &y1);
-                    // ln of err = √(Σ / 2N); +∞ or NaN for a non-finite estimate.
+                    // ln of err = √(Σ / 2N); +∞ or NaN for a non-finite estimate (`reject`
+                    // shrinks the step then).
                     let ln_err = 0.5 * (sum_sq(&e, &sk) / (2 * N) as f64).ln();
-                    if ln_err.is_nan() || ln_err == f64::INFINITY {
-                        self.sc.shrink(h, Fault::NonFinite, stats);
-                        continue;
-                    }
                     if ln_err <= 0.0 {
                         self.sc.accept(h, ln_err, stats);
                         self.r = dense(&self.y, &y1, &self.k, h);

@@ -340,9 +340,12 @@ impl StepControl {
         self.last_failure = None;
     }
 
-    /// Records the rejected step `h` with finite error norm exp(`ln_err`) > 1 and proposes the
-    /// retry.
+    /// Records the rejected step `h` with error norm exp(`ln_err`) > 1 and proposes the retry; a
+    /// non-finite estimate (ln err = +∞ or NaN) is a fault and shrinks the step (see `shrink`).
     pub(crate) fn reject(&mut self, h: f64, ln_err: f64, stats: &mut Stats) {
+        if ln_err.is_nan() || ln_err == f64::INFINITY {
+            return self.shrink(h, Fault::NonFinite, stats);
+        }
         stats.rejected += 1;
         self.rejected_last = true;
         self.h = self.ctrl.rejected(h, ln_err);
