@@ -272,6 +272,73 @@ fn drift_over_family(top: &MacroTop) {
     );
 }
 
+/// Three uncoupled oscillators with a right-hand side that costs almost nothing: what the DOP853
+/// stepper itself (stage sums, error estimate, controller, recording) costs per evaluation.
+struct FreeRhs;
+impl Lagrangian<3> for FreeRhs {
+    const COORDINATES: [&'static str; 3] = ["a", "b", "c"];
+    const CYCLIC: [bool; 3] = [false; 3];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 3], qd: &[S; 3], _t: S) -> S {
+        (qd[0] * qd[0] + qd[1] * qd[1] + qd[2] * qd[2]
+            - q[0] * q[0] * 4.0
+            - q[1] * q[1] * 9.0
+            - q[2] * q[2])
+            * 0.5
+    }
+    fn accelerations(
+        &self,
+        q: &[f64; 3],
+        _qd: &[f64; 3],
+        _t: f64,
+    ) -> Result<[f64; 3], DynamicsError> {
+        Ok([-4.0 * q[0], -9.0 * q[1], -q[2]])
+    }
+    fn energy_and_momenta(&self, q: &[f64; 3], qd: &[f64; 3], _t: f64) -> (f64, [f64; 3]) {
+        let e = (qd[0] * qd[0]
+            + qd[1] * qd[1]
+            + qd[2] * qd[2]
+            + q[0] * q[0] * 4.0
+            + q[1] * q[1] * 9.0
+            + q[2] * q[2])
+            * 0.5;
+        (e, *qd)
+    }
+}
+
+/// Where the time of a run goes, per right-hand-side evaluation (best of 20 each, same run): the
+/// stepper alone ([`FreeRhs`]), glibc's `sin_cos` alone (one per evaluation), and the whole run
+/// for the macro top and the closed form.
+fn time_per_evaluation(macro_top: &MacroTop, closed: &HeavyTopClosedForm) {
+    let per_eval = |f: &dyn Fn() -> Trajectory<3>| {
+        let evals = f().stats.rhs_evals as f64;
+        best_of(20, || drop(black_box(f()))) / evals * 1e9
+    };
+    let free = per_eval(&|| {
+        Simulation::new(&FreeRhs, [1.0, 0.5, 0.2], [0.0, 1.0, 0.3])
+            .method(METHOD)
+            .until(60.0)
+            .run()
+            .expect("the oscillators integrate")
+    });
+    let thetas: Vec<f64> = (0..40_000).map(|i| 0.6 + 0.7 * (i as f64 / 4e4)).collect();
+    let sincos = best_of(20, || {
+        let mut acc = 0.0;
+        for &x in black_box(&thetas) {
+            let (s, c) = x.sin_cos();
+            acc += s * c;
+        }
+        black_box(acc);
+    }) / thetas.len() as f64
+        * 1e9;
+    let top = per_eval(&|| run(black_box(macro_top)));
+    let closed = per_eval(&|| run(black_box(closed)));
+    eprintln!(
+        "per right-hand-side evaluation: stepper alone (free RHS) {free:.1} ns, sin_cos alone \
+         {sincos:.1} ns; whole run: #[lagrangian] top {top:.1} ns, closed form {closed:.1} ns"
+    );
+}
+
 fn bench(c: &mut Criterion) {
     let closed = HeavyTopClosedForm(HeavyTop { ..TOP });
     report("lagrange DOP853 (jets)", &run(&TOP));
@@ -286,6 +353,7 @@ fn bench(c: &mut Criterion) {
         &run(&macro_top),
     );
     drift_over_family(&macro_top);
+    time_per_evaluation(&macro_top, &closed);
     // Side by side in one run: SciPy (best of 5) and ours (best of 20), as ratios.
     if let Some((scipy, line)) = scipy_peer() {
         eprintln!("{line}");
