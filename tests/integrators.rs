@@ -400,6 +400,104 @@ fn samples_land_on_the_grid_and_the_end_time() {
     assert!((tr.t[4] - 1.0).abs() < 1e-15);
 }
 
+/// `sample_at`: the trajectory holds t0, exactly the requested times and `until`, with the
+/// dense output's accuracy at irregular times, for both adaptive methods.
+#[test]
+fn samples_at_chosen_times_for_the_adaptive_methods() {
+    let times: Vec<f64> = (0..12).map(|k| 1e-3 * 2f64.powi(k)).collect(); // 0.001 … 2.048
+    for method in [
+        Method::Dop853 {
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+        Method::DormandPrince {
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+    ] {
+        let tr = Simulation::new(&Oscillator, [1.0], [0.0])
+            .method(method)
+            .until(3.0)
+            .sample_at(times.iter().copied())
+            .run()
+            .unwrap();
+        let mut want = vec![0.0];
+        want.extend(&times);
+        want.push(3.0);
+        assert_eq!(tr.t, want, "{method:?}");
+        for ((t, q), v) in tr.t.iter().zip(&tr.q).zip(&tr.qdot) {
+            assert!(
+                (q[0] - t.cos()).abs() < 1e-9,
+                "{method:?}: x({t}) = {}",
+                q[0]
+            );
+            assert!(
+                (v[0] + t.sin()).abs() < 1e-9,
+                "{method:?}: v({t}) = {}",
+                v[0]
+            );
+        }
+        // The ends may be requested too; they are recorded once.
+        let tr = Simulation::new(&Oscillator, [1.0], [0.0])
+            .method(method)
+            .until(3.0)
+            .sample_at([0.0, 1.5, 3.0])
+            .run()
+            .unwrap();
+        assert_eq!(tr.t, vec![0.0, 1.5, 3.0], "{method:?}");
+    }
+}
+
+/// Fixed-step methods record the nodes the sample times land on: the same states as a run that
+/// records every step, at the requested times only.
+#[test]
+fn samples_at_grid_times_for_the_fixed_step_methods() {
+    for method in [
+        Method::Rk4 { dt: 0.01 },
+        Method::VariationalMidpoint { dt: 0.01 },
+    ] {
+        let every = Simulation::new(&Oscillator, [1.0], [0.0])
+            .method(method)
+            .until(1.0)
+            .run()
+            .unwrap();
+        let at = Simulation::new(&Oscillator, [1.0], [0.0])
+            .method(method)
+            .until(1.0)
+            .sample_at([0.03, 0.07, 0.5, 0.93])
+            .run()
+            .unwrap();
+        assert_eq!(at.t, vec![0.0, 0.03, 0.07, 0.5, 0.93, 1.0], "{method:?}");
+        for (k, &i) in [0usize, 3, 7, 50, 93, 100].iter().enumerate() {
+            assert_eq!(at.q[k], every.q[i], "{method:?}: q at t = {}", at.t[k]);
+            assert_eq!(
+                at.qdot[k], every.qdot[i],
+                "{method:?}: q̇ at t = {}",
+                at.t[k]
+            );
+        }
+    }
+}
+
+/// A terminal event ends the samples too: no requested time after the event is recorded.
+#[test]
+fn samples_at_stop_at_a_terminal_event() {
+    let tr = Simulation::new(&Oscillator, [1.0], [0.0])
+        .until(10.0)
+        .sample_at([1.0, 2.0, 4.0, 6.0])
+        .event(
+            Event::zero_crossing("x = 0 rising", |_t, q: &[f64; 1], _v| q[0])
+                .rising()
+                .terminal(),
+        )
+        .run()
+        .unwrap();
+    let t_star = 1.5 * std::f64::consts::PI; // 4.712…
+    assert_eq!(tr.t.len(), 5);
+    assert_eq!(&tr.t[..4], &[0.0, 1.0, 2.0, 4.0]);
+    assert!((tr.t[4] - t_star).abs() < 1e-9);
+}
+
 #[test]
 fn terminal_event_stops_the_run_at_the_crossing() {
     let tr = Simulation::new(&Oscillator, [1.0], [0.0])
@@ -469,6 +567,18 @@ fn invalid_options_are_rejected_before_any_step() {
         .until(1.0)
         .sample_every(0.1))
     .contains("multiple"));
+    let until1 = || new().until(1.0);
+    assert!(run(until1().sample_at([0.5, 0.2])).contains("must increase"));
+    assert!(run(until1().sample_at([0.5, 0.5])).contains("must increase"));
+    assert!(run(until1().sample_at([0.5, 1.5])).contains("outside the run"));
+    assert!(run(until1().sample_at([-0.1])).contains("outside the run"));
+    assert!(run(until1().sample_at([f64::NAN])).contains("outside the run"));
+    assert!(run(until1().sample_every(0.1).sample_at([0.5])).contains("choose one"));
+    assert!(run(new()
+        .method(Method::Rk4 { dt: 0.1 })
+        .until(1.0)
+        .sample_at([0.25]))
+    .contains("not on the fixed step grid"));
     assert_eq!(
         calls.get(),
         0,

@@ -112,8 +112,9 @@ pub(crate) trait Stepper<const N: usize> {
 /// Samples: with [`sample_every`](Simulation::sample_every)(Δ) the trajectory holds t0 + kΔ for
 /// every k with t0 + kΔ ≤ `until` (from the dense output for the adaptive methods; fixed-step
 /// methods need Δ to be a multiple of dt and record the steps that land on the grid), plus
-/// `until` itself if it is not on the grid. Without it, every step is recorded. A terminal event
-/// ends the trajectory with a sample at the event.
+/// `until` itself if it is not on the grid. With [`sample_at`](Simulation::sample_at)(times) it holds
+/// t0, exactly the given times and `until` (SciPy's `t_eval`, with both ends kept). Without either,
+/// every step is recorded. A terminal event ends the trajectory with a sample at the event.
 ///
 /// ```
 /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
@@ -142,6 +143,7 @@ pub struct Simulation<'a, L: ?Sized, const N: usize> {
     until: Option<f64>,
     method: Method,
     sample_every: Option<f64>,
+    sample_at: Option<Vec<f64>>,
     events: Vec<Event<'a, N>>,
     max_steps: usize,
     max_step: Option<f64>,
@@ -175,6 +177,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
                 atol: 1e-12,
             },
             sample_every: None,
+            sample_at: None,
             events: Vec::new(),
             max_steps: 10_000_000,
             max_step: None,
@@ -254,6 +257,35 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
     /// ```
     pub fn sample_every(mut self, dt_sample: f64) -> Self {
         self.sample_every = Some(dt_sample);
+        self
+    }
+
+    /// Record samples at exactly these times, in increasing order within [t0, `until`] (irregular
+    /// grids, measurement times, log-spaced times); the trajectory holds t0, these times and
+    /// `until`. The adaptive methods evaluate their dense output there; the fixed-step methods
+    /// need every time on their step grid t0 + k·dt (as with
+    /// [`sample_every`](Simulation::sample_every)). Times out of order or out of range, and
+    /// combining this with `sample_every`, are [`SimulationError::InvalidOptions`].
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation};
+    /// # struct Osc;
+    /// # impl Lagrangian<1> for Osc {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// # }
+    /// let tr = Simulation::new(&Osc, [0.0], [1.0])
+    ///     .until(10.0)
+    ///     .sample_at([0.01, 0.1, 1.0, 5.0])
+    ///     .run()
+    ///     .unwrap();
+    /// assert_eq!(tr.t, vec![0.0, 0.01, 0.1, 1.0, 5.0, 10.0]);
+    /// assert!((tr.q[4][0] - 5.0_f64.sin()).abs() < 1e-9);
+    /// ```
+    pub fn sample_at(mut self, times: impl IntoIterator<Item = f64>) -> Self {
+        self.sample_at = Some(times.into_iter().collect());
         self
     }
 
@@ -387,6 +419,44 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
                 }
             }
         }
+        if let Some(times) = &self.sample_at {
+            if self.sample_every.is_some() {
+                return Err(
+                    "both sample_every and sample_at are set: choose one (sample_at can hold a \
+                     regular grid too)"
+                        .to_string(),
+                );
+            }
+            for (i, &ts) in times.iter().enumerate() {
+                if !(ts >= self.t0 && ts <= until) {
+                    return Err(format!(
+                        "sample_at time {ts} (index {i}) is outside the run [{}, {until}]: sample \
+                         times must lie between the start time and until",
+                        self.t0
+                    ));
+                }
+                if i > 0 && ts <= times[i - 1] {
+                    return Err(format!(
+                        "sample_at times must increase, but time {ts} (index {i}) follows {}: sort \
+                         them and remove duplicates",
+                        times[i - 1]
+                    ));
+                }
+                if let Method::Rk4 { dt } | Method::VariationalMidpoint { dt } = self.method {
+                    let k = (ts - self.t0) / dt;
+                    if ts != until && (k - k.round()).abs() > 1e-9 * k.max(1.0) {
+                        return Err(format!(
+                            "sample_at time {ts} (index {i}) is not on the fixed step grid \
+                             t0 + k·dt (t0 = {}, dt = {dt}): fixed-step methods record the steps \
+                             that land on the sample times; choose times on the grid (e.g. {}) or \
+                             use an adaptive method, whose dense output serves any time",
+                            self.t0,
+                            self.t0 + k.round() * dt
+                        ));
+                    }
+                }
+            }
+        }
         if self.max_steps == 0 {
             return Err("max_steps must be at least 1".to_string());
         }
@@ -459,10 +529,23 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
         };
         let y0 = [self.q0, self.qdot0];
         let hmax = self.max_step.unwrap_or(until - self.t0);
+        let sampling = match (&self.sample_at, self.sample_every) {
+            (Some(times), _) => Sampling::At {
+                times,
+                // A fixed-step method records the node a sample time lands on (the grid test of
+                // `validate` allows 1e-9 of a step); the adaptive ones interpolate any other time.
+                snap: match self.method {
+                    Method::Rk4 { dt } | Method::VariationalMidpoint { dt } => 1e-9 * dt,
+                    _ => 0.0,
+                },
+            },
+            (None, Some(ds)) => Sampling::Every(ds),
+            (None, None) => Sampling::Steps,
+        };
         let opts = RunOptions {
             t0: self.t0,
             until,
-            sample_every: self.sample_every,
+            sampling,
             max_steps: self.max_steps,
         };
         match self.method {
@@ -500,11 +583,21 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
     }
 }
 
-struct RunOptions {
+struct RunOptions<'s> {
     t0: f64,
     until: f64,
-    sample_every: Option<f64>,
+    sampling: Sampling<'s>,
     max_steps: usize,
+}
+
+/// Which states the trajectory records.
+enum Sampling<'s> {
+    /// Every accepted step.
+    Steps,
+    /// t0 + kΔ.
+    Every(f64),
+    /// The given increasing times; a time within `snap` of a node is taken at the node.
+    At { times: &'s [f64], snap: f64 },
 }
 
 struct Driver<'s, 'a, L: ?Sized, const N: usize> {
@@ -608,6 +701,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
         let mut g_new = g_old.clone();
         let mut hits: Vec<(f64, usize, super::events::Direction)> = Vec::new();
         let mut next_sample: u64 = 1;
+        let mut next_at: usize = 0;
         while s.t() < o.until {
             if self.stats.steps + self.stats.rejected >= o.max_steps {
                 return Err(Fault::MaxSteps(o.max_steps));
@@ -646,8 +740,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
                 .map(|k| hits[k].0);
             let t_stop = stop.unwrap_or(t_b);
             // Samples in (t_a, t_stop], then the events up to t_stop.
-            match o.sample_every {
-                Some(ds) => loop {
+            match o.sampling {
+                Sampling::Every(ds) => loop {
                     let ts = o.t0 + next_sample as f64 * ds;
                     let on_end = (ts - o.until).abs() <= 1e-9 * ds;
                     let ts = if on_end { o.until } else { ts };
@@ -662,7 +756,24 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
                     self.push(ts, &y);
                     next_sample += 1;
                 },
-                None => {
+                Sampling::At { times, snap } => {
+                    // A time within `snap` past this node is this node (grid rounding), unless a
+                    // terminal event ends the run here.
+                    let limit = if stop.is_some() { t_stop } else { t_b + snap };
+                    while let Some(&ts) = times.get(next_at) {
+                        if ts > limit {
+                            break;
+                        }
+                        let y = if (t_b - ts).abs() <= snap {
+                            s.node(&mut self.stats)?
+                        } else {
+                            s.interp(ts, &mut self.stats)?
+                        };
+                        self.push(ts, &y);
+                        next_at += 1;
+                    }
+                }
+                Sampling::Steps => {
                     if stop.is_none() {
                         let y = s.node(&mut self.stats)?;
                         self.push(t_b, &y);
