@@ -574,6 +574,9 @@ fn invalid_options_are_rejected_before_any_step() {
     assert!(run(until1().sample_at([-0.1])).contains("outside the run"));
     assert!(run(until1().sample_at([f64::NAN])).contains("outside the run"));
     assert!(run(until1().sample_every(0.1).sample_at([0.5])).contains("choose one"));
+    // 10¹⁵ samples would exhaust memory: refused up front (default limit 10⁸).
+    assert!(run(new().until(1e3).sample_every(1e-12)).contains("max_samples = 100000000"));
+    assert!(run(until1().sample_at([0.25, 0.5]).max_samples(3)).contains("max_samples = 3"));
     assert!(run(new()
         .method(Method::Rk4 { dt: 0.1 })
         .until(1.0)
@@ -789,4 +792,119 @@ fn csv_has_names_velocities_energy_and_momenta() {
     assert_eq!(rows[0][6], 8.0);
     assert_eq!(rows[10][7], tr.energy[10]);
     assert_eq!(rows[10][10], tr.momenta[10][2]);
+}
+
+/// The heavy top with a hand-written singular chart (θ = 0, π) and cyclic φ, ψ: the hostile
+/// options below meet singular mass matrices, blow-ups and Newton failures.
+mod hostile {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Mostly a value from `sane`; one time in twenty any f64, or one that breaks naive code.
+    fn value(sane: std::ops::Range<f64>) -> impl Strategy<Value = f64> {
+        prop_oneof![
+            38 => sane,
+            1 => any::<f64>(),
+            1 => prop::sample::select(vec![
+                0.0,
+                -0.0,
+                -1.0,
+                f64::NAN,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::MIN_POSITIVE,
+                1e-300,
+                1e300,
+                f64::MAX,
+            ]),
+        ]
+    }
+
+    fn method() -> impl Strategy<Value = Method> {
+        let dt = || value(1e-3..0.5);
+        let tols = || (value(1e-12..1e-3), value(0.0..1e-6));
+        prop_oneof![
+            dt().prop_map(|dt| Method::Rk4 { dt }),
+            dt().prop_map(|dt| Method::VariationalMidpoint { dt }),
+            tols().prop_map(|(rtol, atol)| Method::DormandPrince { rtol, atol }),
+            tols().prop_map(|(rtol, atol)| Method::Dop853 { rtol, atol }),
+        ]
+    }
+
+    #[derive(Debug, Clone)]
+    enum Samples {
+        Steps,
+        Every(f64),
+        At(Vec<f64>),
+    }
+
+    fn samples() -> impl Strategy<Value = Samples> {
+        prop_oneof![
+            Just(Samples::Steps),
+            value(0.01..2.0).prop_map(Samples::Every),
+            prop::collection::vec(value(-1.0..12.0), 0..6).prop_map(|mut times| {
+                // Mostly increasing lists; the hostile values can still break the order.
+                times.sort_by(f64::total_cmp);
+                Samples::At(times)
+            }),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 1024, ..ProptestConfig::default() })]
+
+        /// Whatever the options and the initial state, `run()` returns: a trajectory of finite
+        /// states that starts at t0 and never goes back, or a typed error whose message says what
+        /// happened and, past the options, when, with the trajectory so far.
+        #[test]
+        fn run_never_panics_on_hostile_options(
+            method in method(),
+            q0 in prop::array::uniform3(value(-4.0..4.0)),
+            v0 in prop::array::uniform3(value(-10.0..10.0)),
+            t0 in value(-1.0..1.0),
+            span in value(0.01..10.0),
+            samples in samples(),
+            max_step in prop::option::of(value(1e-3..1.0)),
+            event in any::<bool>(),
+            max_steps in 1usize..300,
+        ) {
+            let until = t0 + span;
+            let mut sim = Simulation::new(&TOP, q0, v0)
+                .method(method)
+                .start_time(t0)
+                .until(until)
+                .max_steps(max_steps)
+                .max_samples(10_000);
+            sim = match samples.clone() {
+                Samples::Steps => sim,
+                Samples::Every(ds) => sim.sample_every(ds),
+                Samples::At(times) => sim.sample_at(times),
+            };
+            if let Some(h) = max_step {
+                sim = sim.max_step(h);
+            }
+            if event {
+                sim = sim.event(Event::zero_crossing("turning point", |_t, _q, v: &[f64; 3]| v[0]));
+            }
+            match sim.run() {
+                Ok(tr) => {
+                    prop_assert!(!tr.t.is_empty());
+                    prop_assert_eq!(tr.t[0], t0);
+                    prop_assert!(tr.t.windows(2).all(|w| w[0] <= w[1]), "{:?}", tr.t);
+                    prop_assert!(*tr.t.last().unwrap() <= until);
+                    prop_assert!(tr.q.iter().chain(&tr.qdot).flatten().all(|x| x.is_finite()));
+                }
+                Err(e) => {
+                    let message = e.to_string();
+                    prop_assert!(message.len() > 40, "{}", message);
+                    if !matches!(e, SimulationError::InvalidOptions { .. }) {
+                        prop_assert!(e.t().is_some_and(f64::is_finite), "{}", message);
+                        prop_assert!(message.contains("t = "), "{}", message);
+                        let partial = e.partial_trajectory::<3>();
+                        prop_assert!(partial.is_some_and(|p| p.t.first() == Some(&t0)), "{}", message);
+                    }
+                }
+            }
+        }
+    }
 }

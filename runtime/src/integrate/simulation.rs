@@ -62,6 +62,9 @@ impl Method {
     }
 }
 
+/// The default of [`Simulation::max_samples`].
+const DEFAULT_MAX_SAMPLES: usize = 100_000_000;
+
 /// The step grid of a fixed-step method: t_k = t0 + k·dt, with the last step shortened to end
 /// exactly at `until`.
 #[derive(Clone, Copy, Debug)]
@@ -147,6 +150,7 @@ pub struct Simulation<'a, L: ?Sized, const N: usize> {
     events: Vec<Event<'a, N>>,
     max_steps: usize,
     max_step: Option<f64>,
+    max_samples: usize,
 }
 
 impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
@@ -180,6 +184,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
             sample_at: None,
             events: Vec::new(),
             max_steps: 10_000_000,
+            max_samples: DEFAULT_MAX_SAMPLES,
             max_step: None,
         }
     }
@@ -332,6 +337,30 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
         self
     }
 
+    /// The largest number of samples a sample grid may ask for (default 10⁸): `sample_every` over
+    /// a long run, or a long `sample_at` list, beyond it is [`SimulationError::InvalidOptions`]
+    /// before any step, instead of a run that exhausts memory. Each sample holds t, q, q̇, the
+    /// energy and the momenta: (3N + 2) · 8 bytes.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation, SimulationError};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let sim = || Simulation::new(&Free, [0.0], [1.0]).until(1.0).sample_every(1e-3);
+    /// assert_eq!(sim().max_samples(1001).run().unwrap().t.len(), 1001);
+    /// let err = sim().max_samples(1000).run().unwrap_err();
+    /// assert!(matches!(err, SimulationError::InvalidOptions { .. }));
+    /// ```
+    pub fn max_samples(mut self, n: usize) -> Self {
+        self.max_samples = n;
+        self
+    }
+
     /// The largest step the adaptive methods may take (default: the whole interval). Events
     /// whose g changes sign twice within one step are missed; cap the step to resolve them.
     ///
@@ -418,6 +447,34 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
                     ));
                 }
             }
+        }
+        // The trajectory's length: t0 + kΔ for k = 0 … ⌊(until − t0)/Δ⌋ and `until` if it is off
+        // that grid; or t0, sample_at's times and `until`.
+        let samples = match (self.sample_every, &self.sample_at) {
+            (Some(ds), _) => {
+                let k = ((until - self.t0) / ds + 1e-9).floor();
+                let on_end = ((until - self.t0) - k * ds).abs() <= 1e-9 * ds;
+                k + if on_end { 1.0 } else { 2.0 }
+            }
+            (None, Some(times)) => {
+                let ends = [self.t0, until];
+                (times.len() + ends.iter().filter(|e| !times.contains(e)).count()) as f64
+            }
+            (None, None) => 0.0,
+        };
+        if samples > self.max_samples as f64 {
+            let asked = match self.sample_every {
+                Some(ds) => format!(
+                    "sample_every = {ds:e} over [{}, {until}] asks for {samples:.3e} samples",
+                    self.t0
+                ),
+                None => format!("sample_at asks for {samples} samples (with t0 and until)"),
+            };
+            return Err(format!(
+                "{asked}, more than max_samples = {}: sample less often, shorten the run, or \
+                 raise the limit with .max_samples(n) (each sample holds (3N + 2) · 8 bytes)",
+                self.max_samples
+            ));
         }
         if let Some(times) = &self.sample_at {
             if self.sample_every.is_some() {
