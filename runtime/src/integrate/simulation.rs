@@ -657,6 +657,35 @@ enum Sampling<'s> {
     At { times: &'s [f64], snap: f64 },
 }
 
+impl Sampling<'_> {
+    /// The k-th sample time after t0 (k = 0, 1, …), or `None` past the last one; a grid time
+    /// within 1e-9 Δ of `until` is `until`.
+    fn time(&self, k: usize, t0: f64, until: f64) -> Option<f64> {
+        match *self {
+            Sampling::Steps => None,
+            Sampling::Every(ds) => {
+                let ts = t0 + (k + 1) as f64 * ds;
+                let ts = if (ts - until).abs() <= 1e-9 * ds {
+                    until
+                } else {
+                    ts
+                };
+                (ts <= until).then_some(ts)
+            }
+            Sampling::At { times, .. } => times.get(k).copied(),
+        }
+    }
+
+    /// How close to a node a sample time is taken at the node.
+    fn snap(&self) -> f64 {
+        match *self {
+            Sampling::Steps => 0.0,
+            Sampling::Every(ds) => 1e-9 * ds,
+            Sampling::At { snap, .. } => snap,
+        }
+    }
+}
+
 struct Driver<'s, 'a, L: ?Sized, const N: usize> {
     sys: &'s L,
     events: &'s [Event<'a, N>],
@@ -757,8 +786,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
             .collect();
         let mut g_new = g_old.clone();
         let mut hits: Vec<(f64, usize, super::events::Direction)> = Vec::new();
-        let mut next_sample: u64 = 1;
-        let mut next_at: usize = 0;
+        let mut next_sample: usize = 0;
         while s.t() < o.until {
             if self.stats.steps + self.stats.rejected >= o.max_steps {
                 return Err(Fault::MaxSteps(o.max_steps));
@@ -798,26 +826,12 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
             let t_stop = stop.unwrap_or(t_b);
             // Samples in (t_a, t_stop], then the events up to t_stop.
             match o.sampling {
-                Sampling::Every(ds) => loop {
-                    let ts = o.t0 + next_sample as f64 * ds;
-                    let on_end = (ts - o.until).abs() <= 1e-9 * ds;
-                    let ts = if on_end { o.until } else { ts };
-                    if ts > t_stop || ts > o.until {
-                        break;
-                    }
-                    let y = if ts == t_b || (t_b - ts).abs() <= 1e-9 * ds {
-                        s.node(&mut self.stats)?
-                    } else {
-                        s.interp(ts, &mut self.stats)?
-                    };
-                    self.push(ts, &y);
-                    next_sample += 1;
-                },
-                Sampling::At { times, snap } => {
+                Sampling::Every(_) | Sampling::At { .. } => {
                     // A time within `snap` past this node is this node (grid rounding), unless a
                     // terminal event ends the run here.
+                    let snap = o.sampling.snap();
                     let limit = if stop.is_some() { t_stop } else { t_b + snap };
-                    while let Some(&ts) = times.get(next_at) {
+                    while let Some(ts) = o.sampling.time(next_sample, o.t0, o.until) {
                         if ts > limit {
                             break;
                         }
@@ -827,7 +841,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
                             s.interp(ts, &mut self.stats)?
                         };
                         self.push(ts, &y);
-                        next_at += 1;
+                        next_sample += 1;
                     }
                 }
                 Sampling::Steps => {
