@@ -1,10 +1,12 @@
-//! The [`Lagrangian`] trait and the Euler–Lagrange solve built on the jets.
+//! The [`Lagrangian`] trait: L(q, q̇, t) and what is derived from it with the jets.
 
 use nalgebra::SMatrix;
 
+use crate::eom::{self, jet_pieces, Pieces};
+// The integrators' import path (they predate `eom`).
+pub(crate) use crate::eom::solve_mass_matrix;
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
-use crate::linalg::{solve_symmetric, SolveFailure};
 use crate::scalar::Scalar;
 
 /// A mechanical system given by its Lagrangian L(q, q̇, t) in `N` generalized coordinates.
@@ -41,7 +43,32 @@ pub trait Lagrangian<const N: usize> {
     /// L(q, q̇, t), generic over the number type.
     fn lagrangian<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S;
 
-    /// The accelerations q̈ from M q̈ = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t.
+    /// The pieces of the equations of motion at (q, q̇, t): the mass matrix M = ∂²L/∂q̇∂q̇ and the
+    /// Lagrangian part of the right-hand side, f_L = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t (see
+    /// [`eom`](crate::eom), where they are assembled and solved).
+    ///
+    /// The default derives them from L with the jets; `#[lagrangian]` in symbolic mode emits
+    /// straight-line code; a hand-written impl may supply them directly.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// struct Osc;
+    /// impl Lagrangian<1> for Osc {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// }
+    /// let p = Osc.pieces(&[2.0], &[0.0], 0.0);
+    /// assert_eq!((p.mass, p.lagrangian_force), ([[1.0]], [-2.0]));
+    /// ```
+    #[inline(always)]
+    fn pieces(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Pieces<N> {
+        jet_pieces(self, q, qdot, t)
+    }
+
+    /// The accelerations q̈ from M q̈ = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t: the
+    /// [`pieces`](Self::pieces) assembled and solved by [`eom::solve`].
     ///
     /// Fails with [`DynamicsError::SingularMassMatrix`] where M = ∂²L/∂q̇∂q̇ is singular and with
     /// [`DynamicsError::NonFinite`] where the state or the derivatives are not finite.
@@ -51,26 +78,13 @@ pub trait Lagrangian<const N: usize> {
         qdot: &[f64; N],
         t: f64,
     ) -> Result<[f64; N], DynamicsError> {
-        let l = el_jet(self, q, qdot, t);
-        let mut m = [[0.0; N]; N];
-        for (i, row) in m.iter_mut().enumerate() {
-            for (k, e) in row.iter_mut().enumerate().skip(i) {
-                *e = l.hess_qdot(i, k);
-            }
-        }
-        let gq = l.grad_q();
-        let mixed = l.mixed();
-        let mut rhs = [0.0; N];
-        for i in 0..N {
-            rhs[i] = gq[i] - mixed[i];
-        }
-        solve_mass_matrix(&m, &rhs, Self::COORDINATES, q, qdot, t)
+        eom::solve(&self.pieces(q, qdot, t), Self::COORDINATES, q, qdot, t)
     }
 
-    /// The mass matrix M = ∂²L/∂q̇∂q̇.
+    /// The mass matrix M = ∂²L/∂q̇∂q̇ (from [`pieces`](Self::pieces)).
     fn mass_matrix(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> SMatrix<f64, N, N> {
-        let l = el_jet(self, q, qdot, t);
-        SMatrix::from_fn(|i, k| l.hess_qdot(i, k))
+        let p = self.pieces(q, qdot, t);
+        SMatrix::from_fn(|i, k| p.mass_entry(i, k))
     }
 
     /// The generalized momenta p = ∂L/∂q̇.
@@ -170,63 +184,4 @@ where
 {
     let (qj, vj) = HessianJet::seed(q, qdot);
     sys.lagrangian(&qj, &vj, HessianJet::from(t))
-}
-
-/// Solves M q̈ = rhs for a mass matrix given by its upper triangle, turning a failure into a
-/// [`DynamicsError`] that names the state, the coordinate and what to try.
-///
-/// ```
-/// use lagrange_runtime::{solve_mass_matrix, DynamicsError};
-/// let ok = solve_mass_matrix(&[[2.0]], &[4.0], ["x"], &[0.0], &[0.0], 0.0).unwrap();
-/// assert_eq!(ok, [2.0]);
-/// let err = solve_mass_matrix(&[[0.0]], &[1.0], ["x"], &[0.0], &[0.0], 0.0).unwrap_err();
-/// assert!(matches!(err, DynamicsError::SingularMassMatrix { .. }));
-/// ```
-pub fn solve_mass_matrix<const N: usize>(
-    m: &[[f64; N]; N],
-    rhs: &[f64; N],
-    names: [&'static str; N],
-    q: &[f64; N],
-    qdot: &[f64; N],
-    t: f64,
-) -> Result<[f64; N], DynamicsError> {
-    match solve_symmetric(m, rhs) {
-        Ok(a) if a.iter().all(|x| x.is_finite()) => Ok(a),
-        Ok(_) | Err(SolveFailure::NonFinite) => Err(non_finite(q, qdot, t)),
-        Err(SolveFailure::Singular { row, relative_pivot }) => {
-            Err(DynamicsError::SingularMassMatrix {
-                t,
-                q: q.to_vec(),
-                qdot: qdot.to_vec(),
-                message: format!(
-                    "the mass matrix ∂²L/∂q̇∂q̇ is singular: elimination broke down at coordinate `{}` \
-                     (pivot {relative_pivot:.1e} of the matrix scale). The likely cause is a coordinate \
-                     singularity of the chart, where two coordinates describe the same motion (for Euler \
-                     angles: sin θ = 0, where φ and ψ turn about the same axis). Try: start away from that \
-                     configuration, or orient the reference axes (or choose other coordinates) so the motion \
-                     avoids it. If a coordinate has no kinetic term at all, L is degenerate there and that \
-                     coordinate is a constraint, not a degree of freedom.",
-                    names.get(row).copied().unwrap_or("?")
-                ),
-            })
-        }
-    }
-}
-
-fn non_finite<const N: usize>(q: &[f64; N], qdot: &[f64; N], t: f64) -> DynamicsError {
-    let what = if q.iter().chain(qdot).any(|x| !x.is_finite()) || !t.is_finite() {
-        "the state itself is not finite"
-    } else {
-        "the derivatives of L are not finite here"
-    };
-    DynamicsError::NonFinite {
-        t,
-        q: q.to_vec(),
-        qdot: qdot.to_vec(),
-        message: format!(
-            "{what} (NaN or ∞). Check the parameters and the initial state, and whether L is defined \
-             at this state (a sqrt or ln of a negative number, a division by zero); if an integrator got \
-             here, a smaller step or a tighter tolerance may keep the solution from blowing up."
-        ),
-    }
 }

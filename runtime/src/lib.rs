@@ -8,6 +8,7 @@
 // Numeric kernels over fixed-size arrays index several arrays at once and read as the math.
 #![allow(clippy::needless_range_loop)]
 
+pub mod eom;
 pub mod error;
 pub mod integrate;
 pub mod jet;
@@ -24,6 +25,7 @@ pub use integrate::{
     Direction, Drift, Event, EventHit, Invariants, Method, PartialTrajectory, Simulation,
     SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
 };
-pub use lagrangian::{el_jet, hessian_jet, solve_mass_matrix, Lagrangian};
+pub use eom::solve_mass_matrix;
+pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
 pub use nalgebra::{SMatrix, Vector3};
 pub use scalar::Scalar;
