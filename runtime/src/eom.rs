@@ -5,11 +5,13 @@
 //!
 //! - the mass matrix M = ∂²L/∂q̇∂q̇,
 //! - the Lagrangian part of the right-hand side, f_L = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t,
+//! - the applied forces Q − ∂D/∂q̇ (generalized forces and Rayleigh dissipation; zero for a
+//!   conservative system),
 //!
 //! and [`solve`] turns them into the accelerations of
 //!
 //! ```text
-//! M q̈ = f_L
+//! M q̈ = f_L + Q − ∂D/∂q̇
 //! ```
 //!
 //! with the typed [`DynamicsError`]s (singular M, non-finite values) every backend shares.
@@ -44,10 +46,12 @@
 //! ```
 
 use crate::error::DynamicsError;
+use crate::jet::ElJet;
 use crate::lagrangian::{el_jet, Lagrangian};
 use crate::linalg::{solve_symmetric, SolveFailure};
 
-/// The pieces of the equations of motion M q̈ = f_L at one state, as a backend supplies them.
+/// The pieces of the equations of motion M q̈ = f_L + Q − ∂D/∂q̇ at one state, as a backend
+/// supplies them.
 ///
 /// `#[non_exhaustive]`: the pieces grow as the mechanics does (applied forces, constraint rows);
 /// build them with [`Pieces::new`].
@@ -66,32 +70,55 @@ pub struct Pieces<const N: usize> {
     pub mass: [[f64; N]; N],
     /// The Lagrangian part of the right-hand side, f_L = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t.
     pub lagrangian_force: [f64; N],
+    /// The applied forces Q − ∂D/∂q̇: generalized forces and Rayleigh dissipation (zero unless the
+    /// system has them; see [`Pieces::with_applied`]).
+    pub applied: [f64; N],
 }
 
 impl<const N: usize> Pieces<N> {
-    /// The pieces from M (upper triangle) and f_L.
+    /// The pieces of a conservative system from M (upper triangle) and f_L (no applied forces).
     ///
     /// ```
     /// use lagrange_runtime::eom::Pieces;
-    /// assert_eq!(Pieces::new([[1.0]], [2.0]).lagrangian_force, [2.0]);
+    /// let p = Pieces::new([[1.0]], [2.0]);
+    /// assert_eq!((p.lagrangian_force, p.applied), ([2.0], [0.0]));
     /// ```
     #[inline(always)]
     pub fn new(mass: [[f64; N]; N], lagrangian_force: [f64; N]) -> Self {
         Pieces {
             mass,
             lagrangian_force,
+            applied: [0.0; N],
         }
     }
 
-    /// The right-hand side of M q̈ = rhs: everything that acts on the coordinates.
+    /// The same pieces with the applied forces Q − ∂D/∂q̇ set.
     ///
     /// ```
     /// use lagrange_runtime::eom::Pieces;
-    /// assert_eq!(Pieces::new([[1.0]], [2.0]).rhs(), [2.0]);
+    /// let p = Pieces::new([[1.0]], [2.0]).with_applied([-0.5]);
+    /// assert_eq!(p.rhs(), [1.5]);
+    /// ```
+    #[inline(always)]
+    pub fn with_applied(mut self, applied: [f64; N]) -> Self {
+        self.applied = applied;
+        self
+    }
+
+    /// The right-hand side of M q̈ = rhs: everything that acts on the coordinates,
+    /// f_L + Q − ∂D/∂q̇.
+    ///
+    /// ```
+    /// use lagrange_runtime::eom::Pieces;
+    /// assert_eq!(Pieces::new([[1.0]], [2.0]).with_applied([1.0]).rhs(), [3.0]);
     /// ```
     #[inline(always)]
     pub fn rhs(&self) -> [f64; N] {
-        self.lagrangian_force
+        let mut b = self.lagrangian_force;
+        for (b, a) in b.iter_mut().zip(&self.applied) {
+            *b += a;
+        }
+        b
     }
 
     /// Mᵢₖ, read from the upper triangle whichever order i, k come in.
@@ -111,8 +138,8 @@ impl<const N: usize> Pieces<N> {
     }
 }
 
-/// The pieces derived from L by the run-time jets: one evaluation of L in the Euler–Lagrange jet.
-/// The default of [`Lagrangian::pieces`].
+/// The pieces derived by the run-time jets: one evaluation of L in the Euler–Lagrange jet, and
+/// the applied forces from [`jet_applied_forces`]. The default of [`Lagrangian::pieces`].
 ///
 /// ```
 /// use lagrange_runtime::{eom::jet_pieces, Lagrangian, Scalar};
@@ -147,7 +174,76 @@ where
     for i in 0..N {
         f[i] = gq[i] - mixed[i];
     }
-    Pieces::new(mass, f)
+    Pieces::new(mass, f).with_applied(jet_applied_forces(sys, q, qdot, t))
+}
+
+/// The applied forces Q − ∂D/∂q̇ at a state: [`Lagrangian::generalized_forces`] evaluated in
+/// `f64`, ∂D/∂q̇ from one evaluation of [`Lagrangian::dissipation`] in the jet. Zero (and free
+/// after inlining) for a system that supplies neither.
+///
+/// ```
+/// use lagrange_runtime::{eom::jet_applied_forces, Lagrangian, Scalar};
+/// struct Drag;
+/// impl Lagrangian<1> for Drag {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [true];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+///     fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * v[0].abs() / 3.0 }
+///     fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] { [t] }
+/// }
+/// // Q − ∂D/∂ẋ = t − ẋ|ẋ| at ẋ = 2, t = 1
+/// assert_eq!(jet_applied_forces(&Drag, &[0.0], &[2.0], 1.0), [1.0 - 4.0]);
+/// ```
+#[inline(always)]
+pub fn jet_applied_forces<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> [f64; N]
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let mut applied = sys.generalized_forces(q, qdot, t);
+    let (qj, vj, tj) = ElJet::seed(q, qdot, t);
+    let dd = sys.dissipation(&qj, &vj, tj).grad_qdot();
+    for (a, d) in applied.iter_mut().zip(dd) {
+        *a -= d;
+    }
+    applied
+}
+
+/// The power dh/dt = (Q − ∂D/∂q̇)·q̇ − ∂L/∂t from the jets: the default of
+/// [`Lagrangian::power`]. ∂L/∂t comes from a jet that moves t alone (exact, and skipped for an
+/// autonomous L).
+///
+/// ```
+/// use lagrange_runtime::{eom::jet_power, Lagrangian, Scalar};
+/// /// A particle in a potential that grows in time, L = ẋ²/2 − t x².
+/// struct Growing;
+/// impl Lagrangian<1> for Growing {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = false;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], t: S) -> S { v[0] * v[0] * 0.5 - t * q[0] * q[0] }
+/// }
+/// assert_eq!(jet_power(&Growing, &[3.0], &[1.0], 2.0), 9.0); // −∂L/∂t = x²
+/// ```
+pub fn jet_power<L, const N: usize>(sys: &L, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let applied = jet_applied_forces(sys, q, qdot, t);
+    let mut p = 0.0;
+    for i in 0..N {
+        p += applied[i] * qdot[i];
+    }
+    if !L::AUTONOMOUS {
+        let (qj, vj, tj) = ElJet::seed_time(q, qdot, t);
+        p -= sys.lagrangian(&qj, &vj, tj).directional();
+    }
+    p
 }
 
 /// Assembles M q̈ = rhs from the pieces and solves it for q̈ (the default of

@@ -2,7 +2,7 @@
 
 use nalgebra::SMatrix;
 
-use crate::eom::{self, jet_pieces, Pieces};
+use crate::eom::{self, jet_pieces, jet_power, Pieces};
 // The integrators' import path (they predate `eom`).
 pub(crate) use crate::eom::solve_mass_matrix;
 use crate::error::DynamicsError;
@@ -37,11 +37,88 @@ pub trait Lagrangian<const N: usize> {
     /// `true` for a coordinate absent from L: its momentum is conserved, and q̈ does not depend on
     /// it (the explicit integrators rely on that; `Simulation::run` checks it at the initial state).
     const CYCLIC: [bool; N];
-    /// `true` when L has no explicit time dependence: the energy (Jacobi integral) is conserved.
+    /// `true` when L has no explicit time dependence (∂L/∂t = 0).
     const AUTONOMOUS: bool;
+    /// `true` for a coordinate whose momentum p = ∂L/∂q̇ is conserved: cyclic, and no
+    /// generalized force or dissipation acts on it. The default, `CYCLIC`, is right for a system
+    /// without forces; an impl that supplies [`generalized_forces`](Self::generalized_forces) or
+    /// [`dissipation`](Self::dissipation) by hand must say which momenta they leave alone
+    /// (`#[lagrangian]` works it out).
+    const MOMENTUM_CONSERVED: [bool; N] = Self::CYCLIC;
+    /// `true` when the energy (Jacobi integral) h = q̇·p − L is conserved: L autonomous, no
+    /// dissipation, no generalized forces. The default, `AUTONOMOUS`, is right for a system
+    /// without forces (see [`MOMENTUM_CONSERVED`](Self::MOMENTUM_CONSERVED)).
+    const ENERGY_CONSERVED: bool = Self::AUTONOMOUS;
 
     /// L(q, q̇, t), generic over the number type.
     fn lagrangian<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S;
+
+    /// The Rayleigh dissipation function D(q, q̇, t) ≥ 0 (default 0): −∂D/∂q̇ joins the
+    /// generalized forces, so d/dt ∂L/∂q̇ − ∂L/∂q = Q − ∂D/∂q̇.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// /// A damped oscillator, m ẍ + b ẋ + k x = 0 with m = k = 1, b = 0.5.
+    /// struct Damped;
+    /// impl Lagrangian<1> for Damped {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     const ENERGY_CONSERVED: bool = false;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    ///     fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.25 }
+    /// }
+    /// assert_eq!(Damped.accelerations(&[1.0], &[2.0], 0.0).unwrap(), [-1.0 - 0.5 * 2.0]);
+    /// ```
+    #[inline(always)]
+    fn dissipation<S: Scalar>(&self, _q: &[S; N], _qdot: &[S; N], _t: S) -> S {
+        S::constant(0.0)
+    }
+
+    /// The generalized forces Q(q, q̇, t), one per coordinate (default 0): the forces L does not
+    /// describe (a drive, a motor torque, drag), d/dt ∂L/∂q̇ − ∂L/∂q = Q − ∂D/∂q̇.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// /// A free particle pushed by a constant force 3.
+    /// struct Pushed;
+    /// impl Lagrangian<1> for Pushed {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [true];
+    ///     const AUTONOMOUS: bool = true;
+    ///     const MOMENTUM_CONSERVED: [bool; 1] = [false];
+    ///     const ENERGY_CONSERVED: bool = false;
+    ///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 1.0 }
+    ///     fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], _t: S) -> [S; 1] { [S::constant(3.0)] }
+    /// }
+    /// assert_eq!(Pushed.accelerations(&[0.0], &[0.0], 0.0).unwrap(), [1.5]);
+    /// ```
+    #[inline(always)]
+    fn generalized_forces<S: Scalar>(&self, _q: &[S; N], _qdot: &[S; N], _t: S) -> [S; N] {
+        [S::constant(0.0); N]
+    }
+
+    /// The power dh/dt along the motion: the rate at which the generalized forces, the
+    /// dissipation and the explicit time dependence of L change the energy,
+    /// (Q − ∂D/∂q̇)·q̇ − ∂L/∂t. Its integral over a run is the work the trajectory records, so
+    /// that h(t) − h(t0) − W(t) measures the integrator's error when h is not conserved.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// struct Damped;
+    /// impl Lagrangian<1> for Damped {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     const ENERGY_CONSERVED: bool = false;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    ///     fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.25 }
+    /// }
+    /// assert_eq!(Damped.power(&[1.0], &[2.0], 0.0), -0.5 * 2.0 * 2.0); // −b ẋ² = −2D
+    /// ```
+    fn power(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
+        jet_power(self, q, qdot, t)
+    }
 
     /// The pieces of the equations of motion at (q, q̇, t): the mass matrix M = ∂²L/∂q̇∂q̇ and the
     /// Lagrangian part of the right-hand side, f_L = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t (see

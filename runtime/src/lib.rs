@@ -20,12 +20,12 @@ pub mod rigid;
 mod scalar;
 pub mod theory;
 
+pub use eom::solve_mass_matrix;
 pub use error::DynamicsError;
 pub use integrate::{
     Direction, Drift, Event, EventHit, Invariants, Method, PartialTrajectory, Simulation,
     SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
 };
-pub use eom::solve_mass_matrix;
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
 pub use nalgebra::{SMatrix, Vector3};
 pub use scalar::Scalar;

@@ -78,6 +78,23 @@ impl<const N: usize> ElJet<N> {
         (qj, vj, tj)
     }
 
+    /// Seeds like [`seed`](Self::seed), but with the direction (0, 0, 1): only t moves, so
+    /// [`directional`](Self::directional) is ∂/∂t exactly (no cancellation against (∂/∂q)·q̇).
+    ///
+    /// ```
+    /// use lagrange_runtime::jet::ElJet;
+    /// let (q, v, t) = ElJet::<1>::seed_time(&[2.0], &[3.0], 5.0);
+    /// assert_eq!((q[0] * v[0] * t).directional(), 6.0);
+    /// ```
+    #[inline(always)]
+    pub fn seed_time(q: &[f64; N], qdot: &[f64; N], t: f64) -> ([Self; N], [Self; N], Self) {
+        let (mut qj, vj, tj) = Self::seed(q, qdot, t);
+        for x in &mut qj {
+            x.gd = 0.0;
+        }
+        (qj, vj, tj)
+    }
+
     /// The value.
     ///
     /// ```
