@@ -1,7 +1,7 @@
 //! Emit: the `impl Lagrangian<N>` (or, while errors exist, the errors and a stub impl).
 
-use proc_macro2::{Span, TokenStream};
-use quote::{format_ident, quote, quote_spanned};
+use proc_macro2::TokenStream;
+use quote::{quote, quote_spanned};
 
 use crate::analyze::{analyze, lower_for_jets};
 use crate::errors::Errors;
@@ -52,7 +52,7 @@ fn generate(decl: &Decl) -> TokenStream {
 
     // Bindings of the user's names to the jets' slots; names the body never mentions are not
     // bound (no unused-variable warnings for cyclic coordinates).
-    let (q, qdot, t) = param_idents();
+    let crate::names::Params { q, qdot, t } = crate::names::Params::jets();
     let mut bindings = Vec::new();
     let mut vars = Vec::new();
     let (mut uses_q, mut uses_qdot) = (false, false);
@@ -147,17 +147,6 @@ fn generate(decl: &Decl) -> TokenStream {
         }
         #symbolic_consts
     }
-}
-
-/// Hygienic names for the generated parameters q, q̇, t (the user's body cannot see or clash
-/// with them).
-fn param_idents() -> (proc_macro2::Ident, proc_macro2::Ident, proc_macro2::Ident) {
-    let site = Span::mixed_site();
-    (
-        format_ident!("__lagrange_q", span = site),
-        format_ident!("__lagrange_qdot", span = site),
-        format_ident!("__lagrange_t", span = site),
-    )
 }
 
 /// A stub impl emitted next to the errors, so uses of the type elsewhere do not cascade into

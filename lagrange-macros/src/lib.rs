@@ -9,6 +9,7 @@ mod analyze;
 mod emit;
 mod errors;
 mod model;
+mod names;
 mod parse;
 mod symbolic;
 mod validate;

@@ -24,10 +24,11 @@ mod print;
 #[cfg(test)]
 mod tests;
 
-use proc_macro2::{Ident, Literal, Span, TokenStream};
+use proc_macro2::{Ident, Literal, TokenStream};
 use quote::quote;
 
 use crate::model::Decl;
+use crate::names;
 use dag::{Dag, Id, Node, VarSet};
 
 /// Up to this many generated operations (values plus N² for the solve), `accelerations` is
@@ -199,23 +200,25 @@ fn ldlt(
         paired[i] = true;
         paired[k] = true;
     }
-    let a_id = |j: usize, i: usize| quote::format_ident!("l_{}_{}", j, i);
-    let d_id = |j: usize| quote::format_ident!("d_{}", j);
-    let r_id = |j: usize| quote::format_ident!("r_{}", j);
-    let u_id = |j: usize, i: usize| quote::format_ident!("u_{}_{}", j, i);
-    let x_id = |i: usize| quote::format_ident!("y_{}", i);
+    let a_id = names::ldl_l;
+    let d_id = names::ldl_d;
+    let r_id = names::ldl_r;
+    let u_id = names::ldl_u;
+    let x_id = names::solve_y;
+    let (scale_id, tol, fast) = (names::scale(), names::tol(), names::fast_label());
+    let (max, [acc, a]) = (names::max(), names::max_args());
     let mut out = TokenStream::new();
     // The largest diagonal magnitude (a NaN on the diagonal is caught by its pivot test).
     let mut scale = quote!(0.0_f64);
     for j in 0..n {
         if let Some(e) = &m[j][j] {
-            scale = quote!(__lagrange_max(#scale, f64::abs(#e)));
+            scale = quote!(#max(#scale, f64::abs(#e)));
         }
     }
     out.extend(quote! {
-        let __lagrange_max = |s: f64, a: f64| if a > s { a } else { s };
-        let scale: f64 = #scale;
-        let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
+        let #max = |#acc: f64, #a: f64| if #a > #acc { #a } else { #acc };
+        let #scale_id: f64 = #scale;
+        let #tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * #scale_id;
     });
     // l[j][i] (i > j): true when not structurally zero.
     let mut l: Vec<Vec<bool>> = vec![vec![false; n]; n];
@@ -242,11 +245,12 @@ fn ldlt(
         }
         out.extend(quote! {
             let #dj: f64 = #e;
-            if !(#dj > tol) {
-                break 'fast ::core::option::Option::None;
+            if !(#dj > #tol) {
+                break #fast ::core::option::Option::None;
             }
         });
-        let mut row: Vec<(Ident, TokenStream)> = Vec::new();
+        // (i, u_ji, its value)
+        let mut row: Vec<(usize, Ident, TokenStream)> = Vec::new();
         for i in j + 1..n {
             let mut terms = Vec::new();
             for k in 0..j {
@@ -265,7 +269,7 @@ fn ldlt(
             for t in terms {
                 s = quote!(#s - #t);
             }
-            row.push((u_id(j, i), s));
+            row.push((i, u_id(j, i), s));
             l[j][i] = true;
         }
         // A reciprocal adds a multiplication to the (latency-bound) critical path; it pays off
@@ -278,13 +282,10 @@ fn ldlt(
         // Two `let`s per row keep the scope nesting shallow (see codegen): the row before its
         // division by the pivot (u), then L's row.
         if !row.is_empty() {
-            let us: Vec<Ident> = row.iter().map(|(x, _)| x.clone()).collect();
-            let ls = row.iter().map(|(x, _)| {
-                let s = x.to_string();
-                quote::format_ident!("l{}", &s[1..])
-            });
+            let us: Vec<Ident> = row.iter().map(|(_, x, _)| x.clone()).collect();
+            let ls = row.iter().map(|&(i, _, _)| a_id(j, i));
             let tys: Vec<TokenStream> = row.iter().map(|_| quote!(f64)).collect();
-            let es = row.iter().map(|(_, e)| e);
+            let es = row.iter().map(|(_, _, e)| e);
             out.extend(quote!(let (#(#us,)*): (#(#tys,)*) = (#(#es,)*);));
             let divided = us.iter().map(|u| {
                 if recip[j] {
@@ -336,10 +337,11 @@ fn ldlt(
     let xs: Vec<Ident> = (0..n).map(x_id).collect();
     // One test for all: a sum is finite only if every term is (a finite sum that overflows only
     // sends the solve to the runtime's path, which then returns the same finite values).
+    let x = names::solution();
     out.extend(quote! {
-        let x = [#(#xs),*];
+        let #x = [#(#xs),*];
         if (#(#xs)+*).is_finite() {
-            ::core::option::Option::Some(x)
+            ::core::option::Option::Some(#x)
         } else {
             ::core::option::Option::None
         }
@@ -368,37 +370,27 @@ fn cramer(
         (None, None) => quote!(0.0_f64),
     };
     let (ni, nk) = (minus(&mkk, &b[i], &b[k]), minus(&mii, &b[k], &b[i]));
-    let det_id = quote::format_ident!("det_{}_{}", i, k);
-    let (yi, yk) = (
-        quote::format_ident!("y_{}", i),
-        quote::format_ident!("y_{}", k),
-    );
+    let det_id = names::det(i, k);
+    let (yi, yk) = (names::solve_y(i), names::solve_y(k));
+    let (tol, fast) = (names::tol(), names::fast_label());
     quote! {
-        if !(#mii > tol) {
-            break 'fast ::core::option::Option::None;
+        if !(#mii > #tol) {
+            break #fast ::core::option::Option::None;
         }
         let #det_id: f64 = #det;
-        if !(#det_id > tol * #mii) {
-            break 'fast ::core::option::Option::None;
+        if !(#det_id > #tol * #mii) {
+            break #fast ::core::option::Option::None;
         }
         let #yi: f64 = (#ni) / #det_id;
         let #yk: f64 = (#nk) / #det_id;
     }
 }
 
-fn idents() -> (Ident, Ident, Ident) {
-    (
-        Ident::new("q", Span::call_site()),
-        Ident::new("qdot", Span::call_site()),
-        Ident::new("t", Span::call_site()),
-    )
-}
-
 /// Lowers, differentiates and emits the symbolic implementation of `decl`.
 pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     let d = derive(decl)?;
     let n = decl.n();
-    let (q, qdot, t) = idents();
+    let names::Params { q, qdot, t } = names::Params::symbolic();
     let nn = Literal::usize_unsuffixed(n);
     let touch = quote!(let _ = (#q, #qdot, #t););
     let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
@@ -446,13 +438,14 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     let pairs: Vec<(usize, usize, TokenStream)> =
         d.pairs.iter().map(|&(i, k, det)| (i, k, op(det))).collect();
     let solve = ldlt(&mass, &rhs, &pairs);
+    let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
     let accelerations = quote! {
         #touch
         #stmts
         // The fast path; the arrays for the runtime's solve are only built when it fails.
-        let fast: ::core::option::Option<[f64; #nn]> = 'fast: { #solve };
-        match fast {
-            ::core::option::Option::Some(x) => ::core::result::Result::Ok(x),
+        let #fast: ::core::option::Option<[f64; #nn]> = #fast_label: { #solve };
+        match #fast {
+            ::core::option::Option::Some(#x) => ::core::result::Result::Ok(#x),
             ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
                 &[#(#rows),*],
                 &[#(#f),*],
@@ -553,7 +546,7 @@ pub fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
 /// The five generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
 /// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
 pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStream, TokenStream) {
-    let (q, qdot, t) = idents();
+    let names::Params { q, qdot, t } = names::Params::symbolic();
     let nn = Literal::usize_unsuffixed(n);
     let SymbolicOutput {
         accelerations,

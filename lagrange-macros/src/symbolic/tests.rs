@@ -412,7 +412,7 @@ fn emitted_code_is_straight_line_and_shares_subexpressions() {
     assert_eq!(acc.matches(". sin ()").count(), 0, "{acc}");
     assert_eq!(acc.matches(". cos ()").count(), 0, "{acc}");
     assert!(
-        acc.contains("let p_i_perp : f64 = self . i_perp ;"),
+        acc.contains("let __lagrange_p_i_perp : f64 = self . i_perp ;"),
         "{acc}"
     );
     assert!(!acc.contains("* 1.0"), "{acc}");
@@ -501,16 +501,16 @@ fn constant_if_becomes_a_select_on_a_runtime_bool() {
     let acc = out.accelerations.to_string();
     // One bool per distinct condition, loaded as written; selects on it.
     assert_eq!(
-        acc.matches("let b_0 : bool = self . k > 0.0 ;").count(),
+        acc.matches("let __lagrange_b_0 : bool = self . k > 0.0 ;").count(),
         1,
         "{acc}"
     );
     assert_eq!(
-        acc.matches("let b_1 : bool = K_MAX < 2.0 ;").count(),
+        acc.matches("let __lagrange_b_1 : bool = K_MAX < 2.0 ;").count(),
         1,
         "{acc}"
     );
-    assert!(acc.contains("if b_0 {"), "{acc}");
+    assert!(acc.contains("if __lagrange_b_0 {"), "{acc}");
     // ẋ x is a total derivative (its force contribution cancels); the spring −2kx and the −cos x
     // of −sin x survive in their branches.
     assert!(
