@@ -8,6 +8,7 @@
 mod analyze;
 mod emit;
 mod errors;
+mod expand;
 mod model;
 mod names;
 mod parse;
@@ -20,7 +21,7 @@ use proc_macro::TokenStream;
 /// written as plain Rust. See the `lagrange` crate documentation.
 #[proc_macro_attribute]
 pub fn lagrangian(args: TokenStream, input: TokenStream) -> TokenStream {
-    emit::expand(args.into(), input.into()).into()
+    expand::expand(args.into(), input.into()).into()
 }
 
 #[cfg(test)]

@@ -638,10 +638,7 @@ impl Dag {
             }
         }
         let mut tan: HashMap<Id, Id> = HashMap::new();
-        for id in 0..need.len() {
-            if !need[id] {
-                continue;
-            }
+        for id in (0..need.len()).filter(|&i| need[i]) {
             let id = id as Id;
             let node = self.node(id);
             let d = |i: Id| tan.get(&i).copied().unwrap_or(Dag::ZERO);

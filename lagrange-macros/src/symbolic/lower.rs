@@ -12,6 +12,7 @@ use syn::spanned::Spanned;
 use syn::{BinOp, Expr, Lit, Member, Pat, Stmt, UnOp};
 
 use super::dag::{Dag, Fun, Id, Node};
+use crate::errors::Errors;
 use crate::model::{unraw, CoordKind, Decl};
 
 /// A `self.<field>` used in the body.
@@ -76,8 +77,9 @@ pub fn unsupported(span: Span, what: &str) -> syn::Error {
     )
 }
 
-/// Lowers the body of `decl` into a DAG.
-pub fn lower(decl: &Decl) -> Result<Lowered, Vec<syn::Error>> {
+/// Lowers the body of `decl` into a DAG; `None` (with every reason pushed to `sink`) when the
+/// body uses what the symbolic mode cannot lower.
+pub fn lower(decl: &Decl, sink: &mut Errors) -> Option<Lowered> {
     let mut fields: Vec<Field> = Vec::new();
     // Each retry turns one more field into a vector, so this terminates.
     loop {
@@ -127,14 +129,19 @@ pub fn lower(decl: &Decl) -> Result<Lowered, Vec<syn::Error>> {
                         None
                     }
                 };
+                // Only the errors of the last (complete) attempt count: an earlier one stopped at
+                // a re-typed field.
                 return match (l, errors.is_empty()) {
-                    (Some(l), true) => Ok(Lowered {
+                    (Some(l), true) => Some(Lowered {
                         dag: lw.dag,
                         lagrangian: l,
                         fields: lw.fields,
                         conds: lw.conds,
                     }),
-                    _ => Err(errors),
+                    _ => {
+                        errors.into_iter().for_each(|e| sink.push(e));
+                        None
+                    }
                 };
             }
         }

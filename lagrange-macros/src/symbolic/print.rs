@@ -8,7 +8,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::fmt::Write as _;
 
 use super::dag::{Dag, Fun, Id, Node};
-use super::Derivation;
+use super::derive::Derivation;
 use crate::model::{unraw, CoordKind, Decl};
 
 /// The equations as text.

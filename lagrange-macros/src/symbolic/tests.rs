@@ -1,13 +1,35 @@
 //! Unit tests of the symbolic path: DAG folding, derivative rules against finite differences of
 //! the numerically evaluated DAG, the whole derivation against closed forms, equation printing
 //! and the "use mode = jets" errors.
+// Index loops mirror the formulas they check.
+#![allow(clippy::needless_range_loop)]
 
 use proc_macro2::Span;
 use quote::format_ident;
 
 use super::dag::{Dag, Fun, Id, Node, VarSet};
-use super::{derive, expand, Derivation};
+use super::derive::Derivation;
+use super::SymbolicOutput;
+use crate::errors::Errors;
 use crate::model::{CoordKind, CoordParam, Decl, Mode, Options};
+
+/// `super::derive` with its errors as a list.
+fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
+    let mut errors = Errors::default();
+    match super::derive::derive(decl, &mut errors) {
+        Some(d) if errors.is_empty() => Ok(d),
+        _ => Err(errors.into_vec()),
+    }
+}
+
+/// `super::expand` with its errors as a list.
+fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
+    let mut errors = Errors::default();
+    match super::expand(decl, &mut errors) {
+        Some(out) if errors.is_empty() => Ok(out),
+        _ => Err(errors.into_vec()),
+    }
+}
 
 /// A declaration from coordinates `(name, dot, vector?)`, an optional time name and a body.
 fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
@@ -501,12 +523,14 @@ fn constant_if_becomes_a_select_on_a_runtime_bool() {
     let acc = out.accelerations.to_string();
     // One bool per distinct condition, loaded as written; selects on it.
     assert_eq!(
-        acc.matches("let __lagrange_b_0 : bool = self . k > 0.0 ;").count(),
+        acc.matches("let __lagrange_b_0 : bool = self . k > 0.0 ;")
+            .count(),
         1,
         "{acc}"
     );
     assert_eq!(
-        acc.matches("let __lagrange_b_1 : bool = K_MAX < 2.0 ;").count(),
+        acc.matches("let __lagrange_b_1 : bool = K_MAX < 2.0 ;")
+            .count(),
         1,
         "{acc}"
     );
