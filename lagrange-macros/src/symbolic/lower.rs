@@ -841,23 +841,7 @@ impl Lower {
                 format!("`.{name}()` takes {k} argument(s) here"),
             ))
         };
-        let fun = match name.as_str() {
-            "sqrt" => Some(Fun::Sqrt),
-            "sin" => Some(Fun::Sin),
-            "cos" => Some(Fun::Cos),
-            "tan" => Some(Fun::Tan),
-            "exp" => Some(Fun::Exp),
-            "ln" => Some(Fun::Ln),
-            "abs" => Some(Fun::Abs),
-            "signum" => Some(Fun::Signum),
-            "asin" => Some(Fun::Asin),
-            "acos" => Some(Fun::Acos),
-            "atan" => Some(Fun::Atan),
-            "sinh" => Some(Fun::Sinh),
-            "cosh" => Some(Fun::Cosh),
-            "tanh" => Some(Fun::Tanh),
-            _ => None,
-        };
+        let fun = Fun::from_method(&name);
         if let Some(f) = fun {
             if nargs != 0 {
                 return Ok(bad_arity(self, 0));

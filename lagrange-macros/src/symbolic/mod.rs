@@ -17,6 +17,7 @@
 mod codegen;
 mod dag;
 mod derive;
+mod functions;
 mod lower;
 mod methods;
 mod poly;

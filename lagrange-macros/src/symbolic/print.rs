@@ -405,24 +405,10 @@ struct Printer<'a> {
 
 impl Printer<'_> {
     fn fun_name(&self, f: Fun) -> &'static str {
-        match (f, self.latex) {
-            (Fun::Sqrt, false) => "√",
-            (Fun::Sqrt, true) => "\\sqrt",
-            (Fun::Sin, true) => "\\sin",
-            (Fun::Cos, true) => "\\cos",
-            (Fun::Tan, true) => "\\tan",
-            (Fun::Exp, true) => "\\exp",
-            (Fun::Ln, true) => "\\ln",
-            (Fun::Asin, true) => "\\arcsin",
-            (Fun::Acos, true) => "\\arccos",
-            (Fun::Atan, true) => "\\arctan",
-            (Fun::Sinh, true) => "\\sinh",
-            (Fun::Cosh, true) => "\\cosh",
-            (Fun::Tanh, true) => "\\tanh",
-            (Fun::Signum, true) => "\\operatorname{sgn}",
-            (Fun::Abs, _) => "abs",
-            (Fun::Signum, false) => "sgn",
-            (f, false) => f.method(),
+        if self.latex {
+            f.row().latex
+        } else {
+            f.row().unicode
         }
     }
 
