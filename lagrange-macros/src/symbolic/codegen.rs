@@ -1,5 +1,6 @@
 //! Emission of straight-line Rust from the DAG: each reachable node once, in id (topological)
-//! order, as `let xN = ...;`; leaves (constants, `q[i]`, `qdot[i]`, `t`, parameters) inline.
+//! order, as `let <xN> = ...;` (locals named by `names::node`); leaves (constants, `q[i]`,
+//! `qdot[i]`, `t`, parameters) inline.
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{quote, quote_spanned};

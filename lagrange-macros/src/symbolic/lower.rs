@@ -34,7 +34,7 @@ pub struct Field {
 }
 
 /// The condition of an `if` that depends on constants only: evaluated once per call, at run
-/// time, as a `bool` (`let b_k: bool = <tokens>;`).
+/// time, as a `bool` (`let <b_k>: bool = <tokens>;`, the local named by `names::cond`).
 #[derive(Clone, Debug)]
 pub struct Cond {
     /// The condition as written, with `self` resolved like the field loads.

@@ -8,11 +8,17 @@
 //!
 //! An `if` whose condition uses only constants (`self` fields, literals, names from the user's
 //! scope; no coordinate, velocity, time or local binding) is supported: the condition is
-//! evaluated once per call as `let b_k: bool = <condition as written>;`, both branches are
-//! lowered, and every value that differs between them becomes `Node::Select(k, a, b)`, emitted as
-//! `if b_k { a } else { b }` and differentiated branch by branch. The equations print it as
+//! evaluated once per call as `let <b_k>: bool = <condition as written>;` (the local named by
+//! `names::cond`), both branches are lowered, and every value that differs between them becomes
+//! `Node::Select(k, a, b)`, emitted as `if <b_k> { a } else { b }` and differentiated branch by
+//! branch. The equations print it as
 //! `(a if cond else b)` (LaTeX: `\left(a \;\text{if}\; \texttt{cond} \;\text{else}\; b\right)`).
 //! A condition on the state is an error at the offending name that says to use `mode = "jets"`.
+//!
+//! The jobs, one file each: `lower` (body → DAG), `derive` (M, f, momenta, energy, decoupled
+//! blocks), `solve` (the straight-line solve), `codegen` (DAG → `let`s), `methods` (the generated
+//! method bodies and consts), `print` (the equations for people); `dag` is the expression DAG,
+//! `functions` the table of elementary functions, `poly` the polynomial expander.
 
 mod codegen;
 mod dag;

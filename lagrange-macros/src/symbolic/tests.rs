@@ -467,7 +467,7 @@ fn chain_decl(n: usize) -> Decl {
     decl(&coords, None, &body)
 }
 
-/// Scale (issue 7): the N = 16 chain expands in well under 5 s; prints the expansion time and
+/// Scale: the N = 16 chain expands in well under 5 s; prints the expansion time and
 /// the generated size (`cargo test -p lagrange-macros --release chain_16 -- --nocapture`).
 #[test]
 fn chain_16_expands_fast_and_compactly() {
