@@ -95,86 +95,142 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
     #[inline(always)]
     fn accelerations(
         &self,
-        q: &[f64; 3],
-        qdot: &[f64; 3],
-        t: f64,
+        __lagrange_q: &[f64; 3],
+        __lagrange_qdot: &[f64; 3],
+        __lagrange_t: f64,
     ) -> ::core::result::Result<[f64; 3], ::lagrange::__private::DynamicsError> {
-        let _ = (q, qdot, t);
-        let p_i_perp: f64 = self.i_perp;
-        let p_i_par: f64 = self.i_par;
-        let p_m: f64 = self.m;
-        let p_g: f64 = self.g;
-        let p_l: f64 = self.l;
-        let ((x8, x9), x31): ((f64, f64), f64) = (q[0].sin_cos(), p_m * p_g);
-        let (x15, x22, x33, x53, x55, x58, x59, x60): (f64, f64, f64, f64, f64, f64, f64, f64) = (
-            qdot[1] * x8,
-            qdot[1] * x9,
-            x31 * p_l,
-            x8 * x8,
-            x9 * x9,
-            x9 * p_i_par,
-            qdot[0] * x9,
-            qdot[0] * x8,
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        let __lagrange_p_i_perp: f64 = self.i_perp;
+        let __lagrange_p_i_par: f64 = self.i_par;
+        let __lagrange_p_m: f64 = self.m;
+        let __lagrange_p_g: f64 = self.g;
+        let __lagrange_p_l: f64 = self.l;
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): ((f64, f64), f64) =
+            (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
+        let (
+            __lagrange_x15,
+            __lagrange_x22,
+            __lagrange_x33,
+            __lagrange_x53,
+            __lagrange_x55,
+            __lagrange_x58,
+            __lagrange_x59,
+            __lagrange_x60,
+        ): (f64, f64, f64, f64, f64, f64, f64, f64) = (
+            __lagrange_qdot[1] * __lagrange_x8,
+            __lagrange_qdot[1] * __lagrange_x9,
+            __lagrange_x31 * __lagrange_p_l,
+            __lagrange_x8 * __lagrange_x8,
+            __lagrange_x9 * __lagrange_x9,
+            __lagrange_x9 * __lagrange_p_i_par,
+            __lagrange_qdot[0] * __lagrange_x9,
+            __lagrange_qdot[0] * __lagrange_x8,
         );
-        let (x23, x54, x56, x63, x65, x80, x93): (f64, f64, f64, f64, f64, f64, f64) = (
-            qdot[2] + x22,
-            p_i_perp * x53,
-            p_i_par * x55,
-            qdot[1] * x60,
-            x15 * x59,
-            x15 * x22,
-            x8 * x33,
+        let (
+            __lagrange_x23,
+            __lagrange_x54,
+            __lagrange_x56,
+            __lagrange_x63,
+            __lagrange_x65,
+            __lagrange_x80,
+            __lagrange_x93,
+        ): (f64, f64, f64, f64, f64, f64, f64) = (
+            __lagrange_qdot[2] + __lagrange_x22,
+            __lagrange_p_i_perp * __lagrange_x53,
+            __lagrange_p_i_par * __lagrange_x55,
+            __lagrange_qdot[1] * __lagrange_x60,
+            __lagrange_x15 * __lagrange_x59,
+            __lagrange_x15 * __lagrange_x22,
+            __lagrange_x8 * __lagrange_x33,
         );
-        let (x57, x67, x69, x77, x82, x85, x104): (f64, f64, f64, f64, f64, f64, f64) = (
-            x54 + x56,
-            p_i_perp * x65,
-            x23 * x60,
-            p_i_par * x63,
-            p_i_perp * x80,
-            x15 * x23,
-            p_i_par * x54,
+        let (
+            __lagrange_x57,
+            __lagrange_x67,
+            __lagrange_x69,
+            __lagrange_x77,
+            __lagrange_x82,
+            __lagrange_x85,
+            __lagrange_x104,
+        ): (f64, f64, f64, f64, f64, f64, f64) = (
+            __lagrange_x54 + __lagrange_x56,
+            __lagrange_p_i_perp * __lagrange_x65,
+            __lagrange_x23 * __lagrange_x60,
+            __lagrange_p_i_par * __lagrange_x63,
+            __lagrange_p_i_perp * __lagrange_x80,
+            __lagrange_x15 * __lagrange_x23,
+            __lagrange_p_i_par * __lagrange_x54,
         );
-        let (x68, x72, x89): (f64, f64, f64) = (2.0 * x67, x65 + x69, p_i_par * x85);
-        let (x74, x91): (f64, f64) = (p_i_par * x72, x82 - x89);
-        let (x95, x96): (f64, f64) = (x91 + x93, x74 - x68);
-        let fast: ::core::option::Option<[f64; 3]> = 'fast: {
-            let __lagrange_max = |s: f64, a: f64| if a > s { a } else { s };
-            let scale: f64 = __lagrange_max(
-                __lagrange_max(__lagrange_max(0.0_f64, f64::abs(p_i_perp)), f64::abs(x57)),
-                f64::abs(p_i_par),
+        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (f64, f64, f64) = (
+            2.0 * __lagrange_x67,
+            __lagrange_x65 + __lagrange_x69,
+            __lagrange_p_i_par * __lagrange_x85,
+        );
+        let (__lagrange_x74, __lagrange_x91): (f64, f64) = (
+            __lagrange_p_i_par * __lagrange_x72,
+            __lagrange_x82 - __lagrange_x89,
+        );
+        let (__lagrange_x95, __lagrange_x96): (f64, f64) = (
+            __lagrange_x91 + __lagrange_x93,
+            __lagrange_x74 - __lagrange_x68,
+        );
+        let __lagrange_fast: ::core::option::Option<[f64; 3]> = '__lagrange_fast: {
+            let __lagrange_max = |__lagrange_m: f64, __lagrange_a: f64| {
+                if __lagrange_a > __lagrange_m {
+                    __lagrange_a
+                } else {
+                    __lagrange_m
+                }
+            };
+            let __lagrange_scale: f64 = __lagrange_max(
+                __lagrange_max(
+                    __lagrange_max(0.0_f64, f64::abs(__lagrange_p_i_perp)),
+                    f64::abs(__lagrange_x57),
+                ),
+                f64::abs(__lagrange_p_i_par),
             );
-            let tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * scale;
-            if !(x57 > tol) {
-                break 'fast ::core::option::Option::None;
+            let __lagrange_tol =
+                ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * __lagrange_scale;
+            if !(__lagrange_x57 > __lagrange_tol) {
+                break '__lagrange_fast ::core::option::Option::None;
             }
-            let det_1_2: f64 = x104;
-            if !(det_1_2 > tol * x57) {
-                break 'fast ::core::option::Option::None;
+            let __lagrange_det_1_2: f64 = __lagrange_x104;
+            if !(__lagrange_det_1_2 > __lagrange_tol * __lagrange_x57) {
+                break '__lagrange_fast ::core::option::Option::None;
             }
-            let y_1: f64 = (p_i_par * x96 - x58 * x77) / det_1_2;
-            let y_2: f64 = (x57 * x77 - x58 * x96) / det_1_2;
-            let d_0: f64 = p_i_perp;
-            if !(d_0 > tol) {
-                break 'fast ::core::option::Option::None;
+            let __lagrange_y_1: f64 = (__lagrange_p_i_par * __lagrange_x96
+                - __lagrange_x58 * __lagrange_x77)
+                / __lagrange_det_1_2;
+            let __lagrange_y_2: f64 = (__lagrange_x57 * __lagrange_x77
+                - __lagrange_x58 * __lagrange_x96)
+                / __lagrange_det_1_2;
+            let __lagrange_d_0: f64 = __lagrange_p_i_perp;
+            if !(__lagrange_d_0 > __lagrange_tol) {
+                break '__lagrange_fast ::core::option::Option::None;
             }
-            let y_0: f64 = x95;
-            let y_0: f64 = y_0 / d_0;
-            let x = [y_0, y_1, y_2];
-            if (y_0 + y_1 + y_2).is_finite() {
-                ::core::option::Option::Some(x)
+            let __lagrange_y_0: f64 = __lagrange_x95;
+            let __lagrange_y_0: f64 = __lagrange_y_0 / __lagrange_d_0;
+            let __lagrange_qddot = [__lagrange_y_0, __lagrange_y_1, __lagrange_y_2];
+            if (__lagrange_y_0 + __lagrange_y_1 + __lagrange_y_2).is_finite() {
+                ::core::option::Option::Some(__lagrange_qddot)
             } else {
                 ::core::option::Option::None
             }
         };
-        match fast {
-            ::core::option::Option::Some(x) => ::core::result::Result::Ok(x),
+        match __lagrange_fast {
+            ::core::option::Option::Some(__lagrange_qddot) => {
+                ::core::result::Result::Ok(__lagrange_qddot)
+            }
             ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
-                &[[p_i_perp, 0.0, 0.0], [0.0, x57, x58], [0.0, 0.0, p_i_par]],
-                &[x95, x96, x77],
+                &[
+                    [__lagrange_p_i_perp, 0.0, 0.0],
+                    [0.0, __lagrange_x57, __lagrange_x58],
+                    [0.0, 0.0, __lagrange_p_i_par],
+                ],
+                &[__lagrange_x95, __lagrange_x96, __lagrange_x77],
                 <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
-                q,
-                qdot,
-                t,
+                __lagrange_q,
+                __lagrange_qdot,
+                __lagrange_t,
             ),
         }
     }
@@ -189,19 +245,34 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
     #[inline]
     fn mass_matrix(
         &self,
-        q: &[f64; 3],
-        qdot: &[f64; 3],
-        t: f64,
+        __lagrange_q: &[f64; 3],
+        __lagrange_qdot: &[f64; 3],
+        __lagrange_t: f64,
     ) -> ::lagrange::__private::SMatrix<f64, 3, 3> {
-        let _ = (q, qdot, t);
-        let p_i_perp: f64 = self.i_perp;
-        let p_i_par: f64 = self.i_par;
-        let (x8, x9): (f64, f64) = q[0].sin_cos();
-        let (x53, x55, x58): (f64, f64, f64) = (x8 * x8, x9 * x9, x9 * p_i_par);
-        let (x54, x56): (f64, f64) = (p_i_perp * x53, p_i_par * x55);
-        let x57: f64 = x54 + x56;
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        let __lagrange_p_i_perp: f64 = self.i_perp;
+        let __lagrange_p_i_par: f64 = self.i_par;
+        let (__lagrange_x8, __lagrange_x9): (f64, f64) = __lagrange_q[0].sin_cos();
+        let (__lagrange_x53, __lagrange_x55, __lagrange_x58): (f64, f64, f64) = (
+            __lagrange_x8 * __lagrange_x8,
+            __lagrange_x9 * __lagrange_x9,
+            __lagrange_x9 * __lagrange_p_i_par,
+        );
+        let (__lagrange_x54, __lagrange_x56): (f64, f64) = (
+            __lagrange_p_i_perp * __lagrange_x53,
+            __lagrange_p_i_par * __lagrange_x55,
+        );
+        let __lagrange_x57: f64 = __lagrange_x54 + __lagrange_x56;
         ::lagrange::__private::SMatrix::<f64, 3, 3>::from_row_slice(&[
-            p_i_perp, 0.0, 0.0, 0.0, x57, x58, 0.0, x58, p_i_par,
+            __lagrange_p_i_perp,
+            0.0,
+            0.0,
+            0.0,
+            __lagrange_x57,
+            __lagrange_x58,
+            0.0,
+            __lagrange_x58,
+            __lagrange_p_i_par,
         ])
     }
     #[allow(
@@ -213,17 +284,35 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         clippy::nursery
     )]
     #[inline]
-    fn momenta(&self, q: &[f64; 3], qdot: &[f64; 3], t: f64) -> [f64; 3] {
-        let _ = (q, qdot, t);
-        let p_i_perp: f64 = self.i_perp;
-        let p_i_par: f64 = self.i_par;
-        let ((x8, x9), x37): ((f64, f64), f64) = (q[0].sin_cos(), qdot[0] * p_i_perp);
-        let (x15, x22): (f64, f64) = (qdot[1] * x8, qdot[1] * x9);
-        let (x23, x40): (f64, f64) = (qdot[2] + x22, x8 * x15);
-        let (x42, x45, x51): (f64, f64, f64) = (p_i_perp * x40, x9 * x23, p_i_par * x23);
-        let x47: f64 = p_i_par * x45;
-        let x49: f64 = x42 + x47;
-        [x37, x49, x51]
+    fn momenta(
+        &self,
+        __lagrange_q: &[f64; 3],
+        __lagrange_qdot: &[f64; 3],
+        __lagrange_t: f64,
+    ) -> [f64; 3] {
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        let __lagrange_p_i_perp: f64 = self.i_perp;
+        let __lagrange_p_i_par: f64 = self.i_par;
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x37): ((f64, f64), f64) = (
+            __lagrange_q[0].sin_cos(),
+            __lagrange_qdot[0] * __lagrange_p_i_perp,
+        );
+        let (__lagrange_x15, __lagrange_x22): (f64, f64) = (
+            __lagrange_qdot[1] * __lagrange_x8,
+            __lagrange_qdot[1] * __lagrange_x9,
+        );
+        let (__lagrange_x23, __lagrange_x40): (f64, f64) = (
+            __lagrange_qdot[2] + __lagrange_x22,
+            __lagrange_x8 * __lagrange_x15,
+        );
+        let (__lagrange_x42, __lagrange_x45, __lagrange_x51): (f64, f64, f64) = (
+            __lagrange_p_i_perp * __lagrange_x40,
+            __lagrange_x9 * __lagrange_x23,
+            __lagrange_p_i_par * __lagrange_x23,
+        );
+        let __lagrange_x47: f64 = __lagrange_p_i_par * __lagrange_x45;
+        let __lagrange_x49: f64 = __lagrange_x42 + __lagrange_x47;
+        [__lagrange_x37, __lagrange_x49, __lagrange_x51]
     }
     #[allow(
         unused_variables,
@@ -234,39 +323,76 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         clippy::nursery
     )]
     #[inline]
-    fn energy(&self, q: &[f64; 3], qdot: &[f64; 3], t: f64) -> f64 {
-        let _ = (q, qdot, t);
-        let p_i_perp: f64 = self.i_perp;
-        let p_i_par: f64 = self.i_par;
-        let p_m: f64 = self.m;
-        let p_g: f64 = self.g;
-        let p_l: f64 = self.l;
-        let ((x8, x9), x14, x31, x37): ((f64, f64), f64, f64, f64) = (
-            q[0].sin_cos(),
-            qdot[0] * qdot[0],
-            p_m * p_g,
-            qdot[0] * p_i_perp,
+    fn energy(
+        &self,
+        __lagrange_q: &[f64; 3],
+        __lagrange_qdot: &[f64; 3],
+        __lagrange_t: f64,
+    ) -> f64 {
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        let __lagrange_p_i_perp: f64 = self.i_perp;
+        let __lagrange_p_i_par: f64 = self.i_par;
+        let __lagrange_p_m: f64 = self.m;
+        let __lagrange_p_g: f64 = self.g;
+        let __lagrange_p_l: f64 = self.l;
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x14, __lagrange_x31, __lagrange_x37): (
+            (f64, f64),
+            f64,
+            f64,
+            f64,
+        ) = (
+            __lagrange_q[0].sin_cos(),
+            __lagrange_qdot[0] * __lagrange_qdot[0],
+            __lagrange_p_m * __lagrange_p_g,
+            __lagrange_qdot[0] * __lagrange_p_i_perp,
         );
-        let (x15, x22, x33, x98): (f64, f64, f64, f64) =
-            (qdot[1] * x8, qdot[1] * x9, x31 * p_l, qdot[0] * x37);
-        let (x16, x23, x34, x40): (f64, f64, f64, f64) =
-            (x15 * x15, qdot[2] + x22, x9 * x33, x8 * x15);
-        let (x17, x24, x42, x45, x51): (f64, f64, f64, f64, f64) = (
-            x14 + x16,
-            x23 * x23,
-            p_i_perp * x40,
-            x9 * x23,
-            p_i_par * x23,
+        let (__lagrange_x15, __lagrange_x22, __lagrange_x33, __lagrange_x98): (f64, f64, f64, f64) = (
+            __lagrange_qdot[1] * __lagrange_x8,
+            __lagrange_qdot[1] * __lagrange_x9,
+            __lagrange_x31 * __lagrange_p_l,
+            __lagrange_qdot[0] * __lagrange_x37,
         );
-        let (x18, x25, x47, x102): (f64, f64, f64, f64) =
-            (p_i_perp * x17, p_i_par * x24, p_i_par * x45, qdot[2] * x51);
-        let (x27, x49): (f64, f64) = (x18 + x25, x42 + x47);
-        let (x28, x100): (f64, f64) = (0.5 * x27, qdot[1] * x49);
-        let x97: f64 = x34 - x28;
-        let x99: f64 = x97 + x98;
-        let x101: f64 = x99 + x100;
-        let x103: f64 = x101 + x102;
-        x103
+        let (__lagrange_x16, __lagrange_x23, __lagrange_x34, __lagrange_x40): (f64, f64, f64, f64) = (
+            __lagrange_x15 * __lagrange_x15,
+            __lagrange_qdot[2] + __lagrange_x22,
+            __lagrange_x9 * __lagrange_x33,
+            __lagrange_x8 * __lagrange_x15,
+        );
+        let (__lagrange_x17, __lagrange_x24, __lagrange_x42, __lagrange_x45, __lagrange_x51): (
+            f64,
+            f64,
+            f64,
+            f64,
+            f64,
+        ) = (
+            __lagrange_x14 + __lagrange_x16,
+            __lagrange_x23 * __lagrange_x23,
+            __lagrange_p_i_perp * __lagrange_x40,
+            __lagrange_x9 * __lagrange_x23,
+            __lagrange_p_i_par * __lagrange_x23,
+        );
+        let (__lagrange_x18, __lagrange_x25, __lagrange_x47, __lagrange_x102): (
+            f64,
+            f64,
+            f64,
+            f64,
+        ) = (
+            __lagrange_p_i_perp * __lagrange_x17,
+            __lagrange_p_i_par * __lagrange_x24,
+            __lagrange_p_i_par * __lagrange_x45,
+            __lagrange_qdot[2] * __lagrange_x51,
+        );
+        let (__lagrange_x27, __lagrange_x49): (f64, f64) = (
+            __lagrange_x18 + __lagrange_x25,
+            __lagrange_x42 + __lagrange_x47,
+        );
+        let (__lagrange_x28, __lagrange_x100): (f64, f64) =
+            (0.5 * __lagrange_x27, __lagrange_qdot[1] * __lagrange_x49);
+        let __lagrange_x97: f64 = __lagrange_x34 - __lagrange_x28;
+        let __lagrange_x99: f64 = __lagrange_x97 + __lagrange_x98;
+        let __lagrange_x101: f64 = __lagrange_x99 + __lagrange_x100;
+        let __lagrange_x103: f64 = __lagrange_x101 + __lagrange_x102;
+        __lagrange_x103
     }
     #[allow(
         unused_variables,
@@ -277,39 +403,79 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         clippy::nursery
     )]
     #[inline]
-    fn energy_and_momenta(&self, q: &[f64; 3], qdot: &[f64; 3], t: f64) -> (f64, [f64; 3]) {
-        let _ = (q, qdot, t);
-        let p_i_perp: f64 = self.i_perp;
-        let p_i_par: f64 = self.i_par;
-        let p_m: f64 = self.m;
-        let p_g: f64 = self.g;
-        let p_l: f64 = self.l;
-        let ((x8, x9), x14, x31, x37): ((f64, f64), f64, f64, f64) = (
-            q[0].sin_cos(),
-            qdot[0] * qdot[0],
-            p_m * p_g,
-            qdot[0] * p_i_perp,
+    fn energy_and_momenta(
+        &self,
+        __lagrange_q: &[f64; 3],
+        __lagrange_qdot: &[f64; 3],
+        __lagrange_t: f64,
+    ) -> (f64, [f64; 3]) {
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        let __lagrange_p_i_perp: f64 = self.i_perp;
+        let __lagrange_p_i_par: f64 = self.i_par;
+        let __lagrange_p_m: f64 = self.m;
+        let __lagrange_p_g: f64 = self.g;
+        let __lagrange_p_l: f64 = self.l;
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x14, __lagrange_x31, __lagrange_x37): (
+            (f64, f64),
+            f64,
+            f64,
+            f64,
+        ) = (
+            __lagrange_q[0].sin_cos(),
+            __lagrange_qdot[0] * __lagrange_qdot[0],
+            __lagrange_p_m * __lagrange_p_g,
+            __lagrange_qdot[0] * __lagrange_p_i_perp,
         );
-        let (x15, x22, x33, x98): (f64, f64, f64, f64) =
-            (qdot[1] * x8, qdot[1] * x9, x31 * p_l, qdot[0] * x37);
-        let (x16, x23, x34, x40): (f64, f64, f64, f64) =
-            (x15 * x15, qdot[2] + x22, x9 * x33, x8 * x15);
-        let (x17, x24, x42, x45, x51): (f64, f64, f64, f64, f64) = (
-            x14 + x16,
-            x23 * x23,
-            p_i_perp * x40,
-            x9 * x23,
-            p_i_par * x23,
+        let (__lagrange_x15, __lagrange_x22, __lagrange_x33, __lagrange_x98): (f64, f64, f64, f64) = (
+            __lagrange_qdot[1] * __lagrange_x8,
+            __lagrange_qdot[1] * __lagrange_x9,
+            __lagrange_x31 * __lagrange_p_l,
+            __lagrange_qdot[0] * __lagrange_x37,
         );
-        let (x18, x25, x47, x102): (f64, f64, f64, f64) =
-            (p_i_perp * x17, p_i_par * x24, p_i_par * x45, qdot[2] * x51);
-        let (x27, x49): (f64, f64) = (x18 + x25, x42 + x47);
-        let (x28, x100): (f64, f64) = (0.5 * x27, qdot[1] * x49);
-        let x97: f64 = x34 - x28;
-        let x99: f64 = x97 + x98;
-        let x101: f64 = x99 + x100;
-        let x103: f64 = x101 + x102;
-        (x103, [x37, x49, x51])
+        let (__lagrange_x16, __lagrange_x23, __lagrange_x34, __lagrange_x40): (f64, f64, f64, f64) = (
+            __lagrange_x15 * __lagrange_x15,
+            __lagrange_qdot[2] + __lagrange_x22,
+            __lagrange_x9 * __lagrange_x33,
+            __lagrange_x8 * __lagrange_x15,
+        );
+        let (__lagrange_x17, __lagrange_x24, __lagrange_x42, __lagrange_x45, __lagrange_x51): (
+            f64,
+            f64,
+            f64,
+            f64,
+            f64,
+        ) = (
+            __lagrange_x14 + __lagrange_x16,
+            __lagrange_x23 * __lagrange_x23,
+            __lagrange_p_i_perp * __lagrange_x40,
+            __lagrange_x9 * __lagrange_x23,
+            __lagrange_p_i_par * __lagrange_x23,
+        );
+        let (__lagrange_x18, __lagrange_x25, __lagrange_x47, __lagrange_x102): (
+            f64,
+            f64,
+            f64,
+            f64,
+        ) = (
+            __lagrange_p_i_perp * __lagrange_x17,
+            __lagrange_p_i_par * __lagrange_x24,
+            __lagrange_p_i_par * __lagrange_x45,
+            __lagrange_qdot[2] * __lagrange_x51,
+        );
+        let (__lagrange_x27, __lagrange_x49): (f64, f64) = (
+            __lagrange_x18 + __lagrange_x25,
+            __lagrange_x42 + __lagrange_x47,
+        );
+        let (__lagrange_x28, __lagrange_x100): (f64, f64) =
+            (0.5 * __lagrange_x27, __lagrange_qdot[1] * __lagrange_x49);
+        let __lagrange_x97: f64 = __lagrange_x34 - __lagrange_x28;
+        let __lagrange_x99: f64 = __lagrange_x97 + __lagrange_x98;
+        let __lagrange_x101: f64 = __lagrange_x99 + __lagrange_x100;
+        let __lagrange_x103: f64 = __lagrange_x101 + __lagrange_x102;
+        (
+            __lagrange_x103,
+            [__lagrange_x37, __lagrange_x49, __lagrange_x51],
+        )
     }
 }
 #[doc = "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` (d/dt ∂L/∂q\u{307} = ∂L/∂q, one line per coordinate):\n\n```text\ntheta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)\nphi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)\npsi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)\n```\n"]

@@ -48,6 +48,22 @@ pub fn analyze(decl: &Decl) -> Analysis {
     }
 }
 
+impl Analysis {
+    /// The user's coordinate, velocity and time names the body mentions, in declaration order:
+    /// the names the generated `fn lagrangian` binds (and the jets lowering treats as variables).
+    pub fn bound(&self, decl: &Decl) -> Vec<String> {
+        let coords = decl
+            .coords
+            .iter()
+            .flat_map(|c| [unraw(&c.name), unraw(&c.dot)]);
+        let time = decl.time.iter().map(unraw);
+        coords
+            .chain(time)
+            .filter(|name| self.used.contains(name))
+            .collect()
+    }
+}
+
 /// Every identifier in a single-segment path expression, and every identifier inside macro
 /// invocations (their tokens are opaque, so any mention counts).
 #[derive(Default)]

@@ -1,48 +1,65 @@
-//! Emit: the `impl Lagrangian<N>` (or, while errors exist, the errors and a stub impl).
+//! Emit: the `impl Lagrangian<N>` (or, while errors exist, the errors and a stub impl). Only
+//! emission: the driver (`expand.rs`) runs the stages and hands their results here.
 
-use proc_macro2::{Span, TokenStream};
-use quote::{format_ident, quote, quote_spanned};
+use proc_macro2::TokenStream;
+use quote::{quote, quote_spanned};
 
-use crate::analyze::{analyze, lower_for_jets};
+use crate::analyze::Analysis;
 use crate::errors::Errors;
-use crate::model::{unraw, CoordKind, Decl, Mode};
+use crate::model::{unraw, CoordKind, Decl};
+use crate::symbolic::SymbolicOutput;
 use crate::{parse, validate};
 
-/// The whole macro: parse → validate → analyze/lower → emit.
-pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
-    let mut errors = Errors::default();
-    let options = parse::options(args, &mut errors);
-    let split = match parse::split(input.clone()) {
-        Ok(s) => s,
-        Err(e) => {
-            errors.push(e);
-            let errs = errors.to_compile_errors();
-            return quote!(#errs #input);
-        }
-    };
-    // On error the impl block is re-emitted without anything that uses the macro's own
-    // vocabulary (`Coord`, `Scalar`), so the user sees our errors and not cascades.
-    let mut rest = split.rest.clone();
-    rest.items.retain(|item| !matches!(item, syn::ImplItem::Fn(f) if f.sig.inputs.iter().any(validate::is_coordinate_param)));
-    let n_hint = split
-        .funcs
-        .first()
-        .map(count_coordinate_params)
-        .unwrap_or(1)
-        .max(1);
-    let decl = validate::validate(split, options, &mut errors);
-    match decl {
-        Some(decl) if errors.is_empty() => generate(&decl),
-        _ => {
-            let errs = errors.to_compile_errors();
-            let stub = stub_impl(&rest, n_hint);
-            quote!(#errs #rest #stub)
-        }
+/// The errors and the item as written, when it is not even an impl block.
+pub fn unparsed(errors: &Errors, input: TokenStream) -> TokenStream {
+    let errs = errors.to_compile_errors();
+    quote!(#errs #input)
+}
+
+/// What is emitted in place of the impl while parse or validation errors exist.
+pub struct Fallback {
+    /// The impl block without `fn lagrangian` and without any function that uses the macro's
+    /// own vocabulary (`Coord`, `Scalar`), so the user sees our errors and not cascades.
+    rest: syn::ItemImpl,
+    /// How many coordinate slots the (first) `fn lagrangian` declares, at least 1.
+    n_hint: usize,
+}
+
+impl Fallback {
+    /// The fallback of a split impl block, taken before validation consumes it.
+    pub fn of(split: &parse::Split) -> Fallback {
+        let mut rest = split.rest.clone();
+        rest.items.retain(|item| !matches!(item, syn::ImplItem::Fn(f) if f.sig.inputs.iter().any(validate::is_coordinate_param)));
+        let n_hint = split
+            .funcs
+            .first()
+            .map(count_coordinate_params)
+            .unwrap_or(1)
+            .max(1);
+        Fallback { rest, n_hint }
     }
 }
 
-fn generate(decl: &Decl) -> TokenStream {
-    let analysis = analyze(decl);
+/// The errors, the rest of the impl block and a stub `impl Lagrangian`.
+pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
+    let errs = errors.to_compile_errors();
+    let rest = &fallback.rest;
+    let stub = stub_impl(rest, fallback.n_hint);
+    quote!(#errs #rest #stub)
+}
+
+/// The `impl Lagrangian<N>`: the jets `fn lagrangian` (its body `body`, lowered for jets) and,
+/// given `symbolic`, the symbolic methods and the `EQUATIONS` consts; `errors` (from the
+/// symbolic stage) go after the impl, which then has only `fn lagrangian`, so rustc still
+/// type-checks the body as written (a genuine type error there is reported at the user's token
+/// too, and nothing cascades; the build fails either way: no silent fallback).
+pub fn generate(
+    decl: &Decl,
+    analysis: &Analysis,
+    body: &syn::Block,
+    symbolic: Option<&SymbolicOutput>,
+    errors: &Errors,
+) -> TokenStream {
     let n = decl.n();
     let self_ty = &decl.rest.self_ty;
     let rest = &decl.rest;
@@ -52,9 +69,8 @@ fn generate(decl: &Decl) -> TokenStream {
 
     // Bindings of the user's names to the jets' slots; names the body never mentions are not
     // bound (no unused-variable warnings for cyclic coordinates).
-    let (q, qdot, t) = param_idents();
+    let crate::names::Params { q, qdot, t } = crate::names::Params::jets();
     let mut bindings = Vec::new();
-    let mut vars = Vec::new();
     let (mut uses_q, mut uses_qdot) = (false, false);
     for c in &decl.coords {
         for (ident, array, used_flag) in
@@ -64,7 +80,6 @@ fn generate(decl: &Decl) -> TokenStream {
                 continue;
             }
             *used_flag = true;
-            vars.push(unraw(ident));
             let i = c.first_index;
             let lit = proc_macro2::Literal::usize_unsuffixed;
             let (i, i1, i2) = (lit(i), lit(i + 1), lit(i + 2));
@@ -80,7 +95,6 @@ fn generate(decl: &Decl) -> TokenStream {
     if let Some(time) = &decl.time {
         if analysis.used.contains(&unraw(time)) {
             uses_t = true;
-            vars.push(unraw(time));
             bindings.push(quote!(let #time = #t;));
         }
     }
@@ -88,24 +102,14 @@ fn generate(decl: &Decl) -> TokenStream {
     let qdot_pat = if uses_qdot { quote!(#qdot) } else { quote!(_) };
     let t_pat = if uses_t { quote!(#t) } else { quote!(_) };
 
-    let body = lower_for_jets(&decl.body, &vars);
     let stmts = &body.stmts;
     let fn_attrs = &decl.fn_attrs;
     let ret = quote_spanned!(decl.ret_span=> Scalar);
     let fn_ident = &decl.fn_ident;
     let self_token = &decl.self_token;
-    let (symbolic_methods, symbolic_consts) = match decl.options.mode {
-        Mode::Jets => (quote!(), quote!()),
-        Mode::Symbolic => match crate::symbolic::expand(decl) {
-            Ok(out) => crate::symbolic::methods(&out, n, self_ty),
-            // The errors, and the impl without the symbolic methods: rustc still type-checks
-            // the body as written, so a genuine type error there is reported at the user's
-            // token too, and nothing cascades. The build fails either way: no silent fallback.
-            Err(errs) => {
-                let errs = errs.iter().map(syn::Error::to_compile_error);
-                (quote!(), quote!(#(#errs)*))
-            }
-        },
+    let (symbolic_methods, symbolic_consts) = match symbolic {
+        Some(out) => crate::symbolic::methods(out, n, self_ty),
+        None => (quote!(), errors.to_compile_errors()),
     };
 
     let n = proc_macro2::Literal::usize_unsuffixed(n);
@@ -147,17 +151,6 @@ fn generate(decl: &Decl) -> TokenStream {
         }
         #symbolic_consts
     }
-}
-
-/// Hygienic names for the generated parameters q, q̇, t (the user's body cannot see or clash
-/// with them).
-fn param_idents() -> (proc_macro2::Ident, proc_macro2::Ident, proc_macro2::Ident) {
-    let site = Span::mixed_site();
-    (
-        format_ident!("__lagrange_q", span = site),
-        format_ident!("__lagrange_qdot", span = site),
-        format_ident!("__lagrange_t", span = site),
-    )
 }
 
 /// A stub impl emitted next to the errors, so uses of the type elsewhere do not cascade into

@@ -20,6 +20,11 @@ impl Errors {
     pub fn is_empty(&self) -> bool {
         self.0.is_none()
     }
+    /// The errors one by one.
+    #[cfg(test)]
+    pub fn into_vec(self) -> Vec<syn::Error> {
+        self.0.into_iter().flatten().collect()
+    }
     /// All errors as `compile_error!` invocations.
     pub fn to_compile_errors(&self) -> proc_macro2::TokenStream {
         self.0

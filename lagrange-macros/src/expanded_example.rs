@@ -37,7 +37,7 @@ fn rustfmt(code: &str) -> Option<String> {
 #[test]
 fn expanded_example_is_up_to_date() {
     let input: proc_macro2::TokenStream = INPUT.parse().expect("test input parses");
-    let expanded = crate::emit::expand(proc_macro2::TokenStream::new(), input).to_string();
+    let expanded = crate::expand::expand(proc_macro2::TokenStream::new(), input).to_string();
     let Some(formatted) = rustfmt(&expanded) else {
         panic!("rustfmt is needed for this test (it ships with the Rust toolchain)");
     };

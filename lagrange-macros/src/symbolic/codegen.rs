@@ -1,11 +1,13 @@
 //! Emission of straight-line Rust from the DAG: each reachable node once, in id (topological)
-//! order, as `let xN = ...;`; leaves (constants, `q[i]`, `qdot[i]`, `t`, parameters) inline.
+//! order, as `let <xN> = ...;` (locals named by `names::node`); leaves (constants, `q[i]`,
+//! `qdot[i]`, `t`, parameters) inline.
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
-use quote::{format_ident, quote, quote_spanned};
+use quote::{quote, quote_spanned};
 
 use super::dag::{Dag, Fun, Id, Node};
 use super::lower::{Cond, Field};
+use crate::names;
 
 /// Straight-line code computing a set of DAG nodes.
 pub struct Code {
@@ -16,11 +18,7 @@ pub struct Code {
 }
 
 fn field_local(f: &Field) -> Ident {
-    if f.free {
-        format_ident!("c_{}", f.name)
-    } else {
-        format_ident!("p_{}", f.name)
-    }
+    names::field(&f.name, f.free)
 }
 
 fn const_tokens(c: f64) -> TokenStream {
@@ -41,9 +39,7 @@ fn const_tokens(c: f64) -> TokenStream {
 
 /// The tokens of an operand: a leaf inline, an inner node by its local name.
 pub fn operand(dag: &Dag, fields: &[Field], id: Id) -> TokenStream {
-    let q = Ident::new("q", Span::call_site());
-    let qdot = Ident::new("qdot", Span::call_site());
-    let t = Ident::new("t", Span::call_site());
+    let names::Params { q, qdot, t } = names::Params::symbolic();
     match dag.node(id) {
         Node::Const(b) => const_tokens(f64::from_bits(b)),
         Node::Q(i) => {
@@ -65,7 +61,7 @@ pub fn operand(dag: &Dag, fields: &[Field], id: Id) -> TokenStream {
             }
         }
         _ => {
-            let x = format_ident!("x{}", id);
+            let x = names::node(id);
             quote!(#x)
         }
     }
@@ -144,7 +140,7 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
     }
     for (k, cond) in conds.iter().enumerate() {
         if used[k] {
-            let b = format_ident!("b_{}", k);
+            let b = names::cond(k as u32);
             let tokens = &cond.tokens;
             stmts.extend(quote_spanned!(cond.span=> let #b: bool = #tokens;));
         }
@@ -222,7 +218,7 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
             }
             Node::Select(c, a, b) => {
                 let (a, b) = (o(a), o(b));
-                let c = format_ident!("b_{}", c);
+                let c = names::cond(c);
                 quote!(if #c { #a } else { #b })
             }
             Node::Atan2(y, x) => {
@@ -243,12 +239,12 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
         }
         let (pat, ty) = match partner {
             Some((s, c)) => {
-                let (s, c) = (format_ident!("x{}", s), format_ident!("x{}", c));
+                let (s, c) = (names::node(s), names::node(c));
                 lets += 1;
                 (quote!((#s, #c)), quote!((f64, f64)))
             }
             None => {
-                let x = format_ident!("x{}", id);
+                let x = names::node(id);
                 (quote!(#x), quote!(f64))
             }
         };

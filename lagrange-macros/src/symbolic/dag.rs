@@ -6,69 +6,10 @@
 
 use std::collections::HashMap;
 
+pub use super::functions::Fun;
+
 /// A node id.
 pub type Id = u32;
-
-/// A smooth elementary function of one argument.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Fun {
-    Sqrt,
-    Sin,
-    Cos,
-    Tan,
-    Exp,
-    Ln,
-    Abs,
-    Signum,
-    Asin,
-    Acos,
-    Atan,
-    Sinh,
-    Cosh,
-    Tanh,
-}
-
-impl Fun {
-    /// The Rust method name.
-    pub fn method(self) -> &'static str {
-        match self {
-            Fun::Sqrt => "sqrt",
-            Fun::Sin => "sin",
-            Fun::Cos => "cos",
-            Fun::Tan => "tan",
-            Fun::Exp => "exp",
-            Fun::Ln => "ln",
-            Fun::Abs => "abs",
-            Fun::Signum => "signum",
-            Fun::Asin => "asin",
-            Fun::Acos => "acos",
-            Fun::Atan => "atan",
-            Fun::Sinh => "sinh",
-            Fun::Cosh => "cosh",
-            Fun::Tanh => "tanh",
-        }
-    }
-
-    /// Evaluates the function on an `f64`.
-    pub fn eval(self, x: f64) -> f64 {
-        match self {
-            Fun::Sqrt => x.sqrt(),
-            Fun::Sin => x.sin(),
-            Fun::Cos => x.cos(),
-            Fun::Tan => x.tan(),
-            Fun::Exp => x.exp(),
-            Fun::Ln => x.ln(),
-            Fun::Abs => x.abs(),
-            Fun::Signum => x.signum(),
-            Fun::Asin => x.asin(),
-            Fun::Acos => x.acos(),
-            Fun::Atan => x.atan(),
-            Fun::Sinh => x.sinh(),
-            Fun::Cosh => x.cosh(),
-            Fun::Tanh => x.tanh(),
-        }
-    }
-}
 
 /// One node of the DAG.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -638,10 +579,7 @@ impl Dag {
             }
         }
         let mut tan: HashMap<Id, Id> = HashMap::new();
-        for id in 0..need.len() {
-            if !need[id] {
-                continue;
-            }
+        for id in (0..need.len()).filter(|&i| need[i]) {
             let id = id as Id;
             let node = self.node(id);
             let d = |i: Id| tan.get(&i).copied().unwrap_or(Dag::ZERO);
@@ -715,64 +653,7 @@ impl Dag {
                 }
                 Node::Un(f, a) => {
                     let da = d(a);
-
-                    match f {
-                        Fun::Sqrt => {
-                            let two = self.constant(2.0);
-                            let den = self.mul(two, id);
-                            self.div(da, den)
-                        }
-                        Fun::Sin => {
-                            let c = self.un(Fun::Cos, a);
-                            self.mul(c, da)
-                        }
-                        Fun::Cos => {
-                            let s = self.un(Fun::Sin, a);
-                            let m = self.mul(s, da);
-                            self.neg(m)
-                        }
-                        Fun::Tan => {
-                            let r2 = self.powi(id, 2);
-                            let k = self.add(Dag::ONE, r2);
-                            self.mul(k, da)
-                        }
-                        Fun::Exp => self.mul(id, da),
-                        Fun::Ln => self.div(da, a),
-                        Fun::Abs => {
-                            let s = self.un(Fun::Signum, a);
-                            self.mul(s, da)
-                        }
-                        Fun::Signum => Dag::ZERO,
-                        Fun::Asin | Fun::Acos => {
-                            let a2 = self.powi(a, 2);
-                            let w = self.sub(Dag::ONE, a2);
-                            let r = self.un(Fun::Sqrt, w);
-                            let k = self.div(da, r);
-                            if f == Fun::Acos {
-                                self.neg(k)
-                            } else {
-                                k
-                            }
-                        }
-                        Fun::Atan => {
-                            let a2 = self.powi(a, 2);
-                            let w = self.add(Dag::ONE, a2);
-                            self.div(da, w)
-                        }
-                        Fun::Sinh => {
-                            let c = self.un(Fun::Cosh, a);
-                            self.mul(c, da)
-                        }
-                        Fun::Cosh => {
-                            let s = self.un(Fun::Sinh, a);
-                            self.mul(s, da)
-                        }
-                        Fun::Tanh => {
-                            let r2 = self.powi(id, 2);
-                            let k = self.sub(Dag::ONE, r2);
-                            self.mul(k, da)
-                        }
-                    }
+                    f.derivative(self, id, a, da)
                 }
             };
             if t != Dag::ZERO {

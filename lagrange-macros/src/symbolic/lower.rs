@@ -12,6 +12,7 @@ use syn::spanned::Spanned;
 use syn::{BinOp, Expr, Lit, Member, Pat, Stmt, UnOp};
 
 use super::dag::{Dag, Fun, Id, Node};
+use crate::errors::Errors;
 use crate::model::{unraw, CoordKind, Decl};
 
 /// A `self.<field>` used in the body.
@@ -33,7 +34,7 @@ pub struct Field {
 }
 
 /// The condition of an `if` that depends on constants only: evaluated once per call, at run
-/// time, as a `bool` (`let b_k: bool = <tokens>;`).
+/// time, as a `bool` (`let <b_k>: bool = <tokens>;`, the local named by `names::cond`).
 #[derive(Clone, Debug)]
 pub struct Cond {
     /// The condition as written, with `self` resolved like the field loads.
@@ -76,8 +77,9 @@ pub fn unsupported(span: Span, what: &str) -> syn::Error {
     )
 }
 
-/// Lowers the body of `decl` into a DAG.
-pub fn lower(decl: &Decl) -> Result<Lowered, Vec<syn::Error>> {
+/// Lowers the body of `decl` into a DAG; `None` (with every reason pushed to `sink`) when the
+/// body uses what the symbolic mode cannot lower.
+pub fn lower(decl: &Decl, sink: &mut Errors) -> Option<Lowered> {
     let mut fields: Vec<Field> = Vec::new();
     // Each retry turns one more field into a vector, so this terminates.
     loop {
@@ -127,14 +129,19 @@ pub fn lower(decl: &Decl) -> Result<Lowered, Vec<syn::Error>> {
                         None
                     }
                 };
+                // Only the errors of the last (complete) attempt count: an earlier one stopped at
+                // a re-typed field.
                 return match (l, errors.is_empty()) {
-                    (Some(l), true) => Ok(Lowered {
+                    (Some(l), true) => Some(Lowered {
                         dag: lw.dag,
                         lagrangian: l,
                         fields: lw.fields,
                         conds: lw.conds,
                     }),
-                    _ => Err(errors),
+                    _ => {
+                        errors.into_iter().for_each(|e| sink.push(e));
+                        None
+                    }
                 };
             }
         }
@@ -834,23 +841,7 @@ impl Lower {
                 format!("`.{name}()` takes {k} argument(s) here"),
             ))
         };
-        let fun = match name.as_str() {
-            "sqrt" => Some(Fun::Sqrt),
-            "sin" => Some(Fun::Sin),
-            "cos" => Some(Fun::Cos),
-            "tan" => Some(Fun::Tan),
-            "exp" => Some(Fun::Exp),
-            "ln" => Some(Fun::Ln),
-            "abs" => Some(Fun::Abs),
-            "signum" => Some(Fun::Signum),
-            "asin" => Some(Fun::Asin),
-            "acos" => Some(Fun::Acos),
-            "atan" => Some(Fun::Atan),
-            "sinh" => Some(Fun::Sinh),
-            "cosh" => Some(Fun::Cosh),
-            "tanh" => Some(Fun::Tanh),
-            _ => None,
-        };
+        let fun = Fun::from_method(&name);
         if let Some(f) = fun {
             if nargs != 0 {
                 return Ok(bad_arity(self, 0));

@@ -1,132 +1,199 @@
-//! Expansion of small DAG expressions into polynomials over their atoms (sums of monomials with
-//! `f64` coefficients), so that a determinant like (I⊥ s² + I∥ c²)·I∥ − (I∥ c)² cancels to the
-//! monomial I⊥ I∥ s² instead of being evaluated as a difference of nearly equal numbers.
+//! Polynomials over atoms (sums of monomials with `f64` coefficients), the one expander of the
+//! symbolic path, with its caps in one place ([`Rules`]: [`DETERMINANT`], [`PRINTING`]).
 //!
-//! Atoms are the nodes that are not `+ − ×`, negation, small integer powers or constants
-//! (parameters, coordinates, `sin θ`, divisions, …). Expansion gives up (`None`) beyond
-//! [`MAX_TERMS`] terms, so it never blows up; callers then keep the unexpanded expression.
+//! Two walks of the DAG use it. Here, a determinant like (I⊥ s² + I∥ c²)·I∥ − (I∥ c)² is
+//! expanded so it cancels to the monomial I⊥ I∥ s² instead of being evaluated as a difference
+//! of nearly equal numbers; its atoms are the nodes that are not `+ − ×`, negation, small
+//! integer powers or constants (parameters, coordinates, `sin θ`, divisions, …), and it gives up
+//! (`None`) past its caps, so it never blows up; callers then keep the unexpanded expression.
+//! `print.rs` expands the equations for people over finer atoms (a division by a monomial is a
+//! negative power; what exceeds the caps stays in parentheses).
+
+use std::collections::BTreeMap;
 
 use super::dag::{Dag, Id, Node};
 
-/// Expansions with more terms than this are abandoned.
-pub const MAX_TERMS: usize = 32;
+/// How far an expansion may go and when a coefficient counts as cancelled: the caps of both
+/// expanders, stated here.
+pub struct Rules {
+    /// A product with more terms than this is abandoned (`None`); so is a sum, where the
+    /// walk asks for it ([`Poly::capped`]: the determinant does, printing keeps every sum).
+    pub max_terms: usize,
+    /// A product is not even formed when its operands' term counts multiply to more than this.
+    pub max_product: usize,
+    /// A merged coefficient is dropped when |c| ≤ `cancel` · max(|before|, |added|): 0 keeps
+    /// exactly what cancels exactly.
+    pub cancel: f64,
+}
 
-/// A monomial: coefficient and its atoms, sorted (repeated for powers).
-type Term = (f64, Vec<Id>);
+/// The determinants of decoupled 2×2 blocks (`det2`): small, exact.
+pub const DETERMINANT: Rules = Rules {
+    max_terms: 32,
+    max_product: 32 * 32,
+    cancel: 0.0,
+};
 
-/// A polynomial over DAG atoms, terms sorted by atoms, like terms merged, no zero coefficients.
+/// The printed equations (`print.rs`): large, and rounding residue of cancelled terms dropped.
+pub const PRINTING: Rules = Rules {
+    max_terms: 600,
+    max_product: 600 * 8,
+    cancel: 1e-14,
+};
+
+/// Expression depth beyond which the determinant expansion gives up (bounds the recursion).
+pub const MAX_DEPTH: usize = 64;
+
+/// A monomial: its atoms and their (nonzero) exponents, sorted by atom.
+pub type Mono<A> = Vec<(A, i32)>;
+
+/// A polynomial over atoms: monomial → coefficient, like terms merged, no zero coefficients.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Poly(Vec<Term>);
+pub struct Poly<A: Ord>(pub BTreeMap<Mono<A>, f64>);
 
-impl Poly {
-    fn constant(c: f64) -> Poly {
-        Poly::from_terms(vec![(c, Vec::new())])
+impl<A: Ord> Default for Poly<A> {
+    fn default() -> Self {
+        Poly(BTreeMap::new())
     }
+}
 
-    fn atom(id: Id) -> Poly {
-        Poly(vec![(1.0, vec![id])])
+/// The product of two monomials, with the exponents of `b` times `sign` (−1 divides).
+pub fn mono_mul<A: Ord + Copy>(a: &Mono<A>, b: &Mono<A>, sign: i32) -> Mono<A> {
+    let mut r: BTreeMap<A, i32> = a.iter().copied().collect();
+    for &(x, e) in b {
+        *r.entry(x).or_insert(0) += sign * e;
     }
+    r.into_iter().filter(|(_, e)| *e != 0).collect()
+}
 
-    fn from_terms(terms: Vec<Term>) -> Poly {
-        Poly::merge(terms).0
-    }
-
-    /// Sorts, merges like terms and drops those whose coefficients cancel to zero; also returns
-    /// how many merged terms cancelled.
-    fn merge(mut terms: Vec<Term>) -> (Poly, usize) {
-        terms.sort_by(|a, b| a.1.cmp(&b.1));
-        let mut out: Vec<Term> = Vec::with_capacity(terms.len());
-        for (c, atoms) in terms {
-            match out.last_mut() {
-                Some(last) if last.1 == atoms => last.0 += c,
-                _ => out.push((c, atoms)),
-            }
+impl<A: Ord + Copy> Poly<A> {
+    /// The constant `c` (no term for 0).
+    pub fn constant(c: f64) -> Self {
+        let mut p = Poly::default();
+        if c != 0.0 {
+            p.0.insert(Vec::new(), c);
         }
-        let before = out.len();
-        out.retain(|t| t.0 != 0.0);
-        let cancelled = before - out.len();
-        (Poly(out), cancelled)
+        p
     }
 
-    fn add(&self, other: &Poly, sign: f64) -> Option<Poly> {
-        self.add_counting(other, sign).map(|(p, _)| p)
-    }
-
-    /// `self + sign·other` and the number of terms that cancelled exactly.
-    fn add_counting(&self, other: &Poly, sign: f64) -> Option<(Poly, usize)> {
-        let terms = self
-            .0
-            .iter()
-            .cloned()
-            .chain(other.0.iter().map(|(c, a)| (sign * c, a.clone())))
-            .collect();
-        let (p, cancelled) = Poly::merge(terms);
-        Some((p.capped()?, cancelled))
-    }
-
-    fn mul(&self, other: &Poly) -> Option<Poly> {
-        if self.0.len() * other.0.len() > MAX_TERMS * MAX_TERMS {
-            return None;
-        }
-        let mut terms = Vec::with_capacity(self.0.len() * other.0.len());
-        for (ca, aa) in &self.0 {
-            for (cb, ab) in &other.0 {
-                let mut atoms = aa.clone();
-                atoms.extend(ab);
-                atoms.sort_unstable();
-                terms.push((ca * cb, atoms));
-            }
-        }
-        Poly::from_terms(terms).capped()
-    }
-
-    fn capped(self) -> Option<Poly> {
-        (self.0.len() <= MAX_TERMS).then_some(self)
+    /// The atom `a` to the power `e`.
+    pub fn atom(a: A, e: i32) -> Self {
+        let mut p = Poly::default();
+        p.0.insert(vec![(a, e)], 1.0);
+        p
     }
 
     /// The number of terms.
-    #[cfg_attr(not(test), allow(dead_code))]
     pub fn len(&self) -> usize {
         self.0.len()
     }
+
+    /// The only term, if there is exactly one.
+    pub fn single(&self) -> Option<(&Mono<A>, f64)> {
+        if self.0.len() == 1 {
+            self.0.iter().next().map(|(m, c)| (m, *c))
+        } else {
+            None
+        }
+    }
+
+    /// Every coefficient times `k`.
+    pub fn scale(&self, k: f64) -> Self {
+        if k == 0.0 {
+            return Poly::default();
+        }
+        Poly(self.0.iter().map(|(m, c)| (m.clone(), c * k)).collect())
+    }
+
+    /// Adds `c` to the coefficient of `m`; true when that cancelled it (see [`Rules::cancel`]).
+    fn accumulate(&mut self, m: &Mono<A>, c: f64, rules: &Rules) -> bool {
+        let e = self.0.entry(m.clone()).or_insert(0.0);
+        let before = *e;
+        *e += c;
+        if e.abs() <= rules.cancel * before.abs().max(c.abs()) {
+            self.0.remove(m);
+            return true;
+        }
+        false
+    }
+
+    /// `self + sign·other` and the number of terms that cancelled.
+    pub fn add(&self, other: &Self, sign: f64, rules: &Rules) -> (Self, usize) {
+        let mut r = self.clone();
+        let mut cancelled = 0;
+        for (m, c) in &other.0 {
+            cancelled += usize::from(r.accumulate(m, sign * c, rules));
+        }
+        (r, cancelled)
+    }
+
+    /// `self`, unless it has more than `rules.max_terms` terms.
+    pub fn capped(self, rules: &Rules) -> Option<Self> {
+        (self.len() <= rules.max_terms).then_some(self)
+    }
+
+    /// `self · other`; `None` past the caps.
+    pub fn mul(&self, other: &Self, rules: &Rules) -> Option<Self> {
+        if self.len() * other.len() > rules.max_product {
+            return None;
+        }
+        let mut r = Poly::default();
+        for (m1, c1) in &self.0 {
+            for (m2, c2) in &other.0 {
+                r.accumulate(&mono_mul(m1, m2, 1), c1 * c2, rules);
+            }
+        }
+        r.capped(rules)
+    }
 }
 
-/// Expands `id` into a polynomial over its atoms, or `None` when it has more than
-/// [`MAX_TERMS`] terms (at any step) or is nested deeper than [`MAX_DEPTH`].
-pub fn expand(dag: &Dag, id: Id) -> Option<Poly> {
+/// Expands `id` into a polynomial over its atoms (DAG nodes), under [`DETERMINANT`]: `None`
+/// when it has more than its `max_terms` terms (at any step) or is nested deeper than
+/// [`MAX_DEPTH`].
+pub fn expand(dag: &Dag, id: Id) -> Option<Poly<Id>> {
     expand_within(dag, id, MAX_DEPTH)
 }
 
-/// Expression depth beyond which expansion gives up (bounds the recursion).
-pub const MAX_DEPTH: usize = 64;
-
-fn expand_within(dag: &Dag, id: Id, depth: usize) -> Option<Poly> {
+fn expand_within(dag: &Dag, id: Id, depth: usize) -> Option<Poly<Id>> {
+    let rules = &DETERMINANT;
     if let Some(c) = dag.as_const(id) {
         return Some(Poly::constant(c));
     }
     let depth = depth.checked_sub(1)?;
     let ex = |x: Id| expand_within(dag, x, depth);
+    let sum = |a: Poly<Id>, b: Poly<Id>, sign: f64| a.add(&b, sign, rules).0.capped(rules);
     match dag.node(id) {
-        Node::Add(a, b) => ex(a)?.add(&ex(b)?, 1.0),
-        Node::Sub(a, b) => ex(a)?.add(&ex(b)?, -1.0),
-        Node::Neg(a) => Poly::constant(0.0).add(&ex(a)?, -1.0),
-        Node::Mul(a, b) => ex(a)?.mul(&ex(b)?),
+        Node::Add(a, b) => sum(ex(a)?, ex(b)?, 1.0),
+        Node::Sub(a, b) => sum(ex(a)?, ex(b)?, -1.0),
+        Node::Neg(a) => sum(Poly::constant(0.0), ex(a)?, -1.0),
+        Node::Mul(a, b) => ex(a)?.mul(&ex(b)?, rules),
         Node::Powi(a, n @ 2..=4) => {
             let base = ex(a)?;
             let mut p = base.clone();
             for _ in 1..n {
-                p = p.mul(&base)?;
+                p = p.mul(&base, rules)?;
             }
             Some(p)
         }
-        _ => Some(Poly::atom(id)),
+        _ => Some(Poly::atom(id, 1)),
     }
 }
 
-/// Builds the polynomial back as DAG nodes (sum of coefficient × product of atoms).
-pub fn build(dag: &mut Dag, p: &Poly) -> Id {
+/// Builds the polynomial back as DAG nodes (sum of coefficient × product of atoms), the terms
+/// in the order of their atoms written out with repetitions (a²b as a, a, b).
+pub fn build(dag: &mut Dag, p: &Poly<Id>) -> Id {
+    let mut terms: Vec<(Vec<Id>, f64)> =
+        p.0.iter()
+            .map(|(m, c)| {
+                let atoms = m
+                    .iter()
+                    .flat_map(|&(a, e)| std::iter::repeat_n(a, usize::try_from(e).unwrap_or(0)))
+                    .collect();
+                (atoms, *c)
+            })
+            .collect();
+    terms.sort_by(|a, b| a.0.cmp(&b.0));
     let mut sum = Dag::ZERO;
-    for (c, atoms) in &p.0 {
+    for (atoms, c) in &terms {
         let mut term = Dag::ONE;
         for &a in atoms {
             term = dag.mul(term, a);
@@ -142,10 +209,12 @@ pub fn build(dag: &mut Dag, p: &Poly) -> Id {
 /// the expansion stays small), as written otherwise (an expansion where nothing cancels only
 /// costs operations and gains no accuracy).
 pub fn det2(dag: &mut Dag, m11: Id, m22: Id, m12: Id) -> Id {
+    let rules = &DETERMINANT;
     let expanded = (|| {
         let (a, d, b) = (expand(dag, m11)?, expand(dag, m22)?, expand(dag, m12)?);
-        let (ad, bb) = (a.mul(&d)?, b.mul(&b)?);
-        let (det, cancelled) = ad.add_counting(&bb, -1.0)?;
+        let (ad, bb) = (a.mul(&d, rules)?, b.mul(&b, rules)?);
+        let (det, cancelled) = ad.add(&bb, -1.0, rules);
+        let det = det.capped(rules)?;
         (cancelled > 0).then_some(det)
     })();
     match expanded {

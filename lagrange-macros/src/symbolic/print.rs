@@ -8,7 +8,8 @@ use std::collections::{BTreeMap, HashMap};
 use std::fmt::Write as _;
 
 use super::dag::{Dag, Fun, Id, Node};
-use super::Derivation;
+use super::derive::Derivation;
+use super::poly::{self, mono_mul, PRINTING};
 use crate::model::{unraw, CoordKind, Decl};
 
 /// The equations as text.
@@ -16,9 +17,6 @@ pub struct Equations {
     pub unicode: String,
     pub latex: String,
 }
-
-/// Past this many terms a sub-expression is not expanded any further.
-const MAX_TERMS: usize = 600;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 enum Atom {
@@ -42,75 +40,12 @@ impl Atom {
     }
 }
 
-type Mono = Vec<(Atom, i32)>;
+type Mono = poly::Mono<Atom>;
+type Poly = poly::Poly<Atom>;
 
-#[derive(Clone, Debug, Default)]
-struct Poly(BTreeMap<Mono, f64>);
-
-impl Poly {
-    fn constant(c: f64) -> Self {
-        let mut p = Poly::default();
-        if c != 0.0 {
-            p.0.insert(Vec::new(), c);
-        }
-        p
-    }
-    fn atom(a: Atom, e: i32) -> Self {
-        let mut p = Poly::default();
-        p.0.insert(vec![(a, e)], 1.0);
-        p
-    }
-    fn add(&self, o: &Poly, sign: f64) -> Poly {
-        let mut r = self.clone();
-        for (m, c) in &o.0 {
-            let e = r.0.entry(m.clone()).or_insert(0.0);
-            let before = *e;
-            *e += sign * c;
-            if e.abs() <= 1e-14 * before.abs().max(c.abs()) {
-                r.0.remove(m);
-            }
-        }
-        r
-    }
-    fn scale(&self, k: f64) -> Poly {
-        if k == 0.0 {
-            return Poly::default();
-        }
-        Poly(self.0.iter().map(|(m, c)| (m.clone(), c * k)).collect())
-    }
-    fn mul(&self, o: &Poly) -> Option<Poly> {
-        if self.0.len() * o.0.len() > MAX_TERMS * 8 {
-            return None;
-        }
-        let mut r = Poly::default();
-        for (m1, c1) in &self.0 {
-            for (m2, c2) in &o.0 {
-                let m = mono_mul(m1, m2, 1);
-                let e = r.0.entry(m.clone()).or_insert(0.0);
-                let before = *e;
-                *e += c1 * c2;
-                if e.abs() <= 1e-14 * before.abs().max((c1 * c2).abs()) {
-                    r.0.remove(&m);
-                }
-            }
-        }
-        (r.0.len() <= MAX_TERMS).then_some(r)
-    }
-    fn single(&self) -> Option<(&Mono, f64)> {
-        if self.0.len() == 1 {
-            self.0.iter().next().map(|(m, c)| (m, *c))
-        } else {
-            None
-        }
-    }
-}
-
-fn mono_mul(a: &Mono, b: &Mono, sign: i32) -> Mono {
-    let mut r: BTreeMap<Atom, i32> = a.iter().copied().collect();
-    for &(x, e) in b {
-        *r.entry(x).or_insert(0) += sign * e;
-    }
-    r.into_iter().filter(|(_, e)| *e != 0).collect()
+/// `a + sign·b` (printing keeps every sum: no cap).
+fn plus(a: &Poly, b: &Poly, sign: f64) -> Poly {
+    a.add(b, sign, &PRINTING).0
 }
 
 struct Expander<'a> {
@@ -170,12 +105,12 @@ impl Expander<'_> {
             Node::Q(i) => Poly::atom(Atom::Q(i), 1),
             Node::V(i) => Poly::atom(Atom::V(i), 1),
             Node::T => Poly::atom(Atom::T, 1),
-            Node::Add(a, b) => self.get(a).add(&self.get(b), 1.0),
-            Node::Sub(a, b) => self.get(a).add(&self.get(b), -1.0),
+            Node::Add(a, b) => plus(&self.get(a), &self.get(b), 1.0),
+            Node::Sub(a, b) => plus(&self.get(a), &self.get(b), -1.0),
             Node::Neg(a) => self.get(a).scale(-1.0),
             Node::Mul(a, b) => self
                 .get(a)
-                .mul(&self.get(b))
+                .mul(&self.get(b), &PRINTING)
                 .unwrap_or_else(|| Poly::atom(Atom::Paren(id), 1)),
             Node::Div(a, b) => {
                 let pb = self.get(b);
@@ -188,7 +123,7 @@ impl Expander<'_> {
                     None => Poly::atom(Atom::Paren(b), -1),
                 };
                 self.get(a)
-                    .mul(&inv)
+                    .mul(&inv, &PRINTING)
                     .unwrap_or_else(|| Poly::atom(Atom::Paren(id), 1))
             }
             Node::Powi(a, n) => {
@@ -202,7 +137,7 @@ impl Expander<'_> {
                 if (1..=4).contains(&n) {
                     let mut r = Poly::constant(1.0);
                     for _ in 0..n {
-                        match r.mul(&pa) {
+                        match r.mul(&pa, &PRINTING) {
                             Some(x) => r = x,
                             None => return Poly::atom(Atom::Paren(a), n),
                         }
@@ -405,24 +340,10 @@ struct Printer<'a> {
 
 impl Printer<'_> {
     fn fun_name(&self, f: Fun) -> &'static str {
-        match (f, self.latex) {
-            (Fun::Sqrt, false) => "√",
-            (Fun::Sqrt, true) => "\\sqrt",
-            (Fun::Sin, true) => "\\sin",
-            (Fun::Cos, true) => "\\cos",
-            (Fun::Tan, true) => "\\tan",
-            (Fun::Exp, true) => "\\exp",
-            (Fun::Ln, true) => "\\ln",
-            (Fun::Asin, true) => "\\arcsin",
-            (Fun::Acos, true) => "\\arccos",
-            (Fun::Atan, true) => "\\arctan",
-            (Fun::Sinh, true) => "\\sinh",
-            (Fun::Cosh, true) => "\\cosh",
-            (Fun::Tanh, true) => "\\tanh",
-            (Fun::Signum, true) => "\\operatorname{sgn}",
-            (Fun::Abs, _) => "abs",
-            (Fun::Signum, false) => "sgn",
-            (f, false) => f.method(),
+        if self.latex {
+            f.row().latex
+        } else {
+            f.row().unicode
         }
     }
 
@@ -735,9 +656,9 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
                 let m = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
                 let pm = pr.ex.poly(m);
                 let term = pm
-                    .mul(&Poly::atom(Atom::A(k as u32), 1))
+                    .mul(&Poly::atom(Atom::A(k as u32), 1), &PRINTING)
                     .unwrap_or_else(|| Poly::atom(Atom::Paren(m), 1));
-                lhs = lhs.add(&term, 1.0);
+                lhs = plus(&lhs, &term, 1.0);
             }
             let rhs = pr.ex.poly(d.force[i]);
             let l = pr.grouped(&lhs);

@@ -1,13 +1,35 @@
 //! Unit tests of the symbolic path: DAG folding, derivative rules against finite differences of
 //! the numerically evaluated DAG, the whole derivation against closed forms, equation printing
 //! and the "use mode = jets" errors.
+// Index loops mirror the formulas they check.
+#![allow(clippy::needless_range_loop)]
 
 use proc_macro2::Span;
 use quote::format_ident;
 
 use super::dag::{Dag, Fun, Id, Node, VarSet};
-use super::{derive, expand, Derivation};
+use super::derive::Derivation;
+use super::SymbolicOutput;
+use crate::errors::Errors;
 use crate::model::{CoordKind, CoordParam, Decl, Mode, Options};
+
+/// `super::derive` with its errors as a list.
+fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
+    let mut errors = Errors::default();
+    match super::derive::derive(decl, &mut errors) {
+        Some(d) if errors.is_empty() => Ok(d),
+        _ => Err(errors.into_vec()),
+    }
+}
+
+/// `super::expand` with its errors as a list.
+fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
+    let mut errors = Errors::default();
+    match super::expand(decl, &mut errors) {
+        Some(out) if errors.is_empty() => Ok(out),
+        _ => Err(errors.into_vec()),
+    }
+}
 
 /// A declaration from coordinates `(name, dot, vector?)`, an optional time name and a body.
 fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
@@ -412,7 +434,7 @@ fn emitted_code_is_straight_line_and_shares_subexpressions() {
     assert_eq!(acc.matches(". sin ()").count(), 0, "{acc}");
     assert_eq!(acc.matches(". cos ()").count(), 0, "{acc}");
     assert!(
-        acc.contains("let p_i_perp : f64 = self . i_perp ;"),
+        acc.contains("let __lagrange_p_i_perp : f64 = self . i_perp ;"),
         "{acc}"
     );
     assert!(!acc.contains("* 1.0"), "{acc}");
@@ -445,7 +467,7 @@ fn chain_decl(n: usize) -> Decl {
     decl(&coords, None, &body)
 }
 
-/// Scale (issue 7): the N = 16 chain expands in well under 5 s; prints the expansion time and
+/// Scale: the N = 16 chain expands in well under 5 s; prints the expansion time and
 /// the generated size (`cargo test -p lagrange-macros --release chain_16 -- --nocapture`).
 #[test]
 fn chain_16_expands_fast_and_compactly() {
@@ -501,16 +523,18 @@ fn constant_if_becomes_a_select_on_a_runtime_bool() {
     let acc = out.accelerations.to_string();
     // One bool per distinct condition, loaded as written; selects on it.
     assert_eq!(
-        acc.matches("let b_0 : bool = self . k > 0.0 ;").count(),
+        acc.matches("let __lagrange_b_0 : bool = self . k > 0.0 ;")
+            .count(),
         1,
         "{acc}"
     );
     assert_eq!(
-        acc.matches("let b_1 : bool = K_MAX < 2.0 ;").count(),
+        acc.matches("let __lagrange_b_1 : bool = K_MAX < 2.0 ;")
+            .count(),
         1,
         "{acc}"
     );
-    assert!(acc.contains("if b_0 {"), "{acc}");
+    assert!(acc.contains("if __lagrange_b_0 {"), "{acc}");
     // ẋ x is a total derivative (its force contribution cancels); the spring −2kx and the −cos x
     // of −sin x survive in their branches.
     assert!(
@@ -674,4 +698,14 @@ fn polynomial_expansion_is_bounded() {
         chain = dag.mul(chain, x);
     }
     assert!(super::poly::expand(&dag, chain).is_none());
+}
+
+/// Every row of the function table is found by its method name, in the enum's order.
+#[test]
+fn function_table_is_indexed_by_fun() {
+    for (i, row) in super::functions::TABLE.iter().enumerate() {
+        assert_eq!(row.fun as usize, i);
+        assert_eq!(Fun::from_method(row.method), Some(row.fun));
+        assert_eq!(row.fun.row().method, row.method);
+    }
 }

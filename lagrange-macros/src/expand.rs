@@ -1,0 +1,36 @@
+//! The driver: parse → validate → analyze (and lower for jets) → derive symbolically → emit,
+//! with one error sink shared by every stage.
+
+use proc_macro2::TokenStream;
+
+use crate::errors::Errors;
+use crate::model::Mode;
+use crate::{analyze, emit, parse, symbolic, validate};
+
+/// The whole macro, from the attribute's arguments and the annotated item to the output.
+pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
+    let mut errors = Errors::default();
+    let options = parse::options(args, &mut errors);
+    let split = match parse::split(input.clone()) {
+        Ok(s) => s,
+        Err(e) => {
+            errors.push(e);
+            return emit::unparsed(&errors, input);
+        }
+    };
+    let fallback = emit::Fallback::of(&split);
+    let decl = match validate::validate(split, options, &mut errors) {
+        Some(decl) if errors.is_empty() => decl,
+        _ => return emit::stub(&errors, &fallback),
+    };
+    let analysis = analyze::analyze(&decl);
+    let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl));
+    let symbolic = match decl.options.mode {
+        Mode::Jets => None,
+        Mode::Symbolic => symbolic::expand(&decl, &mut errors),
+    };
+    // With errors from the symbolic stage the impl is still emitted (with the jets `fn
+    // lagrangian` and without the symbolic methods), next to the errors: see `emit::generate`.
+    let symbolic = symbolic.filter(|_| errors.is_empty());
+    emit::generate(&decl, &analysis, &body, symbolic.as_ref(), &errors)
+}

@@ -1,0 +1,164 @@
+//! Derive the equations: M, f, the momenta and the energy of L as DAG nodes, by forward-mode
+//! tangents over the lowered body, and the decoupled 2×2 blocks of M.
+// Index loops mirror the textbook formulas; iterator forms would obscure them.
+#![allow(clippy::needless_range_loop)]
+
+use proc_macro2::TokenStream;
+
+use super::codegen;
+use super::dag::{Dag, Id, Node, VarSet};
+use super::{lower, poly};
+use crate::errors::Errors;
+use crate::model::Decl;
+
+/// The derivatives of L as DAG nodes.
+pub struct Derivation {
+    /// The expression DAG holding every node below.
+    pub dag: Dag,
+    /// The `self` fields and free names the body reads.
+    pub fields: Vec<lower::Field>,
+    /// Conditions of constant `if`s (`Node::Select`).
+    pub conds: Vec<lower::Cond>,
+    /// L itself.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub lagrangian: Id,
+    /// ∂L/∂q̇ᵢ.
+    pub momenta: Vec<Id>,
+    /// Mᵢₖ = ∂²L/∂q̇ᵢ∂q̇ₖ, upper triangle (`m[i][k]`, k ≥ i; zeros below).
+    pub mass: Vec<Vec<Id>>,
+    /// fᵢ = ∂L/∂qᵢ − Σₖ (∂²L/∂q̇ᵢ∂qₖ) q̇ₖ − ∂²L/∂q̇ᵢ∂t.
+    pub force: Vec<Id>,
+    /// h = Σ q̇ᵢ pᵢ − L.
+    pub energy: Id,
+    /// The 2×2 diagonal blocks of M coupled to nothing else, (i, k, det), i < k: solved by
+    /// Cramer's rule with the determinant expanded and cancelled (see `poly::det2`).
+    pub pairs: Vec<(usize, usize, Id)>,
+}
+
+/// The 2×2 blocks {i, k} of M (upper triangle) that no other coordinate couples to.
+fn decoupled_pairs(mass: &[Vec<Id>]) -> Vec<(usize, usize)> {
+    let n = mass.len();
+    let coupled = |i: usize, k: usize| {
+        let (a, b) = if i < k { (i, k) } else { (k, i) };
+        mass[a][b] != Dag::ZERO
+    };
+    let mut pairs = Vec::new();
+    for i in 0..n {
+        for k in i + 1..n {
+            if coupled(i, k)
+                && (0..n)
+                    .filter(|&j| j != i && j != k)
+                    .all(|j| !coupled(i, j) && !coupled(k, j))
+            {
+                pairs.push((i, k));
+            }
+        }
+    }
+    pairs
+}
+
+/// Lowers the body of `decl` and differentiates it; `None` (with the reasons pushed to
+/// `errors`) when the body cannot be lowered.
+pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
+    let lowered = lower::lower(decl, errors)?;
+    let mut dag = lowered.dag;
+    let l = lowered.lagrangian;
+    let n = decl.n();
+    let vars = dag.vars;
+    let unit = |var: usize| {
+        let mut s = VarSet::new(vars);
+        s.insert(var);
+        s
+    };
+    let mut momenta = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = dag.tangents(&[l], &unit(vars.v(i)), &|_, node| {
+            (node == Node::V(i as u32)).then_some(Dag::ONE)
+        });
+        momenta.push(p[0]);
+    }
+    let mut mass = vec![vec![Dag::ZERO; n]; n];
+    for k in 0..n {
+        let col = dag.tangents(&momenta[..=k], &unit(vars.v(k)), &|_, node| {
+            (node == Node::V(k as u32)).then_some(Dag::ONE)
+        });
+        for (i, m) in col.into_iter().enumerate() {
+            mass[i][k] = m;
+        }
+    }
+    // The total time derivative of the momenta at fixed q̇: Σₖ q̇ₖ ∂/∂qₖ + ∂/∂t.
+    let mut along = VarSet::new(vars);
+    for k in 0..n {
+        along.insert(vars.q(k));
+    }
+    along.insert(vars.t());
+    let dp = dag.tangents(&momenta, &along, &|dag, node| match node {
+        Node::Q(k) => Some(dag.v(k as usize)),
+        Node::T => Some(Dag::ONE),
+        _ => None,
+    });
+    let mut force = Vec::with_capacity(n);
+    for (i, dpi) in dp.into_iter().enumerate() {
+        let g = dag.tangents(&[l], &unit(vars.q(i)), &|_, node| {
+            (node == Node::Q(i as u32)).then_some(Dag::ONE)
+        });
+        force.push(dag.sub(g[0], dpi));
+    }
+    let mut energy = dag.neg(l);
+    for (i, &p) in momenta.iter().enumerate() {
+        let v = dag.v(i);
+        let vp = dag.mul(v, p);
+        energy = dag.add(energy, vp);
+    }
+    let pairs = decoupled_pairs(&mass)
+        .into_iter()
+        .map(|(i, k)| {
+            (
+                i,
+                k,
+                poly::det2(&mut dag, mass[i][i], mass[k][k], mass[i][k]),
+            )
+        })
+        .collect();
+    Some(Derivation {
+        pairs,
+        dag,
+        fields: lowered.fields,
+        conds: lowered.conds,
+        lagrangian: l,
+        momenta,
+        mass,
+        force,
+        energy,
+    })
+}
+
+/// M q̈ = f as operands of the generated code (`None`: a structural zero), formed once from a
+/// [`Derivation`] and read by both the straight-line solve and the fallback's arrays.
+pub struct Equations {
+    /// Mᵢₖ, upper triangle (`mass[i][k]`, k ≥ i; `None` below the diagonal).
+    pub mass: Vec<Vec<Option<TokenStream>>>,
+    /// fᵢ, the right-hand side.
+    pub rhs: Vec<Option<TokenStream>>,
+}
+
+impl Equations {
+    /// The operands of `d.mass` and `d.force` (each an inline leaf or the local of its node).
+    pub fn of(d: &Derivation) -> Equations {
+        let op = |id: Id| (id != Dag::ZERO).then(|| codegen::operand(&d.dag, &d.fields, id));
+        Equations {
+            mass: d
+                .mass
+                .iter()
+                .enumerate()
+                .map(|(i, row)| {
+                    row.iter()
+                        .enumerate()
+                        .map(|(k, &m)| if k < i { None } else { op(m) })
+                        .collect()
+                })
+                .collect(),
+            rhs: d.force.iter().map(|&x| op(x)).collect(),
+        }
+    }
+}

@@ -1,0 +1,134 @@
+//! The elementary functions of one argument, one row each: the method name the body calls (and
+//! the generated code calls), its value (constant folding), its derivative rule, and its names
+//! for people (Unicode and LaTeX). Lowering, differentiation, code generation, evaluation and
+//! printing all read this table; adding a function is adding a row.
+
+use super::dag::{Dag, Id};
+
+/// One elementary function.
+pub struct Row {
+    /// The function.
+    pub fun: Fun,
+    /// The `f64` method (`x.sin()`): what lowering recognizes and code generation emits.
+    pub method: &'static str,
+    /// Its value on an `f64` (constant folding, and the tests' evaluation).
+    pub eval: fn(f64) -> f64,
+    /// d f(a) = `derivative(dag, f(a), a, da)`: the node of f(a), its argument and the
+    /// argument's tangent.
+    pub derivative: fn(&mut Dag, Id, Id, Id) -> Id,
+    /// The name in the printed equations (Unicode).
+    pub unicode: &'static str,
+    /// The name in the printed equations (LaTeX).
+    pub latex: &'static str,
+}
+
+macro_rules! functions {
+    ($( $variant:ident: $method:literal, $unicode:literal, $latex:literal, $eval:expr,
+        $derivative:expr; )*) => {
+        /// A smooth elementary function of one argument (see [`TABLE`]).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum Fun {
+            $(
+                #[doc = concat!("`", $method, "`")]
+                $variant,
+            )*
+        }
+
+        /// Every function, in the order of [`Fun`].
+        pub const TABLE: &[Row] = &[$(Row {
+            fun: Fun::$variant,
+            method: $method,
+            eval: $eval,
+            derivative: $derivative,
+            unicode: $unicode,
+            latex: $latex,
+        },)*];
+    };
+}
+
+functions! {
+    Sqrt: "sqrt", "√", "\\sqrt", f64::sqrt, |d, y, _, da| {
+        let two = d.constant(2.0);
+        let den = d.mul(two, y);
+        d.div(da, den)
+    };
+    Sin: "sin", "sin", "\\sin", f64::sin, |d, _, a, da| {
+        let c = d.un(Fun::Cos, a);
+        d.mul(c, da)
+    };
+    Cos: "cos", "cos", "\\cos", f64::cos, |d, _, a, da| {
+        let s = d.un(Fun::Sin, a);
+        let m = d.mul(s, da);
+        d.neg(m)
+    };
+    Tan: "tan", "tan", "\\tan", f64::tan, |d, y, _, da| {
+        let r2 = d.powi(y, 2);
+        let k = d.add(Dag::ONE, r2);
+        d.mul(k, da)
+    };
+    Exp: "exp", "exp", "\\exp", f64::exp, |d, y, _, da| d.mul(y, da);
+    Ln: "ln", "ln", "\\ln", f64::ln, |d, _, a, da| d.div(da, a);
+    Abs: "abs", "abs", "abs", f64::abs, |d, _, a, da| {
+        let s = d.un(Fun::Signum, a);
+        d.mul(s, da)
+    };
+    Signum: "signum", "sgn", "\\operatorname{sgn}", f64::signum, |_, _, _, _| Dag::ZERO;
+    Asin: "asin", "asin", "\\arcsin", f64::asin, |d, _, a, da| {
+        let a2 = d.powi(a, 2);
+        let w = d.sub(Dag::ONE, a2);
+        let r = d.un(Fun::Sqrt, w);
+        d.div(da, r)
+    };
+    Acos: "acos", "acos", "\\arccos", f64::acos, |d, _, a, da| {
+        let a2 = d.powi(a, 2);
+        let w = d.sub(Dag::ONE, a2);
+        let r = d.un(Fun::Sqrt, w);
+        let k = d.div(da, r);
+        d.neg(k)
+    };
+    Atan: "atan", "atan", "\\arctan", f64::atan, |d, _, a, da| {
+        let a2 = d.powi(a, 2);
+        let w = d.add(Dag::ONE, a2);
+        d.div(da, w)
+    };
+    Sinh: "sinh", "sinh", "\\sinh", f64::sinh, |d, _, a, da| {
+        let c = d.un(Fun::Cosh, a);
+        d.mul(c, da)
+    };
+    Cosh: "cosh", "cosh", "\\cosh", f64::cosh, |d, _, a, da| {
+        let s = d.un(Fun::Sinh, a);
+        d.mul(s, da)
+    };
+    Tanh: "tanh", "tanh", "\\tanh", f64::tanh, |d, y, _, da| {
+        let r2 = d.powi(y, 2);
+        let k = d.sub(Dag::ONE, r2);
+        d.mul(k, da)
+    };
+}
+
+impl Fun {
+    /// This function's row of [`TABLE`].
+    pub fn row(self) -> &'static Row {
+        &TABLE[self as usize]
+    }
+
+    /// The function a method name calls (`"sin"` → `Sin`), if it is in the table.
+    pub fn from_method(name: &str) -> Option<Fun> {
+        TABLE.iter().find(|r| r.method == name).map(|r| r.fun)
+    }
+
+    /// The Rust method name.
+    pub fn method(self) -> &'static str {
+        self.row().method
+    }
+
+    /// Evaluates the function on an `f64`.
+    pub fn eval(self, x: f64) -> f64 {
+        (self.row().eval)(x)
+    }
+
+    /// The tangent of `y = f(a)` given the tangent `da` of `a`.
+    pub fn derivative(self, dag: &mut Dag, y: Id, a: Id, da: Id) -> Id {
+        (self.row().derivative)(dag, y, a, da)
+    }
+}

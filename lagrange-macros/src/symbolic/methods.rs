@@ -1,0 +1,249 @@
+//! Emit the methods: the bodies of the generated `accelerations`, `mass_matrix`, `momenta`,
+//! `energy` and `energy_and_momenta`, and the `EQUATIONS` / `EQUATIONS_LATEX` consts.
+
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+use super::dag::Id;
+use super::derive::{Derivation, Equations};
+use super::{codegen, print, solve};
+use crate::model::Decl;
+use crate::names;
+
+/// Up to this many generated operations (values plus N² for the solve), `accelerations` is
+/// `#[inline(always)]`.
+const INLINE_ALWAYS_MAX_OPS: usize = 256;
+
+/// What the symbolic path contributes to the generated impl.
+pub struct SymbolicOutput {
+    /// Body of `fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64)
+    /// -> Result<[f64; N], ::lagrange::__private::DynamicsError>`.
+    pub accelerations: TokenStream,
+    /// Body of `fn mass_matrix(&self, q, qdot, t) -> ::lagrange::__private::SMatrix<f64, N, N>`.
+    pub mass_matrix: TokenStream,
+    /// `#[inline(always)]` for a small `accelerations`, `#[inline]` otherwise.
+    pub accelerations_inline: TokenStream,
+    /// Body of `fn momenta(&self, q, qdot, t) -> [f64; N]`.
+    pub momenta: TokenStream,
+    /// Body of `fn energy(&self, q, qdot, t) -> f64`.
+    pub energy: TokenStream,
+    /// Body of `fn energy_and_momenta(&self, q, qdot, t) -> (f64, [f64; N])`.
+    pub energy_and_momenta: TokenStream,
+    /// Lint attributes to put on each of the five generated methods (machine-written code).
+    pub allow: TokenStream,
+    /// The Euler–Lagrange equations, plain Unicode, one line per coordinate.
+    pub equations: String,
+    /// The same equations in LaTeX, one line per coordinate.
+    pub equations_latex: String,
+    /// A rustdoc section (Markdown) presenting the equations, for the user's type.
+    pub doc: String,
+    /// Size of the generated code: `let` statements over all five bodies.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub generated_lets: usize,
+}
+
+/// The bodies of the generated methods and the printed equations of a derivation.
+pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
+    let n = decl.n();
+    let names::Params { q, qdot, t } = names::Params::symbolic();
+    let nn = Literal::usize_unsuffixed(n);
+    let touch = quote!(let _ = (#q, #qdot, #t););
+    let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
+
+    // accelerations
+    let mut outs: Vec<Id> = Vec::new();
+    for (i, row) in d.mass.iter().enumerate() {
+        outs.extend(&row[i..]);
+    }
+    outs.extend(&d.force);
+    outs.extend(d.pairs.iter().map(|p| p.2));
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+    let mut lets = code.lets;
+    // A small right-hand side is inlined at every call site (the twelve stages of DOP853 call
+    // it from unrolled code; `#[inline]` alone let LLVM keep it out of line and the whole run
+    // was 11 % slower); a large one is left to LLVM so code size stays in bounds.
+    let accelerations_inline = if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
+        quote!(#[inline(always)])
+    } else {
+        quote!(#[inline])
+    };
+    // M and f, formed once: the fast path's solve and the fallback's arrays read the same operands.
+    let eq = Equations::of(d);
+    let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| quote!(0.0));
+    let rows = eq.mass.iter().map(|row| {
+        let cells = row.iter().map(or_zero);
+        quote!([#(#cells),*])
+    });
+    let f = eq.rhs.iter().map(or_zero);
+    let stmts = code.stmts;
+    let pairs: Vec<(usize, usize, TokenStream)> =
+        d.pairs.iter().map(|&(i, k, det)| (i, k, op(det))).collect();
+    let solve = solve::ldlt(&eq, &pairs);
+    let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
+    let accelerations = quote! {
+        #touch
+        #stmts
+        // The fast path; the arrays for the runtime's solve are only built when it fails.
+        let #fast: ::core::option::Option<[f64; #nn]> = #fast_label: { #solve };
+        match #fast {
+            ::core::option::Option::Some(#x) => ::core::result::Result::Ok(#x),
+            ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
+                &[#(#rows),*],
+                &[#(#f),*],
+                <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
+                #q,
+                #qdot,
+                #t,
+            ),
+        }
+    };
+
+    // mass_matrix
+    let mut outs: Vec<Id> = Vec::new();
+    for (i, row) in d.mass.iter().enumerate() {
+        outs.extend(&row[i..]);
+    }
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+    lets += code.lets;
+    let cells = (0..n)
+        .flat_map(|i| (0..n).map(move |k| (i, k)))
+        .map(|(i, k)| {
+            let id = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
+            op(id)
+        });
+    let stmts = code.stmts;
+    let mass_matrix = quote! {
+        #touch
+        #stmts
+        ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_row_slice(&[#(#cells),*])
+    };
+
+    // momenta
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &d.momenta);
+    lets += code.lets;
+    let p = d.momenta.iter().map(|&x| op(x));
+    let stmts = code.stmts;
+    let momenta = quote! {
+        #touch
+        #stmts
+        [#(#p),*]
+    };
+
+    // energy
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.energy]);
+    lets += code.lets;
+    let h = op(d.energy);
+    let stmts = code.stmts;
+    let energy = quote! {
+        #touch
+        #stmts
+        #h
+    };
+
+    // energy and momenta together (what an integrator records every step): shared subexpressions
+    let mut outs = vec![d.energy];
+    outs.extend(&d.momenta);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+    lets += code.lets;
+    let h = op(d.energy);
+    let p = d.momenta.iter().map(|&x| op(x));
+    let stmts = code.stmts;
+    let energy_and_momenta = quote! {
+        #touch
+        #stmts
+        (#h, [#(#p),*])
+    };
+
+    let eq = print::equations(d, decl);
+    let doc = format!(
+        "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` \
+         (d/dt ∂L/∂q̇ = ∂L/∂q, one line per coordinate):\n\n```text\n{}\n```\n",
+        eq.unicode
+    );
+    SymbolicOutput {
+        accelerations,
+        accelerations_inline,
+        mass_matrix,
+        momenta,
+        energy,
+        energy_and_momenta,
+        allow: quote! {
+            #[allow(
+                unused_variables,
+                unused_parens,
+                non_snake_case,
+                clippy::all,
+                clippy::pedantic,
+                clippy::nursery
+            )]
+        },
+        equations: eq.unicode,
+        equations_latex: eq.latex,
+        doc,
+        generated_lets: lets,
+    }
+}
+
+/// The five generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
+/// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
+pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStream, TokenStream) {
+    let names::Params { q, qdot, t } = names::Params::symbolic();
+    let nn = Literal::usize_unsuffixed(n);
+    let SymbolicOutput {
+        accelerations,
+        accelerations_inline,
+        mass_matrix,
+        momenta,
+        energy,
+        energy_and_momenta,
+        allow,
+        equations,
+        equations_latex,
+        doc,
+        ..
+    } = out;
+    let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
+    let methods = quote! {
+        #allow
+        #accelerations_inline
+        fn accelerations(#sig) -> ::core::result::Result<[f64; #nn], ::lagrange::__private::DynamicsError> {
+            #accelerations
+        }
+        #allow
+        #[inline]
+        fn mass_matrix(#sig) -> ::lagrange::__private::SMatrix<f64, #nn, #nn> {
+            #mass_matrix
+        }
+        #allow
+        #[inline]
+        fn momenta(#sig) -> [f64; #nn] {
+            #momenta
+        }
+        #allow
+        #[inline]
+        fn energy(#sig) -> f64 {
+            #energy
+        }
+        #allow
+        #[inline]
+        fn energy_and_momenta(#sig) -> (f64, [f64; #nn]) {
+            #energy_and_momenta
+        }
+    };
+    let eq_doc = format!(
+        "The Euler–Lagrange equations, derived at compile time by `#[lagrangian]`: one line per \
+         coordinate, `Σₖ Mᵢₖ q̈ₖ = fᵢ` (accelerations on the left).\n\n```text\n{equations}\n```"
+    );
+    let latex_doc = "The Euler–Lagrange equations in LaTeX, one line per coordinate (the same \
+                     equations as `EQUATIONS`).";
+    let consts = quote! {
+        #[doc = #doc]
+        impl #self_ty {
+            #[doc = #eq_doc]
+            pub const EQUATIONS: &'static str = #equations;
+            #[doc = #latex_doc]
+            pub const EQUATIONS_LATEX: &'static str = #equations_latex;
+        }
+    };
+    (methods, consts)
+}
