@@ -4,12 +4,10 @@
 
 use crate::lagrangian::Lagrangian;
 
+use super::control::{initial_step, scales, sum_sq, Controller, StepControl};
 use super::dop853_coefficients::{A, C, D, E3, E5};
-use super::simulation::Stepper;
-use super::tableau::{
-    combine, finite, initial_step, rhs, scales, stages, sum_sq, weighted, Controller, Fault,
-    StepControl, Y,
-};
+use super::state::{combine, finite, rhs, stages, weighted, Fault, Y};
+use super::stepper::Stepper;
 use super::trajectory::Stats;
 
 /// One DOP853 step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages 1..=11

@@ -17,8 +17,8 @@
 use crate::lagrangian::{hessian_jet, solve_mass_matrix, Lagrangian};
 use crate::linalg::lu_solve;
 
-use super::simulation::{FixedGrid, Stepper};
-use super::tableau::{Fault, Y};
+use super::state::{Fault, Y};
+use super::stepper::{FixedGrid, Stepper};
 use super::trajectory::Stats;
 
 /// At most this many Newton iterations per step (or per Legendre inversion).
