@@ -31,9 +31,9 @@
 
 // The layers, each importing only those above it: what every method shares (`state`: the state
 // y, faults, the right-hand side and stage combination; `stepper`: the `Stepper` trait and the
-// fixed step grid; `control`: error norms and step-size control), the methods (`rk4`, `dopri5`,
-// `dop853`, `variational`), the `driver` loop that runs any of them, and the public builder
-// (`method`, `simulation`, `validate`).
+// fixed step grid; `control`: error norms and step-size control; `newton`: the Newton solver of
+// the implicit methods), the methods (`rk4`, `dopri5`, `dop853`, `variational`), the `driver`
+// loop that runs any of them, and the public builder (`method`, `simulation`, `validate`).
 mod control;
 mod dop853;
 mod dop853_coefficients;
@@ -42,6 +42,7 @@ mod driver;
 mod error;
 mod events;
 mod method;
+mod newton;
 mod rk4;
 mod simulation;
 mod state;
