@@ -3,6 +3,10 @@
 
 /// The integration method.
 ///
+/// The enum is `#[non_exhaustive]`: more methods are coming, so a `match` on it outside this
+/// crate needs a wildcard arm (e.g. `_ => …`, or [`is_fixed_step`](Method::is_fixed_step) to tell
+/// the two kinds apart).
+///
 /// ```
 /// use lagrange_runtime::Method;
 /// let m = Method::Dop853 { rtol: 1e-10, atol: 1e-12 };
@@ -10,6 +14,7 @@
 /// assert!(Method::VariationalMidpoint { dt: 1e-3 }.is_fixed_step());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Method {
     /// Classical 4th-order Runge–Kutta with fixed step `dt`.
     Rk4 {
