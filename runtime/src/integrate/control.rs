@@ -108,7 +108,7 @@ impl Controller {
     /// sums, which keeps a division and a square root off the critical path between steps.
     pub(crate) fn accepted(&mut self, h: f64, ln_err: f64, rejected_last: bool) -> f64 {
         // h / clamp(err^expo1 / err_old^β / safe) as h · clamp(safe · exp(β ln err_old − expo1
-        // ln err)): one exp (instead of two powf, which were 4 % of a DOP853 run) and a
+        // ln err)): one exp (instead of two powf, a visible share of a DOP853 run) and a
         // multiplication instead of a division.
         let g = self.safe * (self.beta * self.ln_facold - self.expo1 * ln_err).exp();
         let g = self.fac_min.max(self.fac_max.min(g));

@@ -139,7 +139,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
             r: None,
             // The shared PI controller with β = 0.04 (expo1 = 1/8 − 0.2 β) and Hairer's dop853
             // factor limits [1/3, 6]. `dop853.f` defaults to β = 0 (as SciPy's controller does);
-            // over 30 heavy tops β = 0.04 needs 7 % fewer evaluations than that and drifts less
+            // over 30 heavy tops β = 0.04 needs fewer evaluations than that and drifts less
             // (BENCHMARKS.md, "Drift against SciPy over 30 tops").
             sc: StepControl::new(
                 h,
