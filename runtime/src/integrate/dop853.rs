@@ -104,7 +104,7 @@ pub(crate) struct Dop853<'a, L: ?Sized, const N: usize> {
     y_old: Y<N>,
     h_old: f64,
     /// Stages of the last accepted step (the trial steps of `advance` overwrite them in place);
-    /// k[12] = f(t, y) at the current node.
+    /// `k[12]` = f(t, y) at the current node.
     k: [Y<N>; 16],
     /// Dense-output coefficients of the last step, once evaluated.
     r: Option<[Y<N>; 8]>,

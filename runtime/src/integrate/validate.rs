@@ -1,5 +1,6 @@
 //! The checks of a [`Simulation`]'s options before any step: ranges, the sample grid, and the
-//! system's `CYCLIC` declaration. A failed check is [`SimulationError::InvalidOptions`](super::SimulationError::InvalidOptions).
+//! system's `CYCLIC` declaration. A failed check is
+//! [`SimulationError::InvalidOptions`](super::SimulationError::InvalidOptions).
 
 use crate::lagrangian::Lagrangian;
 
