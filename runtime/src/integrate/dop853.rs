@@ -4,12 +4,10 @@
 
 use crate::lagrangian::Lagrangian;
 
+use super::control::{initial_step, scales, sum_sq, Controller, StepControl};
 use super::dop853_coefficients::{A, C, D, E3, E5};
-use super::simulation::Stepper;
-use super::tableau::{
-    combine, finite, initial_step, rhs, scales, stages, sum_sq, weighted, Controller, Fault,
-    StepControl, Y,
-};
+use super::state::{combine, finite, rhs, stages, weighted, Fault, Y};
+use super::stepper::Stepper;
 use super::trajectory::Stats;
 
 /// One DOP853 step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages 1..=11
@@ -106,7 +104,7 @@ pub(crate) struct Dop853<'a, L: ?Sized, const N: usize> {
     y_old: Y<N>,
     h_old: f64,
     /// Stages of the last accepted step (the trial steps of `advance` overwrite them in place);
-    /// k[12] = f(t, y) at the current node.
+    /// `k[12]` = f(t, y) at the current node.
     k: [Y<N>; 16],
     /// Dense-output coefficients of the last step, once evaluated.
     r: Option<[Y<N>; 8]>,
@@ -141,7 +139,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
             r: None,
             // The shared PI controller with β = 0.04 (expo1 = 1/8 − 0.2 β) and Hairer's dop853
             // factor limits [1/3, 6]. `dop853.f` defaults to β = 0 (as SciPy's controller does);
-            // over 30 heavy tops β = 0.04 needs 7 % fewer evaluations than that and drifts less
+            // over 30 heavy tops β = 0.04 needs fewer evaluations than that and drifts less
             // (BENCHMARKS.md, "Drift against SciPy over 30 tops").
             sc: StepControl::new(
                 h,

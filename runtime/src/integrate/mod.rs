@@ -29,20 +29,32 @@
 //! assert!((traj.q[8][0] - 4.0_f64.cos()).abs() < 1e-8);
 //! ```
 
+// The layers, each importing only those above it: what every method shares (`state`: the state
+// y, faults, the right-hand side and stage combination; `stepper`: the `Stepper` trait and the
+// fixed step grid; `control`: error norms and step-size control; `newton`: the Newton solver of
+// the implicit methods), the methods (`rk4`, `dopri5`, `dop853`, `variational`), the `driver`
+// loop that runs any of them, and the public builder (`method`, `simulation`, `validate`).
+mod control;
 mod dop853;
 mod dop853_coefficients;
 mod dopri5;
+mod driver;
 mod error;
 mod events;
+mod method;
+mod newton;
 mod rk4;
 mod simulation;
-mod tableau;
+mod state;
+mod stepper;
 mod trajectory;
+mod validate;
 mod variational;
 
 pub use error::{PartialTrajectory, SimulationError};
 pub use events::{Direction, Event, EventHit};
-pub use simulation::{Method, Simulation};
+pub use method::Method;
+pub use simulation::Simulation;
 pub use trajectory::{Drift, Invariants, Stats, Trajectory, INVARIANT_FLOOR};
 
 #[cfg(test)]

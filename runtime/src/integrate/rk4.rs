@@ -3,8 +3,8 @@
 
 use crate::lagrangian::Lagrangian;
 
-use super::simulation::{FixedGrid, Stepper};
-use super::tableau::{combine, finite, rhs, Fault, Y};
+use super::state::{combine, finite, rhs, Fault, Y};
+use super::stepper::{FixedGrid, Stepper};
 use super::trajectory::Stats;
 
 /// One classical RK4 step of size h from (t, y) with k₁ = f(t, y).

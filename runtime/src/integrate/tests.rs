@@ -1,6 +1,6 @@
 //! Unit tests of the single steps and interpolants: convergence orders with fixed steps.
 
-use super::tableau::Y;
+use super::state::Y;
 use super::trajectory::Stats;
 use super::{dop853, dopri5, rk4};
 use crate::lagrangian::Lagrangian;
@@ -66,7 +66,7 @@ where
     let mut y = kepler_start();
     for k in 0..n {
         let t = k as f64 * h;
-        let f = super::tableau::rhs(&Kepler, t, &y, &mut stats).unwrap();
+        let f = super::state::rhs(&Kepler, t, &y, &mut stats).unwrap();
         y = step(t, &y, &f, h, &mut stats);
     }
     dist(&y, &kepler_start())
@@ -125,7 +125,7 @@ fn dop853_fixed_step_is_order_8_on_kepler() {
 fn dense_local_error(h: f64, which: &str) -> f64 {
     let mut stats = Stats::default();
     let (t0, y0) = (0.3, [[0.3_f64.cos()], [-(0.3_f64.sin())]]);
-    let f0 = super::tableau::rhs(&Osc, t0, &y0, &mut stats).unwrap();
+    let f0 = super::state::rhs(&Osc, t0, &y0, &mut stats).unwrap();
     let th = 0.37;
     let got = match which {
         "dopri5" => {
@@ -136,7 +136,7 @@ fn dense_local_error(h: f64, which: &str) -> f64 {
         _ => {
             let mut k = [f0; 16];
             let (y1, _) = dop853::step(&Osc, t0, &y0, &mut k, h, 1e-6, 1e-6, &mut stats).unwrap();
-            k[12] = super::tableau::rhs(&Osc, t0 + h, &y1, &mut stats).unwrap();
+            k[12] = super::state::rhs(&Osc, t0 + h, &y1, &mut stats).unwrap();
             let r = dop853::dense(&Osc, t0, &y0, &y1, &mut k, h, &mut stats).unwrap();
             dop853::eval_dense(&r, th)
         }
@@ -169,7 +169,7 @@ fn dop853_dense_output_is_order_7() {
 fn dense_outputs_hit_both_ends_exactly() {
     let mut stats = Stats::default();
     let y0 = [[1.0], [0.2]];
-    let f0 = super::tableau::rhs(&Osc, 0.0, &y0, &mut stats).unwrap();
+    let f0 = super::state::rhs(&Osc, 0.0, &y0, &mut stats).unwrap();
     let mut k = [f0; 7];
     let (y1, _) = dopri5::step(&Osc, 0.0, &y0, &mut k, 0.3, &mut stats).unwrap();
     let r = dopri5::dense(&y0, &y1, &k, 0.3);
@@ -182,7 +182,7 @@ fn dop853_error_estimate_scales_like_h8() {
     // The blended estimate err ~ |h|·err5²/sqrt(err5² + 0.01 err3²) behaves like h^8 for small h.
     let mut stats = Stats::default();
     let y0 = kepler_start();
-    let f0 = super::tableau::rhs(&Kepler, 0.0, &y0, &mut stats).unwrap();
+    let f0 = super::state::rhs(&Kepler, 0.0, &y0, &mut stats).unwrap();
     let pts: Vec<_> = [0.08, 0.04, 0.02]
         .iter()
         .map(|&h| {

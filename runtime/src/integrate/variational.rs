@@ -17,16 +17,10 @@
 use crate::lagrangian::{hessian_jet, solve_mass_matrix, Lagrangian};
 use crate::linalg::lu_solve;
 
-use super::simulation::{FixedGrid, Stepper};
-use super::tableau::{Fault, Y};
+use super::newton::{self, inf_norm, Residual};
+use super::state::{Fault, Y};
+use super::stepper::{FixedGrid, Stepper};
 use super::trajectory::Stats;
-
-/// At most this many Newton iterations per step (or per Legendre inversion).
-const MAX_NEWTON: usize = 30;
-
-fn inf_norm<const N: usize>(x: &[f64; N]) -> f64 {
-    x.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
-}
 
 /// The variational midpoint stepper; its own state is (t_k, q_k, p_k).
 pub(crate) struct VariationalMidpoint<'a, L: ?Sized, const N: usize> {
@@ -67,44 +61,36 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> VariationalMidpoint<'a, L, N
     /// Solves ∂L/∂q̇(q, v, t) = p for v by Newton's method with the mass matrix.
     fn legendre_inverse(&self, stats: &mut Stats) -> Result<[f64; N], Fault> {
         let mut v = self.v_guess;
-        let mut last_dv = f64::INFINITY;
-        for it in 0..MAX_NEWTON {
-            let jet = hessian_jet(self.sys, &self.q, &v, self.t);
-            stats.rhs_evals += 1;
-            let lv = jet.grad_qdot();
-            let mut r = [0.0; N];
-            for i in 0..N {
-                r[i] = self.p[i] - lv[i];
-            }
-            let scale = inf_norm(&self.p).max(inf_norm(&lv));
-            if !r.iter().all(|x| x.is_finite()) {
-                return Err(Fault::NonFinite);
-            }
-            if inf_norm(&r) <= 8.0 * f64::EPSILON * scale
-                || last_dv <= 4.0 * f64::EPSILON * inf_norm(&v)
-            {
-                return Ok(v);
-            }
-            let m = jet.hess_qdotqdot();
-            let dv = solve_mass_matrix(&m, &r, L::COORDINATES, &self.q, &v, self.t)?;
-            for i in 0..N {
-                v[i] += dv[i];
-            }
-            last_dv = inf_norm(&dv);
-            stats.newton_iterations += 1;
-            if it + 1 == MAX_NEWTON {
-                return Err(Fault::Newton {
-                    iterations: MAX_NEWTON,
-                    residual: inf_norm(&r),
-                    reason: "the inverse Legendre map (solving ∂L/∂q̇ = p for q̇) did not converge",
-                });
-            }
-        }
-        Err(Fault::Newton {
-            iterations: MAX_NEWTON,
-            residual: f64::NAN,
-            reason: "the inverse Legendre map (solving ∂L/∂q̇ = p for q̇) did not converge",
-        })
+        newton::solve(
+            &mut v,
+            stats,
+            "the inverse Legendre map (solving ∂L/∂q̇ = p for q̇) did not converge",
+            |v, stats| {
+                let jet = hessian_jet(self.sys, &self.q, v, self.t);
+                stats.rhs_evals += 1;
+                let lv = jet.grad_qdot();
+                let mut r = [0.0; N];
+                for i in 0..N {
+                    r[i] = self.p[i] - lv[i];
+                }
+                let scale = inf_norm(&self.p).max(inf_norm(&lv));
+                if !r.iter().all(|x| x.is_finite()) {
+                    return Err(Fault::NonFinite);
+                }
+                Ok(Residual {
+                    r,
+                    scale,
+                    x_scale: inf_norm(v),
+                    data: jet,
+                })
+            },
+            |v, res, _r_norm, _stats| {
+                let m = res.data.hess_qdotqdot();
+                solve_mass_matrix(&m, &res.r, L::COORDINATES, &self.q, v, self.t)
+                    .map_err(Fault::from)
+            },
+        )?;
+        Ok(v)
     }
 }
 
@@ -137,79 +123,69 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
         for i in 0..N {
             q1[i] = q0[i] + h * self.v_guess[i];
         }
-        let mut last_dq = f64::INFINITY;
-        let mut converged = None;
-        let mut residual = f64::NAN;
-        for _ in 0..MAX_NEWTON {
-            let mut qm = [0.0; N];
-            let mut v = [0.0; N];
-            for i in 0..N {
-                qm[i] = 0.5 * (q0[i] + q1[i]);
-                v[i] = (q1[i] - q0[i]) / h;
-            }
-            let jet = hessian_jet(self.sys, &qm, &v, tm);
-            stats.rhs_evals += 1;
-            let lq = jet.grad_q();
-            let lv = jet.grad_qdot();
-            let mut r = [0.0; N];
-            let mut scale = 0.0_f64;
-            for i in 0..N {
-                r[i] = self.p[i] + 0.5 * h * lq[i] - lv[i];
-                scale = scale
-                    .max(self.p[i].abs())
-                    .max(lv[i].abs())
-                    .max((0.5 * h * lq[i]).abs());
-            }
-            residual = inf_norm(&r);
-            if !residual.is_finite() || !q1.iter().all(|x| x.is_finite()) {
-                return Err(Fault::NonFinite);
-            }
-            let q_scale = inf_norm(&q1).max(h * inf_norm(&v));
-            if residual <= 8.0 * f64::EPSILON * scale || last_dq <= 4.0 * f64::EPSILON * q_scale {
-                converged = Some((lq, v));
-                break;
-            }
-            // −h·∂R/∂q_{k+1} = M − (h²/4) L_qq − (h/2)(L_qq̇ − L_qq̇ᵀ), solved for −h·Δq.
-            let (hqq, hqv, hvv) = (jet.hess_qq(), jet.hess_qqdot(), jet.hess_qdotqdot());
-            let mut jac = [[0.0; N]; N];
-            let mut jscale = 0.0_f64;
-            for i in 0..N {
-                for kk in 0..N {
-                    jac[i][kk] = hvv[i][kk]
-                        - 0.25 * h * h * hqq[i][kk]
-                        - 0.5 * h * (hqv[i][kk] - hqv[kk][i]);
-                    jscale = jscale.max(jac[i][kk].abs());
+        let p0 = self.p;
+        let (lq, v_secant) = newton::solve(
+            &mut q1,
+            stats,
+            "Newton's method on the implicit midpoint step did not converge",
+            |q1, stats| {
+                let mut qm = [0.0; N];
+                let mut v = [0.0; N];
+                for i in 0..N {
+                    qm[i] = 0.5 * (q0[i] + q1[i]);
+                    v[i] = (q1[i] - q0[i]) / h;
                 }
-            }
-            // R + J Δq = 0 with J = −(1/h)·jac ⇒ jac · Δq = h R.
-            let mut rhs = [0.0; N];
-            for i in 0..N {
-                rhs[i] = h * r[i];
-            }
-            let dq = match lu_solve(&jac, &rhs, jscale) {
-                Ok(dq) => dq,
-                Err(_) => {
-                    return Err(Fault::Newton {
-                        iterations: stats.newton_iterations,
-                        residual,
-                        reason: "the Newton Jacobian of the implicit step is singular (the mass \
-                                 matrix ∂²L/∂q̇∂q̇ is singular or nearly so at the midpoint)",
-                    })
+                let jet = hessian_jet(self.sys, &qm, &v, tm);
+                stats.rhs_evals += 1;
+                let lq = jet.grad_q();
+                let lv = jet.grad_qdot();
+                let mut r = [0.0; N];
+                let mut scale = 0.0_f64;
+                for i in 0..N {
+                    r[i] = p0[i] + 0.5 * h * lq[i] - lv[i];
+                    scale = scale
+                        .max(p0[i].abs())
+                        .max(lv[i].abs())
+                        .max((0.5 * h * lq[i]).abs());
                 }
-            };
-            for i in 0..N {
-                q1[i] += dq[i];
-            }
-            last_dq = inf_norm(&dq);
-            stats.newton_iterations += 1;
-        }
-        let Some((lq, v_secant)) = converged else {
-            return Err(Fault::Newton {
-                iterations: MAX_NEWTON,
-                residual,
-                reason: "Newton's method on the implicit midpoint step did not converge",
-            });
-        };
+                if !inf_norm(&r).is_finite() || !q1.iter().all(|x| x.is_finite()) {
+                    return Err(Fault::NonFinite);
+                }
+                Ok(Residual {
+                    r,
+                    scale,
+                    x_scale: inf_norm(q1).max(h * inf_norm(&v)),
+                    data: (jet, lq, v),
+                })
+            },
+            |_q1, res, residual, stats| {
+                // −h·∂R/∂q_{k+1} = M − (h²/4) L_qq − (h/2)(L_qq̇ − L_qq̇ᵀ), solved for −h·Δq.
+                let jet = &res.data.0;
+                let (hqq, hqv, hvv) = (jet.hess_qq(), jet.hess_qqdot(), jet.hess_qdotqdot());
+                let mut jac = [[0.0; N]; N];
+                let mut jscale = 0.0_f64;
+                for i in 0..N {
+                    for kk in 0..N {
+                        jac[i][kk] = hvv[i][kk]
+                            - 0.25 * h * h * hqq[i][kk]
+                            - 0.5 * h * (hqv[i][kk] - hqv[kk][i]);
+                        jscale = jscale.max(jac[i][kk].abs());
+                    }
+                }
+                // R + J Δq = 0 with J = −(1/h)·jac ⇒ jac · Δq = h R.
+                let mut rhs = [0.0; N];
+                for i in 0..N {
+                    rhs[i] = h * res.r[i];
+                }
+                lu_solve(&jac, &rhs, jscale).map_err(|_| Fault::Newton {
+                    iterations: stats.newton_iterations,
+                    residual,
+                    reason: "the Newton Jacobian of the implicit step is singular (the mass \
+                             matrix ∂²L/∂q̇∂q̇ is singular or nearly so at the midpoint)",
+                })
+            },
+        )
+        .map(|(_jet, lq, v)| (lq, v))?;
         let mut p1 = self.p;
         for i in 0..N {
             p1[i] += h * lq[i];

@@ -1,0 +1,308 @@
+//! The driver loop shared by all methods: it starts the chosen [`Method`]'s stepper, steps it to
+//! the end time, records the samples, locates the events and turns a stepper's fault into the
+//! error that holds the trajectory so far.
+
+use crate::lagrangian::Lagrangian;
+
+use super::dop853::Dop853;
+use super::dopri5::Dopri5;
+use super::error::{PartialTrajectory, SimulationError};
+use super::events::{brent, Direction, Event, EventHit};
+use super::method::Method;
+use super::rk4::Rk4;
+use super::state::{Fault, Y};
+use super::stepper::{FixedGrid, Stepper};
+use super::trajectory::{Stats, Trajectory};
+use super::variational::VariationalMidpoint;
+
+/// Runs `method` on `sys` from y0 = (q0, q̇0) under the options `o`, with `events` located and
+/// steps of at most `hmax` for the adaptive methods.
+pub(super) fn run<L: Lagrangian<N> + ?Sized, const N: usize>(
+    sys: &L,
+    events: &[Event<'_, N>],
+    method: Method,
+    y0: Y<N>,
+    hmax: f64,
+    o: &RunOptions,
+) -> Result<Trajectory<N>, SimulationError> {
+    let mut driver = Driver {
+        sys,
+        events,
+        traj: Trajectory::empty(L::COORDINATES, L::CYCLIC, L::AUTONOMOUS),
+        stats: Stats::default(),
+    };
+    let (t0, until) = (o.t0, o.until);
+    match method {
+        Method::Rk4 { dt } => {
+            let grid = FixedGrid::new(t0, dt, until);
+            match Rk4::new(sys, grid, y0, &mut driver.stats) {
+                Ok(s) => driver.run(s, o),
+                Err(f) => Err(driver.fail(f, t0, y0)),
+            }
+        }
+        Method::VariationalMidpoint { dt } => {
+            let grid = FixedGrid::new(t0, dt, until);
+            // Check the dynamics at the start (a singular mass matrix is reported up front).
+            match sys.accelerations(&y0[0], &y0[1], t0) {
+                Ok(_) => {
+                    let s = VariationalMidpoint::new(sys, grid, y0[0], y0[1]);
+                    driver.run(s, o)
+                }
+                Err(e) => Err(driver.fail(Fault::Dynamics(e), t0, y0)),
+            }
+        }
+        Method::DormandPrince { rtol, atol } => {
+            match Dopri5::new(sys, t0, y0, rtol, atol, hmax, &mut driver.stats) {
+                Ok(s) => driver.run(s, o),
+                Err(f) => Err(driver.fail(f, t0, y0)),
+            }
+        }
+        Method::Dop853 { rtol, atol } => {
+            match Dop853::new(sys, t0, y0, rtol, atol, hmax, &mut driver.stats) {
+                Ok(s) => driver.run(s, o),
+                Err(f) => Err(driver.fail(f, t0, y0)),
+            }
+        }
+    }
+}
+
+/// What a run asks of the driver besides the method: its time span, sampling and step budget.
+pub(super) struct RunOptions<'s> {
+    pub(super) t0: f64,
+    pub(super) until: f64,
+    pub(super) sampling: Sampling<'s>,
+    pub(super) max_steps: usize,
+}
+
+/// Which states the trajectory records.
+pub(super) enum Sampling<'s> {
+    /// Every accepted step.
+    Steps,
+    /// t0 + kΔ.
+    Every(f64),
+    /// The given increasing times; a time within `snap` of a node is taken at the node.
+    At { times: &'s [f64], snap: f64 },
+}
+
+impl Sampling<'_> {
+    /// The k-th sample time after t0 (k = 0, 1, …), or `None` past the last one; a grid time
+    /// within 1e-9 Δ of `until` is `until`.
+    fn time(&self, k: usize, t0: f64, until: f64) -> Option<f64> {
+        match *self {
+            Sampling::Steps => None,
+            Sampling::Every(ds) => {
+                let ts = t0 + (k + 1) as f64 * ds;
+                let ts = if (ts - until).abs() <= 1e-9 * ds {
+                    until
+                } else {
+                    ts
+                };
+                (ts <= until).then_some(ts)
+            }
+            Sampling::At { times, .. } => times.get(k).copied(),
+        }
+    }
+
+    /// How close to a node a sample time is taken at the node.
+    fn snap(&self) -> f64 {
+        match *self {
+            Sampling::Steps => 0.0,
+            Sampling::Every(ds) => 1e-9 * ds,
+            Sampling::At { snap, .. } => snap,
+        }
+    }
+}
+
+struct Driver<'s, 'a, L: ?Sized, const N: usize> {
+    sys: &'s L,
+    events: &'s [Event<'a, N>],
+    traj: Trajectory<N>,
+    stats: Stats,
+}
+
+impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
+    fn push(&mut self, t: f64, y: &Y<N>) {
+        if self.traj.t.last() == Some(&t) {
+            return;
+        }
+        let (e, p) = self.sys.energy_and_momenta(&y[0], &y[1], t);
+        self.traj.t.push(t);
+        self.traj.q.push(y[0]);
+        self.traj.qdot.push(y[1]);
+        self.traj.energy.push(e);
+        self.traj.momenta.push(p);
+    }
+
+    /// Turns a stepper fault into the error, with the trajectory so far ending at (t, y).
+    fn fail(mut self, fault: Fault, t: f64, y: Y<N>) -> SimulationError {
+        if y.iter().flatten().all(|x| x.is_finite()) {
+            self.push(t, &y);
+        }
+        self.traj.stats = self.stats;
+        let (q, qdot) = (y[0].to_vec(), y[1].to_vec());
+        let partial = PartialTrajectory::new(self.traj);
+        match fault {
+            Fault::Dynamics(source) => SimulationError::Dynamics {
+                source: Box::new(source),
+                t,
+                q,
+                qdot,
+                partial,
+            },
+            Fault::Underflow { h } => SimulationError::StepSizeUnderflow {
+                t,
+                q,
+                qdot,
+                h,
+                partial,
+            },
+            Fault::MaxSteps(max_steps) => SimulationError::MaxSteps {
+                t,
+                q,
+                qdot,
+                max_steps,
+                partial,
+            },
+            Fault::NonFinite => SimulationError::NonFinite {
+                t,
+                q,
+                qdot,
+                partial,
+            },
+            Fault::Newton {
+                iterations,
+                residual,
+                reason,
+            } => SimulationError::NewtonFailed {
+                t,
+                q,
+                qdot,
+                iterations,
+                residual,
+                reason,
+                partial,
+            },
+        }
+    }
+
+    fn run<S: Stepper<N>>(
+        mut self,
+        mut s: S,
+        o: &RunOptions,
+    ) -> Result<Trajectory<N>, SimulationError> {
+        match self.drive(&mut s, o) {
+            Ok(()) => {
+                self.traj.stats = self.stats;
+                Ok(self.traj)
+            }
+            Err(f) => {
+                // Report the last accepted node (its velocity from the stepper's own state).
+                let (t, y) = (s.t(), s.last_state());
+                Err(self.fail(f, t, y))
+            }
+        }
+    }
+
+    fn drive<S: Stepper<N>>(&mut self, s: &mut S, o: &RunOptions) -> Result<(), Fault> {
+        let y0 = s.node(&mut self.stats)?;
+        self.push(o.t0, &y0);
+        let mut g_old: Vec<f64> = self
+            .events
+            .iter()
+            .map(|e| e.value(o.t0, &y0[0], &y0[1]))
+            .collect();
+        let mut g_new = g_old.clone();
+        let mut hits: Vec<(f64, usize, Direction)> = Vec::new();
+        let mut next_sample: usize = 0;
+        while s.t() < o.until {
+            if self.stats.steps + self.stats.rejected >= o.max_steps {
+                return Err(Fault::MaxSteps(o.max_steps));
+            }
+            s.advance(o.until, &mut self.stats)?;
+            let (t_a, t_b) = (s.t_prev(), s.t());
+            // Events: sign changes of g over the step, located on the interpolant.
+            hits.clear();
+            if !self.events.is_empty() {
+                let yb = s.node(&mut self.stats)?;
+                for (i, ev) in self.events.iter().enumerate() {
+                    g_new[i] = ev.value(t_b, &yb[0], &yb[1]);
+                    if let Some(dir) = ev.crosses(g_old[i], g_new[i]) {
+                        let tol = 1e-12_f64.max(4.0 * f64::EPSILON * t_b.abs());
+                        let stats = &mut self.stats;
+                        let tz = brent(
+                            |t| {
+                                let y = s.interp(t, stats)?;
+                                Ok::<f64, Fault>(ev.value(t, &y[0], &y[1]))
+                            },
+                            t_a,
+                            t_b,
+                            g_old[i],
+                            g_new[i],
+                            tol,
+                        )?;
+                        hits.push((tz, i, dir));
+                    }
+                }
+                g_old.copy_from_slice(&g_new);
+                hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+            }
+            let stop = hits
+                .iter()
+                .position(|h| self.events[h.1].is_terminal())
+                .map(|k| hits[k].0);
+            let t_stop = stop.unwrap_or(t_b);
+            // Samples in (t_a, t_stop], then the events up to t_stop.
+            match o.sampling {
+                Sampling::Every(_) | Sampling::At { .. } => {
+                    // A time within `snap` past this node is this node (grid rounding), unless a
+                    // terminal event ends the run here.
+                    let snap = o.sampling.snap();
+                    let limit = if stop.is_some() { t_stop } else { t_b + snap };
+                    while let Some(ts) = o.sampling.time(next_sample, o.t0, o.until) {
+                        if ts > limit {
+                            break;
+                        }
+                        let y = if (t_b - ts).abs() <= snap {
+                            s.node(&mut self.stats)?
+                        } else {
+                            s.interp(ts, &mut self.stats)?
+                        };
+                        self.push(ts, &y);
+                        next_sample += 1;
+                    }
+                }
+                Sampling::Steps => {
+                    if stop.is_none() {
+                        let y = s.node(&mut self.stats)?;
+                        self.push(t_b, &y);
+                    }
+                }
+            }
+            for &(tz, i, dir) in &hits {
+                if tz > t_stop {
+                    break;
+                }
+                let y = s.interp(tz, &mut self.stats)?;
+                self.traj.events.push(EventHit {
+                    name: self.events[i].name().to_string(),
+                    t: tz,
+                    q: y[0],
+                    qdot: y[1],
+                    direction: dir,
+                });
+            }
+            if let Some(tz) = stop {
+                let y = s.interp(tz, &mut self.stats)?;
+                self.push(tz, &y);
+                if let Some(h) = self.traj.events.last() {
+                    self.traj.terminated_by = Some(h.name.clone());
+                }
+                return Ok(());
+            }
+        }
+        // The end time, if the sample grid did not land on it.
+        let y = s.node(&mut self.stats)?;
+        self.push(s.t(), &y);
+        Ok(())
+    }
+}

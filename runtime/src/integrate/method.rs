@@ -1,0 +1,57 @@
+//! [`Method`]: the integration methods a [`Simulation`](super::Simulation) can run, with their
+//! parameters.
+
+/// The integration method.
+///
+/// The enum is `#[non_exhaustive]`: more methods are coming, so a `match` on it outside this
+/// crate needs a wildcard arm (e.g. `_ => …`, or [`is_fixed_step`](Method::is_fixed_step) to tell
+/// the two kinds apart).
+///
+/// ```
+/// use lagrange_runtime::Method;
+/// let m = Method::Dop853 { rtol: 1e-10, atol: 1e-12 };
+/// assert!(!m.is_fixed_step());
+/// assert!(Method::VariationalMidpoint { dt: 1e-3 }.is_fixed_step());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Method {
+    /// Classical 4th-order Runge–Kutta with fixed step `dt`.
+    Rk4 {
+        /// Step.
+        dt: f64,
+    },
+    /// Dormand–Prince 5(4), adaptive (PI control), 4th-order dense output.
+    DormandPrince {
+        /// Relative tolerance.
+        rtol: f64,
+        /// Absolute tolerance.
+        atol: f64,
+    },
+    /// DOP853, adaptive 8th order with 7th-order dense output.
+    Dop853 {
+        /// Relative tolerance.
+        rtol: f64,
+        /// Absolute tolerance.
+        atol: f64,
+    },
+    /// The variational midpoint integrator (symplectic, momentum-conserving), fixed step `dt`.
+    VariationalMidpoint {
+        /// Step.
+        dt: f64,
+    },
+}
+
+impl Method {
+    /// Whether the method takes fixed steps (samples and events are then tied to its grid).
+    ///
+    /// ```
+    /// assert!(lagrange_runtime::Method::Rk4 { dt: 0.1 }.is_fixed_step());
+    /// ```
+    pub fn is_fixed_step(&self) -> bool {
+        matches!(
+            self,
+            Method::Rk4 { .. } | Method::VariationalMidpoint { .. }
+        )
+    }
+}

@@ -1,0 +1,51 @@
+//! The [`Stepper`] trait every method implements for the driver, and the step grid of the
+//! fixed-step methods.
+
+use super::state::{Fault, Y};
+use super::trajectory::Stats;
+
+/// The step grid of a fixed-step method: t_k = t0 + k·dt, with the last step shortened to end
+/// exactly at `until`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FixedGrid {
+    pub(crate) t0: f64,
+    pub(crate) dt: f64,
+    pub(crate) n: u64,
+    pub(crate) until: f64,
+}
+
+impl FixedGrid {
+    /// The grid from t0 in steps of dt up to `until`.
+    pub(crate) fn new(t0: f64, dt: f64, until: f64) -> Self {
+        let n = (((until - t0) / dt) - 1e-6).ceil().max(1.0) as u64;
+        FixedGrid { t0, dt, n, until }
+    }
+    /// The time of node k (`until` from the last node on).
+    pub(crate) fn time(&self, k: u64) -> f64 {
+        if k >= self.n {
+            self.until
+        } else {
+            self.t0 + k as f64 * self.dt
+        }
+    }
+}
+
+/// What every method provides to the driver.
+pub(crate) trait Stepper<const N: usize> {
+    /// Time of the current node.
+    fn t(&self) -> f64;
+    /// Time of the previous node (start of the last step).
+    fn t_prev(&self) -> f64;
+    /// The last accepted state as known without further computation (for error reports).
+    fn last_state(&self) -> Y<N>;
+    /// (q, q̇) at the current node: the last state for the explicit methods; the variational
+    /// method recovers q̇ from the momenta here, on demand.
+    #[inline(always)]
+    fn node(&mut self, _stats: &mut Stats) -> Result<Y<N>, Fault> {
+        Ok(self.last_state())
+    }
+    /// Takes one accepted step, not beyond `t_end`.
+    fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault>;
+    /// (q, q̇) at t in [t_prev, t] from the method's interpolant.
+    fn interp(&mut self, t: f64, stats: &mut Stats) -> Result<Y<N>, Fault>;
+}

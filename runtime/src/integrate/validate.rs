@@ -1,0 +1,183 @@
+//! The checks of a [`Simulation`]'s options before any step: ranges, the sample grid, and the
+//! system's `CYCLIC` declaration. A failed check is
+//! [`SimulationError::InvalidOptions`](super::SimulationError::InvalidOptions).
+
+use crate::lagrangian::Lagrangian;
+
+use super::method::Method;
+use super::simulation::Simulation;
+
+impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
+    /// Checks the options: the end time, or the message of the error.
+    pub(super) fn validate(&self) -> Result<f64, String> {
+        let until = self
+            .until
+            .ok_or_else(|| "no end time: call .until(t_end) before .run()".to_string())?;
+        if !self.t0.is_finite() || !until.is_finite() {
+            return Err(format!(
+                "start time {} and end time {until} must be finite",
+                self.t0
+            ));
+        }
+        if until <= self.t0 {
+            return Err(format!(
+                "the end time {until} is not after the start time {}: integration runs forward; \
+                 choose until > start_time",
+                self.t0
+            ));
+        }
+        if self
+            .q0
+            .iter()
+            .chain(self.qdot0.iter())
+            .any(|x| !x.is_finite())
+        {
+            return Err(format!(
+                "the initial state is not finite: q0 = {:?}, q̇0 = {:?}",
+                self.q0, self.qdot0
+            ));
+        }
+        let positive = |name: &str, x: f64| {
+            if x > 0.0 && x.is_finite() {
+                Ok(())
+            } else {
+                Err(format!("{name} = {x} must be positive and finite"))
+            }
+        };
+        match self.method {
+            Method::Rk4 { dt } | Method::VariationalMidpoint { dt } => positive("dt", dt)?,
+            Method::DormandPrince { rtol, atol } | Method::Dop853 { rtol, atol } => {
+                positive("rtol", rtol)?;
+                if !(atol >= 0.0 && atol.is_finite()) {
+                    return Err(format!("atol = {atol} must be non-negative and finite"));
+                }
+                if rtol < 1e-15 {
+                    return Err(format!(
+                        "rtol = {rtol:e} is below what double precision can deliver; use rtol ≥ 1e-15 \
+                         (1e-13 is a practical floor)"
+                    ));
+                }
+            }
+        }
+        if let Some(h) = self.max_step {
+            positive("max_step", h)?;
+        }
+        if let Some(ds) = self.sample_every {
+            positive("sample_every", ds)?;
+            if let Method::Rk4 { dt } | Method::VariationalMidpoint { dt } = self.method {
+                let ratio = ds / dt;
+                if ratio < 1.0 - 1e-9 || (ratio - ratio.round()).abs() > 1e-9 * ratio {
+                    return Err(format!(
+                        "sample_every = {ds} is not a multiple of the fixed step dt = {dt}: fixed-step \
+                         methods record the steps that land on the sample grid; choose \
+                         sample_every = k·dt (e.g. {}) or dt = sample_every / k",
+                        dt * ratio.round().max(1.0)
+                    ));
+                }
+            }
+        }
+        // The trajectory's length: t0 + kΔ for k = 0 … ⌊(until − t0)/Δ⌋ and `until` if it is off
+        // that grid; or t0, sample_at's times and `until`.
+        let samples = match (self.sample_every, &self.sample_at) {
+            (Some(ds), _) => {
+                let k = ((until - self.t0) / ds + 1e-9).floor();
+                let on_end = ((until - self.t0) - k * ds).abs() <= 1e-9 * ds;
+                k + if on_end { 1.0 } else { 2.0 }
+            }
+            (None, Some(times)) => {
+                let ends = [self.t0, until];
+                (times.len() + ends.iter().filter(|e| !times.contains(e)).count()) as f64
+            }
+            (None, None) => 0.0,
+        };
+        if samples > self.max_samples as f64 {
+            let asked = match self.sample_every {
+                Some(ds) => format!(
+                    "sample_every = {ds:e} over [{}, {until}] asks for {samples:.3e} samples",
+                    self.t0
+                ),
+                None => format!("sample_at asks for {samples} samples (with t0 and until)"),
+            };
+            return Err(format!(
+                "{asked}, more than max_samples = {}: sample less often, shorten the run, or \
+                 raise the limit with .max_samples(n) (each sample holds (3N + 2) · 8 bytes)",
+                self.max_samples
+            ));
+        }
+        if let Some(times) = &self.sample_at {
+            if self.sample_every.is_some() {
+                return Err(
+                    "both sample_every and sample_at are set: choose one (sample_at can hold a \
+                     regular grid too)"
+                        .to_string(),
+                );
+            }
+            for (i, &ts) in times.iter().enumerate() {
+                if !(ts >= self.t0 && ts <= until) {
+                    return Err(format!(
+                        "sample_at time {ts} (index {i}) is outside the run [{}, {until}]: sample \
+                         times must lie between the start time and until",
+                        self.t0
+                    ));
+                }
+                if i > 0 && ts <= times[i - 1] {
+                    return Err(format!(
+                        "sample_at times must increase, but time {ts} (index {i}) follows {}: sort \
+                         them and remove duplicates",
+                        times[i - 1]
+                    ));
+                }
+                if let Method::Rk4 { dt } | Method::VariationalMidpoint { dt } = self.method {
+                    let k = (ts - self.t0) / dt;
+                    if ts != until && (k - k.round()).abs() > 1e-9 * k.max(1.0) {
+                        return Err(format!(
+                            "sample_at time {ts} (index {i}) is not on the fixed step grid \
+                             t0 + k·dt (t0 = {}, dt = {dt}): fixed-step methods record the steps \
+                             that land on the sample times; choose times on the grid (e.g. {}) or \
+                             use an adaptive method, whose dense output serves any time",
+                            self.t0,
+                            self.t0 + k.round() * dt
+                        ));
+                    }
+                }
+            }
+        }
+        if self.max_steps == 0 {
+            return Err("max_steps must be at least 1".to_string());
+        }
+        Ok(until)
+    }
+
+    /// Checks the system's `CYCLIC` declaration at the initial state: q̈ must not change when a
+    /// coordinate declared cyclic is shifted. The explicit methods rely on it (they do not form
+    /// the stage positions of cyclic coordinates), and the momenta reported as conserved do too.
+    /// Skipped where the dynamics fail at the initial state (the run reports that).
+    pub(super) fn check_cyclic(&self) -> Result<(), String> {
+        const SHIFT: f64 = 0.739_085_133_215_160_6;
+        let Ok(a0) = self.sys.accelerations(&self.q0, &self.qdot0, self.t0) else {
+            return Ok(());
+        };
+        for i in (0..N).filter(|&i| L::CYCLIC[i]) {
+            let mut q = self.q0;
+            q[i] += SHIFT;
+            let a1 = self.sys.accelerations(&q, &self.qdot0, self.t0);
+            let same = a1.as_ref().is_ok_and(|a1| {
+                a0.iter()
+                    .zip(a1)
+                    .all(|(x, y)| (x - y).abs() <= 1e-9 * (x.abs() + y.abs()) + 1e-300)
+            });
+            if !same {
+                let name = L::COORDINATES[i];
+                let shifted = a1.map_or_else(|e| format!("an error ({e})"), |a| format!("{a:?}"));
+                return Err(format!(
+                    "CYCLIC declares the coordinate `{name}` absent from L, but the accelerations \
+                     change with it (at t = {}, q = {:?}, q̇ = {:?}, shifting {name} by {SHIFT} \
+                     changes q̈ from {a0:?} to {shifted}): set CYCLIC[{i}] = false, or derive the \
+                     declaration with #[lagrangian], which finds the cyclic coordinates itself",
+                    self.t0, self.q0, self.qdot0,
+                ));
+            }
+        }
+        Ok(())
+    }
+}
