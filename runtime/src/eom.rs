@@ -46,7 +46,7 @@
 //! ```
 
 use crate::error::DynamicsError;
-use crate::jet::ElJet;
+use crate::jet::{ElJet, HessianJet};
 use crate::lagrangian::{el_jet, Lagrangian};
 use crate::linalg::{solve_symmetric, SolveFailure};
 
@@ -323,4 +323,71 @@ fn non_finite<const N: usize>(q: &[f64; N], qdot: &[f64; N], t: f64) -> Dynamics
              here, a smaller step or a tighter tolerance may keep the solution from blowing up."
         ),
     }
+}
+
+/// The applied forces F = Q − ∂D/∂q̇ at a state with their derivatives, exact from the Hessian
+/// jet: what an implicit integrator's Newton Jacobian (and a linearization's damping) needs.
+///
+/// ```
+/// use lagrange_runtime::{eom::applied_jacobian, Lagrangian, Scalar};
+/// /// Drag D = c ẋ² x²/2 and a force Q = x t.
+/// struct S;
+/// impl Lagrangian<1> for S {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S2: Scalar>(&self, _q: &[S2; 1], v: &[S2; 1], _t: S2) -> S2 { v[0] * v[0] * 0.5 }
+///     fn dissipation<S2: Scalar>(&self, q: &[S2; 1], v: &[S2; 1], _t: S2) -> S2 { v[0] * v[0] * q[0] * q[0] * 0.5 }
+///     fn generalized_forces<S2: Scalar>(&self, q: &[S2; 1], _v: &[S2; 1], t: S2) -> [S2; 1] { [q[0] * t] }
+/// }
+/// let j = applied_jacobian(&S, &[2.0], &[3.0], 5.0);
+/// assert_eq!(j.value, [10.0 - 3.0 * 4.0]);     // x t − ẋ x²
+/// assert_eq!(j.d_q, [[5.0 - 2.0 * 3.0 * 2.0]]); // t − 2 ẋ x
+/// assert_eq!(j.d_qdot, [[-4.0]]);                // −x²
+/// ```
+pub fn applied_jacobian<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> AppliedJacobian<N>
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let (qj, vj) = HessianJet::seed(q, qdot);
+    let tj = HessianJet::from(t);
+    let forces = sys.generalized_forces(&qj, &vj, tj);
+    let d = sys.dissipation(&qj, &vj, tj);
+    let (dv, dqv, dvv) = (d.grad_qdot(), d.hess_qqdot(), d.hess_qdotqdot());
+    let mut out = AppliedJacobian {
+        value: [0.0; N],
+        d_q: [[0.0; N]; N],
+        d_qdot: [[0.0; N]; N],
+    };
+    for i in 0..N {
+        let (gq, gv) = (forces[i].grad_q(), forces[i].grad_qdot());
+        out.value[i] = forces[i].value() - dv[i];
+        for k in 0..N {
+            out.d_q[i][k] = gq[k] - dqv[k][i];
+            out.d_qdot[i][k] = gv[k] - dvv[i][k];
+        }
+    }
+    out
+}
+
+/// The applied forces F = Q − ∂D/∂q̇ and their Jacobians (see [`applied_jacobian`]).
+///
+/// ```
+/// use lagrange_runtime::eom::AppliedJacobian;
+/// let j = AppliedJacobian::<1> { value: [1.0], d_q: [[0.0]], d_qdot: [[-0.5]] };
+/// assert_eq!(j.d_qdot[0][0], -0.5);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AppliedJacobian<const N: usize> {
+    /// Fᵢ.
+    pub value: [f64; N],
+    /// ∂Fᵢ/∂qₖ (`d_q[i][k]`).
+    pub d_q: [[f64; N]; N],
+    /// ∂Fᵢ/∂q̇ₖ (`d_qdot[i][k]`).
+    pub d_qdot: [[f64; N]; N],
 }

@@ -3,8 +3,6 @@
 use nalgebra::SMatrix;
 
 use crate::eom::{self, jet_pieces, jet_power, Pieces};
-// The integrators' import path (they predate `eom`).
-pub(crate) use crate::eom::solve_mass_matrix;
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
 use crate::scalar::Scalar;

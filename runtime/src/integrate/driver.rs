@@ -28,7 +28,8 @@ pub(super) fn run<L: Lagrangian<N> + ?Sized, const N: usize>(
     let mut driver = Driver {
         sys,
         events,
-        traj: Trajectory::empty(L::COORDINATES, L::CYCLIC, L::AUTONOMOUS),
+        traj: Trajectory::empty::<L>(),
+        work: Work::default(),
         stats: Stats::default(),
     };
     let (t0, until) = (o.t0, o.until);
@@ -118,10 +119,32 @@ struct Driver<'s, 'a, L: ?Sized, const N: usize> {
     events: &'s [Event<'a, N>],
     traj: Trajectory<N>,
     stats: Stats,
+    work: Work,
 }
 
+/// The work W done on the system since t0 (the integral of [`Lagrangian::power`]), known at the
+/// start `t_a` of the last step and at its end, the current node.
+#[derive(Clone, Copy, Debug, Default)]
+struct Work {
+    /// W(t_a).
+    at_prev: f64,
+    /// W at the current node, or NaN while the last step's quadrature has not completed.
+    at_node: f64,
+}
+
+/// 4-point Gauss–Legendre on [0, 1]: nodes and weights (exact for polynomials of degree 7).
+const GAUSS4: [(f64, f64); 4] = [
+    (0.069_431_844_202_973_71, 0.173_927_422_568_726_92),
+    (0.330_009_478_207_571_87, 0.326_072_577_431_273_05),
+    (0.669_990_521_792_428_1, 0.326_072_577_431_273_05),
+    (0.930_568_155_797_026_3, 0.173_927_422_568_726_92),
+];
+
 impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
-    fn push(&mut self, t: f64, y: &Y<N>) {
+    /// Whether the run records the work (the energy is not conserved); a constant per system.
+    const RECORDS_WORK: bool = !L::ENERGY_CONSERVED;
+
+    fn push(&mut self, t: f64, y: &Y<N>, work: f64) {
         if self.traj.t.last() == Some(&t) {
             return;
         }
@@ -131,12 +154,45 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
         self.traj.qdot.push(y[1]);
         self.traj.energy.push(e);
         self.traj.momenta.push(p);
+        self.traj.work.push(work);
+    }
+
+    /// ∫ power dt over [a, b] within the last step, on the method's interpolant (4-point
+    /// Gauss–Legendre: the quadrature error is below the interpolant's, so W carries the
+    /// integrator's accuracy).
+    fn power_integral<S: Stepper<N>>(&mut self, s: &mut S, a: f64, b: f64) -> Result<f64, Fault> {
+        let h = b - a;
+        let mut sum = 0.0;
+        for (x, w) in GAUSS4 {
+            let t = a + x * h;
+            let y = s.interp(t, &mut self.stats)?;
+            sum += w * self.sys.power(&y[0], &y[1], t);
+        }
+        let dw = h * sum;
+        if dw.is_finite() {
+            Ok(dw)
+        } else {
+            Err(Fault::NonFinite)
+        }
+    }
+
+    /// W at t in [t_a, t_b] of the last step (W at the node itself is known already).
+    fn work_at<S: Stepper<N>>(&mut self, s: &mut S, t: f64) -> Result<f64, Fault> {
+        if !Self::RECORDS_WORK {
+            return Ok(0.0);
+        }
+        if t == s.t() {
+            return Ok(self.work.at_node);
+        }
+        let t_a = s.t_prev();
+        Ok(self.work.at_prev + self.power_integral(s, t_a, t)?)
     }
 
     /// Turns a stepper fault into the error, with the trajectory so far ending at (t, y).
     fn fail(mut self, fault: Fault, t: f64, y: Y<N>) -> SimulationError {
         if y.iter().flatten().all(|x| x.is_finite()) {
-            self.push(t, &y);
+            let w = self.work.at_node;
+            self.push(t, &y, w);
         }
         self.traj.stats = self.stats;
         let (q, qdot) = (y[0].to_vec(), y[1].to_vec());
@@ -205,7 +261,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
 
     fn drive<S: Stepper<N>>(&mut self, s: &mut S, o: &RunOptions) -> Result<(), Fault> {
         let y0 = s.node(&mut self.stats)?;
-        self.push(o.t0, &y0);
+        self.push(o.t0, &y0, 0.0);
         let mut g_old: Vec<f64> = self
             .events
             .iter()
@@ -220,6 +276,12 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
             }
             s.advance(o.until, &mut self.stats)?;
             let (t_a, t_b) = (s.t_prev(), s.t());
+            if Self::RECORDS_WORK {
+                self.work.at_prev = self.work.at_node;
+                self.work.at_node = f64::NAN;
+                let dw = self.power_integral(s, t_a, t_b)?;
+                self.work.at_node = self.work.at_prev + dw;
+            }
             // Events: sign changes of g over the step, located on the interpolant.
             hits.clear();
             if !self.events.is_empty() {
@@ -262,19 +324,20 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
                         if ts > limit {
                             break;
                         }
-                        let y = if (t_b - ts).abs() <= snap {
-                            s.node(&mut self.stats)?
+                        let (y, w) = if (t_b - ts).abs() <= snap {
+                            (s.node(&mut self.stats)?, self.work.at_node)
                         } else {
-                            s.interp(ts, &mut self.stats)?
+                            (s.interp(ts, &mut self.stats)?, self.work_at(s, ts)?)
                         };
-                        self.push(ts, &y);
+                        self.push(ts, &y, w);
                         next_sample += 1;
                     }
                 }
                 Sampling::Steps => {
                     if stop.is_none() {
                         let y = s.node(&mut self.stats)?;
-                        self.push(t_b, &y);
+                        let w = self.work.at_node;
+                        self.push(t_b, &y, w);
                     }
                 }
             }
@@ -293,7 +356,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
             }
             if let Some(tz) = stop {
                 let y = s.interp(tz, &mut self.stats)?;
-                self.push(tz, &y);
+                let w = self.work_at(s, tz)?;
+                self.push(tz, &y, w);
                 if let Some(h) = self.traj.events.last() {
                     self.traj.terminated_by = Some(h.name.clone());
                 }
@@ -302,7 +366,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
         }
         // The end time, if the sample grid did not land on it.
         let y = s.node(&mut self.stats)?;
-        self.push(s.t(), &y);
+        let w = self.work.at_node;
+        self.push(s.t(), &y, w);
         Ok(())
     }
 }

@@ -53,33 +53,48 @@ pub struct Drift {
 /// ```
 pub const INVARIANT_FLOOR: f64 = 1e-12;
 
-/// Drift of the energy (when the system is autonomous) and of each cyclic momentum.
+/// Drift of the quantities a run should conserve: the energy (when it is conserved), each
+/// conserved momentum, and otherwise the energy balance h(t) − h(t0) − W(t).
 ///
 /// ```
 /// use lagrange_runtime::{Drift, Invariants};
-/// let inv = Invariants::<2> { energy: Some(Drift { initial: 1.0, max_abs: 1e-9, max_rel: 1e-9 }), momenta: [None, None] };
+/// let inv = Invariants::<2> {
+///     energy: Some(Drift { initial: 1.0, max_abs: 1e-9, max_rel: 1e-9 }),
+///     momenta: [None, None],
+///     energy_balance: None,
+/// };
 /// assert_eq!(inv.max_rel(), 1e-9);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Invariants<const N: usize> {
-    /// Energy drift; `None` when L depends on t explicitly.
+    /// Energy drift; `None` when the energy is not conserved (L depends on t, or forces or
+    /// dissipation act: see `energy_balance`).
     pub energy: Option<Drift>,
-    /// Momentum drift per coordinate; `None` for non-cyclic coordinates.
+    /// Momentum drift per coordinate; `None` where the momentum is not conserved (the
+    /// coordinate is not cyclic, or a force or dissipation acts on it).
     pub momenta: [Option<Drift>; N],
+    /// When the energy is not conserved: the residual of the energy balance h(t) − h(t0) − W(t),
+    /// W the recorded work ([`Trajectory::work`]), which stays at the integrator's error.
+    /// `initial` is h(t0), `max_abs` the largest |h(t) − h(t0) − W(t)|, and `max_rel` that
+    /// relative to the run's energy scale, max(|h(t0)|, max |W|, [`INVARIANT_FLOOR`]).
+    pub energy_balance: Option<Drift>,
 }
 
 impl<const N: usize> Invariants<N> {
-    /// The largest relative drift among the conserved quantities (0 if there are none).
+    /// The largest relative drift among the conserved quantities and the energy balance (0 if
+    /// there are none).
     ///
     /// ```
     /// use lagrange_runtime::{Drift, Invariants};
     /// let d = |r| Some(Drift { initial: 1.0, max_abs: r, max_rel: r });
-    /// assert_eq!(Invariants::<1> { energy: d(1e-8), momenta: [d(1e-6)] }.max_rel(), 1e-6);
+    /// let inv = Invariants::<1> { energy: d(1e-8), momenta: [d(1e-6)], energy_balance: None };
+    /// assert_eq!(inv.max_rel(), 1e-6);
     /// ```
     pub fn max_rel(&self) -> f64 {
         self.energy
             .iter()
             .chain(self.momenta.iter().flatten())
+            .chain(self.energy_balance.iter())
             .fold(0.0, |m, d| m.max(d.max_rel))
     }
 }
@@ -113,6 +128,13 @@ pub struct Trajectory<const N: usize> {
     pub energy: Vec<f64>,
     /// Momenta ∂L/∂q̇ at the samples.
     pub momenta: Vec<[f64; N]>,
+    /// The work W(t) done on the system since t0 at the samples: the integral of
+    /// [`Lagrangian::power`](crate::Lagrangian::power), (Q − ∂D/∂q̇)·q̇ − ∂L/∂t, by Gauss–Legendre
+    /// quadrature on each step's interpolant (to the integrator's accuracy), so that
+    /// h(t) − h(t0) − W(t) measures the integrator's error. All zero when the energy is conserved.
+    /// In a failed run's partial trajectory the last entry is NaN if the failing step's work was
+    /// not integrated.
+    pub work: Vec<f64>,
     /// Located events, in time order.
     pub events: Vec<EventHit<N>>,
     /// Counters.
@@ -123,27 +145,31 @@ pub struct Trajectory<const N: usize> {
     pub cyclic: [bool; N],
     /// Whether L has no explicit time dependence.
     pub autonomous: bool,
+    /// Which momenta are conserved ([`Lagrangian::MOMENTUM_CONSERVED`](crate::Lagrangian::MOMENTUM_CONSERVED)).
+    pub momentum_conserved: [bool; N],
+    /// Whether the energy is conserved ([`Lagrangian::ENERGY_CONSERVED`](crate::Lagrangian::ENERGY_CONSERVED)).
+    pub energy_conserved: bool,
     /// The terminal event that ended the run early, if any.
     pub terminated_by: Option<String>,
 }
 
 impl<const N: usize> Trajectory<N> {
-    pub(crate) fn empty(
-        coordinates: [&'static str; N],
-        cyclic: [bool; N],
-        autonomous: bool,
-    ) -> Self {
+    /// An empty trajectory of the system `L`, with its names and flags.
+    pub(crate) fn empty<L: crate::Lagrangian<N> + ?Sized>() -> Self {
         Trajectory {
             t: Vec::new(),
             q: Vec::new(),
             qdot: Vec::new(),
             energy: Vec::new(),
             momenta: Vec::new(),
+            work: Vec::new(),
             events: Vec::new(),
             stats: Stats::default(),
-            coordinates,
-            cyclic,
-            autonomous,
+            coordinates: L::COORDINATES,
+            cyclic: L::CYCLIC,
+            autonomous: L::AUTONOMOUS,
+            momentum_conserved: L::MOMENTUM_CONSERVED,
+            energy_conserved: L::ENERGY_CONSERVED,
             terminated_by: None,
         }
     }
@@ -184,8 +210,10 @@ impl<const N: usize> Trajectory<N> {
         self.t.is_empty()
     }
 
-    /// Max drift of the energy (when autonomous) and of each cyclic momentum over the samples,
-    /// relative to max(|initial value|, [`INVARIANT_FLOOR`]).
+    /// Max drift of the energy (when conserved) and of each conserved momentum over the samples,
+    /// relative to max(|initial value|, [`INVARIANT_FLOOR`]); when the energy is not conserved,
+    /// the residual of the energy balance h(t) − h(t0) − W(t) instead (see
+    /// [`Invariants::energy_balance`]).
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
@@ -212,22 +240,42 @@ impl<const N: usize> Trajectory<N> {
                 max_rel: max_abs / initial.abs().max(INVARIANT_FLOOR),
             })
         }
-        let energy = if self.autonomous {
+        let energy = if self.energy_conserved {
             drift(self.energy.iter().copied())
         } else {
             None
         };
         let mut momenta = [None; N];
         for (i, m) in momenta.iter_mut().enumerate() {
-            if self.cyclic[i] {
+            if self.momentum_conserved[i] {
                 *m = drift(self.momenta.iter().map(|p| p[i]));
             }
         }
-        Invariants { energy, momenta }
+        let energy_balance = match (self.energy_conserved, self.energy.first()) {
+            (false, Some(&h0)) => {
+                let (mut max_abs, mut w_max) = (0.0_f64, 0.0_f64);
+                for (h, w) in self.energy.iter().zip(&self.work) {
+                    max_abs = max_abs.max((h - h0 - w).abs());
+                    w_max = w_max.max(w.abs());
+                }
+                Some(Drift {
+                    initial: h0,
+                    max_abs,
+                    max_rel: max_abs / h0.abs().max(w_max).max(INVARIANT_FLOOR),
+                })
+            }
+            _ => None,
+        };
+        Invariants {
+            energy,
+            momenta,
+            energy_balance,
+        }
     }
 
     /// Writes the samples as CSV: `t`, the coordinate names, their velocities (`name_dot`), `energy`
-    /// and the momenta (`p_name`), one row per sample, full precision.
+    /// and the momenta (`p_name`), and `work` when the energy is not conserved; one row per
+    /// sample, full precision.
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
@@ -255,6 +303,10 @@ impl<const N: usize> Trajectory<N> {
         header.extend(self.coordinates.iter().map(|n| format!("{n}_dot")));
         header.push("energy".to_string());
         header.extend(self.coordinates.iter().map(|n| format!("p_{n}")));
+        let with_work = !self.energy_conserved;
+        if with_work {
+            header.push("work".to_string());
+        }
         writeln!(w, "{}", header.join(","))?;
         for k in 0..self.len() {
             let mut row = vec![self.t[k]];
@@ -262,6 +314,9 @@ impl<const N: usize> Trajectory<N> {
             row.extend_from_slice(&self.qdot[k]);
             row.push(self.energy[k]);
             row.extend_from_slice(&self.momenta[k]);
+            if with_work {
+                row.push(self.work[k]);
+            }
             let cells: Vec<String> = row.iter().map(|x| format!("{x}")).collect();
             writeln!(w, "{}", cells.join(","))?;
         }

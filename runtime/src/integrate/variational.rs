@@ -9,12 +9,20 @@
 //! we use p_{k+1} = p_k + h ∂L/∂q: for a cyclic coordinate ∂L/∂q is exactly zero, so its
 //! momentum is carried over bit for bit.
 //!
+//! Generalized forces and dissipation enter by the discrete Lagrange–d'Alembert principle
+//! (forced variational integrators, Marsden and West 2001, §3.2): the applied force
+//! F = Q − ∂D/∂q̇ at the midpoint, (h/2)·F, is added to both discrete momenta, so
+//! R = p_k + (h/2)(∂L/∂q + F) − ∂L/∂q̇ and p_{k+1} = p_k + h (∂L/∂q + F). A cyclic coordinate on
+//! which no force acts still keeps its momentum bit for bit while the others are damped or
+//! driven.
+//!
 //! Velocities at the nodes are *not* the secant (q_{k+1} − q_k)/h: the integrator reports
 //! q̇_k = (∂L/∂q̇)⁻¹(q_k, p_k, t_k), the velocity whose Legendre transform is the discrete momentum
 //! (solved by Newton with the mass matrix). So (q_k, q̇_k) is a consistent state: the momenta
 //! computed from it are the conserved p_k, and the energy from it is the integrator's energy.
 
-use crate::lagrangian::{hessian_jet, solve_mass_matrix, Lagrangian};
+use crate::eom::{applied_jacobian, solve_mass_matrix};
+use crate::lagrangian::{hessian_jet, Lagrangian};
 use crate::linalg::lu_solve;
 
 use super::newton::{self, inf_norm, Residual};
@@ -124,7 +132,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
             q1[i] = q0[i] + h * self.v_guess[i];
         }
         let p0 = self.p;
-        let (lq, v_secant) = newton::solve(
+        let (lq, f, v_secant) = newton::solve(
             &mut q1,
             stats,
             "Newton's method on the implicit midpoint step did not converge",
@@ -136,17 +144,23 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
                     v[i] = (q1[i] - q0[i]) / h;
                 }
                 let jet = hessian_jet(self.sys, &qm, &v, tm);
+                // The applied forces F = Q − ∂D/∂q̇ at the midpoint (zero for a conservative
+                // system): the discrete Lagrange–d'Alembert principle adds (h/2)·F to both
+                // discrete momenta.
+                let forced = applied_jacobian(self.sys, &qm, &v, tm);
                 stats.rhs_evals += 1;
                 let lq = jet.grad_q();
                 let lv = jet.grad_qdot();
+                let f = forced.value;
                 let mut r = [0.0; N];
                 let mut scale = 0.0_f64;
                 for i in 0..N {
-                    r[i] = p0[i] + 0.5 * h * lq[i] - lv[i];
+                    r[i] = p0[i] + 0.5 * h * lq[i] - lv[i] + 0.5 * h * f[i];
                     scale = scale
                         .max(p0[i].abs())
                         .max(lv[i].abs())
-                        .max((0.5 * h * lq[i]).abs());
+                        .max((0.5 * h * lq[i]).abs())
+                        .max((0.5 * h * f[i]).abs());
                 }
                 if !inf_norm(&r).is_finite() || !q1.iter().all(|x| x.is_finite()) {
                     return Err(Fault::NonFinite);
@@ -155,12 +169,13 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
                     r,
                     scale,
                     x_scale: inf_norm(q1).max(h * inf_norm(&v)),
-                    data: (jet, lq, v),
+                    data: (jet, forced, lq, v),
                 })
             },
             |_q1, res, residual, stats| {
-                // −h·∂R/∂q_{k+1} = M − (h²/4) L_qq − (h/2)(L_qq̇ − L_qq̇ᵀ), solved for −h·Δq.
-                let jet = &res.data.0;
+                // −h·∂R/∂q_{k+1} = M − (h²/4) L_qq − (h/2)(L_qq̇ − L_qq̇ᵀ)
+                //                  − (h²/4) ∂F/∂q − (h/2) ∂F/∂q̇, solved for −h·Δq.
+                let (jet, forced) = (&res.data.0, &res.data.1);
                 let (hqq, hqv, hvv) = (jet.hess_qq(), jet.hess_qqdot(), jet.hess_qdotqdot());
                 let mut jac = [[0.0; N]; N];
                 let mut jscale = 0.0_f64;
@@ -168,7 +183,9 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
                     for kk in 0..N {
                         jac[i][kk] = hvv[i][kk]
                             - 0.25 * h * h * hqq[i][kk]
-                            - 0.5 * h * (hqv[i][kk] - hqv[kk][i]);
+                            - 0.5 * h * (hqv[i][kk] - hqv[kk][i])
+                            - 0.25 * h * h * forced.d_q[i][kk]
+                            - 0.5 * h * forced.d_qdot[i][kk];
                         jscale = jscale.max(jac[i][kk].abs());
                     }
                 }
@@ -185,10 +202,12 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
                 })
             },
         )
-        .map(|(_jet, lq, v)| (lq, v))?;
+        .map(|(_jet, forced, lq, v)| (lq, forced.value, v))?;
+        // p_{k+1} = p_k + h (∂L/∂q + F): a coordinate on which neither L nor a force depends
+        // keeps its momentum bit for bit.
         let mut p1 = self.p;
         for i in 0..N {
-            p1[i] += h * lq[i];
+            p1[i] += h * (lq[i] + f[i]);
         }
         stats.steps += 1;
         self.k += 1;
