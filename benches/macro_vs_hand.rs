@@ -1,6 +1,6 @@
-//! Heavy-top accelerations three ways, in one run (issue 3): the hand-derived closed form
-//! (baseline), a hand-written generic `impl Lagrangian<3>`, and the same L declared with
-//! `#[lagrangian]` (the contract text).
+//! Heavy-top accelerations three ways, in one run: the hand-derived closed form (baseline), a
+//! hand-written generic `impl Lagrangian<3>`, and the same L declared with `#[lagrangian]` (the
+//! contract text).
 //!
 //! Run: `cargo bench --bench macro_vs_hand`
 

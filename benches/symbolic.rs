@@ -1,6 +1,6 @@
-//! Symbolic mode (issue 7) benchmarks: generated accelerations against hand-written closed forms
-//! and run-time jets, in the same run. The systems (each a symbolic/jets twin from one body) are
-//! shared with tests/symbolic.rs: tests/support/systems.rs.
+//! Symbolic-mode benchmarks (derivatives taken at compile time): generated accelerations against
+//! hand-written closed forms and run-time jets, in the same run. The systems (each a symbolic/jets
+//! twin from one body) are shared with the integration tests: tests/support/systems.rs.
 //!
 //! `cargo bench --bench symbolic`
 use std::hint::black_box;

@@ -1,4 +1,4 @@
-//! Gallery of `#[lagrangian]` systems (issue 3), each against equations of motion derived by hand
+//! Gallery of `#[lagrangian]` systems, each against equations of motion derived by hand
 //! and written out in closed form below, at ≥ 1000 random states to 1e-12 relative, plus the
 //! COORDINATES / CYCLIC / AUTONOMOUS constants the macro fills in.
 //!
@@ -6,30 +6,19 @@
 //! blocks, `if` on an `f64` field, `match` on a non-numeric field, a helper generic over
 //! `S: Scalar`, `2.0 * x` and `x / 2.0`, `Vector3<f64>` fields as receiver, argument and factor,
 //! doc comments and `#[allow(...)]` on the function.
+//!
+//! So these declarations are variants on purpose: plain bodies of the same systems are declared
+//! once as symbolic/jets twins in tests/symbolic.rs, and Kepler, whose body here exercises
+//! nothing special, is the shared declaration of tests/support/systems.rs.
 
 use lagrange::prelude::*;
+
+use crate::support::systems::Kepler;
+use crate::support::Rng;
 
 // ---------------------------------------------------------------------------------------------
 // Test support
 // ---------------------------------------------------------------------------------------------
-
-/// A small deterministic generator (xorshift) so the tests need no extra dependency.
-struct Rng(u64);
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
-    fn vec3(&mut self, lo: f64, hi: f64) -> Vector3<f64> {
-        Vector3::new(
-            self.uniform(lo, hi),
-            self.uniform(lo, hi),
-            self.uniform(lo, hi),
-        )
-    }
-}
 
 const STATES: usize = 2000;
 const REL: f64 = 1e-12;
@@ -216,19 +205,8 @@ fn spherical_pendulum_matches_closed_form() {
 // 3. Kepler problem in polar coordinates (φ cyclic)
 // ---------------------------------------------------------------------------------------------
 
-/// A body of mass `m` in the potential −k/r.
-#[derive(Debug, Clone, Copy)]
-pub struct Kepler {
-    pub m: f64,
-    pub k: f64,
-}
-
-#[lagrangian]
-impl Kepler {
-    fn lagrangian(&self, (r, r_dot): Coord, (phi, phi_dot): Coord) -> Scalar {
-        self.m * (r_dot.powi(2) + (r * phi_dot).powi(2)) / 2.0 + self.k / r
-    }
-}
+// `Kepler`, a body of mass `m` in the potential −k/r, is the shared declaration of
+// tests/support/systems.rs (the same system tests/symbolic.rs checks against its jets twin).
 
 #[test]
 fn kepler_constants() {

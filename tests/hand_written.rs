@@ -1,25 +1,11 @@
-//! A hand-written `impl Lagrangian<3>` of the heavy top (eq. 92 of the reference text) against the
-//! hand-derived equations of motion, and the singular-mass-matrix error at θ = 0.
+//! A hand-written `impl Lagrangian<3>` of the heavy top (eq. 92 of the reference text,
+//! tests/support/hand.rs) against the hand-derived equations of motion, and the
+//! singular-mass-matrix error at θ = 0.
 
 use lagrange::prelude::*;
 
-struct HeavyTop {
-    i_perp: f64,
-    i_par: f64,
-    mgl: f64,
-}
-
-impl Lagrangian<3> for HeavyTop {
-    const COORDINATES: [&'static str; 3] = ["theta", "phi", "psi"];
-    const CYCLIC: [bool; 3] = [false, true, true];
-    const AUTONOMOUS: bool = true;
-    fn lagrangian<S: Scalar>(&self, q: &[S; 3], qd: &[S; 3], _t: S) -> S {
-        let (s, c) = q[0].sin_cos();
-        let w3 = qd[2] + qd[1] * c;
-        (qd[0] * qd[0] + qd[1] * qd[1] * s * s) * (self.i_perp / 2.0) + w3 * w3 * (self.i_par / 2.0)
-            - c * self.mgl
-    }
-}
+use crate::support::hand::HeavyTop;
+use crate::support::Rng;
 
 /// Hand-derived: I⊥θ̈ = I⊥φ̇²sc − I∥ω₃φ̇s + mgl s;  φ̈ = θ̇(I∥ω₃ − 2I⊥φ̇c)/(I⊥s);  ψ̈ = φ̇θ̇s − φ̈c.
 fn closed_form(top: &HeavyTop, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 3] {
@@ -31,17 +17,6 @@ fn closed_form(top: &HeavyTop, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 3] {
     let ph_dd = th_d * (top.i_par * w3 - 2.0 * top.i_perp * ph_d * c) / (top.i_perp * s);
     let ps_dd = ph_d * th_d * s - ph_dd * c;
     [th_dd, ph_dd, ps_dd]
-}
-
-/// A small deterministic generator (xorshift) so the test needs no extra dependency.
-struct Rng(u64);
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
 }
 
 #[test]

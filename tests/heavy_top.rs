@@ -1,6 +1,7 @@
 //! The heavy symmetric top of the reference text (section D, eqs. 92–102), end to end: the top is
-//! declared with `#[lagrangian]` exactly as eq. 92 reads, integrated with DOP853, and every
-//! equation is checked against the simulation and against `lagrange::theory::heavy_top`.
+//! declared with `#[lagrangian]` as eq. 92 reads (once, in tests/support/systems.rs), integrated
+//! with DOP853, and every equation is checked against the simulation and against
+//! `lagrange::theory::heavy_top`.
 //!
 //! Where the text is wrong (eq. 102; the names of θ and φ in section D's first paragraph) the
 //! tests assert the correct physics; `docs/ERRATA.md`, section D, records the difference.
@@ -15,29 +16,9 @@ use lagrange::theory::heavy_top::{
 };
 use lagrange::Direction;
 
-/// The symmetric heavy top, eq. 92.
-#[derive(Debug, Clone, Copy)]
-pub struct HeavyTop {
-    pub i_perp: f64,
-    pub i_par: f64,
-    pub m: f64,
-    pub g: f64,
-    pub l: f64,
-}
-
-#[lagrangian]
-impl HeavyTop {
-    fn lagrangian(
-        &self,
-        (theta, theta_dot): Coord,
-        (phi, phi_dot): Coord,
-        (psi, psi_dot): Coord,
-    ) -> Scalar {
-        self.i_perp / 2.0 * (theta_dot.powi(2) + phi_dot.powi(2) * theta.sin().powi(2))
-            + self.i_par / 2.0 * (psi_dot + phi_dot * theta.cos()).powi(2)
-            - self.m * self.g * self.l * theta.cos()
-    }
-}
+// The symmetric heavy top, eq. 92: the shared `#[lagrangian]` declaration.
+use crate::support::systems::HeavyTop;
+use crate::support::Rng;
 
 impl HeavyTop {
     fn mgl(&self) -> f64 {
@@ -155,16 +136,6 @@ fn simulate(r: &Regime, periods: f64) -> (Trajectory<3>, Constants) {
 
 fn lows(traj: &Trajectory<3>) -> Vec<&EventHit<3>> {
     traj.events.iter().filter(|e| e.name == LOW).collect()
-}
-
-struct Rng(u64);
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
 }
 
 fn random_top(rng: &mut Rng) -> (HeavyTop, [f64; 3], [f64; 3]) {

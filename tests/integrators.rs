@@ -1,8 +1,13 @@
-//! Integrators (issue 4): convergence orders on problems with known solutions, the heavy top's
+//! Integrators: convergence orders on problems with known solutions, the heavy top's
 //! invariants over 100 nutation periods, events, invalid options and error paths.
+//!
+//! Every system here is a hand-written `impl Lagrangian` (the heavy top of eq. 92 is the shared
+//! one of tests/support/hand.rs), so these tests depend on the runtime alone, not on the macro.
 
 use lagrange::prelude::*;
 use lagrange::Direction;
+
+use crate::support::hand::HeavyTop;
 
 /// x'' = −x (unit mass and frequency).
 struct Oscillator;
@@ -23,24 +28,6 @@ impl Lagrangian<2> for Kepler {
     const AUTONOMOUS: bool = true;
     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
         (v[0] * v[0] + q[0] * q[0] * v[1] * v[1]) * 0.5 + S::constant(1.0) / q[0]
-    }
-}
-
-/// The heavy symmetric top, reference text eq. 92 (hand-written until the macro lands).
-struct HeavyTop {
-    i_perp: f64,
-    i_par: f64,
-    mgl: f64,
-}
-impl Lagrangian<3> for HeavyTop {
-    const COORDINATES: [&'static str; 3] = ["theta", "phi", "psi"];
-    const CYCLIC: [bool; 3] = [false, true, true];
-    const AUTONOMOUS: bool = true;
-    fn lagrangian<S: Scalar>(&self, q: &[S; 3], qd: &[S; 3], _t: S) -> S {
-        let (s, c) = q[0].sin_cos();
-        let w3 = qd[2] + qd[1] * c;
-        (qd[0] * qd[0] + qd[1] * qd[1] * s * s) * (self.i_perp / 2.0) + w3 * w3 * (self.i_par / 2.0)
-            - c * self.mgl
     }
 }
 

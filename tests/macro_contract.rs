@@ -1,31 +1,14 @@
-//! The two declarations of the macro contract (issue 3), against hand-derived equations.
+//! The two declarations of the macro contract (the heavy top with three scalar coordinates, a
+//! particle with a vector coordinate and explicit time), their constants and accelerations
+//! against hand-derived equations, plus declarations at the contract's edges: methods of `self`,
+//! `macro_rules!`-written impls and constants from the user's scope.
 
 use lagrange::prelude::*;
 
-/// Symmetric heavy top, eq. (92).
-#[derive(Debug, Clone)]
-pub struct HeavyTop {
-    pub i_perp: f64,
-    pub i_par: f64,
-    pub m: f64,
-    pub g: f64,
-    pub l: f64,
-}
-
-#[lagrangian]
-impl HeavyTop {
-    fn lagrangian(
-        &self,
-        (theta, theta_dot): Coord,
-        (phi, phi_dot): Coord,
-        (psi, psi_dot): Coord,
-    ) -> Scalar {
-        let (s, c) = theta.sin_cos();
-        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
-            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
-            - self.m * self.g * self.l * c
-    }
-}
+// The first declaration, the symmetric heavy top of eq. (92), is the shared one in
+// tests/support/systems.rs, written exactly as the contract text writes it.
+use crate::support::systems::HeavyTop;
+use crate::support::Rng;
 
 /// A vector coordinate and explicit time.
 pub struct Spinning {
@@ -42,16 +25,6 @@ impl Spinning {
         let v = r_dot + omega.cross(&r);
         self.m / 2.0 * v.norm_squared() - 0.5 * self.k * r.norm_squared()
             + self.m * self.gravity.dot(&r)
-    }
-}
-
-struct Rng(u64);
-impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
     }
 }
 

@@ -14,6 +14,8 @@
 use lagrange::prelude::*;
 use lagrange::{Event, Method, Simulation};
 
+use crate::support::Rng;
+
 // ---------------------------------------------------------------------------------------------
 // The frame: Ω(t) and v0(t) in the frame's own axes, smooth and time-dependent.
 // ---------------------------------------------------------------------------------------------
@@ -84,7 +86,9 @@ pub struct Particle {
 }
 
 // Calls generic helper functions (frame_v0, frame_omega, trap_potential): run-time jets.
-// The same particle in the default symbolic mode is checked in tests/symbolic.rs.
+// A variant on purpose: the symbolic mode does not call user functions. A particle in a moving
+// frame in the default symbolic mode (`NonInertial`) is checked against its jets twin in
+// tests/symbolic.rs.
 #[lagrangian(mode = "jets")]
 impl Particle {
     fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
@@ -102,7 +106,9 @@ pub struct Rotating {
 }
 
 // Calls generic helper functions (frame_v0, frame_omega, trap_potential): run-time jets.
-// The same particle in the default symbolic mode is checked in tests/symbolic.rs.
+// A variant on purpose: the symbolic mode does not call user functions. A particle in a moving
+// frame in the default symbolic mode (`NonInertial`) is checked against its jets twin in
+// tests/symbolic.rs.
 #[lagrangian(mode = "jets")]
 impl Rotating {
     fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
@@ -115,41 +121,21 @@ impl Rotating {
 // Helpers
 // ---------------------------------------------------------------------------------------------
 
-struct Rng(u64);
+// Draws of this file's own systems from the shared generator.
 impl Rng {
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
-    }
-    fn vec(&mut self, lo: f64, hi: f64) -> Vector3<f64> {
-        Vector3::new(
-            self.uniform(lo, hi),
-            self.uniform(lo, hi),
-            self.uniform(lo, hi),
-        )
-    }
-    fn arr(&mut self, lo: f64, hi: f64) -> [f64; 3] {
-        [
-            self.uniform(lo, hi),
-            self.uniform(lo, hi),
-            self.uniform(lo, hi),
-        ]
-    }
     fn frame(&mut self) -> Frame {
         Frame {
-            w: self.arr(-2.0, 2.0),
-            a: self.arr(-1.0, 1.0),
-            nu: self.arr(0.1, 3.0),
-            b: self.arr(-3.0, 3.0),
-            mu: self.arr(0.1, 3.0),
+            w: self.arr3(-2.0, 2.0),
+            a: self.arr3(-1.0, 1.0),
+            nu: self.arr3(0.1, 3.0),
+            b: self.arr3(-3.0, 3.0),
+            mu: self.arr3(0.1, 3.0),
         }
     }
     fn particle(&mut self) -> Particle {
         Particle {
             m: self.uniform(0.1, 5.0),
-            k: self.arr(0.0, 10.0),
+            k: self.arr3(0.0, 10.0),
             eps: self.uniform(0.0, 2.0),
             frame: self.frame(),
         }
@@ -246,8 +232,8 @@ fn generated_matches_full_closed_form() {
     let mut rng = Rng(0x5eed_0e00_0001);
     for i in 0..3000 {
         let p = rng.particle();
-        let r = rng.vec(-2.0, 2.0);
-        let rd = rng.vec(-3.0, 3.0);
+        let r = rng.vec3(-2.0, 2.0);
+        let rd = rng.vec3(-3.0, 3.0);
         let t = rng.uniform(-10.0, 10.0);
         let terms = Terms::new(&p, &r, &rd, t);
         let want = terms.sum();
@@ -332,8 +318,8 @@ fn text_final_equation_differs_by_v0_cross_omega_plus_twice_the_force() {
     let mut max_disagreement: f64 = 0.0;
     for i in 0..3000 {
         let p = rng.particle();
-        let r = rng.vec(-2.0, 2.0);
-        let rd = rng.vec(-3.0, 3.0);
+        let r = rng.vec3(-2.0, 2.0);
+        let rd = rng.vec3(-3.0, 3.0);
         let t = rng.uniform(-10.0, 10.0);
         let terms = Terms::new(&p, &r, &rd, t);
         let f = trap_force(&p.k, p.eps, &r);
@@ -361,8 +347,8 @@ fn text_final_equation_with_f_read_as_grad_u_misses_only_v0_cross_omega() {
     let mut rng = Rng(0x5eed_0e00_0003);
     for i in 0..3000 {
         let p = rng.particle();
-        let r = rng.vec(-2.0, 2.0);
-        let rd = rng.vec(-3.0, 3.0);
+        let r = rng.vec3(-2.0, 2.0);
+        let rd = rng.vec3(-3.0, 3.0);
         let t = rng.uniform(-10.0, 10.0);
         let terms = Terms::new(&p, &r, &rd, t);
         let grad_u = -trap_force(&p.k, p.eps, &r);
@@ -398,8 +384,8 @@ fn text_final_equation_agrees_exactly_when_v0_cross_omega_and_force_vanish() {
             eps: 0.0,
             frame,
         };
-        let r = rng.vec(-2.0, 2.0);
-        let rd = rng.vec(-3.0, 3.0);
+        let r = rng.vec3(-2.0, 2.0);
+        let rd = rng.vec3(-3.0, 3.0);
         let t = rng.uniform(-10.0, 10.0);
         let terms = Terms::new(&p, &r, &rd, t);
         let diff = generated(&p, &r, &rd, t) - text_rhs(&p, &r, &rd, t, &Vector3::zeros());
@@ -586,8 +572,8 @@ fn jacobi_integral_is_the_energy_and_is_conserved_for_constant_omega() {
     };
     let mut rng = Rng(0x5eed_0e00_0005);
     for _ in 0..500 {
-        let r = rng.vec(-2.0, 2.0);
-        let rd = rng.vec(-3.0, 3.0);
+        let r = rng.vec3(-2.0, 2.0);
+        let rd = rng.vec3(-3.0, 3.0);
         let t = rng.uniform(-10.0, 10.0);
         let h = sys.energy(&arr(&r), &arr(&rd), t);
         assert!((h - jacobi(&r, &rd)).abs() <= 1e-13 * (1.0 + h.abs()));

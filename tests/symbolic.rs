@@ -1,18 +1,17 @@
-//! Symbolic mode (issue 7) against run-time jets: for the heavy top, the non-inertial particle,
-//! the gallery systems and pendulum chains, the compile-time derived accelerations, mass matrix,
-//! momenta and energy agree with the jets twin (`mode = "jets"`, same body) to 1e-12 relative at
-//! random states; the printed equations of the heavy top have the hand-derived structure. Each
-//! system is declared once by `twins!` (tests/support/systems.rs), which writes the symbolic and
-//! the jets declaration from the same body; the heavy top and the chains live in that file,
-//! shared with benches/symbolic.rs.
+//! Symbolic mode (the default, derivatives taken at compile time) against run-time jets: for the
+//! heavy top, the non-inertial particle, the gallery systems and pendulum chains, the
+//! compile-time derived accelerations, mass matrix, momenta and energy agree with the jets twin
+//! (`mode = "jets"`, same body) to 1e-12 relative at random states; the printed equations of the
+//! heavy top have the hand-derived structure. Each system is declared once by `twins!`
+//! (tests/support/systems.rs), which writes the symbolic and the jets declaration from the same
+//! body; the heavy top, Kepler and the chains live in that file, shared with the other tests and
+//! benches/symbolic.rs. The compile errors of the symbolic mode ("use jets") are UI cases,
+//! tests/ui/symbolic/, run by tests/ui.rs.
 #![deny(warnings)]
 
 use lagrange::prelude::*;
 
-#[macro_use]
-#[path = "support/systems.rs"]
-mod systems;
-use systems::{Chain16, Chain4, HeavyTop};
+use crate::support::systems::{Chain16, Chain4, HeavyTop, Kepler};
 
 struct Rng(u64);
 impl Rng {
@@ -258,13 +257,6 @@ twins! {
 }
 
 twins! {
-    Kepler, KeplerJets { m: f64, k: f64 }
-    fn lagrangian(&self, (r, r_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
-        self.m / 2.0 * (r_dot * r_dot + r * r * phi_dot * phi_dot) + self.k / r
-    }
-}
-
-twins! {
     Charged, ChargedJets { m: f64, q: f64, c: f64, b: Vector3<f64> }
     fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
         // A = B × r / 2 + ∇(c x y): the gauge term must drop out of the equations.
@@ -414,14 +406,8 @@ fn symbolic_mode_is_the_default_and_documents_equations() {
     assert!(Kepler::EQUATIONS.contains("k/r²"), "{}", Kepler::EQUATIONS);
 }
 
-#[test]
-fn ui_symbolic_errors_say_use_jets() {
-    let t = trybuild::TestCases::new();
-    t.compile_fail("tests/ui/symbolic/*.rs");
-}
-
 twins! {
-    /// `if` on constants (issue 7): an `if` expression, an `if`/`else if` statement that assigns a
+    /// `if` on constants: an `if` expression, an `if`/`else if` statement that assigns a
     /// local, and a vector-valued `if`; the conditions use only `self` fields and literals.
     Switched, SwitchedJets { m: f64, k: f64, c: f64 }
     fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord, t: Time) -> Scalar {

@@ -1,7 +1,8 @@
-//! Systems shared by tests/symbolic.rs and benches/symbolic.rs: each declared ONCE as a twin pair
-//! (the default symbolic mode and `mode = "jets"`) from one body, by `twins!`; the pendulum
-//! chains N = 2, 4, 8, 16 by `chain!`. Included with `#[path = ...] mod systems;` (this file is
-//! not a test target: it sits in tests/support/).
+//! `#[lagrangian]` systems shared by the integration tests (tests/symbolic.rs, tests/heavy_top.rs,
+//! tests/macro_contract.rs, tests/gallery.rs) and benches/symbolic.rs: each declared ONCE as a twin
+//! pair (the default symbolic mode and `mode = "jets"`) from one body, by `twins!`; the pendulum
+//! chains N = 2, 4, 8, 16 by `chain!`. The tests reach it as `crate::support::systems` (with
+//! `twins!` in scope for later modules); the bench includes it with `#[path = ...] mod systems;`.
 // Each includer uses a subset of the systems.
 #![allow(dead_code)]
 
@@ -92,6 +93,14 @@ twins! {
         self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
             + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
             - self.m * self.g * self.l * c
+    }
+}
+
+twins! {
+    /// A body of mass `m` in the potential −k/r, in polar coordinates (φ cyclic).
+    Kepler, KeplerJets { m: f64, k: f64 }
+    fn lagrangian(&self, (r, r_dot): Coord, (phi, phi_dot): Coord) -> Scalar {
+        self.m / 2.0 * (r_dot * r_dot + r * r * phi_dot * phi_dot) + self.k / r
     }
 }
 

@@ -1,0 +1,18 @@
+//! Integration tests, part 1 of 2 (each part is one test crate whose modules are files of
+//! tests/; crate-root modules resolve next to this file): the equations of motion of declared
+//! and hand-written systems against closed forms and against the run-time jets, the macro
+//! contract and its lint cleanliness. Part 2, tests/physics.rs, simulates the reference text's
+//! physics. `support` holds what both share, the systems declared once among it. The
+//! compile-fail and compile-pass cases are the third test target, tests/ui.rs.
+//!
+//! Run one module with `cargo test --test equations symbolic::`.
+
+// First: `twins!` (tests/support/systems.rs) is in scope for the modules declared after it.
+#[macro_use]
+mod support;
+
+mod gallery;
+mod hand_written;
+mod lint_clean;
+mod macro_contract;
+mod symbolic;

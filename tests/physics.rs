@@ -1,0 +1,14 @@
+//! Integration tests, part 2 of 2 (one test crate whose modules are files of tests/): the
+//! reference text's physics simulated end to end (the heavy top, rigid bodies, a particle in a
+//! non-inertial frame) and the integrators. Part 1 is tests/equations.rs; the two parts build in
+//! parallel, which on two cores is faster than one crate of both.
+//!
+//! Run one module with `cargo test --test physics heavy_top::`.
+
+#[macro_use]
+mod support;
+
+mod heavy_top;
+mod integrators;
+mod non_inertial;
+mod rigid_body;
