@@ -56,7 +56,7 @@ impl Lagrangian<3> for HandTop {
     }
 }
 
-/// The hand-written impl of tests/hand_written.rs (products instead of `powi`).
+/// The hand-written impl of tests/support/hand.rs (products instead of `powi`).
 pub struct HandTopProducts {
     pub i_perp: f64,
     pub i_par: f64,

@@ -8,6 +8,7 @@
 #[macro_use]
 mod support;
 
+mod forces;
 mod heavy_top;
 mod integrators;
 mod non_inertial;

@@ -1,23 +1,22 @@
 //! The one trybuild driver. Compile-fail cases of `#[lagrangian]`, one directory per kind under
 //! tests/ui/ (each bad input gets a clear error at the user's token, with the symbolic mode's own
-//! errors in tests/ui/symbolic/), and compile-pass cases under tests/ui/pass/.
+//! errors in tests/ui/symbolic/). The compile-pass cases (hygiene) are ordinary tests in
+//! tests/hygiene/.
 //! Regenerate the expected output with `TRYBUILD=overwrite cargo test --test ui` and review it.
 
 #[test]
 fn ui() {
     let t = trybuild::TestCases::new();
-    // Every directory but `pass/` holds compile-fail cases: a new one is picked up without an edit.
+    // Every directory holds compile-fail cases: a new one is picked up without an edit.
     let mut groups: Vec<String> = std::fs::read_dir("tests/ui")
         .expect("tests/ui is readable")
         .filter_map(Result::ok)
         .filter(|e| e.path().is_dir())
         .filter_map(|e| e.file_name().into_string().ok())
-        .filter(|name| name != "pass")
         .collect();
     groups.sort();
     assert!(!groups.is_empty(), "no compile-fail cases under tests/ui/");
     for group in &groups {
         t.compile_fail(format!("tests/ui/{group}/*.rs"));
     }
-    t.pass("tests/ui/pass/*.rs");
 }

@@ -34,7 +34,8 @@ impl Pendulum {
     }
 }
 
-fn main() {
+#[test]
+fn the_generated_code_ignores_the_constants() {
     let p = Pendulum { g: 9.0, l: 2.0 };
     let theta0: f64 = 0.3;
     let acc = p
