@@ -47,7 +47,7 @@
 
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
-use crate::lagrangian::{el_jet, Lagrangian};
+use crate::lagrangian::Lagrangian;
 use crate::linalg::{solve_symmetric, SolveFailure};
 
 /// The pieces of the equations of motion M q̈ = f_L + Q − ∂D/∂q̇ at one state, as a backend
@@ -161,7 +161,9 @@ pub fn jet_pieces<L, const N: usize>(sys: &L, q: &[f64; N], qdot: &[f64; N], t: 
 where
     L: Lagrangian<N> + ?Sized,
 {
-    let l = el_jet(sys, q, qdot, t);
+    // One seeding serves L and D.
+    let (qj, vj, tj) = ElJet::seed(q, qdot, t);
+    let l = sys.lagrangian(&qj, &vj, tj);
     let mut mass = [[0.0; N]; N];
     for (i, row) in mass.iter_mut().enumerate() {
         for (k, e) in row.iter_mut().enumerate().skip(i) {
@@ -174,7 +176,30 @@ where
     for i in 0..N {
         f[i] = gq[i] - mixed[i];
     }
-    Pieces::new(mass, f).with_applied(jet_applied_forces(sys, q, qdot, t))
+    let applied = applied_from(sys, &qj, &vj, tj, q, qdot, t);
+    Pieces::new(mass, f).with_applied(applied)
+}
+
+/// Q − ∂D/∂q̇ with D evaluated on jets already seeded at (q, q̇, t).
+#[inline(always)]
+fn applied_from<L, const N: usize>(
+    sys: &L,
+    qj: &[ElJet<N>; N],
+    vj: &[ElJet<N>; N],
+    tj: ElJet<N>,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> [f64; N]
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let mut applied = sys.generalized_forces(q, qdot, t);
+    let dd = sys.dissipation(qj, vj, tj).grad_qdot();
+    for (a, d) in applied.iter_mut().zip(dd) {
+        *a -= d;
+    }
+    applied
 }
 
 /// The applied forces Q − ∂D/∂q̇ at a state: [`Lagrangian::generalized_forces`] evaluated in
@@ -205,13 +230,8 @@ pub fn jet_applied_forces<L, const N: usize>(
 where
     L: Lagrangian<N> + ?Sized,
 {
-    let mut applied = sys.generalized_forces(q, qdot, t);
     let (qj, vj, tj) = ElJet::seed(q, qdot, t);
-    let dd = sys.dissipation(&qj, &vj, tj).grad_qdot();
-    for (a, d) in applied.iter_mut().zip(dd) {
-        *a -= d;
-    }
-    applied
+    applied_from(sys, &qj, &vj, tj, q, qdot, t)
 }
 
 /// The power dh/dt = (Q − ∂D/∂q̇)·q̇ − ∂L/∂t from the jets: the default of
