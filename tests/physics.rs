@@ -9,6 +9,7 @@
 mod support;
 
 mod forces;
+mod hardening;
 mod heavy_top;
 mod integrators;
 mod non_inertial;

@@ -7,6 +7,19 @@ use crate::lagrangian::Lagrangian;
 use super::state::{combine, rhs, Fault, Y};
 use super::trajectory::Stats;
 
+/// The absolute tolerance the error weights use: `atol`, or for `atol = 0` (pure relative
+/// control) the smallest normal number, so that a component that is exactly zero with an exactly
+/// zero error estimate (z ≡ 0 of a planar motion, φ = 0 at the start) weighs 0/tiny = 0 instead of
+/// 0/0 = NaN, while a zero component with a non-zero error still counts as an infinite relative
+/// error. Applied once when a run starts: the step itself is unchanged.
+pub(crate) fn effective_atol(atol: f64) -> f64 {
+    if atol == 0.0 {
+        f64::MIN_POSITIVE
+    } else {
+        atol
+    }
+}
+
 /// The error weights sk = atol + rtol · max(|y|, |y_new|), per component.
 #[inline(always)]
 pub(crate) fn scales<const N: usize>(rtol: f64, atol: f64, y: &Y<N>, y_new: &Y<N>) -> Y<N> {
@@ -44,7 +57,19 @@ pub(crate) fn initial_step<L: Lagrangian<N> + ?Sized, const N: usize>(
     hmax: f64,
     stats: &mut Stats,
 ) -> Result<f64, DynamicsError> {
-    let sk = scales(rtol, atol, y, y);
+    let mut sk = scales(rtol, atol, y, y);
+    // Under a pure relative tolerance a component that starts at zero has no weight of its own:
+    // for the starting step only, weigh it with the scale of the state (or 1).
+    let floor = rtol
+        * y.iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+            .max(1.0);
+    for w in sk.iter_mut().flatten() {
+        if *w < floor * f64::EPSILON {
+            *w = floor;
+        }
+    }
     let dnf = sum_sq(f0, &sk);
     let dny = sum_sq(y, &sk);
     let mut h = if dnf <= 1e-10 || dny <= 1e-10 {

@@ -4,7 +4,7 @@
 
 use crate::lagrangian::Lagrangian;
 
-use super::control::{initial_step, scales, sum_sq, Controller, StepControl};
+use super::control::{effective_atol, initial_step, scales, sum_sq, Controller, StepControl};
 use super::dop853_coefficients::{A, C, D, E3, E5};
 use super::state::{combine, finite, rhs, stages, weighted, Fault, Y};
 use super::stepper::Stepper;
@@ -122,6 +122,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
         hmax: f64,
         stats: &mut Stats,
     ) -> Result<Self, Fault> {
+        let atol = effective_atol(atol);
         let f = rhs(sys, t0, &y0, stats)?;
         let h = initial_step(sys, t0, &y0, &f, 8, rtol, atol, hmax, stats)?;
         let mut k = [[[0.0; N]; 2]; 16];

@@ -3,7 +3,7 @@
 
 use crate::lagrangian::Lagrangian;
 
-use super::control::{initial_step, scales, sum_sq, Controller, StepControl};
+use super::control::{effective_atol, initial_step, scales, sum_sq, Controller, StepControl};
 use super::state::{combine, finite, rhs, stages, weighted, Fault, Y};
 use super::stepper::Stepper;
 use super::trajectory::Stats;
@@ -144,6 +144,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dopri5<'a, L, N> {
         hmax: f64,
         stats: &mut Stats,
     ) -> Result<Self, Fault> {
+        let atol = effective_atol(atol);
         let f = rhs(sys, t0, &y0, stats)?;
         let h = initial_step(sys, t0, &y0, &f, 5, rtol, atol, hmax, stats)?;
         Ok(Dopri5 {

@@ -25,14 +25,16 @@ pub enum Method {
     DormandPrince {
         /// Relative tolerance.
         rtol: f64,
-        /// Absolute tolerance.
+        /// Absolute tolerance (≥ 0; 0 is pure relative control: a component that is exactly zero
+        /// with a zero error estimate passes, one with a non-zero error estimate does not).
         atol: f64,
     },
     /// DOP853, adaptive 8th order with 7th-order dense output.
     Dop853 {
         /// Relative tolerance.
         rtol: f64,
-        /// Absolute tolerance.
+        /// Absolute tolerance (≥ 0; 0 is pure relative control: a component that is exactly zero
+        /// with a zero error estimate passes, one with a non-zero error estimate does not).
         atol: f64,
     },
     /// The variational midpoint integrator (symplectic, momentum-conserving), fixed step `dt`.
