@@ -55,3 +55,51 @@ fn a_zero_absolute_tolerance_is_pure_relative_control() {
         }
     }
 }
+
+/// A well-conditioned but badly scaled mass matrix (a planet and a satellite in SI units) is not
+/// singular: the pivot test is relative to each coordinate's own diagonal entry.
+struct TwoMasses;
+impl Lagrangian<2> for TwoMasses {
+    const COORDINATES: [&'static str; 2] = ["planet", "satellite"];
+    const CYCLIC: [bool; 2] = [false, false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+        // m1 = 6e24 kg, m2 = 1e3 kg, a spring between them.
+        v[0] * v[0] * 3e24 + v[1] * v[1] * 500.0 - (q[0] - q[1]) * (q[0] - q[1]) * 0.5
+    }
+}
+
+#[test]
+fn a_badly_scaled_mass_matrix_is_not_singular() {
+    let a = TwoMasses
+        .accelerations(&[0.0, 1.0], &[0.0, 0.0], 0.0)
+        .expect("diag(6e24, 1e3) is well conditioned");
+    assert!((a[0] - 1.0 / 6e24).abs() <= 1e-15 / 6e24, "{a:?}");
+    assert!((a[1] + 1.0 / 1e3).abs() <= 1e-15 / 1e3, "{a:?}");
+    let m = lagrange::linalg::solve_symmetric(&[[1e14, 0.0], [0.0, 1.0]], &[1.0, 1.0]).unwrap();
+    assert_eq!(m, [1e-14, 1.0]);
+}
+
+/// Near the Euler-angle singularity the jets' numeric elimination loses digits like ε / sin²θ:
+/// at θ = 1e-6 the answer would have lost about 12 of 16 digits. That is a typed error that says
+/// so, not a silent loss; where the answer keeps more than half its digits it is returned.
+#[test]
+fn an_answer_that_lost_half_its_digits_is_an_error() {
+    let top = HeavyTop {
+        i_perp: 1.0,
+        i_par: 0.6,
+        mgl: 1.0,
+    };
+    let err = top
+        .accelerations(&[1e-6, 0.0, 0.0], &[0.1, 0.2, 3.0], 0.0)
+        .expect_err("12 digits lost");
+    let text = err.to_string();
+    assert!(
+        text.contains("nearly singular") && text.contains("digits"),
+        "{text}"
+    );
+    // At θ = 1e-3 about 6 digits are lost: still an answer.
+    assert!(top
+        .accelerations(&[1e-3, 0.0, 0.0], &[0.1, 0.2, 3.0], 0.0)
+        .is_ok());
+}

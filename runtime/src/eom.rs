@@ -307,20 +307,32 @@ pub fn solve_mass_matrix<const N: usize>(
     match solve_symmetric(m, rhs) {
         Ok(a) if a.iter().all(|x| x.is_finite()) => Ok(a),
         Ok(_) | Err(SolveFailure::NonFinite) => Err(non_finite(q, qdot, t)),
-        Err(SolveFailure::Singular { row, relative_pivot }) => {
+        Err(SolveFailure::Singular {
+            row,
+            relative_pivot,
+        }) => {
+            let name = names.get(row).copied().unwrap_or("?");
+            let what = if relative_pivot > 0.0 && relative_pivot.is_finite() {
+                let lost = (-relative_pivot.log10()).round();
+                format!(
+                    "nearly singular: elimination at coordinate `{name}` left a pivot of \
+                     {relative_pivot:.1e} of its diagonal entry, so the accelerations would lose \
+                     about {lost} of 16 digits (more than half)"
+                )
+            } else {
+                format!("singular: elimination broke down at coordinate `{name}`")
+            };
             Err(DynamicsError::SingularMassMatrix {
                 t,
                 q: q.to_vec(),
                 qdot: qdot.to_vec(),
                 message: format!(
-                    "the mass matrix ∂²L/∂q̇∂q̇ is singular: elimination broke down at coordinate `{}` \
-                     (pivot {relative_pivot:.1e} of the matrix scale). The likely cause is a coordinate \
-                     singularity of the chart, where two coordinates describe the same motion (for Euler \
-                     angles: sin θ = 0, where φ and ψ turn about the same axis). Try: start away from that \
-                     configuration, or orient the reference axes (or choose other coordinates) so the motion \
-                     avoids it. If a coordinate has no kinetic term at all, L is degenerate there and that \
-                     coordinate is a constraint, not a degree of freedom.",
-                    names.get(row).copied().unwrap_or("?")
+                    "the mass matrix ∂²L/∂q̇∂q̇ is {what}. Two coordinates (nearly) describe the same \
+                     motion here: typically a singularity of the chart (for Euler angles sin θ = 0, \
+                     where φ and ψ turn about the same axis). Try: start away from that configuration, \
+                     or orient the reference axes (or choose other coordinates) so the motion avoids \
+                     it. If a coordinate has no kinetic term at all, L is degenerate and that \
+                     coordinate is a constraint, not a degree of freedom."
                 ),
             })
         }
