@@ -103,3 +103,36 @@ fn an_answer_that_lost_half_its_digits_is_an_error() {
         .accelerations(&[1e-3, 0.0, 0.0], &[0.1, 0.2, 3.0], 0.0)
         .is_ok());
 }
+
+/// A fixed step below the time resolution at a large start time (t0 = 1e12, where adjacent f64
+/// times are 1.2e-4 apart) gave a NaN velocity; it is an `InvalidOptions` that says why.
+#[test]
+fn a_fixed_step_below_the_time_resolution_is_invalid_options() {
+    let top = HeavyTop {
+        i_perp: 1.0,
+        i_par: 0.6,
+        mgl: 1.0,
+    };
+    for method in [
+        Method::Rk4 { dt: 1e-6 },
+        Method::VariationalMidpoint { dt: 1e-6 },
+    ] {
+        let err = Simulation::new(&top, [1.0, 0.0, 0.0], [0.0, -0.5, 8.0])
+            .method(method)
+            .start_time(1e12)
+            .until(1e12 + 1.0)
+            .run()
+            .expect_err("dt is below the resolution of t");
+        assert!(
+            matches!(err, SimulationError::InvalidOptions { .. }),
+            "{method:?}: {err}"
+        );
+        assert!(err.to_string().contains("time resolution"), "{err}");
+    }
+    // The same step from t0 = 0 is fine.
+    assert!(Simulation::new(&top, [1.0, 0.0, 0.0], [0.0, -0.5, 8.0])
+        .method(Method::Rk4 { dt: 1e-6 })
+        .until(1e-3)
+        .run()
+        .is_ok());
+}

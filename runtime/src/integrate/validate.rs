@@ -45,7 +45,24 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
             }
         };
         match self.method {
-            Method::Rk4 { dt } | Method::VariationalMidpoint { dt } => positive("dt", dt)?,
+            Method::Rk4 { dt } | Method::VariationalMidpoint { dt } => {
+                positive("dt", dt)?;
+                // Adjacent f64 times near the end of the run differ by up to ε·|t|: a step that
+                // is not many times larger cannot be represented (t + dt rounds to t, or the
+                // steps come out uneven by whole ulps).
+                let spacing = self.t0.abs().max(until.abs()) * f64::EPSILON;
+                if dt < 1024.0 * spacing {
+                    return Err(format!(
+                        "dt = {dt:e} is below the time resolution of the run: near t = {:e} \
+                         adjacent f64 times differ by about {spacing:.1e}, so the step grid \
+                         t0 + k·dt cannot be represented (steps of zero or uneven length). Shift \
+                         the time origin (start at t0 = 0 and add the offset inside your \
+                         forces or L), or take dt ≥ {:.1e}",
+                        self.t0.abs().max(until.abs()),
+                        1024.0 * spacing
+                    ));
+                }
+            }
             Method::DormandPrince { rtol, atol } | Method::Dop853 { rtol, atol } => {
                 positive("rtol", rtol)?;
                 if !(atol >= 0.0 && atol.is_finite()) {
