@@ -5,6 +5,9 @@
 //!
 //! Run: `cargo run --release --example charged_particle [lambda]` (gauge strength, default 0.7).
 
+#[allow(dead_code)] // each example uses a part of the shared command-line helpers
+#[path = "support/cli.rs"]
+mod cli;
 use lagrange::prelude::*;
 
 /// L = m|ṙ|²/2 + q ṙ·(B×r)/2 + q E·r + λ ∇(xyz)·ṙ.
@@ -47,7 +50,11 @@ fn run(
         .run()
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    cli::run_or_exit(report);
+}
+
+fn report() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let lambda: f64 = match args.as_slice() {
         [] => 0.7,

@@ -14,6 +14,9 @@
 //!
 //! Run: `cargo run --release --example coriolis_drop -- [--height M] [--lat DEG] [--out PATH]`
 
+#[allow(dead_code)] // each example uses a part of the shared command-line helpers
+#[path = "support/cli.rs"]
+mod cli;
 use lagrange::prelude::*;
 use lagrange::{Event, Method, Simulation};
 use plotters::prelude::*;
@@ -74,7 +77,11 @@ fn drop(g: f64, h: f64, lat: f64, scale: f64) -> Result<Landing, Box<dyn std::er
     })
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    cli::run_or_exit(report);
+}
+
+fn report() -> Result<(), Box<dyn std::error::Error>> {
     let (mut h, mut lat_deg, mut out) =
         (100.0_f64, 48.85_f64, String::from("out/coriolis_drop.svg"));
     let mut args = std::env::args().skip(1);

@@ -8,6 +8,9 @@
 //!
 //! Run: `cargo run --release --example double_pendulum [amplitude_rad]` (default 0.01).
 
+#[allow(dead_code)] // each example uses a part of the shared command-line helpers
+#[path = "support/cli.rs"]
+mod cli;
 use lagrange::prelude::*;
 
 /// Two point masses on massless rods; angles from the downward vertical.
@@ -36,7 +39,11 @@ fn usage() -> ! {
     std::process::exit(2)
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    cli::run_or_exit(report);
+}
+
+fn report() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let amp: f64 = match args.as_slice() {
         [] => 0.01,

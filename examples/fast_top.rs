@@ -104,7 +104,11 @@ fn run(
     Ok(Run { constants, traj })
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    cli::run_or_exit(report);
+}
+
+fn report() -> Result<(), Box<dyn std::error::Error>> {
     let o = cli::or_exit(parse(), USAGE);
     let top = o.top;
     println!(

@@ -14,6 +14,9 @@
 //! Run: `cargo run --release --example foucault -- [--lat DEG] [--scale S] [--length M]
 //!       [--amplitude M] [--turns N] [--out PATH]`
 
+#[allow(dead_code)] // each example uses a part of the shared command-line helpers
+#[path = "support/cli.rs"]
+mod cli;
 use std::f64::consts::PI;
 
 use lagrange::prelude::*;
@@ -115,7 +118,11 @@ fn swing_plane_rate(hits: &[(f64, f64, f64)]) -> (f64, Vec<(f64, f64)>) {
     (num / den, pts)
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    cli::run_or_exit(report);
+}
+
+fn report() -> Result<(), Box<dyn std::error::Error>> {
     let o = match parse() {
         Ok(o) => o,
         Err(e) => {

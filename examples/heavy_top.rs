@@ -102,7 +102,11 @@ fn parse() -> Result<Options, String> {
     Ok(o)
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    cli::run_or_exit(report);
+}
+
+fn report() -> Result<(), Box<dyn std::error::Error>> {
     let o = cli::or_exit(parse(), USAGE);
     let top = o.top;
     let theory = Top {
@@ -110,6 +114,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         i_par: top.i_par,
         mgl: top.mgl,
     };
+    if o.q0[0].sin().abs() < 1e-9 {
+        return Err(format!(
+            "θ0 = {}: the Euler-angle chart is singular there (sin θ = 0, the top's axis on the \
+             vertical, where φ and ψ turn about the same axis), so the equations of eq. 92 cannot be \
+             solved for the accelerations. For the sleeping top of Example 1 start slightly tilted \
+             (--theta0 1e-3) or run `cargo run --release --example sleeping_top`, which sweeps Ω/ω0 \
+             through the stability threshold.",
+            o.q0[0]
+        )
+        .into());
+    }
     let c = Constants::from_state(&theory, &o.q0, &o.qdot0)?;
     let n = c.nutation;
     let roots = n.roots()?;

@@ -126,7 +126,11 @@ fn largest_nutation(top: &HeavyTop, theta0: f64, ratio: f64) -> Result<f64, Stri
         .unwrap_or_else(|| traj.q.iter().map(|q| q[0]).fold(0.0, f64::max)))
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    cli::run_or_exit(report);
+}
+
+fn report() -> Result<(), Box<dyn std::error::Error>> {
     let o = cli::or_exit(parse(), USAGE);
     let ratios: Vec<f64> = (0..o.points)
         .map(|k| o.from + (o.to - o.from) * k as f64 / (o.points - 1) as f64)

@@ -136,3 +136,29 @@ fn a_fixed_step_below_the_time_resolution_is_invalid_options() {
         .run()
         .is_ok());
 }
+
+/// `write_csv` into a folder that does not exist creates it; a path that cannot be written
+/// names itself in the error.
+#[test]
+fn write_csv_creates_folders_and_names_the_path_it_cannot_write() {
+    let top = HeavyTop {
+        i_perp: 1.0,
+        i_par: 0.6,
+        mgl: 1.0,
+    };
+    let tr = Simulation::new(&top, [1.0, 0.0, 0.0], [0.0, -0.5, 8.0])
+        .until(0.1)
+        .run()
+        .unwrap();
+    let dir = std::env::temp_dir().join(format!("lagrange_csv_{}", std::process::id()));
+    let path = dir.join("a/b/top.csv");
+    tr.write_csv(&path).expect("folders are created");
+    assert!(std::fs::read_to_string(&path)
+        .unwrap()
+        .starts_with("t,theta"));
+    // A file where a folder should be.
+    let blocked = dir.join("a/b/top.csv/inside.csv");
+    let err = tr.write_csv(&blocked).expect_err("a file is in the way");
+    assert!(err.to_string().contains("top.csv"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

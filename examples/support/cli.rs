@@ -32,3 +32,12 @@ pub fn or_exit<T>(parsed: Result<T, String>, usage: &str) -> T {
         std::process::exit(if msg.is_empty() { 0 } else { 2 });
     })
 }
+
+/// Runs the example's body; an error is printed as its full sentence (`Display`, not the `Debug`
+/// form `main` would print, with its `\u{307}` escapes) and the process exits with 1.
+pub fn run_or_exit(body: fn() -> Result<(), Box<dyn std::error::Error>>) {
+    if let Err(e) = body() {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}

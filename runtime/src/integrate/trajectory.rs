@@ -275,7 +275,7 @@ impl<const N: usize> Trajectory<N> {
 
     /// Writes the samples as CSV: `t`, the coordinate names, their velocities (`name_dot`), `energy`
     /// and the momenta (`p_name`), and `work` when the energy is not conserved; one row per
-    /// sample, full precision.
+    /// sample, full precision. Missing parent folders are created; an I/O error names the path.
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
@@ -296,7 +296,14 @@ impl<const N: usize> Trajectory<N> {
     /// assert!((row[1] - 1.0).abs() < 1e-15 && row[3] == 0.5);
     /// ```
     pub fn write_csv(&self, path: impl AsRef<Path>) -> std::io::Result<()> {
-        let file = std::fs::File::create(path)?;
+        let path = path.as_ref();
+        let named = |e: std::io::Error| {
+            std::io::Error::new(e.kind(), format!("writing {}: {e}", path.display()))
+        };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(named)?;
+        }
+        let file = std::fs::File::create(path).map_err(named)?;
         let mut w = std::io::BufWriter::new(file);
         let mut header = vec!["t".to_string()];
         header.extend(self.coordinates.iter().map(|n| n.to_string()));
