@@ -162,3 +162,53 @@ fn write_csv_creates_folders_and_names_the_path_it_cannot_write() {
     assert!(err.to_string().contains("top.csv"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Recording every step (the default) had no bound: 10⁷ steps of a 3-coordinate system took
+/// 862 MB. `max_samples` now bounds every mode, with a typed error and the trajectory so far; a
+/// long run can stream its samples to an observer and keep none of them.
+#[test]
+fn every_mode_is_bounded_by_max_samples_and_long_runs_can_stream() {
+    let top = HeavyTop {
+        i_perp: 1.0,
+        i_par: 0.6,
+        mgl: 1.0,
+    };
+    let sim = || {
+        Simulation::new(&top, [1.0, 0.0, 0.0], [0.0, -0.5, 8.0])
+            .method(Method::Rk4 { dt: 1e-3 })
+            .until(20.0)
+    };
+    let err = sim()
+        .max_samples(1000)
+        .run()
+        .expect_err("20 001 steps > 1000");
+    assert!(
+        matches!(
+            err,
+            SimulationError::MaxSamples {
+                max_samples: 1000,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("observe"), "{err}");
+    assert_eq!(err.partial_trajectory::<3>().unwrap().t.len(), 1000);
+
+    let full = sim().run().unwrap();
+    let mut seen = 0usize;
+    let mut last_t = f64::NAN;
+    let streamed = sim()
+        .max_samples(10)
+        .observe(|s| {
+            seen += 1;
+            last_t = s.t;
+        })
+        .keep_samples(false)
+        .run()
+        .expect("nothing is stored, so max_samples is not reached");
+    assert_eq!(seen, full.t.len());
+    assert_eq!(last_t, 20.0);
+    assert_eq!(streamed.t.len(), 2);
+    assert_eq!(streamed.invariants(), full.invariants());
+}

@@ -23,7 +23,7 @@ pub mod theory;
 pub use eom::solve_mass_matrix;
 pub use error::DynamicsError;
 pub use integrate::{
-    Direction, Drift, Event, EventHit, Invariants, Method, PartialTrajectory, Simulation,
+    Direction, Drift, Event, EventHit, Invariants, Method, PartialTrajectory, Sample, Simulation,
     SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
 };
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};

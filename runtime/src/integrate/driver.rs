@@ -12,7 +12,7 @@ use super::method::Method;
 use super::rk4::Rk4;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
-use super::trajectory::{Stats, Trajectory};
+use super::trajectory::{Sample, Stats, Trajectory};
 use super::variational::VariationalMidpoint;
 
 /// Runs `method` on `sys` from y0 = (q0, q̇0) under the options `o`, with `events` located and
@@ -24,10 +24,14 @@ pub(super) fn run<L: Lagrangian<N> + ?Sized, const N: usize>(
     y0: Y<N>,
     hmax: f64,
     o: &RunOptions,
+    observer: Option<&mut dyn FnMut(&Sample<N>)>,
 ) -> Result<Trajectory<N>, SimulationError> {
     let mut driver = Driver {
         sys,
         events,
+        observer,
+        keep: o.keep_samples,
+        max_samples: o.max_samples,
         traj: Trajectory::empty::<L>(),
         work: Work::default(),
         stats: Stats::default(),
@@ -73,6 +77,10 @@ pub(super) struct RunOptions<'s> {
     pub(super) until: f64,
     pub(super) sampling: Sampling<'s>,
     pub(super) max_steps: usize,
+    /// Whether every sample is stored (else the first and the latest, see `Trajectory::record`).
+    pub(super) keep_samples: bool,
+    /// The most samples stored.
+    pub(super) max_samples: usize,
 }
 
 /// Which states the trajectory records.
@@ -114,9 +122,12 @@ impl Sampling<'_> {
     }
 }
 
-struct Driver<'s, 'a, L: ?Sized, const N: usize> {
+struct Driver<'s, 'a, 'o, L: ?Sized, const N: usize> {
     sys: &'s L,
     events: &'s [Event<'a, N>],
+    observer: Option<&'o mut dyn FnMut(&Sample<N>)>,
+    keep: bool,
+    max_samples: usize,
     traj: Trajectory<N>,
     stats: Stats,
     work: Work,
@@ -140,21 +151,29 @@ const GAUSS4: [(f64, f64); 4] = [
     (0.930_568_155_797_026_3, 0.173_927_422_568_726_92),
 ];
 
-impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
+impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, '_, L, N> {
     /// Whether the run records the work (the energy is not conserved); a constant per system.
     const RECORDS_WORK: bool = !L::ENERGY_CONSERVED;
 
-    fn push(&mut self, t: f64, y: &Y<N>, work: f64) {
+    /// Records the state at t: the observer sees it, the trajectory stores it (bounded by
+    /// `max_samples` when every sample is kept).
+    fn push(&mut self, t: f64, y: &Y<N>, work: f64) -> Result<(), Fault> {
         if self.traj.t.last() == Some(&t) {
-            return;
+            return Ok(());
         }
-        let (e, p) = self.sys.energy_and_momenta(&y[0], &y[1], t);
-        self.traj.t.push(t);
-        self.traj.q.push(y[0]);
-        self.traj.qdot.push(y[1]);
-        self.traj.energy.push(e);
-        self.traj.momenta.push(p);
-        self.traj.work.push(work);
+        let (energy, momenta) = self.sys.energy_and_momenta(&y[0], &y[1], t);
+        let sample = Sample {
+            t,
+            q: y[0],
+            qdot: y[1],
+            energy,
+            momenta,
+            work,
+        };
+        if let Some(f) = self.observer.as_mut() {
+            f(&sample);
+        }
+        self.traj.record(&sample, self.keep, self.max_samples)
     }
 
     /// ∫ power dt over [a, b] within the last step, on the method's interpolant (4-point
@@ -192,7 +211,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
     fn fail(mut self, fault: Fault, t: f64, y: Y<N>) -> SimulationError {
         if y.iter().flatten().all(|x| x.is_finite()) {
             let w = self.work.at_node;
-            self.push(t, &y, w);
+            // Past max_samples the partial trajectory ends at its last stored sample.
+            let _ = self.push(t, &y, w);
         }
         self.traj.stats = self.stats;
         let (q, qdot) = (y[0].to_vec(), y[1].to_vec());
@@ -217,6 +237,13 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
                 q,
                 qdot,
                 max_steps,
+                partial,
+            },
+            Fault::MaxSamples(max_samples) => SimulationError::MaxSamples {
+                t,
+                q,
+                qdot,
+                max_samples,
                 partial,
             },
             Fault::NonFinite => SimulationError::NonFinite {
@@ -261,7 +288,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
 
     fn drive<S: Stepper<N>>(&mut self, s: &mut S, o: &RunOptions) -> Result<(), Fault> {
         let y0 = s.node(&mut self.stats)?;
-        self.push(o.t0, &y0, 0.0);
+        self.push(o.t0, &y0, 0.0)?;
         let mut g_old: Vec<f64> = self
             .events
             .iter()
@@ -329,7 +356,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
                         } else {
                             (s.interp(ts, &mut self.stats)?, self.work_at(s, ts)?)
                         };
-                        self.push(ts, &y, w);
+                        self.push(ts, &y, w)?;
                         next_sample += 1;
                     }
                 }
@@ -337,7 +364,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
                     if stop.is_none() {
                         let y = s.node(&mut self.stats)?;
                         let w = self.work.at_node;
-                        self.push(t_b, &y, w);
+                        self.push(t_b, &y, w)?;
                     }
                 }
             }
@@ -357,7 +384,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
             if let Some(tz) = stop {
                 let y = s.interp(tz, &mut self.stats)?;
                 let w = self.work_at(s, tz)?;
-                self.push(tz, &y, w);
+                self.push(tz, &y, w)?;
                 if let Some(h) = self.traj.events.last() {
                     self.traj.terminated_by = Some(h.name.clone());
                 }
@@ -367,7 +394,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, L, N> {
         // The end time, if the sample grid did not land on it.
         let y = s.node(&mut self.stats)?;
         let w = self.work.at_node;
-        self.push(s.t(), &y, w);
+        self.push(s.t(), &y, w)?;
         Ok(())
     }
 }

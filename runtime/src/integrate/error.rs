@@ -105,6 +105,20 @@ pub enum SimulationError {
         /// The trajectory up to t.
         partial: PartialTrajectory,
     },
+    /// The trajectory reached `max_samples` stored samples at t (recording every step of a long
+    /// run): memory is bounded by that option.
+    MaxSamples {
+        /// Time of the last stored sample.
+        t: f64,
+        /// Coordinates there.
+        q: Vec<f64>,
+        /// Velocities there.
+        qdot: Vec<f64>,
+        /// The limit.
+        max_samples: usize,
+        /// The trajectory up to t.
+        partial: PartialTrajectory,
+    },
     /// The state became NaN or infinite in the step after t.
     NonFinite {
         /// Time of the last finite state.
@@ -161,6 +175,7 @@ impl SimulationError {
             SimulationError::InvalidOptions { .. } => None,
             SimulationError::StepSizeUnderflow { t, .. }
             | SimulationError::MaxSteps { t, .. }
+            | SimulationError::MaxSamples { t, .. }
             | SimulationError::NonFinite { t, .. }
             | SimulationError::Dynamics { t, .. }
             | SimulationError::NewtonFailed { t, .. } => Some(*t),
@@ -172,6 +187,7 @@ impl SimulationError {
             SimulationError::InvalidOptions { .. } => None,
             SimulationError::StepSizeUnderflow { partial, .. }
             | SimulationError::MaxSteps { partial, .. }
+            | SimulationError::MaxSamples { partial, .. }
             | SimulationError::NonFinite { partial, .. }
             | SimulationError::Dynamics { partial, .. }
             | SimulationError::NewtonFailed { partial, .. } => Some(partial),
@@ -201,6 +217,7 @@ impl SimulationError {
             SimulationError::InvalidOptions { .. } => None,
             SimulationError::StepSizeUnderflow { partial, .. }
             | SimulationError::MaxSteps { partial, .. }
+            | SimulationError::MaxSamples { partial, .. }
             | SimulationError::NonFinite { partial, .. }
             | SimulationError::Dynamics { partial, .. }
             | SimulationError::NewtonFailed { partial, .. } => partial.take::<N>(),
@@ -233,6 +250,20 @@ impl fmt::Display for SimulationError {
                 "maximum number of steps ({max_steps}) reached at t = {t}, q = {q:?}, q̇ = {qdot:?}. \
                  Try: raise .max_steps(), loosen the tolerances or enlarge dt, or shorten the run. The \
                  trajectory up to t is kept (partial_trajectory())."
+            ),
+            SimulationError::MaxSamples {
+                t,
+                q,
+                qdot,
+                max_samples,
+                ..
+            } => write!(
+                f,
+                "the trajectory reached max_samples = {max_samples} stored samples at t = {t}, q = \
+                 {q:?}, q̇ = {qdot:?}: memory is bounded by that option (each sample holds (3N + 3) · 8 \
+                 bytes). Try: record less often (.sample_every(Δ) instead of every step), pass the \
+                 samples to an observer without storing them (.observe(f).keep_samples(false)), or \
+                 raise .max_samples(n). The trajectory up to t is kept (partial_trajectory())."
             ),
             SimulationError::NonFinite { t, q, qdot, .. } => write!(
                 f,

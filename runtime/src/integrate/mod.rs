@@ -55,7 +55,7 @@ pub use error::{PartialTrajectory, SimulationError};
 pub use events::{Direction, Event, EventHit};
 pub use method::Method;
 pub use simulation::Simulation;
-pub use trajectory::{Drift, Invariants, Stats, Trajectory, INVARIANT_FLOOR};
+pub use trajectory::{Drift, Invariants, Sample, Stats, Trajectory, INVARIANT_FLOOR};
 
 #[cfg(test)]
 mod tests;

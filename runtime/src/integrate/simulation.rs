@@ -8,7 +8,7 @@ use super::driver::{self, RunOptions, Sampling};
 use super::error::SimulationError;
 use super::events::Event;
 use super::method::Method;
-use super::trajectory::Trajectory;
+use super::trajectory::{Sample, Trajectory};
 
 /// The default of [`Simulation::max_samples`].
 const DEFAULT_MAX_SAMPLES: usize = 100_000_000;
@@ -55,6 +55,8 @@ pub struct Simulation<'a, L: ?Sized, const N: usize> {
     pub(super) max_steps: usize,
     pub(super) max_step: Option<f64>,
     pub(super) max_samples: usize,
+    pub(super) observer: Option<Box<dyn FnMut(&Sample<N>) + 'a>>,
+    pub(super) keep_samples: bool,
 }
 
 impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
@@ -89,6 +91,8 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
             events: Vec::new(),
             max_steps: 10_000_000,
             max_samples: DEFAULT_MAX_SAMPLES,
+            observer: None,
+            keep_samples: true,
             max_step: None,
         }
     }
@@ -241,10 +245,13 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
         self
     }
 
-    /// The largest number of samples a sample grid may ask for (default 10⁸): `sample_every` over
-    /// a long run, or a long `sample_at` list, beyond it is [`SimulationError::InvalidOptions`]
-    /// before any step, instead of a run that exhausts memory. Each sample holds t, q, q̇, the
-    /// energy and the momenta: (3N + 2) · 8 bytes.
+    /// The largest number of samples the trajectory stores (default 10⁸), so memory is bounded in
+    /// every mode: a sample grid that asks for more (`sample_every` over a long run, a long
+    /// `sample_at` list) is [`SimulationError::InvalidOptions`] before any step; recording every
+    /// step stops with [`SimulationError::MaxSamples`] (and the trajectory so far) when it reaches
+    /// the limit. Each sample holds t, q, q̇, the energy, the momenta and the work:
+    /// (3N + 3) · 8 bytes. For long runs see also [`observe`](Simulation::observe) and
+    /// [`keep_samples`](Simulation::keep_samples).
     ///
     /// ```
     /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation, SimulationError};
@@ -262,6 +269,61 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
     /// ```
     pub fn max_samples(mut self, n: usize) -> Self {
         self.max_samples = n;
+        self
+    }
+
+    /// Calls `f` with every sample as it is recorded (the states the trajectory would store: every
+    /// step, or the sample grid), in time order: stream a long run to a file, reduce it on the
+    /// fly, or watch it. Combine with [`keep_samples(false)`](Simulation::keep_samples) to keep
+    /// nothing in memory.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let mut last_x = 0.0;
+    /// let mut seen = 0;
+    /// let tr = Simulation::new(&Free, [0.0], [1.0])
+    ///     .method(Method::Rk4 { dt: 0.001 })
+    ///     .until(10.0)
+    ///     .observe(|s| { seen += 1; last_x = s.q[0]; })
+    ///     .keep_samples(false)
+    ///     .run()
+    ///     .unwrap();
+    /// assert_eq!(seen, 10_001);
+    /// assert!((last_x - 10.0).abs() < 1e-9);
+    /// assert_eq!(tr.t.len(), 2); // the first and the last sample
+    /// ```
+    pub fn observe(mut self, f: impl FnMut(&Sample<N>) + 'a) -> Self {
+        self.observer = Some(Box::new(f));
+        self
+    }
+
+    /// Whether the trajectory stores every sample (default `true`). With `false` it stores the
+    /// first and the latest only (the observer of [`observe`](Simulation::observe) still sees
+    /// every one), and [`Trajectory::invariants`] still reports the drift over all of them.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
+    /// # struct Osc;
+    /// # impl Lagrangian<1> for Osc {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// # }
+    /// let run = |keep| Simulation::new(&Osc, [1.0], [0.0]).method(Method::Rk4 { dt: 0.1 }).until(50.0).keep_samples(keep).run().unwrap();
+    /// let (all, ends) = (run(true), run(false));
+    /// assert_eq!((all.t.len(), ends.t.len()), (501, 2));
+    /// assert_eq!(all.invariants(), ends.invariants());
+    /// ```
+    pub fn keep_samples(mut self, keep: bool) -> Self {
+        self.keep_samples = keep;
         self
     }
 
@@ -305,7 +367,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
     /// let err = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: -0.1 }).until(1.0).run().unwrap_err();
     /// assert!(matches!(err, SimulationError::InvalidOptions { .. }));
     /// ```
-    pub fn run(self) -> Result<Trajectory<N>, SimulationError> {
+    pub fn run(mut self) -> Result<Trajectory<N>, SimulationError> {
         let until = self
             .validate()
             .and_then(|until| self.check_cyclic().map(|()| until))
@@ -330,7 +392,20 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
             until,
             sampling,
             max_steps: self.max_steps,
+            keep_samples: self.keep_samples,
+            max_samples: self.max_samples,
         };
-        driver::run(self.sys, &self.events, self.method, y0, hmax, &opts)
+        let mut observer = self.observer.take();
+        driver::run(
+            self.sys,
+            &self.events,
+            self.method,
+            y0,
+            hmax,
+            &opts,
+            observer
+                .as_mut()
+                .map(|f| &mut **f as &mut dyn FnMut(&Sample<N>)),
+        )
     }
 }

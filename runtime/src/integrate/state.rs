@@ -21,6 +21,8 @@ pub(crate) enum Fault {
     NonFinite,
     /// The step budget is used up.
     MaxSteps(usize),
+    /// The stored samples reached `max_samples`.
+    MaxSamples(usize),
     /// The implicit step (or the inverse Legendre map) did not converge.
     Newton {
         iterations: usize,

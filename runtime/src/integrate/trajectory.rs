@@ -5,6 +5,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::events::EventHit;
+use super::state::Fault;
 
 /// Counters of a run.
 ///
@@ -99,6 +100,69 @@ impl<const N: usize> Invariants<N> {
     }
 }
 
+/// One recorded state of a run, as the observer of [`Simulation::observe`](crate::Simulation::observe)
+/// sees it (and as the trajectory stores it).
+///
+/// ```
+/// use lagrange_runtime::Sample;
+/// let s = Sample { t: 1.0, q: [0.5], qdot: [0.0], energy: 0.125, momenta: [0.0], work: 0.0 };
+/// assert_eq!(s.q[0], 0.5);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample<const N: usize> {
+    /// Time.
+    pub t: f64,
+    /// Coordinates.
+    pub q: [f64; N],
+    /// Velocities.
+    pub qdot: [f64; N],
+    /// Energy h = q̇·p − L.
+    pub energy: f64,
+    /// Momenta p = ∂L/∂q̇.
+    pub momenta: [f64; N],
+    /// Work done on the system since t0 (see [`Trajectory::work`]).
+    pub work: f64,
+}
+
+/// The drift of the invariants over every sample of a run, kept as the samples go by (what
+/// [`Trajectory::invariants`] reports when not every sample is stored).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Running<const N: usize> {
+    h0: f64,
+    p0: [f64; N],
+    energy: f64,
+    momenta: [f64; N],
+    balance: f64,
+    work: f64,
+    started: bool,
+}
+
+impl<const N: usize> Running<N> {
+    const EMPTY: Self = Running {
+        h0: 0.0,
+        p0: [0.0; N],
+        energy: 0.0,
+        momenta: [0.0; N],
+        balance: 0.0,
+        work: 0.0,
+        started: false,
+    };
+
+    fn add(&mut self, s: &Sample<N>) {
+        if !self.started {
+            self.h0 = s.energy;
+            self.p0 = s.momenta;
+            self.started = true;
+        }
+        self.energy = self.energy.max((s.energy - self.h0).abs());
+        for i in 0..N {
+            self.momenta[i] = self.momenta[i].max((s.momenta[i] - self.p0[i]).abs());
+        }
+        self.balance = self.balance.max((s.energy - self.h0 - s.work).abs());
+        self.work = self.work.max(s.work.abs());
+    }
+}
+
 /// A simulated trajectory: samples (t, q, q̇) with the energy and momenta there, the located
 /// events and the run's counters.
 ///
@@ -151,6 +215,10 @@ pub struct Trajectory<const N: usize> {
     pub energy_conserved: bool,
     /// The terminal event that ended the run early, if any.
     pub terminated_by: Option<String>,
+    /// Drift over every sample seen, stored or not.
+    running: Running<N>,
+    /// Whether every sample was stored (`keep_samples(true)`, the default).
+    complete: bool,
 }
 
 impl<const N: usize> Trajectory<N> {
@@ -171,7 +239,41 @@ impl<const N: usize> Trajectory<N> {
             momentum_conserved: L::MOMENTUM_CONSERVED,
             energy_conserved: L::ENERGY_CONSERVED,
             terminated_by: None,
+            running: Running::EMPTY,
+            complete: true,
         }
+    }
+
+    /// Records a sample: stored when `keep` (at most `max_samples`, else [`Fault::MaxSamples`]);
+    /// otherwise only the first and the latest sample are stored. The running drift sees them all.
+    pub(crate) fn record(
+        &mut self,
+        s: &Sample<N>,
+        keep: bool,
+        max_samples: usize,
+    ) -> Result<(), Fault> {
+        if keep || self.t.len() < 2 {
+            if self.t.len() >= max_samples {
+                return Err(Fault::MaxSamples(max_samples));
+            }
+            self.t.push(s.t);
+            self.q.push(s.q);
+            self.qdot.push(s.qdot);
+            self.energy.push(s.energy);
+            self.momenta.push(s.momenta);
+            self.work.push(s.work);
+        } else {
+            self.complete = false;
+            let k = self.t.len() - 1;
+            self.t[k] = s.t;
+            self.q[k] = s.q;
+            self.qdot[k] = s.qdot;
+            self.energy[k] = s.energy;
+            self.momenta[k] = s.momenta;
+            self.work[k] = s.work;
+        }
+        self.running.add(s);
+        Ok(())
     }
 
     /// Number of samples.
@@ -211,7 +313,8 @@ impl<const N: usize> Trajectory<N> {
     }
 
     /// Max drift of the energy (when conserved) and of each conserved momentum over the samples,
-    /// relative to max(|initial value|, [`INVARIANT_FLOOR`]); when the energy is not conserved,
+    /// relative to max(|initial value|, [`INVARIANT_FLOOR`]) (over every sample of the run, also
+    /// those an observer saw but the trajectory did not store); when the energy is not conserved,
     /// the residual of the energy balance h(t) − h(t0) − W(t) instead (see
     /// [`Invariants::energy_balance`]).
     ///
@@ -230,6 +333,9 @@ impl<const N: usize> Trajectory<N> {
     /// assert_eq!(inv.momenta[0].unwrap().initial, 1.0);
     /// ```
     pub fn invariants(&self) -> Invariants<N> {
+        if !self.complete {
+            return self.running_invariants();
+        }
         fn drift(xs: impl Iterator<Item = f64>) -> Option<Drift> {
             let mut it = xs;
             let initial = it.next()?;
@@ -270,6 +376,31 @@ impl<const N: usize> Trajectory<N> {
             energy,
             momenta,
             energy_balance,
+        }
+    }
+
+    /// The invariants from the running drift (every sample seen, also those not stored).
+    fn running_invariants(&self) -> Invariants<N> {
+        let r = &self.running;
+        let drift = |initial: f64, max_abs: f64| Drift {
+            initial,
+            max_abs,
+            max_rel: max_abs / initial.abs().max(INVARIANT_FLOOR),
+        };
+        let mut momenta = [None; N];
+        for (i, m) in momenta.iter_mut().enumerate() {
+            if self.momentum_conserved[i] && r.started {
+                *m = Some(drift(r.p0[i], r.momenta[i]));
+            }
+        }
+        Invariants {
+            energy: (self.energy_conserved && r.started).then(|| drift(r.h0, r.energy)),
+            momenta,
+            energy_balance: (!self.energy_conserved && r.started).then(|| Drift {
+                initial: r.h0,
+                max_abs: r.balance,
+                max_rel: r.balance / r.h0.abs().max(r.work).max(INVARIANT_FLOOR),
+            }),
         }
     }
 
