@@ -212,3 +212,24 @@ fn every_mode_is_bounded_by_max_samples_and_long_runs_can_stream() {
     assert_eq!(streamed.t.len(), 2);
     assert_eq!(streamed.invariants(), full.invariants());
 }
+
+/// Numbers in messages are printed for people: the grid time 9 · 0.001 is 0.009000000000000001
+/// in f64, and the message says `t = 0.009`.
+#[test]
+fn messages_print_numbers_to_sensible_precision() {
+    let top = HeavyTop {
+        i_perp: 1.0,
+        i_par: 0.6,
+        mgl: 1.0,
+    };
+    let err = Simulation::new(&top, [1.0, 0.0, 0.0], [0.0, -0.5, 8.0])
+        .method(Method::Rk4 { dt: 0.001 })
+        .until(1.0)
+        .max_steps(9)
+        .run()
+        .expect_err("9 steps are not enough");
+    assert_eq!(err.t(), Some(9.0 * 0.001));
+    let text = err.to_string();
+    assert!(text.contains("t = 0.009,"), "{text}");
+    assert!(!text.contains("0.009000000000000001"), "{text}");
+}

@@ -70,8 +70,53 @@ impl fmt::Display for DynamicsError {
                 message,
             } => ("non-finite dynamics", t, q, qdot, message),
         };
-        write!(f, "{kind} at t = {t}, q = {q:?}, q̇ = {qdot:?}: {message}")
+        write!(
+            f,
+            "{kind} at t = {t}, q = {q}, q̇ = {qdot}: {message}",
+            t = Short(*t),
+            q = Short(&q[..]),
+            qdot = Short(&qdot[..])
+        )
     }
 }
 
 impl std::error::Error for DynamicsError {}
+
+/// A number, or a list of numbers, printed for people: 12 significant digits, then the shortest
+/// form (`0.009`, not `0.009000000000000001`).
+///
+/// ```
+/// use lagrange_runtime::error::Short;
+/// assert_eq!(Short(0.001 * 9.0).to_string(), "0.009");
+/// assert_eq!(Short(&[1.0, 1e-20 + 1e-36][..]).to_string(), "[1, 1e-20]");
+/// ```
+pub struct Short<T>(pub T);
+
+impl fmt::Display for Short<f64> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let x = self.0;
+        if !x.is_finite() || x == 0.0 {
+            return write!(f, "{x}");
+        }
+        let rounded: f64 = format!("{x:.11e}").parse().unwrap_or(x);
+        let a = rounded.abs();
+        if (1e-5..1e15).contains(&a) {
+            write!(f, "{rounded}")
+        } else {
+            write!(f, "{rounded:e}")
+        }
+    }
+}
+
+impl fmt::Display for Short<&[f64]> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "[")?;
+        for (i, x) in self.0.iter().enumerate() {
+            if i > 0 {
+                write!(f, ", ")?;
+            }
+            write!(f, "{}", Short(*x))?;
+        }
+        write!(f, "]")
+    }
+}

@@ -4,7 +4,7 @@
 use core::any::Any;
 use core::fmt;
 
-use crate::error::DynamicsError;
+use crate::error::{DynamicsError, Short};
 
 use super::trajectory::Trajectory;
 
@@ -233,11 +233,14 @@ impl fmt::Display for SimulationError {
             }
             SimulationError::StepSizeUnderflow { t, q, qdot, h, .. } => write!(
                 f,
-                "step size underflow at t = {t}, q = {q:?}, q̇ = {qdot:?}: the adaptive step shrank to \
+                "step size underflow at t = {t}, q = {q}, q̇ = {qdot}: the adaptive step shrank to \
                  h = {h:e}, below what round-off in t allows. The solution is probably singular or \
                  extremely stiff here (a collision, a blow-up, a chart singularity). Try: check the state \
                  and parameters near this time, loosen rtol/atol, or use other coordinates. The \
-                 trajectory up to t is kept (partial_trajectory())."
+                 trajectory up to t is kept (partial_trajectory()).",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
             ),
             SimulationError::MaxSteps {
                 t,
@@ -247,9 +250,12 @@ impl fmt::Display for SimulationError {
                 ..
             } => write!(
                 f,
-                "maximum number of steps ({max_steps}) reached at t = {t}, q = {q:?}, q̇ = {qdot:?}. \
+                "maximum number of steps ({max_steps}) reached at t = {t}, q = {q}, q̇ = {qdot}. \
                  Try: raise .max_steps(), loosen the tolerances or enlarge dt, or shorten the run. The \
-                 trajectory up to t is kept (partial_trajectory())."
+                 trajectory up to t is kept (partial_trajectory()).",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
             ),
             SimulationError::MaxSamples {
                 t,
@@ -260,23 +266,32 @@ impl fmt::Display for SimulationError {
             } => write!(
                 f,
                 "the trajectory reached max_samples = {max_samples} stored samples at t = {t}, q = \
-                 {q:?}, q̇ = {qdot:?}: memory is bounded by that option (each sample holds (3N + 3) · 8 \
+                 {q}, q̇ = {qdot}: memory is bounded by that option (each sample holds (3N + 3) · 8 \
                  bytes). Try: record less often (.sample_every(Δ) instead of every step), pass the \
                  samples to an observer without storing them (.observe(f).keep_samples(false)), or \
-                 raise .max_samples(n). The trajectory up to t is kept (partial_trajectory())."
+                 raise .max_samples(n). The trajectory up to t is kept (partial_trajectory()).",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
             ),
             SimulationError::NonFinite { t, q, qdot, .. } => write!(
                 f,
                 "the state became NaN or infinite in the step after t = {t} (last finite state q = \
-                 {q:?}, q̇ = {qdot:?}). Try: a smaller dt or tighter tolerances, and check that L is \
-                 defined along the motion. The trajectory up to t is kept (partial_trajectory())."
+                 {q}, q̇ = {qdot}). Try: a smaller dt or tighter tolerances, and check that L is \
+                 defined along the motion. The trajectory up to t is kept (partial_trajectory()).",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
             ),
             SimulationError::Dynamics {
                 source, t, q, qdot, ..
             } => write!(
                 f,
-                "the equations of motion failed in the step after t = {t} (last accepted q = {q:?}, \
-                 q̇ = {qdot:?}): {source} The trajectory up to t is kept (partial_trajectory())."
+                "the equations of motion failed in the step after t = {t} (last accepted q = {q}, \
+                 q̇ = {qdot}): {source} The trajectory up to t is kept (partial_trajectory()).",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
             ),
             SimulationError::NewtonFailed {
                 t,
@@ -288,10 +303,13 @@ impl fmt::Display for SimulationError {
                 ..
             } => write!(
                 f,
-                "the variational integrator's Newton solve failed in the step after t = {t} (q = {q:?}, \
-                 q̇ = {qdot:?}): {reason}; {iterations} iterations, residual {residual:e}. Try: a smaller \
+                "the variational integrator's Newton solve failed in the step after t = {t} (q = {q}, \
+                 q̇ = {qdot}): {reason}; {iterations} iterations, residual {residual:e}. Try: a smaller \
                  dt, or an explicit method (Dop853) to see whether the motion itself is singular here. \
-                 The trajectory up to t is kept (partial_trajectory())."
+                 The trajectory up to t is kept (partial_trajectory()).",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
             ),
         }
     }
