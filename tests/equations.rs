@@ -16,4 +16,5 @@ mod hand_written;
 mod hygiene;
 mod lint_clean;
 mod macro_contract;
+mod pieces;
 mod symbolic;
