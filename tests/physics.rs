@@ -9,6 +9,7 @@
 mod support;
 
 mod forces;
+mod forces_macro;
 mod hardening;
 mod heavy_top;
 mod integrators;

@@ -18,33 +18,96 @@ use syn::spanned::Spanned;
 use syn::visit::Visit;
 use syn::{BinOp, Block, Expr, Pat, Stmt};
 
-use crate::model::{unraw, Decl};
+use crate::model::{unraw, AuxKind, Decl};
 
 /// What the analysis found.
 pub struct Analysis {
-    /// Names mentioned anywhere in the body.
+    /// Names mentioned anywhere in the body of `fn lagrangian`.
     pub used: HashSet<String>,
-    /// CYCLIC, one per slot.
+    /// CYCLIC, one per slot: the coordinate appears in none of L, D, Q.
     pub cyclic: Vec<bool>,
-    /// AUTONOMOUS.
+    /// AUTONOMOUS: L has no explicit time.
     pub autonomous: bool,
+    /// Names mentioned in the body of each `fn dissipation` / `fn forces` (as in `decl.aux`).
+    pub aux_used: Vec<HashSet<String>>,
+    /// MOMENTUM_CONSERVED, one per slot: cyclic, q̇ absent from D, and Q's entry a literal zero.
+    pub momentum_conserved: Vec<bool>,
+    /// ENERGY_CONSERVED: autonomous, no D, and no Q (or every entry a literal zero).
+    pub energy_conserved: bool,
 }
 
-/// Names used in the body, and from them CYCLIC and AUTONOMOUS.
-pub fn analyze(decl: &Decl) -> Analysis {
+/// The names a body mentions.
+pub fn mentions(body: &Block) -> HashSet<String> {
     let mut v = Mentions::default();
-    v.visit_block(&decl.body);
-    let used = v.0;
-    let mut cyclic = Vec::with_capacity(decl.n());
-    for c in &decl.coords {
-        let absent = !used.contains(&unraw(&c.name));
+    v.visit_block(body);
+    v.0
+}
+
+/// Names used in the bodies, and from them the flags.
+pub fn analyze(decl: &Decl) -> Analysis {
+    let used = mentions(&decl.body);
+    let aux_used: Vec<HashSet<String>> = decl.aux.iter().map(|a| mentions(&a.body)).collect();
+    let n = decl.n();
+    let mut cyclic = Vec::with_capacity(n);
+    let mut dot_free = Vec::with_capacity(n);
+    for (k, c) in decl.coords.iter().enumerate() {
+        let mut absent = !used.contains(&unraw(&c.name));
+        let mut no_dissipation = true;
+        for (a, names) in decl.aux.iter().zip(&aux_used) {
+            let (name, dot) = &a.binds[k];
+            let mentioned = |x: &Option<proc_macro2::Ident>| {
+                x.as_ref().is_some_and(|x| names.contains(&unraw(x)))
+            };
+            absent &= !mentioned(name);
+            if a.kind == AuxKind::Dissipation {
+                no_dissipation &= !mentioned(dot);
+            }
+        }
         cyclic.extend(std::iter::repeat_n(absent, c.width()));
+        dot_free.extend(std::iter::repeat_n(no_dissipation, c.width()));
     }
+    let forces = decl.aux.iter().find(|a| a.kind == AuxKind::Forces);
+    let zero_force: Vec<bool> = match forces {
+        None => vec![true; n],
+        Some(f) => literal_zero_entries(&f.body, n),
+    };
+    let momentum_conserved = (0..n)
+        .map(|i| cyclic[i] && dot_free[i] && zero_force[i])
+        .collect();
     let autonomous = decl.time.as_ref().is_none_or(|t| !used.contains(&unraw(t)));
+    let has_dissipation = decl.aux.iter().any(|a| a.kind == AuxKind::Dissipation);
+    let energy_conserved = autonomous && !has_dissipation && zero_force.iter().all(|z| *z);
     Analysis {
         used,
         cyclic,
         autonomous,
+        aux_used,
+        momentum_conserved,
+        energy_conserved,
+    }
+}
+
+/// Which entries of the array a `fn forces` body ends in are a literal zero (`0.0`, `-0.0`,
+/// `0.`); all `false` when the body does not end in an array literal of length `n`.
+fn literal_zero_entries(body: &Block, n: usize) -> Vec<bool> {
+    fn zero(e: &Expr) -> bool {
+        match e {
+            Expr::Lit(l) => match &l.lit {
+                syn::Lit::Float(f) => f.base10_parse::<f64>().is_ok_and(|x| x == 0.0),
+                syn::Lit::Int(i) => i.base10_parse::<i64>().is_ok_and(|x| x == 0),
+                _ => false,
+            },
+            Expr::Unary(u) if matches!(u.op, syn::UnOp::Neg(_)) => zero(&u.expr),
+            Expr::Paren(p) => zero(&p.expr),
+            Expr::Group(g) => zero(&g.expr),
+            _ => false,
+        }
+    }
+    match body.stmts.last() {
+        Some(Stmt::Expr(Expr::Array(a), None)) if a.elems.len() == n => {
+            a.elems.iter().map(zero).collect()
+        }
+        _ => vec![false; n],
     }
 }
 
@@ -60,6 +123,20 @@ impl Analysis {
         coords
             .chain(time)
             .filter(|name| self.used.contains(name))
+            .collect()
+    }
+
+    /// The same for the `k`-th of `decl.aux`.
+    pub fn aux_bound(&self, decl: &Decl, k: usize) -> Vec<String> {
+        let a = &decl.aux[k];
+        let used = &self.aux_used[k];
+        a.binds
+            .iter()
+            .flat_map(|(x, v)| [x, v])
+            .chain(std::iter::once(&a.time))
+            .flatten()
+            .map(unraw)
+            .filter(|name| used.contains(name))
             .collect()
     }
 }

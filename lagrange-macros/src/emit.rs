@@ -6,7 +6,9 @@ use quote::{quote, quote_spanned};
 
 use crate::analyze::Analysis;
 use crate::errors::Errors;
-use crate::model::{unraw, CoordKind, Decl};
+use proc_macro2::Ident;
+
+use crate::model::{unraw, AuxKind, CoordKind, Decl};
 use crate::symbolic::SymbolicOutput;
 use crate::{parse, validate};
 
@@ -57,6 +59,7 @@ pub fn generate(
     decl: &Decl,
     analysis: &Analysis,
     body: &syn::Block,
+    aux_bodies: &[syn::Block],
     symbolic: Option<&SymbolicOutput>,
     errors: &Errors,
 ) -> TokenStream {
@@ -69,38 +72,18 @@ pub fn generate(
 
     // Bindings of the user's names to the jets' slots; names the body never mentions are not
     // bound (no unused-variable warnings for cyclic coordinates).
-    let crate::names::Params { q, qdot, t } = crate::names::Params::jets();
-    let mut bindings = Vec::new();
-    let (mut uses_q, mut uses_qdot) = (false, false);
-    for c in &decl.coords {
-        for (ident, array, used_flag) in
-            [(&c.name, &q, &mut uses_q), (&c.dot, &qdot, &mut uses_qdot)]
-        {
-            if !analysis.used.contains(&unraw(ident)) {
-                continue;
-            }
-            *used_flag = true;
-            let i = c.first_index;
-            let lit = proc_macro2::Literal::usize_unsuffixed;
-            let (i, i1, i2) = (lit(i), lit(i + 1), lit(i + 2));
-            bindings.push(match c.kind {
-                CoordKind::Scalar => quote!(let #ident = #array[#i];),
-                CoordKind::Vector3 => {
-                    quote!(let #ident = ::lagrange::__private::Vector3::new(#array[#i], #array[#i1], #array[#i2]);)
-                }
-            });
-        }
-    }
-    let mut uses_t = false;
-    if let Some(time) = &decl.time {
-        if analysis.used.contains(&unraw(time)) {
-            uses_t = true;
-            bindings.push(quote!(let #time = #t;));
-        }
-    }
-    let q_pat = if uses_q { quote!(#q) } else { quote!(_) };
-    let qdot_pat = if uses_qdot { quote!(#qdot) } else { quote!(_) };
-    let t_pat = if uses_t { quote!(#t) } else { quote!(_) };
+    let slots: Vec<(CoordKind, usize, Option<&Ident>, Option<&Ident>)> = decl
+        .coords
+        .iter()
+        .map(|c| (c.kind, c.first_index, Some(&c.name), Some(&c.dot)))
+        .collect();
+    let lagrangian_params = params(&slots, decl.time.as_ref(), &analysis.used);
+    let Bound {
+        q_pat,
+        qdot_pat,
+        t_pat,
+        bindings,
+    } = lagrangian_params;
 
     let stmts = &body.stmts;
     let fn_attrs = &decl.fn_attrs;
@@ -111,8 +94,73 @@ pub fn generate(
         Some(out) => crate::symbolic::methods(out, n, self_ty),
         None => (quote!(), errors.to_compile_errors()),
     };
+    let nn = proc_macro2::Literal::usize_unsuffixed(n);
+    let lints = quote! {
+        #[allow(
+            clippy::all,
+            clippy::pedantic,
+            clippy::nursery,
+            unused_parens,
+            unused_braces,
+            non_snake_case
+        )]
+    };
 
-    let n = proc_macro2::Literal::usize_unsuffixed(n);
+    // `fn dissipation` / `fn forces` as the trait's generic methods, bound and lowered like L.
+    let mut aux_methods = TokenStream::new();
+    for (k, (a, lowered)) in decl.aux.iter().zip(aux_bodies).enumerate() {
+        let slots: Vec<(CoordKind, usize, Option<&Ident>, Option<&Ident>)> = decl
+            .coords
+            .iter()
+            .zip(&a.binds)
+            .map(|(c, (x, v))| (c.kind, c.first_index, x.as_ref(), v.as_ref()))
+            .collect();
+        let Bound {
+            q_pat,
+            qdot_pat,
+            t_pat,
+            bindings,
+        } = params(&slots, a.time.as_ref(), &analysis.aux_used[k]);
+        let attrs = &a.attrs;
+        let self_token = &a.self_token;
+        let stmts = &lowered.stmts;
+        let (method, ret) = match a.kind {
+            AuxKind::Dissipation => (
+                quote_spanned!(a.ident.span()=> dissipation),
+                quote_spanned!(a.ret_span=> Scalar),
+            ),
+            AuxKind::Forces => (
+                quote_spanned!(a.ident.span()=> generalized_forces),
+                quote_spanned!(a.ret_span=> [Scalar; #nn]),
+            ),
+        };
+        aux_methods.extend(quote! {
+            #(#attrs)*
+            #[inline]
+            #lints
+            fn #method<Scalar: ::lagrange::__private::Scalar>(
+                &#self_token,
+                #q_pat: &[Scalar; #nn],
+                #qdot_pat: &[Scalar; #nn],
+                #t_pat: Scalar,
+            ) -> #ret {
+                #(#bindings)*
+                #(#stmts)*
+            }
+        });
+    }
+    // The conservation flags, where forces or dissipation make them differ from the defaults.
+    let flags = if decl.aux.is_empty() {
+        quote!()
+    } else {
+        let conserved = &analysis.momentum_conserved;
+        let energy = analysis.energy_conserved;
+        quote! {
+            const MOMENTUM_CONSERVED: [bool; #nn] = [#(#conserved),*];
+            const ENERGY_CONSERVED: bool = #energy;
+        }
+    };
+
     // The rest of the user's impl block, unless it was only the Lagrangian.
     let rest = if rest.items.is_empty() && rest.attrs.is_empty() {
         quote!()
@@ -123,33 +171,77 @@ pub fn generate(
         #rest
 
         #[automatically_derived]
-        impl ::lagrange::__private::Lagrangian<#n> for #self_ty {
-            const COORDINATES: [&'static str; #n] = [#(#names),*];
-            const CYCLIC: [bool; #n] = [#(#cyclic),*];
+        impl ::lagrange::__private::Lagrangian<#nn> for #self_ty {
+            const COORDINATES: [&'static str; #nn] = [#(#names),*];
+            const CYCLIC: [bool; #nn] = [#(#cyclic),*];
             const AUTONOMOUS: bool = #autonomous;
+            #flags
 
             #(#fn_attrs)*
             #[inline]
-            #[allow(
-                clippy::all,
-                clippy::pedantic,
-                clippy::nursery,
-                unused_parens,
-                unused_braces,
-                non_snake_case
-            )]
+            #lints
             fn #fn_ident<Scalar: ::lagrange::__private::Scalar>(
                 &#self_token,
-                #q_pat: &[Scalar; #n],
-                #qdot_pat: &[Scalar; #n],
+                #q_pat: &[Scalar; #nn],
+                #qdot_pat: &[Scalar; #nn],
                 #t_pat: Scalar,
             ) -> #ret {
                 #(#bindings)*
                 #(#stmts)*
             }
+            #aux_methods
             #symbolic_methods
         }
         #symbolic_consts
+    }
+}
+
+/// The parameter patterns and the `let`s binding a generated method's slots to the user's names.
+struct Bound {
+    q_pat: TokenStream,
+    qdot_pat: TokenStream,
+    t_pat: TokenStream,
+    bindings: Vec<TokenStream>,
+}
+
+/// Binds each slot's coordinate and velocity name (where the body mentions it) and the time.
+fn params(
+    slots: &[(CoordKind, usize, Option<&Ident>, Option<&Ident>)],
+    time: Option<&Ident>,
+    used: &std::collections::HashSet<String>,
+) -> Bound {
+    let crate::names::Params { q, qdot, t } = crate::names::Params::jets();
+    let mut bindings = Vec::new();
+    let (mut uses_q, mut uses_qdot) = (false, false);
+    for &(kind, first, name, dot) in slots {
+        for (ident, array, used_flag) in [(name, &q, &mut uses_q), (dot, &qdot, &mut uses_qdot)] {
+            let Some(ident) = ident else { continue };
+            if !used.contains(&unraw(ident)) {
+                continue;
+            }
+            *used_flag = true;
+            let lit = proc_macro2::Literal::usize_unsuffixed;
+            let (i, i1, i2) = (lit(first), lit(first + 1), lit(first + 2));
+            bindings.push(match kind {
+                CoordKind::Scalar => quote!(let #ident = #array[#i];),
+                CoordKind::Vector3 => {
+                    quote!(let #ident = ::lagrange::__private::Vector3::new(#array[#i], #array[#i1], #array[#i2]);)
+                }
+            });
+        }
+    }
+    let mut uses_t = false;
+    if let Some(time) = time {
+        if used.contains(&unraw(time)) {
+            uses_t = true;
+            bindings.push(quote!(let #time = #t;));
+        }
+    }
+    Bound {
+        q_pat: if uses_q { quote!(#q) } else { quote!(_) },
+        qdot_pat: if uses_qdot { quote!(#qdot) } else { quote!(_) },
+        t_pat: if uses_t { quote!(#t) } else { quote!(_) },
+        bindings,
     }
 }
 

@@ -16,6 +16,10 @@ impl Errors {
     pub fn at(&mut self, tokens: impl quote::ToTokens, msg: impl std::fmt::Display) {
         self.push(syn::Error::new_spanned(tokens, msg));
     }
+    /// How many errors were pushed.
+    pub fn count(&self) -> usize {
+        self.0.as_ref().map_or(0, |e| e.clone().into_iter().count())
+    }
     /// Whether nothing was pushed.
     pub fn is_empty(&self) -> bool {
         self.0.is_none()

@@ -25,6 +25,9 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     };
     let analysis = analyze::analyze(&decl);
     let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl));
+    let aux_bodies: Vec<syn::Block> = (0..decl.aux.len())
+        .map(|k| analyze::lower_for_jets(&decl.aux[k].body, &analysis.aux_bound(&decl, k)))
+        .collect();
     let symbolic = match decl.options.mode {
         Mode::Jets => None,
         Mode::Symbolic => symbolic::expand(&decl, &mut errors),
@@ -32,5 +35,12 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     // With errors from the symbolic stage the impl is still emitted (with the jets `fn
     // lagrangian` and without the symbolic methods), next to the errors: see `emit::generate`.
     let symbolic = symbolic.filter(|_| errors.is_empty());
-    emit::generate(&decl, &analysis, &body, symbolic.as_ref(), &errors)
+    emit::generate(
+        &decl,
+        &analysis,
+        &body,
+        &aux_bodies,
+        symbolic.as_ref(),
+        &errors,
+    )
 }

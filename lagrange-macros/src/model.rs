@@ -86,6 +86,50 @@ pub struct Decl {
     pub self_token: syn::Token![self],
     /// Attribute options.
     pub options: Options,
+    /// `fn dissipation` and `fn forces`, when declared.
+    pub aux: Vec<Aux>,
+}
+
+/// Which optional function of the impl block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AuxKind {
+    /// `fn dissipation(...) -> Scalar`: the Rayleigh dissipation function D(q, q̇, t).
+    Dissipation,
+    /// `fn forces(...) -> [Scalar; N]`: the generalized forces Q(q, q̇, t).
+    Forces,
+}
+
+impl AuxKind {
+    /// The name the user writes.
+    pub fn name(self) -> &'static str {
+        match self {
+            AuxKind::Dissipation => "dissipation",
+            AuxKind::Forces => "forces",
+        }
+    }
+}
+
+/// `fn dissipation` or `fn forces` after validation: the same coordinates as `fn lagrangian`,
+/// bound under this function's own names (`_` for unused), and its own optional `t: Time`.
+#[derive(Clone)]
+pub struct Aux {
+    /// Which function.
+    pub kind: AuxKind,
+    /// Its attributes (doc comments, lints), kept on the generated method.
+    pub attrs: Vec<syn::Attribute>,
+    /// The function's name (for spans).
+    pub ident: Ident,
+    /// The return type's span.
+    pub ret_span: Span,
+    /// Per coordinate parameter of `fn lagrangian`, in order: this function's names for the
+    /// coordinate and its velocity (`None` where bound to `_`).
+    pub binds: Vec<(Option<Ident>, Option<Ident>)>,
+    /// `t: Time`, if declared.
+    pub time: Option<Ident>,
+    /// The body as written.
+    pub body: syn::Block,
+    /// The `self` token of the receiver.
+    pub self_token: syn::Token![self],
 }
 
 impl Decl {

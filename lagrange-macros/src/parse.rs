@@ -6,7 +6,7 @@ use syn::punctuated::Punctuated;
 use syn::{Expr, ExprLit, ImplItem, ImplItemFn, ItemImpl, Lit, Meta, Token};
 
 use crate::errors::Errors;
-use crate::model::{Mode, Options};
+use crate::model::{AuxKind, Mode, Options};
 
 /// The mode used when the attribute does not name one.
 pub const DEFAULT_MODE: Mode = Mode::Symbolic;
@@ -56,15 +56,19 @@ pub fn options(args: TokenStream, errors: &mut Errors) -> Options {
     options
 }
 
-/// The impl block with every `fn lagrangian` taken out (in order of appearance).
+/// The impl block with every `fn lagrangian`, `fn dissipation` and `fn forces` taken out (in
+/// order of appearance).
 pub struct Split {
     /// The impl block without them.
     pub rest: ItemImpl,
     /// Every `fn lagrangian` found.
     pub funcs: Vec<ImplItemFn>,
+    /// Every `fn dissipation` and `fn forces` found.
+    pub aux: Vec<(AuxKind, ImplItemFn)>,
 }
 
-/// Parses the annotated item as an impl block and takes out `fn lagrangian`.
+/// Parses the annotated item as an impl block and takes out `fn lagrangian`, `fn dissipation`
+/// and `fn forces`.
 pub fn split(input: TokenStream) -> syn::Result<Split> {
     let mut rest: ItemImpl = syn::parse2(input).map_err(|e| {
         syn::Error::new(
@@ -73,12 +77,15 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
         )
     })?;
     let mut funcs = Vec::new();
+    let mut aux = Vec::new();
     let items = std::mem::take(&mut rest.items);
     for item in items {
         match item {
             ImplItem::Fn(f) if f.sig.ident == "lagrangian" => funcs.push(f),
+            ImplItem::Fn(f) if f.sig.ident == "dissipation" => aux.push((AuxKind::Dissipation, f)),
+            ImplItem::Fn(f) if f.sig.ident == "forces" => aux.push((AuxKind::Forces, f)),
             other => rest.items.push(other),
         }
     }
-    Ok(Split { rest, funcs })
+    Ok(Split { rest, funcs, aux })
 }

@@ -8,7 +8,7 @@ use syn::spanned::Spanned;
 use syn::{FnArg, ImplItemFn, Pat, ReceiverKind, ReturnType, Type};
 
 use crate::errors::Errors;
-use crate::model::{CoordKind, CoordParam, Decl, Options};
+use crate::model::{unraw, Aux, AuxKind, CoordKind, CoordParam, Decl, Options};
 use crate::parse::Split;
 
 const SIGNATURE_HINT: &str =
@@ -17,7 +17,11 @@ const SIGNATURE_HINT: &str =
 /// Checks the split impl block and builds the declaration; `None` if any rule is broken
 /// (the errors say which).
 pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<Decl> {
-    let Split { rest, mut funcs } = split;
+    let Split {
+        rest,
+        mut funcs,
+        aux,
+    } = split;
     if let Some((_, for_token)) = &rest.trait_ {
         errors.at(
             for_token,
@@ -61,12 +65,235 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         );
     }
     let func = funcs.swap_remove(0);
-    let decl = check_fn(func, rest, options, errors);
+    let mut decl = check_fn(func, rest, options, errors);
+    let mut seen: Vec<AuxKind> = Vec::new();
+    for (kind, f) in aux {
+        if seen.contains(&kind) {
+            errors.at(
+                &f.sig.ident,
+                format!(
+                    "a second `fn {}` in this impl block: declare it once",
+                    kind.name()
+                ),
+            );
+            continue;
+        }
+        seen.push(kind);
+        if let Some(decl) = &mut decl {
+            if let Some(a) = check_aux(kind, f, decl, errors) {
+                decl.aux.push(a);
+            }
+        }
+    }
     if errors.is_empty() {
         decl
     } else {
         None
     }
+}
+
+/// The rule every `fn dissipation` / `fn forces` follows, for the error messages.
+fn aux_rule(kind: AuxKind, decl: &Decl) -> String {
+    let params: Vec<String> = decl
+        .coords
+        .iter()
+        .map(|c| {
+            let ty = match c.kind {
+                CoordKind::Scalar => "Coord",
+                CoordKind::Vector3 => "Coord3",
+            };
+            format!("({}, {}): {ty}", unraw(&c.name), unraw(&c.dot))
+        })
+        .collect();
+    let ret = match kind {
+        AuxKind::Dissipation => "Scalar".to_string(),
+        AuxKind::Forces => format!("[Scalar; {}]", decl.n()),
+    };
+    format!(
+        "`fn {}` takes the coordinates of `fn lagrangian`, all of them, in the same order and of \
+         the same kinds (any binding may be `_`), and `t: Time` where it uses the time: \
+         `fn {}(&self, {}) -> {ret}`",
+        kind.name(),
+        kind.name(),
+        params.join(", ")
+    )
+}
+
+/// Checks `fn dissipation` / `fn forces` against the coordinates of `fn lagrangian`.
+fn check_aux(kind: AuxKind, func: ImplItemFn, decl: &Decl, errors: &mut Errors) -> Option<Aux> {
+    let before = errors.count();
+    let sig = &func.sig;
+    let name = kind.name();
+    if sig.constness.is_some()
+        || sig.asyncness.is_some()
+        || !matches!(sig.safety, syn::Safety::Default)
+        || sig.abi.is_some()
+        || sig.variadic.is_some()
+        || !sig.generics.params.is_empty()
+        || sig.generics.where_clause.is_some()
+    {
+        errors.at(
+            &sig.ident,
+            format!(
+                "`fn {name}` is a plain function: no `const`, `async`, `unsafe`, ABI or generics"
+            ),
+        );
+    }
+    let ret_span = match (&sig.output, kind) {
+        (ReturnType::Type(_, ty), AuxKind::Dissipation) if is_ident_type(ty, "Scalar") => ty.span(),
+        (ReturnType::Type(_, ty), AuxKind::Dissipation) => {
+            errors.at(
+                ty,
+                "`fn dissipation` returns one `Scalar`: the Rayleigh dissipation function D(q, q̇, t) \
+                 is a scalar whose −∂D/∂q̇ joins the generalized forces (for a force per coordinate, \
+                 write `fn forces(...) -> [Scalar; N]`)",
+            );
+            ty.span()
+        }
+        (ReturnType::Type(_, ty), AuxKind::Forces) => {
+            let n = decl.n();
+            match &**ty {
+                Type::Array(a) if is_ident_type(&a.elem, "Scalar") => {
+                    let len = match &a.len {
+                        syn::Expr::Lit(syn::ExprLit {
+                            lit: syn::Lit::Int(i),
+                            ..
+                        }) => i.base10_parse::<usize>().ok(),
+                        _ => None,
+                    };
+                    if len != Some(n) {
+                        errors.at(
+                            &a.len,
+                            format!(
+                                "`fn forces` returns one generalized force per coordinate: this system \
+                                 has {n} (a `Coord3` counts 3, x, y, z), so the return type is \
+                                 `[Scalar; {n}]`"
+                            ),
+                        );
+                    }
+                }
+                _ => errors.at(
+                    ty,
+                    format!(
+                        "`fn forces` returns the generalized forces Q, one per coordinate in \
+                         declaration order: `[Scalar; {n}]`"
+                    ),
+                ),
+            }
+            ty.span()
+        }
+        (ReturnType::Default, _) => {
+            errors.at(&sig.ident, aux_rule(kind, decl));
+            sig.ident.span()
+        }
+    };
+    let mut inputs = sig.inputs.iter();
+    let mut self_token = syn::Token![self](sig.ident.span());
+    match inputs.next() {
+        Some(FnArg::Receiver(r))
+            if matches!(&r.kind, ReceiverKind::Reference(_, _, None)) && r.mutability.is_none() =>
+        {
+            self_token = r.self_token;
+        }
+        Some(other) => errors.at(other, format!("`fn {name}` takes `&self` first")),
+        None => errors.at(&sig.ident, aux_rule(kind, decl)),
+    }
+    let mut binds = Vec::new();
+    let mut time = None;
+    let mut coords = decl.coords.iter();
+    for arg in inputs {
+        let FnArg::Typed(pt) = arg else {
+            errors.at(arg, "`self` may only come first");
+            continue;
+        };
+        if is_ident_type(&pt.ty, "Time") {
+            match &*pt.pat {
+                Pat::Ident(pi) if time.is_none() && pi.subpat.is_none() => {
+                    time = Some(pi.ident.clone());
+                }
+                Pat::Wild(_) if time.is_none() => {}
+                other => errors.at(other, "time is bound once, to a plain name: `t: Time`"),
+            }
+            continue;
+        }
+        let kind_here = if is_ident_type(&pt.ty, "Coord") {
+            CoordKind::Scalar
+        } else if is_ident_type(&pt.ty, "Coord3") {
+            CoordKind::Vector3
+        } else {
+            errors.at(&pt.ty, aux_rule(kind, decl));
+            continue;
+        };
+        match coords.next() {
+            Some(c) if c.kind == kind_here => match aux_pattern(&pt.pat) {
+                Some(pair) => binds.push(pair),
+                None => errors.at(
+                    &pt.pat,
+                    format!(
+                        "bind the coordinate and its velocity as a pair of names or `_`: `({}, {})` \
+                         or `(_, {})`",
+                        unraw(&c.name),
+                        unraw(&c.dot),
+                        unraw(&c.dot)
+                    ),
+                ),
+            },
+            Some(c) => errors.at(
+                &pt.ty,
+                format!(
+                    "`fn lagrangian` declares `({}, {})` here with another kind: {}",
+                    unraw(&c.name),
+                    unraw(&c.dot),
+                    aux_rule(kind, decl)
+                ),
+            ),
+            None => errors.at(
+                &pt.pat,
+                format!(
+                    "`fn lagrangian` does not declare this coordinate: {}",
+                    aux_rule(kind, decl)
+                ),
+            ),
+        }
+    }
+    if binds.len() < decl.coords.len() && errors.count() == before {
+        errors.at(
+            &sig.ident,
+            format!(
+                "`fn {name}` leaves out coordinates of `fn lagrangian`: {}",
+                aux_rule(kind, decl)
+            ),
+        );
+    }
+    if errors.count() != before {
+        return None;
+    }
+    Some(Aux {
+        kind,
+        attrs: func.attrs,
+        ident: func.sig.ident,
+        ret_span,
+        binds,
+        time,
+        body: func.block,
+        self_token,
+    })
+}
+
+/// `(a, b)` where each is a plain name or `_`.
+fn aux_pattern(pat: &Pat) -> Option<(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)> {
+    let Pat::Tuple(t) = pat else { return None };
+    if t.elems.len() != 2 {
+        return None;
+    }
+    let one = |p: &Pat| match p {
+        Pat::Ident(pi) if pi.by_ref.is_none() && pi.mutability.is_none() && pi.subpat.is_none() => {
+            Some(Some(pi.ident.clone()))
+        }
+        Pat::Wild(_) => Some(None),
+        _ => None,
+    };
+    Some((one(&t.elems[0])?, one(&t.elems[1])?))
 }
 
 fn check_fn(
@@ -144,7 +371,7 @@ fn check_fn(
     let mut time: Option<proc_macro2::Ident> = None;
     let mut seen: HashMap<String, Span> = HashMap::new();
     let mut check_name = |ident: &proc_macro2::Ident, errors: &mut Errors| {
-        let name = crate::model::unraw(ident);
+        let name = unraw(ident);
         if seen.insert(name.clone(), ident.span()).is_some() {
             errors.at(
                 ident,
@@ -224,6 +451,7 @@ fn check_fn(
         body: func.block,
         self_token,
         options,
+        aux: Vec::new(),
     })
 }
 

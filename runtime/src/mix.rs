@@ -38,6 +38,13 @@ impl<S: Scalar> Lift<S> for Vector3<f64> {
         )
     }
 }
+impl<S: Scalar, const K: usize> Lift<S> for [f64; K] {
+    type Output = [S; K];
+    #[inline(always)]
+    fn lift(self) -> [S; K] {
+        self.map(S::constant)
+    }
+}
 impl<S: Scalar> Lift<S> for &Vector3<f64> {
     type Output = Vector3<S>;
     #[inline(always)]

@@ -7,7 +7,7 @@ use quote::quote;
 use super::dag::Id;
 use super::derive::{Derivation, Equations};
 use super::{codegen, print, solve};
-use crate::model::Decl;
+use crate::model::{AuxKind, Decl};
 use crate::names;
 
 /// Up to this many generated operations (values plus N² for the solve), `accelerations` is
@@ -21,6 +21,8 @@ pub struct SymbolicOutput {
     pub accelerations: TokenStream,
     /// Body of `fn mass_matrix(&self, q, qdot, t) -> ::lagrange::__private::SMatrix<f64, N, N>`.
     pub mass_matrix: TokenStream,
+    /// Body of `fn pieces(&self, q, qdot, t) -> ::lagrange::__private::eom::Pieces<N>`.
+    pub pieces: TokenStream,
     /// `#[inline(always)]` for a small `accelerations`, `#[inline]` otherwise.
     pub accelerations_inline: TokenStream,
     /// Body of `fn momenta(&self, q, qdot, t) -> [f64; N]`.
@@ -68,14 +70,40 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         quote!(#[inline])
     };
     // M and f, formed once: the fast path's solve and the fallback's arrays read the same operands.
-    let eq = Equations::of(d);
+    let lagrangian_part = Equations::of(d);
     let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| quote!(0.0));
-    let rows = eq.mass.iter().map(|row| {
-        let cells = row.iter().map(or_zero);
-        quote!([#(#cells),*])
-    });
+    let rows: Vec<TokenStream> = lagrangian_part
+        .mass
+        .iter()
+        .map(|row| {
+            let cells = row.iter().map(or_zero);
+            quote!([#(#cells),*])
+        })
+        .collect();
+    let f_lagrangian: Vec<TokenStream> = lagrangian_part.rhs.iter().map(or_zero).collect();
+    // With `fn dissipation` / `fn forces`, the right-hand side is f_L + Q − ∂D/∂q̇: the applied
+    // forces come from the runtime's one assembly point (`eom::jet_applied_forces`, which
+    // evaluates the user's generic `dissipation` and `generalized_forces`), added here once.
+    let forced = !decl.aux.is_empty();
+    let applied = names::applied();
+    let mut eq = lagrangian_part;
+    let mut stmts = code.stmts;
+    if forced {
+        for (i, b) in eq.rhs.iter_mut().enumerate() {
+            let i = Literal::usize_unsuffixed(i);
+            *b = Some(match b.take() {
+                Some(x) => quote!((#x + #applied[#i])),
+                None => quote!(#applied[#i]),
+            });
+        }
+        stmts = quote! {
+            #stmts
+            let #applied: [f64; #nn] =
+                ::lagrange::__private::eom::jet_applied_forces(self, #q, #qdot, #t);
+        };
+    }
     let f = eq.rhs.iter().map(or_zero);
-    let stmts = code.stmts;
+    let pieces_stmts = stmts.clone();
     let pairs: Vec<(usize, usize, TokenStream)> =
         d.pairs.iter().map(|&(i, k, det)| (i, k, op(det))).collect();
     let solve = solve::ldlt(&eq, &pairs);
@@ -96,6 +124,18 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
                 #t,
             ),
         }
+    };
+
+    // pieces: M, f_L and the applied forces, for readers of the one assembly point
+    let with_applied = if forced {
+        quote!(.with_applied(#applied))
+    } else {
+        quote!()
+    };
+    let pieces = quote! {
+        #touch
+        #pieces_stmts
+        ::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f_lagrangian),*])#with_applied
     };
 
     // mass_matrix
@@ -154,7 +194,12 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         (#h, [#(#p),*])
     };
 
-    let eq = print::equations(d, decl);
+    let mut eq = print::equations(d, decl);
+    if forced {
+        let (unicode, latex) = applied_text(decl);
+        eq.unicode.push_str(&unicode);
+        eq.latex.push_str(&latex);
+    }
     let doc = format!(
         "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` \
          (d/dt ∂L/∂q̇ = ∂L/∂q, one line per coordinate):\n\n```text\n{}\n```\n",
@@ -164,6 +209,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         accelerations,
         accelerations_inline,
         mass_matrix,
+        pieces,
         momenta,
         energy,
         energy_and_momenta,
@@ -193,6 +239,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         accelerations,
         accelerations_inline,
         mass_matrix,
+        pieces,
         momenta,
         energy,
         energy_and_momenta,
@@ -213,6 +260,11 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         #[inline]
         fn mass_matrix(#sig) -> ::lagrange::__private::SMatrix<f64, #nn, #nn> {
             #mass_matrix
+        }
+        #allow
+        #[inline]
+        fn pieces(#sig) -> ::lagrange::__private::eom::Pieces<#nn> {
+            #pieces
         }
         #allow
         #[inline]
@@ -246,4 +298,51 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         }
     };
     (methods, consts)
+}
+
+/// The applied forces as printed under the equations: each line gets `+ Q − ∂D/∂q̇` on its right
+/// (written once, below the equations), with D and Q as the user wrote them.
+fn applied_text(decl: &Decl) -> (String, String) {
+    let mut unicode =
+        String::from("\nwith the applied forces added to each right-hand side, + Qᵢ − ∂D/∂q̇ᵢ:");
+    let mut latex = String::from("\n\\text{with } + Q_i - \\partial D / \\partial \\dot q_i \\text{ on each right-hand side:}");
+    for a in &decl.aux {
+        let text = tidy(&a.body);
+        let (u, l) = match a.kind {
+            AuxKind::Dissipation => ("D", "D"),
+            AuxKind::Forces => ("Q", "Q"),
+        };
+        unicode.push_str(&format!("\n  {u} = {text}"));
+        latex.push_str(&format!("\n{l} = \\texttt{{{}}}", text.replace('_', "\\_")));
+    }
+    (unicode, latex)
+}
+
+/// A body as one line of Rust: its tail expression (or the whole block when it has statements),
+/// with the token spacing of `quote` tidied (`self.b * x.powi(2)`, not `self . b * x . powi (2)`).
+fn tidy(body: &syn::Block) -> String {
+    let tokens = match body.stmts.as_slice() {
+        [syn::Stmt::Expr(e, None)] => quote!(#e).to_string(),
+        _ => quote!(#body).to_string(),
+    };
+    let tokens = tokens
+        .replace(" . ", ".")
+        .replace("( ", "(")
+        .replace(" )", ")")
+        .replace(" ,", ",")
+        .replace("[ ", "[")
+        .replace(" ]", "]");
+    // A call's parenthesis joins its name (`powi(2)`); an operator's keeps its space (`* (`).
+    let mut out = String::with_capacity(tokens.len());
+    let chars: Vec<char> = tokens.chars().collect();
+    for (k, &c) in chars.iter().enumerate() {
+        let call = c == ' '
+            && chars.get(k + 1) == Some(&'(')
+            && k > 0
+            && (chars[k - 1].is_alphanumeric() || chars[k - 1] == '_');
+        if !call {
+            out.push(c);
+        }
+    }
+    out
 }

@@ -64,6 +64,7 @@ fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
             mode: Mode::Symbolic,
             mode_span: None,
         },
+        aux: Vec::new(),
     }
 }
 
