@@ -11,5 +11,6 @@ mod support;
 mod forces;
 mod heavy_top;
 mod integrators;
+mod linearize;
 mod non_inertial;
 mod rigid_body;

@@ -459,18 +459,36 @@ macro_rules! impl_jet_scalar {
                     let x = J::value(&self);
                     let w = (1.0 - x) * (1.0 + x);
                     let d = 1.0 / w.sqrt();
-                    J::chain3(self, x.asin(), d, x * d / w, d * (1.0 + 2.0 * x * x) / (w * w))
+                    J::chain3(
+                        self,
+                        x.asin(),
+                        d,
+                        x * d / w,
+                        d * (1.0 + 2.0 * x * x) / (w * w),
+                    )
                 }
                 fn acos(self) -> Self {
                     let x = J::value(&self);
                     let w = (1.0 - x) * (1.0 + x);
                     let d = 1.0 / w.sqrt();
-                    J::chain3(self, x.acos(), -d, -x * d / w, -d * (1.0 + 2.0 * x * x) / (w * w))
+                    J::chain3(
+                        self,
+                        x.acos(),
+                        -d,
+                        -x * d / w,
+                        -d * (1.0 + 2.0 * x * x) / (w * w),
+                    )
                 }
                 fn atan(self) -> Self {
                     let x = J::value(&self);
                     let d = 1.0 / (1.0 + x * x);
-                    J::chain3(self, x.atan(), d, -2.0 * x * d * d, (6.0 * x * x - 2.0) * d * d * d)
+                    J::chain3(
+                        self,
+                        x.atan(),
+                        d,
+                        -2.0 * x * d * d,
+                        (6.0 * x * x - 2.0) * d * d * d,
+                    )
                 }
                 fn sinh(self) -> Self {
                     let x = J::value(&self);
@@ -493,18 +511,36 @@ macro_rules! impl_jet_scalar {
                     let x = J::value(&self);
                     let w = x * x + 1.0;
                     let d = 1.0 / w.sqrt();
-                    J::chain3(self, x.asinh(), d, -x * d / w, d * (2.0 * x * x - 1.0) / (w * w))
+                    J::chain3(
+                        self,
+                        x.asinh(),
+                        d,
+                        -x * d / w,
+                        d * (2.0 * x * x - 1.0) / (w * w),
+                    )
                 }
                 fn acosh(self) -> Self {
                     let x = J::value(&self);
                     let w = (x - 1.0) * (x + 1.0);
                     let d = 1.0 / w.sqrt();
-                    J::chain3(self, x.acosh(), d, -x * d / w, d * (2.0 * x * x + 1.0) / (w * w))
+                    J::chain3(
+                        self,
+                        x.acosh(),
+                        d,
+                        -x * d / w,
+                        d * (2.0 * x * x + 1.0) / (w * w),
+                    )
                 }
                 fn atanh(self) -> Self {
                     let x = J::value(&self);
                     let d = 1.0 / ((1.0 - x) * (1.0 + x));
-                    J::chain3(self, x.atanh(), d, 2.0 * x * d * d, (2.0 + 6.0 * x * x) * d * d * d)
+                    J::chain3(
+                        self,
+                        x.atanh(),
+                        d,
+                        2.0 * x * d * d,
+                        (2.0 + 6.0 * x * x) * d * d * d,
+                    )
                 }
                 fn log(self, base: Self) -> Self {
                     J::div(

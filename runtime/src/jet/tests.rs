@@ -1290,7 +1290,14 @@ fn hess_blocks(h: &HessianJet<2>) -> Vec<f64> {
 }
 
 fn lin_at(e: &Expr, x: &[f64; NV], z: &[f64; NV]) -> LinJet<2> {
-    let (q, v, t) = LinJet::<2>::seed(&[x[0], x[1]], &[x[2], x[3]], x[IT], &[z[0], z[1]], &[z[2], z[3]], z[IT]);
+    let (q, v, t) = LinJet::<2>::seed(
+        &[x[0], x[1]],
+        &[x[2], x[3]],
+        x[IT],
+        &[z[0], z[1]],
+        &[z[2], z[3]],
+        z[IT],
+    );
     eval(e, &q, &v, t)
 }
 
@@ -1308,7 +1315,13 @@ fn hess_difference(e: &Expr, x: &[f64; NV], z: &[f64; NV], h: f64) -> Vec<f64> {
 }
 
 fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(1.0_f64, |m, x| if x.is_finite() { m.max(x.abs()) } else { f64::INFINITY })
+    v.iter().fold(1.0_f64, |m, x| {
+        if x.is_finite() {
+            m.max(x.abs())
+        } else {
+            f64::INFINITY
+        }
+    })
 }
 
 proptest! {
