@@ -510,29 +510,56 @@ impl<const N: usize> Linearization<N> {
 /// The eigenvalues of a real square matrix by the real Schur decomposition, sorted by
 /// decreasing real part, then imaginary part.
 ///
-/// The double-shift QR iteration has no exceptional shifts and can stall on the symmetric
-/// spectra of mechanics (±a ± ib, all of one modulus, as below a gyroscopic threshold): then the
-/// matrix is shifted, A + σI with σ a fixed odd fraction of its scale, which breaks the symmetry
-/// of the moduli, and σ is subtracted from the eigenvalues again (exact up to rounding, ε|σ|).
+/// Exact zero columns and rows are deflated first: each is an exact eigenvalue 0 (a cyclic
+/// coordinate, whose δq column of the companion matrix is zero, and whose δq̇ row is zero when
+/// nothing acts on it), and the defective λ = 0 pairs they form otherwise stall the QR
+/// iteration's relative convergence test. The double-shift QR iteration (it has no exceptional
+/// shifts) can also cycle on the structured spectra of mechanics (±a ± ib, as below a
+/// gyroscopic threshold): then it is retried on orthogonally similar matrices.
 fn eigenvalues_of(a: DMatrix<f64>) -> Result<Vec<Complex<f64>>, LinearizationError> {
+    let mut a = a;
+    let mut eig: Vec<Complex<f64>> = Vec::new();
+    // deflate exact zero columns and rows: the remaining block has the other eigenvalues
+    while let Some(j) = (0..a.nrows())
+        .find(|&j| a.column(j).iter().all(|x| *x == 0.0) || a.row(j).iter().all(|x| *x == 0.0))
+    {
+        eig.push(Complex::new(0.0, 0.0));
+        a = a.remove_row(j).remove_column(j);
+    }
     let n = a.nrows();
-    let scale = a.amax();
-    for shift in [0.0, 0.371_2, -0.613_9, 1.257_1, -2.093_3] {
-        let sigma = shift * scale;
-        let shifted = &a + DMatrix::identity(n, n) * sigma;
-        if let Some(schur) = nalgebra::Schur::try_new(shifted, f64::EPSILON, 100 * n.max(1)) {
-            let mut eig: Vec<Complex<f64>> = schur
-                .complex_eigenvalues()
-                .iter()
-                .map(|l| Complex::new(l.re - sigma, l.im))
-                .collect();
-            eig.sort_by(|a, b| b.re.total_cmp(&a.re).then(a.im.total_cmp(&b.im)));
-            return Ok(eig);
+    if n > 0 {
+        eig.extend(schur_eigenvalues(&a, n)?);
+    }
+    eig.sort_by(|a, b| b.re.total_cmp(&a.re).then(a.im.total_cmp(&b.im)));
+    Ok(eig)
+}
+
+fn schur_eigenvalues(a: &DMatrix<f64>, n: usize) -> Result<Vec<Complex<f64>>, LinearizationError> {
+    // The plain matrix first, then up to four fixed orthogonal similarities QᵀAQ (Q from the QR
+    // factorization of a deterministic pseudo-random matrix): the eigenvalues are the same, up to
+    // rounding ε‖A‖, while the Hessenberg form and so the QR iteration's path are not.
+    let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
+    for attempt in 0..5 {
+        let m = if attempt == 0 {
+            a.clone()
+        } else {
+            let r = DMatrix::from_fn(n, n, |_, _| {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            });
+            let q = r.qr().q();
+            q.transpose() * a * q
+        };
+        if let Some(schur) = nalgebra::Schur::try_new(m, f64::EPSILON, 1000 * n) {
+            return Ok(schur.complex_eigenvalues().iter().copied().collect());
         }
     }
     Err(LinearizationError::Eigen {
-        message: "the Schur iteration of the companion matrix did not converge, even shifted. \
-                  Check that M, C and K are finite and of reasonable scale."
+        message: "the Schur iteration of the companion matrix did not converge, even after \
+                  orthogonal similarity transforms. Check that M, C and K are finite and of \
+                  reasonable scale."
             .into(),
     })
 }
