@@ -41,6 +41,13 @@ pub trait JetCalculus: Copy {
     /// Chain rule with the third derivative `f'''` as well, for jets that carry a derivative of
     /// their Hessian ([`LinJet`]); the default ignores `f3` and is [`chain`](Self::chain), so the
     /// second-order jets compute exactly what they computed before.
+    ///
+    /// ```
+    /// use lagrange_runtime::jet::{JetCalculus, LinJet};
+    /// // sin at q = 0 along δq = 1: (sin)‴(0) = −1
+    /// let (q, _, _) = LinJet::<1>::seed(&[0.0], &[0.0], 0.0, &[1.0], &[0.0], 0.0);
+    /// assert_eq!(q[0].chain3(0.0, 1.0, 0.0, -1.0).along().hess_qq(), [[-1.0]]);
+    /// ```
     #[inline(always)]
     fn chain3(self, f0: f64, f1: f64, f2: f64, f3: f64) -> Self {
         let _ = f3;
