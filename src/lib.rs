@@ -45,6 +45,7 @@ pub enum Time {}
 /// Everything a user of `#[lagrangian]` needs: `use lagrange::prelude::*;`.
 pub mod prelude {
     pub use crate::{lagrangian, Coord, Coord3, Time};
+    pub use lagrange_runtime::{equilibrium, Linearization, LinearizationError, Stability};
     pub use lagrange_runtime::{DynamicsError, Lagrangian, SMatrix, Scalar, Vector3};
     pub use lagrange_runtime::{Event, EventHit, Method, Simulation, SimulationError, Trajectory};
 }

@@ -13,5 +13,6 @@ mod forces_macro;
 mod hardening;
 mod heavy_top;
 mod integrators;
+mod linearize;
 mod non_inertial;
 mod rigid_body;

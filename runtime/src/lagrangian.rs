@@ -5,6 +5,7 @@ use nalgebra::SMatrix;
 use crate::eom::{self, jet_pieces, jet_power, Pieces};
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
+use crate::linearize::{jet_linearize, Linearization};
 use crate::scalar::Scalar;
 
 /// A mechanical system given by its Lagrangian L(q, q̇, t) in `N` generalized coordinates.
@@ -185,6 +186,37 @@ pub trait Lagrangian<const N: usize> {
     /// ```
     fn energy_and_momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> (f64, [f64; N]) {
         jet_energy_and_momenta(self, q, qdot, t)
+    }
+
+    /// The linearized equations of motion M δq̈ + C δq̇ + K δq = 0 about the motion through
+    /// (q₀, q̇₀) at time t: an equilibrium (q̇₀ = 0) or a steady motion (q̇₀ ≠ 0), exact from the
+    /// jets (third derivatives of L along the reference motion; no finite differences). See
+    /// [`linearize`](crate::linearize) for the formulas, the eigenvalues, modes and stability.
+    ///
+    /// Fails where the accelerations cannot be solved (singular M, non-finite values). Holonomic
+    /// constraints are not covered yet; `linearize_constrained` will come with them.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// /// A pendulum, L = θ̇²/2 + 4 cos θ: ω² = 4 about the bottom.
+    /// struct P;
+    /// impl Lagrangian<1> for P {
+    ///     const COORDINATES: [&'static str; 1] = ["theta"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() * 4.0 }
+    /// }
+    /// let lin = P.linearize(&[0.0], &[0.0], 0.0).unwrap();
+    /// assert_eq!(lin.modes().unwrap()[0].omega(), Some(2.0));
+    /// assert!(lin.is_stable());
+    /// ```
+    fn linearize(
+        &self,
+        q0: &[f64; N],
+        qdot0: &[f64; N],
+        t: f64,
+    ) -> Result<Linearization<N>, DynamicsError> {
+        jet_linearize(self, q0, qdot0, t)
     }
 
     /// The energy (Jacobi integral) h = q̇·p − L.

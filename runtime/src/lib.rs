@@ -14,6 +14,7 @@ pub mod integrate;
 pub mod jet;
 mod lagrangian;
 pub mod linalg;
+pub mod linearize;
 #[doc(hidden)]
 pub mod mix;
 pub mod rigid;
@@ -27,5 +28,6 @@ pub use integrate::{
     SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
 };
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
+pub use linearize::{equilibrium, Linearization, LinearizationError, Mode, Stability};
 pub use nalgebra::{SMatrix, Vector3};
 pub use scalar::Scalar;

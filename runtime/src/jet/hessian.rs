@@ -14,16 +14,16 @@ use super::JetCalculus;
 /// ```
 #[derive(Clone, Copy, Debug)]
 pub struct HessianJet<const N: usize> {
-    v: f64,
-    gq: [f64; N],
-    gv: [f64; N],
-    hqq: [[f64; N]; N],
-    hqv: [[f64; N]; N],
-    hvv: [[f64; N]; N],
+    pub(super) v: f64,
+    pub(super) gq: [f64; N],
+    pub(super) gv: [f64; N],
+    pub(super) hqq: [[f64; N]; N],
+    pub(super) hqv: [[f64; N]; N],
+    pub(super) hvv: [[f64; N]; N],
 }
 
 impl<const N: usize> HessianJet<N> {
-    const ZERO: Self = HessianJet {
+    pub(super) const ZERO: Self = HessianJet {
         v: 0.0,
         gq: [0.0; N],
         gv: [0.0; N],

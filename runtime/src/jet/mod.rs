@@ -7,14 +7,19 @@
 //! - [`ElJet`]: from one evaluation of L, ∂L/∂q, ∂L/∂q̇, the mass matrix ∂²L/∂q̇∂q̇ and the
 //!   directional derivative of ∂L/∂q̇ along (q̇, 0, 1) in (q, q̇, t).
 //! - [`HessianJet`]: the gradient and the full Hessian in (q, q̇), for implicit integrators.
+//! - [`LinJet`]: the gradient and Hessian in (q, q̇) and their derivative along one direction in
+//!   (q, q̇, t) (third derivatives contracted with that direction), for the linearization about a
+//!   steady motion.
 
 #[macro_use]
 mod scalar_impl;
 mod el;
 mod hessian;
+mod lin;
 
 pub use el::ElJet;
 pub use hessian::HessianJet;
+pub use lin::LinJet;
 
 /// The calculus primitives a jet type provides; everything else is generated from them.
 ///
@@ -33,6 +38,21 @@ pub trait JetCalculus: Copy {
     fn with_value(self, v: f64) -> Self;
     /// Chain rule: `f(self)` from `f`, `f'` and `f''` at the value of `self`.
     fn chain(self, f0: f64, f1: f64, f2: f64) -> Self;
+    /// Chain rule with the third derivative `f'''` as well, for jets that carry a derivative of
+    /// their Hessian ([`LinJet`]); the default ignores `f3` and is [`chain`](Self::chain), so the
+    /// second-order jets compute exactly what they computed before.
+    ///
+    /// ```
+    /// use lagrange_runtime::jet::{JetCalculus, LinJet};
+    /// // sin at q = 0 along δq = 1: (sin)‴(0) = −1
+    /// let (q, _, _) = LinJet::<1>::seed(&[0.0], &[0.0], 0.0, &[1.0], &[0.0], 0.0);
+    /// assert_eq!(q[0].chain3(0.0, 1.0, 0.0, -1.0).along().hess_qq(), [[-1.0]]);
+    /// ```
+    #[inline(always)]
+    fn chain3(self, f0: f64, f1: f64, f2: f64, f3: f64) -> Self {
+        let _ = f3;
+        self.chain(f0, f1, f2)
+    }
     /// Sum rule.
     fn add(self, other: Self) -> Self;
     /// Difference.
@@ -53,7 +73,7 @@ pub trait JetCalculus: Copy {
     fn recip_jet(self) -> Self {
         let x = self.value();
         let r = 1.0 / x;
-        self.chain(r, -r * r, 2.0 * r * r * r)
+        self.chain3(r, -r * r, 2.0 * r * r * r, -6.0 * r * r * r * r)
     }
     /// Quotient, as product with the reciprocal.
     #[inline(always)]

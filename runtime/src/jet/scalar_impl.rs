@@ -1,7 +1,8 @@
 //! Operator and trait boilerplate for jet types, generated from [`super::JetCalculus`].
 //!
-//! Nothing here does calculus of its own: every derivative comes from `chain` (with the
-//! elementary function's first and second derivative) or from `mul`/`add`.
+//! Nothing here does calculus of its own: every derivative comes from `chain3` (with the
+//! elementary function's first, second and third derivative; the second-order jets ignore the
+//! third) or from `mul`/`add`.
 
 /// Implements the operators, `num_traits`, `approx`, `simba` (`RealField`) and `Scalar` traits for
 /// a jet type `$T<const N: usize>` that implements `JetCalculus`.
@@ -233,7 +234,7 @@ macro_rules! impl_jet_scalar {
             impl<const N: usize> num_traits::Signed for $T<N> {
                 fn abs(&self) -> Self {
                     let x = J::value(self);
-                    J::chain(*self, x.abs(), if x < 0.0 { -1.0 } else { 1.0 }, 0.0)
+                    J::chain3(*self, x.abs(), if x < 0.0 { -1.0 } else { 1.0 }, 0.0, 0.0)
                 }
                 fn abs_sub(&self, o: &Self) -> Self {
                     if J::value(self) <= J::value(o) {
@@ -417,7 +418,7 @@ macro_rules! impl_jet_scalar {
                     J::constant(J::value(&self).trunc())
                 }
                 fn fract(self) -> Self {
-                    J::chain(self, J::value(&self).fract(), 1.0, 0.0)
+                    J::chain3(self, J::value(&self).fract(), 1.0, 0.0, 0.0)
                 }
                 fn mul_add(self, a: Self, b: Self) -> Self {
                     J::add(J::mul(self, a), b)
@@ -437,73 +438,109 @@ macro_rules! impl_jet_scalar {
                 #[inline(always)]
                 fn sin(self) -> Self {
                     let (s, c) = J::value(&self).sin_cos();
-                    J::chain(self, s, c, -s)
+                    J::chain3(self, s, c, -s, -c)
                 }
                 #[inline(always)]
                 fn cos(self) -> Self {
                     let (s, c) = J::value(&self).sin_cos();
-                    J::chain(self, c, -s, -c)
+                    J::chain3(self, c, -s, -c, s)
                 }
                 #[inline(always)]
                 fn sin_cos(self) -> (Self, Self) {
                     let (s, c) = J::value(&self).sin_cos();
-                    (J::chain(self, s, c, -s), J::chain(self, c, -s, -c))
+                    (J::chain3(self, s, c, -s, -c), J::chain3(self, c, -s, -c, s))
                 }
                 fn tan(self) -> Self {
                     let t = J::value(&self).tan();
                     let d = 1.0 + t * t;
-                    J::chain(self, t, d, 2.0 * t * d)
+                    J::chain3(self, t, d, 2.0 * t * d, 2.0 * d * d + 4.0 * t * t * d)
                 }
                 fn asin(self) -> Self {
                     let x = J::value(&self);
                     let w = (1.0 - x) * (1.0 + x);
                     let d = 1.0 / w.sqrt();
-                    J::chain(self, x.asin(), d, x * d / w)
+                    J::chain3(
+                        self,
+                        x.asin(),
+                        d,
+                        x * d / w,
+                        d * (1.0 + 2.0 * x * x) / (w * w),
+                    )
                 }
                 fn acos(self) -> Self {
                     let x = J::value(&self);
                     let w = (1.0 - x) * (1.0 + x);
                     let d = 1.0 / w.sqrt();
-                    J::chain(self, x.acos(), -d, -x * d / w)
+                    J::chain3(
+                        self,
+                        x.acos(),
+                        -d,
+                        -x * d / w,
+                        -d * (1.0 + 2.0 * x * x) / (w * w),
+                    )
                 }
                 fn atan(self) -> Self {
                     let x = J::value(&self);
                     let d = 1.0 / (1.0 + x * x);
-                    J::chain(self, x.atan(), d, -2.0 * x * d * d)
+                    J::chain3(
+                        self,
+                        x.atan(),
+                        d,
+                        -2.0 * x * d * d,
+                        (6.0 * x * x - 2.0) * d * d * d,
+                    )
                 }
                 fn sinh(self) -> Self {
                     let x = J::value(&self);
                     let (s, c) = (x.sinh(), x.cosh());
-                    J::chain(self, s, c, s)
+                    J::chain3(self, s, c, s, c)
                 }
                 fn cosh(self) -> Self {
                     let x = J::value(&self);
                     let (s, c) = (x.sinh(), x.cosh());
-                    J::chain(self, c, s, c)
+                    J::chain3(self, c, s, c, s)
                 }
                 fn tanh(self) -> Self {
                     // sech² = 1/cosh², not 1 − tanh² (which cancels for large |x|)
                     let x = J::value(&self);
                     let (t, c) = (x.tanh(), x.cosh());
                     let d = 1.0 / (c * c);
-                    J::chain(self, t, d, -2.0 * t * d)
+                    J::chain3(self, t, d, -2.0 * t * d, 4.0 * t * t * d - 2.0 * d * d)
                 }
                 fn asinh(self) -> Self {
                     let x = J::value(&self);
                     let w = x * x + 1.0;
                     let d = 1.0 / w.sqrt();
-                    J::chain(self, x.asinh(), d, -x * d / w)
+                    J::chain3(
+                        self,
+                        x.asinh(),
+                        d,
+                        -x * d / w,
+                        d * (2.0 * x * x - 1.0) / (w * w),
+                    )
                 }
                 fn acosh(self) -> Self {
                     let x = J::value(&self);
                     let w = (x - 1.0) * (x + 1.0);
                     let d = 1.0 / w.sqrt();
-                    J::chain(self, x.acosh(), d, -x * d / w)
+                    J::chain3(
+                        self,
+                        x.acosh(),
+                        d,
+                        -x * d / w,
+                        d * (2.0 * x * x + 1.0) / (w * w),
+                    )
                 }
                 fn atanh(self) -> Self {
                     let x = J::value(&self);
                     let d = 1.0 / ((1.0 - x) * (1.0 + x));
-                    J::chain(self, x.atanh(), d, 2.0 * x * d * d)
+                    J::chain3(
+                        self,
+                        x.atanh(),
+                        d,
+                        2.0 * x * d * d,
+                        (2.0 + 6.0 * x * x) * d * d * d,
+                    )
                 }
                 fn log(self, base: Self) -> Self {
                     J::div(
@@ -527,34 +564,34 @@ macro_rules! impl_jet_scalar {
                 fn ln(self) -> Self {
                     let x = J::value(&self);
                     let r = 1.0 / x;
-                    J::chain(self, x.ln(), r, -r * r)
+                    J::chain3(self, x.ln(), r, -r * r, 2.0 * r * r * r)
                 }
                 fn ln_1p(self) -> Self {
                     let x = J::value(&self);
                     let r = 1.0 / (1.0 + x);
-                    J::chain(self, x.ln_1p(), r, -r * r)
+                    J::chain3(self, x.ln_1p(), r, -r * r, 2.0 * r * r * r)
                 }
                 #[inline(always)]
                 fn sqrt(self) -> Self {
                     let x = J::value(&self);
                     let r = x.sqrt();
                     let d = 0.5 / r;
-                    J::chain(self, r, d, -0.5 * d / x)
+                    J::chain3(self, r, d, -0.5 * d / x, 0.75 * d / (x * x))
                 }
                 #[inline(always)]
                 fn exp(self) -> Self {
                     let e = J::value(&self).exp();
-                    J::chain(self, e, e, e)
+                    J::chain3(self, e, e, e, e)
                 }
                 fn exp2(self) -> Self {
                     let e = J::value(&self).exp2();
                     let l = core::f64::consts::LN_2;
-                    J::chain(self, e, l * e, l * l * e)
+                    J::chain3(self, e, l * e, l * l * e, l * l * l * e)
                 }
                 fn exp_m1(self) -> Self {
                     let x = J::value(&self);
                     let e = x.exp();
-                    J::chain(self, x.exp_m1(), e, e)
+                    J::chain3(self, x.exp_m1(), e, e, e)
                 }
                 #[inline(always)]
                 fn powi(self, n: i32) -> Self {
@@ -562,11 +599,12 @@ macro_rules! impl_jet_scalar {
                     match n {
                         0 => J::constant(1.0),
                         1 => self,
-                        2 => J::chain(self, x * x, 2.0 * x, 2.0),
+                        2 => J::chain3(self, x * x, 2.0 * x, 2.0, 0.0),
                         _ => {
                             let nf = f64::from(n);
                             let p2 = x.powi(n - 2);
-                            J::chain(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2)
+                            let f3 = nf * (nf - 1.0) * (nf - 2.0) * x.powi(n - 3);
+                            J::chain3(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2, f3)
                         }
                     }
                 }
@@ -577,7 +615,13 @@ macro_rules! impl_jet_scalar {
                             return J::constant(1.0);
                         }
                         let p2 = x.powf(nf - 2.0);
-                        J::chain(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2)
+                        // zero (not 0·∞ at x = 0) where the cubic coefficient vanishes
+                        let f3 = if nf == 1.0 || nf == 2.0 {
+                            0.0
+                        } else {
+                            nf * (nf - 1.0) * (nf - 2.0) * x.powf(nf - 3.0)
+                        };
+                        J::chain3(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2, f3)
                     } else {
                         let v = J::value(&self).powf(J::value(&n));
                         simba::scalar::ComplexField::exp(J::mul(
@@ -594,7 +638,7 @@ macro_rules! impl_jet_scalar {
                     let x = J::value(&self);
                     let c = x.cbrt();
                     let d = c / (3.0 * x);
-                    J::chain(self, c, d, -2.0 * d / (3.0 * x))
+                    J::chain3(self, c, d, -2.0 * d / (3.0 * x), 10.0 * d / (9.0 * x * x))
                 }
                 fn is_finite(&self) -> bool {
                     J::all_finite(self)

@@ -1266,3 +1266,190 @@ proptest! {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// 4. LinJet: the derivative of the Hessian along a direction
+// ---------------------------------------------------------------------------------------------
+//
+// The third derivatives are checked against central differences of the (independently verified)
+// HessianJet: D_z ∇²f ≈ (∇²f(x + hz) − ∇²f(x − hz))/2h, with steps 1e-3 and 5e-4 combined by one
+// Richardson extrapolation (error ~h⁴ f⁽⁷⁾), to 1e-6 of the scale. The differences check the
+// jet here; they compute nothing in the library.
+
+use super::LinJet;
+
+/// Value, gradient and Hessian blocks of a 2-coordinate dense jet, flattened.
+fn hess_blocks(h: &HessianJet<2>) -> Vec<f64> {
+    let mut out = vec![h.value()];
+    out.extend(h.grad_q());
+    out.extend(h.grad_qdot());
+    for m in [h.hess_qq(), h.hess_qqdot(), h.hess_qdotqdot()] {
+        out.extend(m.iter().flatten());
+    }
+    out
+}
+
+fn lin_at(e: &Expr, x: &[f64; NV], z: &[f64; NV]) -> LinJet<2> {
+    let (q, v, t) = LinJet::<2>::seed(
+        &[x[0], x[1]],
+        &[x[2], x[3]],
+        x[IT],
+        &[z[0], z[1]],
+        &[z[2], z[3]],
+        z[IT],
+    );
+    eval(e, &q, &v, t)
+}
+
+/// The central difference of the dense-jet blocks along z with step h.
+fn hess_difference(e: &Expr, x: &[f64; NV], z: &[f64; NV], h: f64) -> Vec<f64> {
+    let shifted = |s: f64| {
+        let mut y = *x;
+        for i in 0..NV {
+            y[i] += s * z[i];
+        }
+        hess_blocks(&hess_at(e, &y))
+    };
+    let (p, m) = (shifted(h), shifted(-h));
+    p.iter().zip(&m).map(|(a, b)| (a - b) / (2.0 * h)).collect()
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(1.0_f64, |m, x| {
+        if x.is_finite() {
+            m.max(x.abs())
+        } else {
+            f64::INFINITY
+        }
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 384, max_global_rejects: 100_000, ..ProptestConfig::default() })]
+
+    /// LinJet's base part is the HessianJet, and its derivative part is the derivative of the
+    /// HessianJet along the seeded direction (time included).
+    #[test]
+    fn linjet_is_the_directional_derivative_of_the_hessian_jet(
+        e in expr_strategy(), x in state_strategy(), z in proptest::array::uniform5(-1.0..1.0f64)
+    ) {
+        let lin = lin_at(&e, &x, &z);
+        let base = hess_blocks(lin.base());
+        let want_base = hess_blocks(&hess_at(&e, &x));
+        let scale_base = max_abs(&want_base);
+        prop_assume!(scale_base < 1e3);
+        for (n, (a, b)) in base.iter().zip(&want_base).enumerate() {
+            prop_assert!((a - b).abs() <= 1e-13 * scale_base, "base block {n}: {a:e} vs {b:e}, {e:?}");
+        }
+        let along = hess_blocks(lin.along());
+        let d1 = hess_difference(&e, &x, &z, FD_H);
+        let d2 = hess_difference(&e, &x, &z, FD_H / 2.0);
+        let scale = max_abs(&along).max(max_abs(&d2)).max(scale_base);
+        prop_assume!(scale < 1e3);
+        let spread = d1.iter().zip(&d2).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        prop_assume!(spread <= 1e-4 * scale);
+        for (n, ((a, h1), h2)) in along.iter().zip(&d1).zip(&d2).enumerate() {
+            let fd = (4.0 * h2 - h1) / 3.0;
+            prop_assert!((a - fd).abs() <= FD_TOL * scale,
+                "along block {n}: jet {a:e}, FD {fd:e}, scale {scale:e}, at {x:?} along {z:?}: {e:?}");
+        }
+    }
+}
+
+/// The elementary functions of the jets, by index (for the f‴ checks).
+fn elementary<S: Scalar + RealField>(k: usize, x: S) -> S {
+    match k {
+        0 => x.sin(),
+        1 => x.cos(),
+        2 => x.tan(),
+        3 => x.asin(),
+        4 => x.acos(),
+        5 => x.atan(),
+        6 => x.sinh(),
+        7 => x.cosh(),
+        8 => x.tanh(),
+        9 => x.asinh(),
+        10 => (x + 2.0).acosh(),
+        11 => x.atanh(),
+        12 => (x + 2.0).ln(),
+        13 => x.ln_1p(),
+        14 => (x + 2.0).sqrt(),
+        15 => x.exp(),
+        16 => x.exp2(),
+        17 => x.exp_m1(),
+        18 => x.powi(5),
+        19 => (x + 2.0).powi(-2),
+        20 => x.powi(2),
+        21 => (x + 2.0).powf(S::constant(2.5)),
+        22 => (x + 2.0).powf(S::constant(2.0)),
+        23 => (x + 2.0).cbrt(),
+        24 => (x + 2.0).recip(),
+        25 => num_traits::Signed::abs(&x),
+        26 => x.atan2(S::constant(0.7)),
+        27 => x.log2(),
+        _ => x.sin_cos().1,
+    }
+}
+const ELEMENTARY: usize = 29;
+
+/// f‴ of every elementary function, from the LinJet (one variable, direction 1), against the
+/// Richardson-extrapolated central difference of f″ from the verified HessianJet, to 1e-7
+/// relative to max(1, |f‴|).
+#[test]
+fn linjet_third_derivatives_of_every_elementary_function() {
+    let f2 = |k: usize, x: f64| {
+        let (q, _) = HessianJet::<1>::seed(&[x], &[0.0]);
+        elementary(k, q[0]).hess_qq()[0][0]
+    };
+    for k in 0..ELEMENTARY {
+        for x in [-0.6, -0.15, 0.35, 0.8] {
+            let x = if k == 27 { x + 1.5 } else { x };
+            let (q, _, _) = LinJet::<1>::seed(&[x], &[0.0], 0.0, &[1.0], &[0.0], 0.0);
+            let j = elementary(k, q[0]);
+            let got = j.along().hess_qq()[0][0];
+            let d = |h: f64| (f2(k, x + h) - f2(k, x - h)) / (2.0 * h);
+            let fd = (4.0 * d(5e-4) - d(1e-3)) / 3.0;
+            assert!(
+                (got - fd).abs() <= 1e-7 * got.abs().max(1.0),
+                "function {k} at {x}: jet f‴ = {got:e}, FD = {fd:e}"
+            );
+            // the lower parts are those of the HessianJet, and D(f′) = f″
+            assert!((j.along().grad_q()[0] - f2(k, x)).abs() <= 1e-14 * f2(k, x).abs().max(1.0));
+        }
+    }
+}
+
+/// The three directions of a LinJet add: D_(z₁+z₂) = D_z₁ + D_z₂ (linearity in the seed), and
+/// the product rule across q̇ and t on a hand-checked case.
+#[test]
+fn linjet_is_linear_in_the_direction_and_hand_checked() {
+    // L = q̇² t sin q: ∂²L/∂q̇² = 2 t sin q; along (δq, δq̇, δt) = (a, b, c): 2 c sin q + 2 t a cos q
+    let (q0, v0, t0) = (0.4, -1.3, 2.5);
+    let l = |dq: f64, dv: f64, dt: f64| {
+        let (q, v, t) = LinJet::<1>::seed(&[q0], &[v0], t0, &[dq], &[dv], dt);
+        v[0] * v[0] * t * q[0].sin()
+    };
+    let j = l(0.3, 0.7, -0.9);
+    let want = 2.0 * -0.9 * q0.sin() + 2.0 * t0 * 0.3 * q0.cos();
+    assert!((j.along().hess_qdotqdot()[0][0] - want).abs() < 1e-15);
+    let sum = hess_blocks_1(l(0.3, 0.0, 0.0).along())
+        .iter()
+        .zip(hess_blocks_1(l(0.0, 0.7, 0.0).along()))
+        .zip(hess_blocks_1(l(0.0, 0.0, -0.9).along()))
+        .map(|((a, b), c)| a + b + c)
+        .collect::<Vec<_>>();
+    for (a, b) in hess_blocks_1(j.along()).iter().zip(sum) {
+        assert!((a - b).abs() < 1e-14, "{a} vs {b}");
+    }
+}
+
+fn hess_blocks_1(h: &HessianJet<1>) -> Vec<f64> {
+    vec![
+        h.value(),
+        h.grad_q()[0],
+        h.grad_qdot()[0],
+        h.hess_qq()[0][0],
+        h.hess_qqdot()[0][0],
+        h.hess_qdotqdot()[0][0],
+    ]
+}

@@ -1,0 +1,709 @@
+//! Linearization of the equations of motion about a state: M δq̈ + C δq̇ + K δq = 0, its
+//! eigenvalues, normal modes and stability, and the equilibria from which it is usually taken.
+//!
+//! [`Lagrangian::linearize`] takes a reference motion through (q₀, q̇₀) at time t (an equilibrium,
+//! q̇₀ = 0, or a steady motion such as a spinning top) and returns the exact first-order
+//! variation of M(q, q̇, t) q̈ = F(q, q̇, t), F = f_L + Q − ∂D/∂q̇, about it. With a₀ = q̈(q₀, q̇₀, t)
+//! and H the Hessian of L in (q, q̇),
+//!
+//! ```text
+//! M = H_q̇q̇
+//! C = (D_z H)_q̇q̇ + H_q̇q − H_qq̇ − ∂(Q − ∂D/∂q̇)/∂q̇
+//! K = (D_z H)_q̇q − H_qq − ∂(Q − ∂D/∂q̇)/∂q
+//! ```
+//!
+//! where D_z is the derivative along z = (q̇₀, a₀, 1) in (q, q̇, t): the total time derivative
+//! along the reference motion. It gathers the terms ∂f_L/∂(q, q̇) ∋ −(∂/∂t + q̇₀·∂/∂q) H_q̇· and
+//! ∂M/∂(q, q̇)·a₀ = (a₀·∂/∂q̇) H_q̇· into one directional derivative, taken in one evaluation of L
+//! in the [`LinJet`] (exact third derivatives of L; no finite differences). At an equilibrium of
+//! an autonomous L it reduces to K = −∂²L/∂q∂q and C = A − Aᵀ (+ damping), Aᵢⱼ = ∂²L/∂q̇ᵢ∂qⱼ:
+//! C holds the gyroscopic (skew) part and the damping, K the potential and centrifugal parts.
+//!
+//! The first-order system of x = (δq, δq̇) is ẋ = A x with A = [[0, I], [−M⁻¹K, −M⁻¹C]] (the
+//! companion form of the quadratic eigenvalue problem (λ²M + λC + K) v = 0), whose 2N
+//! [eigenvalues](Linearization::eigenvalues) decide [stability](Linearization::stability); an
+//! undamped, non-gyroscopic linearization (C = 0, K symmetric) also has real
+//! [normal modes](Linearization::modes), K v = ω² M v.
+//!
+//! [`equilibrium`] finds q with q̈(q, 0, t) = 0 by Newton's method from a guess.
+//!
+//! Systems with holonomic constraints are not covered yet: a `linearize_constrained` (the
+//! linearization on the constraint manifold) will come with them.
+
+use core::fmt;
+
+use nalgebra::{Complex, DMatrix, SMatrix, SVector};
+
+use crate::eom::applied_jacobian;
+use crate::error::DynamicsError;
+use crate::jet::LinJet;
+use crate::lagrangian::Lagrangian;
+
+/// Relative tolerance of the stability classification: an eigenvalue counts as on the imaginary
+/// axis when |Re λ| ≤ `STABILITY_TOL` × s, s the frequency scale of the linearization (the
+/// largest of max |λ|, ‖M⁻¹C‖ and √‖M⁻¹K‖, Frobenius norms).
+///
+/// Why 1e-6 and not ε: a defective eigenvalue (a Jordan block, as the λ = 0 pair of a cyclic
+/// coordinate whose velocity drifts) is computed in floating point split by about √ε ≈ 1.5e-8
+/// of the scale, and a pair of nearly equal gyroscopic frequencies near a threshold by as much;
+/// 1e-6 classifies those as on the axis while a real growth rate above 1e-6 of the frequency
+/// scale still counts.
+///
+/// ```
+/// assert_eq!(lagrange_runtime::linearize::STABILITY_TOL, 1e-6);
+/// ```
+pub const STABILITY_TOL: f64 = 1e-6;
+
+/// Relative tolerance under which [`Linearization::modes`] treats C as zero and K as symmetric:
+/// ‖C‖ ≤ 1e-10 s‖M‖ and ‖K − Kᵀ‖ ≤ 1e-10 ‖K‖ (Frobenius norms, s as in [`STABILITY_TOL`]).
+///
+/// ```
+/// assert_eq!(lagrange_runtime::linearize::SYMMETRY_TOL, 1e-10);
+/// ```
+pub const SYMMETRY_TOL: f64 = 1e-10;
+
+/// The linearized equations of motion M δq̈ + C δq̇ + K δq = 0 about a reference motion (see the
+/// [module documentation](self) for the formulas).
+///
+/// ```
+/// use lagrange_runtime::{Lagrangian, Scalar};
+/// /// A damped oscillator m ẍ + b ẋ + k x = 0: m = 2, b = 0.4, k = 8.
+/// struct Damped;
+/// impl Lagrangian<1> for Damped {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     const ENERGY_CONSERVED: bool = false;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] - q[0] * q[0] * 4.0 }
+///     fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.2 }
+/// }
+/// let lin = Damped.linearize(&[0.0], &[0.0], 0.0).unwrap();
+/// assert_eq!((lin.m[(0, 0)], lin.c[(0, 0)], lin.k[(0, 0)]), (2.0, 0.4, 8.0));
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Linearization<const N: usize> {
+    /// The mass matrix M = ∂²L/∂q̇∂q̇ at the reference state.
+    pub m: SMatrix<f64, N, N>,
+    /// The velocity matrix C: gyroscopic (skew) part and damping.
+    pub c: SMatrix<f64, N, N>,
+    /// The stiffness matrix K: potential and centrifugal parts (and the position dependence of
+    /// the applied forces).
+    pub k: SMatrix<f64, N, N>,
+}
+
+/// One normal mode of an undamped, non-gyroscopic linearization: K v = ω² M v.
+///
+/// ```
+/// use lagrange_runtime::linearize::Mode;
+/// use lagrange_runtime::SMatrix;
+/// let m = Mode::<1> { omega_squared: 4.0, shape: SMatrix::from([[1.0]]) };
+/// assert_eq!(m.omega(), Some(2.0));
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mode<const N: usize> {
+    /// ω²: positive for an oscillation, negative for an instability (growth rate √−ω²).
+    pub omega_squared: f64,
+    /// The mode shape v, M-normalized (vᵀ M v = 1), its largest component positive.
+    pub shape: SVector<f64, N>,
+}
+
+impl<const N: usize> Mode<N> {
+    /// The angular frequency ω = √ω², or `None` for an unstable mode (ω² < 0).
+    ///
+    /// ```
+    /// use lagrange_runtime::{linearize::Mode, SMatrix};
+    /// let m = Mode::<1> { omega_squared: -1.0, shape: SMatrix::from([[1.0]]) };
+    /// assert_eq!(m.omega(), None);
+    /// ```
+    pub fn omega(&self) -> Option<f64> {
+        (self.omega_squared >= 0.0).then(|| self.omega_squared.sqrt())
+    }
+}
+
+/// The stability of a linearization, from the real parts of its eigenvalues (tolerance
+/// [`STABILITY_TOL`]).
+///
+/// This is the spectral (linear) criterion. A marginally stable linearization may still hide a
+/// secular drift (a defective eigenvalue on the axis, such as the λ = 0 pair of a cyclic
+/// coordinate: a neighbouring steady motion at another rate) and says nothing about the
+/// nonlinear stability, which the energy or an integral decides.
+///
+/// ```
+/// use lagrange_runtime::linearize::Stability;
+/// assert!(Stability::MarginallyStable.is_stable());
+/// assert!(!Stability::Unstable { growth_rate: 0.5 }.is_stable());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stability {
+    /// Every eigenvalue has Re λ < −tol: perturbations decay (damped systems).
+    AsymptoticallyStable,
+    /// No eigenvalue has Re λ > tol, some lie on the imaginary axis (within tol): perturbations
+    /// oscillate without growing exponentially (conservative and gyroscopic systems).
+    MarginallyStable,
+    /// Some eigenvalue has Re λ > tol: perturbations grow like e^(growth_rate·t).
+    Unstable {
+        /// The largest real part of the eigenvalues.
+        growth_rate: f64,
+    },
+}
+
+impl Stability {
+    /// `true` unless [`Stability::Unstable`].
+    ///
+    /// ```
+    /// use lagrange_runtime::linearize::Stability;
+    /// assert!(Stability::AsymptoticallyStable.is_stable());
+    /// ```
+    pub fn is_stable(&self) -> bool {
+        !matches!(self, Stability::Unstable { .. })
+    }
+}
+
+/// Why a linearization could not be analysed, or why no equilibrium was found: what happened,
+/// where, and what to try.
+///
+/// ```
+/// use lagrange_runtime::linearize::LinearizationError;
+/// let e = LinearizationError::NotUndamped { message: "C ≠ 0".into() };
+/// assert!(e.to_string().contains("C ≠ 0"));
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum LinearizationError {
+    /// The equations of motion could not be evaluated or solved (singular mass matrix, non-finite
+    /// values).
+    Dynamics(DynamicsError),
+    /// M is not symmetric positive definite, so neither M⁻¹ nor the modes exist.
+    MassNotPositiveDefinite {
+        /// What was found and what to try.
+        message: String,
+    },
+    /// [`Linearization::modes`] was asked of a linearization with damping, gyroscopic terms or
+    /// a non-symmetric K, which has no real normal modes.
+    NotUndamped {
+        /// What was found and what to try.
+        message: String,
+    },
+    /// An eigenvalue iteration did not converge.
+    Eigen {
+        /// Which problem and what to try.
+        message: String,
+    },
+    /// Newton's method found no equilibrium from the guess.
+    NoEquilibrium {
+        /// Time.
+        t: f64,
+        /// The last iterate.
+        q: Vec<f64>,
+        /// The accelerations q̈(q, 0, t) there.
+        residual: Vec<f64>,
+        /// Newton iterations taken.
+        iterations: usize,
+        /// What happened and what to try.
+        message: String,
+    },
+}
+
+impl fmt::Display for LinearizationError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LinearizationError::Dynamics(e) => write!(f, "{e}"),
+            LinearizationError::MassNotPositiveDefinite { message } => {
+                write!(f, "mass matrix not positive definite: {message}")
+            }
+            LinearizationError::NotUndamped { message } => {
+                write!(f, "no real normal modes: {message}")
+            }
+            LinearizationError::Eigen { message } => {
+                write!(f, "eigenvalue iteration failed: {message}")
+            }
+            LinearizationError::NoEquilibrium {
+                t,
+                q,
+                residual,
+                iterations,
+                message,
+            } => write!(
+                f,
+                "no equilibrium found at t = {t} after {iterations} Newton iterations \
+                 (last q = {q:?}, q̈ = {residual:?}): {message}"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for LinearizationError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            LinearizationError::Dynamics(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<DynamicsError> for LinearizationError {
+    fn from(e: DynamicsError) -> Self {
+        LinearizationError::Dynamics(e)
+    }
+}
+
+/// The linearization about (q₀, q̇₀, t) from the jets: the default of
+/// [`Lagrangian::linearize`] (see the [module documentation](self) for the formulas).
+///
+/// ```
+/// use lagrange_runtime::{linearize::jet_linearize, Lagrangian, Scalar};
+/// /// A pendulum, L = θ̇²/2 + 9 cos θ: K = 9 at the bottom, −9 at the top.
+/// struct P;
+/// impl Lagrangian<1> for P {
+///     const COORDINATES: [&'static str; 1] = ["theta"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() * 9.0 }
+/// }
+/// assert_eq!(jet_linearize(&P, &[0.0], &[0.0], 0.0).unwrap().k[(0, 0)], 9.0);
+/// assert_eq!(jet_linearize(&P, &[std::f64::consts::PI], &[0.0], 0.0).unwrap().k[(0, 0)], -9.0);
+/// ```
+pub fn jet_linearize<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> Result<Linearization<N>, DynamicsError>
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let a0 = sys.accelerations(q, qdot, t)?;
+    let (qj, vj, tj) = LinJet::seed(q, qdot, t, qdot, &a0, 1.0);
+    let l = sys.lagrangian(&qj, &vj, tj);
+    let (h, dh) = (l.base(), l.along());
+    let (hqq, hqv, hvv) = (h.hess_qq(), h.hess_qqdot(), h.hess_qdotqdot());
+    let (dhqv, dhvv) = (dh.hess_qqdot(), dh.hess_qdotqdot());
+    let applied = applied_jacobian(sys, q, qdot, t);
+    let m = SMatrix::from_fn(|i, j| hvv[i][j]);
+    // H_q̇ᵢqⱼ is hqv[j][i] (rows of hqv are q, columns q̇).
+    let c = SMatrix::from_fn(|i, j| dhvv[i][j] + hqv[j][i] - hqv[i][j] - applied.d_qdot[i][j]);
+    let k = SMatrix::from_fn(|i, j| dhqv[j][i] - hqq[i][j] - applied.d_q[i][j]);
+    let lin: Linearization<N> = Linearization { m, c, k };
+    let finite = |a: &SMatrix<f64, N, N>| a.iter().all(|x| x.is_finite());
+    if finite(&lin.m) && finite(&lin.c) && finite(&lin.k) {
+        Ok(lin)
+    } else {
+        Err(DynamicsError::NonFinite {
+            t,
+            q: q.to_vec(),
+            qdot: qdot.to_vec(),
+            message: "the second or third derivatives of L (or the Jacobians of the forces) are \
+                      not finite here, so the linearization does not exist. Check that L is smooth at \
+                      this state (no sqrt or abs at zero, no division by zero), or linearize about a \
+                      nearby state."
+                .into(),
+        })
+    }
+}
+
+impl<const N: usize> Linearization<N> {
+    /// A linearization from its three matrices.
+    ///
+    /// ```
+    /// use lagrange_runtime::{linearize::Linearization, SMatrix};
+    /// let lin = Linearization::new(SMatrix::<f64, 1, 1>::identity(), SMatrix::zeros(), SMatrix::from([[4.0]]));
+    /// assert_eq!(lin.modes().unwrap()[0].omega(), Some(2.0));
+    /// ```
+    pub fn new(m: SMatrix<f64, N, N>, c: SMatrix<f64, N, N>, k: SMatrix<f64, N, N>) -> Self {
+        Linearization { m, c, k }
+    }
+
+    /// The 2N×2N matrix A of the first-order system d/dt (δq, δq̇) = A (δq, δq̇):
+    /// A = [[0, I], [−M⁻¹K, −M⁻¹C]] (the companion form of λ²M + λC + K).
+    ///
+    /// Fails when M is singular.
+    ///
+    /// ```
+    /// use lagrange_runtime::{linearize::Linearization, SMatrix};
+    /// let lin = Linearization::new(SMatrix::<f64, 1, 1>::from([[2.0]]), SMatrix::from([[1.0]]), SMatrix::from([[8.0]]));
+    /// let a = lin.state_matrix().unwrap();
+    /// assert_eq!((a[(0, 1)], a[(1, 0)], a[(1, 1)]), (1.0, -4.0, -0.5));
+    /// ```
+    pub fn state_matrix(&self) -> Result<DMatrix<f64>, LinearizationError> {
+        let lu = dense(&self.m).lu();
+        let (mk, mc) = match (lu.solve(&dense(&self.k)), lu.solve(&dense(&self.c))) {
+            (Some(mk), Some(mc)) => (mk, mc),
+            _ => {
+                return Err(LinearizationError::MassNotPositiveDefinite {
+                    message: format!(
+                        "M is singular (M = {}), so the first-order system does not exist. A \
+                         coordinate without kinetic term, or a singular chart (Euler angles at \
+                         sin θ = 0): choose coordinates regular at the reference state.",
+                        fmt_matrix(&self.m)
+                    ),
+                })
+            }
+        };
+        let mut a = DMatrix::zeros(2 * N, 2 * N);
+        for i in 0..N {
+            a[(i, N + i)] = 1.0;
+            for j in 0..N {
+                a[(N + i, j)] = -mk[(i, j)];
+                a[(N + i, N + j)] = -mc[(i, j)];
+            }
+        }
+        if a.iter().all(|x: &f64| x.is_finite()) {
+            Ok(a)
+        } else {
+            Err(LinearizationError::MassNotPositiveDefinite {
+                message: "M⁻¹K or M⁻¹C is not finite: M is numerically singular. Choose \
+                          coordinates regular at the reference state."
+                    .into(),
+            })
+        }
+    }
+
+    /// The frequency scale s = max(max |λ|, ‖M⁻¹C‖, √‖M⁻¹K‖) that [`STABILITY_TOL`] is relative to.
+    fn scale(a: &DMatrix<f64>, eig: &[Complex<f64>]) -> f64 {
+        let n = a.nrows() / 2;
+        let (mut kk, mut cc) = (0.0_f64, 0.0_f64);
+        for i in 0..n {
+            for j in 0..n {
+                kk += a[(n + i, j)].powi(2);
+                cc += a[(n + i, n + j)].powi(2);
+            }
+        }
+        eig.iter()
+            .map(|l| l.norm())
+            .fold(cc.sqrt().max(kk.sqrt().sqrt()), f64::max)
+    }
+
+    /// The 2N eigenvalues λ of the first-order system (the roots of det(λ²M + λC + K) = 0),
+    /// sorted by decreasing real part, then by imaginary part.
+    ///
+    /// Computed from the companion matrix [`state_matrix`](Self::state_matrix) by the real
+    /// Schur decomposition; never from M⁻¹K alone, which would drop the gyroscopic terms.
+    ///
+    /// ```
+    /// use lagrange_runtime::{linearize::Linearization, SMatrix};
+    /// // ẍ + 2ẋ + 5x = 0: λ = −1 ± 2i
+    /// let lin = Linearization::new(SMatrix::<f64, 1, 1>::identity(), SMatrix::from([[2.0]]), SMatrix::from([[5.0]]));
+    /// let l = lin.eigenvalues().unwrap();
+    /// assert!((l[0].re + 1.0).abs() < 1e-14 && (l[0].im.abs() - 2.0).abs() < 1e-14);
+    /// ```
+    pub fn eigenvalues(&self) -> Result<Vec<Complex<f64>>, LinearizationError> {
+        let a = self.state_matrix()?;
+        eigenvalues_of(a)
+    }
+
+    /// The stability of the reference motion from the eigenvalues (see [`Stability`] and
+    /// [`STABILITY_TOL`]).
+    ///
+    /// ```
+    /// use lagrange_runtime::{linearize::{Linearization, Stability}, SMatrix};
+    /// let m = SMatrix::<f64, 1, 1>::identity();
+    /// let top = Linearization::new(m, SMatrix::zeros(), SMatrix::from([[-4.0]])); // ẍ = 4x
+    /// match top.stability().unwrap() {
+    ///     Stability::Unstable { growth_rate } => assert!((growth_rate - 2.0).abs() < 1e-14),
+    ///     other => panic!("{other:?}"),
+    /// }
+    /// ```
+    pub fn stability(&self) -> Result<Stability, LinearizationError> {
+        let a = self.state_matrix()?;
+        let eig = eigenvalues_of(a.clone())?;
+        let tol = STABILITY_TOL * Self::scale(&a, &eig);
+        let growth = eig.iter().map(|l| l.re).fold(f64::NEG_INFINITY, f64::max);
+        Ok(if growth > tol {
+            Stability::Unstable {
+                growth_rate: growth,
+            }
+        } else if growth < -tol {
+            Stability::AsymptoticallyStable
+        } else {
+            Stability::MarginallyStable
+        })
+    }
+
+    /// `true` when [`stability`](Self::stability) is stable or marginally stable; `false` when
+    /// unstable or when the stability cannot be computed (M singular).
+    ///
+    /// ```
+    /// use lagrange_runtime::{linearize::Linearization, SMatrix};
+    /// let m = SMatrix::<f64, 1, 1>::identity();
+    /// assert!(Linearization::new(m, SMatrix::zeros(), SMatrix::from([[4.0]])).is_stable());
+    /// ```
+    pub fn is_stable(&self) -> bool {
+        self.stability().is_ok_and(|s| s.is_stable())
+    }
+
+    /// The normal modes of an undamped, non-gyroscopic linearization: the N solutions of the
+    /// generalized symmetric eigenproblem K v = ω² M v, by increasing ω², shapes M-normalized
+    /// (vᵀMv = 1, so VᵀMV = I and VᵀKV = diag ω²) with their largest component positive.
+    ///
+    /// Fails with [`LinearizationError::NotUndamped`] when C ≠ 0 or K is not symmetric (within
+    /// [`SYMMETRY_TOL`]): damped and gyroscopic systems have complex modes; use
+    /// [`eigenvalues`](Self::eigenvalues). Fails when M is not positive definite.
+    ///
+    /// ```
+    /// use lagrange_runtime::{linearize::Linearization, SMatrix};
+    /// let lin = Linearization::new(SMatrix::<f64, 2, 2>::identity(), SMatrix::zeros(), SMatrix::from([[2.0, -1.0], [-1.0, 2.0]]));
+    /// let modes = lin.modes().unwrap();
+    /// assert!((modes[0].omega_squared - 1.0).abs() < 1e-14 && (modes[1].omega_squared - 3.0).abs() < 1e-14);
+    /// ```
+    pub fn modes(&self) -> Result<Vec<Mode<N>>, LinearizationError> {
+        let a = self.state_matrix()?;
+        let s = Self::scale(&a, &[]);
+        if self.c.norm() > SYMMETRY_TOL * s * self.m.norm()
+            || (self.k - self.k.transpose()).norm() > SYMMETRY_TOL * self.k.norm()
+        {
+            return Err(LinearizationError::NotUndamped {
+                message: format!(
+                    "C = {} is not zero or K = {} is not symmetric: this linearization has \
+                     damping, gyroscopic or circulatory terms and no real normal modes. Use \
+                     `eigenvalues()` (the quadratic eigenvalue problem λ²M + λC + K = 0).",
+                    fmt_matrix(&self.c),
+                    fmt_matrix(&self.k)
+                ),
+            });
+        }
+        let m = dense(&((self.m + self.m.transpose()) * 0.5));
+        let k = dense(&((self.k + self.k.transpose()) * 0.5));
+        let chol = m
+            .cholesky()
+            .ok_or_else(|| LinearizationError::MassNotPositiveDefinite {
+                message: format!(
+                    "M = {} has no Cholesky factor: the kinetic energy is not positive definite \
+                     at this state. Choose coordinates regular there.",
+                    fmt_matrix(&self.m)
+                ),
+            })?;
+        // K v = ω² M v with M = LLᵀ: (L⁻¹ K L⁻ᵀ) y = ω² y, v = L⁻ᵀ y.
+        let linv =
+            chol.l()
+                .try_inverse()
+                .ok_or_else(|| LinearizationError::MassNotPositiveDefinite {
+                    message: "the Cholesky factor of M is singular".into(),
+                })?;
+        let sym = &linv * k * linv.transpose();
+        let sym = (&sym + sym.transpose()) * 0.5;
+        let eig =
+            nalgebra::SymmetricEigen::try_new(sym, f64::EPSILON, 10_000).ok_or_else(|| {
+                LinearizationError::Eigen {
+                    message: "the symmetric eigenvalue iteration of L⁻¹KL⁻ᵀ did not converge"
+                        .into(),
+                }
+            })?;
+        let back = linv.transpose();
+        let mut modes: Vec<Mode<N>> = (0..N)
+            .map(|i| {
+                let v = &back * eig.eigenvectors.column(i);
+                let big = v
+                    .iter()
+                    .fold(0.0_f64, |b, x| if x.abs() > b.abs() { *x } else { b });
+                let sign = if big < 0.0 { -1.0 } else { 1.0 };
+                Mode {
+                    omega_squared: eig.eigenvalues[i],
+                    shape: SVector::from_fn(|j, _| sign * v[j]),
+                }
+            })
+            .collect();
+        modes.sort_by(|a, b| a.omega_squared.total_cmp(&b.omega_squared));
+        Ok(modes)
+    }
+}
+
+/// The eigenvalues of a real square matrix by the real Schur decomposition, sorted by
+/// decreasing real part, then imaginary part.
+///
+/// Exact zero columns and rows are deflated first: each is an exact eigenvalue 0 (a cyclic
+/// coordinate, whose δq column of the companion matrix is zero, and whose δq̇ row is zero when
+/// nothing acts on it), and the defective λ = 0 pairs they form otherwise stall the QR
+/// iteration's relative convergence test. The double-shift QR iteration (it has no exceptional
+/// shifts) can also cycle on the structured spectra of mechanics (±a ± ib, as below a
+/// gyroscopic threshold): then it is retried on orthogonally similar matrices.
+fn eigenvalues_of(a: DMatrix<f64>) -> Result<Vec<Complex<f64>>, LinearizationError> {
+    let mut a = a;
+    let mut eig: Vec<Complex<f64>> = Vec::new();
+    // deflate exact zero columns and rows: the remaining block has the other eigenvalues
+    while let Some(j) = (0..a.nrows())
+        .find(|&j| a.column(j).iter().all(|x| *x == 0.0) || a.row(j).iter().all(|x| *x == 0.0))
+    {
+        eig.push(Complex::new(0.0, 0.0));
+        a = a.remove_row(j).remove_column(j);
+    }
+    let n = a.nrows();
+    if n > 0 {
+        eig.extend(schur_eigenvalues(&a, n)?);
+    }
+    eig.sort_by(|a, b| b.re.total_cmp(&a.re).then(a.im.total_cmp(&b.im)));
+    Ok(eig)
+}
+
+fn schur_eigenvalues(a: &DMatrix<f64>, n: usize) -> Result<Vec<Complex<f64>>, LinearizationError> {
+    // The plain matrix first, then up to four fixed orthogonal similarities QᵀAQ (Q from the QR
+    // factorization of a deterministic pseudo-random matrix): the eigenvalues are the same, up to
+    // rounding ε‖A‖, while the Hessenberg form and so the QR iteration's path are not.
+    let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
+    for attempt in 0..5 {
+        let m = if attempt == 0 {
+            a.clone()
+        } else {
+            let r = DMatrix::from_fn(n, n, |_, _| {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            });
+            let q = r.qr().q();
+            q.transpose() * a * q
+        };
+        if let Some(schur) = nalgebra::Schur::try_new(m, f64::EPSILON, 1000 * n) {
+            return Ok(schur.complex_eigenvalues().iter().copied().collect());
+        }
+    }
+    Err(LinearizationError::Eigen {
+        message: "the Schur iteration of the companion matrix did not converge, even after \
+                  orthogonal similarity transforms. Check that M, C and K are finite and of \
+                  reasonable scale."
+            .into(),
+    })
+}
+
+/// The same matrix with dynamic dimensions (nalgebra's decompositions need a concrete size or
+/// `Dyn`, not a generic `Const<N>`).
+fn dense<const N: usize>(m: &SMatrix<f64, N, N>) -> DMatrix<f64> {
+    DMatrix::from_fn(N, N, |i, j| m[(i, j)])
+}
+
+fn fmt_matrix<const N: usize>(m: &SMatrix<f64, N, N>) -> String {
+    let rows: Vec<String> = (0..N)
+        .map(|i| {
+            let r: Vec<String> = (0..N).map(|j| format!("{:.3e}", m[(i, j)])).collect();
+            format!("[{}]", r.join(", "))
+        })
+        .collect();
+    format!("[{}]", rows.join(", "))
+}
+
+/// Newton's iterations of [`equilibrium`] before it gives up.
+///
+/// ```
+/// assert_eq!(lagrange_runtime::linearize::EQUILIBRIUM_MAX_ITERATIONS, 50);
+/// ```
+pub const EQUILIBRIUM_MAX_ITERATIONS: usize = 50;
+
+/// An equilibrium q* (q̈(q*, 0, t) = 0) near `q_guess`, by Newton's method at time t.
+///
+/// Each step solves K δq = M q̈ with M and K from [`Lagrangian::linearize`] at (q, 0, t): the
+/// Jacobian of q ↦ q̈(q, 0, t) is exactly −M⁻¹K there (K includes the (∂M/∂q)·q̈ term away from an
+/// equilibrium). The step is halved (up to 30 times) until max|M q̈| decreases. Converged when a
+/// full step is below 1e-13 (1 + max|q|) or q̈ = 0 exactly; at most
+/// [`EQUILIBRIUM_MAX_ITERATIONS`] steps.
+///
+/// Fails, never panics, with [`LinearizationError::NoEquilibrium`] (the last iterate, its q̈, what
+/// happened, what to try) when K is singular (a neutral direction: a cyclic coordinate or a
+/// continuum of equilibria), when no step decreases the residual, or after the last iteration;
+/// and with [`LinearizationError::Dynamics`] when the equations cannot be evaluated.
+///
+/// ```
+/// use lagrange_runtime::{linearize::equilibrium, Lagrangian, Scalar};
+/// /// A pendulum with a constant torque τ = 4.5: equilibrium at sin θ = τ/(m g l) = 1/2.
+/// struct Pushed;
+/// impl Lagrangian<1> for Pushed {
+///     const COORDINATES: [&'static str; 1] = ["theta"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() * 9.0 }
+///     fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], _t: S) -> [S; 1] { [S::constant(4.5)] }
+/// }
+/// let q = equilibrium(&Pushed, &[0.2], 0.0).unwrap();
+/// assert!((q[0] - std::f64::consts::FRAC_PI_6).abs() < 1e-14);
+/// ```
+pub fn equilibrium<L, const N: usize>(
+    sys: &L,
+    q_guess: &[f64; N],
+    t: f64,
+) -> Result<[f64; N], LinearizationError>
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let zero = [0.0; N];
+    let mut q = *q_guess;
+    let fail = |q: &[f64; N], a: &[f64; N], iterations: usize, message: String| {
+        LinearizationError::NoEquilibrium {
+            t,
+            q: q.to_vec(),
+            residual: a.to_vec(),
+            iterations,
+            message,
+        }
+    };
+    let residual = |lin: &Linearization<N>, a: &[f64; N]| (lin.m * SVector::from(*a)).amax();
+    for it in 0..EQUILIBRIUM_MAX_ITERATIONS {
+        let a = sys.accelerations(&q, &zero, t)?;
+        if a.iter().all(|x| *x == 0.0) {
+            return Ok(q);
+        }
+        let lin = sys.linearize(&q, &zero, t)?;
+        let r0 = residual(&lin, &a);
+        let rhs = lin.m * SVector::from(a);
+        let step = dense(&lin.k)
+            .lu()
+            .solve(&DMatrix::from_fn(N, 1, |i, _| rhs[i]))
+            .filter(|s| s.iter().all(|x: &f64| x.is_finite()));
+        let Some(step) = step else {
+            return Err(fail(
+                &q,
+                &a,
+                it,
+                "the stiffness K is singular here, so Newton has no direction: along some \
+                 coordinate the forces do not change (a cyclic coordinate, a uniform force, or a \
+                 continuum of equilibria). Fix the neutral coordinates (remove them from the \
+                 system), or start from another guess."
+                    .into(),
+            ));
+        };
+        let qmax = q.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        if step.amax() <= 1e-13 * (1.0 + qmax) {
+            return Ok(q);
+        }
+        let mut lambda = 1.0;
+        let mut accepted = None;
+        for _ in 0..30 {
+            let mut trial = q;
+            for i in 0..N {
+                trial[i] += lambda * step[i];
+            }
+            if let Ok(at) = sys.accelerations(&trial, &zero, t) {
+                let m = sys.mass_matrix(&trial, &zero, t);
+                let r = (m * SVector::from(at)).amax();
+                if r < r0 {
+                    accepted = Some(trial);
+                    break;
+                }
+            }
+            lambda *= 0.5;
+        }
+        match accepted {
+            Some(next) => q = next,
+            None => {
+                return Err(fail(
+                    &q,
+                    &a,
+                    it,
+                    "no step along the Newton direction decreases the generalized force M q̈: the \
+                     iteration is stuck at a minimum of |M q̈| that is not zero, so there is likely \
+                     no equilibrium nearby (the applied forces exceed what the potential can \
+                     balance). Check the parameters, or try another guess."
+                        .into(),
+                ))
+            }
+        }
+    }
+    let a = sys.accelerations(&q, &zero, t)?;
+    Err(fail(
+        &q,
+        &a,
+        EQUILIBRIUM_MAX_ITERATIONS,
+        format!(
+            "Newton did not converge in {EQUILIBRIUM_MAX_ITERATIONS} iterations (the residual \
+             kept decreasing too slowly: a degenerate equilibrium, where K is nearly singular, or \
+             none at all). Try a guess closer to the equilibrium."
+        ),
+    ))
+}
