@@ -126,7 +126,10 @@ fn bench(c: &mut Criterion) {
     for (q, v, t) in &states {
         let want = via_trait(&hand, q, v, *t)[0];
         for got in [via_trait(&sym, q, v, *t)[0], via_trait(&jets, q, v, *t)[0]] {
-            assert!((got - want).abs() <= 1e-12 * want.abs().max(1.0), "{got} vs {want}");
+            assert!(
+                (got - want).abs() <= 1e-12 * want.abs().max(1.0),
+                "{got} vs {want}"
+            );
         }
     }
     let mut g = c.benchmark_group("driven_pendulum_accelerations_x16");

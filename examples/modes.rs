@@ -99,7 +99,11 @@ fn parse() -> Result<Options, String> {
     Ok(o)
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() {
+    cli::run_or_exit(report);
+}
+
+fn report() -> Result<(), Box<dyn std::error::Error>> {
     let o = cli::or_exit(parse(), USAGE);
 
     // 1. Double pendulum.

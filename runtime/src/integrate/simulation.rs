@@ -13,6 +13,9 @@ use super::trajectory::{Sample, Trajectory};
 /// The default of [`Simulation::max_samples`].
 const DEFAULT_MAX_SAMPLES: usize = 100_000_000;
 
+/// The observer of [`Simulation::observe`]: called with every recorded sample.
+type Observer<'a, const N: usize> = Box<dyn FnMut(&Sample<N>) + 'a>;
+
 /// A simulation run of a [`Lagrangian`] system from (q0, q̇0): configure with the builder methods,
 /// then [`run`](Simulation::run).
 ///
@@ -55,7 +58,7 @@ pub struct Simulation<'a, L: ?Sized, const N: usize> {
     pub(super) max_steps: usize,
     pub(super) max_step: Option<f64>,
     pub(super) max_samples: usize,
-    pub(super) observer: Option<Box<dyn FnMut(&Sample<N>) + 'a>>,
+    pub(super) observer: Option<Observer<'a, N>>,
     pub(super) keep_samples: bool,
 }
 
