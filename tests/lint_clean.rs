@@ -153,7 +153,10 @@ fn lint_clean_systems_work() {
     assert_eq!(a.map(f64::to_bits), [-2.0_f64, 0.0, -1.0].map(f64::to_bits));
     // The derived Default builds a system the generated impl works with: no spring, no gravity.
     let a = Trapped::default().accelerations(&[1.0, 2.0, 3.0], &[0.5; 3], 0.0);
-    assert!(matches!(a, Ok(a) if a.iter().all(|x| x.to_bits() == 0)), "{a:?}");
+    assert!(
+        matches!(a, Ok(a) if a.iter().all(|x| x.to_bits() == 0)),
+        "{a:?}"
+    );
 
     let driven = Driven {
         amplitude: 1.0,
