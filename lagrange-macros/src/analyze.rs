@@ -18,33 +18,117 @@ use syn::spanned::Spanned;
 use syn::visit::Visit;
 use syn::{BinOp, Block, Expr, Pat, Stmt};
 
-use crate::model::{unraw, Decl};
+use crate::model::{unraw, Decl, Func, FuncKind};
 
 /// What the analysis found.
 pub struct Analysis {
-    /// Names mentioned anywhere in the body.
+    /// Names mentioned anywhere in the body of `fn lagrangian`.
     pub used: HashSet<String>,
-    /// CYCLIC, one per slot.
+    /// Names mentioned anywhere in the body of `fn dissipation` (empty without one).
+    pub dissipation_used: HashSet<String>,
+    /// Names mentioned anywhere in the body of `fn forces` (empty without one).
+    pub forces_used: HashSet<String>,
+    /// CYCLIC, one per slot: q_i appears in none of L, D and Q.
     pub cyclic: Vec<bool>,
-    /// AUTONOMOUS.
+    /// AUTONOMOUS: L has no explicit t.
     pub autonomous: bool,
+    /// MOMENTUM_CONSERVED, one per slot: cyclic, q̇_i absent from D, and Q's i-th entry a
+    /// literal zero in the array `fn forces` ends with.
+    pub momentum_conserved: Vec<bool>,
+    /// ENERGY_CONSERVED: autonomous, no D, and no Q (or every entry of Q a literal zero).
+    pub energy_conserved: bool,
 }
 
-/// Names used in the body, and from them CYCLIC and AUTONOMOUS.
+/// Names used in the bodies, and from them CYCLIC, AUTONOMOUS, MOMENTUM_CONSERVED and
+/// ENERGY_CONSERVED. One syntactic rule for both modes, so the modes agree.
 pub fn analyze(decl: &Decl) -> Analysis {
-    let mut v = Mentions::default();
-    v.visit_block(&decl.body);
-    let used = v.0;
-    let mut cyclic = Vec::with_capacity(decl.n());
-    for c in &decl.coords {
-        let absent = !used.contains(&unraw(&c.name));
-        cyclic.extend(std::iter::repeat_n(absent, c.width()));
+    let mentions = |b: &Block| {
+        let mut v = Mentions::default();
+        v.visit_block(b);
+        v.0
+    };
+    let used = mentions(&decl.body);
+    let dissipation_used = decl
+        .dissipation
+        .as_ref()
+        .map(|f| mentions(&f.body))
+        .unwrap_or_default();
+    let forces_used = decl
+        .forces
+        .as_ref()
+        .map(|f| mentions(&f.body))
+        .unwrap_or_default();
+    // Whether binding `k` (0: coordinate, 1: velocity) of coordinate parameter `p` of `f` is
+    // used in its body.
+    let in_func = |f: Option<&Func>, used: &HashSet<String>, p: usize, velocity: bool| {
+        f.and_then(|f| f.bindings.get(p))
+            .and_then(|(c, v)| if velocity { v.as_ref() } else { c.as_ref() })
+            .is_some_and(|id| used.contains(&unraw(id)))
+    };
+    // Q's entries that are a literal zero (all false when the tail is not an array literal).
+    let n = decl.n();
+    let zero_force: Vec<bool> = match &decl.forces {
+        None => vec![true; n],
+        Some(f) => match tail_array(&f.body) {
+            Some(elems) if elems.len() == n => elems.iter().map(|e| is_literal_zero(e)).collect(),
+            _ => vec![false; n],
+        },
+    };
+    let mut cyclic = Vec::with_capacity(n);
+    let mut momentum_conserved = Vec::with_capacity(n);
+    for (p, c) in decl.coords.iter().enumerate() {
+        let absent = !used.contains(&unraw(&c.name))
+            && !in_func(decl.dissipation.as_ref(), &dissipation_used, p, false)
+            && !in_func(decl.forces.as_ref(), &forces_used, p, false);
+        let undamped = !in_func(decl.dissipation.as_ref(), &dissipation_used, p, true);
+        for slot in c.first_index..c.first_index + c.width() {
+            cyclic.push(absent);
+            momentum_conserved.push(absent && undamped && zero_force[slot]);
+        }
     }
     let autonomous = decl.time.as_ref().is_none_or(|t| !used.contains(&unraw(t)));
+    let energy_conserved =
+        autonomous && decl.dissipation.is_none() && zero_force.iter().all(|z| *z);
     Analysis {
         used,
+        dissipation_used,
+        forces_used,
         cyclic,
         autonomous,
+        momentum_conserved,
+        energy_conserved,
+    }
+}
+
+/// The elements of the array literal a body ends with (`[a, b, c]` as its tail expression).
+pub fn tail_array(body: &Block) -> Option<Vec<&Expr>> {
+    match body.stmts.last() {
+        Some(Stmt::Expr(e, None)) => match paren_less(e) {
+            Expr::Array(a) => Some(a.elems.iter().collect()),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+fn paren_less(e: &Expr) -> &Expr {
+    match e {
+        Expr::Paren(p) => paren_less(&p.expr),
+        Expr::Group(g) => paren_less(&g.expr),
+        _ => e,
+    }
+}
+
+/// A number literal equal to zero (`0.0`, `0`, `-0.0`, `0.0_f64`), possibly in parentheses.
+fn is_literal_zero(e: &Expr) -> bool {
+    match paren_less(e) {
+        Expr::Lit(l) => match &l.lit {
+            syn::Lit::Float(f) => f.base10_parse::<f64>().is_ok_and(|x| x == 0.0),
+            syn::Lit::Int(i) => i.base10_parse::<u64>().is_ok_and(|x| x == 0),
+            _ => false,
+        },
+        Expr::Unary(u) if matches!(u.op, syn::UnOp::Neg(_)) => is_literal_zero(&u.expr),
+        _ => false,
     }
 }
 
@@ -61,6 +145,27 @@ impl Analysis {
             .chain(time)
             .filter(|name| self.used.contains(name))
             .collect()
+    }
+
+    /// The names of `f` (`fn dissipation` or `fn forces`) its body mentions: what its generated
+    /// method binds.
+    pub fn bound_func(&self, f: &Func) -> Vec<String> {
+        let used = self.func_used(f);
+        f.bindings
+            .iter()
+            .flat_map(|(c, v)| c.iter().chain(v))
+            .chain(&f.time)
+            .map(unraw)
+            .filter(|name| used.contains(name))
+            .collect()
+    }
+
+    /// The names the body of `f` mentions.
+    pub fn func_used(&self, f: &Func) -> &HashSet<String> {
+        match f.kind {
+            FuncKind::Dissipation => &self.dissipation_used,
+            FuncKind::Forces => &self.forces_used,
+        }
     }
 }
 
@@ -132,6 +237,31 @@ pub fn lower_for_jets(body: &Block, vars: &[String]) -> Block {
     let kind = rw.block(&mut body);
     if kind == Kind::Const {
         lift_block_tail(&mut body);
+    }
+    body
+}
+
+/// Rewrites the body of `fn forces` (an array of `Scalar`s) for the jets path: as
+/// [`lower_for_jets`], and a tail of constants becomes an array of `Scalar`s (each element of an
+/// array literal lifted, any other array mapped through the lift).
+pub fn lower_array_for_jets(body: &Block, vars: &[String]) -> Block {
+    let mut rw = Rewriter {
+        scopes: vec![vars.iter().map(|v| (v.clone(), Kind::Var)).collect()],
+    };
+    let mut body = body.clone();
+    let kind = rw.block(&mut body);
+    if kind == Kind::Const {
+        if let Some(Stmt::Expr(e, None)) = body.stmts.last_mut() {
+            match e {
+                Expr::Array(a) => a.elems.iter_mut().for_each(lift_in_place),
+                other => {
+                    let span = other.span();
+                    *other = Expr::Verbatim(
+                        quote_spanned!(span=> (#other).map(::lagrange::__private::lift::<Scalar, _>)),
+                    );
+                }
+            }
+        }
     }
     body
 }

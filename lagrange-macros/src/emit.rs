@@ -1,12 +1,14 @@
 //! Emit: the `impl Lagrangian<N>` (or, while errors exist, the errors and a stub impl). Only
 //! emission: the driver (`expand.rs`) runs the stages and hands their results here.
 
-use proc_macro2::TokenStream;
+use std::collections::HashSet;
+
+use proc_macro2::{Ident, TokenStream};
 use quote::{quote, quote_spanned};
 
 use crate::analyze::Analysis;
 use crate::errors::Errors;
-use crate::model::{unraw, CoordKind, Decl};
+use crate::model::{unraw, CoordKind, Decl, Func, FuncKind};
 use crate::symbolic::SymbolicOutput;
 use crate::{parse, validate};
 
@@ -48,7 +50,9 @@ pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
     quote!(#errs #rest #stub)
 }
 
-/// The `impl Lagrangian<N>`: the jets `fn lagrangian` (its body `body`, lowered for jets) and,
+/// The `impl Lagrangian<N>`: the jets `fn lagrangian` (its body `body`, lowered for jets), the
+/// generic `fn dissipation` / `fn generalized_forces` (the bodies `funcs` of `decl.funcs()`,
+/// lowered for jets, in that order), and,
 /// given `symbolic`, the symbolic methods and the `EQUATIONS` consts; `errors` (from the
 /// symbolic stage) go after the impl, which then has only `fn lagrangian`, so rustc still
 /// type-checks the body as written (a genuine type error there is reported at the user's token
@@ -57,6 +61,7 @@ pub fn generate(
     decl: &Decl,
     analysis: &Analysis,
     body: &syn::Block,
+    funcs: &[syn::Block],
     symbolic: Option<&SymbolicOutput>,
     errors: &Errors,
 ) -> TokenStream {
@@ -69,39 +74,19 @@ pub fn generate(
 
     // Bindings of the user's names to the jets' slots; names the body never mentions are not
     // bound (no unused-variable warnings for cyclic coordinates).
-    let crate::names::Params { q, qdot, t } = crate::names::Params::jets();
-    let mut bindings = Vec::new();
-    let (mut uses_q, mut uses_qdot) = (false, false);
-    for c in &decl.coords {
-        for (ident, array, used_flag) in
-            [(&c.name, &q, &mut uses_q), (&c.dot, &qdot, &mut uses_qdot)]
-        {
-            if !analysis.used.contains(&unraw(ident)) {
-                continue;
-            }
-            *used_flag = true;
-            let i = c.first_index;
-            let lit = proc_macro2::Literal::usize_unsuffixed;
-            let (i, i1, i2) = (lit(i), lit(i + 1), lit(i + 2));
-            bindings.push(match c.kind {
-                CoordKind::Scalar => quote!(let #ident = #array[#i];),
-                CoordKind::Vector3 => {
-                    quote!(let #ident = ::lagrange::__private::Vector3::new(#array[#i], #array[#i1], #array[#i2]);)
-                }
-            });
-        }
-    }
-    let mut uses_t = false;
-    if let Some(time) = &decl.time {
-        if analysis.used.contains(&unraw(time)) {
-            uses_t = true;
-            bindings.push(quote!(let #time = #t;));
-        }
-    }
-    let q_pat = if uses_q { quote!(#q) } else { quote!(_) };
-    let qdot_pat = if uses_qdot { quote!(#qdot) } else { quote!(_) };
-    let t_pat = if uses_t { quote!(#t) } else { quote!(_) };
-
+    let params = crate::names::Params::jets();
+    let coords: Vec<(Option<&Ident>, Option<&Ident>)> = decl
+        .coords
+        .iter()
+        .map(|c| (Some(&c.name), Some(&c.dot)))
+        .collect();
+    let (bindings, [q_pat, qdot_pat, t_pat]) = bind_slots(
+        decl,
+        &coords,
+        decl.time.as_ref(),
+        &analysis.used,
+        &params,
+    );
     let stmts = &body.stmts;
     let fn_attrs = &decl.fn_attrs;
     let ret = quote_spanned!(decl.ret_span=> Scalar);
@@ -110,6 +95,23 @@ pub fn generate(
     let (symbolic_methods, symbolic_consts) = match symbolic {
         Some(out) => crate::symbolic::methods(out, n, self_ty),
         None => (quote!(), errors.to_compile_errors()),
+    };
+
+    let extras: Vec<TokenStream> = decl
+        .funcs()
+        .zip(funcs)
+        .map(|(f, body)| jets_func(decl, analysis, f, body))
+        .collect();
+    // The flags that differ from their defaults only with forces or dissipation.
+    let conserved = if decl.dissipation.is_some() || decl.forces.is_some() {
+        let m = &analysis.momentum_conserved;
+        let e = analysis.energy_conserved;
+        quote! {
+            const MOMENTUM_CONSERVED: [bool; #n] = [#(#m),*];
+            const ENERGY_CONSERVED: bool = #e;
+        }
+    } else {
+        quote!()
     };
 
     let n = proc_macro2::Literal::usize_unsuffixed(n);
@@ -127,6 +129,7 @@ pub fn generate(
             const COORDINATES: [&'static str; #n] = [#(#names),*];
             const CYCLIC: [bool; #n] = [#(#cyclic),*];
             const AUTONOMOUS: bool = #autonomous;
+            #conserved
 
             #(#fn_attrs)*
             #[inline]
@@ -147,9 +150,103 @@ pub fn generate(
                 #(#bindings)*
                 #(#stmts)*
             }
+            #(#extras)*
             #symbolic_methods
         }
         #symbolic_consts
+    }
+}
+
+/// `let` bindings of the user's names (those `used` mentions) to the slots of the generated
+/// parameters `params`, and the patterns of the three parameters (`_` for one nothing reads).
+/// `coords` has one entry per coordinate parameter of `decl`: the coordinate and velocity
+/// names, `None` for `_`.
+fn bind_slots(
+    decl: &Decl,
+    coords: &[(Option<&Ident>, Option<&Ident>)],
+    time: Option<&Ident>,
+    used: &HashSet<String>,
+    params: &crate::names::Params,
+) -> (Vec<TokenStream>, [TokenStream; 3]) {
+    let crate::names::Params { q, qdot, t } = params;
+    let mut bindings = Vec::new();
+    let (mut uses_q, mut uses_qdot) = (false, false);
+    for (c, (name, dot)) in decl.coords.iter().zip(coords) {
+        for (ident, array, used_flag) in [(name, q, &mut uses_q), (dot, qdot, &mut uses_qdot)] {
+            let Some(ident) = ident else { continue };
+            if !used.contains(&unraw(ident)) {
+                continue;
+            }
+            *used_flag = true;
+            let i = c.first_index;
+            let lit = proc_macro2::Literal::usize_unsuffixed;
+            let (i, i1, i2) = (lit(i), lit(i + 1), lit(i + 2));
+            bindings.push(match c.kind {
+                CoordKind::Scalar => quote!(let #ident = #array[#i];),
+                CoordKind::Vector3 => {
+                    quote!(let #ident = ::lagrange::__private::Vector3::new(#array[#i], #array[#i1], #array[#i2]);)
+                }
+            });
+        }
+    }
+    let mut uses_t = false;
+    if let Some(time) = time {
+        if used.contains(&unraw(time)) {
+            uses_t = true;
+            bindings.push(quote!(let #time = #t;));
+        }
+    }
+    let q_pat = if uses_q { quote!(#q) } else { quote!(_) };
+    let qdot_pat = if uses_qdot { quote!(#qdot) } else { quote!(_) };
+    let t_pat = if uses_t { quote!(#t) } else { quote!(_) };
+    (bindings, [q_pat, qdot_pat, t_pat])
+}
+
+/// The generic trait method of `fn dissipation` or `fn forces` (`dissipation<Scalar>`,
+/// `generalized_forces<Scalar>`) with the user's body `body`, lowered for jets.
+fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
+    let params = crate::names::Params::jets();
+    let coords: Vec<(Option<&Ident>, Option<&Ident>)> = f
+        .bindings
+        .iter()
+        .map(|(c, v)| (c.as_ref(), v.as_ref()))
+        .collect();
+    let (bindings, [q_pat, qdot_pat, t_pat]) = bind_slots(
+        decl,
+        &coords,
+        f.time.as_ref(),
+        analysis.func_used(f),
+        &params,
+    );
+    let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
+    let ret = match f.kind {
+        FuncKind::Dissipation => quote_spanned!(f.ret_span=> Scalar),
+        FuncKind::Forces => quote_spanned!(f.ret_span=> [Scalar; #n]),
+    };
+    let ident = Ident::new(f.kind.trait_method(), f.fn_ident.span());
+    let attrs = &f.fn_attrs;
+    let self_token = &f.self_token;
+    let stmts = &body.stmts;
+    quote! {
+        #(#attrs)*
+        #[inline]
+        #[allow(
+            clippy::all,
+            clippy::pedantic,
+            clippy::nursery,
+            unused_parens,
+            unused_braces,
+            non_snake_case
+        )]
+        fn #ident<Scalar: ::lagrange::__private::Scalar>(
+            &#self_token,
+            #q_pat: &[Scalar; #n],
+            #qdot_pat: &[Scalar; #n],
+            #t_pat: Scalar,
+        ) -> #ret {
+            #(#bindings)*
+            #(#stmts)*
+        }
     }
 }
 

@@ -16,6 +16,12 @@ impl Errors {
     pub fn at(&mut self, tokens: impl quote::ToTokens, msg: impl std::fmt::Display) {
         self.push(syn::Error::new_spanned(tokens, msg));
     }
+    /// Adds every error of `other`.
+    pub fn push_all(&mut self, other: Errors) {
+        if let Some(e) = other.0 {
+            self.push(e);
+        }
+    }
     /// Whether nothing was pushed.
     pub fn is_empty(&self) -> bool {
         self.0.is_none()

@@ -64,6 +64,55 @@ impl CoordParam {
     }
 }
 
+/// Which of the optional functions next to `fn lagrangian` a [`Func`] is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FuncKind {
+    /// `fn dissipation(&self, ...) -> Scalar`: the Rayleigh dissipation function D.
+    Dissipation,
+    /// `fn forces(&self, ...) -> [Scalar; N]`: the generalized forces Q.
+    Forces,
+}
+
+impl FuncKind {
+    /// The name the user writes (`dissipation`, `forces`).
+    pub fn user_name(self) -> &'static str {
+        match self {
+            FuncKind::Dissipation => "dissipation",
+            FuncKind::Forces => "forces",
+        }
+    }
+    /// The `Lagrangian` trait method it becomes.
+    pub fn trait_method(self) -> &'static str {
+        match self {
+            FuncKind::Dissipation => "dissipation",
+            FuncKind::Forces => "generalized_forces",
+        }
+    }
+}
+
+/// `fn dissipation` or `fn forces` after validation: the same coordinates as `fn lagrangian`
+/// (bound under names of its own, or not at all), its own optional time.
+#[derive(Clone)]
+pub struct Func {
+    /// Dissipation or forces.
+    pub kind: FuncKind,
+    /// Attributes on the function (doc comments, `#[allow(...)]`), kept on the generated method.
+    pub fn_attrs: Vec<syn::Attribute>,
+    /// The function's identifier as written (for spans).
+    pub fn_ident: Ident,
+    /// The span of the return type.
+    pub ret_span: Span,
+    /// One entry per coordinate parameter of `fn lagrangian`, in its order: the coordinate and
+    /// velocity bindings (`None` for `_`).
+    pub bindings: Vec<(Option<Ident>, Option<Ident>)>,
+    /// The `t: Time` parameter, if any.
+    pub time: Option<Ident>,
+    /// The body as written.
+    pub body: syn::Block,
+    /// The `self` token of the receiver as written.
+    pub self_token: syn::Token![self],
+}
+
 /// `fn lagrangian` after parsing and validation.
 #[derive(Clone)]
 pub struct Decl {
@@ -86,12 +135,20 @@ pub struct Decl {
     pub self_token: syn::Token![self],
     /// Attribute options.
     pub options: Options,
+    /// `fn dissipation`, if the impl block has one.
+    pub dissipation: Option<Func>,
+    /// `fn forces`, if the impl block has one.
+    pub forces: Option<Func>,
 }
 
 impl Decl {
     /// Number of generalized coordinates N.
     pub fn n(&self) -> usize {
         self.coords.iter().map(CoordParam::width).sum()
+    }
+    /// `fn dissipation` and `fn forces`, those present.
+    pub fn funcs(&self) -> impl Iterator<Item = &Func> {
+        self.dissipation.iter().chain(&self.forces)
     }
     /// COORDINATES, in declaration order.
     pub fn coordinate_names(&self) -> Vec<String> {

@@ -1,4 +1,5 @@
-//! Parse: the attribute arguments and the impl block, split into `fn lagrangian` and the rest.
+//! Parse: the attribute arguments and the impl block, split into `fn lagrangian`, the optional
+//! `fn dissipation` and `fn forces`, and the rest.
 
 use proc_macro2::TokenStream;
 use syn::parse::Parser;
@@ -56,15 +57,21 @@ pub fn options(args: TokenStream, errors: &mut Errors) -> Options {
     options
 }
 
-/// The impl block with every `fn lagrangian` taken out (in order of appearance).
+/// The impl block with every `fn lagrangian`, `fn dissipation` and `fn forces` taken out (in
+/// order of appearance).
 pub struct Split {
     /// The impl block without them.
     pub rest: ItemImpl,
     /// Every `fn lagrangian` found.
     pub funcs: Vec<ImplItemFn>,
+    /// Every `fn dissipation` found.
+    pub dissipation: Vec<ImplItemFn>,
+    /// Every `fn forces` found.
+    pub forces: Vec<ImplItemFn>,
 }
 
-/// Parses the annotated item as an impl block and takes out `fn lagrangian`.
+/// Parses the annotated item as an impl block and takes out `fn lagrangian`, `fn dissipation`
+/// and `fn forces`.
 pub fn split(input: TokenStream) -> syn::Result<Split> {
     let mut rest: ItemImpl = syn::parse2(input).map_err(|e| {
         syn::Error::new(
@@ -72,13 +79,20 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
             format!("`#[lagrangian]` goes on an inherent impl block (`impl MySystem {{ fn lagrangian(...) }}`): {e}"),
         )
     })?;
-    let mut funcs = Vec::new();
+    let (mut funcs, mut dissipation, mut forces) = (Vec::new(), Vec::new(), Vec::new());
     let items = std::mem::take(&mut rest.items);
     for item in items {
         match item {
             ImplItem::Fn(f) if f.sig.ident == "lagrangian" => funcs.push(f),
+            ImplItem::Fn(f) if f.sig.ident == "dissipation" => dissipation.push(f),
+            ImplItem::Fn(f) if f.sig.ident == "forces" => forces.push(f),
             other => rest.items.push(other),
         }
     }
-    Ok(Split { rest, funcs })
+    Ok(Split {
+        rest,
+        funcs,
+        dissipation,
+        forces,
+    })
 }
