@@ -243,6 +243,115 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         clippy::nursery
     )]
     #[inline]
+    fn pieces(
+        &self,
+        __lagrange_q: &[f64; 3],
+        __lagrange_qdot: &[f64; 3],
+        __lagrange_t: f64,
+    ) -> ::lagrange::__private::eom::Pieces<3> {
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        let __lagrange_p_i_perp: f64 = self.i_perp;
+        let __lagrange_p_i_par: f64 = self.i_par;
+        let __lagrange_p_m: f64 = self.m;
+        let __lagrange_p_g: f64 = self.g;
+        let __lagrange_p_l: f64 = self.l;
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): ((f64, f64), f64) =
+            (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
+        let (
+            __lagrange_x15,
+            __lagrange_x22,
+            __lagrange_x33,
+            __lagrange_x53,
+            __lagrange_x55,
+            __lagrange_x58,
+            __lagrange_x59,
+            __lagrange_x60,
+        ): (f64, f64, f64, f64, f64, f64, f64, f64) = (
+            __lagrange_qdot[1] * __lagrange_x8,
+            __lagrange_qdot[1] * __lagrange_x9,
+            __lagrange_x31 * __lagrange_p_l,
+            __lagrange_x8 * __lagrange_x8,
+            __lagrange_x9 * __lagrange_x9,
+            __lagrange_x9 * __lagrange_p_i_par,
+            __lagrange_qdot[0] * __lagrange_x9,
+            __lagrange_qdot[0] * __lagrange_x8,
+        );
+        let (
+            __lagrange_x23,
+            __lagrange_x54,
+            __lagrange_x56,
+            __lagrange_x63,
+            __lagrange_x65,
+            __lagrange_x80,
+            __lagrange_x93,
+        ): (f64, f64, f64, f64, f64, f64, f64) = (
+            __lagrange_qdot[2] + __lagrange_x22,
+            __lagrange_p_i_perp * __lagrange_x53,
+            __lagrange_p_i_par * __lagrange_x55,
+            __lagrange_qdot[1] * __lagrange_x60,
+            __lagrange_x15 * __lagrange_x59,
+            __lagrange_x15 * __lagrange_x22,
+            __lagrange_x8 * __lagrange_x33,
+        );
+        let (
+            __lagrange_x57,
+            __lagrange_x67,
+            __lagrange_x69,
+            __lagrange_x77,
+            __lagrange_x82,
+            __lagrange_x85,
+        ): (f64, f64, f64, f64, f64, f64) = (
+            __lagrange_x54 + __lagrange_x56,
+            __lagrange_p_i_perp * __lagrange_x65,
+            __lagrange_x23 * __lagrange_x60,
+            __lagrange_p_i_par * __lagrange_x63,
+            __lagrange_p_i_perp * __lagrange_x80,
+            __lagrange_x15 * __lagrange_x23,
+        );
+        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (f64, f64, f64) = (
+            2.0 * __lagrange_x67,
+            __lagrange_x65 + __lagrange_x69,
+            __lagrange_p_i_par * __lagrange_x85,
+        );
+        let (__lagrange_x74, __lagrange_x91): (f64, f64) = (
+            __lagrange_p_i_par * __lagrange_x72,
+            __lagrange_x82 - __lagrange_x89,
+        );
+        let (__lagrange_x95, __lagrange_x96): (f64, f64) = (
+            __lagrange_x91 + __lagrange_x93,
+            __lagrange_x74 - __lagrange_x68,
+        );
+        ::lagrange::__private::eom::Pieces::new(
+            [
+                [__lagrange_p_i_perp, 0.0, 0.0],
+                [0.0, __lagrange_x57, __lagrange_x58],
+                [0.0, 0.0, __lagrange_p_i_par],
+            ],
+            [__lagrange_x95, __lagrange_x96, __lagrange_x77],
+        )
+    }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn power(&self, __lagrange_q: &[f64; 3], __lagrange_qdot: &[f64; 3], __lagrange_t: f64) -> f64 {
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        0.0
+    }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
     fn mass_matrix(
         &self,
         __lagrange_q: &[f64; 3],

@@ -1,10 +1,11 @@
-//! Emit the methods: the bodies of the generated `accelerations`, `mass_matrix`, `momenta`,
-//! `energy` and `energy_and_momenta`, and the `EQUATIONS` / `EQUATIONS_LATEX` consts.
+//! Emit the methods: the bodies of the generated `accelerations`, `pieces`, `power`,
+//! `mass_matrix`, `momenta`, `energy` and `energy_and_momenta`, and the `EQUATIONS` /
+//! `EQUATIONS_LATEX` consts.
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use super::dag::Id;
+use super::dag::{Dag, Id};
 use super::derive::{Derivation, Equations};
 use super::{codegen, print, solve};
 use crate::model::Decl;
@@ -19,6 +20,11 @@ pub struct SymbolicOutput {
     /// Body of `fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64)
     /// -> Result<[f64; N], ::lagrange::__private::DynamicsError>`.
     pub accelerations: TokenStream,
+    /// Body of `fn pieces(&self, q, qdot, t) -> ::lagrange::__private::eom::Pieces<N>`: M, f_L
+    /// and the applied forces, straight-line.
+    pub pieces: TokenStream,
+    /// Body of `fn power(&self, q, qdot, t) -> f64`: (Q − ∂D/∂q̇)·q̇ − ∂L/∂t, straight-line.
+    pub power: TokenStream,
     /// Body of `fn mass_matrix(&self, q, qdot, t) -> ::lagrange::__private::SMatrix<f64, N, N>`.
     pub mass_matrix: TokenStream,
     /// `#[inline(always)]` for a small `accelerations`, `#[inline]` otherwise.
@@ -29,7 +35,7 @@ pub struct SymbolicOutput {
     pub energy: TokenStream,
     /// Body of `fn energy_and_momenta(&self, q, qdot, t) -> (f64, [f64; N])`.
     pub energy_and_momenta: TokenStream,
-    /// Lint attributes to put on each of the five generated methods (machine-written code).
+    /// Lint attributes to put on each of the generated methods (machine-written code).
     pub allow: TokenStream,
     /// The Euler–Lagrange equations, plain Unicode, one line per coordinate.
     pub equations: String,
@@ -37,7 +43,7 @@ pub struct SymbolicOutput {
     pub equations_latex: String,
     /// A rustdoc section (Markdown) presenting the equations, for the user's type.
     pub doc: String,
-    /// Size of the generated code: `let` statements over all five bodies.
+    /// Size of the generated code: `let` statements over all the bodies.
     #[cfg_attr(not(test), allow(dead_code))]
     pub generated_lets: usize,
 }
@@ -55,7 +61,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     for (i, row) in d.mass.iter().enumerate() {
         outs.extend(&row[i..]);
     }
-    outs.extend(&d.force);
+    outs.extend(&d.rhs);
     outs.extend(d.pairs.iter().map(|p| p.2));
     let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
     let mut lets = code.lets;
@@ -67,7 +73,8 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     } else {
         quote!(#[inline])
     };
-    // M and f, formed once: the fast path's solve and the fallback's arrays read the same operands.
+    // M and the right-hand side, formed once: the fast path's solve and the fallback's arrays
+    // read the same operands.
     let eq = Equations::of(d);
     let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| quote!(0.0));
     let rows = eq.mass.iter().map(|row| {
@@ -96,6 +103,51 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
                 #t,
             ),
         }
+    };
+
+    // pieces: M (upper triangle), f_L and the applied forces
+    let mut outs: Vec<Id> = Vec::new();
+    for (i, row) in d.mass.iter().enumerate() {
+        outs.extend(&row[i..]);
+    }
+    outs.extend(&d.force);
+    outs.extend(&d.applied);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+    lets += code.lets;
+    let rows = d.mass.iter().enumerate().map(|(i, row)| {
+        let cells = row
+            .iter()
+            .enumerate()
+            .map(|(k, &m)| if k < i { quote!(0.0) } else { op(m) });
+        quote!([#(#cells),*])
+    });
+    let f = d.force.iter().map(|&x| op(x));
+    let new = quote!(::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f),*]));
+    let stmts = code.stmts;
+    let pieces = if d.applied.iter().all(|&a| a == Dag::ZERO) {
+        quote! {
+            #touch
+            #stmts
+            #new
+        }
+    } else {
+        let a = d.applied.iter().map(|&x| op(x));
+        quote! {
+            #touch
+            #stmts
+            #new.with_applied([#(#a),*])
+        }
+    };
+
+    // power
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.power]);
+    lets += code.lets;
+    let w = op(d.power);
+    let stmts = code.stmts;
+    let power = quote! {
+        #touch
+        #stmts
+        #w
     };
 
     // mass_matrix
@@ -163,6 +215,8 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     SymbolicOutput {
         accelerations,
         accelerations_inline,
+        pieces,
+        power,
         mass_matrix,
         momenta,
         energy,
@@ -184,7 +238,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     }
 }
 
-/// The five generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
+/// The generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
 /// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
 pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStream, TokenStream) {
     let names::Params { q, qdot, t } = names::Params::symbolic();
@@ -192,6 +246,8 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
     let SymbolicOutput {
         accelerations,
         accelerations_inline,
+        pieces,
+        power,
         mass_matrix,
         momenta,
         energy,
@@ -208,6 +264,16 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         #accelerations_inline
         fn accelerations(#sig) -> ::core::result::Result<[f64; #nn], ::lagrange::__private::DynamicsError> {
             #accelerations
+        }
+        #allow
+        #[inline]
+        fn pieces(#sig) -> ::lagrange::__private::eom::Pieces<#nn> {
+            #pieces
+        }
+        #allow
+        #[inline]
+        fn power(#sig) -> f64 {
+            #power
         }
         #allow
         #[inline]

@@ -64,6 +64,8 @@ fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
             mode: Mode::Symbolic,
             mode_span: None,
         },
+        dissipation: None,
+        forces: None,
     }
 }
 
