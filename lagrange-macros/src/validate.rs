@@ -360,7 +360,7 @@ fn check_extra(
                 other => fail(
                     errors,
                     other,
-                    format!("`fn forces` returns an array, one generalized force per coordinate slot ({}): write `-> [Scalar; {n}]`: `{hint}`", slots_text(lag_coords)),
+                    format!("`fn forces` returns an array of generalized forces, one per coordinate slot: {}, so write `-> [Scalar; {n}]`: `{hint}`", slots_text(lag_coords)),
                 ),
             }
             ty.span()
