@@ -1,7 +1,8 @@
 //! Macro uses compile cleanly under `#![deny(warnings)]` (checked by `cargo test`) and
 //! `#![deny(clippy::pedantic)]` (checked by `cargo clippy --workspace --all-targets -- -D warnings`):
 //! cyclic coordinates, an unused `t: Time`, `Coord3`, doc comments, `pub` and private structs,
-//! derives and other items in the impl block.
+//! derives and other items in the impl block, `fn dissipation` and `fn forces` with bindings
+//! their bodies do not use.
 #![deny(warnings)]
 #![deny(clippy::pedantic)]
 
@@ -83,6 +84,65 @@ pub(crate) struct Free;
 impl Free {
     fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
         (x_dot * x_dot + y_dot * y_dot) / 2.0
+    }
+}
+
+/// A damped, driven oscillator in both modes: bindings and a `t: Time` the bodies of
+/// `dissipation` and `forces` do not use produce no warnings.
+pub struct DampedDriven {
+    /// Damping coefficient.
+    pub b: f64,
+    /// Drive amplitude.
+    pub a: f64,
+}
+
+#[lagrangian]
+impl DampedDriven {
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        (x_dot * x_dot + y_dot * y_dot - x * x - y * y) / 2.0
+    }
+    /// D = ½ b ẋ²; `x`, `y`, `y_dot` and `t` are not used.
+    fn dissipation(&self, (x, x_dot): Coord, (y, y_dot): Coord, t: Time) -> Scalar {
+        0.5 * self.b * x_dot * x_dot
+    }
+    /// A constant push on y; nothing of the state is used.
+    fn forces(&self, (x, x_dot): Coord, (_, _): Coord, t: Time) -> [Scalar; 2] {
+        [0.0, self.a]
+    }
+}
+
+/// The same in jets mode.
+pub struct DampedDrivenJets {
+    /// Damping coefficient.
+    pub b: f64,
+    /// Drive amplitude.
+    pub a: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl DampedDrivenJets {
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        (x_dot * x_dot + y_dot * y_dot - x * x - y * y) / 2.0
+    }
+    fn dissipation(&self, (x, x_dot): Coord, (y, y_dot): Coord, t: Time) -> Scalar {
+        0.5 * self.b * x_dot * x_dot
+    }
+    fn forces(&self, (x, x_dot): Coord, (_, _): Coord, t: Time) -> [Scalar; 2] {
+        [0.0, self.a * 1.0]
+    }
+}
+
+#[test]
+fn lint_clean_forces_and_dissipation() {
+    let s = DampedDriven { b: 0.5, a: 2.0 };
+    let j = DampedDrivenJets { b: 0.5, a: 2.0 };
+    let want = [-1.0 - 0.5 * 3.0, -2.0 + 2.0];
+    for a in [
+        s.accelerations(&[1.0, 2.0], &[3.0, 4.0], 0.0),
+        j.accelerations(&[1.0, 2.0], &[3.0, 4.0], 0.0),
+    ] {
+        let a = a.unwrap_or([f64::NAN; 2]);
+        assert!((a[0] - want[0]).abs() < 1e-15 && (a[1] - want[1]).abs() < 1e-15, "{a:?}");
     }
 }
 

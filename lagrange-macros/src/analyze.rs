@@ -81,9 +81,9 @@ pub fn analyze(decl: &Decl) -> Analysis {
             && !in_func(decl.dissipation.as_ref(), &dissipation_used, p, false)
             && !in_func(decl.forces.as_ref(), &forces_used, p, false);
         let undamped = !in_func(decl.dissipation.as_ref(), &dissipation_used, p, true);
-        for slot in c.first_index..c.first_index + c.width() {
+        for &zero in &zero_force[c.first_index..c.first_index + c.width()] {
             cyclic.push(absent);
-            momentum_conserved.push(absent && undamped && zero_force[slot]);
+            momentum_conserved.push(absent && undamped && zero);
         }
     }
     let autonomous = decl.time.as_ref().is_none_or(|t| !used.contains(&unraw(t)));
