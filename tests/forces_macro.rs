@@ -196,7 +196,10 @@ fn damped_heavy_top_flags_and_modes_agree() {
         [false, true, false]
     );
     assert_eq!(<DampedTop as Lagrangian<3>>::CYCLIC, [false, true, true]);
-    assert_eq!(<DampedTopJets as Lagrangian<3>>::CYCLIC, [false, true, true]);
+    assert_eq!(
+        <DampedTopJets as Lagrangian<3>>::CYCLIC,
+        [false, true, true]
+    );
 
     let mut rng = Rng(0x70b_70b_70b);
     for k in 0..STATES {
@@ -232,12 +235,7 @@ fn damped_heavy_top_flags_and_modes_agree() {
             assert_close(&ps.mass[i][i..], &pj.mass[i][i..], REL, &ctx);
         }
         assert_close(&[top.power(&q, &v, t)], &[jets.power(&q, &v, t)], REL, &ctx);
-        assert_close(
-            &[top.power(&q, &v, t)],
-            &[-top.c * v[2] * v[2]],
-            REL,
-            &ctx,
-        );
+        assert_close(&[top.power(&q, &v, t)], &[-top.c * v[2] * v[2]], REL, &ctx);
     }
 }
 
@@ -287,7 +285,12 @@ fn dragged_particle_flags_and_accelerations() {
             (-p.c * v[2] - p.f) / p.m,
         ];
         let ctx = format!("state {k}");
-        assert_close(&p.accelerations(&q, &v, t).expect("symbolic"), &want, REL, &ctx);
+        assert_close(
+            &p.accelerations(&q, &v, t).expect("symbolic"),
+            &want,
+            REL,
+            &ctx,
+        );
         assert_close(
             &p.jets().accelerations(&q, &v, t).expect("jets"),
             &want,
@@ -327,10 +330,60 @@ fn a_literal_zero_force_keeps_its_momentum() {
         assert!(!<PushedAlongX as Lagrangian<2>>::ENERGY_CONSERVED);
     }
     let p = PushedAlongX { m: 2.0, f: 3.0 };
-    assert_eq!(p.accelerations(&[0.0; 2], &[1.0; 2], 0.0).ok(), Some([1.5, 0.0]));
+    assert_eq!(
+        p.accelerations(&[0.0; 2], &[1.0; 2], 0.0).ok(),
+        Some([1.5, 0.0])
+    );
     assert_eq!(
         p.jets().accelerations(&[0.0; 2], &[1.0; 2], 0.0).ok(),
         Some([1.5, 0.0])
     );
     assert_eq!(p.power(&[0.0; 2], &[2.0; 2], 0.0), 6.0);
+}
+
+/// Constants in the user's module named like the generated parameters and locals do not break
+/// `dissipation` and `forces` in either mode.
+mod hygiene {
+    #![allow(non_upper_case_globals, dead_code)]
+    use lagrange::prelude::*;
+
+    const q: f64 = 1.0;
+    const qdot: f64 = 2.0;
+    const t: f64 = 3.0;
+    const x3: f64 = 5.0;
+    const p_b: f64 = 10.0;
+    const a: f64 = 13.0;
+
+    macro_rules! oscillator {
+        ($name:ident, $($mode:tt)*) => {
+            pub struct $name {
+                pub b: f64,
+                pub f: f64,
+            }
+            #[lagrangian($($mode)*)]
+            impl $name {
+                fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+                    0.5 * x_dot * x_dot - 0.5 * x * x
+                }
+                fn dissipation(&self, (_, v): Coord) -> Scalar {
+                    0.5 * self.b * v * v
+                }
+                fn forces(&self, (_, _): Coord, time: Time) -> [Scalar; 1] {
+                    // `a` is the user's constant (13.0), weight zero.
+                    [self.f + 0.0 * a * time]
+                }
+            }
+        };
+    }
+    oscillator!(Symbolic,);
+    oscillator!(Jets, mode = "jets");
+
+    #[test]
+    fn user_constants_do_not_collide_with_generated_names() {
+        let want = -1.0 - 0.5 * 2.0 + 3.0;
+        let s = Symbolic { b: 0.5, f: 3.0 };
+        let j = Jets { b: 0.5, f: 3.0 };
+        assert_eq!(s.accelerations(&[1.0], &[2.0], 4.0).ok(), Some([want]));
+        assert_eq!(j.accelerations(&[1.0], &[2.0], 4.0).ok(), Some([want]));
+    }
 }

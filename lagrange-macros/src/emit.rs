@@ -80,13 +80,8 @@ pub fn generate(
         .iter()
         .map(|c| (Some(&c.name), Some(&c.dot)))
         .collect();
-    let (bindings, [q_pat, qdot_pat, t_pat]) = bind_slots(
-        decl,
-        &coords,
-        decl.time.as_ref(),
-        &analysis.used,
-        &params,
-    );
+    let (bindings, [q_pat, qdot_pat, t_pat]) =
+        bind_slots(decl, &coords, decl.time.as_ref(), &analysis.used, &params);
     let stmts = &body.stmts;
     let fn_attrs = &decl.fn_attrs;
     let ret = quote_spanned!(decl.ret_span=> Scalar);

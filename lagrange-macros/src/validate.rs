@@ -65,7 +65,10 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
             "a second `fn lagrangian` in this impl block: a system has one Lagrangian",
         );
     }
-    for (list, kind) in [(&dissipation, FuncKind::Dissipation), (&forces, FuncKind::Forces)] {
+    for (list, kind) in [
+        (&dissipation, FuncKind::Dissipation),
+        (&forces, FuncKind::Forces),
+    ] {
         for extra in list.iter().skip(1) {
             let what = match kind {
                 FuncKind::Dissipation => "a system has one Rayleigh dissipation function D: put every dissipative term into the one `fn dissipation` (they add)",
@@ -73,13 +76,19 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
             };
             errors.at(
                 &extra.sig.ident,
-                format!("a second `fn {}` in this impl block: {what}", kind.user_name()),
+                format!(
+                    "a second `fn {}` in this impl block: {what}",
+                    kind.user_name()
+                ),
             );
         }
     }
     let func = funcs.swap_remove(0);
     let mut decl = check_fn(func, rest, options, errors)?;
-    for (list, kind) in [(dissipation, FuncKind::Dissipation), (forces, FuncKind::Forces)] {
+    for (list, kind) in [
+        (dissipation, FuncKind::Dissipation),
+        (forces, FuncKind::Forces),
+    ] {
         let Some(f) = list.into_iter().next() else {
             continue;
         };
@@ -387,7 +396,11 @@ fn check_extra(
                 );
             }
         }
-        Some(other) => fail(errors, other, format!("`fn {name}` takes `&self` first: `{hint}`")),
+        Some(other) => fail(
+            errors,
+            other,
+            format!("`fn {name}` takes `&self` first: `{hint}`"),
+        ),
         None => fail(
             errors,
             &sig.ident,
@@ -400,7 +413,10 @@ fn check_extra(
     let mut check_name = |ident: &proc_macro2::Ident, errors: &mut Errors| {
         let n = crate::model::unraw(ident);
         if seen.insert(n.clone(), ident.span()).is_some() {
-            errors.at(ident, format!("`{n}` is bound twice in the parameters of `fn {name}`"));
+            errors.at(
+                ident,
+                format!("`{n}` is bound twice in the parameters of `fn {name}`"),
+            );
             false
         } else {
             true
@@ -430,7 +446,9 @@ fn check_extra(
         };
         let Some(kind_here) = kind_here else {
             match &*pt.pat {
-                Pat::Ident(pi) if pi.by_ref.is_none() && pi.mutability.is_none() && pi.subpat.is_none() => {
+                Pat::Ident(pi)
+                    if pi.by_ref.is_none() && pi.mutability.is_none() && pi.subpat.is_none() =>
+                {
                     if time.is_some() {
                         fail(errors, &pt.pat, format!("a second `Time` parameter: `fn {name}` takes at most one `t: Time`"));
                     } else if check_name(&pi.ident, errors) {
@@ -438,7 +456,11 @@ fn check_extra(
                     }
                 }
                 Pat::Wild(_) => {}
-                other => fail(errors, other, "time is bound to a plain name: `t: Time`".to_owned()),
+                other => fail(
+                    errors,
+                    other,
+                    "time is bound to a plain name: `t: Time`".to_owned(),
+                ),
             }
             continue;
         };
@@ -551,9 +573,7 @@ fn check_extra(
 }
 
 /// `(a, b)` where each is a plain name or `_` (also `_` for the whole pair).
-fn binding_pattern(
-    pat: &Pat,
-) -> Option<(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)> {
+fn binding_pattern(pat: &Pat) -> Option<(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)> {
     let one = |p: &Pat| match p {
         Pat::Ident(pi) if pi.by_ref.is_none() && pi.mutability.is_none() && pi.subpat.is_none() => {
             Some(Some(pi.ident.clone()))
@@ -580,7 +600,8 @@ fn free_use(body: &syn::Block, name: &str) -> Option<proc_macro2::Ident> {
     impl<'ast> Visit<'ast> for Find<'_> {
         fn visit_expr_path(&mut self, p: &'ast syn::ExprPath) {
             if let Some(id) = p.path.get_ident() {
-                if p.qself.is_none() && self.first.is_none() && crate::model::unraw(id) == self.name {
+                if p.qself.is_none() && self.first.is_none() && crate::model::unraw(id) == self.name
+                {
                     self.first = Some(id.clone());
                 }
             }
@@ -592,7 +613,11 @@ fn free_use(body: &syn::Block, name: &str) -> Option<proc_macro2::Ident> {
             syn::visit::visit_pat_ident(self, p);
         }
     }
-    let mut f = Find { name, first: None, bound: false };
+    let mut f = Find {
+        name,
+        first: None,
+        bound: false,
+    };
     f.visit_block(body);
     if f.bound {
         None

@@ -391,7 +391,11 @@ impl Lower {
 
     /// Lowers L, then D and Q (if given) into the same DAG.
     fn bodies(&mut self, decl: &Decl) -> R<Bodies> {
-        let own: Vec<_> = decl.coords.iter().map(|c| (Some(&c.name), Some(&c.dot))).collect();
+        let own: Vec<_> = decl
+            .coords
+            .iter()
+            .map(|c| (Some(&c.name), Some(&c.dot)))
+            .collect();
         self.seed(decl, &own, decl.time.as_ref());
         let lagrangian = self.block(&decl.body)?;
         fn bindings(f: &Func) -> Vec<(Option<&proc_macro2::Ident>, Option<&proc_macro2::Ident>)> {
