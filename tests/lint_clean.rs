@@ -142,7 +142,10 @@ fn lint_clean_forces_and_dissipation() {
         j.accelerations(&[1.0, 2.0], &[3.0, 4.0], 0.0),
     ] {
         let a = a.unwrap_or([f64::NAN; 2]);
-        assert!((a[0] - want[0]).abs() < 1e-15 && (a[1] - want[1]).abs() < 1e-15, "{a:?}");
+        assert!(
+            (a[0] - want[0]).abs() < 1e-15 && (a[1] - want[1]).abs() < 1e-15,
+            "{a:?}"
+        );
     }
 }
 
