@@ -1,5 +1,5 @@
-//! Analyze and lower for the jets path: which bindings the body uses (CYCLIC, AUTONOMOUS), and
-//! the body rewritten so constants (`2.0`, `self.m`, `Vector3<f64>` fields) meet coordinate
+//! Analyze and lower for the jets path: which bindings the bodies use (CYCLIC, AUTONOMOUS,
+//! MOMENTUM_CONSERVED, ENERGY_CONSERVED), and each body rewritten so constants (`2.0`, `self.m`, `Vector3<f64>` fields) meet coordinate
 //! values through the runtime's mixed-arithmetic traits.
 //!
 //! Each expression gets a kind: `Const` (no dependence on q, q̇ or t: an `f64`, a

@@ -20,7 +20,7 @@ pub fn unparsed(errors: &Errors, input: TokenStream) -> TokenStream {
 
 /// What is emitted in place of the impl while parse or validation errors exist.
 pub struct Fallback {
-    /// The impl block without `fn lagrangian` and without any function that uses the macro's
+    /// The impl block without `fn lagrangian`, `fn dissipation`, `fn forces` and any function that uses the macro's
     /// own vocabulary (`Coord`, `Scalar`), so the user sees our errors and not cascades.
     rest: syn::ItemImpl,
     /// How many coordinate slots the (first) `fn lagrangian` declares, at least 1.
@@ -54,8 +54,8 @@ pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
 /// generic `fn dissipation` / `fn generalized_forces` (the bodies `funcs` of `decl.funcs()`,
 /// lowered for jets, in that order), and,
 /// given `symbolic`, the symbolic methods and the `EQUATIONS` consts; `errors` (from the
-/// symbolic stage) go after the impl, which then has only `fn lagrangian`, so rustc still
-/// type-checks the body as written (a genuine type error there is reported at the user's token
+/// symbolic stage) go after the impl, which then has only the generic methods, so rustc still
+/// type-checks the bodies as written (a genuine type error there is reported at the user's token
 /// too, and nothing cascades; the build fails either way: no silent fallback).
 pub fn generate(
     decl: &Decl,

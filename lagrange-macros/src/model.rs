@@ -116,7 +116,8 @@ pub struct Func {
 /// `fn lagrangian` after parsing and validation.
 #[derive(Clone)]
 pub struct Decl {
-    /// The impl block with `fn lagrangian` removed; everything else is emitted as written.
+    /// The impl block with `fn lagrangian`, `fn dissipation` and `fn forces` removed; everything
+    /// else is emitted as written.
     pub rest: syn::ItemImpl,
     /// Attributes on `fn lagrangian` (doc comments, `#[allow(...)]`, ...), kept on the generated fn.
     pub fn_attrs: Vec<syn::Attribute>,

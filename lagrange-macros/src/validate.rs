@@ -1,5 +1,5 @@
-//! Validate: every rule a `fn lagrangian` declaration must satisfy, each violation reported at
-//! the user's token, all of them at once.
+//! Validate: every rule a `fn lagrangian` declaration (and `fn dissipation` and `fn forces`
+//! next to it) must satisfy, each violation reported at the user's token, all of them at once.
 
 use std::collections::HashMap;
 

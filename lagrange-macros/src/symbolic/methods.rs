@@ -37,6 +37,8 @@ pub struct SymbolicOutput {
     pub energy_and_momenta: TokenStream,
     /// Lint attributes to put on each of the generated methods (machine-written code).
     pub allow: TokenStream,
+    /// Whether the system has `fn dissipation` or `fn forces` (the docs then name Q and D).
+    pub has_applied: bool,
     /// The Euler–Lagrange equations, plain Unicode, one line per coordinate.
     pub equations: String,
     /// The same equations in LaTeX, one line per coordinate.
@@ -207,9 +209,15 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     };
 
     let eq = print::equations(d, decl);
+    let has_applied = decl.dissipation.is_some() || decl.forces.is_some();
+    let law = if has_applied {
+        "d/dt ∂L/∂q̇ = ∂L/∂q + Q − ∂D/∂q̇"
+    } else {
+        "d/dt ∂L/∂q̇ = ∂L/∂q"
+    };
     let doc = format!(
         "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` \
-         (d/dt ∂L/∂q̇ = ∂L/∂q, one line per coordinate):\n\n```text\n{}\n```\n",
+         ({law}, one line per coordinate):\n\n```text\n{}\n```\n",
         eq.unicode
     );
     SymbolicOutput {
@@ -231,6 +239,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
                 clippy::nursery
             )]
         },
+        has_applied,
         equations: eq.unicode,
         equations_latex: eq.latex,
         doc,
@@ -256,6 +265,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         equations,
         equations_latex,
         doc,
+        has_applied,
         ..
     } = out;
     let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
@@ -296,9 +306,15 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
             #energy_and_momenta
         }
     };
+    let form = if *has_applied {
+        "`Σₖ Mᵢₖ q̈ₖ = fᵢ + Qᵢ − ∂D/∂q̇ᵢ` (accelerations on the left; on the right the terms of L, \
+         then the generalized forces Q, then the dissipative forces −∂D/∂q̇, each as its own group)"
+    } else {
+        "`Σₖ Mᵢₖ q̈ₖ = fᵢ` (accelerations on the left)"
+    };
     let eq_doc = format!(
         "The Euler–Lagrange equations, derived at compile time by `#[lagrangian]`: one line per \
-         coordinate, `Σₖ Mᵢₖ q̈ₖ = fᵢ` (accelerations on the left).\n\n```text\n{equations}\n```"
+         coordinate, {form}.\n\n```text\n{equations}\n```"
     );
     let latex_doc = "The Euler–Lagrange equations in LaTeX, one line per coordinate (the same \
                      equations as `EQUATIONS`).";
