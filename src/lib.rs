@@ -67,8 +67,9 @@
 //! The conservation flags follow one syntactic rule in both modes: `CYCLIC[i]` when qᵢ appears
 //! in none of L, D and Q; `MOMENTUM_CONSERVED[i]` when qᵢ is cyclic, q̇ᵢ does not appear in D and
 //! the i-th entry of the array `fn forces` ends with is a literal zero (`0.0`); `ENERGY_CONSERVED`
-//! when L has no explicit t, there is no D, and Q is absent or every entry a literal zero. `AUTONOMOUS` still
-//! means that L has no explicit t. In symbolic mode `fn forces` must end in an array literal.
+//! when L has no explicit t, there is no D, and Q is absent or every entry a literal zero.
+//! `AUTONOMOUS` still means that L has no explicit t. In symbolic mode `fn forces` must end in an
+//! array literal.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
