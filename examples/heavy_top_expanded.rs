@@ -243,47 +243,6 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         clippy::nursery
     )]
     #[inline]
-    fn mass_matrix(
-        &self,
-        __lagrange_q: &[f64; 3],
-        __lagrange_qdot: &[f64; 3],
-        __lagrange_t: f64,
-    ) -> ::lagrange::__private::SMatrix<f64, 3, 3> {
-        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
-        let __lagrange_p_i_perp: f64 = self.i_perp;
-        let __lagrange_p_i_par: f64 = self.i_par;
-        let (__lagrange_x8, __lagrange_x9): (f64, f64) = __lagrange_q[0].sin_cos();
-        let (__lagrange_x53, __lagrange_x55, __lagrange_x58): (f64, f64, f64) = (
-            __lagrange_x8 * __lagrange_x8,
-            __lagrange_x9 * __lagrange_x9,
-            __lagrange_x9 * __lagrange_p_i_par,
-        );
-        let (__lagrange_x54, __lagrange_x56): (f64, f64) = (
-            __lagrange_p_i_perp * __lagrange_x53,
-            __lagrange_p_i_par * __lagrange_x55,
-        );
-        let __lagrange_x57: f64 = __lagrange_x54 + __lagrange_x56;
-        ::lagrange::__private::SMatrix::<f64, 3, 3>::from_row_slice(&[
-            __lagrange_p_i_perp,
-            0.0,
-            0.0,
-            0.0,
-            __lagrange_x57,
-            __lagrange_x58,
-            0.0,
-            __lagrange_x58,
-            __lagrange_p_i_par,
-        ])
-    }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
-    #[inline]
     fn pieces(
         &self,
         __lagrange_q: &[f64; 3],
@@ -341,15 +300,13 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x77,
             __lagrange_x82,
             __lagrange_x85,
-            __lagrange_x104,
-        ): (f64, f64, f64, f64, f64, f64, f64) = (
+        ): (f64, f64, f64, f64, f64, f64) = (
             __lagrange_x54 + __lagrange_x56,
             __lagrange_p_i_perp * __lagrange_x65,
             __lagrange_x23 * __lagrange_x60,
             __lagrange_p_i_par * __lagrange_x63,
             __lagrange_p_i_perp * __lagrange_x80,
             __lagrange_x15 * __lagrange_x23,
-            __lagrange_p_i_par * __lagrange_x54,
         );
         let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (f64, f64, f64) = (
             2.0 * __lagrange_x67,
@@ -372,6 +329,60 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             ],
             [__lagrange_x95, __lagrange_x96, __lagrange_x77],
         )
+    }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn power(&self, __lagrange_q: &[f64; 3], __lagrange_qdot: &[f64; 3], __lagrange_t: f64) -> f64 {
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        0.0
+    }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn mass_matrix(
+        &self,
+        __lagrange_q: &[f64; 3],
+        __lagrange_qdot: &[f64; 3],
+        __lagrange_t: f64,
+    ) -> ::lagrange::__private::SMatrix<f64, 3, 3> {
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        let __lagrange_p_i_perp: f64 = self.i_perp;
+        let __lagrange_p_i_par: f64 = self.i_par;
+        let (__lagrange_x8, __lagrange_x9): (f64, f64) = __lagrange_q[0].sin_cos();
+        let (__lagrange_x53, __lagrange_x55, __lagrange_x58): (f64, f64, f64) = (
+            __lagrange_x8 * __lagrange_x8,
+            __lagrange_x9 * __lagrange_x9,
+            __lagrange_x9 * __lagrange_p_i_par,
+        );
+        let (__lagrange_x54, __lagrange_x56): (f64, f64) = (
+            __lagrange_p_i_perp * __lagrange_x53,
+            __lagrange_p_i_par * __lagrange_x55,
+        );
+        let __lagrange_x57: f64 = __lagrange_x54 + __lagrange_x56;
+        ::lagrange::__private::SMatrix::<f64, 3, 3>::from_row_slice(&[
+            __lagrange_p_i_perp,
+            0.0,
+            0.0,
+            0.0,
+            __lagrange_x57,
+            __lagrange_x58,
+            0.0,
+            __lagrange_x58,
+            __lagrange_p_i_par,
+        ])
     }
     #[allow(
         unused_variables,

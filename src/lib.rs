@@ -20,6 +20,56 @@
 //! let a = p.accelerations(&[0.3], &[0.0], 0.0).unwrap();
 //! assert!((a[0] + 9.81 / 2.0 * 0.3_f64.sin()).abs() < 1e-14);
 //! ```
+//!
+//! ## Dissipation and generalized forces
+//!
+//! Forces that L does not describe go into two optional functions in the same impl block, in
+//! both modes: `fn dissipation`, the Rayleigh dissipation function D(q, q̇, t) ≥ 0 (returns
+//! `Scalar`), and `fn forces`, the generalized forces Q(q, q̇, t) (returns `[Scalar; N]`, one
+//! entry per coordinate slot in declaration order; a `Coord3` takes three, x, y, z). The
+//! equations of motion become d/dt ∂L/∂q̇ − ∂L/∂q = Q − ∂D/∂q̇.
+//!
+//! Their coordinate parameters are `lagrangian`'s, all of them, in the same order and of the
+//! same kinds (`Coord`, `Coord3`); any binding may be `_` (`(x, _)`, `(_, _)`) and names may
+//! differ; `t: Time` is optional in each function independently. Bindings a body does not use
+//! produce no warnings.
+//!
+//! ```
+//! use lagrange::prelude::*;
+//!
+//! /// A damped pendulum driven by a periodic torque.
+//! pub struct DrivenPendulum { pub m: f64, pub l: f64, pub g: f64, pub b: f64, pub a: f64, pub w: f64 }
+//!
+//! #[lagrangian]
+//! impl DrivenPendulum {
+//!     fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
+//!         0.5 * self.m * self.l * self.l * theta_dot.powi(2) + self.m * self.g * self.l * theta.cos()
+//!     }
+//!     /// Rayleigh dissipation function D(q, q̇, t) ≥ 0; its −∂D/∂q̇ joins the generalized forces.
+//!     fn dissipation(&self, (_, theta_dot): Coord) -> Scalar {
+//!         0.5 * self.b * theta_dot.powi(2)
+//!     }
+//!     /// Generalized forces Q(q, q̇, t), one per coordinate in declaration order.
+//!     fn forces(&self, _: Coord, t: Time) -> [Scalar; 1] {
+//!         [self.a * (self.w * t).cos()]
+//!     }
+//! }
+//!
+//! let p = DrivenPendulum { m: 1.0, l: 1.0, g: 9.81, b: 0.5, a: 2.0, w: 1.0 };
+//! let a = p.accelerations(&[0.0], &[1.0], 0.0).unwrap();
+//! assert!((a[0] - (2.0 - 0.5)).abs() < 1e-14); // a cos(0) − b θ̇
+//! // The printed equations show where each term comes from: L, then Q, then −∂D/∂q̇.
+//! assert_eq!(DrivenPendulum::EQUATIONS, "theta: m l² θ̈ = −m l g sin(θ) + a cos(w t) − b θ̇");
+//! // Neither the energy nor the momentum is conserved here.
+//! assert!(!<DrivenPendulum as Lagrangian<1>>::ENERGY_CONSERVED);
+//! ```
+//!
+//! The conservation flags follow one syntactic rule in both modes: `CYCLIC[i]` when qᵢ appears
+//! in none of L, D and Q; `MOMENTUM_CONSERVED[i]` when qᵢ is cyclic, q̇ᵢ does not appear in D and
+//! the i-th entry of the array `fn forces` ends with is a literal zero (`0.0`); `ENERGY_CONSERVED`
+//! when L has no explicit t, there is no D, and Q is absent or every entry a literal zero.
+//! `AUTONOMOUS` still means that L has no explicit t. In symbolic mode `fn forces` must end in an
+//! array literal.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 

@@ -1,5 +1,5 @@
-//! Analyze and lower for the jets path: which bindings the body uses (CYCLIC, AUTONOMOUS), and
-//! the body rewritten so constants (`2.0`, `self.m`, `Vector3<f64>` fields) meet coordinate
+//! Analyze and lower for the jets path: which bindings the bodies use (CYCLIC, AUTONOMOUS,
+//! MOMENTUM_CONSERVED, ENERGY_CONSERVED), and each body rewritten so constants (`2.0`, `self.m`, `Vector3<f64>` fields) meet coordinate
 //! values through the runtime's mixed-arithmetic traits.
 //!
 //! Each expression gets a kind: `Const` (no dependence on q, q̇ or t: an `f64`, a
@@ -18,96 +18,117 @@ use syn::spanned::Spanned;
 use syn::visit::Visit;
 use syn::{BinOp, Block, Expr, Pat, Stmt};
 
-use crate::model::{unraw, AuxKind, Decl};
+use crate::model::{unraw, Decl, Func, FuncKind};
 
 /// What the analysis found.
 pub struct Analysis {
     /// Names mentioned anywhere in the body of `fn lagrangian`.
     pub used: HashSet<String>,
-    /// CYCLIC, one per slot: the coordinate appears in none of L, D, Q.
+    /// Names mentioned anywhere in the body of `fn dissipation` (empty without one).
+    pub dissipation_used: HashSet<String>,
+    /// Names mentioned anywhere in the body of `fn forces` (empty without one).
+    pub forces_used: HashSet<String>,
+    /// CYCLIC, one per slot: q_i appears in none of L, D and Q.
     pub cyclic: Vec<bool>,
-    /// AUTONOMOUS: L has no explicit time.
+    /// AUTONOMOUS: L has no explicit t.
     pub autonomous: bool,
-    /// Names mentioned in the body of each `fn dissipation` / `fn forces` (as in `decl.aux`).
-    pub aux_used: Vec<HashSet<String>>,
-    /// MOMENTUM_CONSERVED, one per slot: cyclic, q̇ absent from D, and Q's entry a literal zero.
+    /// MOMENTUM_CONSERVED, one per slot: cyclic, q̇_i absent from D, and Q's i-th entry a
+    /// literal zero in the array `fn forces` ends with.
     pub momentum_conserved: Vec<bool>,
-    /// ENERGY_CONSERVED: autonomous, no D, and no Q (or every entry a literal zero).
+    /// ENERGY_CONSERVED: autonomous, no D, and no Q (or every entry of Q a literal zero).
     pub energy_conserved: bool,
 }
 
-/// The names a body mentions.
-pub fn mentions(body: &Block) -> HashSet<String> {
-    let mut v = Mentions::default();
-    v.visit_block(body);
-    v.0
-}
-
-/// Names used in the bodies, and from them the flags.
+/// Names used in the bodies, and from them CYCLIC, AUTONOMOUS, MOMENTUM_CONSERVED and
+/// ENERGY_CONSERVED. One syntactic rule for both modes, so the modes agree.
 pub fn analyze(decl: &Decl) -> Analysis {
-    let used = mentions(&decl.body);
-    let aux_used: Vec<HashSet<String>> = decl.aux.iter().map(|a| mentions(&a.body)).collect();
-    let n = decl.n();
-    let mut cyclic = Vec::with_capacity(n);
-    let mut dot_free = Vec::with_capacity(n);
-    for (k, c) in decl.coords.iter().enumerate() {
-        let mut absent = !used.contains(&unraw(&c.name));
-        let mut no_dissipation = true;
-        for (a, names) in decl.aux.iter().zip(&aux_used) {
-            let (name, dot) = &a.binds[k];
-            let mentioned = |x: &Option<proc_macro2::Ident>| {
-                x.as_ref().is_some_and(|x| names.contains(&unraw(x)))
-            };
-            absent &= !mentioned(name);
-            if a.kind == AuxKind::Dissipation {
-                no_dissipation &= !mentioned(dot);
-            }
-        }
-        cyclic.extend(std::iter::repeat_n(absent, c.width()));
-        dot_free.extend(std::iter::repeat_n(no_dissipation, c.width()));
-    }
-    let forces = decl.aux.iter().find(|a| a.kind == AuxKind::Forces);
-    let zero_force: Vec<bool> = match forces {
-        None => vec![true; n],
-        Some(f) => literal_zero_entries(&f.body, n),
+    let mentions = |b: &Block| {
+        let mut v = Mentions::default();
+        v.visit_block(b);
+        v.0
     };
-    let momentum_conserved = (0..n)
-        .map(|i| cyclic[i] && dot_free[i] && zero_force[i])
-        .collect();
+    let used = mentions(&decl.body);
+    let dissipation_used = decl
+        .dissipation
+        .as_ref()
+        .map(|f| mentions(&f.body))
+        .unwrap_or_default();
+    let forces_used = decl
+        .forces
+        .as_ref()
+        .map(|f| mentions(&f.body))
+        .unwrap_or_default();
+    // Whether binding `k` (0: coordinate, 1: velocity) of coordinate parameter `p` of `f` is
+    // used in its body.
+    let in_func = |f: Option<&Func>, used: &HashSet<String>, p: usize, velocity: bool| {
+        f.and_then(|f| f.bindings.get(p))
+            .and_then(|(c, v)| if velocity { v.as_ref() } else { c.as_ref() })
+            .is_some_and(|id| used.contains(&unraw(id)))
+    };
+    // Q's entries that are a literal zero (all false when the tail is not an array literal).
+    let n = decl.n();
+    let zero_force: Vec<bool> = match &decl.forces {
+        None => vec![true; n],
+        Some(f) => match tail_array(&f.body) {
+            Some(elems) if elems.len() == n => elems.iter().map(|e| is_literal_zero(e)).collect(),
+            _ => vec![false; n],
+        },
+    };
+    let mut cyclic = Vec::with_capacity(n);
+    let mut momentum_conserved = Vec::with_capacity(n);
+    for (p, c) in decl.coords.iter().enumerate() {
+        let absent = !used.contains(&unraw(&c.name))
+            && !in_func(decl.dissipation.as_ref(), &dissipation_used, p, false)
+            && !in_func(decl.forces.as_ref(), &forces_used, p, false);
+        let undamped = !in_func(decl.dissipation.as_ref(), &dissipation_used, p, true);
+        for &zero in &zero_force[c.first_index..c.first_index + c.width()] {
+            cyclic.push(absent);
+            momentum_conserved.push(absent && undamped && zero);
+        }
+    }
     let autonomous = decl.time.as_ref().is_none_or(|t| !used.contains(&unraw(t)));
-    let has_dissipation = decl.aux.iter().any(|a| a.kind == AuxKind::Dissipation);
-    let energy_conserved = autonomous && !has_dissipation && zero_force.iter().all(|z| *z);
+    let energy_conserved =
+        autonomous && decl.dissipation.is_none() && zero_force.iter().all(|z| *z);
     Analysis {
         used,
+        dissipation_used,
+        forces_used,
         cyclic,
         autonomous,
-        aux_used,
         momentum_conserved,
         energy_conserved,
     }
 }
 
-/// Which entries of the array a `fn forces` body ends in are a literal zero (`0.0`, `-0.0`,
-/// `0.`); all `false` when the body does not end in an array literal of length `n`.
-fn literal_zero_entries(body: &Block, n: usize) -> Vec<bool> {
-    fn zero(e: &Expr) -> bool {
-        match e {
-            Expr::Lit(l) => match &l.lit {
-                syn::Lit::Float(f) => f.base10_parse::<f64>().is_ok_and(|x| x == 0.0),
-                syn::Lit::Int(i) => i.base10_parse::<i64>().is_ok_and(|x| x == 0),
-                _ => false,
-            },
-            Expr::Unary(u) if matches!(u.op, syn::UnOp::Neg(_)) => zero(&u.expr),
-            Expr::Paren(p) => zero(&p.expr),
-            Expr::Group(g) => zero(&g.expr),
-            _ => false,
-        }
-    }
+/// The elements of the array literal a body ends with (`[a, b, c]` as its tail expression).
+pub fn tail_array(body: &Block) -> Option<Vec<&Expr>> {
     match body.stmts.last() {
-        Some(Stmt::Expr(Expr::Array(a), None)) if a.elems.len() == n => {
-            a.elems.iter().map(zero).collect()
-        }
-        _ => vec![false; n],
+        Some(Stmt::Expr(e, None)) => match paren_less(e) {
+            Expr::Array(a) => Some(a.elems.iter().collect()),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+fn paren_less(e: &Expr) -> &Expr {
+    match e {
+        Expr::Paren(p) => paren_less(&p.expr),
+        Expr::Group(g) => paren_less(&g.expr),
+        _ => e,
+    }
+}
+
+/// A number literal equal to zero (`0.0`, `0`, `-0.0`, `0.0_f64`), possibly in parentheses.
+fn is_literal_zero(e: &Expr) -> bool {
+    match paren_less(e) {
+        Expr::Lit(l) => match &l.lit {
+            syn::Lit::Float(f) => f.base10_parse::<f64>().is_ok_and(|x| x == 0.0),
+            syn::Lit::Int(i) => i.base10_parse::<u64>().is_ok_and(|x| x == 0),
+            _ => false,
+        },
+        Expr::Unary(u) if matches!(u.op, syn::UnOp::Neg(_)) => is_literal_zero(&u.expr),
+        _ => false,
     }
 }
 
@@ -126,18 +147,25 @@ impl Analysis {
             .collect()
     }
 
-    /// The same for the `k`-th of `decl.aux`.
-    pub fn aux_bound(&self, decl: &Decl, k: usize) -> Vec<String> {
-        let a = &decl.aux[k];
-        let used = &self.aux_used[k];
-        a.binds
+    /// The names of `f` (`fn dissipation` or `fn forces`) its body mentions: what its generated
+    /// method binds.
+    pub fn bound_func(&self, f: &Func) -> Vec<String> {
+        let used = self.func_used(f);
+        f.bindings
             .iter()
-            .flat_map(|(x, v)| [x, v])
-            .chain(std::iter::once(&a.time))
-            .flatten()
+            .flat_map(|(c, v)| c.iter().chain(v))
+            .chain(&f.time)
             .map(unraw)
             .filter(|name| used.contains(name))
             .collect()
+    }
+
+    /// The names the body of `f` mentions.
+    pub fn func_used(&self, f: &Func) -> &HashSet<String> {
+        match f.kind {
+            FuncKind::Dissipation => &self.dissipation_used,
+            FuncKind::Forces => &self.forces_used,
+        }
     }
 }
 
@@ -209,6 +237,31 @@ pub fn lower_for_jets(body: &Block, vars: &[String]) -> Block {
     let kind = rw.block(&mut body);
     if kind == Kind::Const {
         lift_block_tail(&mut body);
+    }
+    body
+}
+
+/// Rewrites the body of `fn forces` (an array of `Scalar`s) for the jets path: as
+/// [`lower_for_jets`], and a tail of constants becomes an array of `Scalar`s (each element of an
+/// array literal lifted, any other array mapped through the lift).
+pub fn lower_array_for_jets(body: &Block, vars: &[String]) -> Block {
+    let mut rw = Rewriter {
+        scopes: vec![vars.iter().map(|v| (v.clone(), Kind::Var)).collect()],
+    };
+    let mut body = body.clone();
+    let kind = rw.block(&mut body);
+    if kind == Kind::Const {
+        if let Some(Stmt::Expr(e, None)) = body.stmts.last_mut() {
+            match e {
+                Expr::Array(a) => a.elems.iter_mut().for_each(lift_in_place),
+                other => {
+                    let span = other.span();
+                    *other = Expr::Verbatim(
+                        quote_spanned!(span=> (#other).map(::lagrange::__private::lift::<Scalar, _>)),
+                    );
+                }
+            }
+        }
     }
     body
 }

@@ -1,14 +1,14 @@
 //! Emit: the `impl Lagrangian<N>` (or, while errors exist, the errors and a stub impl). Only
 //! emission: the driver (`expand.rs`) runs the stages and hands their results here.
 
-use proc_macro2::TokenStream;
+use std::collections::HashSet;
+
+use proc_macro2::{Ident, TokenStream};
 use quote::{quote, quote_spanned};
 
 use crate::analyze::Analysis;
 use crate::errors::Errors;
-use proc_macro2::Ident;
-
-use crate::model::{unraw, AuxKind, CoordKind, Decl};
+use crate::model::{unraw, CoordKind, Decl, Func, FuncKind};
 use crate::symbolic::SymbolicOutput;
 use crate::{parse, validate};
 
@@ -20,7 +20,7 @@ pub fn unparsed(errors: &Errors, input: TokenStream) -> TokenStream {
 
 /// What is emitted in place of the impl while parse or validation errors exist.
 pub struct Fallback {
-    /// The impl block without `fn lagrangian` and without any function that uses the macro's
+    /// The impl block without `fn lagrangian`, `fn dissipation`, `fn forces` and any function that uses the macro's
     /// own vocabulary (`Coord`, `Scalar`), so the user sees our errors and not cascades.
     rest: syn::ItemImpl,
     /// How many coordinate slots the (first) `fn lagrangian` declares, at least 1.
@@ -50,16 +50,18 @@ pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
     quote!(#errs #rest #stub)
 }
 
-/// The `impl Lagrangian<N>`: the jets `fn lagrangian` (its body `body`, lowered for jets) and,
+/// The `impl Lagrangian<N>`: the jets `fn lagrangian` (its body `body`, lowered for jets), the
+/// generic `fn dissipation` / `fn generalized_forces` (the bodies `funcs` of `decl.funcs()`,
+/// lowered for jets, in that order), and,
 /// given `symbolic`, the symbolic methods and the `EQUATIONS` consts; `errors` (from the
-/// symbolic stage) go after the impl, which then has only `fn lagrangian`, so rustc still
-/// type-checks the body as written (a genuine type error there is reported at the user's token
+/// symbolic stage) go after the impl, which then has only the generic methods, so rustc still
+/// type-checks the bodies as written (a genuine type error there is reported at the user's token
 /// too, and nothing cascades; the build fails either way: no silent fallback).
 pub fn generate(
     decl: &Decl,
     analysis: &Analysis,
     body: &syn::Block,
-    aux_bodies: &[syn::Block],
+    funcs: &[syn::Block],
     symbolic: Option<&SymbolicOutput>,
     errors: &Errors,
 ) -> TokenStream {
@@ -72,19 +74,14 @@ pub fn generate(
 
     // Bindings of the user's names to the jets' slots; names the body never mentions are not
     // bound (no unused-variable warnings for cyclic coordinates).
-    let slots: Vec<(CoordKind, usize, Option<&Ident>, Option<&Ident>)> = decl
+    let params = crate::names::Params::jets();
+    let coords: Vec<(Option<&Ident>, Option<&Ident>)> = decl
         .coords
         .iter()
-        .map(|c| (c.kind, c.first_index, Some(&c.name), Some(&c.dot)))
+        .map(|c| (Some(&c.name), Some(&c.dot)))
         .collect();
-    let lagrangian_params = params(&slots, decl.time.as_ref(), &analysis.used);
-    let Bound {
-        q_pat,
-        qdot_pat,
-        t_pat,
-        bindings,
-    } = lagrangian_params;
-
+    let (bindings, [q_pat, qdot_pat, t_pat]) =
+        bind_slots(decl, &coords, decl.time.as_ref(), &analysis.used, &params);
     let stmts = &body.stmts;
     let fn_attrs = &decl.fn_attrs;
     let ret = quote_spanned!(decl.ret_span=> Scalar);
@@ -94,73 +91,25 @@ pub fn generate(
         Some(out) => crate::symbolic::methods(out, n, self_ty),
         None => (quote!(), errors.to_compile_errors()),
     };
-    let nn = proc_macro2::Literal::usize_unsuffixed(n);
-    let lints = quote! {
-        #[allow(
-            clippy::all,
-            clippy::pedantic,
-            clippy::nursery,
-            unused_parens,
-            unused_braces,
-            non_snake_case
-        )]
-    };
 
-    // `fn dissipation` / `fn forces` as the trait's generic methods, bound and lowered like L.
-    let mut aux_methods = TokenStream::new();
-    for (k, (a, lowered)) in decl.aux.iter().zip(aux_bodies).enumerate() {
-        let slots: Vec<(CoordKind, usize, Option<&Ident>, Option<&Ident>)> = decl
-            .coords
-            .iter()
-            .zip(&a.binds)
-            .map(|(c, (x, v))| (c.kind, c.first_index, x.as_ref(), v.as_ref()))
-            .collect();
-        let Bound {
-            q_pat,
-            qdot_pat,
-            t_pat,
-            bindings,
-        } = params(&slots, a.time.as_ref(), &analysis.aux_used[k]);
-        let attrs = &a.attrs;
-        let self_token = &a.self_token;
-        let stmts = &lowered.stmts;
-        let (method, ret) = match a.kind {
-            AuxKind::Dissipation => (
-                quote_spanned!(a.ident.span()=> dissipation),
-                quote_spanned!(a.ret_span=> Scalar),
-            ),
-            AuxKind::Forces => (
-                quote_spanned!(a.ident.span()=> generalized_forces),
-                quote_spanned!(a.ret_span=> [Scalar; #nn]),
-            ),
-        };
-        aux_methods.extend(quote! {
-            #(#attrs)*
-            #[inline]
-            #lints
-            fn #method<Scalar: ::lagrange::__private::Scalar>(
-                &#self_token,
-                #q_pat: &[Scalar; #nn],
-                #qdot_pat: &[Scalar; #nn],
-                #t_pat: Scalar,
-            ) -> #ret {
-                #(#bindings)*
-                #(#stmts)*
-            }
-        });
-    }
-    // The conservation flags, where forces or dissipation make them differ from the defaults.
-    let flags = if decl.aux.is_empty() {
-        quote!()
-    } else {
-        let conserved = &analysis.momentum_conserved;
-        let energy = analysis.energy_conserved;
+    let extras: Vec<TokenStream> = decl
+        .funcs()
+        .zip(funcs)
+        .map(|(f, body)| jets_func(decl, analysis, f, body))
+        .collect();
+    // The flags that differ from their defaults only with forces or dissipation.
+    let conserved = if decl.dissipation.is_some() || decl.forces.is_some() {
+        let m = &analysis.momentum_conserved;
+        let e = analysis.energy_conserved;
         quote! {
-            const MOMENTUM_CONSERVED: [bool; #nn] = [#(#conserved),*];
-            const ENERGY_CONSERVED: bool = #energy;
+            const MOMENTUM_CONSERVED: [bool; #n] = [#(#m),*];
+            const ENERGY_CONSERVED: bool = #e;
         }
+    } else {
+        quote!()
     };
 
+    let n = proc_macro2::Literal::usize_unsuffixed(n);
     // The rest of the user's impl block, unless it was only the Lagrangian.
     let rest = if rest.items.is_empty() && rest.attrs.is_empty() {
         quote!()
@@ -171,58 +120,63 @@ pub fn generate(
         #rest
 
         #[automatically_derived]
-        impl ::lagrange::__private::Lagrangian<#nn> for #self_ty {
-            const COORDINATES: [&'static str; #nn] = [#(#names),*];
-            const CYCLIC: [bool; #nn] = [#(#cyclic),*];
+        impl ::lagrange::__private::Lagrangian<#n> for #self_ty {
+            const COORDINATES: [&'static str; #n] = [#(#names),*];
+            const CYCLIC: [bool; #n] = [#(#cyclic),*];
             const AUTONOMOUS: bool = #autonomous;
-            #flags
+            #conserved
 
             #(#fn_attrs)*
             #[inline]
-            #lints
+            #[allow(
+                clippy::all,
+                clippy::pedantic,
+                clippy::nursery,
+                unused_parens,
+                unused_braces,
+                non_snake_case
+            )]
             fn #fn_ident<Scalar: ::lagrange::__private::Scalar>(
                 &#self_token,
-                #q_pat: &[Scalar; #nn],
-                #qdot_pat: &[Scalar; #nn],
+                #q_pat: &[Scalar; #n],
+                #qdot_pat: &[Scalar; #n],
                 #t_pat: Scalar,
             ) -> #ret {
                 #(#bindings)*
                 #(#stmts)*
             }
-            #aux_methods
+            #(#extras)*
             #symbolic_methods
         }
         #symbolic_consts
     }
 }
 
-/// The parameter patterns and the `let`s binding a generated method's slots to the user's names.
-struct Bound {
-    q_pat: TokenStream,
-    qdot_pat: TokenStream,
-    t_pat: TokenStream,
-    bindings: Vec<TokenStream>,
-}
-
-/// Binds each slot's coordinate and velocity name (where the body mentions it) and the time.
-fn params(
-    slots: &[(CoordKind, usize, Option<&Ident>, Option<&Ident>)],
+/// `let` bindings of the user's names (those `used` mentions) to the slots of the generated
+/// parameters `params`, and the patterns of the three parameters (`_` for one nothing reads).
+/// `coords` has one entry per coordinate parameter of `decl`: the coordinate and velocity
+/// names, `None` for `_`.
+fn bind_slots(
+    decl: &Decl,
+    coords: &[(Option<&Ident>, Option<&Ident>)],
     time: Option<&Ident>,
-    used: &std::collections::HashSet<String>,
-) -> Bound {
-    let crate::names::Params { q, qdot, t } = crate::names::Params::jets();
+    used: &HashSet<String>,
+    params: &crate::names::Params,
+) -> (Vec<TokenStream>, [TokenStream; 3]) {
+    let crate::names::Params { q, qdot, t } = params;
     let mut bindings = Vec::new();
     let (mut uses_q, mut uses_qdot) = (false, false);
-    for &(kind, first, name, dot) in slots {
-        for (ident, array, used_flag) in [(name, &q, &mut uses_q), (dot, &qdot, &mut uses_qdot)] {
+    for (c, (name, dot)) in decl.coords.iter().zip(coords) {
+        for (ident, array, used_flag) in [(name, q, &mut uses_q), (dot, qdot, &mut uses_qdot)] {
             let Some(ident) = ident else { continue };
             if !used.contains(&unraw(ident)) {
                 continue;
             }
             *used_flag = true;
+            let i = c.first_index;
             let lit = proc_macro2::Literal::usize_unsuffixed;
-            let (i, i1, i2) = (lit(first), lit(first + 1), lit(first + 2));
-            bindings.push(match kind {
+            let (i, i1, i2) = (lit(i), lit(i + 1), lit(i + 2));
+            bindings.push(match c.kind {
                 CoordKind::Scalar => quote!(let #ident = #array[#i];),
                 CoordKind::Vector3 => {
                     quote!(let #ident = ::lagrange::__private::Vector3::new(#array[#i], #array[#i1], #array[#i2]);)
@@ -237,11 +191,57 @@ fn params(
             bindings.push(quote!(let #time = #t;));
         }
     }
-    Bound {
-        q_pat: if uses_q { quote!(#q) } else { quote!(_) },
-        qdot_pat: if uses_qdot { quote!(#qdot) } else { quote!(_) },
-        t_pat: if uses_t { quote!(#t) } else { quote!(_) },
-        bindings,
+    let q_pat = if uses_q { quote!(#q) } else { quote!(_) };
+    let qdot_pat = if uses_qdot { quote!(#qdot) } else { quote!(_) };
+    let t_pat = if uses_t { quote!(#t) } else { quote!(_) };
+    (bindings, [q_pat, qdot_pat, t_pat])
+}
+
+/// The generic trait method of `fn dissipation` or `fn forces` (`dissipation<Scalar>`,
+/// `generalized_forces<Scalar>`) with the user's body `body`, lowered for jets.
+fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
+    let params = crate::names::Params::jets();
+    let coords: Vec<(Option<&Ident>, Option<&Ident>)> = f
+        .bindings
+        .iter()
+        .map(|(c, v)| (c.as_ref(), v.as_ref()))
+        .collect();
+    let (bindings, [q_pat, qdot_pat, t_pat]) = bind_slots(
+        decl,
+        &coords,
+        f.time.as_ref(),
+        analysis.func_used(f),
+        &params,
+    );
+    let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
+    let ret = match f.kind {
+        FuncKind::Dissipation => quote_spanned!(f.ret_span=> Scalar),
+        FuncKind::Forces => quote_spanned!(f.ret_span=> [Scalar; #n]),
+    };
+    let ident = Ident::new(f.kind.trait_method(), f.fn_ident.span());
+    let attrs = &f.fn_attrs;
+    let self_token = &f.self_token;
+    let stmts = &body.stmts;
+    quote! {
+        #(#attrs)*
+        #[inline]
+        #[allow(
+            clippy::all,
+            clippy::pedantic,
+            clippy::nursery,
+            unused_parens,
+            unused_braces,
+            non_snake_case
+        )]
+        fn #ident<Scalar: ::lagrange::__private::Scalar>(
+            &#self_token,
+            #q_pat: &[Scalar; #n],
+            #qdot_pat: &[Scalar; #n],
+            #t_pat: Scalar,
+        ) -> #ret {
+            #(#bindings)*
+            #(#stmts)*
+        }
     }
 }
 

@@ -16,9 +16,11 @@ impl Errors {
     pub fn at(&mut self, tokens: impl quote::ToTokens, msg: impl std::fmt::Display) {
         self.push(syn::Error::new_spanned(tokens, msg));
     }
-    /// How many errors were pushed.
-    pub fn count(&self) -> usize {
-        self.0.as_ref().map_or(0, |e| e.clone().into_iter().count())
+    /// Adds every error of `other`.
+    pub fn push_all(&mut self, other: Errors) {
+        if let Some(e) = other.0 {
+            self.push(e);
+        }
     }
     /// Whether nothing was pushed.
     pub fn is_empty(&self) -> bool {

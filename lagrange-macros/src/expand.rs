@@ -4,7 +4,7 @@
 use proc_macro2::TokenStream;
 
 use crate::errors::Errors;
-use crate::model::Mode;
+use crate::model::{FuncKind, Mode};
 use crate::{analyze, emit, parse, symbolic, validate};
 
 /// The whole macro, from the attribute's arguments and the annotated item to the output.
@@ -25,8 +25,15 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     };
     let analysis = analyze::analyze(&decl);
     let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl));
-    let aux_bodies: Vec<syn::Block> = (0..decl.aux.len())
-        .map(|k| analyze::lower_for_jets(&decl.aux[k].body, &analysis.aux_bound(&decl, k)))
+    let funcs: Vec<syn::Block> = decl
+        .funcs()
+        .map(|f| {
+            let vars = analysis.bound_func(f);
+            match f.kind {
+                FuncKind::Dissipation => analyze::lower_for_jets(&f.body, &vars),
+                FuncKind::Forces => analyze::lower_array_for_jets(&f.body, &vars),
+            }
+        })
         .collect();
     let symbolic = match decl.options.mode {
         Mode::Jets => None,
@@ -35,12 +42,5 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     // With errors from the symbolic stage the impl is still emitted (with the jets `fn
     // lagrangian` and without the symbolic methods), next to the errors: see `emit::generate`.
     let symbolic = symbolic.filter(|_| errors.is_empty());
-    emit::generate(
-        &decl,
-        &analysis,
-        &body,
-        &aux_bodies,
-        symbolic.as_ref(),
-        &errors,
-    )
+    emit::generate(&decl, &analysis, &body, &funcs, symbolic.as_ref(), &errors)
 }

@@ -64,10 +64,60 @@ impl CoordParam {
     }
 }
 
+/// Which of the optional functions next to `fn lagrangian` a [`Func`] is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FuncKind {
+    /// `fn dissipation(&self, ...) -> Scalar`: the Rayleigh dissipation function D.
+    Dissipation,
+    /// `fn forces(&self, ...) -> [Scalar; N]`: the generalized forces Q.
+    Forces,
+}
+
+impl FuncKind {
+    /// The name the user writes (`dissipation`, `forces`).
+    pub fn user_name(self) -> &'static str {
+        match self {
+            FuncKind::Dissipation => "dissipation",
+            FuncKind::Forces => "forces",
+        }
+    }
+    /// The `Lagrangian` trait method it becomes.
+    pub fn trait_method(self) -> &'static str {
+        match self {
+            FuncKind::Dissipation => "dissipation",
+            FuncKind::Forces => "generalized_forces",
+        }
+    }
+}
+
+/// `fn dissipation` or `fn forces` after validation: the same coordinates as `fn lagrangian`
+/// (bound under names of its own, or not at all), its own optional time.
+#[derive(Clone)]
+pub struct Func {
+    /// Dissipation or forces.
+    pub kind: FuncKind,
+    /// Attributes on the function (doc comments, `#[allow(...)]`), kept on the generated method.
+    pub fn_attrs: Vec<syn::Attribute>,
+    /// The function's identifier as written (for spans).
+    pub fn_ident: Ident,
+    /// The span of the return type.
+    pub ret_span: Span,
+    /// One entry per coordinate parameter of `fn lagrangian`, in its order: the coordinate and
+    /// velocity bindings (`None` for `_`).
+    pub bindings: Vec<(Option<Ident>, Option<Ident>)>,
+    /// The `t: Time` parameter, if any.
+    pub time: Option<Ident>,
+    /// The body as written.
+    pub body: syn::Block,
+    /// The `self` token of the receiver as written.
+    pub self_token: syn::Token![self],
+}
+
 /// `fn lagrangian` after parsing and validation.
 #[derive(Clone)]
 pub struct Decl {
-    /// The impl block with `fn lagrangian` removed; everything else is emitted as written.
+    /// The impl block with `fn lagrangian`, `fn dissipation` and `fn forces` removed; everything
+    /// else is emitted as written.
     pub rest: syn::ItemImpl,
     /// Attributes on `fn lagrangian` (doc comments, `#[allow(...)]`, ...), kept on the generated fn.
     pub fn_attrs: Vec<syn::Attribute>,
@@ -86,56 +136,20 @@ pub struct Decl {
     pub self_token: syn::Token![self],
     /// Attribute options.
     pub options: Options,
-    /// `fn dissipation` and `fn forces`, when declared.
-    pub aux: Vec<Aux>,
-}
-
-/// Which optional function of the impl block.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AuxKind {
-    /// `fn dissipation(...) -> Scalar`: the Rayleigh dissipation function D(q, q̇, t).
-    Dissipation,
-    /// `fn forces(...) -> [Scalar; N]`: the generalized forces Q(q, q̇, t).
-    Forces,
-}
-
-impl AuxKind {
-    /// The name the user writes.
-    pub fn name(self) -> &'static str {
-        match self {
-            AuxKind::Dissipation => "dissipation",
-            AuxKind::Forces => "forces",
-        }
-    }
-}
-
-/// `fn dissipation` or `fn forces` after validation: the same coordinates as `fn lagrangian`,
-/// bound under this function's own names (`_` for unused), and its own optional `t: Time`.
-#[derive(Clone)]
-pub struct Aux {
-    /// Which function.
-    pub kind: AuxKind,
-    /// Its attributes (doc comments, lints), kept on the generated method.
-    pub attrs: Vec<syn::Attribute>,
-    /// The function's name (for spans).
-    pub ident: Ident,
-    /// The return type's span.
-    pub ret_span: Span,
-    /// Per coordinate parameter of `fn lagrangian`, in order: this function's names for the
-    /// coordinate and its velocity (`None` where bound to `_`).
-    pub binds: Vec<(Option<Ident>, Option<Ident>)>,
-    /// `t: Time`, if declared.
-    pub time: Option<Ident>,
-    /// The body as written.
-    pub body: syn::Block,
-    /// The `self` token of the receiver.
-    pub self_token: syn::Token![self],
+    /// `fn dissipation`, if the impl block has one.
+    pub dissipation: Option<Func>,
+    /// `fn forces`, if the impl block has one.
+    pub forces: Option<Func>,
 }
 
 impl Decl {
     /// Number of generalized coordinates N.
     pub fn n(&self) -> usize {
         self.coords.iter().map(CoordParam::width).sum()
+    }
+    /// `fn dissipation` and `fn forces`, those present.
+    pub fn funcs(&self) -> impl Iterator<Item = &Func> {
+        self.dissipation.iter().chain(&self.forces)
     }
     /// COORDINATES, in declaration order.
     pub fn coordinate_names(&self) -> Vec<String> {

@@ -135,8 +135,3 @@ pub fn fast() -> Ident {
 pub fn fast_label() -> Lifetime {
     Lifetime::new(&format!("'{PREFIX}fast"), Span::call_site())
 }
-
-/// The applied forces Q − ∂D/∂q̇ in the generated symbolic methods.
-pub fn applied() -> Ident {
-    local(format_args!("applied"))
-}

@@ -1,4 +1,5 @@
-//! Parse: the attribute arguments and the impl block, split into `fn lagrangian` and the rest.
+//! Parse: the attribute arguments and the impl block, split into `fn lagrangian`, the optional
+//! `fn dissipation` and `fn forces`, and the rest.
 
 use proc_macro2::TokenStream;
 use syn::parse::Parser;
@@ -6,7 +7,7 @@ use syn::punctuated::Punctuated;
 use syn::{Expr, ExprLit, ImplItem, ImplItemFn, ItemImpl, Lit, Meta, Token};
 
 use crate::errors::Errors;
-use crate::model::{AuxKind, Mode, Options};
+use crate::model::{Mode, Options};
 
 /// The mode used when the attribute does not name one.
 pub const DEFAULT_MODE: Mode = Mode::Symbolic;
@@ -63,8 +64,10 @@ pub struct Split {
     pub rest: ItemImpl,
     /// Every `fn lagrangian` found.
     pub funcs: Vec<ImplItemFn>,
-    /// Every `fn dissipation` and `fn forces` found.
-    pub aux: Vec<(AuxKind, ImplItemFn)>,
+    /// Every `fn dissipation` found.
+    pub dissipation: Vec<ImplItemFn>,
+    /// Every `fn forces` found.
+    pub forces: Vec<ImplItemFn>,
 }
 
 /// Parses the annotated item as an impl block and takes out `fn lagrangian`, `fn dissipation`
@@ -76,16 +79,20 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
             format!("`#[lagrangian]` goes on an inherent impl block (`impl MySystem {{ fn lagrangian(...) }}`): {e}"),
         )
     })?;
-    let mut funcs = Vec::new();
-    let mut aux = Vec::new();
+    let (mut funcs, mut dissipation, mut forces) = (Vec::new(), Vec::new(), Vec::new());
     let items = std::mem::take(&mut rest.items);
     for item in items {
         match item {
             ImplItem::Fn(f) if f.sig.ident == "lagrangian" => funcs.push(f),
-            ImplItem::Fn(f) if f.sig.ident == "dissipation" => aux.push((AuxKind::Dissipation, f)),
-            ImplItem::Fn(f) if f.sig.ident == "forces" => aux.push((AuxKind::Forces, f)),
+            ImplItem::Fn(f) if f.sig.ident == "dissipation" => dissipation.push(f),
+            ImplItem::Fn(f) if f.sig.ident == "forces" => forces.push(f),
             other => rest.items.push(other),
         }
     }
-    Ok(Split { rest, funcs, aux })
+    Ok(Split {
+        rest,
+        funcs,
+        dissipation,
+        forces,
+    })
 }

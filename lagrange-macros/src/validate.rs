@@ -1,5 +1,5 @@
-//! Validate: every rule a `fn lagrangian` declaration must satisfy, each violation reported at
-//! the user's token, all of them at once.
+//! Validate: every rule a `fn lagrangian` declaration (and `fn dissipation` and `fn forces`
+//! next to it) must satisfy, each violation reported at the user's token, all of them at once.
 
 use std::collections::HashMap;
 
@@ -8,7 +8,7 @@ use syn::spanned::Spanned;
 use syn::{FnArg, ImplItemFn, Pat, ReceiverKind, ReturnType, Type};
 
 use crate::errors::Errors;
-use crate::model::{unraw, Aux, AuxKind, CoordKind, CoordParam, Decl, Options};
+use crate::model::{CoordKind, CoordParam, Decl, Func, FuncKind, Options};
 use crate::parse::Split;
 
 const SIGNATURE_HINT: &str =
@@ -20,7 +20,8 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
     let Split {
         rest,
         mut funcs,
-        aux,
+        dissipation,
+        forces,
     } = split;
     if let Some((_, for_token)) = &rest.trait_ {
         errors.at(
@@ -64,236 +65,44 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
             "a second `fn lagrangian` in this impl block: a system has one Lagrangian",
         );
     }
-    let func = funcs.swap_remove(0);
-    let mut decl = check_fn(func, rest, options, errors);
-    let mut seen: Vec<AuxKind> = Vec::new();
-    for (kind, f) in aux {
-        if seen.contains(&kind) {
+    for (list, kind) in [
+        (&dissipation, FuncKind::Dissipation),
+        (&forces, FuncKind::Forces),
+    ] {
+        for extra in list.iter().skip(1) {
+            let what = match kind {
+                FuncKind::Dissipation => "a system has one Rayleigh dissipation function D: put every dissipative term into the one `fn dissipation` (they add)",
+                FuncKind::Forces => "a system has one `fn forces`: add the forces on each coordinate into its one entry of the array",
+            };
             errors.at(
-                &f.sig.ident,
+                &extra.sig.ident,
                 format!(
-                    "a second `fn {}` in this impl block: declare it once",
-                    kind.name()
+                    "a second `fn {}` in this impl block: {what}",
+                    kind.user_name()
                 ),
             );
-            continue;
         }
-        seen.push(kind);
-        if let Some(decl) = &mut decl {
-            if let Some(a) = check_aux(kind, f, decl, errors) {
-                decl.aux.push(a);
-            }
+    }
+    let func = funcs.swap_remove(0);
+    let mut decl = check_fn(func, rest, options, errors)?;
+    for (list, kind) in [
+        (dissipation, FuncKind::Dissipation),
+        (forces, FuncKind::Forces),
+    ] {
+        let Some(f) = list.into_iter().next() else {
+            continue;
+        };
+        let checked = check_extra(f, kind, &decl.coords, decl.time.as_ref(), errors);
+        match kind {
+            FuncKind::Dissipation => decl.dissipation = checked,
+            FuncKind::Forces => decl.forces = checked,
         }
     }
     if errors.is_empty() {
-        decl
+        Some(decl)
     } else {
         None
     }
-}
-
-/// The rule every `fn dissipation` / `fn forces` follows, for the error messages.
-fn aux_rule(kind: AuxKind, decl: &Decl) -> String {
-    let params: Vec<String> = decl
-        .coords
-        .iter()
-        .map(|c| {
-            let ty = match c.kind {
-                CoordKind::Scalar => "Coord",
-                CoordKind::Vector3 => "Coord3",
-            };
-            format!("({}, {}): {ty}", unraw(&c.name), unraw(&c.dot))
-        })
-        .collect();
-    let ret = match kind {
-        AuxKind::Dissipation => "Scalar".to_string(),
-        AuxKind::Forces => format!("[Scalar; {}]", decl.n()),
-    };
-    format!(
-        "`fn {}` takes the coordinates of `fn lagrangian`, all of them, in the same order and of \
-         the same kinds (any binding may be `_`), and `t: Time` where it uses the time: \
-         `fn {}(&self, {}) -> {ret}`",
-        kind.name(),
-        kind.name(),
-        params.join(", ")
-    )
-}
-
-/// Checks `fn dissipation` / `fn forces` against the coordinates of `fn lagrangian`.
-fn check_aux(kind: AuxKind, func: ImplItemFn, decl: &Decl, errors: &mut Errors) -> Option<Aux> {
-    let before = errors.count();
-    let sig = &func.sig;
-    let name = kind.name();
-    if sig.constness.is_some()
-        || sig.asyncness.is_some()
-        || !matches!(sig.safety, syn::Safety::Default)
-        || sig.abi.is_some()
-        || sig.variadic.is_some()
-        || !sig.generics.params.is_empty()
-        || sig.generics.where_clause.is_some()
-    {
-        errors.at(
-            &sig.ident,
-            format!(
-                "`fn {name}` is a plain function: no `const`, `async`, `unsafe`, ABI or generics"
-            ),
-        );
-    }
-    let ret_span = match (&sig.output, kind) {
-        (ReturnType::Type(_, ty), AuxKind::Dissipation) if is_ident_type(ty, "Scalar") => ty.span(),
-        (ReturnType::Type(_, ty), AuxKind::Dissipation) => {
-            errors.at(
-                ty,
-                "`fn dissipation` returns one `Scalar`: the Rayleigh dissipation function D(q, q̇, t) \
-                 is a scalar whose −∂D/∂q̇ joins the generalized forces (for a force per coordinate, \
-                 write `fn forces(...) -> [Scalar; N]`)",
-            );
-            ty.span()
-        }
-        (ReturnType::Type(_, ty), AuxKind::Forces) => {
-            let n = decl.n();
-            match &**ty {
-                Type::Array(a) if is_ident_type(&a.elem, "Scalar") => {
-                    let len = match &a.len {
-                        syn::Expr::Lit(syn::ExprLit {
-                            lit: syn::Lit::Int(i),
-                            ..
-                        }) => i.base10_parse::<usize>().ok(),
-                        _ => None,
-                    };
-                    if len != Some(n) {
-                        errors.at(
-                            &a.len,
-                            format!(
-                                "`fn forces` returns one generalized force per coordinate: this system \
-                                 has {n} (a `Coord3` counts 3, x, y, z), so the return type is \
-                                 `[Scalar; {n}]`"
-                            ),
-                        );
-                    }
-                }
-                _ => errors.at(
-                    ty,
-                    format!(
-                        "`fn forces` returns the generalized forces Q, one per coordinate in \
-                         declaration order: `[Scalar; {n}]`"
-                    ),
-                ),
-            }
-            ty.span()
-        }
-        (ReturnType::Default, _) => {
-            errors.at(&sig.ident, aux_rule(kind, decl));
-            sig.ident.span()
-        }
-    };
-    let mut inputs = sig.inputs.iter();
-    let mut self_token = syn::Token![self](sig.ident.span());
-    match inputs.next() {
-        Some(FnArg::Receiver(r))
-            if matches!(&r.kind, ReceiverKind::Reference(_, _, None)) && r.mutability.is_none() =>
-        {
-            self_token = r.self_token;
-        }
-        Some(other) => errors.at(other, format!("`fn {name}` takes `&self` first")),
-        None => errors.at(&sig.ident, aux_rule(kind, decl)),
-    }
-    let mut binds = Vec::new();
-    let mut time = None;
-    let mut coords = decl.coords.iter();
-    for arg in inputs {
-        let FnArg::Typed(pt) = arg else {
-            errors.at(arg, "`self` may only come first");
-            continue;
-        };
-        if is_ident_type(&pt.ty, "Time") {
-            match &*pt.pat {
-                Pat::Ident(pi) if time.is_none() && pi.subpat.is_none() => {
-                    time = Some(pi.ident.clone());
-                }
-                Pat::Wild(_) if time.is_none() => {}
-                other => errors.at(other, "time is bound once, to a plain name: `t: Time`"),
-            }
-            continue;
-        }
-        let kind_here = if is_ident_type(&pt.ty, "Coord") {
-            CoordKind::Scalar
-        } else if is_ident_type(&pt.ty, "Coord3") {
-            CoordKind::Vector3
-        } else {
-            errors.at(&pt.ty, aux_rule(kind, decl));
-            continue;
-        };
-        match coords.next() {
-            Some(c) if c.kind == kind_here => match aux_pattern(&pt.pat) {
-                Some(pair) => binds.push(pair),
-                None => errors.at(
-                    &pt.pat,
-                    format!(
-                        "bind the coordinate and its velocity as a pair of names or `_`: `({}, {})` \
-                         or `(_, {})`",
-                        unraw(&c.name),
-                        unraw(&c.dot),
-                        unraw(&c.dot)
-                    ),
-                ),
-            },
-            Some(c) => errors.at(
-                &pt.ty,
-                format!(
-                    "`fn lagrangian` declares `({}, {})` here with another kind: {}",
-                    unraw(&c.name),
-                    unraw(&c.dot),
-                    aux_rule(kind, decl)
-                ),
-            ),
-            None => errors.at(
-                &pt.pat,
-                format!(
-                    "`fn lagrangian` does not declare this coordinate: {}",
-                    aux_rule(kind, decl)
-                ),
-            ),
-        }
-    }
-    if binds.len() < decl.coords.len() && errors.count() == before {
-        errors.at(
-            &sig.ident,
-            format!(
-                "`fn {name}` leaves out coordinates of `fn lagrangian`: {}",
-                aux_rule(kind, decl)
-            ),
-        );
-    }
-    if errors.count() != before {
-        return None;
-    }
-    Some(Aux {
-        kind,
-        attrs: func.attrs,
-        ident: func.sig.ident,
-        ret_span,
-        binds,
-        time,
-        body: func.block,
-        self_token,
-    })
-}
-
-/// `(a, b)` where each is a plain name or `_`.
-fn aux_pattern(pat: &Pat) -> Option<(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)> {
-    let Pat::Tuple(t) = pat else { return None };
-    if t.elems.len() != 2 {
-        return None;
-    }
-    let one = |p: &Pat| match p {
-        Pat::Ident(pi) if pi.by_ref.is_none() && pi.mutability.is_none() && pi.subpat.is_none() => {
-            Some(Some(pi.ident.clone()))
-        }
-        Pat::Wild(_) => Some(None),
-        _ => None,
-    };
-    Some((one(&t.elems[0])?, one(&t.elems[1])?))
 }
 
 fn check_fn(
@@ -303,30 +112,7 @@ fn check_fn(
     errors: &mut Errors,
 ) -> Option<Decl> {
     let sig = &func.sig;
-    if let Some(c) = &sig.constness {
-        errors.at(c, "`fn lagrangian` cannot be `const`");
-    }
-    if let Some(a) = &sig.asyncness {
-        errors.at(
-            a,
-            "`fn lagrangian` cannot be `async`: it is evaluated at every step",
-        );
-    }
-    if let syn::Safety::Unsafe(u) = &sig.safety {
-        errors.at(u, "`fn lagrangian` cannot be `unsafe`");
-    }
-    if let Some(abi) = &sig.abi {
-        errors.at(abi, "`fn lagrangian` cannot have an ABI");
-    }
-    if let Some(v) = &sig.variadic {
-        errors.at(v, "`fn lagrangian` cannot be variadic");
-    }
-    if !sig.generics.params.is_empty() || sig.generics.where_clause.is_some() {
-        errors.at(
-            &sig.generics,
-            "`fn lagrangian` takes no generic parameters: `Scalar` is provided by the macro; put generic helpers in functions over `S: Scalar`",
-        );
-    }
+    check_qualifiers(sig, "lagrangian", errors);
     let ret_span = match &sig.output {
         ReturnType::Type(_, ty) if is_ident_type(ty, "Scalar") => ty.span(),
         ReturnType::Type(_, ty) => {
@@ -371,7 +157,7 @@ fn check_fn(
     let mut time: Option<proc_macro2::Ident> = None;
     let mut seen: HashMap<String, Span> = HashMap::new();
     let mut check_name = |ident: &proc_macro2::Ident, errors: &mut Errors| {
-        let name = unraw(ident);
+        let name = crate::model::unraw(ident);
         if seen.insert(name.clone(), ident.span()).is_some() {
             errors.at(
                 ident,
@@ -451,8 +237,393 @@ fn check_fn(
         body: func.block,
         self_token,
         options,
-        aux: Vec::new(),
+        dissipation: None,
+        forces: None,
     })
+}
+
+/// The qualifiers no function of the macro may have (`const`, `async`, `unsafe`, an ABI,
+/// variadics, generics), each an error at its token.
+fn check_qualifiers(sig: &syn::Signature, name: &str, errors: &mut Errors) {
+    if let Some(c) = &sig.constness {
+        errors.at(c, format!("`fn {name}` cannot be `const`"));
+    }
+    if let Some(a) = &sig.asyncness {
+        errors.at(
+            a,
+            format!("`fn {name}` cannot be `async`: it is evaluated at every step"),
+        );
+    }
+    if let syn::Safety::Unsafe(u) = &sig.safety {
+        errors.at(u, format!("`fn {name}` cannot be `unsafe`"));
+    }
+    if let Some(abi) = &sig.abi {
+        errors.at(abi, format!("`fn {name}` cannot have an ABI"));
+    }
+    if let Some(v) = &sig.variadic {
+        errors.at(v, format!("`fn {name}` cannot be variadic"));
+    }
+    if !sig.generics.params.is_empty() || sig.generics.where_clause.is_some() {
+        errors.at(
+            &sig.generics,
+            format!("`fn {name}` takes no generic parameters: `Scalar` is provided by the macro; put generic helpers in functions over `S: Scalar`"),
+        );
+    }
+}
+
+/// The rule for the parameters of `fn dissipation` and `fn forces`, quoted by every error about
+/// them.
+const EXTRA_RULE: &str = "the coordinate parameters of `dissipation` and `forces` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`); any binding may be `_` (`(x, _)`, `(_, _)`) and names may differ; `t: Time` is optional in each";
+
+/// The signature `fn dissipation` or `fn forces` should have, from `lagrangian`'s coordinates.
+fn extra_hint(kind: FuncKind, coords: &[CoordParam], time: bool) -> String {
+    let mut params: Vec<String> = coords
+        .iter()
+        .map(|c| {
+            let ty = match c.kind {
+                CoordKind::Scalar => "Coord",
+                CoordKind::Vector3 => "Coord3",
+            };
+            format!("({}, {}): {ty}", c.name, c.dot)
+        })
+        .collect();
+    if time {
+        params.push("t: Time".to_owned());
+    }
+    let n: usize = coords.iter().map(CoordParam::width).sum();
+    let ret = match kind {
+        FuncKind::Dissipation => "Scalar".to_owned(),
+        FuncKind::Forces => format!("[Scalar; {n}]"),
+    };
+    format!(
+        "fn {}(&self, {}) -> {ret}",
+        kind.user_name(),
+        params.join(", ")
+    )
+}
+
+/// How many coordinate slots the coordinates declare, spelled out for an error message.
+fn slots_text(coords: &[CoordParam]) -> String {
+    let n: usize = coords.iter().map(CoordParam::width).sum();
+    let names: Vec<String> = coords.iter().flat_map(CoordParam::slot_names).collect();
+    let vector = if coords.iter().any(|c| c.kind == CoordKind::Vector3) {
+        "; a `Coord3` counts 3 slots: x, y, z"
+    } else {
+        ""
+    };
+    format!(
+        "`lagrangian` declares {n} coordinate slot{} ({}{vector})",
+        if n == 1 { "" } else { "s" },
+        names.join(", ")
+    )
+}
+
+/// Checks `fn dissipation` or `fn forces` against the validated `fn lagrangian` (its
+/// coordinates) and builds it; `None` if any rule is broken (the errors say which).
+fn check_extra(
+    func: ImplItemFn,
+    kind: FuncKind,
+    lag_coords: &[CoordParam],
+    lag_time: Option<&proc_macro2::Ident>,
+    sink: &mut Errors,
+) -> Option<Func> {
+    // This function's errors, collected apart so it knows whether it found any.
+    let errors = &mut Errors::default();
+    let fail = |errors: &mut Errors, tokens: &dyn quote::ToTokens, msg: String| {
+        errors.at(tokens, msg);
+    };
+    let sig = &func.sig;
+    let name = kind.user_name();
+    let hint = extra_hint(kind, lag_coords, false);
+    let n: usize = lag_coords.iter().map(CoordParam::width).sum();
+    check_qualifiers(sig, name, errors);
+    let ret_span = match (&sig.output, kind) {
+        (ReturnType::Type(_, ty), FuncKind::Dissipation) => {
+            if !is_ident_type(ty, "Scalar") {
+                fail(
+                    errors,
+                    ty,
+                    format!("`fn dissipation` returns one `Scalar`: the Rayleigh dissipation function D is a single number at each state (its −∂D/∂q̇ gives one force per coordinate); write `-> Scalar`: `{hint}`"),
+                );
+            }
+            ty.span()
+        }
+        (ReturnType::Type(_, ty), FuncKind::Forces) => {
+            match &**ty {
+                Type::Array(a) if is_ident_type(&a.elem, "Scalar") => match &a.len {
+                    syn::Expr::Lit(syn::ExprLit { lit: syn::Lit::Int(len), .. }) => {
+                        if len.base10_parse::<usize>().ok() != Some(n) {
+                            fail(
+                                errors,
+                                &a.len,
+                                format!("`fn forces` returns one generalized force per coordinate slot, and {}: write `[Scalar; {n}]`", slots_text(lag_coords)),
+                            );
+                        }
+                    }
+                    other => fail(
+                        errors,
+                        other,
+                        format!("the length of the array `fn forces` returns is written as a number: {}, so write `[Scalar; {n}]`", slots_text(lag_coords)),
+                    ),
+                },
+                other => fail(
+                    errors,
+                    other,
+                    format!("`fn forces` returns an array of generalized forces, one per coordinate slot: {}, so write `-> [Scalar; {n}]`: `{hint}`", slots_text(lag_coords)),
+                ),
+            }
+            ty.span()
+        }
+        (ReturnType::Default, _) => {
+            fail(
+                errors,
+                &sig.ident,
+                format!("`fn {name}` must say what it returns: `{hint}`"),
+            );
+            sig.ident.span()
+        }
+    };
+    let mut inputs = sig.inputs.iter();
+    let mut self_token = syn::Token![self](sig.ident.span());
+    match inputs.next() {
+        Some(FnArg::Receiver(r)) => {
+            self_token = r.self_token;
+            if !(matches!(&r.kind, ReceiverKind::Reference(_, _, None)) && r.mutability.is_none()) {
+                fail(
+                    errors,
+                    r,
+                    format!("`fn {name}` takes `&self` (a shared reference): `{hint}`"),
+                );
+            }
+        }
+        Some(other) => fail(
+            errors,
+            other,
+            format!("`fn {name}` takes `&self` first: `{hint}`"),
+        ),
+        None => fail(
+            errors,
+            &sig.ident,
+            format!("`fn {name}` takes `&self` and the coordinates of `lagrangian`: `{hint}`"),
+        ),
+    }
+    let mut bindings = Vec::new();
+    let mut time: Option<proc_macro2::Ident> = None;
+    let mut seen: HashMap<String, Span> = HashMap::new();
+    let mut check_name = |ident: &proc_macro2::Ident, errors: &mut Errors| {
+        let n = crate::model::unraw(ident);
+        if seen.insert(n.clone(), ident.span()).is_some() {
+            errors.at(
+                ident,
+                format!("`{n}` is bound twice in the parameters of `fn {name}`"),
+            );
+            false
+        } else {
+            true
+        }
+    };
+    for arg in inputs {
+        let pt = match arg {
+            FnArg::Typed(pt) => pt,
+            FnArg::Receiver(r) => {
+                fail(errors, r, "`self` may only come first".to_owned());
+                continue;
+            }
+        };
+        let kind_here = if is_ident_type(&pt.ty, "Coord") {
+            Some(CoordKind::Scalar)
+        } else if is_ident_type(&pt.ty, "Coord3") {
+            Some(CoordKind::Vector3)
+        } else if is_ident_type(&pt.ty, "Time") {
+            None
+        } else {
+            fail(
+                errors,
+                &pt.ty,
+                format!("unknown parameter type: {EXTRA_RULE}: `{hint}`"),
+            );
+            continue;
+        };
+        let Some(kind_here) = kind_here else {
+            match &*pt.pat {
+                Pat::Ident(pi)
+                    if pi.by_ref.is_none() && pi.mutability.is_none() && pi.subpat.is_none() =>
+                {
+                    if time.is_some() {
+                        fail(errors, &pt.pat, format!("a second `Time` parameter: `fn {name}` takes at most one `t: Time`"));
+                    } else if check_name(&pi.ident, errors) {
+                        time = Some(pi.ident.clone());
+                    }
+                }
+                Pat::Wild(_) => {}
+                other => fail(
+                    errors,
+                    other,
+                    "time is bound to a plain name: `t: Time`".to_owned(),
+                ),
+            }
+            continue;
+        };
+        let k = bindings.len();
+        let ty_name = |k: CoordKind| match k {
+            CoordKind::Scalar => "Coord",
+            CoordKind::Vector3 => "Coord3",
+        };
+        match lag_coords.get(k) {
+            None => {
+                fail(
+                    errors,
+                    pt,
+                    format!(
+                        "`lagrangian` declares no such coordinate: it has {} coordinate parameter{}, and this is one more; {EXTRA_RULE}: `{hint}`",
+                        lag_coords.len(),
+                        if lag_coords.len() == 1 { "" } else { "s" },
+                    ),
+                );
+                bindings.push((None, None));
+            }
+            Some(c) if c.kind != kind_here => {
+                fail(
+                    errors,
+                    &pt.ty,
+                    format!(
+                        "coordinate {} of `lagrangian`, `({}, {}): {}`, is a `{}`, and this is a `{}`; {EXTRA_RULE}: `{hint}`",
+                        k + 1,
+                        c.name,
+                        c.dot,
+                        ty_name(c.kind),
+                        ty_name(c.kind),
+                        ty_name(kind_here),
+                    ),
+                );
+                bindings.push((None, None));
+            }
+            Some(_) => match binding_pattern(&pt.pat) {
+                Some((a, b)) => {
+                    for ident in a.iter().chain(&b) {
+                        check_name(ident, errors);
+                    }
+                    bindings.push((a, b));
+                }
+                None => {
+                    fail(
+                        errors,
+                        &pt.pat,
+                        format!("a coordinate is bound as a pair, the coordinate and its velocity, each a name or `_`: `(x, x_dot): Coord`, `(x, _): Coord`; {EXTRA_RULE}"),
+                    );
+                    bindings.push((None, None));
+                }
+            },
+        }
+    }
+    if bindings.len() < lag_coords.len() {
+        let missing: Vec<String> = lag_coords[bindings.len()..]
+            .iter()
+            .map(|c| format!("`{}`", c.name))
+            .collect();
+        fail(
+            errors,
+            &sig.ident,
+            format!(
+                "`fn {name}` lacks coordinate{} {} of `lagrangian`; {EXTRA_RULE}: `{hint}`",
+                if missing.len() == 1 { "" } else { "s" },
+                missing.join(", ")
+            ),
+        );
+    }
+    if time.is_none() {
+        let mut candidates = vec!["t".to_owned()];
+        if let Some(lt) = lag_time {
+            candidates.push(crate::model::unraw(lt));
+        }
+        let bound: Vec<String> = bindings
+            .iter()
+            .flat_map(|(a, b)| a.iter().chain(b))
+            .map(crate::model::unraw)
+            .collect();
+        for cand in candidates {
+            if bound.contains(&cand) {
+                continue;
+            }
+            if let Some(at) = free_use(&func.block, &cand) {
+                fail(
+                    errors,
+                    &at,
+                    format!("`{cand}` is used in `fn {name}`, which has no `{cand}: Time` parameter: add `{cand}: Time` to its parameters (`t: Time` is optional in each of `lagrangian`, `dissipation` and `forces`, and each one whose body uses the time declares it): `{}`", extra_hint(kind, lag_coords, true).replace("t: Time", &format!("{cand}: Time"))),
+                );
+                break;
+            }
+        }
+    }
+    let ok = errors.is_empty();
+    sink.push_all(std::mem::take(errors));
+    if !ok {
+        return None;
+    }
+    Some(Func {
+        kind,
+        fn_attrs: func.attrs,
+        fn_ident: func.sig.ident,
+        ret_span,
+        bindings,
+        time,
+        body: func.block,
+        self_token,
+    })
+}
+
+/// `(a, b)` where each is a plain name or `_` (also `_` for the whole pair).
+fn binding_pattern(pat: &Pat) -> Option<(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)> {
+    let one = |p: &Pat| match p {
+        Pat::Ident(pi) if pi.by_ref.is_none() && pi.mutability.is_none() && pi.subpat.is_none() => {
+            Some(Some(pi.ident.clone()))
+        }
+        Pat::Wild(_) => Some(None),
+        _ => None,
+    };
+    match pat {
+        Pat::Wild(_) => Some((None, None)),
+        Pat::Tuple(t) if t.elems.len() == 2 => Some((one(&t.elems[0])?, one(&t.elems[1])?)),
+        _ => None,
+    }
+}
+
+/// The first use of `name` as a value in `body`, unless the body binds it itself (a `let`, a
+/// closure parameter, a pattern).
+fn free_use(body: &syn::Block, name: &str) -> Option<proc_macro2::Ident> {
+    use syn::visit::Visit;
+    struct Find<'a> {
+        name: &'a str,
+        first: Option<proc_macro2::Ident>,
+        bound: bool,
+    }
+    impl<'ast> Visit<'ast> for Find<'_> {
+        fn visit_expr_path(&mut self, p: &'ast syn::ExprPath) {
+            if let Some(id) = p.path.get_ident() {
+                if p.qself.is_none() && self.first.is_none() && crate::model::unraw(id) == self.name
+                {
+                    self.first = Some(id.clone());
+                }
+            }
+        }
+        fn visit_pat_ident(&mut self, p: &'ast syn::PatIdent) {
+            if crate::model::unraw(&p.ident) == self.name {
+                self.bound = true;
+            }
+            syn::visit::visit_pat_ident(self, p);
+        }
+    }
+    let mut f = Find {
+        name,
+        first: None,
+        bound: false,
+    };
+    f.visit_block(body);
+    if f.bound {
+        None
+    } else {
+        f.first
+    }
 }
 
 /// Whether a parameter is typed `Coord`, `Coord3` or `Time` (to recognise a misnamed Lagrangian).

@@ -1,5 +1,6 @@
-//! Derive the equations: M, f, the momenta and the energy of L as DAG nodes, by forward-mode
-//! tangents over the lowered body, and the decoupled 2×2 blocks of M.
+//! Derive the equations: M, f_L, the applied forces Q − ∂D/∂q̇, the right-hand side, the
+//! momenta, the energy and the power as DAG nodes, by forward-mode tangents over the lowered
+//! bodies, and the decoupled 2×2 blocks of M.
 // Index loops mirror the textbook formulas; iterator forms would obscure them.
 #![allow(clippy::needless_range_loop)]
 
@@ -26,8 +27,19 @@ pub struct Derivation {
     pub momenta: Vec<Id>,
     /// Mᵢₖ = ∂²L/∂q̇ᵢ∂q̇ₖ, upper triangle (`m[i][k]`, k ≥ i; zeros below).
     pub mass: Vec<Vec<Id>>,
-    /// fᵢ = ∂L/∂qᵢ − Σₖ (∂²L/∂q̇ᵢ∂qₖ) q̇ₖ − ∂²L/∂q̇ᵢ∂t.
+    /// fᵢ = ∂L/∂qᵢ − Σₖ (∂²L/∂q̇ᵢ∂qₖ) q̇ₖ − ∂²L/∂q̇ᵢ∂t (the Lagrangian part f_L).
     pub force: Vec<Id>,
+    /// Qᵢ, the generalized forces of `fn forces` (zeros without one).
+    pub generalized: Vec<Id>,
+    /// −∂D/∂q̇ᵢ, the dissipative forces of `fn dissipation` (zeros without one).
+    pub dissipative: Vec<Id>,
+    /// The applied forces Qᵢ − ∂D/∂q̇ᵢ.
+    pub applied: Vec<Id>,
+    /// The right-hand side of M q̈ = rhs: fᵢ + Qᵢ − ∂D/∂q̇ᵢ, formed once (the straight-line solve
+    /// and the fallback both read it; the same nodes as `force` without forces).
+    pub rhs: Vec<Id>,
+    /// The power (Q − ∂D/∂q̇)·q̇ − ∂L/∂t.
+    pub power: Id,
     /// h = Σ q̇ᵢ pᵢ − L.
     pub energy: Id,
     /// The 2×2 diagonal blocks of M coupled to nothing else, (i, k, det), i < k: solved by
@@ -110,6 +122,21 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
         let vp = dag.mul(v, p);
         energy = dag.add(energy, vp);
     }
+    // Applied forces and the right-hand side (formed once), then the power.
+    let generalized = lowered.forces.unwrap_or_else(|| vec![Dag::ZERO; n]);
+    let mut dissipative = vec![Dag::ZERO; n];
+    if let Some(dd) = lowered.dissipation {
+        for (i, slot) in dissipative.iter_mut().enumerate() {
+            let g = dag.tangents(&[dd], &unit(vars.v(i)), &|_, node| {
+                (node == Node::V(i as u32)).then_some(Dag::ONE)
+            });
+            *slot = dag.neg(g[0]);
+        }
+    }
+    let applied: Vec<Id> = (0..n)
+        .map(|i| dag.add(generalized[i], dissipative[i]))
+        .collect();
+    let rhs: Vec<Id> = (0..n).map(|i| dag.add(force[i], applied[i])).collect();
     let pairs = decoupled_pairs(&mass)
         .into_iter()
         .map(|(i, k)| {
@@ -120,8 +147,22 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
             )
         })
         .collect();
+    let dldt = dag.tangents(&[l], &unit(vars.t()), &|_, node| {
+        (node == Node::T).then_some(Dag::ONE)
+    })[0];
+    let mut power = dag.neg(dldt);
+    for (i, &a) in applied.iter().enumerate() {
+        let v = dag.v(i);
+        let av = dag.mul(a, v);
+        power = dag.add(power, av);
+    }
     Some(Derivation {
         pairs,
+        generalized,
+        dissipative,
+        applied,
+        rhs,
+        power,
         dag,
         fields: lowered.fields,
         conds: lowered.conds,
@@ -133,17 +174,17 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
     })
 }
 
-/// M q̈ = f as operands of the generated code (`None`: a structural zero), formed once from a
+/// M q̈ = rhs as operands of the generated code (`None`: a structural zero), formed once from a
 /// [`Derivation`] and read by both the straight-line solve and the fallback's arrays.
 pub struct Equations {
     /// Mᵢₖ, upper triangle (`mass[i][k]`, k ≥ i; `None` below the diagonal).
     pub mass: Vec<Vec<Option<TokenStream>>>,
-    /// fᵢ, the right-hand side.
+    /// fᵢ + Qᵢ − ∂D/∂q̇ᵢ, the right-hand side.
     pub rhs: Vec<Option<TokenStream>>,
 }
 
 impl Equations {
-    /// The operands of `d.mass` and `d.force` (each an inline leaf or the local of its node).
+    /// The operands of `d.mass` and `d.rhs` (each an inline leaf or the local of its node).
     pub fn of(d: &Derivation) -> Equations {
         let op = |id: Id| (id != Dag::ZERO).then(|| codegen::operand(&d.dag, &d.fields, id));
         Equations {
@@ -158,7 +199,7 @@ impl Equations {
                         .collect()
                 })
                 .collect(),
-            rhs: d.force.iter().map(|&x| op(x)).collect(),
+            rhs: d.rhs.iter().map(|&x| op(x)).collect(),
         }
     }
 }

@@ -13,7 +13,7 @@ use syn::{BinOp, Expr, Lit, Member, Pat, Stmt, UnOp};
 
 use super::dag::{Dag, Fun, Id, Node};
 use crate::errors::Errors;
-use crate::model::{unraw, CoordKind, Decl};
+use crate::model::{unraw, CoordKind, Decl, Func};
 
 /// A `self.<field>` used in the body.
 #[derive(Clone, Debug)]
@@ -58,10 +58,15 @@ struct Retype(usize);
 
 type R<T> = Result<T, Retype>;
 
-/// The lowered body: the DAG, the node of L, and the fields it reads.
+/// The lowered bodies: the DAG, the nodes of L (and of D and Q, if given), and the fields and
+/// conditions they read (shared: one DAG holds all three).
 pub struct Lowered {
     pub dag: Dag,
     pub lagrangian: Id,
+    /// D, the Rayleigh dissipation function (`fn dissipation`).
+    pub dissipation: Option<Id>,
+    /// Q, the generalized forces (`fn forces`), one per slot.
+    pub forces: Option<Vec<Id>>,
     pub fields: Vec<Field>,
     pub conds: Vec<Cond>,
 }
@@ -77,8 +82,17 @@ pub fn unsupported(span: Span, what: &str) -> syn::Error {
     )
 }
 
-/// Lowers the body of `decl` into a DAG; `None` (with every reason pushed to `sink`) when the
-/// body uses what the symbolic mode cannot lower.
+/// The values of the three bodies, before they are checked to be scalars.
+struct Bodies {
+    lagrangian: Val,
+    dissipation: Option<Val>,
+    /// `None` inside: the tail was not an array literal (an error was recorded).
+    forces: Option<Option<Vec<Val>>>,
+}
+
+/// Lowers the bodies of `decl` (`fn lagrangian`, and `fn dissipation` and `fn forces` if given)
+/// into one DAG; `None` (with every reason pushed to `sink`) when a body uses what the symbolic
+/// mode cannot lower.
 pub fn lower(decl: &Decl, sink: &mut Errors) -> Option<Lowered> {
     let mut fields: Vec<Field> = Vec::new();
     // Each retry turns one more field into a vector, so this terminates.
@@ -90,51 +104,43 @@ pub fn lower(decl: &Decl, sink: &mut Errors) -> Option<Lowered> {
             fields: std::mem::take(&mut fields),
             conds: Vec::new(),
         };
-        for c in &decl.coords {
-            let i = c.first_index;
-            match c.kind {
-                CoordKind::Scalar => {
-                    let (q, v) = (lw.dag.q(i), lw.dag.v(i));
-                    lw.scopes.push((unraw(&c.name), Val::S(q)));
-                    lw.scopes.push((unraw(&c.dot), Val::S(v)));
-                }
-                CoordKind::Vector3 => {
-                    let q = [lw.dag.q(i), lw.dag.q(i + 1), lw.dag.q(i + 2)];
-                    let v = [lw.dag.v(i), lw.dag.v(i + 1), lw.dag.v(i + 2)];
-                    lw.scopes.push((unraw(&c.name), Val::V(q)));
-                    lw.scopes.push((unraw(&c.dot), Val::V(v)));
-                }
-            }
-        }
-        if let Some(t) = &decl.time {
-            let t_id = lw.dag.t();
-            lw.scopes.push((unraw(t), Val::S(t_id)));
-        }
-        match lw.block(&decl.body) {
+        match lw.bodies(decl) {
             Err(Retype(f)) => {
                 fields = lw.fields;
                 fields[f].vector = true;
                 continue;
             }
-            Ok(val) => {
-                let mut errors = lw.errors;
-                let l = match val {
-                    Val::S(id) => Some(id),
-                    Val::Poison => None,
-                    Val::V(_) | Val::Tuple(_) => {
-                        errors.push(syn::Error::new(
-                            body_tail_span(&decl.body),
-                            "the Lagrangian must be a scalar; this is a vector or a tuple",
-                        ));
-                        None
-                    }
+            Ok(vals) => {
+                let l = lw.scalar_result(vals.lagrangian, &decl.body, "the Lagrangian");
+                let d = match (vals.dissipation, &decl.dissipation) {
+                    (Some(v), Some(f)) => Some(lw.scalar_result(
+                        v,
+                        &f.body,
+                        "the dissipation function D (`fn dissipation`)",
+                    )),
+                    _ => None,
                 };
+                let q = match (vals.forces, &decl.forces) {
+                    (Some(Some(vs)), Some(f)) => Some(
+                        vs.into_iter()
+                            .map(|v| lw.scalar_result(v, &f.body, "each generalized force"))
+                            .collect::<Option<Vec<Id>>>(),
+                    ),
+                    (Some(None), _) => Some(None),
+                    _ => None,
+                };
+                let errors = std::mem::take(&mut lw.errors);
                 // Only the errors of the last (complete) attempt count: an earlier one stopped at
                 // a re-typed field.
-                return match (l, errors.is_empty()) {
-                    (Some(l), true) => Some(Lowered {
+                let complete = l.is_some()
+                    && d.is_none_or(|d| d.is_some())
+                    && q.as_ref().is_none_or(|q| q.is_some());
+                return match (complete, errors.is_empty()) {
+                    (true, true) => Some(Lowered {
                         dag: lw.dag,
-                        lagrangian: l,
+                        lagrangian: l?,
+                        dissipation: d.flatten(),
+                        forces: q.flatten(),
                         fields: lw.fields,
                         conds: lw.conds,
                     }),
@@ -353,11 +359,140 @@ impl Lower {
         best.map(|(_, f)| f)
     }
 
+    /// Binds a function's coordinate (and time) names to the DAG's leaves, as the only scope.
+    fn seed(
+        &mut self,
+        decl: &Decl,
+        bindings: &[(Option<&proc_macro2::Ident>, Option<&proc_macro2::Ident>)],
+        time: Option<&proc_macro2::Ident>,
+    ) {
+        self.scopes.clear();
+        for (c, (name, dot)) in decl.coords.iter().zip(bindings) {
+            let i = c.first_index;
+            let (q, v) = match c.kind {
+                CoordKind::Scalar => (Val::S(self.dag.q(i)), Val::S(self.dag.v(i))),
+                CoordKind::Vector3 => (
+                    Val::V([self.dag.q(i), self.dag.q(i + 1), self.dag.q(i + 2)]),
+                    Val::V([self.dag.v(i), self.dag.v(i + 1), self.dag.v(i + 2)]),
+                ),
+            };
+            if let Some(name) = name {
+                self.scopes.push((unraw(name), q));
+            }
+            if let Some(dot) = dot {
+                self.scopes.push((unraw(dot), v));
+            }
+        }
+        if let Some(t) = time {
+            let t_id = self.dag.t();
+            self.scopes.push((unraw(t), Val::S(t_id)));
+        }
+    }
+
+    /// Lowers L, then D and Q (if given) into the same DAG.
+    fn bodies(&mut self, decl: &Decl) -> R<Bodies> {
+        let own: Vec<_> = decl
+            .coords
+            .iter()
+            .map(|c| (Some(&c.name), Some(&c.dot)))
+            .collect();
+        self.seed(decl, &own, decl.time.as_ref());
+        let lagrangian = self.block(&decl.body)?;
+        fn bindings(f: &Func) -> Vec<(Option<&proc_macro2::Ident>, Option<&proc_macro2::Ident>)> {
+            f.bindings
+                .iter()
+                .map(|(c, v)| (c.as_ref(), v.as_ref()))
+                .collect()
+        }
+        let dissipation = match &decl.dissipation {
+            Some(f) => {
+                self.seed(decl, &bindings(f), f.time.as_ref());
+                Some(self.block(&f.body)?)
+            }
+            None => None,
+        };
+        let forces = match &decl.forces {
+            Some(f) => {
+                self.seed(decl, &bindings(f), f.time.as_ref());
+                Some(self.array_block(&f.body, decl.n())?)
+            }
+            None => None,
+        };
+        Ok(Bodies {
+            lagrangian,
+            dissipation,
+            forces,
+        })
+    }
+
+    /// The value of a body that must be one scalar (`what` names it in the error).
+    fn scalar_result(&mut self, v: Val, body: &syn::Block, what: &str) -> Option<Id> {
+        match v {
+            Val::S(id) => Some(id),
+            Val::Poison => None,
+            Val::V(_) | Val::Tuple(_) => {
+                self.errors.push(syn::Error::new(
+                    body_tail_span(body),
+                    format!("{what} must be a scalar; this is a vector or a tuple"),
+                ));
+                None
+            }
+        }
+    }
+
+    /// The body of `fn forces`: statements, then an array literal of `n` values (`None`, with an
+    /// error, for any other tail).
+    fn array_block(&mut self, b: &syn::Block, n: usize) -> R<Option<Vec<Val>>> {
+        let depth = self.scopes.len();
+        let (init, tail) = match b.stmts.split_last() {
+            Some((Stmt::Expr(e, None), init)) => (init, Some(e)),
+            _ => (&b.stmts[..], None),
+        };
+        self.stmts(init)?;
+        let result = match tail.map(paren_less) {
+            Some(Expr::Array(a)) if a.elems.len() == n => {
+                let mut vals = Vec::with_capacity(n);
+                for e in &a.elems {
+                    vals.push(self.expr(e)?);
+                }
+                Some(vals)
+            }
+            Some(Expr::Array(a)) => {
+                self.errors.push(syn::Error::new(
+                    a.span(),
+                    format!(
+                        "`fn forces` returns one generalized force per coordinate slot: {n} here, and this array has {}",
+                        a.elems.len()
+                    ),
+                ));
+                None
+            }
+            _ => {
+                self.errors.push(unsupported(
+                    body_tail_span(b),
+                    "a body of `fn forces` that does not end in an array literal (`[f_x, f_y]`, \
+                     one force per coordinate slot)",
+                ));
+                None
+            }
+        };
+        self.scopes.truncate(depth);
+        Ok(result)
+    }
+
     fn block(&mut self, b: &syn::Block) -> R<Val> {
         let depth = self.scopes.len();
+        let result = self.stmts(&b.stmts)?;
+        self.scopes.truncate(depth);
+        Ok(result)
+    }
+
+    /// Lowers statements in the current scope; the value of the last one if it is a tail
+    /// expression, `()` otherwise.
+    fn stmts(&mut self, stmts: &[Stmt]) -> R<Val> {
         let mut result = Val::Tuple(Vec::new());
-        let n = b.stmts.len();
-        for (k, stmt) in b.stmts.iter().enumerate() {
+        let n = stmts.len();
+        for (k, stmt) in stmts.iter().enumerate() {
             let last = k + 1 == n;
             match stmt {
                 Stmt::Local(local) => {
@@ -386,7 +521,6 @@ impl Lower {
                 }
             }
         }
-        self.scopes.truncate(depth);
         Ok(result)
     }
 

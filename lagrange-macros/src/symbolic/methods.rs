@@ -1,13 +1,14 @@
-//! Emit the methods: the bodies of the generated `accelerations`, `mass_matrix`, `momenta`,
-//! `energy` and `energy_and_momenta`, and the `EQUATIONS` / `EQUATIONS_LATEX` consts.
+//! Emit the methods: the bodies of the generated `accelerations`, `pieces`, `power`,
+//! `mass_matrix`, `momenta`, `energy` and `energy_and_momenta`, and the `EQUATIONS` /
+//! `EQUATIONS_LATEX` consts.
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use super::dag::Id;
+use super::dag::{Dag, Id};
 use super::derive::{Derivation, Equations};
 use super::{codegen, print, solve};
-use crate::model::{AuxKind, Decl};
+use crate::model::Decl;
 use crate::names;
 
 /// Up to this many generated operations (values plus N² for the solve), `accelerations` is
@@ -19,10 +20,13 @@ pub struct SymbolicOutput {
     /// Body of `fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64)
     /// -> Result<[f64; N], ::lagrange::__private::DynamicsError>`.
     pub accelerations: TokenStream,
+    /// Body of `fn pieces(&self, q, qdot, t) -> ::lagrange::__private::eom::Pieces<N>`: M, f_L
+    /// and the applied forces, straight-line.
+    pub pieces: TokenStream,
+    /// Body of `fn power(&self, q, qdot, t) -> f64`: (Q − ∂D/∂q̇)·q̇ − ∂L/∂t, straight-line.
+    pub power: TokenStream,
     /// Body of `fn mass_matrix(&self, q, qdot, t) -> ::lagrange::__private::SMatrix<f64, N, N>`.
     pub mass_matrix: TokenStream,
-    /// Body of `fn pieces(&self, q, qdot, t) -> ::lagrange::__private::eom::Pieces<N>`.
-    pub pieces: TokenStream,
     /// `#[inline(always)]` for a small `accelerations`, `#[inline]` otherwise.
     pub accelerations_inline: TokenStream,
     /// Body of `fn momenta(&self, q, qdot, t) -> [f64; N]`.
@@ -31,15 +35,17 @@ pub struct SymbolicOutput {
     pub energy: TokenStream,
     /// Body of `fn energy_and_momenta(&self, q, qdot, t) -> (f64, [f64; N])`.
     pub energy_and_momenta: TokenStream,
-    /// Lint attributes to put on each of the five generated methods (machine-written code).
+    /// Lint attributes to put on each of the generated methods (machine-written code).
     pub allow: TokenStream,
+    /// Whether the system has `fn dissipation` or `fn forces` (the docs then name Q and D).
+    pub has_applied: bool,
     /// The Euler–Lagrange equations, plain Unicode, one line per coordinate.
     pub equations: String,
     /// The same equations in LaTeX, one line per coordinate.
     pub equations_latex: String,
     /// A rustdoc section (Markdown) presenting the equations, for the user's type.
     pub doc: String,
-    /// Size of the generated code: `let` statements over all five bodies.
+    /// Size of the generated code: `let` statements over all the bodies.
     #[cfg_attr(not(test), allow(dead_code))]
     pub generated_lets: usize,
 }
@@ -57,7 +63,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     for (i, row) in d.mass.iter().enumerate() {
         outs.extend(&row[i..]);
     }
-    outs.extend(&d.force);
+    outs.extend(&d.rhs);
     outs.extend(d.pairs.iter().map(|p| p.2));
     let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
     let mut lets = code.lets;
@@ -69,41 +75,16 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     } else {
         quote!(#[inline])
     };
-    // M and f, formed once: the fast path's solve and the fallback's arrays read the same operands.
-    let lagrangian_part = Equations::of(d);
+    // M and the right-hand side, formed once: the fast path's solve and the fallback's arrays
+    // read the same operands.
+    let eq = Equations::of(d);
     let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| quote!(0.0));
-    let rows: Vec<TokenStream> = lagrangian_part
-        .mass
-        .iter()
-        .map(|row| {
-            let cells = row.iter().map(or_zero);
-            quote!([#(#cells),*])
-        })
-        .collect();
-    let f_lagrangian: Vec<TokenStream> = lagrangian_part.rhs.iter().map(or_zero).collect();
-    // With `fn dissipation` / `fn forces`, the right-hand side is f_L + Q − ∂D/∂q̇: the applied
-    // forces come from the runtime's one assembly point (`eom::jet_applied_forces`, which
-    // evaluates the user's generic `dissipation` and `generalized_forces`), added here once.
-    let forced = !decl.aux.is_empty();
-    let applied = names::applied();
-    let mut eq = lagrangian_part;
-    let mut stmts = code.stmts;
-    if forced {
-        for (i, b) in eq.rhs.iter_mut().enumerate() {
-            let i = Literal::usize_unsuffixed(i);
-            *b = Some(match b.take() {
-                Some(x) => quote!((#x + #applied[#i])),
-                None => quote!(#applied[#i]),
-            });
-        }
-        stmts = quote! {
-            #stmts
-            let #applied: [f64; #nn] =
-                ::lagrange::__private::eom::jet_applied_forces(self, #q, #qdot, #t);
-        };
-    }
+    let rows = eq.mass.iter().map(|row| {
+        let cells = row.iter().map(or_zero);
+        quote!([#(#cells),*])
+    });
     let f = eq.rhs.iter().map(or_zero);
-    let pieces_stmts = stmts.clone();
+    let stmts = code.stmts;
     let pairs: Vec<(usize, usize, TokenStream)> =
         d.pairs.iter().map(|&(i, k, det)| (i, k, op(det))).collect();
     let solve = solve::ldlt(&eq, &pairs);
@@ -126,16 +107,49 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         }
     };
 
-    // pieces: M, f_L and the applied forces, for readers of the one assembly point
-    let with_applied = if forced {
-        quote!(.with_applied(#applied))
+    // pieces: M (upper triangle), f_L and the applied forces
+    let mut outs: Vec<Id> = Vec::new();
+    for (i, row) in d.mass.iter().enumerate() {
+        outs.extend(&row[i..]);
+    }
+    outs.extend(&d.force);
+    outs.extend(&d.applied);
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+    lets += code.lets;
+    let rows = d.mass.iter().enumerate().map(|(i, row)| {
+        let cells = row
+            .iter()
+            .enumerate()
+            .map(|(k, &m)| if k < i { quote!(0.0) } else { op(m) });
+        quote!([#(#cells),*])
+    });
+    let f = d.force.iter().map(|&x| op(x));
+    let new = quote!(::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f),*]));
+    let stmts = code.stmts;
+    let pieces = if d.applied.iter().all(|&a| a == Dag::ZERO) {
+        quote! {
+            #touch
+            #stmts
+            #new
+        }
     } else {
-        quote!()
+        let a = d.applied.iter().map(|&x| op(x));
+        quote! {
+            #touch
+            #stmts
+            #new.with_applied([#(#a),*])
+        }
     };
-    let pieces = quote! {
+
+    // power
+    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.power]);
+    lets += code.lets;
+    let w = op(d.power);
+    let stmts = code.stmts;
+    let power = quote! {
         #touch
-        #pieces_stmts
-        ::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f_lagrangian),*])#with_applied
+        #stmts
+        #w
     };
 
     // mass_matrix
@@ -194,22 +208,24 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         (#h, [#(#p),*])
     };
 
-    let mut eq = print::equations(d, decl);
-    if forced {
-        let (unicode, latex) = applied_text(decl);
-        eq.unicode.push_str(&unicode);
-        eq.latex.push_str(&latex);
-    }
+    let eq = print::equations(d, decl);
+    let has_applied = decl.dissipation.is_some() || decl.forces.is_some();
+    let law = if has_applied {
+        "d/dt ∂L/∂q̇ = ∂L/∂q + Q − ∂D/∂q̇"
+    } else {
+        "d/dt ∂L/∂q̇ = ∂L/∂q"
+    };
     let doc = format!(
         "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` \
-         (d/dt ∂L/∂q̇ = ∂L/∂q, one line per coordinate):\n\n```text\n{}\n```\n",
+         ({law}, one line per coordinate):\n\n```text\n{}\n```\n",
         eq.unicode
     );
     SymbolicOutput {
         accelerations,
         accelerations_inline,
-        mass_matrix,
         pieces,
+        power,
+        mass_matrix,
         momenta,
         energy,
         energy_and_momenta,
@@ -223,6 +239,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
                 clippy::nursery
             )]
         },
+        has_applied,
         equations: eq.unicode,
         equations_latex: eq.latex,
         doc,
@@ -230,7 +247,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     }
 }
 
-/// The five generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
+/// The generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
 /// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
 pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStream, TokenStream) {
     let names::Params { q, qdot, t } = names::Params::symbolic();
@@ -238,8 +255,9 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
     let SymbolicOutput {
         accelerations,
         accelerations_inline,
-        mass_matrix,
         pieces,
+        power,
+        mass_matrix,
         momenta,
         energy,
         energy_and_momenta,
@@ -247,6 +265,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         equations,
         equations_latex,
         doc,
+        has_applied,
         ..
     } = out;
     let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
@@ -258,13 +277,18 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         }
         #allow
         #[inline]
-        fn mass_matrix(#sig) -> ::lagrange::__private::SMatrix<f64, #nn, #nn> {
-            #mass_matrix
+        fn pieces(#sig) -> ::lagrange::__private::eom::Pieces<#nn> {
+            #pieces
         }
         #allow
         #[inline]
-        fn pieces(#sig) -> ::lagrange::__private::eom::Pieces<#nn> {
-            #pieces
+        fn power(#sig) -> f64 {
+            #power
+        }
+        #allow
+        #[inline]
+        fn mass_matrix(#sig) -> ::lagrange::__private::SMatrix<f64, #nn, #nn> {
+            #mass_matrix
         }
         #allow
         #[inline]
@@ -282,9 +306,15 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
             #energy_and_momenta
         }
     };
+    let form = if *has_applied {
+        "`Σₖ Mᵢₖ q̈ₖ = fᵢ + Qᵢ − ∂D/∂q̇ᵢ` (accelerations on the left; on the right the terms of L, \
+         then the generalized forces Q, then the dissipative forces −∂D/∂q̇, each as its own group)"
+    } else {
+        "`Σₖ Mᵢₖ q̈ₖ = fᵢ` (accelerations on the left)"
+    };
     let eq_doc = format!(
         "The Euler–Lagrange equations, derived at compile time by `#[lagrangian]`: one line per \
-         coordinate, `Σₖ Mᵢₖ q̈ₖ = fᵢ` (accelerations on the left).\n\n```text\n{equations}\n```"
+         coordinate, {form}.\n\n```text\n{equations}\n```"
     );
     let latex_doc = "The Euler–Lagrange equations in LaTeX, one line per coordinate (the same \
                      equations as `EQUATIONS`).";
@@ -298,51 +328,4 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         }
     };
     (methods, consts)
-}
-
-/// The applied forces as printed under the equations: each line gets `+ Q − ∂D/∂q̇` on its right
-/// (written once, below the equations), with D and Q as the user wrote them.
-fn applied_text(decl: &Decl) -> (String, String) {
-    let mut unicode =
-        String::from("\nwith the applied forces added to each right-hand side, + Qᵢ − ∂D/∂q̇ᵢ:");
-    let mut latex = String::from("\n\\text{with } + Q_i - \\partial D / \\partial \\dot q_i \\text{ on each right-hand side:}");
-    for a in &decl.aux {
-        let text = tidy(&a.body);
-        let (u, l) = match a.kind {
-            AuxKind::Dissipation => ("D", "D"),
-            AuxKind::Forces => ("Q", "Q"),
-        };
-        unicode.push_str(&format!("\n  {u} = {text}"));
-        latex.push_str(&format!("\n{l} = \\texttt{{{}}}", text.replace('_', "\\_")));
-    }
-    (unicode, latex)
-}
-
-/// A body as one line of Rust: its tail expression (or the whole block when it has statements),
-/// with the token spacing of `quote` tidied (`self.b * x.powi(2)`, not `self . b * x . powi (2)`).
-fn tidy(body: &syn::Block) -> String {
-    let tokens = match body.stmts.as_slice() {
-        [syn::Stmt::Expr(e, None)] => quote!(#e).to_string(),
-        _ => quote!(#body).to_string(),
-    };
-    let tokens = tokens
-        .replace(" . ", ".")
-        .replace("( ", "(")
-        .replace(" )", ")")
-        .replace(" ,", ",")
-        .replace("[ ", "[")
-        .replace(" ]", "]");
-    // A call's parenthesis joins its name (`powi(2)`); an operator's keeps its space (`* (`).
-    let mut out = String::with_capacity(tokens.len());
-    let chars: Vec<char> = tokens.chars().collect();
-    for (k, &c) in chars.iter().enumerate() {
-        let call = c == ' '
-            && chars.get(k + 1) == Some(&'(')
-            && k > 0
-            && (chars[k - 1].is_alphanumeric() || chars[k - 1] == '_');
-        if !call {
-            out.push(c);
-        }
-    }
-    out
 }

@@ -1,8 +1,10 @@
-//! Compile-time derivation (`mode = "symbolic"`, the default): the body of `fn lagrangian` is
+//! Compile-time derivation (`mode = "symbolic"`, the default): the body of `fn lagrangian` (and
+//! of `fn dissipation` and `fn forces`, if given: one DAG, shared fields and conditions) is
 //! lowered into a hash-consed expression DAG, differentiated symbolically (forward-mode tangents
 //! over the DAG, structural zeros skipped), and emitted as straight-line Rust for the mass matrix,
-//! the right-hand side of the Euler–Lagrange equations, the momenta and the energy; the equations
-//! are also printed for people (Unicode and LaTeX). M q̈ = f is solved by straight-line LDLᵀ,
+//! the right-hand side of the Euler–Lagrange equations (f_L + Q − ∂D/∂q̇, formed once), the
+//! pieces, the power, the momenta and the energy; the equations are also printed for people
+//! (Unicode and LaTeX). M q̈ = f is solved by straight-line LDLᵀ,
 //! except that a 2×2 block of M coupled to nothing else is solved by Cramer's rule with its
 //! determinant simplified where its terms cancel (`poly.rs`; exact near chart singularities).
 //!
@@ -15,8 +17,8 @@
 //! `(a if cond else b)` (LaTeX: `\left(a \;\text{if}\; \texttt{cond} \;\text{else}\; b\right)`).
 //! A condition on the state is an error at the offending name that says to use `mode = "jets"`.
 //!
-//! The jobs, one file each: `lower` (body → DAG), `derive` (M, f, momenta, energy, decoupled
-//! blocks), `solve` (the straight-line solve), `codegen` (DAG → `let`s), `methods` (the generated
+//! The jobs, one file each: `lower` (bodies → DAG), `derive` (M, f_L, the applied forces, the
+//! right-hand side, momenta, energy, power, decoupled blocks), `solve` (the straight-line solve), `codegen` (DAG → `let`s), `methods` (the generated
 //! method bodies and consts), `print` (the equations for people); `dag` is the expression DAG,
 //! `functions` the table of elementary functions, `poly` the polynomial expander.
 

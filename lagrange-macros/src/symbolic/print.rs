@@ -536,6 +536,12 @@ impl Printer<'_> {
 
     /// Groups terms by their state part and renders them with parameter coefficients.
     fn grouped(&mut self, p: &Poly) -> String {
+        let parts = self.grouped_parts(p);
+        join_signed(&parts, self.latex)
+    }
+
+    /// The signed terms of [`Printer::grouped`], before they are joined.
+    fn grouped_parts(&mut self, p: &Poly) -> Vec<(bool, String)> {
         let mut groups: BTreeMap<Mono, Poly> = BTreeMap::new();
         for (m, c) in &p.0 {
             let (par, st): (Mono, Mono) = m.iter().partition(|(a, _)| a.is_param());
@@ -578,7 +584,7 @@ impl Printer<'_> {
                 parts.push((k < 0.0, self.product(k, &st, Some(inner))));
             }
         }
-        join_signed(&parts, self.latex)
+        parts
     }
 }
 
@@ -604,7 +610,9 @@ fn join_signed(parts: &[(bool, String)], latex: bool) -> String {
     s
 }
 
-/// Prints the Euler–Lagrange equation of every coordinate, `Σₖ Mᵢₖ q̈ₖ = fᵢ`.
+/// Prints the Euler–Lagrange equation of every coordinate, `Σₖ Mᵢₖ q̈ₖ = fᵢ`, followed on the
+/// right by the generalized force Qᵢ and then the dissipative force −∂D/∂q̇ᵢ, each as its own
+/// group of terms (so a reader sees where each term comes from).
 pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
     let mut slots = Vec::new();
     for c in &decl.coords {
@@ -660,9 +668,13 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
                     .unwrap_or_else(|| Poly::atom(Atom::Paren(m), 1));
                 lhs = plus(&lhs, &term, 1.0);
             }
-            let rhs = pr.ex.poly(d.force[i]);
             let l = pr.grouped(&lhs);
-            let r = pr.grouped(&rhs);
+            let mut parts = Vec::new();
+            for id in [d.force[i], d.generalized[i], d.dissipative[i]] {
+                let p = pr.ex.poly(id);
+                parts.extend(pr.grouped_parts(&p));
+            }
+            let r = join_signed(&parts, latex);
             let label = names.get(i).cloned().unwrap_or_default();
             if latex {
                 let _ = writeln!(text, "{l} = {r}");

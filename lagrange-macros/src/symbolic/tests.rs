@@ -64,7 +64,8 @@ fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
             mode: Mode::Symbolic,
             mode_span: None,
         },
-        aux: Vec::new(),
+        dissipation: None,
+        forces: None,
     }
 }
 
@@ -709,4 +710,111 @@ fn function_table_is_indexed_by_fun() {
         assert_eq!(Fun::from_method(row.method), Some(row.fun));
         assert_eq!(row.fun.row().method, row.method);
     }
+}
+
+/// `fn dissipation` or `fn forces` with bindings `(coordinate, velocity)` (`None`: `_`).
+fn func(
+    kind: crate::model::FuncKind,
+    bindings: &[(Option<&str>, Option<&str>)],
+    time: Option<&str>,
+    body: &str,
+) -> crate::model::Func {
+    crate::model::Func {
+        kind,
+        fn_attrs: Vec::new(),
+        fn_ident: format_ident!("{}", kind.user_name()),
+        ret_span: Span::call_site(),
+        bindings: bindings
+            .iter()
+            .map(|(c, v)| {
+                (
+                    c.map(|c| format_ident!("{}", c)),
+                    v.map(|v| format_ident!("{}", v)),
+                )
+            })
+            .collect(),
+        time: time.map(|t| format_ident!("{}", t)),
+        body: syn::parse_str(body).expect("test body parses"),
+        self_token: syn::Token![self](Span::call_site()),
+    }
+}
+
+fn driven_pendulum() -> Decl {
+    use crate::model::FuncKind;
+    let mut d = decl(
+        &[("theta", "theta_dot", false)],
+        None,
+        "{ 0.5 * self.m * self.l * self.l * theta_dot.powi(2) + self.m * self.g * self.l * theta.cos() }",
+    );
+    d.dissipation = Some(func(
+        FuncKind::Dissipation,
+        &[(None, Some("w_dot"))],
+        None,
+        "{ 0.5 * self.b * w_dot.powi(2) }",
+    ));
+    d.forces = Some(func(
+        FuncKind::Forces,
+        &[(Some("th"), None)],
+        Some("time"),
+        "{ let drive = self.a * (self.w * time).cos(); [drive] }",
+    ));
+    d
+}
+
+#[test]
+fn forces_and_dissipation_join_the_right_hand_side_and_the_print() {
+    let d = driven_pendulum();
+    let out = expand(&d).expect("derives");
+    assert_eq!(
+        out.equations,
+        "theta: m l² θ̈ = −m l g sin(θ) + a cos(w t) − b θ̇"
+    );
+    assert_eq!(
+        out.equations_latex,
+        "m l^{2} \\ddot{\\theta} = -m l g \\sin\\left(\\theta\\right) + a \\cos\\left(w t\\right) - b \\dot{\\theta}"
+    );
+    let der = derive(&d).expect("derives");
+    let (m, l, g, b, a, w) = (1.3, 0.7, 9.8, 0.4, 1.1, 2.3);
+    let params: [(&str, &[f64]); 6] = [
+        ("m", &[m]),
+        ("l", &[l]),
+        ("g", &[g]),
+        ("b", &[b]),
+        ("a", &[a]),
+        ("w", &[w]),
+    ];
+    let (q, v, t) = (0.9, -1.7, 3.1);
+    let val = eval(&der, &params, &[q], &[v], t);
+    let applied = a * (w * t).cos() - b * v;
+    let f_l = -m * g * l * q.sin();
+    assert!(close(val[der.force[0] as usize], f_l, 1e-14));
+    assert!(close(val[der.applied[0] as usize], applied, 1e-14));
+    assert!(close(val[der.rhs[0] as usize], f_l + applied, 1e-14));
+    assert!(close(val[der.power as usize], applied * v, 1e-14));
+}
+
+#[test]
+fn without_forces_the_right_hand_side_is_f_l_and_the_power_zero() {
+    let d = derive(&heavy_top()).expect("derives");
+    assert_eq!(d.rhs, d.force);
+    assert!(d.applied.iter().all(|&a| a == Dag::ZERO));
+    assert_eq!(d.power, Dag::ZERO);
+}
+
+#[test]
+fn forces_not_ending_in_an_array_literal_say_use_jets() {
+    let mut d = driven_pendulum();
+    if let Some(f) = &mut d.forces {
+        f.body = syn::parse_str("{ let q = [self.a]; q }").expect("parses");
+    }
+    let errs: Vec<String> = match expand(&d) {
+        Ok(_) => panic!("must not derive"),
+        Err(e) => e.iter().map(ToString::to_string).collect(),
+    };
+    assert!(
+        errs.iter().any(
+            |e| e.contains("does not end in an array literal") && e.contains("mode = \"jets\"")
+        ),
+        "{errs:?}"
+    );
 }

@@ -1,16 +1,17 @@
 use lagrange::prelude::*;
 
 pub struct Pendulum {
-    pub a: f64,
+    pub g: f64,
+    pub b: f64,
 }
 
 #[lagrangian]
 impl Pendulum {
     fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
-        0.5 * theta_dot.powi(2) + theta.cos()
+        theta_dot.powi(2) / 2.0 + self.g * theta.cos()
     }
-    fn forces(&self, (_, _): Coord3) -> [Scalar; 1] {
-        [self.a]
+    fn dissipation(&self) -> Scalar {
+        0.5 * self.b
     }
 }
 

@@ -1,0 +1,18 @@
+use lagrange::prelude::*;
+
+pub struct Pendulum {
+    pub g: f64,
+    pub b: f64,
+}
+
+#[lagrangian]
+impl Pendulum {
+    fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
+        theta_dot.powi(2) / 2.0 + self.g * theta.cos()
+    }
+    fn dissipation(&self, (_, r_dot): Coord3) -> Scalar {
+        0.5 * self.b * r_dot.norm_squared()
+    }
+}
+
+fn main() {}
