@@ -18,26 +18,9 @@ use lagrange::linearize::Stability;
 use lagrange::prelude::*;
 use plotters::prelude::*;
 
-/// Two point masses on massless rods; angles from the downward vertical.
-pub struct DoublePendulum {
-    pub m1: f64,
-    pub m2: f64,
-    pub l1: f64,
-    pub l2: f64,
-    pub g: f64,
-}
-
-#[lagrangian]
-impl DoublePendulum {
-    fn lagrangian(&self, (th1, th1_dot): Coord, (th2, th2_dot): Coord) -> Scalar {
-        let (m1, m2, l1, l2, g) = (self.m1, self.m2, self.l1, self.l2, self.g);
-        (m1 + m2) / 2.0 * (l1 * th1_dot).powi(2)
-            + m2 / 2.0 * (l2 * th2_dot).powi(2)
-            + m2 * l1 * l2 * th1_dot * th2_dot * (th1 - th2).cos()
-            + (m1 + m2) * g * l1 * th1.cos()
-            + m2 * g * l2 * th2.cos()
-    }
-}
+#[path = "support/double_pendulum_system.rs"]
+mod double_pendulum_system;
+use double_pendulum_system::DoublePendulum;
 
 /// The heavy symmetric top in Tait–Bryan angles, R = Rx(α) Ry(β) Rz(γ), regular at the upright
 /// (β = 0); body angular velocity ω = (α̇ cos β cos γ + β̇ sin γ, −α̇ cos β sin γ + β̇ cos γ,

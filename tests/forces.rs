@@ -4,31 +4,7 @@
 
 use lagrange::prelude::*;
 
-/// m ẍ + b ẋ + k x = F cos(ω t), declared by hand: L = m ẋ²/2 − k x²/2, D = b ẋ²/2, Q = F cos ωt.
-#[derive(Clone, Copy)]
-struct Oscillator {
-    m: f64,
-    k: f64,
-    b: f64,
-    f: f64,
-    w: f64,
-}
-
-impl Lagrangian<1> for Oscillator {
-    const COORDINATES: [&'static str; 1] = ["x"];
-    const CYCLIC: [bool; 1] = [false];
-    const AUTONOMOUS: bool = true;
-    const ENERGY_CONSERVED: bool = false;
-    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
-        v[0] * v[0] * (self.m / 2.0) - q[0] * q[0] * (self.k / 2.0)
-    }
-    fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
-        v[0] * v[0] * (self.b / 2.0)
-    }
-    fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] {
-        [(t * self.w).cos() * self.f]
-    }
-}
+use crate::support::hand::Oscillator;
 
 /// x(t) of the free damped oscillator (F = 0) from x0, v0: under-, critically or over-damped.
 fn damped_closed_form(o: &Oscillator, x0: f64, v0: f64, t: f64) -> f64 {

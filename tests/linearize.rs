@@ -14,26 +14,8 @@ use nalgebra::Complex;
 // Systems
 // ---------------------------------------------------------------------------------------------
 
-/// Two point masses on massless rods; angles from the downward vertical.
-pub struct DoublePendulum {
-    pub m1: f64,
-    pub m2: f64,
-    pub l1: f64,
-    pub l2: f64,
-    pub g: f64,
-}
-
-#[lagrangian]
-impl DoublePendulum {
-    fn lagrangian(&self, (th1, th1_dot): Coord, (th2, th2_dot): Coord) -> Scalar {
-        let (m1, m2, l1, l2, g) = (self.m1, self.m2, self.l1, self.l2, self.g);
-        (m1 + m2) / 2.0 * (l1 * th1_dot).powi(2)
-            + m2 / 2.0 * (l2 * th2_dot).powi(2)
-            + m2 * l1 * l2 * th1_dot * th2_dot * (th1 - th2).cos()
-            + (m1 + m2) * g * l1 * th1.cos()
-            + m2 * g * l2 * th2.cos()
-    }
-}
+use crate::support::double_pendulum::DoublePendulum;
+use crate::support::hand::Oscillator;
 
 /// An N-link chain of point masses mᵢ on massless rods lᵢ, angles from the downward vertical.
 struct Chain<const N: usize> {
@@ -57,26 +39,6 @@ impl<const N: usize> Lagrangian<N> for Chain<N> {
             l += (vx * vx + vy * vy) * (self.m[i] / 2.0) - y * (self.m[i] * self.g);
         }
         l
-    }
-}
-
-/// A damped oscillator m ẍ + b ẋ + k x = 0 (Rayleigh D = b ẋ²/2).
-struct Damped {
-    m: f64,
-    b: f64,
-    k: f64,
-}
-
-impl Lagrangian<1> for Damped {
-    const COORDINATES: [&'static str; 1] = ["x"];
-    const CYCLIC: [bool; 1] = [false];
-    const AUTONOMOUS: bool = true;
-    const ENERGY_CONSERVED: bool = false;
-    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
-        v[0] * v[0] * (self.m / 2.0) - q[0] * q[0] * (self.k / 2.0)
-    }
-    fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
-        v[0] * v[0] * (self.b / 2.0)
     }
 }
 
@@ -316,7 +278,15 @@ fn chain_of_four_matches_hand_written_matrices() {
 #[test]
 fn damped_oscillator_decays_at_gamma() {
     let (m, b, k) = (2.0, 0.6, 18.0);
-    let lin = Damped { m, b, k }.linearize(&[0.0], &[0.0], 0.0).unwrap();
+    let lin = Oscillator {
+        m,
+        k,
+        b,
+        f: 0.0,
+        w: 0.0,
+    }
+    .linearize(&[0.0], &[0.0], 0.0)
+    .unwrap();
     assert_eq!((lin.m[(0, 0)], lin.c[(0, 0)], lin.k[(0, 0)]), (m, b, k));
     let (gamma, wd) = (b / (2.0 * m), (k / m - (b / (2.0 * m)).powi(2)).sqrt());
     assert_spectrum(

@@ -1,5 +1,6 @@
-//! The heavy symmetric top (reference text eq. 92) as a hand-written `impl Lagrangian<3>`: the
-//! runtime alone, without the macro. Used by tests/hand_written.rs and tests/integrators.rs.
+//! Hand-written `impl Lagrangian` systems, the runtime alone without the macro: the heavy
+//! symmetric top (reference text eq. 92) and the damped, driven oscillator (with dissipation and a
+//! generalized force). Used by the integrator, forces, linearization and hand-written tests.
 
 use lagrange::prelude::*;
 
@@ -22,5 +23,36 @@ impl Lagrangian<3> for HeavyTop {
         let w3 = qd[2] + qd[1] * c;
         (qd[0] * qd[0] + qd[1] * qd[1] * s * s) * (self.i_perp / 2.0) + w3 * w3 * (self.i_par / 2.0)
             - c * self.mgl
+    }
+}
+
+/// m ẍ + b ẋ + k x = F cos(ω t), declared by hand: L = m ẋ²/2 − k x²/2, D = b ẋ²/2, Q = F cos ωt.
+#[derive(Clone, Copy)]
+pub struct Oscillator {
+    /// Mass.
+    pub m: f64,
+    /// Spring constant.
+    pub k: f64,
+    /// Friction coefficient.
+    pub b: f64,
+    /// Drive amplitude.
+    pub f: f64,
+    /// Drive frequency.
+    pub w: f64,
+}
+
+impl Lagrangian<1> for Oscillator {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    const ENERGY_CONSERVED: bool = false;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        v[0] * v[0] * (self.m / 2.0) - q[0] * q[0] * (self.k / 2.0)
+    }
+    fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        v[0] * v[0] * (self.b / 2.0)
+    }
+    fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] {
+        [(t * self.w).cos() * self.f]
     }
 }

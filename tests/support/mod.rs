@@ -6,6 +6,8 @@
 
 #[macro_use]
 pub mod systems;
+#[path = "../../examples/support/double_pendulum_system.rs"]
+pub mod double_pendulum;
 pub mod hand;
 
 use lagrange::prelude::*;
