@@ -219,6 +219,31 @@ pub trait Lagrangian<const N: usize> {
         jet_linearize(self, q0, qdot0, t)
     }
 
+    /// An equilibrium near `q_guess`: q with q̈(q, 0, t) = 0, by Newton with the exact Jacobian
+    /// −M⁻¹K ([`linearize::equilibrium`](crate::linearize::equilibrium), as a method); a typed
+    /// error when there is none nearby.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// /// A pendulum, L = θ̇²/2 + 4 cos θ: the bottom is θ = 0.
+    /// struct P;
+    /// impl Lagrangian<1> for P {
+    ///     const COORDINATES: [&'static str; 1] = ["theta"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() * 4.0 }
+    /// }
+    /// let q = P.equilibrium(&[0.3], 0.0).unwrap();
+    /// assert!(q[0].abs() < 1e-14);
+    /// ```
+    fn equilibrium(
+        &self,
+        q_guess: &[f64; N],
+        t: f64,
+    ) -> Result<[f64; N], crate::linearize::LinearizationError> {
+        crate::linearize::equilibrium(self, q_guess, t)
+    }
+
     /// The energy (Jacobi integral) h = q̇·p − L.
     fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
         // Not through `energy_and_momenta`: an override of that one may call this.
