@@ -9,28 +9,9 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 
-/// m l² θ̈ + b θ̇ + m g l sin θ = a cos(w t), declared with the macro (the contract's text).
-pub struct DrivenPendulum {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-    pub b: f64,
-    pub a: f64,
-    pub w: f64,
-}
-
-#[lagrangian]
-impl DrivenPendulum {
-    fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
-        0.5 * self.m * self.l * self.l * theta_dot.powi(2) + self.m * self.g * self.l * theta.cos()
-    }
-    fn dissipation(&self, (theta, theta_dot): Coord) -> Scalar {
-        0.5 * self.b * theta_dot.powi(2)
-    }
-    fn forces(&self, (theta, theta_dot): Coord, t: Time) -> [Scalar; 1] {
-        [self.a * (self.w * t).cos()]
-    }
-}
+#[path = "../examples/support/driven_pendulum_system.rs"]
+mod driven_pendulum_system;
+use driven_pendulum_system::DrivenPendulum;
 
 /// The same pendulum in run-time jets.
 pub struct DrivenPendulumJets {

@@ -17,30 +17,9 @@ use lagrange::prelude::*;
 use plotters::prelude::*;
 use std::f64::consts::PI;
 
-/// A pendulum with viscous friction b at the pivot and a periodic torque a cos(ω t).
-pub struct DrivenPendulum {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-    pub b: f64,
-    pub a: f64,
-    pub w: f64,
-}
-
-#[lagrangian]
-impl DrivenPendulum {
-    fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
-        0.5 * self.m * self.l * self.l * theta_dot.powi(2) + self.m * self.g * self.l * theta.cos()
-    }
-    /// Rayleigh dissipation function D(q, q̇, t) ≥ 0; its −∂D/∂q̇ joins the generalized forces.
-    fn dissipation(&self, (theta, theta_dot): Coord) -> Scalar {
-        0.5 * self.b * theta_dot.powi(2)
-    }
-    /// Generalized forces Q(q, q̇, t), one per coordinate in declaration order.
-    fn forces(&self, (theta, theta_dot): Coord, t: Time) -> [Scalar; 1] {
-        [self.a * (self.w * t).cos()]
-    }
-}
+#[path = "support/driven_pendulum_system.rs"]
+mod driven_pendulum_system;
+use driven_pendulum_system::DrivenPendulum;
 
 const USAGE: &str =
     "usage: cargo run --release --example driven_pendulum -- [--periods N] [--out PATH.svg]
