@@ -233,3 +233,26 @@ fn messages_print_numbers_to_sensible_precision() {
     assert!(text.contains("t = 0.009,"), "{text}");
     assert!(!text.contains("0.009000000000000001"), "{text}");
 }
+
+/// In jets mode `x.abs().powf(1.5)` was NaN at x = 0 (x^(n−2)·x·x = ∞·0); its value and slope
+/// there are 0, as in symbolic mode.
+pub struct Cusp {
+    pub k: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl Cusp {
+    fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+        0.5 * x_dot.powi(2) - self.k * x.abs().powf(1.5)
+    }
+}
+
+#[test]
+fn a_constant_power_of_zero_is_finite_in_the_jets() {
+    let a = Cusp { k: 2.0 }
+        .accelerations(&[0.0], &[1.0], 0.0)
+        .expect("|x|^1.5 is differentiable at 0");
+    assert_eq!(a, [0.0]);
+    let a = Cusp { k: 2.0 }.accelerations(&[0.25], &[1.0], 0.0).unwrap();
+    assert!((a[0] + 2.0 * 1.5 * 0.5).abs() < 1e-15, "{a:?}");
+}

@@ -614,13 +614,24 @@ macro_rules! impl_jet_scalar {
                         if nf == 0.0 {
                             return J::constant(1.0);
                         }
-                        let p2 = x.powf(nf - 2.0);
                         // zero (not 0·∞ at x = 0) where the cubic coefficient vanishes
                         let f3 = if nf == 1.0 || nf == 2.0 {
                             0.0
                         } else {
                             nf * (nf - 1.0) * (nf - 2.0) * x.powf(nf - 3.0)
                         };
+                        if x == 0.0 {
+                            // x^n, n x^(n−1), n(n−1) x^(n−2) one by one: the shared x^(n−2)·x·x
+                            // below is ∞·0 = NaN here for 0 < n < 2 (|x|^1.5 at 0 is 0, with
+                            // slope 0).
+                            let f2 = if nf == 1.0 {
+                                0.0
+                            } else {
+                                nf * (nf - 1.0) * x.powf(nf - 2.0)
+                            };
+                            return J::chain3(self, x.powf(nf), nf * x.powf(nf - 1.0), f2, f3);
+                        }
+                        let p2 = x.powf(nf - 2.0);
                         J::chain3(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2, f3)
                     } else {
                         let v = J::value(&self).powf(J::value(&n));
