@@ -155,15 +155,9 @@ fn check_fn(
     }
     let mut coords = Vec::new();
     let mut time: Option<proc_macro2::Ident> = None;
-    let mut seen: HashMap<String, Span> = HashMap::new();
+    let mut seen = Names::default();
     let mut check_name = |ident: &proc_macro2::Ident, errors: &mut Errors| {
-        let name = crate::model::unraw(ident);
-        if seen.insert(name.clone(), ident.span()).is_some() {
-            errors.at(
-                ident,
-                format!("`{name}` is bound twice in the parameters of `fn lagrangian`"),
-            );
-        }
+        seen.bind(ident, "lagrangian", errors);
     };
     let mut next_index = 0;
     let mut declared_coordinates = 0;
@@ -409,19 +403,9 @@ fn check_extra(
     }
     let mut bindings = Vec::new();
     let mut time: Option<proc_macro2::Ident> = None;
-    let mut seen: HashMap<String, Span> = HashMap::new();
-    let mut check_name = |ident: &proc_macro2::Ident, errors: &mut Errors| {
-        let n = crate::model::unraw(ident);
-        if seen.insert(n.clone(), ident.span()).is_some() {
-            errors.at(
-                ident,
-                format!("`{n}` is bound twice in the parameters of `fn {name}`"),
-            );
-            false
-        } else {
-            true
-        }
-    };
+    let mut seen = Names::default();
+    let mut check_name =
+        |ident: &proc_macro2::Ident, errors: &mut Errors| seen.bind(ident, name, errors);
     for arg in inputs {
         let pt = match arg {
             FnArg::Typed(pt) => pt,
@@ -662,5 +646,25 @@ fn is_ident_type(ty: &Type, name: &str) -> bool {
         Type::Group(g) => is_ident_type(&g.elem, name),
         Type::Paren(p) => is_ident_type(&p.elem, name),
         _ => false,
+    }
+}
+
+/// The names a function's parameters bind, to report one bound twice.
+#[derive(Default)]
+struct Names(HashMap<String, Span>);
+
+impl Names {
+    /// Records `ident`; `false` (with an error at it) if `fn func` binds it already.
+    fn bind(&mut self, ident: &proc_macro2::Ident, func: &str, errors: &mut Errors) -> bool {
+        let n = crate::model::unraw(ident);
+        if self.0.insert(n.clone(), ident.span()).is_some() {
+            errors.at(
+                ident,
+                format!("`{n}` is bound twice in the parameters of `fn {func}`"),
+            );
+            false
+        } else {
+            true
+        }
     }
 }
