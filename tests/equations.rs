@@ -11,6 +11,7 @@
 #[macro_use]
 mod support;
 
+mod deep_bodies;
 mod gallery;
 mod hand_written;
 mod hygiene;

@@ -270,6 +270,11 @@ struct Rewriter {
     scopes: Vec<HashMap<String, Kind>>,
 }
 
+/// A stand-in for an operand detached while a chain is walked (never emitted).
+fn placeholder() -> Expr {
+    Expr::Verbatim(TokenStream::new())
+}
+
 fn lift_tokens(e: &Expr) -> Expr {
     let span = e.span();
     Expr::Verbatim(quote_spanned!(span=> ::lagrange::__private::lift::<Scalar, _>(#e)))
@@ -445,28 +450,7 @@ impl Rewriter {
                 }
             }
             Expr::Binary(_) => self.binary(e),
-            Expr::MethodCall(m) => {
-                let kr = self.expr(&mut m.receiver);
-                let kargs: Vec<Kind> = m.args.iter_mut().map(|a| self.expr(a)).collect();
-                if m.method == "powi" {
-                    return kr;
-                }
-                let any_var = kr.is_var() || kargs.iter().any(Kind::is_var);
-                if !any_var {
-                    return Kind::Const;
-                }
-                // A method of the user's own type (`self.omega(t)`) takes its arguments as
-                // declared: `self` is never lifted.
-                if kr == Kind::Const && !is_self(&m.receiver) {
-                    lift_in_place(&mut m.receiver);
-                }
-                for (a, k) in m.args.iter_mut().zip(&kargs) {
-                    if *k == Kind::Const {
-                        lift_in_place(a);
-                    }
-                }
-                Kind::Var
-            }
+            Expr::MethodCall(_) => self.method_chain(e),
             Expr::Call(c) => {
                 // A callee that names `Scalar` (`Scalar::constant(2.0)`, `zero::<Scalar>()`,
                 // `Vector3::<Scalar>::zeros()`) returns a scalar-typed value even when every
@@ -606,11 +590,74 @@ impl Rewriter {
         }
     }
 
+    /// A chain of method calls `x.sin().cos()…`, walked along its receivers with a loop (a
+    /// 2000-deep chain must not overflow the compiler's stack), innermost call first.
+    fn method_chain(&mut self, e: &mut Expr) -> Kind {
+        let mut spine = Vec::new();
+        let mut cur = std::mem::replace(e, placeholder());
+        while let Expr::MethodCall(mut m) = cur {
+            cur = std::mem::replace(&mut *m.receiver, placeholder());
+            spine.push(m);
+        }
+        let mut kr = self.expr(&mut cur);
+        while let Some(mut m) = spine.pop() {
+            *m.receiver = cur;
+            kr = self.method_one(&mut m, kr);
+            cur = Expr::MethodCall(m);
+        }
+        *e = cur;
+        kr
+    }
+
+    /// One call of a chain, its receiver's kind `kr` known.
+    fn method_one(&mut self, m: &mut syn::ExprMethodCall, kr: Kind) -> Kind {
+        let kargs: Vec<Kind> = m.args.iter_mut().map(|a| self.expr(a)).collect();
+        if m.method == "powi" {
+            return kr;
+        }
+        let any_var = kr.is_var() || kargs.iter().any(Kind::is_var);
+        if !any_var {
+            return Kind::Const;
+        }
+        // A method of the user's own type (`self.omega(t)`) takes its arguments as
+        // declared: `self` is never lifted.
+        if kr == Kind::Const && !is_self(&m.receiver) {
+            lift_in_place(&mut m.receiver);
+        }
+        for (a, k) in m.args.iter_mut().zip(&kargs) {
+            if *k == Kind::Const {
+                lift_in_place(a);
+            }
+        }
+        Kind::Var
+    }
+
+    /// A chain of binary operators `a + b + c …` (left-nested), walked down its left operands
+    /// with a loop (a 2000-term sum must not overflow the compiler's stack), innermost first.
     fn binary(&mut self, e: &mut Expr) -> Kind {
+        let mut spine = Vec::new();
+        let mut cur = std::mem::replace(e, placeholder());
+        while let Expr::Binary(mut b) = cur {
+            cur = std::mem::replace(&mut *b.left, placeholder());
+            spine.push(b);
+        }
+        let mut kl = self.expr(&mut cur);
+        while let Some(mut b) = spine.pop() {
+            *b.left = cur;
+            let mut node = Expr::Binary(b);
+            kl = self.binary_one(&mut node, kl);
+            cur = node;
+        }
+        *e = cur;
+        kl
+    }
+
+    /// One operator of a chain, its left operand's kind `kl` known; may replace `e` by the
+    /// mixed-operand call it needs.
+    fn binary_one(&mut self, e: &mut Expr, kl: Kind) -> Kind {
         let Expr::Binary(b) = e else {
             return Kind::Const;
         };
-        let kl = self.expr(&mut b.left);
         let kr = self.expr(&mut b.right);
         let mixed = |kl: &Kind, kr: &Kind| {
             (kl.is_var() && *kr == Kind::Const) || (*kl == Kind::Const && kr.is_var())

@@ -45,4 +45,6 @@ pub fn lagrangian(args: TokenStream, input: TokenStream) -> TokenStream {
 }
 
 #[cfg(test)]
+mod deep_bodies;
+#[cfg(test)]
 mod expanded_example;

@@ -170,6 +170,36 @@ struct Lower {
 }
 
 /// The identifiers of a path's segments (`f64::consts::PI` → ["f64", "consts", "PI"]).
+/// Where an error points, computed only when one is reported: `Spanned::span` of an expression
+/// walks all of its tokens, so taking it eagerly at every link of a 2000-deep chain is quadratic.
+trait At {
+    fn at(&self) -> Span;
+}
+
+impl At for Span {
+    fn at(&self) -> Span {
+        *self
+    }
+}
+
+impl At for Expr {
+    fn at(&self) -> Span {
+        self.span()
+    }
+}
+
+impl At for syn::ExprMethodCall {
+    fn at(&self) -> Span {
+        self.span()
+    }
+}
+
+impl At for syn::ExprCall {
+    fn at(&self) -> Span {
+        self.span()
+    }
+}
+
 fn segment_names(path: &syn::Path) -> Vec<String> {
     path.segments.iter().map(|s| s.ident.to_string()).collect()
 }
@@ -280,7 +310,7 @@ impl Lower {
     }
 
     /// A scalar-only position. `None`: an error was recorded (or the value is poison).
-    fn scalar(&mut self, v: Val, span: Span, what: &str) -> Option<Id> {
+    fn scalar(&mut self, v: Val, at: &dyn At, what: &str) -> Option<Id> {
         match v {
             Val::S(id) => {
                 if let Node::Param(f, 0) = self.dag.node(id) {
@@ -291,14 +321,14 @@ impl Lower {
             Val::Poison => None,
             Val::V(_) => {
                 self.err(syn::Error::new(
-                    span,
+                    at.at(),
                     format!("{what} must be a scalar, but this is a Vector3"),
                 ));
                 None
             }
             Val::Tuple(_) => {
                 self.err(syn::Error::new(
-                    span,
+                    at.at(),
                     format!("{what} must be a scalar, but this is a tuple"),
                 ));
                 None
@@ -307,7 +337,7 @@ impl Lower {
     }
 
     /// A vector-only position: a scalar that a field could make a vector triggers a retype.
-    fn vector(&mut self, v: Val, span: Span, what: &str) -> R<Option<[Id; 3]>> {
+    fn vector(&mut self, v: Val, at: &dyn At, what: &str) -> R<Option<[Id; 3]>> {
         match v {
             Val::V(c) => Ok(Some(c)),
             Val::Poison => Ok(None),
@@ -316,14 +346,14 @@ impl Lower {
                     return Err(Retype(f));
                 }
                 self.err(syn::Error::new(
-                    span,
+                    at.at(),
                     format!("{what} must be a Vector3, but this is a scalar"),
                 ));
                 Ok(None)
             }
             Val::Tuple(_) => {
                 self.err(syn::Error::new(
-                    span,
+                    at.at(),
                     format!("{what} must be a Vector3, but this is a tuple"),
                 ));
                 Ok(None)
@@ -596,12 +626,10 @@ impl Lower {
             Expr::Index(ix) => {
                 let base = self.expr(&ix.expr)?;
                 match int_literal(&ix.index) {
-                    Some(k @ 0..=2) => {
-                        match self.vector(base, ix.expr.span(), "an indexed value")? {
-                            Some(c) => Val::S(c[k as usize]),
-                            None => Val::Poison,
-                        }
-                    }
+                    Some(k @ 0..=2) => match self.vector(base, &*ix.expr, "an indexed value")? {
+                        Some(c) => Val::S(c[k as usize]),
+                        None => Val::Poison,
+                    },
                     _ => self.unsupported(ix.index.span(), "indexing other than by 0, 1 or 2"),
                 }
             }
@@ -803,7 +831,7 @@ impl Lower {
                         return Ok(self.unsupported(name.span(), &format!("the field `.{other}`")))
                     }
                 };
-                match self.vector(base, f.base.span(), "the value of `.x`/`.y`/`.z`")? {
+                match self.vector(base, &*f.base, "the value of `.x`/`.y`/`.z`")? {
                     Some(c) => Val::S(c[k]),
                     None => Val::Poison,
                 }
@@ -827,7 +855,22 @@ impl Lower {
         }
     }
 
+    /// A chain of binary operators `a + b + c …` (left-nested): walked down its left operands
+    /// with a loop, so a 2000-term sum does not overflow the compiler's stack.
     fn binary(&mut self, b: &syn::ExprBinary) -> R<Val> {
+        let mut spine = vec![b];
+        while let Expr::Binary(inner) = &*spine[spine.len() - 1].left {
+            spine.push(inner);
+        }
+        let mut acc: Option<Val> = None;
+        while let Some(b) = spine.pop() {
+            acc = Some(self.binary_one(b, acc)?);
+        }
+        Ok(acc.unwrap_or(Val::Poison))
+    }
+
+    /// One operator of a chain, with its left operand's value when the chain already has it.
+    fn binary_one(&mut self, b: &syn::ExprBinary, left: Option<Val>) -> R<Val> {
         let (op, assign) = match b.op {
             BinOp::Add(_) => ('+', false),
             BinOp::Sub(_) => ('-', false),
@@ -839,7 +882,10 @@ impl Lower {
             BinOp::DivAssign(_) => ('/', true),
             _ => return Ok(self.unsupported(b.span(), "this operator")),
         };
-        let l = self.expr(&b.left)?;
+        let l = match left {
+            Some(l) => l,
+            None => self.expr(&b.left)?,
+        };
         let r = self.expr(&b.right)?;
         let v = self.arith(op, l, r, &b.left, &b.right)?;
         if assign {
@@ -865,11 +911,11 @@ impl Lower {
             }
             ('/', Val::V(v), Val::S(s)) => Val::V(v.map(|x| d.div(x, s))),
             ('+' | '-', Val::S(s), Val::V(_)) => {
-                let _ = self.vector(Val::S(s), le.span(), "the left operand")?;
+                let _ = self.vector(Val::S(s), le, "the left operand")?;
                 Val::Poison
             }
             ('+' | '-', Val::V(_), Val::S(s)) => {
-                let _ = self.vector(Val::S(s), re.span(), "the right operand")?;
+                let _ = self.vector(Val::S(s), re, "the right operand")?;
                 Val::Poison
             }
             ('*', Val::V(_), Val::V(_)) => self.err(syn::Error::new(
@@ -909,7 +955,7 @@ impl Lower {
         if is_constant_ctor {
             let arg = &c.args[0];
             let v = self.expr(arg)?;
-            let Some(id) = self.scalar(v, arg.span(), "the argument of this conversion") else {
+            let Some(id) = self.scalar(v, arg, "the argument of this conversion") else {
                 return Ok(Val::Poison);
             };
             if !self.dag.is_state_free(id) {
@@ -929,7 +975,7 @@ impl Lower {
                     let mut poison = false;
                     for (k, a) in c.args.iter().enumerate() {
                         let v = self.expr(a)?;
-                        match self.scalar(v, a.span(), "a component of `Vector3::new`") {
+                        match self.scalar(v, a, "a component of `Vector3::new`") {
                             Some(id) => comps[k] = id,
                             None => poison = true,
                         }
@@ -943,35 +989,49 @@ impl Lower {
         // `f64::sin(x)`, `Scalar::powi(x, 2)`: method calls in function form.
         if n == 2 && matches!(segs[0].as_str(), "f64" | "Scalar") && !c.args.is_empty() {
             let mut args = c.args.iter();
-            if let Some(recv) = args.next() {
+            if let Some(recv_e) = args.next() {
                 let rest: Vec<&Expr> = args.collect();
                 let method = &p.path.segments[1].ident;
-                return self.apply_method(recv, method, &rest, c.span());
+                let recv = self.expr(recv_e)?;
+                return self.apply_method(recv, recv_e, method, &rest, c);
             }
         }
         let name = segs.join("::");
         Ok(self.unsupported(c.func.span(), &format!("a call to the function `{name}`")))
     }
 
+    /// A chain of method calls `x.sin().cos()…`: walked along its receivers with a loop, so a
+    /// 2000-deep chain does not overflow the compiler's stack; innermost call first.
     fn method(&mut self, m: &syn::ExprMethodCall) -> R<Val> {
-        let args: Vec<&Expr> = m.args.iter().collect();
-        self.apply_method(&m.receiver, &m.method, &args, m.span())
+        let mut spine = vec![m];
+        while let Expr::MethodCall(inner) = &*spine[spine.len() - 1].receiver {
+            spine.push(inner);
+        }
+        let Some(innermost) = spine.last() else {
+            return Ok(Val::Poison);
+        };
+        let mut recv = self.expr(&innermost.receiver)?;
+        while let Some(m) = spine.pop() {
+            let args: Vec<&Expr> = m.args.iter().collect();
+            recv = self.apply_method(recv, &m.receiver, &m.method, &args, m)?;
+        }
+        Ok(recv)
     }
 
+    /// `recv.method(args)`, the receiver `recv_e` already lowered to `recv`.
     fn apply_method(
         &mut self,
+        recv: Val,
         recv_e: &Expr,
         method: &syn::Ident,
         args: &[&Expr],
-        span: Span,
+        whole: &dyn At,
     ) -> R<Val> {
         let name = method.to_string();
-        let recv = self.expr(recv_e)?;
-        let rspan = recv_e.span();
         let nargs = args.len();
         let bad_arity = |this: &mut Self, k: usize| -> Val {
             this.err(syn::Error::new(
-                span,
+                whole.at(),
                 format!("`.{name}()` takes {k} argument(s) here"),
             ))
         };
@@ -980,7 +1040,7 @@ impl Lower {
             if nargs != 0 {
                 return Ok(bad_arity(self, 0));
             }
-            let Some(x) = self.scalar(recv, rspan, &format!("the receiver of `.{name}()`")) else {
+            let Some(x) = self.scalar(recv, recv_e, &format!("the receiver of `.{name}()`")) else {
                 return Ok(Val::Poison);
             };
             return Ok(Val::S(self.dag.un(f, x)));
@@ -996,7 +1056,7 @@ impl Lower {
                 if nargs != want {
                     return Ok(bad_arity(self, want));
                 }
-                let Some(x) = self.scalar(recv, rspan, &format!("the receiver of `.{name}()`"))
+                let Some(x) = self.scalar(recv, recv_e, &format!("the receiver of `.{name}()`"))
                 else {
                     return Ok(Val::Poison);
                 };
@@ -1020,7 +1080,7 @@ impl Lower {
                 let mut ys = Vec::new();
                 for a in args {
                     let v = self.expr(a)?;
-                    match self.scalar(v, a.span(), &format!("the argument of `.{name}()`")) {
+                    match self.scalar(v, *a, &format!("the argument of `.{name}()`")) {
                         Some(y) => ys.push(y),
                         None => return Ok(Val::Poison),
                     }
@@ -1054,21 +1114,20 @@ impl Lower {
                 if nargs != want {
                     return Ok(bad_arity(self, want));
                 }
-                let Some(a) = self.vector(recv, rspan, &format!("the receiver of `.{name}()`"))?
+                let Some(a) = self.vector(recv, recv_e, &format!("the receiver of `.{name}()`"))?
                 else {
                     return Ok(Val::Poison);
                 };
                 if name == "scale" {
                     let v = self.expr(args[0])?;
-                    let Some(s) = self.scalar(v, args[0].span(), "the argument of `.scale()`")
-                    else {
+                    let Some(s) = self.scalar(v, args[0], "the argument of `.scale()`") else {
                         return Ok(Val::Poison);
                     };
                     return Ok(Val::V(a.map(|x| self.dag.mul(s, x))));
                 }
                 let b = if want == 1 {
                     let v = self.expr(args[0])?;
-                    match self.vector(v, args[0].span(), &format!("the argument of `.{name}()`"))? {
+                    match self.vector(v, args[0], &format!("the argument of `.{name}()`"))? {
                         Some(b) => b,
                         None => return Ok(Val::Poison),
                     }
