@@ -613,7 +613,14 @@ impl Dag {
                 }
                 Node::Powi(a, n) => {
                     let da = d(a);
-                    let p = self.powi(a, n - 1);
+                    // a^(n−1), as a^n / a where n − 1 would overflow (n = i32::MIN)
+                    let p = match n.checked_sub(1) {
+                        Some(m) => self.powi(a, m),
+                        None => {
+                            let an = self.powi(a, n);
+                            self.div(an, a)
+                        }
+                    };
                     let k = self.constant(f64::from(n));
                     let kp = self.mul(k, p);
                     self.mul(kp, da)

@@ -56,13 +56,16 @@ impl<A: Ord> Default for Poly<A> {
     }
 }
 
-/// The product of two monomials, with the exponents of `b` times `sign` (−1 divides).
-pub fn mono_mul<A: Ord + Copy>(a: &Mono<A>, b: &Mono<A>, sign: i32) -> Mono<A> {
+/// The product of two monomials, with the exponents of `b` times `sign` (−1 divides); `None`
+/// when an exponent would overflow `i32` (`x.powi(i32::MIN) / x`): the caller keeps the factors
+/// apart.
+pub fn mono_mul<A: Ord + Copy>(a: &Mono<A>, b: &Mono<A>, sign: i32) -> Option<Mono<A>> {
     let mut r: BTreeMap<A, i32> = a.iter().copied().collect();
     for &(x, e) in b {
-        *r.entry(x).or_insert(0) += sign * e;
+        let slot = r.entry(x).or_insert(0);
+        *slot = slot.checked_add(sign.checked_mul(e)?)?;
     }
-    r.into_iter().filter(|(_, e)| *e != 0).collect()
+    Some(r.into_iter().filter(|(_, e)| *e != 0).collect())
 }
 
 impl<A: Ord + Copy> Poly<A> {
@@ -139,7 +142,7 @@ impl<A: Ord + Copy> Poly<A> {
         let mut r = Poly::default();
         for (m1, c1) in &self.0 {
             for (m2, c2) in &other.0 {
-                r.accumulate(&mono_mul(m1, m2, 1), c1 * c2, rules);
+                r.accumulate(&mono_mul(m1, m2, 1)?, c1 * c2, rules);
             }
         }
         r.capped(rules)
@@ -208,7 +211,7 @@ pub fn build(dag: &mut Dag, p: &Poly<Id>) -> Id {
 /// m₁₁ m₂₂ − m₁₂² as DAG nodes: expanded where terms of m₁₁m₂₂ and m₁₂² cancel exactly (and
 /// the expansion stays small), as written otherwise (an expansion where nothing cancels only
 /// costs operations and gains no accuracy).
-pub fn det2(dag: &mut Dag, m11: Id, m22: Id, m12: Id) -> Id {
+pub fn det2(dag: &mut Dag, m11: Id, m22: Id, m12: Id) -> (Id, bool) {
     let rules = &DETERMINANT;
     let expanded = (|| {
         let (a, d, b) = (expand(dag, m11)?, expand(dag, m22)?, expand(dag, m12)?);
@@ -218,11 +221,12 @@ pub fn det2(dag: &mut Dag, m11: Id, m22: Id, m12: Id) -> Id {
         (cancelled > 0).then_some(det)
     })();
     match expanded {
-        Some(p) => build(dag, &p),
+        // One monomial left: a product, evaluated to a few ulps however small it is.
+        Some(p) => (build(dag, &p), p.len() == 1),
         None => {
             let ad = dag.mul(m11, m22);
             let bb = dag.mul(m12, m12);
-            dag.sub(ad, bb)
+            (dag.sub(ad, bb), false)
         }
     }
 }

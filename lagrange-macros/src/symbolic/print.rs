@@ -48,6 +48,21 @@ fn plus(a: &Poly, b: &Poly, sign: f64) -> Poly {
     a.add(b, sign, &PRINTING).0
 }
 
+/// `(a)·(b)` or `(a)/(b)` (`sign` −1) left unexpanded, past the caps. Never `Paren` of the
+/// product node itself: that would print the node through itself, without end.
+fn unexpanded(a: Id, b: Id, sign: i32) -> Poly {
+    let (a, b) = (Atom::Paren(a), Atom::Paren(b));
+    let m = match (a.cmp(&b), sign) {
+        (std::cmp::Ordering::Equal, 1) => vec![(a, 2)],
+        (std::cmp::Ordering::Equal, _) => return Poly::constant(1.0),
+        (std::cmp::Ordering::Less, _) => vec![(a, 1), (b, sign)],
+        (std::cmp::Ordering::Greater, _) => vec![(b, sign), (a, 1)],
+    };
+    let mut p = Poly::default();
+    p.0.insert(m, 1.0);
+    p
+}
+
 struct Expander<'a> {
     dag: &'a Dag,
     memo: HashMap<Id, Poly>,
@@ -59,7 +74,10 @@ impl Expander<'_> {
             return p.clone();
         }
         // Expand children first, iteratively, to bound the recursion depth.
+        // Each node is expanded once: a node reached again by another path before it is done
+        // would otherwise be walked once per path (exponential in a chain of shared diamonds).
         let mut order = Vec::new();
+        let mut seen = std::collections::HashSet::new();
         let mut stack = vec![(id, false)];
         while let Some((x, done)) = stack.pop() {
             if self.memo.contains_key(&x) {
@@ -67,6 +85,9 @@ impl Expander<'_> {
             }
             if done {
                 order.push(x);
+                continue;
+            }
+            if !seen.insert(x) {
                 continue;
             }
             stack.push((x, true));
@@ -111,28 +132,38 @@ impl Expander<'_> {
             Node::Mul(a, b) => self
                 .get(a)
                 .mul(&self.get(b), &PRINTING)
-                .unwrap_or_else(|| Poly::atom(Atom::Paren(id), 1)),
+                .unwrap_or_else(|| unexpanded(a, b, 1)),
             Node::Div(a, b) => {
                 let pb = self.get(b);
-                let inv = match pb.single() {
+                let inv = match pb
+                    .single()
+                    .and_then(|(m, c)| Some((mono_mul(&Vec::new(), m, -1)?, c)))
+                {
                     Some((m, c)) => {
                         let mut p = Poly::default();
-                        p.0.insert(mono_mul(&Vec::new(), m, -1), 1.0 / c);
+                        p.0.insert(m, 1.0 / c);
                         p
                     }
                     None => Poly::atom(Atom::Paren(b), -1),
                 };
                 self.get(a)
                     .mul(&inv, &PRINTING)
-                    .unwrap_or_else(|| Poly::atom(Atom::Paren(id), 1))
+                    .unwrap_or_else(|| unexpanded(a, b, -1))
             }
             Node::Powi(a, n) => {
                 let pa = self.get(a);
                 if let Some((m, c)) = pa.single() {
-                    let mut p = Poly::default();
-                    let m: Mono = m.iter().map(|&(x, e)| (x, e * n)).collect();
-                    p.0.insert(m, c.powi(n));
-                    return p;
+                    // (an exponent past i32 keeps the power outside: `(x²)^(i32::MIN)`)
+                    let m: Option<Mono> = m
+                        .iter()
+                        .map(|&(x, e)| Some((x, e.checked_mul(n)?)))
+                        .collect();
+                    if let Some(m) = m {
+                        let mut p = Poly::default();
+                        p.0.insert(m, c.powi(n));
+                        return p;
+                    }
+                    return Poly::atom(Atom::Paren(a), n);
                 }
                 if (1..=4).contains(&n) {
                     let mut r = Poly::constant(1.0);
@@ -208,7 +239,7 @@ fn subscript_digits(s: &str) -> String {
         .collect()
 }
 
-fn superscript(n: i32) -> String {
+fn superscript(n: i64) -> String {
     let digits = |c: char| match c {
         '0' => '⁰',
         '1' => '¹',
@@ -336,6 +367,26 @@ struct Printer<'a> {
     ex: Expander<'a>,
     names: Names,
     latex: bool,
+    /// Rendered sub-expressions (function arguments, parenthesized sums), by node.
+    flat: HashMap<Id, String>,
+}
+
+/// The nodes an expanded polynomial renders through [`Printer::flat`] (its atoms' arguments).
+fn flat_deps(dag: &Dag, p: &Poly, out: &mut Vec<Id>) {
+    for m in p.0.keys() {
+        for &(a, _) in m {
+            match a {
+                Atom::Fun(_, x) | Atom::Paren(x) => out.push(x),
+                Atom::Atan2(x, y) | Atom::Powf(x, y) => out.extend([x, y]),
+                Atom::Select(x) => {
+                    if let Node::Select(_, a, b) = dag.node(x) {
+                        out.extend([a, b]);
+                    }
+                }
+                Atom::Param(..) | Atom::A(_) | Atom::V(_) | Atom::Q(_) | Atom::T => {}
+            }
+        }
+    }
 }
 
 impl Printer<'_> {
@@ -347,7 +398,7 @@ impl Printer<'_> {
         }
     }
 
-    fn pow(&self, base: String, e: i32) -> String {
+    fn pow(&self, base: String, e: i64) -> String {
         if e == 1 {
             base
         } else if self.latex {
@@ -357,10 +408,46 @@ impl Printer<'_> {
         }
     }
 
-    /// A flat rendering of a sub-expression (a function argument).
+    /// A flat rendering of a sub-expression (a function argument), memoized.
+    ///
+    /// Nested arguments (`sin(sin(…))`, a chain of parenthesized sums) are rendered innermost
+    /// first with an explicit stack, so the call depth stays bounded however deep the body nests.
     fn flat(&mut self, id: Id) -> String {
-        let p = self.ex.poly(id);
-        self.sum(&p)
+        if let Some(s) = self.flat.get(&id) {
+            return s.clone();
+        }
+        let mut stack = vec![(id, false)];
+        let mut deps = Vec::new();
+        // Expanded once each (see `Expander::poly`); in a DAG a node met again while still on
+        // the stack is finished before anything that needs it.
+        let mut seen = std::collections::HashSet::new();
+        while let Some((x, ready)) = stack.pop() {
+            if self.flat.contains_key(&x) || (!ready && !seen.insert(x)) {
+                continue;
+            }
+            let p = self.ex.poly(x);
+            if ready {
+                // Every argument is in the memo: `sum` → `atom` → `flat` goes one level deep.
+                let mut s = self.sum(&p);
+                if s.len() > MAX_EQUATION_CHARS {
+                    // Past the cap a sub-expression is a marker, so what contains it stays short
+                    // (`sin(sin(…))` differentiated prints quadratically long) and the equation
+                    // that contains it says it is too long to print.
+                    s = TOO_LONG.to_owned();
+                }
+                self.flat.insert(x, s);
+                continue;
+            }
+            stack.push((x, true));
+            deps.clear();
+            flat_deps(self.ex.dag, &p, &mut deps);
+            for &d in &deps {
+                if !self.flat.contains_key(&d) {
+                    stack.push((d, false));
+                }
+            }
+        }
+        self.flat.get(&id).cloned().unwrap_or_default()
     }
 
     fn paren(&self, s: String) -> String {
@@ -371,7 +458,7 @@ impl Printer<'_> {
         }
     }
 
-    fn atom(&mut self, a: Atom, e: i32) -> String {
+    fn atom(&mut self, a: Atom, e: i64) -> String {
         let latex = self.latex;
         match a {
             Atom::Param(f, c) => {
@@ -496,10 +583,10 @@ impl Printer<'_> {
         }
         for &(a, e) in atoms {
             if e > 0 {
-                let s = self.atom(a, e);
+                let s = self.atom(a, i64::from(e));
                 num.push(s);
             } else {
-                let s = self.atom(a, -e);
+                let s = self.atom(a, -i64::from(e));
                 den.push(s);
             }
         }
@@ -610,6 +697,13 @@ fn join_signed(parts: &[(bool, String)], latex: bool) -> String {
     s
 }
 
+/// The longest equation printed in full (left and right sides together, in bytes).
+const MAX_EQUATION_CHARS: usize = 64 * 1024;
+
+/// What a sub-expression longer than [`MAX_EQUATION_CHARS`] renders as (never printed: the
+/// equation containing it is replaced by a note).
+const TOO_LONG: &str = "\u{2063}too long\u{2063}";
+
 /// Prints the Euler–Lagrange equation of every coordinate, `Σₖ Mᵢₖ q̈ₖ = fᵢ`, followed on the
 /// right by the generalized force Qᵢ and then the dissipative force −∂D/∂q̇ᵢ, each as its own
 /// group of terms (so a reader sees where each term comes from).
@@ -656,6 +750,7 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
                 conds: d.conds.iter().map(|c| c.text.clone()).collect(),
             },
             latex,
+            flat: HashMap::new(),
         };
         let mut text = String::new();
         for i in 0..decl.n() {
@@ -674,8 +769,32 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
                 let p = pr.ex.poly(id);
                 parts.extend(pr.grouped_parts(&p));
             }
-            let r = join_signed(&parts, latex);
+            let mut r = join_signed(&parts, latex);
             let label = names.get(i).cloned().unwrap_or_default();
+            if l.len() + r.len() > MAX_EQUATION_CHARS
+                || l.contains(TOO_LONG)
+                || r.contains(TOO_LONG)
+            {
+                // Deep nesting (sin(sin(…)) differentiated) can print quadratically long: past the
+                // cap the line says so instead of putting megabytes of text into the binary.
+                let n = l.len() + r.len();
+                let (lhs, rhs) = if latex {
+                    (
+                        "\\text{(left side)}",
+                        format!("\\text{{(too long to print: {n} bytes)}}"),
+                    )
+                } else {
+                    ("(left side)", format!("(too long to print: {n} bytes)"))
+                };
+                r = rhs;
+                let l = lhs;
+                if latex {
+                    let _ = writeln!(text, "{l} = {r}");
+                } else {
+                    let _ = writeln!(text, "{label}: {l} = {r}");
+                }
+                continue;
+            }
             if latex {
                 let _ = writeln!(text, "{l} = {r}");
             } else {

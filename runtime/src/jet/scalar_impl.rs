@@ -602,8 +602,14 @@ macro_rules! impl_jet_scalar {
                         2 => J::chain3(self, x * x, 2.0 * x, 2.0, 0.0),
                         _ => {
                             let nf = f64::from(n);
-                            let p2 = x.powi(n - 2);
-                            let f3 = nf * (nf - 1.0) * (nf - 2.0) * x.powi(n - 3);
+                            // x^(n−2), x^(n−3); near i32::MIN the exponent is an f64 (exact),
+                            // never an overflowing i32
+                            let pow = |k: i32| match n.checked_sub(k) {
+                                Some(m) => x.powi(m),
+                                None => x.powf(nf - f64::from(k)),
+                            };
+                            let p2 = pow(2);
+                            let f3 = nf * (nf - 1.0) * (nf - 2.0) * pow(3);
                             J::chain3(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2, f3)
                         }
                     }

@@ -392,11 +392,12 @@ fn partials(op: Op, u: f64, w: f64) -> Partials {
         Op::Sqrt => unary(u.sqrt(), 0.5 / u.sqrt(), -0.25 / (u * u.sqrt())),
         Op::Powi(n) => {
             let nf = f64::from(n);
-            let d1 = if n == 0 { 0.0 } else { nf * u.powi(n - 1) };
+            // exponents as f64 (exact): n − 1 and n − 2 overflow i32 at i32::MIN
+            let d1 = if n == 0 { 0.0 } else { nf * u.powf(nf - 1.0) };
             let d2 = if n == 0 || n == 1 {
                 0.0
             } else {
-                nf * (nf - 1.0) * u.powi(n - 2)
+                nf * (nf - 1.0) * u.powf(nf - 2.0)
             };
             unary(u.powi(n), d1, d2)
         }
@@ -547,6 +548,14 @@ fn powi_matches_calculus_tables_for_every_exponent_class() {
     let us = [-1.625, -0.375, 0.5, 2.25];
     for n in [0, 1, 2, 3, -1, -2, 5] {
         run_unary(Op::Powi(n), &us);
+    }
+}
+
+#[test]
+fn powi_at_the_ends_of_i32_does_not_overflow() {
+    // ±1 keep every derivative finite: (−1)^n, n (−1)^(n−1), n (n−1) (−1)^(n−2)
+    for n in [i32::MIN, i32::MIN + 1, i32::MAX, i32::MAX - 1] {
+        run_unary(Op::Powi(n), &[-1.0, 1.0]);
     }
 }
 
