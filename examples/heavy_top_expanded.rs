@@ -174,27 +174,11 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x74 - __lagrange_x68,
         );
         let __lagrange_fast: ::core::option::Option<[f64; 3]> = '__lagrange_fast: {
-            let __lagrange_max = |__lagrange_m: f64, __lagrange_a: f64| {
-                if __lagrange_a > __lagrange_m {
-                    __lagrange_a
-                } else {
-                    __lagrange_m
-                }
-            };
-            let __lagrange_scale: f64 = __lagrange_max(
-                __lagrange_max(
-                    __lagrange_max(0.0_f64, f64::abs(__lagrange_p_i_perp)),
-                    f64::abs(__lagrange_x57),
-                ),
-                f64::abs(__lagrange_p_i_par),
-            );
-            let __lagrange_tol =
-                ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * __lagrange_scale;
-            if !(__lagrange_x57 > __lagrange_tol) {
+            if !(__lagrange_x57 > 0.0) {
                 break '__lagrange_fast ::core::option::Option::None;
             }
             let __lagrange_det_1_2: f64 = __lagrange_x104;
-            if !(__lagrange_det_1_2 > __lagrange_tol * __lagrange_x57) {
+            if !(__lagrange_det_1_2 > 0.0) {
                 break '__lagrange_fast ::core::option::Option::None;
             }
             let __lagrange_y_1: f64 = (__lagrange_p_i_par * __lagrange_x96
@@ -204,7 +188,9 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
                 - __lagrange_x58 * __lagrange_x96)
                 / __lagrange_det_1_2;
             let __lagrange_d_0: f64 = __lagrange_p_i_perp;
-            if !(__lagrange_d_0 > __lagrange_tol) {
+            if !(__lagrange_d_0
+                > ::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT * __lagrange_p_i_perp)
+            {
                 break '__lagrange_fast ::core::option::Option::None;
             }
             let __lagrange_y_0: f64 = __lagrange_x95;

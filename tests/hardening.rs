@@ -256,3 +256,92 @@ fn a_constant_power_of_zero_is_finite_in_the_jets() {
     let a = Cusp { k: 2.0 }.accelerations(&[0.25], &[1.0], 0.0).unwrap();
     assert!((a[0] + 2.0 * 1.5 * 0.5).abs() < 1e-15, "{a:?}");
 }
+
+/// `powi` at both ends of `i32`, in both modes: V = x^(i32::MIN) + x^(i32::MAX).
+macro_rules! extreme_powers {
+    ($name:ident, $($mode:tt)*) => {
+        struct $name;
+        #[lagrangian $($mode)*]
+        impl $name {
+            fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+                0.5 * x_dot * x_dot - x.powi(-2147483648) - x.powi(2147483647)
+            }
+        }
+    };
+}
+extreme_powers!(ExtremePowers,);
+extreme_powers!(ExtremePowersJets, (mode = "jets"));
+
+#[test]
+fn powi_at_the_ends_of_i32_neither_panics_nor_overflows() {
+    // V'(x) = MIN x^(MIN−1) + MAX x^(MAX−1): at x = 1, MIN + MAX = −1; at x = −1 (MIN − 1 odd,
+    // MAX − 1 even), −MIN + MAX = 2³² − 1. Exact in f64.
+    for (x, want) in [(1.0, 1.0), (-1.0, -4294967295.0)] {
+        let s = ExtremePowers.accelerations(&[x], &[0.0], 0.0).unwrap();
+        let j = ExtremePowersJets.accelerations(&[x], &[0.0], 0.0).unwrap();
+        assert_eq!((s[0], j[0]), (want, want), "x = {x}");
+    }
+}
+
+/// Symbolic mode at θ = 1e-7: the φ–ψ block's determinant cancels symbolically to I⊥ I∥ sin²θ,
+/// so its Cramer solve keeps every digit, and the answer is returned (and equals the closed form),
+/// where the jets' numeric elimination has lost 14 digits and says so.
+#[test]
+fn an_exact_answer_near_the_chart_singularity_is_returned() {
+    use crate::support::systems::HeavyTop as SymbolicTop;
+    let (ip, ia, m, g, l) = (1.0, 0.6, 1.0, 9.81, 0.1);
+    let top = SymbolicTop {
+        i_perp: ip,
+        i_par: ia,
+        m,
+        g,
+        l,
+    };
+    for theta in [1e-7, 1e-9] {
+        let (q, v) = ([theta, 0.3, -0.2], [0.1, 0.2, 3.0]);
+        let got = top.accelerations(&q, &v, 0.0).expect("exact: returned");
+        // Closed form: θ̈ I⊥ = I⊥ φ̇² s c − I∥ ω₃ φ̇ s + m g l s; ω̇₃ = 0 and ṗ_φ = 0 give
+        // φ̈ = (I∥ ω₃ θ̇ − 2 I⊥ φ̇ θ̇ c) / (I⊥ s) and ψ̈ = φ̇ θ̇ s − φ̈ c.
+        let (s, c) = theta.sin_cos();
+        let w3 = v[2] + v[1] * c;
+        let th = (ip * v[1] * v[1] * s * c - ia * w3 * v[1] * s + m * g * l * s) / ip;
+        let ph = (ia * w3 * v[0] - 2.0 * ip * v[1] * v[0] * c) / (ip * s);
+        let ps = v[1] * v[0] * s - ph * c;
+        for (k, want) in [th, ph, ps].into_iter().enumerate() {
+            assert!(
+                (got[k] - want).abs() <= 1e-12 * want.abs(),
+                "θ = {theta}, q̈[{k}] = {} vs {want}",
+                got[k]
+            );
+        }
+        let jets = top.jets().accelerations(&q, &v, 0.0);
+        assert!(jets.is_err(), "θ = {theta}: {jets:?}");
+    }
+}
+
+/// A badly scaled symbolic system takes the generated fast path (pivots judged against their
+/// own diagonal entries) and gives the exact answer.
+#[lagrangian]
+impl SymbolicTwoMasses {
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        3e24 * x_dot * x_dot + 500.0 * y_dot * y_dot + 1e-3 * x_dot * y_dot
+            - 0.5 * (x - y) * (x - y)
+    }
+}
+struct SymbolicTwoMasses;
+
+#[test]
+fn a_badly_scaled_symbolic_system_is_solved_exactly() {
+    let a = SymbolicTwoMasses
+        .accelerations(&[0.0, 1.0], &[0.0, 0.0], 0.0)
+        .expect("well conditioned");
+    // M = [[6e24, 1e-3], [1e-3, 1e3]], f = (1, −1).
+    let det = 6e24 * 1e3 - 1e-6;
+    let want = [(1e3 * 1.0 + 1e-3) / det, (-6e24 - 1e-3) / det];
+    for k in 0..2 {
+        assert!(
+            (a[k] - want[k]).abs() <= 1e-15 * want[k].abs(),
+            "{a:?} vs {want:?}"
+        );
+    }
+}

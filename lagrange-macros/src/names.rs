@@ -101,26 +101,6 @@ pub fn det(i: usize, k: usize) -> Ident {
     local(format_args!("det_{i}_{k}"))
 }
 
-/// The largest diagonal magnitude of M.
-pub fn scale() -> Ident {
-    local(format_args!("scale"))
-}
-
-/// The pivot tolerance.
-pub fn tol() -> Ident {
-    local(format_args!("tol"))
-}
-
-/// The two-argument maximum used to form [`scale`].
-pub fn max() -> Ident {
-    local(format_args!("max"))
-}
-
-/// The parameters of the [`max`] closure (the maximum so far, the next magnitude).
-pub fn max_args() -> [Ident; 2] {
-    [local(format_args!("m")), local(format_args!("a"))]
-}
-
 /// The solution array of the fast path.
 pub fn solution() -> Ident {
     local(format_args!("qddot"))

@@ -18,8 +18,9 @@ pub enum SolveFailure {
     NonFinite,
 }
 
-/// Pivots at or below this multiple of the matrix scale count as zero (the generated code's
-/// fast-path test; the runtime's own test is [`ACCURATE_RELATIVE_PIVOT`]).
+/// Pivots at or below this multiple of the matrix scale count as zero in the LU fallback (on the
+/// equilibrated matrix); the LDLᵀ test, shared with the generated code, is
+/// [`ACCURATE_RELATIVE_PIVOT`].
 pub const SINGULAR_RELATIVE_PIVOT: f64 = 64.0 * f64::EPSILON;
 
 /// √ε: an LDLᵀ pivot below this fraction of its own diagonal entry means the solution would

@@ -44,7 +44,8 @@ pub struct Derivation {
     pub energy: Id,
     /// The 2×2 diagonal blocks of M coupled to nothing else, (i, k, det), i < k: solved by
     /// Cramer's rule with the determinant expanded and cancelled (see `poly::det2`).
-    pub pairs: Vec<(usize, usize, Id)>,
+    /// The flag: the determinant cancelled to one monomial (accurate however small).
+    pub pairs: Vec<(usize, usize, Id, bool)>,
 }
 
 /// The 2×2 blocks {i, k} of M (upper triangle) that no other coordinate couples to.
@@ -140,11 +141,8 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
     let pairs = decoupled_pairs(&mass)
         .into_iter()
         .map(|(i, k)| {
-            (
-                i,
-                k,
-                poly::det2(&mut dag, mass[i][i], mass[k][k], mass[i][k]),
-            )
+            let (det, exact) = poly::det2(&mut dag, mass[i][i], mass[k][k], mass[i][k]);
+            (i, k, det, exact)
         })
         .collect();
     let dldt = dag.tangents(&[l], &unit(vars.t()), &|_, node| {

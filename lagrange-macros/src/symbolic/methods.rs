@@ -85,8 +85,11 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     });
     let f = eq.rhs.iter().map(or_zero);
     let stmts = code.stmts;
-    let pairs: Vec<(usize, usize, TokenStream)> =
-        d.pairs.iter().map(|&(i, k, det)| (i, k, op(det))).collect();
+    let pairs: Vec<(usize, usize, TokenStream, bool)> = d
+        .pairs
+        .iter()
+        .map(|&(i, k, det, exact)| (i, k, op(det), exact))
+        .collect();
     let solve = solve::ldlt(&eq, &pairs);
     let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
     let accelerations = quote! {

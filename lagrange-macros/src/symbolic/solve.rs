@@ -14,15 +14,16 @@ use crate::names;
 /// `solve_symmetric`, with the structurally zero products left out and one reciprocal per pivot
 /// whose row of L has two or more entries; the decoupled 2×2 blocks in `pairs` by Cramer's rule
 /// instead (see [`cramer`]). The tokens are the statements of a block labelled [`names::fast_label`] that
-/// evaluates to `Some(q̈)`, or breaks with `None` whenever a pivot is not clearly positive (or
-/// anything is not finite); the caller then hands over to `solve_mass_matrix`, which decides
-/// between LU and a `DynamicsError` exactly as the jets path.
-pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream)]) -> TokenStream {
+/// evaluates to `Some(q̈)`, or breaks with `None` whenever a pivot fails the runtime's test
+/// (d_j > √ε·m_jj: more than half the digits kept) or anything is not finite; the caller then
+/// hands over to `solve_mass_matrix`, which decides between LU and a `DynamicsError` exactly as
+/// the jets path.
+pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> TokenStream {
     let (m, b) = (&eq.mass, &eq.rhs);
     let n = m.len();
     // Indices solved as a decoupled 2×2 block (Cramer) instead of by the elimination.
     let mut paired = vec![false; n];
-    for &(i, k, _) in pairs {
+    for &(i, k, _, _) in pairs {
         paired[i] = true;
         paired[k] = true;
     }
@@ -31,27 +32,15 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream)]) -> TokenStrea
     let r_id = names::ldl_r;
     let u_id = names::ldl_u;
     let x_id = names::solve_y;
-    let (scale_id, tol, fast) = (names::scale(), names::tol(), names::fast_label());
-    let (max, [acc, a]) = (names::max(), names::max_args());
+    let fast = names::fast_label();
+    let accurate = quote!(::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT);
     let mut out = TokenStream::new();
-    // The largest diagonal magnitude (a NaN on the diagonal is caught by its pivot test).
-    let mut scale = quote!(0.0_f64);
-    for j in 0..n {
-        if let Some(e) = &m[j][j] {
-            scale = quote!(#max(#scale, f64::abs(#e)));
-        }
-    }
-    out.extend(quote! {
-        let #max = |#acc: f64, #a: f64| if #a > #acc { #a } else { #acc };
-        let #scale_id: f64 = #scale;
-        let #tol = ::lagrange::__private::linalg::SINGULAR_RELATIVE_PIVOT * #scale_id;
-    });
     // l[j][i] (i > j): true when not structurally zero.
     let mut l: Vec<Vec<bool>> = vec![vec![false; n]; n];
     // Whether pivot j has a reciprocal `r_j` (used by its row of l and by y_j).
     let mut recip = vec![false; n];
-    for (i, k, det) in pairs {
-        out.extend(cramer(m, b, *i, *k, det));
+    for (i, k, det, exact) in pairs {
+        out.extend(cramer(m, b, *i, *k, det, *exact));
     }
     for j in 0..n {
         if paired[j] {
@@ -69,9 +58,15 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream)]) -> TokenStrea
                 e = quote!(#e - #lk * #uk);
             }
         }
+        // The runtime's test (`solve_symmetric`): the pivot against its own diagonal entry,
+        // so the units of the coordinates do not matter and a pass here is a pass there.
+        let mjj = match &m[j][j] {
+            Some(x) => quote!(#x),
+            None => quote!(0.0_f64),
+        };
         out.extend(quote! {
             let #dj: f64 = #e;
-            if !(#dj > #tol) {
+            if !(#dj > #accurate * #mjj) {
                 break #fast ::core::option::Option::None;
             }
         });
@@ -175,15 +170,19 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream)]) -> TokenStrea
     out
 }
 
-/// The decoupled 2×2 block {i, k} of M q̈ = f by Cramer's rule: the same pivot tests as the
-/// elimination (mᵢᵢ > tol, and the second pivot det/mᵢᵢ > tol), one division depth, and the
-/// determinant as `derive` simplified it (exact where its terms cancel).
+/// The decoupled 2×2 block {i, k} of M q̈ = f by Cramer's rule, one division depth, with the
+/// determinant as `derive` simplified it. When that determinant is `exact` (its terms cancelled
+/// symbolically to one monomial, such as I⊥ I∥ sin²θ for the top), it carries no rounding
+/// beyond a few ulps however small it is, and any positive value is accepted: the answer is as
+/// accurate as its inputs. Otherwise the elimination's test applies (the second pivot det/mᵢᵢ
+/// against its own diagonal mₖₖ, as in `solve_symmetric`).
 fn cramer(
     m: &[Vec<Option<TokenStream>>],
     b: &[Option<TokenStream>],
     i: usize,
     k: usize,
     det: &TokenStream,
+    exact: bool,
 ) -> TokenStream {
     let zero = quote!(0.0_f64);
     let get = |e: &Option<TokenStream>| e.clone().unwrap_or_else(|| zero.clone());
@@ -198,13 +197,18 @@ fn cramer(
     let (ni, nk) = (minus(&mkk, &b[i], &b[k]), minus(&mii, &b[k], &b[i]));
     let det_id = names::det(i, k);
     let (yi, yk) = (names::solve_y(i), names::solve_y(k));
-    let (tol, fast) = (names::tol(), names::fast_label());
+    let fast = names::fast_label();
+    let det_test = if exact {
+        quote!(#det_id > 0.0)
+    } else {
+        quote!(#det_id > ::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT * #mii * #mkk)
+    };
     quote! {
-        if !(#mii > #tol) {
+        if !(#mii > 0.0) {
             break #fast ::core::option::Option::None;
         }
         let #det_id: f64 = #det;
-        if !(#det_id > #tol * #mii) {
+        if !(#det_test) {
             break #fast ::core::option::Option::None;
         }
         let #yi: f64 = (#ni) / #det_id;

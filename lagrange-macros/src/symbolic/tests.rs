@@ -636,8 +636,9 @@ fn scalar_constant_conversions_are_the_identity_on_constants() {
 fn decoupled_pair_determinant_cancels_to_a_monomial() {
     let d = derive(&heavy_top()).expect("derives");
     assert_eq!(d.pairs.len(), 1);
-    let (i, k, det) = d.pairs[0];
+    let (i, k, det, exact) = d.pairs[0];
     assert_eq!((i, k), (1, 2));
+    assert!(exact, "one monomial: accurate however small");
     let p = super::poly::expand(&d.dag, det).expect("small");
     assert_eq!(p.len(), 1, "{p:?}");
     // And it is the determinant, to round-off, where the unexpanded form is still accurate.
@@ -661,7 +662,8 @@ fn decoupled_pair_determinant_cancels_to_a_monomial() {
 fn pair_determinant_without_cancellation_is_kept_as_written() {
     let d = derive(&chain_decl(2)).expect("derives");
     assert_eq!(d.pairs.len(), 1);
-    let det = d.pairs[0].2;
+    let (det, exact) = (d.pairs[0].2, d.pairs[0].3);
+    assert!(!exact);
     assert!(
         matches!(d.dag.node(det), Node::Sub(..)),
         "{:?}",
