@@ -15,6 +15,7 @@ mod deep_bodies;
 mod gallery;
 mod hand_written;
 mod hygiene;
+mod language;
 mod lint_clean;
 mod macro_contract;
 mod pieces;

@@ -270,6 +270,38 @@ struct Rewriter {
     scopes: Vec<HashMap<String, Kind>>,
 }
 
+/// `v.norm().powi(2k)` → `v.norm_squared().powi(k)` (and `magnitude` alike): the same value,
+/// but smooth at v = 0, where the jets of the square root are ∞·0 = NaN. The symbolic mode
+/// folds √x to an even power the same way.
+fn norm_power_to_norm_squared(m: &mut syn::ExprMethodCall) {
+    if m.method != "powi" || m.args.len() != 1 {
+        return;
+    }
+    let Some(Expr::Lit(syn::ExprLit {
+        lit: syn::Lit::Int(n),
+        ..
+    })) = m.args.first()
+    else {
+        return;
+    };
+    let Ok(n) = n.base10_parse::<i32>() else {
+        return;
+    };
+    let Expr::MethodCall(inner) = &mut *m.receiver else {
+        return;
+    };
+    if n % 2 != 0
+        || !inner.args.is_empty()
+        || !(inner.method == "norm" || inner.method == "magnitude")
+    {
+        return;
+    }
+    let span = inner.method.span();
+    inner.method = syn::Ident::new(&format!("{}_squared", inner.method), span);
+    let half = proc_macro2::Literal::i32_unsuffixed(n / 2);
+    m.args[0] = Expr::Verbatim(quote_spanned!(span=> #half));
+}
+
 /// A stand-in for an operand detached while a chain is walked (never emitted).
 fn placeholder() -> Expr {
     Expr::Verbatim(TokenStream::new())
@@ -611,6 +643,7 @@ impl Rewriter {
 
     /// One call of a chain, its receiver's kind `kr` known.
     fn method_one(&mut self, m: &mut syn::ExprMethodCall, kr: Kind) -> Kind {
+        norm_power_to_norm_squared(m);
         let kargs: Vec<Kind> = m.args.iter_mut().map(|a| self.expr(a)).collect();
         if m.method == "powi" {
             return kr;

@@ -71,6 +71,11 @@ pub fn field(name: &str, free: bool) -> Ident {
     }
 }
 
+/// The local holding the `k`-th parameter-only expression evaluated as written.
+pub fn opaque(k: usize) -> Ident {
+    local(format_args!("o_{k}"))
+}
+
 /// Entry (j, i) of L in the LDLᵀ solve (`l_{j}_{i}`).
 pub fn ldl_l(j: usize, i: usize) -> Ident {
     local(format_args!("l_{j}_{i}"))

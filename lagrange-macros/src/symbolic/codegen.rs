@@ -18,7 +18,10 @@ pub struct Code {
 }
 
 fn field_local(f: &Field) -> Ident {
-    names::field(&f.name, f.free)
+    match &f.opaque {
+        Some((k, _)) => names::opaque(*k),
+        None => names::field(&f.name, f.free),
+    }
 }
 
 fn const_tokens(c: f64) -> TokenStream {
@@ -124,7 +127,9 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
         // `self` must resolve like the receiver of the generated method (call-site hygiene),
         // while errors point at the user's field.
         let this = Ident::new("self", Span::call_site().located_at(field.span));
-        if field.free {
+        if let Some((_, tokens)) = &field.opaque {
+            stmts.extend(quote_spanned!(field.span=> let #local: #ty = #tokens;));
+        } else if field.free {
             stmts.extend(quote_spanned!(field.span=> let #local: #ty = #member;));
         } else {
             stmts.extend(quote_spanned!(field.span=> let #local: #ty = #this.#member;));
@@ -224,6 +229,10 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
             Node::Atan2(y, x) => {
                 let (y, x) = (receiver(dag, fields, y), o(x));
                 quote!(#y.atan2(#x))
+            }
+            Node::Un(Fun::Step, a) => {
+                let a = o(a);
+                quote!(if #a >= 0.0 { 1.0_f64 } else { 0.0_f64 })
             }
             Node::Un(f, a) => {
                 let a = receiver(dag, fields, a);

@@ -448,6 +448,11 @@ impl Dag {
                 return self.powi(x, k);
             }
         }
+        // √x to an even power is a power of x: `v.norm().powi(2)` is |v|², smooth at v = 0
+        // (through the square root its derivative would be ∞·0 there).
+        if let (Node::Un(Fun::Sqrt, x), 0) = (self.node(a), n % 2) {
+            return self.powi(x, n / 2);
+        }
         self.intern(Node::Powi(a, n))
     }
 

@@ -69,8 +69,61 @@ functions! {
     Exp: "exp", "exp", "\\exp", f64::exp, |d, y, _, da| d.mul(y, da);
     Ln: "ln", "ln", "\\ln", f64::ln, |d, _, a, da| d.div(da, a);
     Abs: "abs", "abs", "abs", f64::abs, |d, _, a, da| {
-        let s = d.un(Fun::Signum, a);
+        // The jets' one-sided rule: slope +1 at ±0 (2 H(a) − 1, with H(−0) = 1).
+        let h = d.un(Fun::Step, a);
+        let two = d.constant(2.0);
+        let h2 = d.mul(two, h);
+        let s = d.sub(h2, Dag::ONE);
         d.mul(s, da)
+    };
+    Asinh: "asinh", "asinh", "\\operatorname{arsinh}", f64::asinh, |d, _, a, da| {
+        let a2 = d.powi(a, 2);
+        let w = d.add(Dag::ONE, a2);
+        let r = d.un(Fun::Sqrt, w);
+        d.div(da, r)
+    };
+    Acosh: "acosh", "acosh", "\\operatorname{arcosh}", f64::acosh, |d, _, a, da| {
+        let a2 = d.powi(a, 2);
+        let w = d.sub(a2, Dag::ONE);
+        let r = d.un(Fun::Sqrt, w);
+        d.div(da, r)
+    };
+    Atanh: "atanh", "atanh", "\\operatorname{artanh}", f64::atanh, |d, _, a, da| {
+        let a2 = d.powi(a, 2);
+        let w = d.sub(Dag::ONE, a2);
+        d.div(da, w)
+    };
+    Exp2: "exp2", "exp2", "2^", f64::exp2, |d, y, _, da| {
+        let k = d.constant(std::f64::consts::LN_2);
+        let ky = d.mul(k, y);
+        d.mul(ky, da)
+    };
+    // H(u) = 1 for u ≥ 0 (also −0), else 0: the switch of `max`, `min`, `clamp` and of |u|'s slope.
+    // Not a method a body can call (the empty name matches no identifier); emitted as an `if`.
+    Step: "", "H", "H", step, |_, _, _, _| Dag::ZERO;
+    Cbrt: "cbrt", "∛", "\\sqrt[3]", f64::cbrt, |d, y, a, da| {
+        let three = d.constant(3.0);
+        let den = d.mul(three, a);
+        let k = d.div(y, den);
+        d.mul(k, da)
+    };
+    Ln1p: "ln_1p", "ln1p", "\\operatorname{ln1p}", f64::ln_1p, |d, _, a, da| {
+        let w = d.add(Dag::ONE, a);
+        d.div(da, w)
+    };
+    ExpM1: "exp_m1", "expm1", "\\operatorname{expm1}", f64::exp_m1, |d, _, a, da| {
+        let e = d.un(Fun::Exp, a);
+        d.mul(e, da)
+    };
+    Log10: "log10", "log₁₀", "\\log_{10}", f64::log10, |d, _, a, da| {
+        let k = d.constant(std::f64::consts::LOG10_E);
+        let r = d.div(da, a);
+        d.mul(k, r)
+    };
+    Log2: "log2", "log₂", "\\log_2", f64::log2, |d, _, a, da| {
+        let k = d.constant(std::f64::consts::LOG2_E);
+        let r = d.div(da, a);
+        d.mul(k, r)
     };
     Signum: "signum", "sgn", "\\operatorname{sgn}", f64::signum, |_, _, _, _| Dag::ZERO;
     Asin: "asin", "asin", "\\arcsin", f64::asin, |d, _, a, da| {
@@ -106,6 +159,15 @@ functions! {
     };
 }
 
+/// The unit step H(u): 1 for u ≥ 0 (−0 included), 0 below (and for NaN).
+fn step(u: f64) -> f64 {
+    if u >= 0.0 {
+        1.0
+    } else {
+        0.0
+    }
+}
+
 impl Fun {
     /// This function's row of [`TABLE`].
     pub fn row(self) -> &'static Row {
@@ -114,7 +176,10 @@ impl Fun {
 
     /// The function a method name calls (`"sin"` → `Sin`), if it is in the table.
     pub fn from_method(name: &str) -> Option<Fun> {
-        TABLE.iter().find(|r| r.method == name).map(|r| r.fun)
+        TABLE
+            .iter()
+            .find(|r| !r.method.is_empty() && r.method == name)
+            .map(|r| r.fun)
     }
 
     /// The Rust method name.

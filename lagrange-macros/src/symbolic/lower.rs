@@ -31,6 +31,11 @@ pub struct Field {
     /// A free name from the user's scope (a `const`, a `static`, an imported `PI`), loaded as
     /// written instead of through `self`; rustc resolves it (and reports it if it is undefined).
     pub free: bool,
+    /// Parameter-only code the symbolic mode does not lower (`Self::K`, `self.n as f64`, a
+    /// `match` on a parameter, `self.k[i]`, a call of the user's own function of parameters):
+    /// its tokens as written (`self` resolved like the field loads), evaluated once per call as
+    /// an `f64` and treated as a parameter. `name` is then its text, for the printed equations.
+    pub opaque: Option<(usize, proc_macro2::TokenStream)>,
 }
 
 /// The condition of an `if` that depends on constants only: evaluated once per call, at run
@@ -200,6 +205,19 @@ impl At for syn::ExprCall {
     }
 }
 
+/// `a` where u ≥ v, else `b`: a·H(u − v) + b·(1 − H(u − v)), exact (one product is by 1, the
+/// other by 0). With the jets' rule at a tie (the receiver, also for −0 against +0):
+/// `x.max(y)` is `pick(x, y, x, y)`, `x.min(y)` is `pick(x, y, y, x)`, and `x.clamp(lo, hi)`
+/// is `min(max(x, lo), hi)`, as the jets compute it.
+fn pick(d: &mut Dag, a: Id, b: Id, u: Id, v: Id) -> Id {
+    let diff = d.sub(u, v);
+    let h = d.un(Fun::Step, diff);
+    let ah = d.mul(a, h);
+    let not_h = d.sub(Dag::ONE, h);
+    let bn = d.mul(b, not_h);
+    d.add(ah, bn)
+}
+
 fn segment_names(path: &syn::Path) -> Vec<String> {
     path.segments.iter().map(|s| s.ident.to_string()).collect()
 }
@@ -297,6 +315,7 @@ impl Lower {
                     vector: false,
                     confirmed_scalar: false,
                     free,
+                    opaque: None,
                 });
                 self.fields.len() - 1
             }
@@ -624,6 +643,10 @@ impl Lower {
             Expr::Block(b) if b.label.is_none() => self.block(&b.block)?,
             Expr::Field(f) => self.field_access(f)?,
             Expr::Index(ix) => {
+                // `self.k[i]`, `self.g[2]`: parameter-only, read as written.
+                if let Some(v) = self.opaque(e) {
+                    return Ok(v);
+                }
                 let base = self.expr(&ix.expr)?;
                 match int_literal(&ix.index) {
                     Some(k @ 0..=2) => match self.vector(base, &*ix.expr, "an indexed value")? {
@@ -642,6 +665,10 @@ impl Lower {
             Expr::MethodCall(m) => self.method(m)?,
             Expr::Call(c) => self.call(c)?,
             Expr::If(i) => self.if_expr(i)?,
+            Expr::Cast(_) | Expr::Match(_) => match self.opaque(e) {
+                Some(v) => v,
+                None => self.unsupported(e.span(), expr_kind(e)),
+            },
             other => {
                 let kind = expr_kind(other);
                 self.unsupported(other.span(), kind)
@@ -692,6 +719,39 @@ impl Lower {
         }
     }
 
+    /// `e` as a parameter when it mentions no coordinate, velocity, time or local binding:
+    /// its tokens evaluated once per call, as written (see [`Field::opaque`]). `None` otherwise
+    /// (the caller reports what it cannot lower).
+    fn opaque(&mut self, e: &Expr) -> Option<Val> {
+        let mut offenders = Vec::new();
+        let tokens = self.walk_self(quote::ToTokens::to_token_stream(e), &mut offenders);
+        if !offenders.is_empty() {
+            return None;
+        }
+        let text = cond_text(&tokens).replace("self.", "");
+        let idx = match self
+            .fields
+            .iter()
+            .position(|f| f.opaque.is_some() && f.name == text)
+        {
+            Some(i) => i,
+            None => {
+                let k = self.fields.iter().filter(|f| f.opaque.is_some()).count();
+                self.fields.push(Field {
+                    name: text,
+                    span: e.span(),
+                    member: Member::Unnamed(syn::Index::from(k)),
+                    vector: false,
+                    confirmed_scalar: true,
+                    free: true,
+                    opaque: Some((k, tokens)),
+                });
+                self.fields.len() - 1
+            }
+        };
+        Some(Val::S(self.dag.param(idx as u32, 0)))
+    }
+
     /// Checks that an `if` condition depends on constants only and registers it. A name bound
     /// in the body (a coordinate, a velocity, the time or a local binding) is an error at it.
     fn condition(&mut self, e: &Expr) -> Option<u32> {
@@ -721,6 +781,32 @@ impl Lower {
         ts: proc_macro2::TokenStream,
         bad: &mut bool,
     ) -> proc_macro2::TokenStream {
+        let mut offenders = Vec::new();
+        let out = self.walk_self(ts, &mut offenders);
+        for (id, what) in offenders {
+            self.err(syn::Error::new(
+                id.span(),
+                format!(
+                    "this `if` condition uses `{id}`, {what}: in symbolic mode \
+                     the equations are derived once for every state, so an `if` \
+                     condition may only use constants (`self` fields, literals, \
+                     names from the enclosing scope); use \
+                     `#[lagrangian(mode = \"jets\")]` on this impl block to \
+                     branch at run time"
+                ),
+            ));
+            *bad = true;
+        }
+        out
+    }
+
+    /// The tokens with `self` resolved like the field loads; every name bound in the body that
+    /// they use (a coordinate, a velocity, the time, a local binding) goes to `offenders`.
+    fn walk_self(
+        &self,
+        ts: proc_macro2::TokenStream,
+        offenders: &mut Vec<(proc_macro2::Ident, &'static str)>,
+    ) -> proc_macro2::TokenStream {
         use proc_macro2::{Group, TokenTree};
         let mut out = Vec::new();
         let mut prev: Option<TokenTree> = None;
@@ -728,7 +814,7 @@ impl Lower {
         for tt in ts {
             let new = match &tt {
                 TokenTree::Group(g) => {
-                    let inner = self.cond_tokens(g.stream(), bad);
+                    let inner = self.walk_self(g.stream(), offenders);
                     let mut ng = Group::new(g.delimiter(), inner);
                     ng.set_span(g.span());
                     TokenTree::Group(ng)
@@ -757,18 +843,7 @@ impl Lower {
                                     },
                                     _ => "a local binding of the body",
                                 };
-                                self.err(syn::Error::new(
-                                    id.span(),
-                                    format!(
-                                        "this `if` condition uses `{id}`, {what}: in symbolic mode \
-                                         the equations are derived once for every state, so an `if` \
-                                         condition may only use constants (`self` fields, literals, \
-                                         names from the enclosing scope); use \
-                                         `#[lagrangian(mode = \"jets\")]` on this impl block to \
-                                         branch at run time"
-                                    ),
-                                ));
-                                *bad = true;
+                                offenders.push((id.clone(), what));
                             }
                         }
                         tt.clone()
@@ -811,7 +886,20 @@ impl Lower {
                 }
             }
         }
-        self.unsupported(p.span(), "this path")
+        let segs = segment_names(&p.path);
+        if let [.., ty, name] = segs.as_slice() {
+            if ty == "f64" {
+                if let Some(c) = f64_assoc_const(name) {
+                    return Val::S(self.dag.constant(c));
+                }
+            }
+        }
+        // `Self::K`, `crate::G`: a constant of the user's scope, read as written.
+        let e = Expr::Path(p.clone());
+        match self.opaque(&e) {
+            Some(v) => v,
+            None => self.unsupported(p.span(), "this path"),
+        }
     }
 
     fn field_access(&mut self, f: &syn::ExprField) -> R<Val> {
@@ -996,6 +1084,11 @@ impl Lower {
                 return self.apply_method(recv, recv_e, method, &rest, c);
             }
         }
+        // A function of parameters only (the user's own `fn`, `f64::max(self.a, self.b)`):
+        // evaluated once per call, as written.
+        if let Some(v) = self.opaque(&Expr::Call(c.clone())) {
+            return Ok(v);
+        }
         let name = segs.join("::");
         Ok(self.unsupported(c.func.span(), &format!("a call to the function `{name}`")))
     }
@@ -1003,6 +1096,14 @@ impl Lower {
     /// A chain of method calls `x.sin().cos()…`: walked along its receivers with a loop, so a
     /// 2000-deep chain does not overflow the compiler's stack; innermost call first.
     fn method(&mut self, m: &syn::ExprMethodCall) -> R<Val> {
+        // A method the symbolic mode does not know, on parameters only (`self.n.count_ones()`,
+        // `self.table.len()`): evaluated once per call, as written.
+        let name = m.method.to_string();
+        if Fun::from_method(&name).is_none() && !KNOWN_METHODS.contains(&name.as_str()) {
+            if let Some(v) = self.opaque(&Expr::MethodCall(m.clone())) {
+                return Ok(v);
+            }
+        }
         let mut spine = vec![m];
         while let Expr::MethodCall(inner) = &*spine[spine.len() - 1].receiver {
             spine.push(inner);
@@ -1047,10 +1148,11 @@ impl Lower {
         }
         match name.as_str() {
             "clone" | "to_owned" if nargs == 0 => return Ok(recv),
-            "sin_cos" | "recip" | "powi" | "powf" | "atan2" | "hypot" | "mul_add" => {
+            "sin_cos" | "recip" | "powi" | "powf" | "atan2" | "hypot" | "mul_add" | "max"
+            | "min" | "clamp" => {
                 let want = match name.as_str() {
                     "sin_cos" | "recip" => 0,
-                    "mul_add" => 2,
+                    "mul_add" | "clamp" => 2,
                     _ => 1,
                 };
                 if nargs != want {
@@ -1093,6 +1195,13 @@ impl Lower {
                     "recip" => Val::S(d.div(Dag::ONE, x)),
                     "powf" => Val::S(d.powf(x, ys[0])),
                     "atan2" => Val::S(d.atan2(x, ys[0])),
+                    "max" => Val::S(pick(d, x, ys[0], x, ys[0])),
+                    "min" => Val::S(pick(d, x, ys[0], ys[0], x)),
+                    "clamp" => {
+                        let (lo, hi) = (ys[0], ys[1]);
+                        let m = pick(d, x, lo, x, lo);
+                        Val::S(pick(d, m, hi, hi, m))
+                    }
                     "hypot" => {
                         let a = d.powi(x, 2);
                         let b = d.powi(ys[0], 2);
@@ -1203,6 +1312,42 @@ fn cond_text(ts: &proc_macro2::TokenStream) -> String {
     out.replace("self.", "")
 }
 
+/// The methods [`Lower::apply_method`] lowers besides those of the function table.
+const KNOWN_METHODS: &[&str] = &[
+    "clone",
+    "to_owned",
+    "sin_cos",
+    "recip",
+    "powi",
+    "powf",
+    "atan2",
+    "hypot",
+    "mul_add",
+    "max",
+    "min",
+    "clamp",
+    "dot",
+    "cross",
+    "norm",
+    "norm_squared",
+    "magnitude",
+    "magnitude_squared",
+    "normalize",
+    "scale",
+    "component_mul",
+];
+
+/// `f64::EPSILON` and the other finite associated constants of `f64`.
+fn f64_assoc_const(name: &str) -> Option<f64> {
+    Some(match name {
+        "EPSILON" => f64::EPSILON,
+        "MAX" => f64::MAX,
+        "MIN" => f64::MIN,
+        "MIN_POSITIVE" => f64::MIN_POSITIVE,
+        _ => return None,
+    })
+}
+
 fn f64_const(name: &str) -> Option<f64> {
     use std::f64::consts as c;
     Some(match name {
@@ -1220,6 +1365,11 @@ fn f64_const(name: &str) -> Option<f64> {
         "FRAC_1_SQRT_2" => c::FRAC_1_SQRT_2,
         "LN_2" => c::LN_2,
         "LN_10" => c::LN_10,
+        "FRAC_2_SQRT_PI" => c::FRAC_2_SQRT_PI,
+        "LOG2_E" => c::LOG2_E,
+        "LOG10_E" => c::LOG10_E,
+        "LOG2_10" => c::LOG2_10,
+        "LOG10_2" => c::LOG10_2,
         _ => return None,
     })
 }

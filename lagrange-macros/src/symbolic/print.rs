@@ -727,6 +727,11 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
         .fields
         .iter()
         .map(|f| {
+            if f.opaque.is_some() {
+                // Parameter-only code as written: `(n as f64)`.
+                let l = f.name.replace('_', "\\_");
+                return (format!("({})", f.name), format!("(\\texttt{{{l}}})"));
+            }
             let s = symbol(&f.name);
             let u = format!("{}{}", s.base_u, s.sub_u);
             let l = format!("{}{}", s.base_l, s.sub_l);

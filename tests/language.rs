@@ -1,0 +1,164 @@
+//! What a physicist writes, in the default (symbolic) mode: parameter-only code evaluated as
+//! written (`Self::K`, `as` casts, `match` on a parameter, indexing an array field, a function of
+//! parameters), `std`/`core` constants and `f64::EPSILON`, the piecewise functions `max`, `min`,
+//! `clamp`, `abs`, `signum` (with the jets' one-sided rule at a tie, also at −0), `cbrt`,
+//! `ln_1p`, `exp_m1`, `log10`, `log2`, `asinh`, `acosh`, `atanh`, `exp2`, `hypot`, `atan2`, and `v.norm().powi(2)` at rest. Each
+//! system is declared in both modes from one body and compared at random states to 1e-12.
+
+use lagrange::prelude::*;
+
+use crate::support::Rng;
+
+/// Mode of a spring, matched on in the body.
+#[derive(Debug, Clone, Copy)]
+pub enum Stiffness {
+    Soft,
+    Hard,
+}
+
+fn doubled(a: f64) -> f64 {
+    2.0 * a
+}
+
+twins! {
+    /// Parameter-only code of every kind.
+    Params, ParamsJets { m: f64, n: usize, k: [f64; 3], g: Vector3<f64>, kind: Stiffness }
+    const K: f64 = 1.5;
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        let stiff = match self.kind {
+            Stiffness::Soft => 1.0,
+            Stiffness::Hard => 10.0,
+        };
+        let a = f64::EPSILON * x + std::f64::consts::PI * y + core::f64::consts::E * x * y;
+        let b = Self::K * x * x + (self.n as f64) * y * y + self.k[1] * x + self.g[2] * y;
+        0.5 * doubled(self.m) * (x_dot * x_dot + y_dot * y_dot) * (1.0 + 0.1 * x * x)
+            - stiff * a
+            - b
+    }
+}
+
+twins! {
+    /// max, min, clamp, abs and signum in the kinetic and the potential energy.
+    Piecewise, PiecewiseJets { m: f64 }
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        let w = 1.0 + 0.5 * x.max(y) * x.max(y) + 0.25 * y.abs();
+        let v = x.min(0.5) * y + y.clamp(-0.3, 0.4) * x + x.signum() * y * y + (x - y).abs();
+        0.5 * self.m * w * (x_dot * x_dot + y_dot * y_dot) - v
+    }
+}
+
+twins! {
+    /// The other functions of the jets.
+    Functions, FunctionsJets { m: f64 }
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        let w = 2.0 + x.hypot(y) + 0.1 * y.atan2(x);
+        let v = x.cbrt() + x.ln_1p() * y + y.exp_m1() + x.log10() * y.log2()
+            + (0.3 * x).asinh() * (1.0 + y).acosh() + (0.2 * y).atanh() + x.exp2();
+        0.5 * self.m * w * (x_dot * x_dot + y_dot * y_dot) - v
+    }
+}
+
+twins! {
+    /// |ṙ|² written as `r_dot.norm().powi(2)`.
+    NormSquared, NormSquaredJets { m: f64, g: f64 }
+    fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
+        0.5 * self.m * r_dot.norm().powi(2) * (1.0 + 0.1 * r.norm().powi(2)) - self.m * self.g * r.z
+    }
+}
+
+/// max over |a|, for the comparisons.
+fn close(a: &[f64], b: &[f64], tol: f64) -> bool {
+    let scale = b.iter().fold(1.0_f64, |s, x| s.max(x.abs()));
+    a.iter().zip(b).all(|(x, y)| (x - y).abs() <= tol * scale)
+}
+
+fn compare<const N: usize>(
+    sym: &impl Lagrangian<N>,
+    jets: &impl Lagrangian<N>,
+    q: [f64; N],
+    v: [f64; N],
+) {
+    let a = sym.accelerations(&q, &v, 0.0).expect("symbolic");
+    let b = jets.accelerations(&q, &v, 0.0).expect("jets");
+    assert!(close(&a, &b, 1e-12), "q = {q:?}, v = {v:?}: {a:?} vs {b:?}");
+}
+
+#[test]
+fn parameter_only_code_and_constants_agree_with_the_jets() {
+    let mut rng = Rng(11);
+    for kind in [Stiffness::Soft, Stiffness::Hard] {
+        let p = Params {
+            m: 1.3,
+            n: 3,
+            k: [0.5, -0.7, 2.0],
+            g: Vector3::new(0.1, 0.2, -9.81),
+            kind,
+        };
+        for _ in 0..20 {
+            let q = [rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)];
+            let v = [rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)];
+            compare(&p, &p.jets(), q, v);
+        }
+    }
+    // The printed equations name the parameter-only code as written.
+    assert!(
+        Params::EQUATIONS.contains("(n as f64)"),
+        "{}",
+        Params::EQUATIONS
+    );
+}
+
+#[test]
+fn piecewise_functions_agree_with_the_jets_also_at_ties_and_signed_zeros() {
+    let (p, j) = (Piecewise { m: 0.8 }, Piecewise { m: 0.8 }.jets());
+    let mut rng = Rng(12);
+    for _ in 0..40 {
+        let q = [rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)];
+        let v = [rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)];
+        compare(&p, &j, q, v);
+    }
+    // Ties of max/min/clamp, the kinks of abs and the sign of zero: the one-sided rule of the
+    // jets (the receiver wins a tie; |x| has slope +1 at ±0).
+    for q in [
+        [0.0, 0.0],
+        [-0.0, 0.0],
+        [0.0, -0.0],
+        [0.3, 0.3],
+        [0.5, -0.3],
+        [0.5, 0.4],
+        [-0.2, -0.0],
+    ] {
+        compare(&p, &j, q, [0.7, -0.4]);
+    }
+}
+
+#[test]
+fn the_other_functions_agree_with_the_jets() {
+    let (p, j) = (Functions { m: 1.1 }, Functions { m: 1.1 }.jets());
+    let mut rng = Rng(13);
+    for _ in 0..40 {
+        let q = [rng.uniform(0.2, 2.0), rng.uniform(0.2, 2.0)];
+        let v = [rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)];
+        compare(&p, &j, q, v);
+    }
+}
+
+#[test]
+fn a_norm_squared_written_as_norm_powi_2_is_finite_at_rest() {
+    let (p, j) = (
+        NormSquared { m: 2.0, g: 9.81 },
+        NormSquared { m: 2.0, g: 9.81 }.jets(),
+    );
+    for (q, v) in [
+        ([0.0; 3], [0.0; 3]),
+        ([1.0, -0.5, 0.2], [0.0; 3]),
+        ([0.3, 0.1, -0.2], [0.5, -1.0, 0.25]),
+    ] {
+        let a = p.accelerations(&q, &v, 0.0).expect("finite at rest");
+        assert!(a.iter().all(|x| x.is_finite()), "{a:?}");
+        compare(&p, &j, q, v);
+    }
+    // At r = 0, ṙ = 0: M = m I, so q̈ = (0, 0, −g).
+    let a = p.accelerations(&[0.0; 3], &[0.0; 3], 0.0).unwrap();
+    assert_eq!(a, [0.0, 0.0, -9.81]);
+}
