@@ -162,3 +162,18 @@ fn a_norm_squared_written_as_norm_powi_2_is_finite_at_rest() {
     let a = p.accelerations(&[0.0; 3], &[0.0; 3], 0.0).unwrap();
     assert_eq!(a, [0.0, 0.0, -9.81]);
 }
+
+twins! {
+    /// The receiver written out, `self: &Self`.
+    ExplicitSelf, ExplicitSelfJets { k: f64 }
+    fn lagrangian(self: &Self, (x, x_dot): Coord) -> Scalar {
+        0.5 * x_dot * x_dot - 0.5 * self.k * x * x
+    }
+}
+
+#[test]
+fn self_written_as_self_ref_self_is_accepted() {
+    let p = ExplicitSelf { k: 4.0 };
+    assert_eq!(p.accelerations(&[0.5], &[0.0], 0.0).unwrap(), [-2.0]);
+    assert_eq!(p.jets().accelerations(&[0.5], &[0.0], 0.0).unwrap(), [-2.0]);
+}

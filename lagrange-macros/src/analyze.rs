@@ -18,6 +18,7 @@ use syn::spanned::Spanned;
 use syn::visit::Visit;
 use syn::{BinOp, Block, Expr, Pat, Stmt};
 
+use crate::errors::Errors;
 use crate::model::{unraw, Decl, Func, FuncKind};
 
 /// What the analysis found.
@@ -229,14 +230,18 @@ impl Kind {
 }
 
 /// Rewrites the body for the jets path. `vars` are the bindings that carry coordinates or time.
-pub fn lower_for_jets(body: &Block, vars: &[String]) -> Block {
+pub fn lower_for_jets(body: &Block, vars: &[String], errors: &mut Errors) -> Block {
     let mut rw = Rewriter {
         scopes: vec![vars.iter().map(|v| (v.clone(), Kind::Var)).collect()],
+        errors: Vec::new(),
     };
     let mut body = body.clone();
     let kind = rw.block(&mut body);
     if kind == Kind::Const {
         lift_block_tail(&mut body);
+    }
+    for e in rw.errors {
+        errors.push(e);
     }
     body
 }
@@ -244,9 +249,10 @@ pub fn lower_for_jets(body: &Block, vars: &[String]) -> Block {
 /// Rewrites the body of `fn forces` (an array of `Scalar`s) for the jets path: as
 /// [`lower_for_jets`], and a tail of constants becomes an array of `Scalar`s (each element of an
 /// array literal lifted, any other array mapped through the lift).
-pub fn lower_array_for_jets(body: &Block, vars: &[String]) -> Block {
+pub fn lower_array_for_jets(body: &Block, vars: &[String], errors: &mut Errors) -> Block {
     let mut rw = Rewriter {
         scopes: vec![vars.iter().map(|v| (v.clone(), Kind::Var)).collect()],
+        errors: Vec::new(),
     };
     let mut body = body.clone();
     let kind = rw.block(&mut body);
@@ -263,11 +269,17 @@ pub fn lower_array_for_jets(body: &Block, vars: &[String]) -> Block {
             }
         }
     }
+    for e in rw.errors {
+        errors.push(e);
+    }
     body
 }
 
 struct Rewriter {
     scopes: Vec<HashMap<String, Kind>>,
+    /// Mistakes a physicist makes that rustc would report in terms of the runtime's traits:
+    /// `x ^ 2` meant as a power, `2 * x` with an integer literal.
+    errors: Vec<syn::Error>,
 }
 
 /// `v.norm().powi(2k)` → `v.norm_squared().powi(k)` (and `magnitude` alike): the same value,
@@ -300,6 +312,27 @@ fn norm_power_to_norm_squared(m: &mut syn::ExprMethodCall) {
     inner.method = syn::Ident::new(&format!("{}_squared", inner.method), span);
     let half = proc_macro2::Literal::i32_unsuffixed(n / 2);
     m.args[0] = Expr::Verbatim(quote_spanned!(span=> #half));
+}
+
+/// The integer literal `e` is (through parentheses), if it is one without a float suffix.
+fn int_literal(e: &Expr) -> Option<&syn::LitInt> {
+    match paren_less(e) {
+        Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Int(i),
+            ..
+        }) if i.suffix().is_empty() => Some(i),
+        _ => None,
+    }
+}
+
+fn is_float_literal(e: &Expr) -> bool {
+    matches!(
+        paren_less(e),
+        Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Float(_),
+            ..
+        })
+    )
 }
 
 /// A stand-in for an operand detached while a chain is walked (never emitted).
@@ -692,6 +725,40 @@ impl Rewriter {
             return Kind::Const;
         };
         let kr = self.expr(&mut b.right);
+        if matches!(b.op, BinOp::BitXor(_) | BinOp::BitXorAssign(_)) {
+            self.errors.push(syn::Error::new(
+                b.op.span(),
+                "`^` is bitwise xor in Rust, not a power: write `x.powi(2)` for an integer power \
+                 (`x.powf(p)` for a real one)",
+            ));
+        }
+        if matches!(
+            b.op,
+            BinOp::Add(_)
+                | BinOp::Sub(_)
+                | BinOp::Mul(_)
+                | BinOp::Div(_)
+                | BinOp::AddAssign(_)
+                | BinOp::SubAssign(_)
+                | BinOp::MulAssign(_)
+                | BinOp::DivAssign(_)
+        ) {
+            // An integer literal next to a value of the coordinates or a float: the number
+            // type is f64, so `2` must be `2.0`.
+            for (lit, other, ko) in [(&*b.left, &*b.right, &kr), (&*b.right, &*b.left, &kl)] {
+                if let Some(i) = int_literal(lit) {
+                    if ko.is_var() || is_float_literal(other) {
+                        self.errors.push(syn::Error::new(
+                            i.span(),
+                            format!(
+                                "an integer literal where a number of type f64 is needed: write `{}.0`",
+                                i.base10_digits()
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
         let mixed = |kl: &Kind, kr: &Kind| {
             (kl.is_var() && *kr == Kind::Const) || (*kl == Kind::Const && kr.is_var())
         };

@@ -24,17 +24,22 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
         _ => return emit::stub(&errors, &fallback),
     };
     let analysis = analyze::analyze(&decl);
-    let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl));
+    let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl), &mut errors);
     let funcs: Vec<syn::Block> = decl
         .funcs()
         .map(|f| {
             let vars = analysis.bound_func(f);
             match f.kind {
-                FuncKind::Dissipation => analyze::lower_for_jets(&f.body, &vars),
-                FuncKind::Forces => analyze::lower_array_for_jets(&f.body, &vars),
+                FuncKind::Dissipation => analyze::lower_for_jets(&f.body, &vars, &mut errors),
+                FuncKind::Forces => analyze::lower_array_for_jets(&f.body, &vars, &mut errors),
             }
         })
         .collect();
+    // `x ^ 2`, `2 * x`: said in the user's terms, and nothing emitted that rustc would report
+    // again in the runtime's.
+    if !errors.is_empty() {
+        return emit::stub(&errors, &fallback);
+    }
     let symbolic = match decl.options.mode {
         Mode::Jets => None,
         Mode::Symbolic => symbolic::expand(&decl, &mut errors),

@@ -105,6 +105,21 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
     }
 }
 
+/// `&self`, or the same written out, `self: &Self`.
+fn is_shared_self(r: &syn::Receiver) -> bool {
+    if r.mutability.is_some() {
+        return false;
+    }
+    match &r.kind {
+        ReceiverKind::Reference(_, _, None) => true,
+        ReceiverKind::Typed(_, ty) => matches!(
+            &**ty,
+            Type::Reference(rt) if rt.mutability.is_none() && is_ident_type(&rt.elem, "Self")
+        ),
+        _ => false,
+    }
+}
+
 fn check_fn(
     func: ImplItemFn,
     rest: syn::ItemImpl,
@@ -131,14 +146,15 @@ fn check_fn(
         }
     };
 
-    let mut inputs = sig.inputs.iter();
+    let mut inputs = sig.inputs.iter().peekable();
     let mut self_token = syn::Token![self](sig.ident.span());
-    match inputs.next() {
+    // A missing receiver is reported and the first parameter is still read as a parameter (so a
+    // missing `&self` is not also "no coordinate").
+    match inputs.peek().copied() {
         Some(FnArg::Receiver(r)) => {
+            inputs.next();
             self_token = r.self_token;
-            let ok =
-                matches!(&r.kind, ReceiverKind::Reference(_, _, None)) && r.mutability.is_none();
-            if !ok {
+            if !is_shared_self(r) {
                 errors.at(r, "`fn lagrangian` takes `&self` (a shared reference): L must not change the system");
             }
         }
@@ -210,6 +226,14 @@ fn check_fn(
                 }
                 other => errors.at(other, "time is bound to a plain name: `t: Time`"),
             },
+        }
+    }
+    if time.is_none() && !coords.iter().any(|c| c.name == "t" || c.dot == "t") {
+        if let Some(at) = free_use(&func.block, "t") {
+            errors.at(
+                &at,
+                format!("`t` is used in `fn lagrangian`, which has no `t: Time` parameter: add `t: Time` to its parameters to use the time: `{SIGNATURE_HINT}`"),
+            );
         }
     }
     if declared_coordinates == 0 {
@@ -377,12 +401,13 @@ fn check_extra(
             sig.ident.span()
         }
     };
-    let mut inputs = sig.inputs.iter();
+    let mut inputs = sig.inputs.iter().peekable();
     let mut self_token = syn::Token![self](sig.ident.span());
-    match inputs.next() {
+    match inputs.peek().copied() {
         Some(FnArg::Receiver(r)) => {
+            inputs.next();
             self_token = r.self_token;
-            if !(matches!(&r.kind, ReceiverKind::Reference(_, _, None)) && r.mutability.is_none()) {
+            if !is_shared_self(r) {
                 fail(
                     errors,
                     r,
