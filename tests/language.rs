@@ -177,3 +177,25 @@ fn self_written_as_self_ref_self_is_accepted() {
     assert_eq!(p.accelerations(&[0.5], &[0.0], 0.0).unwrap(), [-2.0]);
     assert_eq!(p.jets().accelerations(&[0.5], &[0.0], 0.0).unwrap(), [-2.0]);
 }
+
+/// Two links named `th1`, `th2`: multi-letter names print their derivatives as d(·)/dt.
+pub struct TwoLinks;
+
+#[lagrangian]
+impl TwoLinks {
+    fn lagrangian(&self, (th1, th1_dot): Coord, (th2, th2_dot): Coord) -> Scalar {
+        th1_dot * th1_dot
+            + 0.5 * th2_dot * th2_dot
+            + th1_dot * th2_dot * (th1 - th2).cos()
+            + 2.0 * th1.cos()
+            + th2.cos()
+    }
+}
+
+#[test]
+fn a_squared_velocity_of_a_long_name_does_not_read_as_a_second_derivative() {
+    let eq = TwoLinks::EQUATIONS;
+    assert!(eq.contains("(d(th₂)/dt)²"), "{eq}");
+    assert!(!eq.contains("d(th₂)/dt²"), "{eq}");
+    assert!(eq.contains("d²(th₁)/dt²"), "{eq}");
+}

@@ -481,12 +481,15 @@ impl Printer<'_> {
                 let s = self.names.slot(i, 0, latex);
                 self.pow(s, e)
             }
-            Atom::V(i) => {
-                let s = self.names.slot(i, 1, latex);
-                self.pow(s, e)
-            }
-            Atom::A(i) => {
-                let s = self.names.slot(i, 2, latex);
+            Atom::V(i) | Atom::A(i) => {
+                let dots = if matches!(a, Atom::V(_)) { 1 } else { 2 };
+                let s = self.names.slot(i, dots, latex);
+                // `d(th₁)/dt²` would read as a second derivative: `(d(th₁)/dt)²`.
+                let s = if e != 1 && s.contains("/dt") {
+                    format!("({s})")
+                } else {
+                    s
+                };
                 self.pow(s, e)
             }
             Atom::T => self.pow("t".to_owned(), e),
