@@ -70,6 +70,50 @@
 //! when L has no explicit t, there is no D, and Q is absent or every entry a literal zero.
 //! `AUTONOMOUS` still means that L has no explicit t. In symbolic mode `fn forces` must end in an
 //! array literal.
+//!
+//! ## What the default (symbolic) mode accepts
+//!
+//! The body is lowered to an expression graph at compile time. Besides arithmetic, `let`
+//! bindings (also `let mut` with `+=`), tuples, `Vector3` algebra (`dot`, `cross`, `norm`,
+//! `norm_squared`, `normalize`, `scale`, `component_mul`) and `if` on parameters, it takes:
+//!
+//! - every function of the jets: `sin cos tan asin acos atan sinh cosh tanh asinh acosh atanh
+//!   exp exp2 exp_m1 ln ln_1p log10 log2 sqrt cbrt abs signum powi powf atan2 hypot recip
+//!   mul_add sin_cos`, and `max`, `min`, `clamp` (exact, with the jets' one-sided derivative at a
+//!   tie: the receiver wins, and |x| has slope +1 at ±0);
+//! - constants: `std::f64::consts::*`, `core::f64::consts::*`, `f64::EPSILON`, `f64::MAX`;
+//! - any code that uses parameters only (`Self::K`, `self.n as f64`, `self.k[i]`, a `match` on a
+//!   parameter, a function of parameters): evaluated once per call, as written, and printed as
+//!   written in `EQUATIONS`.
+//!
+//! A loop, a call of a function of the state, or an `if`/`match` on the state is a compile error
+//! at that expression that says to use `#[lagrangian(mode = "jets")]`, where anything Rust can
+//! compute generically over `Scalar` works. `EQUATIONS` and `EQUATIONS_LATEX` are each one
+//! string, one line per coordinate.
+//!
+//! ```
+//! use lagrange::prelude::*;
+//!
+//! #[derive(Clone, Copy)]
+//! pub enum Stop { Soft, Hard }
+//!
+//! /// A mass between two stops: a one-sided spring beyond |x| = 1, stiffness by a `match`.
+//! pub struct Bumper { pub m: f64, pub stop: Stop }
+//!
+//! #[lagrangian]
+//! impl Bumper {
+//!     const GAP: f64 = 1.0;
+//!     fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+//!         let k = match self.stop { Stop::Soft => 10.0, Stop::Hard => 1000.0 };
+//!         let overlap = (x.abs() - Self::GAP).max(0.0);
+//!         0.5 * self.m * x_dot.powi(2) - 0.5 * k * overlap.powi(2)
+//!     }
+//! }
+//!
+//! let b = Bumper { m: 2.0, stop: Stop::Soft };
+//! assert_eq!(b.accelerations(&[0.5], &[1.0], 0.0).unwrap(), [0.0]); // between the stops
+//! assert_eq!(b.accelerations(&[1.5], &[1.0], 0.0).unwrap(), [-2.5]); // −k (|x| − 1) / m
+//! ```
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
