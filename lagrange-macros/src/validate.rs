@@ -105,6 +105,35 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
     }
 }
 
+/// Reads the receiver off `inputs` and returns its `self` token. What is not `&self` is reported
+/// with `messages` (not shared, not first, no parameters at all); a first parameter that is not a
+/// receiver stays in `inputs`, so a missing `&self` is not also "no coordinate".
+fn receiver(
+    inputs: &mut std::iter::Peekable<syn::punctuated::Iter<'_, FnArg>>,
+    sig: &syn::Signature,
+    messages: [String; 3],
+    errors: &mut Errors,
+) -> syn::token::SelfValue {
+    let [not_shared, not_first, missing] = messages;
+    match inputs.peek().copied() {
+        Some(FnArg::Receiver(r)) => {
+            inputs.next();
+            if !is_shared_self(r) {
+                errors.at(r, not_shared);
+            }
+            r.self_token
+        }
+        Some(other) => {
+            errors.at(other, not_first);
+            syn::Token![self](sig.ident.span())
+        }
+        None => {
+            errors.at(&sig.ident, missing);
+            syn::Token![self](sig.ident.span())
+        }
+    }
+}
+
 /// `&self`, or the same written out, `self: &Self`.
 fn is_shared_self(r: &syn::Receiver) -> bool {
     if r.mutability.is_some() {
@@ -147,28 +176,17 @@ fn check_fn(
     };
 
     let mut inputs = sig.inputs.iter().peekable();
-    let mut self_token = syn::Token![self](sig.ident.span());
-    // A missing receiver is reported and the first parameter is still read as a parameter (so a
-    // missing `&self` is not also "no coordinate").
-    match inputs.peek().copied() {
-        Some(FnArg::Receiver(r)) => {
-            inputs.next();
-            self_token = r.self_token;
-            if !is_shared_self(r) {
-                errors.at(r, "`fn lagrangian` takes `&self` (a shared reference): L must not change the system");
-            }
-        }
-        Some(other) => {
-            errors.at(
-                other,
-                format!("`fn lagrangian` takes `&self` first: `{SIGNATURE_HINT}`"),
-            );
-        }
-        None => errors.at(
-            &sig.ident,
+    let self_token = receiver(
+        &mut inputs,
+        sig,
+        [
+            "`fn lagrangian` takes `&self` (a shared reference): L must not change the system"
+                .to_owned(),
+            format!("`fn lagrangian` takes `&self` first: `{SIGNATURE_HINT}`"),
             format!("`fn lagrangian` takes `&self` and the coordinates: `{SIGNATURE_HINT}`"),
-        ),
-    }
+        ],
+        errors,
+    );
     let mut coords = Vec::new();
     let mut time: Option<proc_macro2::Ident> = None;
     let mut seen = Names::default();
@@ -402,30 +420,16 @@ fn check_extra(
         }
     };
     let mut inputs = sig.inputs.iter().peekable();
-    let mut self_token = syn::Token![self](sig.ident.span());
-    match inputs.peek().copied() {
-        Some(FnArg::Receiver(r)) => {
-            inputs.next();
-            self_token = r.self_token;
-            if !is_shared_self(r) {
-                fail(
-                    errors,
-                    r,
-                    format!("`fn {name}` takes `&self` (a shared reference): `{hint}`"),
-                );
-            }
-        }
-        Some(other) => fail(
-            errors,
-            other,
+    let self_token = receiver(
+        &mut inputs,
+        sig,
+        [
+            format!("`fn {name}` takes `&self` (a shared reference): `{hint}`"),
             format!("`fn {name}` takes `&self` first: `{hint}`"),
-        ),
-        None => fail(
-            errors,
-            &sig.ident,
             format!("`fn {name}` takes `&self` and the coordinates of `lagrangian`: `{hint}`"),
-        ),
-    }
+        ],
+        errors,
+    );
     let mut bindings = Vec::new();
     let mut time: Option<proc_macro2::Ident> = None;
     let mut seen = Names::default();
