@@ -140,7 +140,7 @@ pub enum Time {}
 pub mod prelude {
     pub use crate::{lagrangian, Coord, Coord3, Time};
     pub use lagrange_runtime::{equilibrium, Linearization, LinearizationError, Stability};
-    pub use lagrange_runtime::{DynamicsError, Lagrangian, SMatrix, Scalar, Vector3};
+    pub use lagrange_runtime::{DynamicsError, Holonomic, Lagrangian, SMatrix, Scalar, Vector3};
     pub use lagrange_runtime::{Event, EventHit, Method, Simulation, SimulationError, Trajectory};
 }
 

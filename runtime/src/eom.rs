@@ -15,6 +15,15 @@
 //! ```
 //!
 //! with the typed [`DynamicsError`]s (singular M, non-finite values) every backend shares.
+//!
+//! A system with holonomic constraints g(q, t) = 0 ([`Holonomic`](crate::Holonomic)) adds its
+//! [`ConstraintRows`] (G = ∂g/∂q and g̈ at q̈ = 0), and [`solve_constrained`] solves
+//!
+//! ```text
+//! M q̈ = f_L + Q − ∂D/∂q̇ + Gᵀ λ,    G q̈ = −(q̇ᵀ ∂²g/∂q² q̇ + 2 ∂²g/∂q∂t q̇ + ∂²g/∂t²)
+//! ```
+//!
+//! for q̈ and the multipliers λ (the constraint forces in generalized coordinates are Gᵀλ).
 //! [`Lagrangian::pieces`] is where a system supplies its pieces (the default derives them from
 //! L with the jets); [`Lagrangian::accelerations`] is `solve(pieces)` unless a backend has a
 //! faster path to the same numbers (the symbolic mode's straight-line elimination, which hands
@@ -48,7 +57,7 @@
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
 use crate::lagrangian::Lagrangian;
-use crate::linalg::{solve_symmetric, SolveFailure};
+use crate::linalg::{solve_symmetric, Ldlt, SolveFailure};
 
 /// The pieces of the equations of motion M q̈ = f_L + Q − ∂D/∂q̇ at one state, as a backend
 /// supplies them.
@@ -422,4 +431,208 @@ pub struct AppliedJacobian<const N: usize> {
     pub d_q: [[f64; N]; N],
     /// ∂Fᵢ/∂q̇ₖ (`d_qdot[i][k]`).
     pub d_qdot: [[f64; N]; N],
+}
+
+/// The constraint rows at a state (q, q̇, t): what a system with holonomic constraints
+/// g(q, t) = 0 adds to the [`Pieces`] (see [`solve_constrained`]).
+///
+/// ```
+/// use lagrange_runtime::eom::ConstraintRows;
+/// let rows = ConstraintRows { value: [0.0], jacobian: [[1.0, 0.0]], rate: [0.0], curvature: [2.0] };
+/// assert_eq!(rows.jacobian[0][0], 1.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConstraintRows<const N: usize, const K: usize> {
+    /// g(q, t): zero on the constraints.
+    pub value: [f64; K],
+    /// G = ∂g/∂q, one row per constraint (`jacobian[j][i]` = ∂g_j/∂q_i).
+    pub jacobian: [[f64; N]; K],
+    /// ġ = G q̇ + ∂g/∂t: zero when the velocities are tangent to the constraints.
+    pub rate: [f64; K],
+    /// g̈ at q̈ = 0, q̇ᵀ(∂²g/∂q²)q̇ + 2(∂²g/∂q∂t)q̇ + ∂²g/∂t²: the acceleration-level constraint
+    /// is G q̈ = −`curvature`.
+    pub curvature: [f64; K],
+}
+
+/// Solves the constrained equations of motion M q̈ = f + Gᵀλ, G q̈ = −`curvature` for q̈ and λ
+/// (f = [`Pieces::rhs`]); M may be singular as long as the constrained system
+/// [M Gᵀ; G 0] is not (a rigid body in unit-quaternion coordinates has a rank-3 M).
+///
+/// Method: on the constraints G q̈ = −c, so M q̈ = f + Gᵀλ is equivalent to
+/// (M + w GᵀG) q̈ = f − w Gᵀc + Gᵀλ for any w; with w = (largest Mᵢᵢ)/(largest |G row|²) the
+/// matrix M̃ = M + w GᵀG is positive definite exactly when the constrained system is regular,
+/// and one LDLᵀ of M̃ gives q̈ = M̃⁻¹(f − wGᵀc) + M̃⁻¹Gᵀλ, with λ from the K × K system
+/// (G M̃⁻¹ Gᵀ) λ = −c − G M̃⁻¹(f − wGᵀc). Everything stays on the stack.
+///
+/// Errors: [`DynamicsError::DependentConstraints`] naming the constraint whose row depends on
+/// the others, [`DynamicsError::SingularMassMatrix`] naming the coordinate along which the
+/// constrained system has no inertia, [`DynamicsError::NonFinite`].
+///
+/// ```
+/// use lagrange_runtime::eom::{solve_constrained, ConstraintRows, Pieces};
+/// // A unit mass in the plane on the line x = y, pushed along x by 2: it accelerates along the
+/// // line at 1, and the line pushes back with λ = −1 along (1, −1).
+/// let p = Pieces::new([[1.0, 0.0], [0.0, 1.0]], [2.0, 0.0]);
+/// let rows = ConstraintRows { value: [0.0], jacobian: [[1.0, -1.0]], rate: [0.0], curvature: [0.0] };
+/// let (a, lambda) = solve_constrained(&p, &rows, ["x", "y"], &[0.0; 2], &[0.0; 2], 0.0).unwrap();
+/// assert!((a[0] - 1.0).abs() < 1e-15 && (a[1] - 1.0).abs() < 1e-15);
+/// assert!((lambda[0] + 1.0).abs() < 1e-15);
+/// ```
+pub fn solve_constrained<const N: usize, const K: usize>(
+    pieces: &Pieces<N>,
+    rows: &ConstraintRows<N, K>,
+    names: [&'static str; N],
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> Result<([f64; N], [f64; K]), DynamicsError> {
+    let f = pieces.rhs();
+    let g = &rows.jacobian;
+    let c = &rows.curvature;
+    if g.iter().flatten().chain(c).any(|x| !x.is_finite()) {
+        return Err(non_finite(q, qdot, t));
+    }
+    let mut mscale = 0.0_f64;
+    for i in 0..N {
+        mscale = mscale.max(pieces.mass[i][i].abs());
+    }
+    if mscale == 0.0 || !mscale.is_finite() {
+        mscale = 1.0;
+    }
+    let mut gscale = 0.0_f64;
+    for (j, row) in g.iter().enumerate() {
+        let n2: f64 = row.iter().map(|x| x * x).sum();
+        if n2 == 0.0 {
+            return Err(dependent(j, "its gradient ∂g/∂q is zero here", q, qdot, t));
+        }
+        gscale = gscale.max(n2);
+    }
+    let w = if K == 0 { 0.0 } else { mscale / gscale };
+    // M̃ = M + w GᵀG (upper triangle) and b̃ = f − w Gᵀ c.
+    let mut mt = pieces.mass;
+    let mut bt = f;
+    for i in 0..N {
+        for k in i..N {
+            let mut s = 0.0;
+            for row in g {
+                s += row[i] * row[k];
+            }
+            mt[i][k] += w * s;
+        }
+        for j in 0..K {
+            bt[i] -= w * g[j][i] * c[j];
+        }
+    }
+    // z = M̃⁻¹ b̃ and Y_j = M̃⁻¹ G_jᵀ, from one factorization.
+    let singular = |row: usize, relative_pivot: f64| {
+        singular_constrained(names, row, relative_pivot, q, qdot, t)
+    };
+    let (z, y) = match Ldlt::factor(&mt) {
+        Ok(fac) => (fac.solve(&bt), core::array::from_fn(|j| fac.solve(&g[j]))),
+        Err(SolveFailure::NonFinite) => return Err(non_finite(q, qdot, t)),
+        Err(SolveFailure::Singular {
+            row,
+            relative_pivot,
+        }) if relative_pivot > 0.0 => return Err(singular(row, relative_pivot)),
+        Err(SolveFailure::Singular { .. }) => {
+            // Indefinite M̃ (an M that is not positive semi-definite): LU for each column.
+            let lu = |b: &[f64; N]| match solve_symmetric(&mt, b) {
+                Ok(x) => Ok(x),
+                Err(SolveFailure::NonFinite) => Err(non_finite(q, qdot, t)),
+                Err(SolveFailure::Singular {
+                    row,
+                    relative_pivot,
+                }) => Err(singular(row, relative_pivot)),
+            };
+            let z = lu(&bt)?;
+            let mut y = [[0.0; N]; K];
+            for j in 0..K {
+                y[j] = lu(&g[j])?;
+            }
+            (z, y)
+        }
+    };
+    // (G M̃⁻¹ Gᵀ) λ = −c − G z.
+    let mut s = [[0.0; K]; K];
+    let mut r = [0.0; K];
+    for j in 0..K {
+        for l in j..K {
+            s[j][l] = (0..N).map(|i| g[j][i] * y[l][i]).sum();
+        }
+        r[j] = -c[j] - (0..N).map(|i| g[j][i] * z[i]).sum::<f64>();
+    }
+    let lambda = match solve_symmetric(&s, &r) {
+        Ok(l) => l,
+        Err(SolveFailure::NonFinite) => return Err(non_finite(q, qdot, t)),
+        Err(SolveFailure::Singular { row, .. }) => {
+            return Err(dependent(
+                row,
+                "its row of G = ∂g/∂q is (nearly) a combination of the rows before it",
+                q,
+                qdot,
+                t,
+            ))
+        }
+    };
+    let mut a = z;
+    for j in 0..K {
+        for i in 0..N {
+            a[i] += lambda[j] * y[j][i];
+        }
+    }
+    if a.iter().chain(&lambda).all(|x| x.is_finite()) {
+        Ok((a, lambda))
+    } else {
+        Err(non_finite(q, qdot, t))
+    }
+}
+
+fn dependent<const N: usize>(
+    j: usize,
+    why: &str,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> DynamicsError {
+    DynamicsError::DependentConstraints {
+        t,
+        q: q.to_vec(),
+        qdot: qdot.to_vec(),
+        message: format!(
+            "constraint {j} (counting from 0, in the order `constraints` returns them) is dependent: \
+             {why}, so the multipliers are not determined. Try: remove the redundant constraint \
+             (a closed chain often repeats one), or write it in a form whose gradient does not \
+             vanish on the constraint (g = x² − a² rather than g = (x − a)²)."
+        ),
+    }
+}
+
+fn singular_constrained<const N: usize>(
+    names: [&'static str; N],
+    row: usize,
+    relative_pivot: f64,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> DynamicsError {
+    let name = names.get(row).copied().unwrap_or("?");
+    let how = if relative_pivot > 0.0 && relative_pivot.is_finite() {
+        format!(
+            "nearly singular (a pivot of {relative_pivot:.1e} of its diagonal entry at coordinate \
+             `{name}`)"
+        )
+    } else {
+        format!("singular at coordinate `{name}`")
+    };
+    DynamicsError::SingularMassMatrix {
+        t,
+        q: q.to_vec(),
+        qdot: qdot.to_vec(),
+        message: format!(
+            "the constrained system [M Gᵀ; G 0] is {how}: the coordinates there have no inertia in \
+             ∂²L/∂q̇∂q̇ that the constraints do not already fix. Try: give every coordinate a \
+             kinetic term or fix it by a constraint; if the chart is singular here (Euler angles \
+             at sin θ = 0), start elsewhere or use coordinates without the singularity."
+        ),
+    }
 }

@@ -37,6 +37,19 @@ pub enum DynamicsError {
         /// What was not finite and what to try.
         message: String,
     },
+    /// The holonomic constraints are dependent (their Jacobian G = ∂g/∂q has dependent rows) at
+    /// this state: one of them says nothing the others do not, so the multipliers are not
+    /// determined.
+    DependentConstraints {
+        /// Time.
+        t: f64,
+        /// Coordinates.
+        q: Vec<f64>,
+        /// Velocities.
+        qdot: Vec<f64>,
+        /// Which constraints, and what to try.
+        message: String,
+    },
 }
 
 impl DynamicsError {
@@ -49,7 +62,9 @@ impl DynamicsError {
     /// ```
     pub fn t(&self) -> f64 {
         match self {
-            DynamicsError::SingularMassMatrix { t, .. } | DynamicsError::NonFinite { t, .. } => *t,
+            DynamicsError::SingularMassMatrix { t, .. }
+            | DynamicsError::NonFinite { t, .. }
+            | DynamicsError::DependentConstraints { t, .. } => *t,
         }
     }
 }
@@ -69,6 +84,12 @@ impl fmt::Display for DynamicsError {
                 qdot,
                 message,
             } => ("non-finite dynamics", t, q, qdot, message),
+            DynamicsError::DependentConstraints {
+                t,
+                q,
+                qdot,
+                message,
+            } => ("dependent constraints", t, q, qdot, message),
         };
         write!(
             f,

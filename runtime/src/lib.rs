@@ -8,6 +8,7 @@
 // Numeric kernels over fixed-size arrays index several arrays at once and read as the math.
 #![allow(clippy::needless_range_loop)]
 
+pub mod constraints;
 pub mod eom;
 pub mod error;
 pub mod integrate;
@@ -21,6 +22,7 @@ pub mod rigid;
 mod scalar;
 pub mod theory;
 
+pub use constraints::Holonomic;
 pub use eom::solve_mass_matrix;
 pub use error::DynamicsError;
 pub use integrate::{

@@ -52,26 +52,72 @@ pub fn solve_symmetric<const N: usize>(
     m: &[[f64; N]; N],
     b: &[f64; N],
 ) -> Result<[f64; N], SolveFailure> {
-    if m.iter().enumerate().any(|(i, row)| !row[i].is_finite()) || b.iter().any(|x| !x.is_finite())
-    {
+    if b.iter().any(|x| !x.is_finite()) {
         return Err(SolveFailure::NonFinite);
     }
-    // LDLᵀ in place on the upper triangle: l[k][i] (i<k) stored at a[i][k].
-    let mut a = *m;
-    let mut d = [0.0; N];
-    for j in 0..N {
+    match Ldlt::factor_or_indefinite(m)? {
+        Some(f) => Ok(f.solve(b)),
+        None => lu_solve_upper(m, b),
+    }
+}
+
+/// An LDLᵀ factorization of a symmetric positive definite matrix, kept to solve with several
+/// right-hand sides (the constraint rows need one solve per constraint and one for the forces).
+///
+/// ```
+/// use lagrange_runtime::linalg::Ldlt;
+/// let f = Ldlt::factor(&[[4.0, 2.0], [0.0, 3.0]]).unwrap(); // upper triangle of [[4, 2], [2, 3]]
+/// let x = f.solve(&[2.0, 1.0]);
+/// assert!((x[0] - 0.5).abs() < 1e-15 && x[1].abs() < 1e-15);
+/// // Not positive definite: no factorization (use `solve_symmetric`, which falls back to LU).
+/// assert!(Ldlt::factor(&[[1.0, 2.0], [0.0, 1.0]]).is_err());
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Ldlt<const N: usize> {
+    /// L below the diagonal, stored transposed in the upper triangle (l[k][i], i < k, at a[i][k]).
+    a: [[f64; N]; N],
+    d: [f64; N],
+}
+
+impl<const N: usize> Ldlt<N> {
+    /// Factors `M` given by its upper triangle; a pivot that is not positive, or below
+    /// [`ACCURATE_RELATIVE_PIVOT`] of its own diagonal entry, is [`SolveFailure::Singular`] at its
+    /// row (an indefinite matrix reports its first non-positive pivot, `relative_pivot` ≤ 0).
+    pub fn factor(m: &[[f64; N]; N]) -> Result<Self, SolveFailure> {
+        match Self::factor_or_indefinite(m) {
+            Ok(Some(f)) => Ok(f),
+            Ok(None) => {
+                // Report the first non-positive pivot.
+                let mut a = *m;
+                let mut d = [0.0; N];
+                for j in 0..N {
+                    let dj = Self::pivot(&mut a, &mut d, j);
+                    if dj.is_nan() || dj <= 0.0 {
+                        let mjj = m[j][j];
+                        return Err(SolveFailure::Singular {
+                            row: j,
+                            relative_pivot: if mjj != 0.0 { dj / mjj.abs() } else { 0.0 },
+                        });
+                    }
+                }
+                Err(SolveFailure::Singular {
+                    row: 0,
+                    relative_pivot: 0.0,
+                })
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Eliminates column j of the factorization in progress and returns its pivot d_j.
+    #[inline(always)]
+    fn pivot(a: &mut [[f64; N]; N], d: &mut [f64; N], j: usize) -> f64 {
         let mut dj = a[j][j];
         for k in 0..j {
             dj -= a[k][j] * a[k][j] * d[k];
         }
         if dj.is_nan() || dj <= 0.0 {
-            return lu_solve_upper(m, b);
-        }
-        if dj <= ACCURATE_RELATIVE_PIVOT * m[j][j] {
-            return Err(SolveFailure::Singular {
-                row: j,
-                relative_pivot: dj / m[j][j],
-            });
+            return dj;
         }
         d[j] = dj;
         for i in j + 1..N {
@@ -81,22 +127,53 @@ pub fn solve_symmetric<const N: usize>(
             }
             a[j][i] = s / dj;
         }
+        dj
     }
-    let mut x = *b;
-    for i in 0..N {
-        for k in 0..i {
-            x[i] -= a[k][i] * x[k];
+
+    /// The factorization; `Ok(None)` where a pivot is not positive (indefinite: the caller may
+    /// fall back to LU), an error where a positive pivot is too small against its diagonal entry.
+    #[inline]
+    fn factor_or_indefinite(m: &[[f64; N]; N]) -> Result<Option<Self>, SolveFailure> {
+        if m.iter().enumerate().any(|(i, row)| !row[i].is_finite()) {
+            return Err(SolveFailure::NonFinite);
         }
-    }
-    for i in 0..N {
-        x[i] /= d[i];
-    }
-    for i in (0..N).rev() {
-        for k in i + 1..N {
-            x[i] -= a[i][k] * x[k];
+        let mut a = *m;
+        let mut d = [0.0; N];
+        for j in 0..N {
+            let dj = Self::pivot(&mut a, &mut d, j);
+            if dj.is_nan() || dj <= 0.0 {
+                return Ok(None);
+            }
+            if dj <= ACCURATE_RELATIVE_PIVOT * m[j][j] {
+                return Err(SolveFailure::Singular {
+                    row: j,
+                    relative_pivot: dj / m[j][j],
+                });
+            }
         }
+        Ok(Some(Ldlt { a, d }))
     }
-    Ok(x)
+
+    /// Solves M x = b with the factorization.
+    #[inline]
+    pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
+        let (a, d) = (&self.a, &self.d);
+        let mut x = *b;
+        for i in 0..N {
+            for k in 0..i {
+                x[i] -= a[k][i] * x[k];
+            }
+        }
+        for i in 0..N {
+            x[i] /= d[i];
+        }
+        for i in (0..N).rev() {
+            for k in i + 1..N {
+                x[i] -= a[i][k] * x[k];
+            }
+        }
+        x
+    }
 }
 
 fn lu_solve_upper<const N: usize>(
@@ -150,43 +227,70 @@ pub fn lu_solve<const N: usize>(
 ) -> Result<[f64; N], SolveFailure> {
     let mut a = *a;
     let mut x = *b;
-    if a.iter().flatten().chain(x.iter()).any(|v| !v.is_finite()) {
+    lu_in_place(a.as_flattened_mut(), N, &mut x, scale)?;
+    Ok(x)
+}
+
+/// [`lu_solve`] for a system whose size is known at run time (the constrained implicit step,
+/// N coordinates and K multipliers): `a` is the n × n matrix by rows, solved in place; `x` holds
+/// b on entry and the solution on exit.
+///
+/// ```
+/// use lagrange_runtime::linalg::lu_solve_dyn;
+/// let mut a = vec![0.0, 1.0, 1.0, 0.0];
+/// let mut x = vec![2.0, 3.0];
+/// lu_solve_dyn(&mut a, &mut x, 1.0).unwrap();
+/// assert_eq!(x, [3.0, 2.0]);
+/// ```
+pub fn lu_solve_dyn(a: &mut [f64], x: &mut [f64], scale: f64) -> Result<(), SolveFailure> {
+    let n = x.len();
+    if a.len() != n * n {
+        return Err(SolveFailure::NonFinite);
+    }
+    lu_in_place(a, n, x, scale)
+}
+
+/// LU with partial pivoting on the n × n row-major `a`, solving for `x` in place.
+#[inline]
+fn lu_in_place(a: &mut [f64], n: usize, x: &mut [f64], scale: f64) -> Result<(), SolveFailure> {
+    if a.iter().chain(x.iter()).any(|v| !v.is_finite()) {
         return Err(SolveFailure::NonFinite);
     }
     let tol = SINGULAR_RELATIVE_PIVOT * scale;
-    for col in 0..N {
+    for col in 0..n {
         let mut p = col;
-        for r in col + 1..N {
-            if a[r][col].abs() > a[p][col].abs() {
+        for r in col + 1..n {
+            if a[r * n + col].abs() > a[p * n + col].abs() {
                 p = r;
             }
         }
-        if a[p][col].abs() <= tol {
+        let piv = a[p * n + col].abs();
+        if piv <= tol {
             return Err(SolveFailure::Singular {
                 row: col,
-                relative_pivot: if scale > 0.0 {
-                    a[p][col].abs() / scale
-                } else {
-                    0.0
-                },
+                relative_pivot: if scale > 0.0 { piv / scale } else { 0.0 },
             });
         }
-        a.swap(col, p);
-        x.swap(col, p);
-        for r in col + 1..N {
-            let f = a[r][col] / a[col][col];
-            let pivot_row = a[col];
-            for (e, p) in a[r].iter_mut().zip(pivot_row).skip(col) {
-                *e -= f * p;
+        if p != col {
+            for c in 0..n {
+                a.swap(col * n + c, p * n + c);
+            }
+            x.swap(col, p);
+        }
+        let acc = a[col * n + col];
+        for r in col + 1..n {
+            let f = a[r * n + col] / acc;
+            for c in col..n {
+                a[r * n + c] -= f * a[col * n + c];
             }
             x[r] -= f * x[col];
         }
     }
-    for i in (0..N).rev() {
-        for k in i + 1..N {
-            x[i] -= a[i][k] * x[k];
+    for i in (0..n).rev() {
+        for k in i + 1..n {
+            x[i] -= a[i * n + k] * x[k];
         }
-        x[i] /= a[i][i];
+        x[i] /= a[i * n + i];
     }
-    Ok(x)
+    Ok(())
 }

@@ -10,13 +10,17 @@
 //! - [`LinJet`]: the gradient and Hessian in (q, q̇) and their derivative along one direction in
 //!   (q, q̇, t) (third derivatives contracted with that direction), for the linearization about a
 //!   steady motion.
+//! - [`ConstraintJet`]: the gradient of a holonomic constraint g(q, t) and its first and second
+//!   derivatives along the motion, for the constraint rows.
 
 #[macro_use]
 mod scalar_impl;
+mod constraint;
 mod el;
 mod hessian;
 mod lin;
 
+pub use constraint::ConstraintJet;
 pub use el::ElJet;
 pub use hessian::HessianJet;
 pub use lin::LinJet;
