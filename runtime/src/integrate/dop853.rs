@@ -161,6 +161,14 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
     fn last_state(&self) -> Y<N> {
         self.y
     }
+    fn set_node(&mut self, y: Y<N>, stats: &mut Stats) -> Result<(), Fault> {
+        // The dense output (built lazily from y_old, y and the stages) then ends at y, with the
+        // slope f(t, y) there.
+        self.k[12] = rhs(self.sys, self.t, &y, stats)?;
+        self.y = y;
+        self.r = None;
+        Ok(())
+    }
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
         self.k[0] = self.k[12];
         loop {

@@ -8,7 +8,9 @@ use super::dop853::Dop853;
 use super::dopri5::Dopri5;
 use super::error::{PartialTrajectory, SimulationError};
 use super::events::{brent, Direction, Event, EventHit};
+use super::manifold::Manifold;
 use super::method::Method;
+use super::rattle::Rattle;
 use super::rk4::Rk4;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
@@ -16,9 +18,13 @@ use super::trajectory::{Sample, Stats, Trajectory};
 use super::variational::VariationalMidpoint;
 
 /// Runs `method` on `sys` from y0 = (q0, q̇0) under the options `o`, with `events` located and
-/// steps of at most `hmax` for the adaptive methods.
+/// steps of at most `hmax` for the adaptive methods; on the constraints of `manifold` if given
+/// (the explicit methods are projected onto them after every step, the variational method takes
+/// the constrained RATTLE step).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn run<L: Lagrangian<N> + ?Sized, const N: usize>(
     sys: &L,
+    manifold: Option<&dyn Manifold<N>>,
     events: &[Event<'_, N>],
     method: Method,
     y0: Y<N>,
@@ -32,9 +38,11 @@ pub(super) fn run<L: Lagrangian<N> + ?Sized, const N: usize>(
         observer,
         keep: o.keep_samples,
         max_samples: o.max_samples,
-        traj: Trajectory::empty::<L>(),
+        traj: Trajectory::empty::<L>(manifold.map_or(0, |m| m.count())),
         work: Work::default(),
         stats: Stats::default(),
+        manifold,
+        project_steps: manifold.is_some() && !matches!(method, Method::VariationalMidpoint { .. }),
     };
     let (t0, until) = (o.t0, o.until);
     match method {
@@ -49,10 +57,16 @@ pub(super) fn run<L: Lagrangian<N> + ?Sized, const N: usize>(
             let grid = FixedGrid::new(t0, dt, until);
             // Check the dynamics at the start (a singular mass matrix is reported up front).
             match sys.accelerations(&y0[0], &y0[1], t0) {
-                Ok(_) => {
-                    let s = VariationalMidpoint::new(sys, grid, y0[0], y0[1]);
-                    driver.run(s, o)
-                }
+                Ok(_) => match manifold {
+                    Some(m) => match Rattle::new(sys, m, grid, y0[0], y0[1]) {
+                        Ok(s) => driver.run(s, o),
+                        Err(f) => Err(driver.fail(f, t0, y0)),
+                    },
+                    None => {
+                        let s = VariationalMidpoint::new(sys, grid, y0[0], y0[1]);
+                        driver.run(s, o)
+                    }
+                },
                 Err(e) => Err(driver.fail(Fault::Dynamics(e), t0, y0)),
             }
         }
@@ -124,6 +138,10 @@ impl Sampling<'_> {
 
 struct Driver<'s, 'a, 'o, L: ?Sized, const N: usize> {
     sys: &'s L,
+    /// The constraints of a constrained run.
+    manifold: Option<&'s dyn Manifold<N>>,
+    /// Whether every accepted step is projected onto the constraints (explicit methods).
+    project_steps: bool,
     events: &'s [Event<'a, N>],
     observer: Option<&'o mut dyn FnMut(&Sample<N>)>,
     keep: bool,
@@ -161,6 +179,17 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, '_, L, N> {
         if self.traj.t.last() == Some(&t) {
             return Ok(());
         }
+        // A constrained run records states on the constraints (an interpolated sample between
+        // two projected nodes is projected too), with the multipliers there.
+        let mut y = *y;
+        let constraint = match self.manifold {
+            Some(m) => {
+                m.project(t, &mut y)?;
+                Some((m.multipliers(t, &y)?, m.residual(t, &y)))
+            }
+            None => None,
+        };
+        let y = &y;
         let (energy, momenta) = self.sys.energy_and_momenta(&y[0], &y[1], t);
         let sample = Sample {
             t,
@@ -173,7 +202,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, '_, L, N> {
         if let Some(f) = self.observer.as_mut() {
             f(&sample);
         }
-        self.traj.record(&sample, self.keep, self.max_samples)
+        self.traj
+            .record(&sample, constraint, self.keep, self.max_samples)
     }
 
     /// ∫ power dt over [a, b] within the last step, on the method's interpolant (4-point
@@ -211,7 +241,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, '_, L, N> {
     fn fail(mut self, fault: Fault, t: f64, y: Y<N>) -> SimulationError {
         if y.iter().flatten().all(|x| x.is_finite()) {
             let w = self.work.at_node;
-            // Past max_samples the partial trajectory ends at its last stored sample.
+            // Past max_samples (or where the constraints fail there) the partial trajectory ends
+            // at its last stored sample.
             let _ = self.push(t, &y, w);
         }
         self.traj.stats = self.stats;
@@ -303,6 +334,14 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, '_, L, N> {
             }
             s.advance(o.until, &mut self.stats)?;
             let (t_a, t_b) = (s.t_prev(), s.t());
+            if self.project_steps {
+                if let Some(m) = self.manifold {
+                    let mut y = s.last_state();
+                    let moved = m.project(t_b, &mut y)?;
+                    self.traj.note_projection(moved);
+                    s.set_node(y, &mut self.stats)?;
+                }
+            }
             if Self::RECORDS_WORK {
                 self.work.at_prev = self.work.at_node;
                 self.work.at_node = f64::NAN;

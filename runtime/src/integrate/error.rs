@@ -161,6 +161,24 @@ pub enum SimulationError {
         /// The trajectory up to t.
         partial: PartialTrajectory,
     },
+    /// The initial state of a constrained run is not on the constraints g(q, t) = 0 (or its
+    /// velocity is not tangent to them, ġ ≠ 0); rejected before any step. Ask for
+    /// `.project_initial_state()` to start from the nearest state that is.
+    OffConstraints {
+        /// The start time.
+        t: f64,
+        /// The initial coordinates.
+        q: Vec<f64>,
+        /// The initial velocities.
+        qdot: Vec<f64>,
+        /// max |g_j(q0, t0)|.
+        position_residual: f64,
+        /// max |ġ_j(q0, q̇0, t0)| = max |G q̇0 + ∂g/∂t|.
+        velocity_residual: f64,
+        /// The constraint (index in the order `constraints` returns them) furthest off, relative
+        /// to its own scale.
+        worst: usize,
+    },
 }
 
 impl SimulationError {
@@ -173,7 +191,8 @@ impl SimulationError {
     pub fn t(&self) -> Option<f64> {
         match self {
             SimulationError::InvalidOptions { .. } => None,
-            SimulationError::StepSizeUnderflow { t, .. }
+            SimulationError::OffConstraints { t, .. }
+            | SimulationError::StepSizeUnderflow { t, .. }
             | SimulationError::MaxSteps { t, .. }
             | SimulationError::MaxSamples { t, .. }
             | SimulationError::NonFinite { t, .. }
@@ -184,7 +203,7 @@ impl SimulationError {
 
     fn partial(&self) -> Option<&PartialTrajectory> {
         match self {
-            SimulationError::InvalidOptions { .. } => None,
+            SimulationError::InvalidOptions { .. } | SimulationError::OffConstraints { .. } => None,
             SimulationError::StepSizeUnderflow { partial, .. }
             | SimulationError::MaxSteps { partial, .. }
             | SimulationError::MaxSamples { partial, .. }
@@ -214,7 +233,7 @@ impl SimulationError {
     /// ```
     pub fn into_partial_trajectory<const N: usize>(self) -> Option<Trajectory<N>> {
         match self {
-            SimulationError::InvalidOptions { .. } => None,
+            SimulationError::InvalidOptions { .. } | SimulationError::OffConstraints { .. } => None,
             SimulationError::StepSizeUnderflow { partial, .. }
             | SimulationError::MaxSteps { partial, .. }
             | SimulationError::MaxSamples { partial, .. }
@@ -231,6 +250,25 @@ impl fmt::Display for SimulationError {
             SimulationError::InvalidOptions { message } => {
                 write!(f, "invalid simulation options: {message}")
             }
+            SimulationError::OffConstraints {
+                t,
+                q,
+                qdot,
+                position_residual,
+                velocity_residual,
+                worst,
+            } => write!(
+                f,
+                "the initial state is off the constraints at t = {t}, q = {q}, q̇ = {qdot}: \
+                 max |g| = {position_residual:.3e}, max |ġ| = {velocity_residual:.3e} (constraint \
+                 {worst}, counting from 0, is the furthest off). A constrained run starts on g = 0 \
+                 with a velocity tangent to it (G q̇ + ∂g/∂t = 0). Try: compute q0 and q̇0 from \
+                 the constraints, or call .project_initial_state() to start from the nearest \
+                 state that satisfies them.",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
+            ),
             SimulationError::StepSizeUnderflow { t, q, qdot, h, .. } => write!(
                 f,
                 "step size underflow at t = {t}, q = {q}, q̇ = {qdot}: the adaptive step shrank to \

@@ -41,8 +41,10 @@ mod dopri5;
 mod driver;
 mod error;
 mod events;
+mod manifold;
 mod method;
 mod newton;
+mod rattle;
 mod rk4;
 mod simulation;
 mod state;
@@ -55,7 +57,9 @@ pub use error::{PartialTrajectory, SimulationError};
 pub use events::{Direction, Event, EventHit};
 pub use method::Method;
 pub use simulation::Simulation;
-pub use trajectory::{Drift, Invariants, Sample, Stats, Trajectory, INVARIANT_FLOOR};
+pub use trajectory::{
+    ConstraintResidual, Drift, Invariants, Sample, Stats, Trajectory, INVARIANT_FLOOR,
+};
 
 #[cfg(test)]
 mod tests;

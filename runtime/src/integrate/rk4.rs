@@ -116,6 +116,11 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Rk4<'_, L, N> {
     fn last_state(&self) -> Y<N> {
         self.y
     }
+    fn set_node(&mut self, y: Y<N>, stats: &mut Stats) -> Result<(), Fault> {
+        self.f = rhs(self.sys, self.t, &y, stats)?;
+        self.y = y;
+        Ok(())
+    }
     fn advance(&mut self, _t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
         let t1 = self.grid.time(self.k + 1);
         let h = t1 - self.t;

@@ -2,11 +2,13 @@
 //! and [`Simulation::run`], which checks the options (see `validate`) and hands the run to the
 //! driver.
 
+use crate::constraints::{Constrained, Holonomic};
 use crate::lagrangian::Lagrangian;
 
 use super::driver::{self, RunOptions, Sampling};
 use super::error::SimulationError;
 use super::events::Event;
+use super::manifold::Manifold;
 use super::method::Method;
 use super::trajectory::{Sample, Trajectory};
 
@@ -46,7 +48,11 @@ type Observer<'a, const N: usize> = Box<dyn FnMut(&Sample<N>) + 'a>;
 /// assert!((tr.q[4][0] - 1.0_f64.sin()).abs() < 1e-8);
 /// ```
 pub struct Simulation<'a, L: ?Sized, const N: usize> {
-    pub(super) sys: &'a L,
+    pub(super) sys: Sys<'a, L>,
+    /// The constraints of a run made by [`Simulation::constrained`].
+    pub(super) manifold: Option<Box<dyn Manifold<N> + 'a>>,
+    /// Whether a constrained run starts from the projection of (q0, q̇0) onto the constraints.
+    pub(super) project_initial: bool,
     pub(super) q0: [f64; N],
     pub(super) qdot0: [f64; N],
     pub(super) t0: f64,
@@ -79,8 +85,15 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
     /// assert!((tr.q.last().unwrap()[0] - 3.0).abs() < 1e-12);
     /// ```
     pub fn new(system: &'a L, q0: [f64; N], qdot0: [f64; N]) -> Self {
+        Self::with(Sys::Borrowed(system), q0, qdot0)
+    }
+
+    /// The builder's defaults around a system held either way.
+    fn with(sys: Sys<'a, L>, q0: [f64; N], qdot0: [f64; N]) -> Self {
         Simulation {
-            sys: system,
+            sys,
+            manifold: None,
+            project_initial: false,
             q0,
             qdot0,
             t0: 0.0,
@@ -375,7 +388,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
             .validate()
             .and_then(|until| self.check_cyclic().map(|()| until))
             .map_err(|message| SimulationError::InvalidOptions { message })?;
-        let y0 = [self.q0, self.qdot0];
+        let y0 = self.initial_state()?;
         let hmax = self.max_step.unwrap_or(until - self.t0);
         let sampling = match (&self.sample_at, self.sample_every) {
             (Some(times), _) => Sampling::At {
@@ -400,7 +413,8 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
         };
         let mut observer = self.observer.take();
         driver::run(
-            self.sys,
+            &*self.sys,
+            self.manifold.as_deref(),
             &self.events,
             self.method,
             y0,
@@ -410,5 +424,160 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
                 .as_mut()
                 .map(|f| &mut **f as &mut dyn FnMut(&Sample<N>)),
         )
+    }
+}
+
+/// The system of a run: borrowed from the caller ([`Simulation::new`]) or a view made for the
+/// run ([`Simulation::constrained`]).
+pub(super) enum Sys<'a, L: ?Sized> {
+    Borrowed(&'a L),
+    Owned(Box<L>),
+}
+
+impl<L: ?Sized> core::ops::Deref for Sys<'_, L> {
+    type Target = L;
+    fn deref(&self) -> &L {
+        match self {
+            Sys::Borrowed(s) => s,
+            Sys::Owned(s) => s,
+        }
+    }
+}
+
+impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
+    /// y0 = (q0, q̇0), on the constraints of a constrained run: checked, or projected there when
+    /// asked.
+    fn initial_state(&self) -> Result<[[f64; N]; 2], SimulationError> {
+        let mut y0 = [self.q0, self.qdot0];
+        let Some(m) = self.manifold.as_deref() else {
+            return Ok(y0);
+        };
+        let t0 = self.t0;
+        if self.project_initial {
+            m.project(t0, &mut y0)
+                .map_err(|f| SimulationError::InvalidOptions {
+                    message: format!(
+                        "projecting the initial state onto the constraints failed at t = {t0}, \
+                     q0 = {:?}, q̇0 = {:?} ({f:?}): start nearer to the constraints",
+                        self.q0, self.qdot0
+                    ),
+                })?;
+            return Ok(y0);
+        }
+        // Each residual against its own scale: |g_j| against Σ_i |∂g_j/∂q_i · q_i| (the size
+        // of the terms that cancel in g_j), |ġ_j| against Σ_i |∂g_j/∂q_i · q̇_i| + |∂g_j/∂t|.
+        let rows = m.rows(&y0[0], &y0[1], t0);
+        let still = m.rows(&y0[0], &[0.0; N], t0);
+        let mut worst = (0, 0.0_f64);
+        let (mut pos, mut vel) = (0.0_f64, 0.0_f64);
+        for j in 0..m.count() {
+            let gq = &rows.jacobian[j];
+            let sp: f64 = (0..N).map(|i| (gq[i] * y0[0][i]).abs()).sum();
+            let sv: f64 =
+                (0..N).map(|i| (gq[i] * y0[1][i]).abs()).sum::<f64>() + still.rate[j].abs();
+            let rel = (rows.value[j].abs() / sp.max(f64::MIN_POSITIVE))
+                .max(rows.rate[j].abs() / sv.max(f64::MIN_POSITIVE));
+            pos = pos.max(rows.value[j].abs());
+            vel = vel.max(rows.rate[j].abs());
+            if rel > worst.1 {
+                worst = (j, rel);
+            }
+        }
+        if worst.1 > INITIAL_TOLERANCE || !pos.is_finite() || !vel.is_finite() {
+            return Err(SimulationError::OffConstraints {
+                t: t0,
+                q: self.q0.to_vec(),
+                qdot: self.qdot0.to_vec(),
+                position_residual: pos,
+                velocity_residual: vel,
+                worst: worst.0,
+            });
+        }
+        Ok(y0)
+    }
+}
+
+/// How far off its constraints an initial state may be, relative to each constraint's scale
+/// (see `initial_state`): round-off in computing q0 from angles is ~1e-16, a mistake is ≫ 1e-10.
+const INITIAL_TOLERANCE: f64 = 1e-10;
+
+impl<'a, H, const N: usize, const K: usize> Simulation<'a, Constrained<'a, H, N, K>, N>
+where
+    H: Holonomic<N, K> + ?Sized,
+{
+    /// A run of a system with holonomic constraints from (q0, q̇0): the same builder and methods
+    /// as [`Simulation::new`].
+    ///
+    /// The explicit methods integrate M q̈ = f + Gᵀλ, G q̈ = −g̈|_{q̈=0} and project (q, q̇) back
+    /// onto g = 0 and G q̇ + ∂g/∂t = 0 after every accepted step (and every recorded sample);
+    /// the variational method takes a constrained discrete Euler–Lagrange step (RATTLE) that
+    /// satisfies the constraints at every node. The trajectory records λ at every sample
+    /// ([`Trajectory::lambda`], CSV columns `lambda_0…`), and
+    /// [`Invariants::constraints`](crate::Invariants::constraints) reports the largest residual.
+    ///
+    /// The initial state must be on the constraints (else [`SimulationError::OffConstraints`],
+    /// which says by how much) unless [`project_initial_state`](Simulation::project_initial_state)
+    /// is asked for.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Holonomic, Lagrangian, Scalar, Simulation};
+    /// /// A plane pendulum in x, y: L = m|v|²/2 − m g y, x² + y² = l².
+    /// struct Pendulum;
+    /// impl Lagrangian<2> for Pendulum {
+    ///     const COORDINATES: [&'static str; 2] = ["x", "y"];
+    ///     const CYCLIC: [bool; 2] = [true, false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+    ///         (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
+    ///     }
+    /// }
+    /// impl Holonomic<2, 1> for Pendulum {
+    ///     const SCLERONOMIC: bool = true;
+    ///     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] {
+    ///         [q[0] * q[0] + q[1] * q[1] - 1.0]
+    ///     }
+    /// }
+    /// let tr = Simulation::constrained(&Pendulum, [1.0, 0.0], [0.0, 0.0]).until(5.0).run().unwrap();
+    /// let inv = tr.invariants();
+    /// assert!(inv.constraints.unwrap().position < 1e-14);
+    /// assert!(inv.energy.unwrap().max_abs < 1e-8);
+    /// // At the bottom (x = 0) the bob is at full speed and the rod pulls hardest: 3 m g.
+    /// ```
+    pub fn constrained(system: &'a H, q0: [f64; N], qdot0: [f64; N]) -> Self {
+        let view = Constrained::new(system);
+        let mut sim = Self::with(Sys::Owned(Box::new(view)), q0, qdot0);
+        sim.manifold = Some(Box::new(view));
+        sim
+    }
+
+    /// Start from the projection of (q0, q̇0) onto the constraints (the nearest q with
+    /// g(q, t0) = 0, then the nearest q̇ with G q̇ + ∂g/∂t = 0) instead of rejecting an initial
+    /// state that is off them.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Holonomic, Lagrangian, Scalar, Simulation, SimulationError};
+    /// # struct Pendulum;
+    /// # impl Lagrangian<2> for Pendulum {
+    /// #     const COORDINATES: [&'static str; 2] = ["x", "y"];
+    /// #     const CYCLIC: [bool; 2] = [true, false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+    /// #         (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
+    /// #     }
+    /// # }
+    /// # impl Holonomic<2, 1> for Pendulum {
+    /// #     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] {
+    /// #         [q[0] * q[0] + q[1] * q[1] - 1.0]
+    /// #     }
+    /// # }
+    /// let off = || Simulation::constrained(&Pendulum, [1.1, 0.0], [0.2, 0.3]).until(1.0);
+    /// let err = off().run().unwrap_err();
+    /// assert!(matches!(err, SimulationError::OffConstraints { .. }));
+    /// let tr = off().project_initial_state().run().unwrap();
+    /// assert!((tr.q[0][0] - 1.0).abs() < 1e-15 && tr.qdot[0] == [0.0, 0.3]); // nearest tangent velocity
+    /// ```
+    pub fn project_initial_state(mut self) -> Self {
+        self.project_initial = true;
+        self
     }
 }

@@ -44,6 +44,10 @@ pub(crate) trait Stepper<const N: usize> {
     fn node(&mut self, _stats: &mut Stats) -> Result<Y<N>, Fault> {
         Ok(self.last_state())
     }
+    /// Replaces the state at the current node by `y` (a constrained run's projection onto the
+    /// constraints, a small change) and refreshes what the next step reuses from the node (the
+    /// right-hand side there: FSAL), so the next step starts from `y`.
+    fn set_node(&mut self, y: Y<N>, stats: &mut Stats) -> Result<(), Fault>;
     /// Takes one accepted step, not beyond `t_end`.
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault>;
     /// (q, q̇) at t in [t_prev, t] from the method's interpolant.

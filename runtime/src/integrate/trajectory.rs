@@ -63,6 +63,7 @@ pub const INVARIANT_FLOOR: f64 = 1e-12;
 ///     energy: Some(Drift { initial: 1.0, max_abs: 1e-9, max_rel: 1e-9 }),
 ///     momenta: [None, None],
 ///     energy_balance: None,
+///     constraints: None,
 /// };
 /// assert_eq!(inv.max_rel(), 1e-9);
 /// ```
@@ -79,6 +80,35 @@ pub struct Invariants<const N: usize> {
     /// `initial` is h(t0), `max_abs` the largest |h(t) − h(t0) − W(t)|, and `max_rel` that
     /// relative to the run's energy scale, max(|h(t0)|, max |W|, [`INVARIANT_FLOOR`]).
     pub energy_balance: Option<Drift>,
+    /// For a constrained run ([`Simulation::constrained`](crate::Simulation::constrained)): the
+    /// largest constraint residuals over the samples and the largest projection made.
+    pub constraints: Option<ConstraintResidual>,
+}
+
+/// How well a constrained run kept its constraints g(q, t) = 0.
+///
+/// ```
+/// use lagrange_runtime::ConstraintResidual;
+/// let r = ConstraintResidual { position: 1e-16, velocity: 2e-16, projection: 1e-11 };
+/// assert!(r.position < r.projection);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ConstraintResidual {
+    /// max |g_j(q, t)| over the recorded samples.
+    pub position: f64,
+    /// max |ġ_j| = |G q̇ + ∂g/∂t| over the recorded samples.
+    pub velocity: f64,
+    /// The largest correction |Δq|∞ the projection onto the constraints made after a step: how
+    /// far the integrator drifted off them before being put back (zero for the variational
+    /// method, whose steps satisfy them).
+    pub projection: f64,
+}
+
+impl ConstraintResidual {
+    fn add(&mut self, (position, velocity): (f64, f64)) {
+        self.position = self.position.max(position);
+        self.velocity = self.velocity.max(velocity);
+    }
 }
 
 impl<const N: usize> Invariants<N> {
@@ -88,7 +118,7 @@ impl<const N: usize> Invariants<N> {
     /// ```
     /// use lagrange_runtime::{Drift, Invariants};
     /// let d = |r| Some(Drift { initial: 1.0, max_abs: r, max_rel: r });
-    /// let inv = Invariants::<1> { energy: d(1e-8), momenta: [d(1e-6)], energy_balance: None };
+    /// let inv = Invariants::<1> { energy: d(1e-8), momenta: [d(1e-6)], energy_balance: None, constraints: None };
     /// assert_eq!(inv.max_rel(), 1e-6);
     /// ```
     pub fn max_rel(&self) -> f64 {
@@ -215,6 +245,13 @@ pub struct Trajectory<const N: usize> {
     pub energy_conserved: bool,
     /// The terminal event that ended the run early, if any.
     pub terminated_by: Option<String>,
+    /// The multipliers λ at the samples, for a constrained run (one entry of K per sample; empty
+    /// otherwise): M q̈ = f + Gᵀλ, so Gᵀλ is the constraint force in generalized coordinates.
+    pub lambda: Vec<Vec<f64>>,
+    /// The number of constraints K (0 for a run without constraints).
+    pub constraint_count: usize,
+    /// The largest constraint residuals and projection so far.
+    residual: ConstraintResidual,
     /// Drift over every sample seen, stored or not.
     running: Running<N>,
     /// Whether every sample was stored (`keep_samples(true)`, the default).
@@ -223,7 +260,7 @@ pub struct Trajectory<const N: usize> {
 
 impl<const N: usize> Trajectory<N> {
     /// An empty trajectory of the system `L`, with its names and flags.
-    pub(crate) fn empty<L: crate::Lagrangian<N> + ?Sized>() -> Self {
+    pub(crate) fn empty<L: crate::Lagrangian<N> + ?Sized>(constraint_count: usize) -> Self {
         Trajectory {
             t: Vec::new(),
             q: Vec::new(),
@@ -239,6 +276,9 @@ impl<const N: usize> Trajectory<N> {
             momentum_conserved: L::MOMENTUM_CONSERVED,
             energy_conserved: L::ENERGY_CONSERVED,
             terminated_by: None,
+            lambda: Vec::new(),
+            constraint_count,
+            residual: ConstraintResidual::default(),
             running: Running::EMPTY,
             complete: true,
         }
@@ -249,9 +289,20 @@ impl<const N: usize> Trajectory<N> {
     pub(crate) fn record(
         &mut self,
         s: &Sample<N>,
+        constraint: Option<(Vec<f64>, (f64, f64))>,
         keep: bool,
         max_samples: usize,
     ) -> Result<(), Fault> {
+        if let Some((lambda, residual)) = constraint {
+            self.residual.add(residual);
+            if keep || self.t.len() < 2 {
+                if self.t.len() < max_samples {
+                    self.lambda.push(lambda);
+                }
+            } else if let Some(last) = self.lambda.last_mut() {
+                *last = lambda;
+            }
+        }
         if keep || self.t.len() < 2 {
             if self.t.len() >= max_samples {
                 return Err(Fault::MaxSamples(max_samples));
@@ -274,6 +325,11 @@ impl<const N: usize> Trajectory<N> {
         }
         self.running.add(s);
         Ok(())
+    }
+
+    /// Notes the size of a projection onto the constraints after a step.
+    pub(crate) fn note_projection(&mut self, moved: f64) {
+        self.residual.projection = self.residual.projection.max(moved);
     }
 
     /// Number of samples.
@@ -376,6 +432,7 @@ impl<const N: usize> Trajectory<N> {
             energy,
             momenta,
             energy_balance,
+            constraints: self.constraint_residual(),
         }
     }
 
@@ -401,12 +458,18 @@ impl<const N: usize> Trajectory<N> {
                 max_abs: r.balance,
                 max_rel: r.balance / r.h0.abs().max(r.work).max(INVARIANT_FLOOR),
             }),
+            constraints: self.constraint_residual(),
         }
     }
 
+    /// The constraint residuals of a constrained run.
+    fn constraint_residual(&self) -> Option<ConstraintResidual> {
+        (self.constraint_count > 0).then_some(self.residual)
+    }
+
     /// Writes the samples as CSV: `t`, the coordinate names, their velocities (`name_dot`), `energy`
-    /// and the momenta (`p_name`), and `work` when the energy is not conserved; one row per
-    /// sample, full precision. Missing parent folders are created; an I/O error names the path.
+    /// and the momenta (`p_name`), `work` when the energy is not conserved, and the multipliers
+    /// `lambda_0…` of a constrained run; one row per sample, full precision. Missing parent folders are created; an I/O error names the path.
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
@@ -445,6 +508,7 @@ impl<const N: usize> Trajectory<N> {
         if with_work {
             header.push("work".to_string());
         }
+        header.extend((0..self.constraint_count).map(|j| format!("lambda_{j}")));
         writeln!(w, "{}", header.join(","))?;
         for k in 0..self.len() {
             let mut row = vec![self.t[k]];
@@ -454,6 +518,12 @@ impl<const N: usize> Trajectory<N> {
             row.extend_from_slice(&self.momenta[k]);
             if with_work {
                 row.push(self.work[k]);
+            }
+            if self.constraint_count > 0 {
+                match self.lambda.get(k) {
+                    Some(l) => row.extend_from_slice(l),
+                    None => row.extend(std::iter::repeat_n(f64::NAN, self.constraint_count)),
+                }
             }
             let cells: Vec<String> = row.iter().map(|x| format!("{x}")).collect();
             writeln!(w, "{}", cells.join(","))?;

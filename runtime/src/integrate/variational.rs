@@ -21,7 +21,8 @@
 //! (solved by Newton with the mass matrix). So (q_k, q̇_k) is a consistent state: the momenta
 //! computed from it are the conserved p_k, and the energy from it is the integrator's energy.
 
-use crate::eom::{applied_jacobian, solve_mass_matrix};
+use crate::eom::{applied_jacobian, solve_mass_matrix, AppliedJacobian};
+use crate::jet::HessianJet;
 use crate::lagrangian::{hessian_jet, Lagrangian};
 use crate::linalg::lu_solve;
 
@@ -120,6 +121,14 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
         self.v = Some(v);
         Ok([self.q, v])
     }
+    /// Never called: a constrained run steps the variational method with its own constrained
+    /// step (RATTLE), whose nodes are on the constraints. Taken as given: q and p = ∂L/∂q̇.
+    fn set_node(&mut self, y: Y<N>, _stats: &mut Stats) -> Result<(), Fault> {
+        self.p = self.sys.momenta(&y[0], &y[1], self.t);
+        self.q = y[0];
+        self.v = Some(y[1]);
+        Ok(())
+    }
     fn advance(&mut self, _t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
         // The left node's velocity is needed by the interpolant (events); compute it lazily there.
         let t1 = self.grid.time(self.k + 1);
@@ -137,59 +146,17 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
             stats,
             "Newton's method on the implicit midpoint step did not converge",
             |q1, stats| {
-                let mut qm = [0.0; N];
-                let mut v = [0.0; N];
-                for i in 0..N {
-                    qm[i] = 0.5 * (q0[i] + q1[i]);
-                    v[i] = (q1[i] - q0[i]) / h;
-                }
-                let jet = hessian_jet(self.sys, &qm, &v, tm);
-                // The applied forces F = Q − ∂D/∂q̇ at the midpoint (zero for a conservative
-                // system): the discrete Lagrange–d'Alembert principle adds (h/2)·F to both
-                // discrete momenta.
-                let forced = applied_jacobian(self.sys, &qm, &v, tm);
-                stats.rhs_evals += 1;
-                let lq = jet.grad_q();
-                let lv = jet.grad_qdot();
-                let f = forced.value;
-                let mut r = [0.0; N];
-                let mut scale = 0.0_f64;
-                for i in 0..N {
-                    r[i] = p0[i] + 0.5 * h * lq[i] - lv[i] + 0.5 * h * f[i];
-                    scale = scale
-                        .max(p0[i].abs())
-                        .max(lv[i].abs())
-                        .max((0.5 * h * lq[i]).abs())
-                        .max((0.5 * h * f[i]).abs());
-                }
-                if !inf_norm(&r).is_finite() || !q1.iter().all(|x| x.is_finite()) {
-                    return Err(Fault::NonFinite);
-                }
+                let m = Midpoint::at(self.sys, &q0, q1, &p0, h, tm, stats)?;
                 Ok(Residual {
-                    r,
-                    scale,
-                    x_scale: inf_norm(q1).max(h * inf_norm(&v)),
-                    data: (jet, forced, lq, v),
+                    r: m.r,
+                    scale: m.scale,
+                    x_scale: m.x_scale,
+                    data: m,
                 })
             },
             |_q1, res, residual, stats| {
-                // −h·∂R/∂q_{k+1} = M − (h²/4) L_qq − (h/2)(L_qq̇ − L_qq̇ᵀ)
-                //                  − (h²/4) ∂F/∂q − (h/2) ∂F/∂q̇, solved for −h·Δq.
-                let (jet, forced) = (&res.data.0, &res.data.1);
-                let (hqq, hqv, hvv) = (jet.hess_qq(), jet.hess_qqdot(), jet.hess_qdotqdot());
-                let mut jac = [[0.0; N]; N];
-                let mut jscale = 0.0_f64;
-                for i in 0..N {
-                    for kk in 0..N {
-                        jac[i][kk] = hvv[i][kk]
-                            - 0.25 * h * h * hqq[i][kk]
-                            - 0.5 * h * (hqv[i][kk] - hqv[kk][i])
-                            - 0.25 * h * h * forced.d_q[i][kk]
-                            - 0.5 * h * forced.d_qdot[i][kk];
-                        jscale = jscale.max(jac[i][kk].abs());
-                    }
-                }
                 // R + J Δq = 0 with J = −(1/h)·jac ⇒ jac · Δq = h R.
+                let (jac, jscale) = res.data.jacobian(h);
                 let mut rhs = [0.0; N];
                 for i in 0..N {
                     rhs[i] = h * res.r[i];
@@ -197,12 +164,11 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
                 lu_solve(&jac, &rhs, jscale).map_err(|_| Fault::Newton {
                     iterations: stats.newton_iterations,
                     residual,
-                    reason: "the Newton Jacobian of the implicit step is singular (the mass \
-                             matrix ∂²L/∂q̇∂q̇ is singular or nearly so at the midpoint)",
+                    reason: SINGULAR_STEP,
                 })
             },
         )
-        .map(|(_jet, forced, lq, v)| (lq, forced.value, v))?;
+        .map(|m| (m.lq, m.forced.value, m.v))?;
         // p_{k+1} = p_k + h (∂L/∂q + F): a coordinate on which neither L nor a force depends
         // keeps its momentum bit for bit.
         let mut p1 = self.p;
@@ -226,19 +192,126 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoi
         if t >= self.t {
             return Ok([q1, v1]);
         }
-        // Cubic Hermite in q from (q, q̇) at both nodes; q̇ linear between the nodes.
-        let h = self.t - self.t_old;
-        let s = (t - self.t_old) / h;
-        let h00 = (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s);
-        let h10 = s * (1.0 - s) * (1.0 - s);
-        let h01 = s * s * (3.0 - 2.0 * s);
-        let h11 = s * s * (s - 1.0);
-        let mut out = [[0.0; N]; 2];
+        Ok(between_nodes(
+            (self.t_old, &self.q_old, &self.v_old),
+            (self.t, &q1, &v1),
+            t,
+        ))
+    }
+}
+
+/// (q, q̇) at t between two nodes (t₀, q₀, q̇₀) and (t₁, q₁, q̇₁) of a variational method: cubic
+/// Hermite in q, q̇ linear between the nodes.
+pub(super) fn between_nodes<const N: usize>(
+    (t0, q0, v0): (f64, &[f64; N], &[f64; N]),
+    (t1, q1, v1): (f64, &[f64; N], &[f64; N]),
+    t: f64,
+) -> Y<N> {
+    let h = t1 - t0;
+    let s = (t - t0) / h;
+    let h00 = (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s);
+    let h10 = s * (1.0 - s) * (1.0 - s);
+    let h01 = s * s * (3.0 - 2.0 * s);
+    let h11 = s * s * (s - 1.0);
+    let mut out = [[0.0; N]; 2];
+    for i in 0..N {
+        out[0][i] = h00 * q0[i] + h10 * h * v0[i] + h01 * q1[i] + h11 * h * v1[i];
+        out[1][i] = (1.0 - s) * v0[i] + s * v1[i];
+    }
+    out
+}
+
+/// Why the Newton Jacobian of an implicit step could not be solved.
+pub(super) const SINGULAR_STEP: &str = "the Newton Jacobian of the implicit step is singular (the \
+     mass matrix ∂²L/∂q̇∂q̇ is singular or nearly so at the midpoint)";
+
+/// The midpoint rule's discrete Euler–Lagrange residual at a trial q_{k+1}:
+/// R = p_k + (h/2)(∂L/∂q + F) − ∂L/∂q̇ with L, its derivatives and the applied forces
+/// F = Q − ∂D/∂q̇ at the midpoint ((q_k + q_{k+1})/2, (q_{k+1} − q_k)/h, t_k + h/2), and what the
+/// Newton correction needs (shared by the unconstrained step and the constrained RATTLE step).
+pub(super) struct Midpoint<const N: usize> {
+    /// R.
+    pub(super) r: [f64; N],
+    /// The size of the terms of R.
+    pub(super) scale: f64,
+    /// The size of q_{k+1}.
+    pub(super) x_scale: f64,
+    /// ∂L/∂q at the midpoint.
+    pub(super) lq: [f64; N],
+    /// The secant velocity (q_{k+1} − q_k)/h.
+    pub(super) v: [f64; N],
+    /// L in the Hessian jet at the midpoint.
+    pub(super) jet: HessianJet<N>,
+    /// F and its Jacobians at the midpoint.
+    pub(super) forced: AppliedJacobian<N>,
+}
+
+impl<const N: usize> Midpoint<N> {
+    /// Evaluates R at q1 (one Hessian-jet evaluation of L, counted in `stats`).
+    pub(super) fn at<L: Lagrangian<N> + ?Sized>(
+        sys: &L,
+        q0: &[f64; N],
+        q1: &[f64; N],
+        p0: &[f64; N],
+        h: f64,
+        tm: f64,
+        stats: &mut Stats,
+    ) -> Result<Self, Fault> {
+        let mut qm = [0.0; N];
+        let mut v = [0.0; N];
         for i in 0..N {
-            out[0][i] =
-                h00 * self.q_old[i] + h10 * h * self.v_old[i] + h01 * q1[i] + h11 * h * v1[i];
-            out[1][i] = (1.0 - s) * self.v_old[i] + s * v1[i];
+            qm[i] = 0.5 * (q0[i] + q1[i]);
+            v[i] = (q1[i] - q0[i]) / h;
         }
-        Ok(out)
+        let jet = hessian_jet(sys, &qm, &v, tm);
+        // The applied forces F = Q − ∂D/∂q̇ at the midpoint (zero for a conservative system):
+        // the discrete Lagrange–d'Alembert principle adds (h/2)·F to both discrete momenta.
+        let forced = applied_jacobian(sys, &qm, &v, tm);
+        stats.rhs_evals += 1;
+        let lq = jet.grad_q();
+        let lv = jet.grad_qdot();
+        let f = forced.value;
+        let mut r = [0.0; N];
+        let mut scale = 0.0_f64;
+        for i in 0..N {
+            r[i] = p0[i] + 0.5 * h * lq[i] - lv[i] + 0.5 * h * f[i];
+            scale = scale
+                .max(p0[i].abs())
+                .max(lv[i].abs())
+                .max((0.5 * h * lq[i]).abs())
+                .max((0.5 * h * f[i]).abs());
+        }
+        if !inf_norm(&r).is_finite() || !q1.iter().all(|x| x.is_finite()) {
+            return Err(Fault::NonFinite);
+        }
+        Ok(Midpoint {
+            r,
+            scale,
+            x_scale: inf_norm(q1).max(h * inf_norm(&v)),
+            lq,
+            v,
+            jet,
+            forced,
+        })
+    }
+
+    /// −h·∂R/∂q_{k+1} = M − (h²/4) L_qq − (h/2)(L_qq̇ − L_qq̇ᵀ) − (h²/4) ∂F/∂q − (h/2) ∂F/∂q̇, and
+    /// its largest entry.
+    pub(super) fn jacobian(&self, h: f64) -> ([[f64; N]; N], f64) {
+        let (jet, forced) = (&self.jet, &self.forced);
+        let (hqq, hqv, hvv) = (jet.hess_qq(), jet.hess_qqdot(), jet.hess_qdotqdot());
+        let mut jac = [[0.0; N]; N];
+        let mut jscale = 0.0_f64;
+        for i in 0..N {
+            for kk in 0..N {
+                jac[i][kk] = hvv[i][kk]
+                    - 0.25 * h * h * hqq[i][kk]
+                    - 0.5 * h * (hqv[i][kk] - hqv[kk][i])
+                    - 0.25 * h * h * forced.d_q[i][kk]
+                    - 0.5 * h * forced.d_qdot[i][kk];
+                jscale = jscale.max(jac[i][kk].abs());
+            }
+        }
+        (jac, jscale)
     }
 }
