@@ -15,4 +15,5 @@ mod heavy_top;
 mod integrators;
 mod linearize;
 mod non_inertial;
+mod quaternion_top;
 mod rigid_body;

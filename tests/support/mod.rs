@@ -9,6 +9,8 @@ pub mod systems;
 #[path = "../../examples/support/double_pendulum_system.rs"]
 pub mod double_pendulum;
 pub mod hand;
+#[path = "../../examples/support/quaternion_top_system.rs"]
+pub mod quaternion_top;
 
 use lagrange::prelude::*;
 
