@@ -1,0 +1,129 @@
+//! The price of constraints: the heavy top in unit quaternions (four coordinates, |q|² = 1,
+//! multipliers, a projection after every step) against the same top in Euler angles (three
+//! coordinates, no constraint), DOP853 at rtol 1e-10 over the same motion, in one run. Also the
+//! right-hand side alone: `constrained_accelerations` of the quaternion top against the Euler-angle
+//! top's `accelerations` (16 states of the same motion).
+//!
+//! Run: `cargo bench --bench constraints`
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use lagrange::prelude::*;
+
+#[path = "../examples/support/heavy_top_system.rs"]
+mod heavy_top_system;
+#[path = "../examples/support/quaternion_top_system.rs"]
+mod quaternion_top_system;
+use heavy_top_system::HeavyTop;
+use quaternion_top_system::{from_euler, QuaternionTop};
+
+/// The heavy-top benchmark of the integrator benches: I⊥ = 1, I∥ = 0.5, mgl = 4.905,
+/// θ0 = 0.7, φ̇0 = 2, ψ̇0 = 12, to t = 114.3 (100 nutation periods).
+const ANGLES: [f64; 3] = [0.7, 0.0, 0.0];
+const RATES: [f64; 3] = [0.0, 2.0, 12.0];
+const UNTIL: f64 = 114.3;
+const METHOD: Method = Method::Dop853 {
+    rtol: 1e-10,
+    atol: 1e-12,
+};
+
+fn euler(top: &HeavyTop) -> Trajectory<3> {
+    Simulation::new(top, ANGLES, RATES)
+        .method(METHOD)
+        .until(UNTIL)
+        .sample_every(UNTIL)
+        .run()
+        .expect("the Euler-angle top integrates")
+}
+
+fn quaternion(top: &QuaternionTop) -> Trajectory<4> {
+    let (q0, v0) = from_euler(ANGLES, RATES);
+    Simulation::constrained(top, q0, v0)
+        .method(METHOD)
+        .until(UNTIL)
+        .sample_every(UNTIL)
+        .run()
+        .expect("the quaternion top integrates")
+}
+
+fn bench(c: &mut Criterion) {
+    let top = HeavyTop {
+        i_perp: 1.0,
+        i_par: 0.5,
+        mgl: 4.905,
+    };
+    let qtop = QuaternionTop {
+        i_perp: 1.0,
+        i_par: 0.5,
+        mgl: 4.905,
+    };
+    // Same motion: the final cos θ of both runs agree (to the tolerance), and the counts.
+    let (e, q) = (euler(&top), quaternion(&qtop));
+    let cos_e = e.q.last().map(|q| q[0].cos()).unwrap_or(f64::NAN);
+    let cos_q = q
+        .q
+        .last()
+        .map(|q| q[0] * q[0] - q[1] * q[1] - q[2] * q[2] + q[3] * q[3])
+        .unwrap_or(f64::NAN);
+    assert!((cos_e - cos_q).abs() < 1e-6, "{cos_e} vs {cos_q}");
+    println!(
+        "euler angles: {} steps, {} evaluations; quaternions: {} steps, {} evaluations; final cos θ \
+         differ by {:.1e}; quaternion residual {:?}",
+        e.stats.steps,
+        e.stats.rhs_evals,
+        q.stats.steps,
+        q.stats.rhs_evals,
+        (cos_e - cos_q).abs(),
+        q.invariants().constraints
+    );
+
+    let mut g = c.benchmark_group("heavy_top_dop853_rtol1e-10");
+    g.bench_function("euler_angles", |b| b.iter(|| euler(black_box(&top))));
+    g.bench_function("quaternions_constrained", |b| {
+        b.iter(|| quaternion(black_box(&qtop)))
+    });
+    g.finish();
+
+    // The right-hand side alone, at 16 states of the same motion.
+    let states: Vec<([f64; 3], [f64; 3])> = e.q.iter().zip(&e.qdot).map(|(q, v)| (*q, *v)).collect();
+    let picks: Vec<([f64; 3], [f64; 3])> = (0..16)
+        .map(|k| states[k * (states.len() - 1) / 15])
+        .collect();
+    let quats: Vec<([f64; 4], [f64; 4])> = picks.iter().map(|(q, v)| from_euler(*q, *v)).collect();
+    let mut g = c.benchmark_group("heavy_top_rhs_x16");
+    g.bench_function("euler_angles_accelerations", |b| {
+        b.iter(|| {
+            for (q, v) in &picks {
+                black_box(top.accelerations(black_box(q), black_box(v), 0.0).ok());
+            }
+        })
+    });
+    g.bench_function("quaternions_constrained_accelerations", |b| {
+        b.iter(|| {
+            for (q, v) in &quats {
+                black_box(qtop.constrained_accelerations(black_box(q), black_box(v), 0.0).ok());
+            }
+        })
+    });
+    // Where the constrained right-hand side's time goes: the pieces (M, f; symbolic code), the
+    // constraint rows (jets), and the solve.
+    g.bench_function("quaternions_pieces_only", |b| {
+        b.iter(|| {
+            for (q, v) in &quats {
+                black_box(qtop.pieces(black_box(q), black_box(v), 0.0));
+            }
+        })
+    });
+    g.bench_function("quaternions_constraint_rows_only", |b| {
+        b.iter(|| {
+            for (q, v) in &quats {
+                black_box(qtop.constraint_rows(black_box(q), black_box(v), 0.0));
+            }
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
