@@ -624,7 +624,10 @@ fn check_extra(
         }
     }
     if kind == FuncKind::Constraints {
-        check_constraints_body(&func.block, &bindings, declared_k, &hint, errors);
+        // The tail is checked against an array return type only (for another, the error at the
+        // return type says it all).
+        let array = constraint_count(&sig.output).is_some();
+        check_constraints_body(&func.block, &bindings, declared_k, array, &hint, errors);
     }
     let ok = errors.is_empty();
     sink.push_all(std::mem::take(errors));
@@ -672,6 +675,7 @@ fn check_constraints_body(
     body: &syn::Block,
     bindings: &[(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)],
     k: Option<usize>,
+    array: bool,
     hint: &str,
     errors: &mut Errors,
 ) {
@@ -686,6 +690,9 @@ fn check_constraints_body(
                 format!("`{velocity}` is a velocity, and the constraints g(q, t) = 0 depend on the positions (and, for a moving constraint, on `t: Time`) only: bind the velocity as `_`, `({x}, _)`, and leave it out of the body: `{hint}`"),
             );
         }
+    }
+    if !array {
+        return;
     }
     match body.stmts.last() {
         Some(syn::Stmt::Expr(e, None)) => match paren_less(e) {
