@@ -199,6 +199,19 @@ impl Holonomic<3, 2> for HoopHand {
 }
 
 twins! {
+    /// [`PlanePendulumXy`] with its velocity bound and a local of the same name shadowing it:
+    /// the body's `x_dot` is the local, and the velocity is never read.
+    ShadowedXy, ShadowedXyJets { m: f64, g: f64, l: f64 }
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) - self.m * self.g * y
+    }
+    fn constraints(&self, (x, x_dot): Coord, (y, _): Coord) -> [Scalar; 1] {
+        let x_dot = x * x;
+        [x_dot + y * y - self.l * self.l]
+    }
+}
+
+twins! {
     /// A particle in the vertical plane without constraints.
     FreeXy, FreeXyJets { m: f64, g: f64 }
     fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
@@ -273,6 +286,19 @@ fn plane_pendulum_in_xy_matches_the_hand_written_constraint() {
     {
         assert_close(&a, &[0.0, 9.0 / 1.5], REL, "bottom of the swing");
     }
+    let shadowed = ShadowedXy {
+        m: 2.0,
+        g: 9.81,
+        l: 1.5,
+    };
+    let hand = PlaneHand {
+        m: 2.0,
+        g: 9.81,
+        l: 1.5,
+    };
+    let (q, v) = ([0.3, -1.2], [0.7, 0.2]);
+    assert_same_constraints(&shadowed, &hand, &q, &v, 0.0, "shadowed velocity");
+    assert_same_constraints(&shadowed.jets(), &hand, &q, &v, 0.0, "shadowed velocity");
     assert_eq!(
         <PlanePendulumXy as Holonomic<2, 1>>::CONSTRAINED_COORDINATES,
         [true, true]

@@ -241,10 +241,17 @@ fn bind_slots(
 /// body `body`, lowered for jets.
 fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
     let params = crate::names::Params::jets();
+    // `fn constraints` has no velocity parameter: its velocity bindings (unused, or a local of
+    // the same name shadowing them) are never bound.
     let coords: Vec<(Option<&Ident>, Option<&Ident>)> = f
         .bindings
         .iter()
-        .map(|(c, v)| (c.as_ref(), v.as_ref()))
+        .map(|(c, v)| {
+            (
+                c.as_ref(),
+                v.as_ref().filter(|_| f.kind != FuncKind::Constraints),
+            )
+        })
         .collect();
     let (bindings, [q_pat, qdot_pat, t_pat]) = bind_slots(
         decl,

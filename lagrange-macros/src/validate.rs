@@ -681,7 +681,11 @@ fn check_constraints_body(
 ) {
     for (coordinate, velocity) in bindings {
         let Some(velocity) = velocity else { continue };
-        if let Some(at) = free_use(body, &crate::model::unraw(velocity)) {
+        let name = crate::model::unraw(velocity);
+        // A use as a value is reported there; a mention inside a macro, at the binding.
+        let at = free_use(body, &name)
+            .or_else(|| mentioned_in_macro(body, &name).then(|| velocity.clone()));
+        if let Some(at) = at {
             let x = coordinate
                 .as_ref()
                 .map_or_else(|| "x".to_owned(), crate::model::unraw);
@@ -721,6 +725,28 @@ fn check_constraints_body(
             format!("the body of `fn constraints` ends in an array literal, one entry g(q, t) per constraint, without a semicolon (`[x * x + y * y - self.l * self.l]`): `{hint}`"),
         )),
     }
+}
+
+/// Whether `name` appears among the tokens of a macro invocation in `body` (opaque tokens: any
+/// mention counts).
+fn mentioned_in_macro(body: &syn::Block, name: &str) -> bool {
+    use syn::visit::Visit;
+    struct Find<'a>(&'a str, bool);
+    fn walk(ts: proc_macro2::TokenStream, name: &str) -> bool {
+        ts.into_iter().any(|tt| match tt {
+            proc_macro2::TokenTree::Ident(i) => crate::model::unraw(&i) == name,
+            proc_macro2::TokenTree::Group(g) => walk(g.stream(), name),
+            _ => false,
+        })
+    }
+    impl<'ast> Visit<'ast> for Find<'_> {
+        fn visit_macro(&mut self, m: &'ast syn::Macro) {
+            self.1 |= walk(m.tokens.clone(), self.0);
+        }
+    }
+    let mut f = Find(name, false);
+    f.visit_block(body);
+    f.1
 }
 
 fn paren_less(e: &syn::Expr) -> &syn::Expr {
