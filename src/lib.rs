@@ -71,6 +71,45 @@
 //! `AUTONOMOUS` still means that L has no explicit t. In symbolic mode `fn forces` must end in an
 //! array literal.
 //!
+//! ## Holonomic constraints
+//!
+//! `fn constraints` in the same impl block, in both modes, declares K holonomic constraints
+//! g(q, t) = 0 (returns `[Scalar; K]`, K a number ≥ 1, and its body ends in an array literal of
+//! K entries) and makes the macro also emit `impl Holonomic<N, K>`: the equations of motion
+//! become M q̈ = f + Gᵀλ with G = ∂g/∂q and the multipliers λ
+//! ([`Holonomic::constrained_accelerations`]). Its coordinate parameters follow the rule above;
+//! the constraints depend on the positions only, so every velocity is bound as `_` (`(x, _)`),
+//! and a moving constraint declares `t: Time`. `CONSTRAINED_COORDINATES[i]` is `true` when qᵢ
+//! appears in the body (a `Coord3` marks its three slots) and `SCLERONOMIC` when it does not use
+//! the time. The body is evaluated generically over the runtime's jets in both modes.
+//!
+//! ```
+//! use lagrange::prelude::*;
+//!
+//! /// A plane pendulum written in x, y, the rod a constraint.
+//! pub struct Pendulum { pub m: f64, pub g: f64, pub l: f64 }
+//!
+//! #[lagrangian]
+//! impl Pendulum {
+//!     fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+//!         0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) - self.m * self.g * y
+//!     }
+//!     /// Holonomic constraints g(q, t) = 0, one entry per constraint.
+//!     fn constraints(&self, (x, _): Coord, (y, _): Coord) -> [Scalar; 1] {
+//!         [x * x + y * y - self.l * self.l]
+//!     }
+//! }
+//!
+//! let p = Pendulum { m: 2.0, g: 9.81, l: 1.5 };
+//! // At the bottom moving at 3 m/s: the centripetal acceleration v²/l, upwards.
+//! let (a, lambda) = p.constrained_accelerations(&[0.0, -1.5], &[3.0, 0.0], 0.0).unwrap();
+//! assert!(a[0].abs() < 1e-12 && (a[1] - 9.0 / 1.5).abs() < 1e-12);
+//! // Gᵀλ = (2x, 2y) λ is the rod's pull, m g + m v²/l.
+//! assert!((-3.0 * lambda[0] - (2.0 * 9.81 + 2.0 * 9.0 / 1.5)).abs() < 1e-12);
+//! assert_eq!(<Pendulum as lagrange::Holonomic<2, 1>>::CONSTRAINED_COORDINATES, [true, true]);
+//! assert!(<Pendulum as lagrange::Holonomic<2, 1>>::SCLERONOMIC);
+//! ```
+//!
 //! ## What the default (symbolic) mode accepts
 //!
 //! The body is lowered to an expression graph at compile time. Besides arithmetic, `let`

@@ -11,6 +11,7 @@
 #[macro_use]
 mod support;
 
+mod constraints_macro;
 mod deep_bodies;
 mod gallery;
 mod hand_written;

@@ -1,8 +1,8 @@
 //! Macro uses compile cleanly under `#![deny(warnings)]` (checked by `cargo test`) and
 //! `#![deny(clippy::pedantic)]` (checked by `cargo clippy --workspace --all-targets -- -D warnings`):
 //! cyclic coordinates, an unused `t: Time`, `Coord3`, doc comments, `pub` and private structs,
-//! derives and other items in the impl block, `fn dissipation` and `fn forces` with bindings
-//! their bodies do not use.
+//! derives and other items in the impl block, `fn dissipation`, `fn forces` and `fn constraints`
+//! with bindings their bodies do not use.
 #![deny(warnings)]
 #![deny(clippy::pedantic)]
 
@@ -130,6 +130,75 @@ impl DampedDrivenJets {
     fn forces(&self, (x, x_dot): Coord, (_, _): Coord, t: Time) -> [Scalar; 2] {
         [0.0, self.a * 1.0]
     }
+}
+
+/// A pendulum in x, y with the rod as a constraint, in both modes: a velocity bound and not
+/// used, a `t: Time` not used, and a doc comment on `fn constraints` produce no warnings.
+pub struct RodPendulum {
+    /// Mass.
+    pub m: f64,
+    /// Gravity.
+    pub g: f64,
+    /// Rod length.
+    pub l: f64,
+}
+
+#[lagrangian]
+impl RodPendulum {
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) - self.m * self.g * y
+    }
+    /// The rod: x² + y² = l².
+    fn constraints(&self, (x, x_dot): Coord, (y, _): Coord, t: Time) -> [Scalar; 1] {
+        [x * x + y * y - self.l * self.l]
+    }
+}
+
+/// The same in jets mode, with a moving constraint on a `Coord3` and a constant entry.
+pub struct RodPendulumJets {
+    /// Mass.
+    pub m: f64,
+    /// Gravity.
+    pub g: f64,
+    /// Rod length.
+    pub l: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl RodPendulumJets {
+    fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
+        0.5 * self.m * r_dot.norm_squared() - self.m * self.g * r.z
+    }
+    fn constraints(&self, (r, r_dot): Coord3, t: Time) -> [Scalar; 2] {
+        [r.norm_squared() - self.l * self.l, r.y - 0.0 * t]
+    }
+}
+
+#[test]
+fn lint_clean_constraints() {
+    let s = RodPendulum {
+        m: 2.0,
+        g: 9.81,
+        l: 1.5,
+    };
+    let (a, _) = s
+        .constrained_accelerations(&[0.0, -1.5], &[3.0, 0.0], 0.0)
+        .unwrap_or(([f64::NAN; 2], [f64::NAN]));
+    assert!(a[0].abs() < 1e-12 && (a[1] - 6.0).abs() < 1e-12, "{a:?}");
+    const { assert!(<RodPendulum as Holonomic<2, 1>>::SCLERONOMIC) };
+    let j = RodPendulumJets {
+        m: 2.0,
+        g: 9.81,
+        l: 1.5,
+    };
+    let (a, _) = j
+        .constrained_accelerations(&[0.0, 0.0, -1.5], &[3.0, 0.0, 0.0], 0.0)
+        .unwrap_or(([f64::NAN; 3], [f64::NAN; 2]));
+    assert!(
+        a[0].abs() < 1e-12 && a[1].abs() < 1e-12 && (a[2] - 6.0).abs() < 1e-12,
+        "{a:?}"
+    );
+    const { assert!(!<RodPendulumJets as Holonomic<3, 2>>::SCLERONOMIC) };
 }
 
 #[test]

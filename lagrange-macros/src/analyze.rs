@@ -1,5 +1,6 @@
 //! Analyze and lower for the jets path: which bindings the bodies use (CYCLIC, AUTONOMOUS,
-//! MOMENTUM_CONSERVED, ENERGY_CONSERVED), and each body rewritten so constants (`2.0`, `self.m`, `Vector3<f64>` fields) meet coordinate
+//! MOMENTUM_CONSERVED, ENERGY_CONSERVED, and for `fn constraints` CONSTRAINED_COORDINATES and
+//! SCLERONOMIC), and each body rewritten so constants (`2.0`, `self.m`, `Vector3<f64>` fields) meet coordinate
 //! values through the runtime's mixed-arithmetic traits.
 //!
 //! Each expression gets a kind: `Const` (no dependence on q, q̇ or t: an `f64`, a
@@ -29,6 +30,13 @@ pub struct Analysis {
     pub dissipation_used: HashSet<String>,
     /// Names mentioned anywhere in the body of `fn forces` (empty without one).
     pub forces_used: HashSet<String>,
+    /// Names mentioned anywhere in the body of `fn constraints` (empty without one).
+    pub constraints_used: HashSet<String>,
+    /// CONSTRAINED_COORDINATES, one per slot: q_i appears in the body of `fn constraints` (a
+    /// `Coord3` marks its three slots). Empty without `fn constraints`.
+    pub constrained: Vec<bool>,
+    /// SCLERONOMIC: `fn constraints` has no `t: Time`, or does not use it.
+    pub scleronomic: bool,
     /// CYCLIC, one per slot: q_i appears in none of L, D and Q.
     pub cyclic: Vec<bool>,
     /// AUTONOMOUS: L has no explicit t.
@@ -75,6 +83,28 @@ pub fn analyze(decl: &Decl) -> Analysis {
             _ => vec![false; n],
         },
     };
+    let constraints_used = decl
+        .constraints
+        .as_ref()
+        .map(|f| mentions(&f.body))
+        .unwrap_or_default();
+    let constrained: Vec<bool> = match &decl.constraints {
+        None => Vec::new(),
+        Some(f) => decl
+            .coords
+            .iter()
+            .enumerate()
+            .flat_map(|(p, c)| {
+                let used = in_func(Some(f), &constraints_used, p, false);
+                std::iter::repeat_n(used, c.width())
+            })
+            .collect(),
+    };
+    let scleronomic = decl
+        .constraints
+        .as_ref()
+        .and_then(|f| f.time.as_ref())
+        .is_none_or(|t| !constraints_used.contains(&unraw(t)));
     let mut cyclic = Vec::with_capacity(n);
     let mut momentum_conserved = Vec::with_capacity(n);
     for (p, c) in decl.coords.iter().enumerate() {
@@ -94,6 +124,9 @@ pub fn analyze(decl: &Decl) -> Analysis {
         used,
         dissipation_used,
         forces_used,
+        constraints_used,
+        constrained,
+        scleronomic,
         cyclic,
         autonomous,
         momentum_conserved,
@@ -148,7 +181,7 @@ impl Analysis {
             .collect()
     }
 
-    /// The names of `f` (`fn dissipation` or `fn forces`) its body mentions: what its generated
+    /// The names of `f` (`fn dissipation`, `fn forces` or `fn constraints`) its body mentions: what its generated
     /// method binds.
     pub fn bound_func(&self, f: &Func) -> Vec<String> {
         let used = self.func_used(f);
@@ -166,6 +199,7 @@ impl Analysis {
         match f.kind {
             FuncKind::Dissipation => &self.dissipation_used,
             FuncKind::Forces => &self.forces_used,
+            FuncKind::Constraints => &self.constraints_used,
         }
     }
 }

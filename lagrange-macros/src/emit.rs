@@ -25,6 +25,9 @@ pub struct Fallback {
     rest: syn::ItemImpl,
     /// How many coordinate slots the (first) `fn lagrangian` declares, at least 1.
     n_hint: usize,
+    /// K of the (first) `fn constraints`, when its return type says it (`[Scalar; K]`, K ≥ 1):
+    /// the stub then implements `Holonomic<N, K>` too.
+    k_hint: Option<usize>,
 }
 
 impl Fallback {
@@ -38,7 +41,17 @@ impl Fallback {
             .map(count_coordinate_params)
             .unwrap_or(1)
             .max(1);
-        Fallback { rest, n_hint }
+        let k_hint = split
+            .constraints
+            .first()
+            .and_then(|f| validate::constraint_count(&f.sig.output))
+            .and_then(Result::ok)
+            .filter(|k| *k >= 1);
+        Fallback {
+            rest,
+            n_hint,
+            k_hint,
+        }
     }
 }
 
@@ -46,7 +59,7 @@ impl Fallback {
 pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
     let errs = errors.to_compile_errors();
     let rest = &fallback.rest;
-    let stub = stub_impl(rest, fallback.n_hint);
+    let stub = stub_impl(rest, fallback.n_hint, fallback.k_hint);
     quote!(#errs #rest #stub)
 }
 
@@ -62,6 +75,7 @@ pub fn generate(
     analysis: &Analysis,
     body: &syn::Block,
     funcs: &[syn::Block],
+    constraints: Option<&syn::Block>,
     symbolic: Option<&SymbolicOutput>,
     errors: &Errors,
 ) -> TokenStream {
@@ -109,6 +123,11 @@ pub fn generate(
         quote!()
     };
 
+    let holonomic = match (&decl.constraints, constraints) {
+        (Some(f), Some(body)) => holonomic_impl(decl, analysis, f, body),
+        _ => quote!(),
+    };
+
     let n = proc_macro2::Literal::usize_unsuffixed(n);
     // The rest of the user's impl block, unless it was only the Lagrangian.
     let rest = if rest.items.is_empty() && rest.attrs.is_empty() {
@@ -148,7 +167,27 @@ pub fn generate(
             #(#extras)*
             #symbolic_methods
         }
+        #holonomic
         #symbolic_consts
+    }
+}
+
+/// `impl Holonomic<N, K>` from `fn constraints` (its body `body`, lowered for jets): the flags
+/// CONSTRAINED_COORDINATES and SCLERONOMIC from the analysis, and the generic `fn constraints`.
+fn holonomic_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
+    let self_ty = &decl.rest.self_ty;
+    let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
+    let k = proc_macro2::Literal::usize_unsuffixed(f.k);
+    let constrained = &analysis.constrained;
+    let scleronomic = analysis.scleronomic;
+    let method = jets_func(decl, analysis, f, body);
+    quote! {
+        #[automatically_derived]
+        impl ::lagrange::__private::Holonomic<#n, #k> for #self_ty {
+            const CONSTRAINED_COORDINATES: [bool; #n] = [#(#constrained),*];
+            const SCLERONOMIC: bool = #scleronomic;
+            #method
+        }
     }
 }
 
@@ -197,14 +236,22 @@ fn bind_slots(
     (bindings, [q_pat, qdot_pat, t_pat])
 }
 
-/// The generic trait method of `fn dissipation` or `fn forces` (`dissipation<Scalar>`,
-/// `generalized_forces<Scalar>`) with the user's body `body`, lowered for jets.
+/// The generic trait method of `fn dissipation`, `fn forces` or `fn constraints`
+/// (`dissipation<Scalar>`, `generalized_forces<Scalar>`, `constraints<Scalar>`) with the user's
+/// body `body`, lowered for jets.
 fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
     let params = crate::names::Params::jets();
+    // `fn constraints` has no velocity parameter: its velocity bindings (unused, or a local of
+    // the same name shadowing them) are never bound.
     let coords: Vec<(Option<&Ident>, Option<&Ident>)> = f
         .bindings
         .iter()
-        .map(|(c, v)| (c.as_ref(), v.as_ref()))
+        .map(|(c, v)| {
+            (
+                c.as_ref(),
+                v.as_ref().filter(|_| f.kind != FuncKind::Constraints),
+            )
+        })
         .collect();
     let (bindings, [q_pat, qdot_pat, t_pat]) = bind_slots(
         decl,
@@ -217,6 +264,16 @@ fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> T
     let ret = match f.kind {
         FuncKind::Dissipation => quote_spanned!(f.ret_span=> Scalar),
         FuncKind::Forces => quote_spanned!(f.ret_span=> [Scalar; #n]),
+        FuncKind::Constraints => {
+            let k = proc_macro2::Literal::usize_unsuffixed(f.k);
+            quote_spanned!(f.ret_span=> [Scalar; #k])
+        }
+    };
+    // `fn constraints(&self, q, t)` has no velocities.
+    let qdot_param = if f.kind == FuncKind::Constraints {
+        quote!()
+    } else {
+        quote!(#qdot_pat: &[Scalar; #n],)
     };
     let ident = Ident::new(f.kind.trait_method(), f.fn_ident.span());
     let attrs = &f.fn_attrs;
@@ -236,7 +293,7 @@ fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> T
         fn #ident<Scalar: ::lagrange::__private::Scalar>(
             &#self_token,
             #q_pat: &[Scalar; #n],
-            #qdot_pat: &[Scalar; #n],
+            #qdot_param
             #t_pat: Scalar,
         ) -> #ret {
             #(#bindings)*
@@ -245,14 +302,25 @@ fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> T
     }
 }
 
-/// A stub impl emitted next to the errors, so uses of the type elsewhere do not cascade into
-/// "trait not implemented" errors.
-fn stub_impl(rest: &syn::ItemImpl, n: usize) -> TokenStream {
+/// A stub impl emitted next to the errors (and a stub `impl Holonomic<N, K>` given `k`), so uses
+/// of the type elsewhere do not cascade into "trait not implemented" errors.
+fn stub_impl(rest: &syn::ItemImpl, n: usize, k: Option<usize>) -> TokenStream {
     if rest.trait_.is_some() || !rest.generics.params.is_empty() {
         return quote!();
     }
     let self_ty = &rest.self_ty;
     let names = (0..n).map(|i| format!("q{i}"));
+    let holonomic = match k {
+        Some(k) => quote! {
+            #[automatically_derived]
+            impl ::lagrange::__private::Holonomic<#n, #k> for #self_ty {
+                fn constraints<S: ::lagrange::__private::Scalar>(&self, _: &[S; #n], _: S) -> [S; #k] {
+                    ::core::unreachable!("`#[lagrangian]` reported errors for this impl")
+                }
+            }
+        },
+        None => quote!(),
+    };
     quote! {
         #[automatically_derived]
         impl ::lagrange::__private::Lagrangian<#n> for #self_ty {
@@ -263,6 +331,7 @@ fn stub_impl(rest: &syn::ItemImpl, n: usize) -> TokenStream {
                 ::core::unreachable!("`#[lagrangian]` reported errors for this impl")
             }
         }
+        #holonomic
     }
 }
 

@@ -31,10 +31,18 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
             let vars = analysis.bound_func(f);
             match f.kind {
                 FuncKind::Dissipation => analyze::lower_for_jets(&f.body, &vars, &mut errors),
-                FuncKind::Forces => analyze::lower_array_for_jets(&f.body, &vars, &mut errors),
+                FuncKind::Forces | FuncKind::Constraints => {
+                    analyze::lower_array_for_jets(&f.body, &vars, &mut errors)
+                }
             }
         })
         .collect();
+    // `fn constraints`, in both modes the body rewritten generically over the scalar type (the
+    // runtime's jets give G and the second derivatives along the motion).
+    let constraints = decl.constraints.as_ref().map(|f| {
+        let vars = analysis.bound_func(f);
+        analyze::lower_array_for_jets(&f.body, &vars, &mut errors)
+    });
     // `x ^ 2`, `2 * x`: said in the user's terms, and nothing emitted that rustc would report
     // again in the runtime's.
     if !errors.is_empty() {
@@ -47,5 +55,13 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     // With errors from the symbolic stage the impl is still emitted (with the jets `fn
     // lagrangian` and without the symbolic methods), next to the errors: see `emit::generate`.
     let symbolic = symbolic.filter(|_| errors.is_empty());
-    emit::generate(&decl, &analysis, &body, &funcs, symbolic.as_ref(), &errors)
+    emit::generate(
+        &decl,
+        &analysis,
+        &body,
+        &funcs,
+        constraints.as_ref(),
+        symbolic.as_ref(),
+        &errors,
+    )
 }

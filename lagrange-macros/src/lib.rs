@@ -7,15 +7,16 @@
 //!
 //! - the annotated item is not an impl block: the errors and the item as written;
 //! - parse or validation errors: the errors, the impl block without its `fn lagrangian`,
-//!   `fn dissipation` and `fn forces` (and without any other function taking `Coord`, `Coord3`
-//!   or `Time`), and, for an inherent impl
-//!   without generics, a stub `impl Lagrangian<N>` whose `fn lagrangian` is `unreachable!`, so
+//!   `fn dissipation`, `fn forces` and `fn constraints` (and without any other function taking
+//!   `Coord`, `Coord3` or `Time`), and, for an inherent impl
+//!   without generics, a stub `impl Lagrangian<N>` whose `fn lagrangian` is `unreachable!` (and,
+//!   when `fn constraints` returns `[Scalar; K]`, a stub `impl Holonomic<N, K>`), so
 //!   uses of the type elsewhere do not cascade into "trait not implemented";
 //! - errors of the symbolic stage (a body the symbolic mode cannot derive): the errors and the
 //!   impl the jets mode would emit (the rest of the impl block, and `impl Lagrangian<N>` with
 //!   `COORDINATES`, `CYCLIC`, `AUTONOMOUS` (and, with forces or dissipation,
 //!   `MOMENTUM_CONSERVED` and `ENERGY_CONSERVED`), the jets `fn lagrangian` and the generic
-//!   `fn dissipation` / `fn generalized_forces`), without the symbolic
+//!   `fn dissipation` / `fn generalized_forces`, and `impl Holonomic<N, K>`), without the symbolic
 //!   methods and the `EQUATIONS` consts: rustc still type-checks the body as written, so a
 //!   genuine type error there is reported at the user's token too. The build fails either way.
 //!
@@ -39,6 +40,39 @@ use proc_macro::TokenStream;
 /// Derives `impl Lagrangian<N>` from `fn lagrangian(&self, (q, q_dot): Coord, ...) -> Scalar`
 /// (and the optional `fn dissipation` and `fn forces`) written as plain Rust. See the `lagrange`
 /// crate documentation.
+///
+/// # Constraints
+///
+/// An optional `fn constraints(&self, (x, _): Coord, ..., t: Time) -> [Scalar; K]` next to
+/// `fn lagrangian` declares K holonomic constraints g(q, t) = 0 and makes the macro also emit
+/// `impl Holonomic<N, K>` (in both modes). It takes `lagrangian`'s coordinates, all of them, in
+/// the same order and of the same kinds; any binding may be `_`, every velocity must be (the
+/// constraints depend on the positions, and on `t: Time` for a moving constraint, only), and the
+/// body ends in an array literal of K entries. `CONSTRAINED_COORDINATES` marks the coordinates
+/// the body mentions; `SCLERONOMIC` is `true` when it does not use the time.
+///
+/// ```
+/// use lagrange::prelude::*;
+///
+/// /// A bead on a vertical line that moves as x = a cos(ω t).
+/// pub struct Bead { pub g: f64, pub a: f64, pub w: f64 }
+///
+/// #[lagrangian(mode = "jets")]
+/// impl Bead {
+///     fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+///         0.5 * (x_dot * x_dot + y_dot * y_dot) - self.g * y
+///     }
+///     fn constraints(&self, (x, _): Coord, (_, _): Coord, t: Time) -> [Scalar; 1] {
+///         [x - self.a * (self.w * t).cos()]
+///     }
+/// }
+///
+/// let b = Bead { g: 9.81, a: 0.5, w: 2.0 };
+/// let (acc, _) = b.constrained_accelerations(&[0.5, 0.0], &[0.0, 0.0], 0.0).unwrap();
+/// assert!((acc[0] + 0.5 * 4.0).abs() < 1e-12 && (acc[1] + 9.81).abs() < 1e-12);
+/// assert_eq!(<Bead as lagrange::Holonomic<2, 1>>::CONSTRAINED_COORDINATES, [true, false]);
+/// assert!(!<Bead as lagrange::Holonomic<2, 1>>::SCLERONOMIC);
+/// ```
 #[proc_macro_attribute]
 pub fn lagrangian(args: TokenStream, input: TokenStream) -> TokenStream {
     expand::expand(args.into(), input.into()).into()

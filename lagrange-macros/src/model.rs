@@ -71,6 +71,8 @@ pub enum FuncKind {
     Dissipation,
     /// `fn forces(&self, ...) -> [Scalar; N]`: the generalized forces Q.
     Forces,
+    /// `fn constraints(&self, ...) -> [Scalar; K]`: the holonomic constraints g(q, t) = 0.
+    Constraints,
 }
 
 impl FuncKind {
@@ -79,22 +81,24 @@ impl FuncKind {
         match self {
             FuncKind::Dissipation => "dissipation",
             FuncKind::Forces => "forces",
+            FuncKind::Constraints => "constraints",
         }
     }
-    /// The `Lagrangian` trait method it becomes.
+    /// The trait method it becomes (of `Lagrangian`, or of `Holonomic` for constraints).
     pub fn trait_method(self) -> &'static str {
         match self {
             FuncKind::Dissipation => "dissipation",
             FuncKind::Forces => "generalized_forces",
+            FuncKind::Constraints => "constraints",
         }
     }
 }
 
-/// `fn dissipation` or `fn forces` after validation: the same coordinates as `fn lagrangian`
-/// (bound under names of its own, or not at all), its own optional time.
+/// `fn dissipation`, `fn forces` or `fn constraints` after validation: the same coordinates as
+/// `fn lagrangian` (bound under names of its own, or not at all), its own optional time.
 #[derive(Clone)]
 pub struct Func {
-    /// Dissipation or forces.
+    /// Dissipation, forces or constraints.
     pub kind: FuncKind,
     /// Attributes on the function (doc comments, `#[allow(...)]`), kept on the generated method.
     pub fn_attrs: Vec<syn::Attribute>,
@@ -111,12 +115,15 @@ pub struct Func {
     pub body: syn::Block,
     /// The `self` token of the receiver as written.
     pub self_token: syn::Token![self],
+    /// K, the number of constraints (`fn constraints` only; 0 for the others).
+    pub k: usize,
 }
 
 /// `fn lagrangian` after parsing and validation.
 #[derive(Clone)]
 pub struct Decl {
-    /// The impl block with `fn lagrangian`, `fn dissipation` and `fn forces` removed; everything
+    /// The impl block with `fn lagrangian`, `fn dissipation`, `fn forces` and `fn constraints`
+    /// removed; everything
     /// else is emitted as written.
     pub rest: syn::ItemImpl,
     /// Attributes on `fn lagrangian` (doc comments, `#[allow(...)]`, ...), kept on the generated fn.
@@ -140,6 +147,9 @@ pub struct Decl {
     pub dissipation: Option<Func>,
     /// `fn forces`, if the impl block has one.
     pub forces: Option<Func>,
+    /// `fn constraints`, if the impl block has one (emitted as `impl Holonomic<N, K>`; not part
+    /// of the equations of `Lagrangian`, so not among [`Decl::funcs`]).
+    pub constraints: Option<Func>,
 }
 
 impl Decl {

@@ -1,5 +1,5 @@
 //! Parse: the attribute arguments and the impl block, split into `fn lagrangian`, the optional
-//! `fn dissipation` and `fn forces`, and the rest.
+//! `fn dissipation`, `fn forces` and `fn constraints`, and the rest.
 
 use proc_macro2::TokenStream;
 use syn::parse::Parser;
@@ -57,8 +57,8 @@ pub fn options(args: TokenStream, errors: &mut Errors) -> Options {
     options
 }
 
-/// The impl block with every `fn lagrangian`, `fn dissipation` and `fn forces` taken out (in
-/// order of appearance).
+/// The impl block with every `fn lagrangian`, `fn dissipation`, `fn forces` and
+/// `fn constraints` taken out (in order of appearance).
 pub struct Split {
     /// The impl block without them.
     pub rest: ItemImpl,
@@ -68,10 +68,12 @@ pub struct Split {
     pub dissipation: Vec<ImplItemFn>,
     /// Every `fn forces` found.
     pub forces: Vec<ImplItemFn>,
+    /// Every `fn constraints` found.
+    pub constraints: Vec<ImplItemFn>,
 }
 
-/// Parses the annotated item as an impl block and takes out `fn lagrangian`, `fn dissipation`
-/// and `fn forces`.
+/// Parses the annotated item as an impl block and takes out `fn lagrangian`, `fn dissipation`,
+/// `fn forces` and `fn constraints`.
 pub fn split(input: TokenStream) -> syn::Result<Split> {
     let mut rest: ItemImpl = syn::parse2(input).map_err(|e| {
         syn::Error::new(
@@ -79,13 +81,15 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
             format!("`#[lagrangian]` goes on an inherent impl block (`impl MySystem {{ fn lagrangian(...) }}`): {e}"),
         )
     })?;
-    let (mut funcs, mut dissipation, mut forces) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut funcs, mut dissipation, mut forces, mut constraints) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let items = std::mem::take(&mut rest.items);
     for item in items {
         match item {
             ImplItem::Fn(f) if f.sig.ident == "lagrangian" => funcs.push(f),
             ImplItem::Fn(f) if f.sig.ident == "dissipation" => dissipation.push(f),
             ImplItem::Fn(f) if f.sig.ident == "forces" => forces.push(f),
+            ImplItem::Fn(f) if f.sig.ident == "constraints" => constraints.push(f),
             other => rest.items.push(other),
         }
     }
@@ -94,5 +98,6 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
         funcs,
         dissipation,
         forces,
+        constraints,
     })
 }

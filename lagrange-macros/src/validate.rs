@@ -1,5 +1,5 @@
-//! Validate: every rule a `fn lagrangian` declaration (and `fn dissipation` and `fn forces`
-//! next to it) must satisfy, each violation reported at the user's token, all of them at once.
+//! Validate: every rule a `fn lagrangian` declaration (and `fn dissipation`, `fn forces` and
+//! `fn constraints` next to it) must satisfy, each violation reported at the user's token, all of them at once.
 
 use std::collections::HashMap;
 
@@ -22,6 +22,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         mut funcs,
         dissipation,
         forces,
+        constraints,
     } = split;
     if let Some((_, for_token)) = &rest.trait_ {
         errors.at(
@@ -68,11 +69,13 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
     for (list, kind) in [
         (&dissipation, FuncKind::Dissipation),
         (&forces, FuncKind::Forces),
+        (&constraints, FuncKind::Constraints),
     ] {
         for extra in list.iter().skip(1) {
             let what = match kind {
                 FuncKind::Dissipation => "a system has one Rayleigh dissipation function D: put every dissipative term into the one `fn dissipation` (they add)",
                 FuncKind::Forces => "a system has one `fn forces`: add the forces on each coordinate into its one entry of the array",
+                FuncKind::Constraints => "a system has one `fn constraints`: put every constraint g(q, t) = 0 into its own entry of the one array it returns",
             };
             errors.at(
                 &extra.sig.ident,
@@ -88,6 +91,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
     for (list, kind) in [
         (dissipation, FuncKind::Dissipation),
         (forces, FuncKind::Forces),
+        (constraints, FuncKind::Constraints),
     ] {
         let Some(f) = list.into_iter().next() else {
             continue;
@@ -96,6 +100,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         match kind {
             FuncKind::Dissipation => decl.dissipation = checked,
             FuncKind::Forces => decl.forces = checked,
+            FuncKind::Constraints => decl.constraints = checked,
         }
     }
     if errors.is_empty() {
@@ -275,6 +280,7 @@ fn check_fn(
         options,
         dissipation: None,
         forces: None,
+        constraints: None,
     })
 }
 
@@ -311,8 +317,20 @@ fn check_qualifiers(sig: &syn::Signature, name: &str, errors: &mut Errors) {
 /// them.
 const EXTRA_RULE: &str = "the coordinate parameters of `dissipation` and `forces` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`); any binding may be `_` (`(x, _)`, `(_, _)`) and names may differ; `t: Time` is optional in each";
 
-/// The signature `fn dissipation` or `fn forces` should have, from `lagrangian`'s coordinates.
-fn extra_hint(kind: FuncKind, coords: &[CoordParam], time: bool) -> String {
+/// The rule for the parameters of `fn constraints`, quoted by every error about them.
+const CONSTRAINTS_RULE: &str = "the coordinate parameters of `constraints` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`); any binding may be `_` and names may differ; the constraints g(q, t) = 0 depend on the positions only, so bind each velocity as `_` (`(x, _): Coord`); `t: Time` is optional, for a moving constraint";
+
+/// The parameter rule quoted for `kind`.
+fn extra_rule(kind: FuncKind) -> &'static str {
+    match kind {
+        FuncKind::Dissipation | FuncKind::Forces => EXTRA_RULE,
+        FuncKind::Constraints => CONSTRAINTS_RULE,
+    }
+}
+
+/// The signature `fn dissipation`, `fn forces` or `fn constraints` should have, from
+/// `lagrangian`'s coordinates (`k`: the number of constraints, if known).
+fn extra_hint(kind: FuncKind, coords: &[CoordParam], time: bool, k: Option<usize>) -> String {
     let mut params: Vec<String> = coords
         .iter()
         .map(|c| {
@@ -320,7 +338,11 @@ fn extra_hint(kind: FuncKind, coords: &[CoordParam], time: bool) -> String {
                 CoordKind::Scalar => "Coord",
                 CoordKind::Vector3 => "Coord3",
             };
-            format!("({}, {}): {ty}", c.name, c.dot)
+            if kind == FuncKind::Constraints {
+                format!("({}, _): {ty}", c.name)
+            } else {
+                format!("({}, {}): {ty}", c.name, c.dot)
+            }
         })
         .collect();
     if time {
@@ -330,6 +352,10 @@ fn extra_hint(kind: FuncKind, coords: &[CoordParam], time: bool) -> String {
     let ret = match kind {
         FuncKind::Dissipation => "Scalar".to_owned(),
         FuncKind::Forces => format!("[Scalar; {n}]"),
+        FuncKind::Constraints => match k {
+            Some(k) => format!("[Scalar; {k}]"),
+            None => "[Scalar; K]".to_owned(),
+        },
     };
     format!(
         "fn {}(&self, {}) -> {ret}",
@@ -354,8 +380,9 @@ fn slots_text(coords: &[CoordParam]) -> String {
     )
 }
 
-/// Checks `fn dissipation` or `fn forces` against the validated `fn lagrangian` (its
-/// coordinates) and builds it; `None` if any rule is broken (the errors say which).
+/// Checks `fn dissipation`, `fn forces` or `fn constraints` against the validated
+/// `fn lagrangian` (its coordinates) and builds it; `None` if any rule is broken (the errors say
+/// which).
 fn check_extra(
     func: ImplItemFn,
     kind: FuncKind,
@@ -370,7 +397,11 @@ fn check_extra(
     };
     let sig = &func.sig;
     let name = kind.user_name();
-    let hint = extra_hint(kind, lag_coords, false);
+    let declared_k = constraint_count(&sig.output)
+        .and_then(|k| k.ok())
+        .filter(|k| *k >= 1);
+    let hint = extra_hint(kind, lag_coords, false, declared_k);
+    let rule = extra_rule(kind);
     let n: usize = lag_coords.iter().map(CoordParam::width).sum();
     check_qualifiers(sig, name, errors);
     let ret_span = match (&sig.output, kind) {
@@ -406,6 +437,27 @@ fn check_extra(
                     errors,
                     other,
                     format!("`fn forces` returns an array of generalized forces, one per coordinate slot: {}, so write `-> [Scalar; {n}]`: `{hint}`", slots_text(lag_coords)),
+                ),
+            }
+            ty.span()
+        }
+        (ReturnType::Type(_, ty), FuncKind::Constraints) => {
+            match constraint_count(&sig.output) {
+                Some(Ok(k)) if k >= 1 => {}
+                Some(Ok(_)) => fail(
+                    errors,
+                    ty,
+                    format!("`fn constraints` returns at least one constraint: write `[Scalar; 1]` or more, one entry g(q, t) per constraint: `{hint}`"),
+                ),
+                Some(Err(len)) => fail(
+                    errors,
+                    len,
+                    format!("the length of the array `fn constraints` returns, K, is written as a number (how many constraints g(q, t) = 0 there are): `{hint}`"),
+                ),
+                None => fail(
+                    errors,
+                    ty,
+                    format!("`fn constraints` returns an array of constraints g(q, t), one entry per constraint, each zero on the constrained motion: write `-> [Scalar; K]` with K the number of constraints: `{hint}`"),
                 ),
             }
             ty.span()
@@ -453,7 +505,7 @@ fn check_extra(
             fail(
                 errors,
                 &pt.ty,
-                format!("unknown parameter type: {EXTRA_RULE}: `{hint}`"),
+                format!("unknown parameter type: {rule}: `{hint}`"),
             );
             continue;
         };
@@ -488,7 +540,7 @@ fn check_extra(
                     errors,
                     pt,
                     format!(
-                        "`lagrangian` declares no such coordinate: it has {} coordinate parameter{}, and this is one more; {EXTRA_RULE}: `{hint}`",
+                        "`lagrangian` declares no such coordinate: it has {} coordinate parameter{}, and this is one more; {rule}: `{hint}`",
                         lag_coords.len(),
                         if lag_coords.len() == 1 { "" } else { "s" },
                     ),
@@ -500,7 +552,7 @@ fn check_extra(
                     errors,
                     &pt.ty,
                     format!(
-                        "coordinate {} of `lagrangian`, `({}, {}): {}`, is a `{}`, and this is a `{}`; {EXTRA_RULE}: `{hint}`",
+                        "coordinate {} of `lagrangian`, `({}, {}): {}`, is a `{}`, and this is a `{}`; {rule}: `{hint}`",
                         k + 1,
                         c.name,
                         c.dot,
@@ -522,7 +574,7 @@ fn check_extra(
                     fail(
                         errors,
                         &pt.pat,
-                        format!("a coordinate is bound as a pair, the coordinate and its velocity, each a name or `_`: `(x, x_dot): Coord`, `(x, _): Coord`; {EXTRA_RULE}"),
+                        format!("a coordinate is bound as a pair, the coordinate and its velocity, each a name or `_`: `(x, x_dot): Coord`, `(x, _): Coord`; {rule}"),
                     );
                     bindings.push((None, None));
                 }
@@ -538,7 +590,7 @@ fn check_extra(
             errors,
             &sig.ident,
             format!(
-                "`fn {name}` lacks coordinate{} {} of `lagrangian`; {EXTRA_RULE}: `{hint}`",
+                "`fn {name}` lacks coordinate{} {} of `lagrangian`; {rule}: `{hint}`",
                 if missing.len() == 1 { "" } else { "s" },
                 missing.join(", ")
             ),
@@ -559,14 +611,23 @@ fn check_extra(
                 continue;
             }
             if let Some(at) = free_use(&func.block, &cand) {
-                fail(
-                    errors,
-                    &at,
-                    format!("`{cand}` is used in `fn {name}`, which has no `{cand}: Time` parameter: add `{cand}: Time` to its parameters (`t: Time` is optional in each of `lagrangian`, `dissipation` and `forces`, and each one whose body uses the time declares it): `{}`", extra_hint(kind, lag_coords, true).replace("t: Time", &format!("{cand}: Time"))),
-                );
+                let with_time = extra_hint(kind, lag_coords, true, declared_k)
+                    .replace("t: Time", &format!("{cand}: Time"));
+                let msg = if kind == FuncKind::Constraints {
+                    format!("`{cand}` is used in `fn constraints`, which has no `{cand}: Time` parameter: a moving (rheonomic) constraint g(q, t) declares the time, so add `{cand}: Time` to its parameters: `{with_time}`")
+                } else {
+                    format!("`{cand}` is used in `fn {name}`, which has no `{cand}: Time` parameter: add `{cand}: Time` to its parameters (`t: Time` is optional in each of `lagrangian`, `dissipation` and `forces`, and each one whose body uses the time declares it): `{with_time}`")
+                };
+                fail(errors, &at, msg);
                 break;
             }
         }
+    }
+    if kind == FuncKind::Constraints {
+        // The tail is checked against an array return type only (for another, the error at the
+        // return type says it all).
+        let array = constraint_count(&sig.output).is_some();
+        check_constraints_body(&func.block, &bindings, declared_k, array, &hint, errors);
     }
     let ok = errors.is_empty();
     sink.push_all(std::mem::take(errors));
@@ -582,7 +643,118 @@ fn check_extra(
         time,
         body: func.block,
         self_token,
+        k: declared_k.unwrap_or(0),
     })
+}
+
+/// K of a return type `[Scalar; K]`: `Some(Ok(K))` for an integer literal, `Some(Err(len))` for
+/// any other length expression, `None` when it is not an array of `Scalar`.
+pub fn constraint_count(output: &ReturnType) -> Option<Result<usize, &syn::Expr>> {
+    let ReturnType::Type(_, ty) = output else {
+        return None;
+    };
+    let mut ty = &**ty;
+    while let Type::Group(g) = ty {
+        ty = &g.elem;
+    }
+    match ty {
+        Type::Array(a) if is_ident_type(&a.elem, "Scalar") => match &a.len {
+            syn::Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Int(len),
+                ..
+            }) => Some(len.base10_parse::<usize>().map_err(|_| &a.len)),
+            other => Some(Err(other)),
+        },
+        _ => None,
+    }
+}
+
+/// The rules of the body of `fn constraints`: no velocity it binds is used (the constraints
+/// depend on the positions and the time only), and it ends in an array literal of K entries.
+fn check_constraints_body(
+    body: &syn::Block,
+    bindings: &[(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)],
+    k: Option<usize>,
+    array: bool,
+    hint: &str,
+    errors: &mut Errors,
+) {
+    for (coordinate, velocity) in bindings {
+        let Some(velocity) = velocity else { continue };
+        let name = crate::model::unraw(velocity);
+        // A use as a value is reported there; a mention inside a macro, at the binding.
+        let at = free_use(body, &name)
+            .or_else(|| mentioned_in_macro(body, &name).then(|| velocity.clone()));
+        if let Some(at) = at {
+            let x = coordinate
+                .as_ref()
+                .map_or_else(|| "x".to_owned(), crate::model::unraw);
+            errors.at(
+                &at,
+                format!("`{velocity}` is a velocity, and the constraints g(q, t) = 0 depend on the positions (and, for a moving constraint, on `t: Time`) only: bind the velocity as `_`, `({x}, _)`, and leave it out of the body: `{hint}`"),
+            );
+        }
+    }
+    if !array {
+        return;
+    }
+    match body.stmts.last() {
+        Some(syn::Stmt::Expr(e, None)) => match paren_less(e) {
+            syn::Expr::Array(a) => {
+                if let Some(k) = k {
+                    if a.elems.len() != k {
+                        errors.at(
+                            a,
+                            format!(
+                                "`fn constraints` returns {k} constraint{} (`[Scalar; {k}]`), and this array has {} entr{}: one entry g(q, t) per constraint",
+                                if k == 1 { "" } else { "s" },
+                                a.elems.len(),
+                                if a.elems.len() == 1 { "y" } else { "ies" },
+                            ),
+                        );
+                    }
+                }
+            }
+            other => errors.at(
+                other,
+                format!("the body of `fn constraints` ends in an array literal, one entry g(q, t) per constraint (`[x * x + y * y - self.l * self.l]`): `{hint}`"),
+            ),
+        },
+        _ => errors.push(syn::Error::new(
+            body.brace_token.span.close(),
+            format!("the body of `fn constraints` ends in an array literal, one entry g(q, t) per constraint, without a semicolon (`[x * x + y * y - self.l * self.l]`): `{hint}`"),
+        )),
+    }
+}
+
+/// Whether `name` appears among the tokens of a macro invocation in `body` (opaque tokens: any
+/// mention counts).
+fn mentioned_in_macro(body: &syn::Block, name: &str) -> bool {
+    use syn::visit::Visit;
+    struct Find<'a>(&'a str, bool);
+    fn walk(ts: proc_macro2::TokenStream, name: &str) -> bool {
+        ts.into_iter().any(|tt| match tt {
+            proc_macro2::TokenTree::Ident(i) => crate::model::unraw(&i) == name,
+            proc_macro2::TokenTree::Group(g) => walk(g.stream(), name),
+            _ => false,
+        })
+    }
+    impl<'ast> Visit<'ast> for Find<'_> {
+        fn visit_macro(&mut self, m: &'ast syn::Macro) {
+            self.1 |= walk(m.tokens.clone(), self.0);
+        }
+    }
+    let mut f = Find(name, false);
+    f.visit_block(body);
+    f.1
+}
+
+fn paren_less(e: &syn::Expr) -> &syn::Expr {
+    match e {
+        syn::Expr::Paren(p) => paren_less(&p.expr),
+        syn::Expr::Group(g) => paren_less(&g.expr),
+        _ => e,
+    }
 }
 
 /// `(a, b)` where each is a plain name or `_` (also `_` for the whole pair).

@@ -44,3 +44,40 @@ fn the_generated_code_ignores_the_constants() {
     // θ̈ = −(g / l) sin θ.
     assert!((acc[0] + 4.5 * theta0.sin()).abs() < 1e-12, "{acc:?}");
 }
+
+/// A pendulum in x, y whose rod length moves with the time: `fn constraints` next to the
+/// constants named like the generated parameters (`q`, `t`, `s`, `a`).
+pub struct MovingRod {
+    pub m: f64,
+    pub g: f64,
+    pub l: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl MovingRod {
+    fn lagrangian(&self, (px, px_dot): Coord, (py, py_dot): Coord) -> Scalar {
+        0.5 * self.m * (px_dot * px_dot + py_dot * py_dot) - self.m * self.g * py
+    }
+    fn constraints(&self, (px, _): Coord, (py, _): Coord, time: Time) -> [Scalar; 1] {
+        // `scale` is the user's constant (1.0); the length grows as l (1 + time).
+        let len = self.l * scale * (1.0 + time);
+        [px * px + py * py - len * len]
+    }
+}
+
+#[test]
+fn constraints_ignore_the_constants() {
+    let p = MovingRod {
+        m: 2.0,
+        g: 9.0,
+        l: 1.5,
+    };
+    // At t = 0, hanging at rest: g = 0, ∂g/∂q = (0, −3).
+    let rows = p.constraint_rows(&[0.0, -1.5], &[0.0, 0.0], 0.0);
+    assert!(rows.value[0].abs() < 1e-12, "{rows:?}");
+    assert!(
+        rows.jacobian[0][0].abs() < 1e-12 && (rows.jacobian[0][1] + 3.0).abs() < 1e-12,
+        "{rows:?}"
+    );
+    const { assert!(!<MovingRod as Holonomic<2, 1>>::SCLERONOMIC) };
+}

@@ -66,6 +66,7 @@ fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
         },
         dissipation: None,
         forces: None,
+        constraints: None,
     }
 }
 
@@ -743,6 +744,7 @@ fn func(
         time: time.map(|t| format_ident!("{}", t)),
         body: syn::parse_str(body).expect("test body parses"),
         self_token: syn::Token![self](Span::call_site()),
+        k: 0,
     }
 }
 
