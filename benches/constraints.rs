@@ -61,11 +61,10 @@ fn bench(c: &mut Criterion) {
     // Same motion: the final cos θ of both runs agree (to the tolerance), and the counts.
     let (e, q) = (euler(&top), quaternion(&qtop));
     let cos_e = e.q.last().map(|q| q[0].cos()).unwrap_or(f64::NAN);
-    let cos_q = q
-        .q
-        .last()
-        .map(|q| q[0] * q[0] - q[1] * q[1] - q[2] * q[2] + q[3] * q[3])
-        .unwrap_or(f64::NAN);
+    let cos_q =
+        q.q.last()
+            .map(|q| q[0] * q[0] - q[1] * q[1] - q[2] * q[2] + q[3] * q[3])
+            .unwrap_or(f64::NAN);
     assert!((cos_e - cos_q).abs() < 1e-6, "{cos_e} vs {cos_q}");
     println!(
         "euler angles: {} steps, {} evaluations; quaternions: {} steps, {} evaluations; final cos θ \
@@ -86,7 +85,8 @@ fn bench(c: &mut Criterion) {
     g.finish();
 
     // The right-hand side alone, at 16 states of the same motion.
-    let states: Vec<([f64; 3], [f64; 3])> = e.q.iter().zip(&e.qdot).map(|(q, v)| (*q, *v)).collect();
+    let states: Vec<([f64; 3], [f64; 3])> =
+        e.q.iter().zip(&e.qdot).map(|(q, v)| (*q, *v)).collect();
     let picks: Vec<([f64; 3], [f64; 3])> = (0..16)
         .map(|k| states[k * (states.len() - 1) / 15])
         .collect();
@@ -102,7 +102,10 @@ fn bench(c: &mut Criterion) {
     g.bench_function("quaternions_constrained_accelerations", |b| {
         b.iter(|| {
             for (q, v) in &quats {
-                black_box(qtop.constrained_accelerations(black_box(q), black_box(v), 0.0).ok());
+                black_box(
+                    qtop.constrained_accelerations(black_box(q), black_box(v), 0.0)
+                        .ok(),
+                );
             }
         })
     });
@@ -119,6 +122,34 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             for (q, v) in &quats {
                 black_box(qtop.constraint_rows(black_box(q), black_box(v), 0.0));
+            }
+        })
+    });
+    let split: Vec<_> = quats
+        .iter()
+        .map(|(q, v)| {
+            (
+                qtop.pieces(q, v, 0.0),
+                qtop.constraint_rows(q, v, 0.0),
+                *q,
+                *v,
+            )
+        })
+        .collect();
+    g.bench_function("quaternions_solve_only", |b| {
+        b.iter(|| {
+            for (p, r, q, v) in &split {
+                black_box(
+                    lagrange::eom::solve_constrained(
+                        black_box(p),
+                        black_box(r),
+                        <QuaternionTop as Lagrangian<4>>::COORDINATES,
+                        q,
+                        v,
+                        0.0,
+                    )
+                    .ok(),
+                );
             }
         })
     });

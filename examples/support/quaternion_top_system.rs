@@ -39,13 +39,16 @@ impl QuaternionTop {
         self.i_perp / 2.0 * (o1 * o1 + o2 * o2) + self.i_par / 2.0 * o3 * o3
             - self.mgl * (w * w - x * x - y * y + z * z)
     }
-}
 
-impl Holonomic<4, 1> for QuaternionTop {
-    const SCLERONOMIC: bool = true;
-    /// |q|² − 1.
-    fn constraints<S: Scalar>(&self, q: &[S; 4], _t: S) -> [S; 1] {
-        [q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1.0]
+    /// The unit norm of the quaternion.
+    fn constraints(
+        &self,
+        (w, _): Coord,
+        (x, _): Coord,
+        (y, _): Coord,
+        (z, _): Coord,
+    ) -> [Scalar; 1] {
+        [w * w + x * x + y * y + z * z - 1.0]
     }
 }
 

@@ -478,6 +478,7 @@ pub struct ConstraintRows<const N: usize, const K: usize> {
 /// assert!((a[0] - 1.0).abs() < 1e-15 && (a[1] - 1.0).abs() < 1e-15);
 /// assert!((lambda[0] + 1.0).abs() < 1e-15);
 /// ```
+#[inline]
 pub fn solve_constrained<const N: usize, const K: usize>(
     pieces: &Pieces<N>,
     rows: &ConstraintRows<N, K>,

@@ -76,13 +76,15 @@ pub fn solve_symmetric<const N: usize>(
 pub struct Ldlt<const N: usize> {
     /// L below the diagonal, stored transposed in the upper triangle (l[k][i], i < k, at a[i][k]).
     a: [[f64; N]; N],
-    d: [f64; N],
+    /// The reciprocals 1/d_j of the pivots (a solve multiplies).
+    d_inv: [f64; N],
 }
 
 impl<const N: usize> Ldlt<N> {
     /// Factors `M` given by its upper triangle; a pivot that is not positive, or below
     /// [`ACCURATE_RELATIVE_PIVOT`] of its own diagonal entry, is [`SolveFailure::Singular`] at its
     /// row (an indefinite matrix reports its first non-positive pivot, `relative_pivot` ≤ 0).
+    #[inline]
     pub fn factor(m: &[[f64; N]; N]) -> Result<Self, SolveFailure> {
         match Self::factor_or_indefinite(m) {
             Ok(Some(f)) => Ok(f),
@@ -120,19 +122,20 @@ impl<const N: usize> Ldlt<N> {
             return dj;
         }
         d[j] = dj;
+        let r = 1.0 / dj;
         for i in j + 1..N {
             let mut s = a[j][i];
             for k in 0..j {
                 s -= a[k][j] * a[k][i] * d[k];
             }
-            a[j][i] = s / dj;
+            a[j][i] = s * r;
         }
         dj
     }
 
     /// The factorization; `Ok(None)` where a pivot is not positive (indefinite: the caller may
     /// fall back to LU), an error where a positive pivot is too small against its diagonal entry.
-    #[inline]
+    #[inline(always)]
     fn factor_or_indefinite(m: &[[f64; N]; N]) -> Result<Option<Self>, SolveFailure> {
         if m.iter().enumerate().any(|(i, row)| !row[i].is_finite()) {
             return Err(SolveFailure::NonFinite);
@@ -151,13 +154,17 @@ impl<const N: usize> Ldlt<N> {
                 });
             }
         }
-        Ok(Some(Ldlt { a, d }))
+        let mut d_inv = [0.0; N];
+        for j in 0..N {
+            d_inv[j] = 1.0 / d[j];
+        }
+        Ok(Some(Ldlt { a, d_inv }))
     }
 
     /// Solves M x = b with the factorization.
     #[inline]
     pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
-        let (a, d) = (&self.a, &self.d);
+        let (a, d_inv) = (&self.a, &self.d_inv);
         let mut x = *b;
         for i in 0..N {
             for k in 0..i {
@@ -165,7 +172,7 @@ impl<const N: usize> Ldlt<N> {
             }
         }
         for i in 0..N {
-            x[i] /= d[i];
+            x[i] *= d_inv[i];
         }
         for i in (0..N).rev() {
             for k in i + 1..N {

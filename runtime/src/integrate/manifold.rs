@@ -6,7 +6,7 @@
 //! driver serves constrained and unconstrained runs.
 
 use crate::constraints::{Constrained, Holonomic};
-use crate::linalg::SolveFailure;
+use crate::linalg::{solve_symmetric, SolveFailure};
 
 use super::newton::inf_norm;
 use super::state::{Fault, Y};
@@ -35,13 +35,63 @@ pub(crate) trait Manifold<const N: usize> {
     /// G (the nearest point in the Euclidean norm of q), then q̇ onto G q̇ + ∂g/∂t = 0
     /// (the nearest velocity, one linear solve). Returns the size |Δq|∞ of the position
     /// correction.
+    fn project(&self, t: f64, y: &mut Y<N>) -> Result<f64, Fault>;
+
+    /// The largest |g| and |ġ| at a state.
+    fn residual(&self, t: f64, y: &Y<N>) -> (f64, f64);
+}
+
+/// The least-norm solution Δ = Gᵀ(GGᵀ)⁻¹ r of G Δ = r.
+fn least_norm<const N: usize, const K: usize>(
+    g: &[[f64; N]; K],
+    r: &[f64; K],
+) -> Result<[f64; N], Fault> {
+    let mut ggt = [[0.0; K]; K];
+    for a in 0..K {
+        for b in a..K {
+            ggt[a][b] = (0..N).map(|i| g[a][i] * g[b][i]).sum();
+        }
+    }
+    let mu = solve_symmetric(&ggt, r).map_err(|e| match e {
+        SolveFailure::NonFinite => Fault::NonFinite,
+        SolveFailure::Singular { .. } => Fault::Newton {
+            iterations: 0,
+            residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
+            reason: "projecting onto the constraints: their gradients are dependent or vanish \
+                     here (one constraint repeats the others)",
+        },
+    })?;
+    let mut d = [0.0; N];
+    for a in 0..K {
+        for i in 0..N {
+            d[i] += g[a][i] * mu[a];
+        }
+    }
+    Ok(d)
+}
+
+impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
+    for Constrained<'_, H, N, K>
+{
+    fn count(&self) -> usize {
+        K
+    }
+    fn rows(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Rows<N> {
+        let r = self.system().constraint_rows(q, qdot, t);
+        Rows {
+            value: r.value.to_vec(),
+            jacobian: r.jacobian.to_vec(),
+            rate: r.rate.to_vec(),
+        }
+    }
     fn project(&self, t: f64, y: &mut Y<N>) -> Result<f64, Fault> {
+        let sys = self.system();
         let zero = [0.0; N];
         let mut moved = 0.0_f64;
         let mut converged = false;
         let mut residual = f64::NAN;
         for _ in 0..MAX_PROJECTION {
-            let rows = self.rows(&y[0], &zero, t);
+            let rows = sys.constraint_rows(&y[0], &zero, t);
             residual = rows.value.iter().fold(0.0_f64, |m, g| m.max(g.abs()));
             if residual == 0.0 {
                 converged = true;
@@ -69,71 +119,17 @@ pub(crate) trait Manifold<const N: usize> {
                          step was too large: try a tighter tolerance or a smaller step)",
             });
         }
-        let rows = self.rows(&y[0], &y[1], t);
+        let rows = sys.constraint_rows(&y[0], &y[1], t);
         let dv = least_norm(&rows.jacobian, &rows.rate)?;
         for i in 0..N {
             y[1][i] -= dv[i];
         }
         Ok(moved)
     }
-
-    /// The largest |g| and |ġ| at a state.
     fn residual(&self, t: f64, y: &Y<N>) -> (f64, f64) {
-        let rows = self.rows(&y[0], &y[1], t);
+        let rows = self.system().constraint_rows(&y[0], &y[1], t);
         let max = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         (max(&rows.value), max(&rows.rate))
-    }
-}
-
-/// The least-norm solution Δ = Gᵀ(GGᵀ)⁻¹ r of G Δ = r (K ≤ 8 through a fixed-size solve; larger
-/// K through the run-time-size LU).
-fn least_norm<const N: usize>(g: &[[f64; N]], r: &[f64]) -> Result<[f64; N], Fault> {
-    let k = g.len();
-    let mut ggt = vec![0.0; k * k];
-    let mut scale = 0.0_f64;
-    for a in 0..k {
-        for b in 0..k {
-            let s: f64 = (0..N).map(|i| g[a][i] * g[b][i]).sum();
-            ggt[a * k + b] = s;
-            scale = scale.max(s.abs());
-        }
-    }
-    let mut mu = r.to_vec();
-    crate::linalg::lu_solve_dyn(&mut ggt, &mut mu, scale).map_err(|e| match e {
-        SolveFailure::NonFinite => Fault::NonFinite,
-        SolveFailure::Singular { row, .. } => Fault::Newton {
-            iterations: 0,
-            residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
-            reason: if row == 0 {
-                "projecting onto the constraints: the constraint gradients vanish here"
-            } else {
-                "projecting onto the constraints: the constraint gradients are dependent here \
-                 (one constraint repeats the others)"
-            },
-        },
-    })?;
-    let mut d = [0.0; N];
-    for a in 0..k {
-        for i in 0..N {
-            d[i] += g[a][i] * mu[a];
-        }
-    }
-    Ok(d)
-}
-
-impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
-    for Constrained<'_, H, N, K>
-{
-    fn count(&self) -> usize {
-        K
-    }
-    fn rows(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Rows<N> {
-        let r = self.system().constraint_rows(q, qdot, t);
-        Rows {
-            value: r.value.to_vec(),
-            jacobian: r.jacobian.to_vec(),
-            rate: r.rate.to_vec(),
-        }
     }
     fn multipliers(&self, t: f64, y: &Y<N>) -> Result<Vec<f64>, Fault> {
         let (_, lambda) = self.system().constrained_accelerations(&y[0], &y[1], t)?;
