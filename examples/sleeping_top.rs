@@ -3,37 +3,38 @@
 //!
 //! ```text
 //! cargo run --release --example sleeping_top
-//! cargo run --release --example sleeping_top -- --theta0 1e-4 --points 161 --svg out/sleeping.svg
+//! cargo run --release --example sleeping_top -- --nudge 1e-6 --points 161 --svg out/sleeping.svg
 //! ```
 //!
-//! Sweeps Ω/ω0 in parallel (rayon, with a progress bar): each top is released at rest (θ̇ = φ̇ = 0)
-//! from θ0 (default 1e-3; the Euler-angle chart is singular at θ = 0 exactly, so the top does not
-//! start there), integrated with DOP853 until its first turning point of θ, and the largest
+//! Sweeps Ω/ω0 in parallel (rayon, with a progress bar). Each top starts **exactly upright**,
+//! spinning about its axis, with a tilt rate θ̇0 = ε (the nudge, default 1e-8 rad/s): the top is
+//! written in unit quaternions with the constraint |q|² = 1 (`#[lagrangian]` with
+//! `fn constraints`), a chart with no singularity, where the Euler angles of eq. 92 are singular
+//! at θ = 0. It is integrated with DOP853 until its first turning point of θ, and the largest
 //! nutation θ_max is recorded. Below 2ω0 the top falls to cos θ = Ω²/2ω0² − 1 (eq. 98); above it
-//! stays within θ0 Ω/√(Ω² − 4ω0²) (small-oscillation bound); at the threshold θ_max ≈ √(2θ0).
-//! Plots θ_max against Ω/ω0 (log scale) with both predictions.
+//! stays within 2ε/√(Ω² − 4ω0²) (the linearized motion about upright, u = θe^{iφ}:
+//! ü − iΩu̇ − ω0²u = 0, from u = 0, u̇ = ε). Plots θ_max against Ω/ω0 (log scale) with both
+//! predictions.
 
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use lagrange::prelude::*;
-use lagrange::theory::heavy_top::{
-    sleeping_top_lowest_cos, sleeping_top_max_angle, Constants, Top,
-};
+use lagrange::theory::heavy_top::sleeping_top_lowest_cos;
 use plotters::prelude::*;
 use rayon::prelude::*;
 
-// The top of eq. 92, declared with `#[lagrangian]` exactly as the equation reads; shared by the
-// heavy-top examples.
+// The top of eq. 92 in unit quaternions, declared with `#[lagrangian]` and `fn constraints`;
+// shared with the tests and the benches.
 #[path = "support/cli.rs"]
 mod cli;
-#[path = "support/heavy_top_system.rs"]
-mod heavy_top_system;
-use heavy_top_system::HeavyTop;
+#[path = "support/quaternion_top_system.rs"]
+mod quaternion_top_system;
+use quaternion_top_system::{axis_z_rate, tilt, QuaternionTop};
 
 const USAGE: &str = "\
 usage: cargo run --release --example sleeping_top -- [options]
-  --theta0 X     initial tilt in rad, > 0 (1e-3)
+  --nudge X      initial tilt rate in rad/s from exactly upright, > 0 (1e-8)
   --from X       smallest Ω/ω0 (1.0)       --to X   largest Ω/ω0 (3.0)
   --points N     number of Ω/ω0 values (81)
   --i-perp X (1) --i-par X (1) --mgl X (1)
@@ -41,21 +42,21 @@ usage: cargo run --release --example sleeping_top -- [options]
 ";
 
 struct Options {
-    theta0: f64,
+    nudge: f64,
     from: f64,
     to: f64,
     points: usize,
-    top: HeavyTop,
+    top: QuaternionTop,
     svg: String,
 }
 
 fn parse() -> Result<Options, String> {
     let mut o = Options {
-        theta0: 1e-3,
+        nudge: 1e-8,
         from: 1.0,
         to: 3.0,
         points: 81,
-        top: HeavyTop {
+        top: QuaternionTop {
             i_perp: 1.0,
             i_par: 1.0,
             mgl: 1.0,
@@ -65,7 +66,7 @@ fn parse() -> Result<Options, String> {
     for (key, val) in cli::pairs()? {
         let num = || cli::number(&key, &val);
         match key.as_str() {
-            "--theta0" => o.theta0 = num()?,
+            "--nudge" => o.nudge = num()?,
             "--from" => o.from = num()?,
             "--to" => o.to = num()?,
             "--points" => o.points = num()? as usize,
@@ -76,8 +77,10 @@ fn parse() -> Result<Options, String> {
             _ => return Err(format!("unknown option {key}")),
         }
     }
-    if !(o.theta0 > 0.0 && o.theta0 < 0.5) {
-        return Err("--theta0 must be in (0, 0.5): θ = 0 is the chart's singular point".into());
+    if !(o.nudge > 0.0 && o.nudge < 0.1) {
+        return Err(
+            "--nudge must be in (0, 0.1): exactly upright with no nudge stays up at any Ω".into(),
+        );
     }
     if !(o.from > 0.0 && o.to > o.from && o.points >= 2) {
         return Err("need 0 < --from < --to and --points ≥ 2".into());
@@ -85,45 +88,35 @@ fn parse() -> Result<Options, String> {
     Ok(o)
 }
 
-/// One run: θ_max (rad) reached after release at rest from θ0 with the given Ω/ω0.
-fn largest_nutation(top: &HeavyTop, theta0: f64, ratio: f64) -> Result<f64, String> {
+/// One run: θ_max (rad) reached from exactly upright with the tilt rate `nudge` and the given
+/// Ω/ω0.
+fn largest_nutation(top: &QuaternionTop, nudge: f64, ratio: f64) -> Result<f64, String> {
     let omega0 = (top.mgl / top.i_perp).sqrt();
-    // At rest: L∥ = I∥ ψ̇ and Ω = L∥/I⊥.
+    // Upright, body angular velocity (ε, 0, ω3) with Ω = L∥/I⊥ = I∥ ω3/I⊥;
+    // q = (1, 0, 0, 0), q̇ = ½ q ⊗ (0, ω).
     let spin = ratio * omega0 * top.i_perp / top.i_par;
-    let (q0, qd0) = ([theta0, 0.0, 0.0], [0.0, 0.0, spin]);
-    let theory = Top {
-        i_perp: top.i_perp,
-        i_par: top.i_par,
-        mgl: top.mgl,
-    };
-    // Only to bound the run: stop at the first θ maximum or after 1.5 predicted periods.
-    let period = Constants::from_state(&theory, &q0, &qd0)
-        .and_then(|c| c.nutation.period())
-        .map_err(|e| e.to_string())?;
-    let until = if period.is_finite() {
-        1.5 * period
-    } else {
-        1e4
-    };
-    let traj = Simulation::new(top, q0, qd0)
+    let (q0, qd0) = ([1.0, 0.0, 0.0, 0.0], [0.0, nudge / 2.0, 0.0, spin / 2.0]);
+    let traj = Simulation::constrained(top, q0, qd0)
         .method(Method::Dop853 {
             rtol: 1e-12,
             atol: 1e-15,
         })
-        .until(until)
+        .until(1e4 / omega0)
         .max_steps(2_000_000)
         .event(
-            Event::zero_crossing("theta max", |_t, _q, v: &[f64; 3]| v[0])
-                .falling()
-                .terminal(),
+            Event::zero_crossing("theta max", |_t, q: &[f64; 4], v: &[f64; 4]| {
+                axis_z_rate(q, v)
+            })
+            .rising()
+            .terminal(),
         )
         .run()
         .map_err(|e| e.to_string())?;
     Ok(traj
         .events
         .first()
-        .map(|e| e.q[0])
-        .unwrap_or_else(|| traj.q.iter().map(|q| q[0]).fold(0.0, f64::max)))
+        .map(|e| tilt(&e.q))
+        .unwrap_or_else(|| traj.q.iter().map(tilt).fold(0.0, f64::max)))
 }
 
 fn main() {
@@ -136,8 +129,8 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
         .map(|k| o.from + (o.to - o.from) * k as f64 / (o.points - 1) as f64)
         .collect();
     println!(
-        "sleeping top: released at rest from θ0 = {:e}, Ω/ω0 from {} to {} ({} runs on {} threads)",
-        o.theta0,
+        "sleeping top: exactly upright, nudged at θ̇0 = {:e} rad/s, Ω/ω0 from {} to {} ({} runs on {} threads)",
+        o.nudge,
         o.from,
         o.to,
         o.points,
@@ -152,7 +145,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     let results: Vec<(f64, Result<f64, String>)> = ratios
         .par_iter()
         .map(|&r| {
-            let out = largest_nutation(&o.top, o.theta0, r);
+            let out = largest_nutation(&o.top, o.nudge, r);
             bar.inc(1);
             (r, out)
         })
@@ -167,7 +160,8 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     println!("  Ω/ω0    θ_max (sim)      prediction       rel. diff");
     let mut points = Vec::new();
     for (r, out) in &results {
-        let predicted = predicted_max(*r, o.theta0);
+        let omega0 = (o.top.mgl / o.top.i_perp).sqrt();
+        let predicted = predicted_max(*r, o.nudge / omega0);
         match out {
             Ok(th) => {
                 points.push((*r, *th));
@@ -186,27 +180,32 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     println!(
-        "\nbelow 2ω0 the top falls to cos θ = Ω²/2ω0² − 1 (eq. 98); above it, θ_max ≈ θ0 Ω/√(Ω² − 4ω0²)"
+        "\nbelow 2ω0 the top falls to cos θ = Ω²/2ω0² − 1 (eq. 98); above it, θ_max ≈ 2θ̇0/√(Ω² − 4ω0²)"
     );
-    plot(&o.svg, &points, o.theta0, o.from, o.to)?;
+    let omega0 = (o.top.mgl / o.top.i_perp).sqrt();
+    plot(&o.svg, &points, o.nudge / omega0, o.from, o.to)?;
     println!("wrote {}", o.svg);
     Ok(())
 }
 
-/// Eq. 98 below the threshold, the small-oscillation bound above it, √(2θ0) at it (ω0 = 1 units).
-fn predicted_max(ratio: f64, theta0: f64) -> Option<f64> {
-    if (ratio - 2.0).abs() < 1e-12 {
-        return Some((1.0 - 2.0 * (theta0 / 2.0).sin()).acos());
+/// Eq. 98 below the threshold, the linearized bound 2ε/√(r² − 4) above it (ε = θ̇0/ω0, r = Ω/ω0);
+/// none at the threshold (secular growth until the nonlinear terms stop it).
+fn predicted_max(ratio: f64, eps: f64) -> Option<f64> {
+    if ratio > 2.0 {
+        return Some(above(eps, ratio));
     }
-    sleeping_top_lowest_cos(ratio, 1.0)
-        .map(f64::acos)
-        .or_else(|| sleeping_top_max_angle(theta0, ratio, 1.0))
+    sleeping_top_lowest_cos(ratio, 1.0).map(f64::acos)
+}
+
+/// The linearized largest tilt above the threshold, 2ε/√(r² − 4).
+fn above(eps: f64, ratio: f64) -> f64 {
+    2.0 * eps / (ratio * ratio - 4.0).sqrt()
 }
 
 fn plot(
     path: &str,
     points: &[(f64, f64)],
-    theta0: f64,
+    eps: f64,
     from: f64,
     to: f64,
 ) -> Result<(), Box<dyn std::error::Error>> {
@@ -217,13 +216,13 @@ fn plot(
     root.fill(&WHITE)?;
     let mut ch = ChartBuilder::on(&root)
         .caption(
-            format!("sleeping top released at θ0 = {theta0:e}: largest nutation vs Ω/ω0"),
+            format!("sleeping top from exactly upright, θ̇0/ω0 = {eps:e}: largest nutation vs Ω/ω0"),
             ("sans-serif", 22),
         )
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(80)
-        .build_cartesian_2d(from..to, (theta0 * 0.5..4.0).log_scale())?;
+        .build_cartesian_2d(from..to, (eps * 0.5..4.0).log_scale())?;
     ch.configure_mesh()
         .x_desc("Ω/ω0")
         .y_desc("θ_max (rad)")
@@ -239,14 +238,14 @@ fn plot(
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
     let above: Vec<(f64, f64)> = (1..=n)
         .map(|k| 2.0_f64.max(from) + (to - 2.0_f64.max(from)) * k as f64 / n as f64)
-        .filter_map(|r| sleeping_top_max_angle(theta0, r, 1.0).map(|t| (r, t)))
+        .map(|r| (r, above(eps, r)))
         .filter(|(_, t)| *t < 4.0)
         .collect();
     ch.draw_series(LineSeries::new(above, GREEN.stroke_width(2)))?
-        .label("θ0 Ω/√(Ω² − 4ω0²) (small oscillations)")
+        .label("2θ̇0/√(Ω² − 4ω0²) (linearized about upright)")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], GREEN.stroke_width(2)));
     ch.draw_series(LineSeries::new(
-        vec![(2.0, theta0 * 0.5), (2.0, 4.0)],
+        vec![(2.0, eps * 0.5), (2.0, 4.0)],
         BLACK.mix(0.5).stroke_width(1),
     ))?
     .label("threshold Ω = 2ω0")

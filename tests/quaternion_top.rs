@@ -274,8 +274,8 @@ fn eq98_exactly_upright_below_threshold_falls_to_the_printed_p() {
     let traj = upright(ratio, 100.0 * std::f64::consts::TAU, TIGHT);
     let want = sleeping_top_lowest_cos(ratio, 1.0).unwrap();
     assert!((want - (ratio * ratio / 2.0 - 1.0)).abs() < 1e-15);
-    // Lowest points of the axis: the falls (near upright, before the first fall, the tiny
-    // wobble of the nudge has minima of cos θ too, within 1e-15 of 1).
+    // Lowest points of the axis: the falls (before the first fall, the wobble of the nudge has
+    // minima of cos θ too, within 1e-15 of 1).
     let falls: Vec<f64> = traj
         .events
         .iter()

@@ -90,8 +90,10 @@ pub fn axis(q: &[f64; 4]) -> [f64; 3] {
 }
 
 /// d/dt of the axis' vertical component R₃₃ = cos θ: zero at the turning points of the nutation.
+/// Written as −4(x ẋ + y ẏ), which equals 2(w ẇ − x ẋ − y ẏ + z ż) on |q| = 1 (where
+/// w ẇ + z ż = −(x ẋ + y ẏ)) without its cancellation near upright: its sign stays right there.
 pub fn axis_z_rate(q: &[f64; 4], qdot: &[f64; 4]) -> f64 {
-    2.0 * (q[0] * qdot[0] - q[1] * qdot[1] - q[2] * qdot[2] + q[3] * qdot[3])
+    -4.0 * (q[1] * qdot[1] + q[2] * qdot[2])
 }
 
 /// The angle of the axis from the upward vertical, accurate near upright:
