@@ -194,7 +194,8 @@ pub trait Lagrangian<const N: usize> {
     /// [`linearize`](crate::linearize) for the formulas, the eigenvalues, modes and stability.
     ///
     /// Fails where the accelerations cannot be solved (singular M, non-finite values). Holonomic
-    /// constraints are not covered yet; `linearize_constrained` will come with them.
+    /// constraints ([`Holonomic`](crate::Holonomic)) are not taken into account: this linearizes
+    /// the unconstrained L (a linearization on the constraint manifold is not there yet).
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Scalar};

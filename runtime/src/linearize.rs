@@ -27,8 +27,9 @@
 //!
 //! [`equilibrium`] finds q with q̈(q, 0, t) = 0 by Newton's method from a guess.
 //!
-//! Systems with holonomic constraints are not covered yet: a `linearize_constrained` (the
-//! linearization on the constraint manifold) will come with them.
+//! Systems with holonomic constraints ([`Holonomic`](crate::Holonomic)) are not covered yet:
+//! `linearize` treats L as unconstrained; a linearization on the constraint manifold (in
+//! coordinates of its tangent space) is still to come.
 
 use core::fmt;
 
