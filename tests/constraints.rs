@@ -394,8 +394,10 @@ fn bead_on_a_rotating_hoop_matches_the_one_angle_version_and_balances_its_energy
     let (m, g, r, omega) = (0.4, 9.81, 0.8, 5.0);
     let bead = HoopBead { m, g, r, omega };
     let hoop = HoopAngle { m, g, r, omega };
-    assert!(!<Constrained<HoopBead, 3, 2> as Lagrangian<3>>::ENERGY_CONSERVED);
-    assert!(<HoopBead as Lagrangian<3>>::ENERGY_CONSERVED); // L itself is autonomous
+    const {
+        assert!(!<Constrained<HoopBead, 3, 2> as Lagrangian<3>>::ENERGY_CONSERVED);
+        assert!(<HoopBead as Lagrangian<3>>::ENERGY_CONSERVED); // L itself is autonomous
+    }
     let (th0, w0) = (0.5, 0.3);
     let (q0, v0) = hoop_point(&hoop, th0, w0, 0.0);
     let xyz = Simulation::constrained(&bead, q0, v0)
@@ -464,8 +466,8 @@ fn four_bar_initial_state_is_closed_and_g_matches_the_written_out_jacobian() {
         );
         assert!(rows.rate.iter().all(|g| g.abs() < 1e-13), "{:?}", rows.rate);
         let jac = fb.jacobian(&q);
-        for j in 0..2 {
-            assert!(max_abs_diff(&rows.jacobian[j], &jac[j]) < 1e-15);
+        for (row, written) in rows.jacobian.iter().zip(&jac) {
+            assert!(max_abs_diff(row, written) < 1e-15);
         }
         // Above the ground line (the assembly the crank–rocker keeps).
         let (_, cy) = fb.coupler_point(&q, 1.0, 0.0);
@@ -677,6 +679,13 @@ fn a_coordinate_without_inertia_or_constraint_is_a_singular_system_named_by_coor
         .until(1.0)
         .run()
         .unwrap_err();
+    match &err {
+        SimulationError::Dynamics { source, .. } => assert!(
+            matches!(**source, DynamicsError::SingularMassMatrix { .. }),
+            "{source:?}"
+        ),
+        other => panic!("expected Dynamics, got {other}"),
+    }
     assert!(err.to_string().contains("`w`"), "{err}");
 }
 
@@ -760,17 +769,19 @@ fn every_method_keeps_the_plane_pendulum_on_its_circle_and_follows_the_angle_pen
         .sample_every(0.1)
         .run()
         .unwrap();
-    // Tolerances: the global error each method should reach over 10 s (about 6 periods).
+    // Tolerances: the global position error each method should reach over 10 s (about 6
+    // periods) at these settings (measured: RK4 4.9e-11, DOPRI5 3.2e-10, DOP853 1.9e-12, the
+    // second-order variational midpoint 3.5e-5, all against the angle pendulum at rtol 1e-13).
     let cases = [
-        (Method::Rk4 { dt: 1e-3 }, 1e-9),
+        (Method::Rk4 { dt: 1e-3 }, 5e-10),
         (
             Method::DormandPrince {
                 rtol: 1e-11,
                 atol: 1e-11,
             },
-            1e-8,
+            5e-9,
         ),
-        (dop853(1e-12), 1e-9),
+        (dop853(1e-12), 1e-10),
         (Method::VariationalMidpoint { dt: 1e-3 }, 1e-4),
     ];
     for (method, tol) in cases {
