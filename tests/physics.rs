@@ -8,6 +8,7 @@
 #[macro_use]
 mod support;
 
+mod constraints;
 mod forces;
 mod forces_macro;
 mod hardening;

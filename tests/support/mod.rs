@@ -8,6 +8,8 @@
 pub mod systems;
 #[path = "../../examples/support/double_pendulum_system.rs"]
 pub mod double_pendulum;
+#[path = "../../examples/support/four_bar_system.rs"]
+pub mod four_bar;
 pub mod hand;
 #[path = "../../examples/support/quaternion_top_system.rs"]
 pub mod quaternion_top;
