@@ -51,6 +51,11 @@ impl Params {
     }
 }
 
+/// A local or parameter of the generated `taylor_series` (`__lagrange_<name>`).
+pub fn taylor(name: &str) -> Ident {
+    local(format_args!("{name}"))
+}
+
 /// The local holding DAG node `id` (`x{id}`).
 pub fn node(id: u32) -> Ident {
     local(format_args!("x{id}"))

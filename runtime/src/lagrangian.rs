@@ -245,6 +245,35 @@ pub trait Lagrangian<const N: usize> {
         crate::linearize::equilibrium(self, q_guess, t)
     }
 
+    /// The Taylor coefficients of the motion through (q, q̇) = `out[0]` at time t, up to order
+    /// `out.len() − 1`: on return `out[k] = [q_k, q̇_k]` with q(t + τ) = Σ q_k τ^k, for the Taylor
+    /// method ([`Method::Taylor`](crate::Method::Taylor)); `buf` is scratch space the caller
+    /// keeps between calls. `None` where the system does not provide them: the default. The
+    /// symbolic mode of `#[lagrangian]` generates them (the Taylor recurrences of every node of
+    /// the expression graph, see [`taylor`](crate::taylor)); jets mode and hand-written impls do not.
+    ///
+    /// ```
+    /// use lagrange_runtime::{taylor::TaylorBuf, Lagrangian, Scalar};
+    /// struct Osc;
+    /// impl Lagrangian<1> for Osc {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// }
+    /// let mut out = [[[1.0], [0.0]], [[0.0], [0.0]]];
+    /// assert!(Osc.taylor_series(0.0, &mut out, &mut TaylorBuf::new()).is_none()); // hand-written
+    /// ```
+    fn taylor_series(
+        &self,
+        t: f64,
+        out: &mut [[[f64; N]; 2]],
+        buf: &mut crate::taylor::TaylorBuf,
+    ) -> Option<Result<(), DynamicsError>> {
+        let _ = (t, out, buf);
+        None
+    }
+
     /// The energy (Jacobi integral) h = q̇·p − L.
     fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
         // Not through `energy_and_momenta`: an override of that one may call this.

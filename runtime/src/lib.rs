@@ -20,6 +20,7 @@ pub mod linearize;
 pub mod mix;
 pub mod rigid;
 mod scalar;
+pub mod taylor;
 pub mod theory;
 
 pub use constraints::Holonomic;

@@ -99,6 +99,7 @@ impl Vars {
 }
 
 /// The hash-consed expression DAG.
+#[derive(Clone)]
 pub struct Dag {
     nodes: Vec<Node>,
     index: HashMap<Node, Id>,

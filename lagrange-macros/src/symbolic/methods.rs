@@ -35,6 +35,9 @@ pub struct SymbolicOutput {
     pub energy: TokenStream,
     /// Body of `fn energy_and_momenta(&self, q, qdot, t) -> (f64, [f64; N])`.
     pub energy_and_momenta: TokenStream,
+    /// Body of `fn taylor_series(&self, t, out, buf)` (the Taylor method's series), where every
+    /// node has a Taylor rule.
+    pub taylor: Option<TokenStream>,
     /// Lint attributes to put on each of the generated methods (machine-written code).
     pub allow: TokenStream,
     /// Whether the system has `fn dissipation` or `fn forces` (the docs then name Q and D).
@@ -243,6 +246,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
             )]
         },
         has_applied,
+        taylor: super::taylor::body(d, n),
         equations: eq.unicode,
         equations_latex: eq.latex,
         doc,
@@ -269,6 +273,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         equations_latex,
         doc,
         has_applied,
+        taylor,
         ..
     } = out;
     let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
@@ -308,6 +313,24 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         fn energy_and_momenta(#sig) -> (f64, [f64; #nn]) {
             #energy_and_momenta
         }
+    };
+    let methods = match taylor {
+        Some(body) => {
+            let (out, buf) = (names::taylor("out"), names::taylor("buf"));
+            quote! {
+                #methods
+                #allow
+                fn taylor_series(
+                    &self,
+                    #t: f64,
+                    #out: &mut [[[f64; #nn]; 2]],
+                    #buf: &mut ::lagrange::__private::taylor::TaylorBuf,
+                ) -> ::core::option::Option<::core::result::Result<(), ::lagrange::__private::DynamicsError>> {
+                    #body
+                }
+            }
+        }
+        None => methods,
     };
     let form = if *has_applied {
         "`Σₖ Mᵢₖ q̈ₖ = fᵢ + Qᵢ − ∂D/∂q̇ᵢ` (accelerations on the left; on the right the terms of L, \

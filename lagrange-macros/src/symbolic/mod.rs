@@ -31,6 +31,7 @@ mod methods;
 mod poly;
 mod print;
 mod solve;
+mod taylor;
 #[cfg(test)]
 mod tests;
 

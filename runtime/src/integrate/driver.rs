@@ -14,6 +14,7 @@ use super::rattle::Rattle;
 use super::rk4::Rk4;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
+use super::taylor::Taylor;
 use super::trajectory::{Sample, Stats, Trajectory};
 use super::variational::VariationalMidpoint;
 
@@ -82,6 +83,7 @@ pub(super) fn run<L: Lagrangian<N> + ?Sized, const N: usize>(
                 Err(f) => Err(driver.fail(f, t0, y0)),
             }
         }
+        Method::Taylor { tol } => driver.run(Taylor::new(sys, t0, y0, tol, hmax), o),
     }
 }
 

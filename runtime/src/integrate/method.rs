@@ -42,6 +42,19 @@ pub enum Method {
         /// Step.
         dt: f64,
     },
+    /// The Taylor method: each step sums the Taylor series of the motion, whose coefficients
+    /// the symbolic mode of `#[lagrangian]` generates at compile time
+    /// ([`Lagrangian::taylor_series`](crate::Lagrangian::taylor_series)). Order and step size
+    /// follow Jorba & Zou (2005): order p = ⌈−ln(tol)/2 + 1⌉, step
+    /// h = min(ρ_{p−1}, ρ_p) e^{−2−0.7/(p−1)} with ρ_k = (s/‖x_k‖∞)^{1/k}, x_k the k-th
+    /// coefficients of (q, q̇) and s = max(1, ‖(q, q̇)‖∞): `tol` is an absolute tolerance for
+    /// states of size ≤ 1 and a relative one for larger states, on the local error of a step.
+    /// Dense output (samples, events) is the Taylor polynomial itself, at no extra cost. Needs
+    /// a system that provides the series (the symbolic mode); constraints are not supported yet.
+    Taylor {
+        /// Tolerance (see above), in [1e-16, 1).
+        tol: f64,
+    },
 }
 
 impl Method {

@@ -49,6 +49,7 @@ mod rk4;
 mod simulation;
 mod state;
 mod stepper;
+mod taylor;
 mod trajectory;
 mod validate;
 mod variational;

@@ -63,6 +63,28 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                     ));
                 }
             }
+            Method::Taylor { tol } => {
+                if !(1e-16..1.0).contains(&tol) {
+                    return Err(format!(
+                        "the Taylor method's tol = {tol:e} must be in [1e-16, 1) (it is the \
+                         local error per step, absolute for states of size ≤ 1, relative above)"
+                    ));
+                }
+                let mut out = [[self.q0, self.qdot0], [[0.0; N]; 2]];
+                let mut buf = crate::taylor::TaylorBuf::new();
+                if self
+                    .sys
+                    .taylor_series(self.t0, &mut out, &mut buf)
+                    .is_none()
+                {
+                    return Err("the Taylor method needs the system's Taylor series, which \
+                         `#[lagrangian]` generates in its default symbolic mode: this system \
+                         was written in jets mode or by hand (or has constraints, which the \
+                         Taylor method does not support yet). Use Method::Dop853, or declare the \
+                         system with the symbolic mode"
+                        .to_string());
+                }
+            }
             Method::DormandPrince { rtol, atol } | Method::Dop853 { rtol, atol } => {
                 positive("rtol", rtol)?;
                 if !(atol >= 0.0 && atol.is_finite()) {

@@ -1,0 +1,191 @@
+//! The Taylor method: at each node the system's Taylor series of the motion
+//! ([`Lagrangian::taylor_series`], generated at compile time by the symbolic mode), summed over
+//! a step chosen from its last two coefficients (Jorba & Zou 2005); the series is the dense
+//! output.
+//!
+//! Order p = max(2, ⌈−ln(tol)/2 + 1⌉). Step: with x_k the k-th coefficients of y = (q, q̇),
+//! ρ_k = (s/‖x_k‖∞)^{1/k} and s = max(1, ‖x₀‖∞) (absolute control for states of size ≤ 1,
+//! relative above), h = min(ρ_{p−1}, ρ_p) · e^{−2 − 0.7/(p−1)}: the terms x_k h^k fall off
+//! geometrically from there, so the truncated tail is below tol·s. Steps are never rejected.
+
+use crate::lagrangian::Lagrangian;
+use crate::taylor::TaylorBuf;
+
+use super::state::{Fault, Y};
+use super::stepper::Stepper;
+use super::trajectory::Stats;
+
+/// The order of the Taylor method for a tolerance.
+pub(crate) fn order(tol: f64) -> usize {
+    ((-tol.ln() / 2.0 + 1.0).ceil() as usize).max(2)
+}
+
+/// The Taylor stepper.
+pub(crate) struct Taylor<'a, L: ?Sized, const N: usize> {
+    sys: &'a L,
+    tol: f64,
+    hmax: f64,
+    t: f64,
+    y: Y<N>,
+    /// The series at the current node, once computed.
+    series: Vec<Y<N>>,
+    fresh: bool,
+    t_old: f64,
+    /// The series of the last step (from its start), for the dense output.
+    old: Vec<Y<N>>,
+    buf: TaylorBuf,
+}
+
+impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
+    /// Starts at (t0, y0).
+    pub(crate) fn new(sys: &'a L, t0: f64, y0: Y<N>, tol: f64, hmax: f64) -> Self {
+        let p = order(tol);
+        Taylor {
+            sys,
+            tol,
+            hmax,
+            t: t0,
+            y: y0,
+            series: vec![[[0.0; N]; 2]; p + 1],
+            fresh: false,
+            t_old: t0,
+            old: vec![y0; p + 1],
+            buf: TaylorBuf::new(),
+        }
+    }
+
+    /// The series at the current node.
+    fn compute(&mut self, stats: &mut Stats) -> Result<(), Fault> {
+        if self.fresh {
+            return Ok(());
+        }
+        self.series[0] = self.y;
+        stats.rhs_evals += 1;
+        match self
+            .sys
+            .taylor_series(self.t, &mut self.series, &mut self.buf)
+        {
+            Some(Ok(())) => {}
+            Some(Err(e)) => return Err(Fault::Dynamics(e)),
+            // `Simulation::run` checks this before the first step.
+            None => return Err(Fault::NonFinite),
+        }
+        if !self
+            .series
+            .iter()
+            .flatten()
+            .flatten()
+            .all(|x| x.is_finite())
+        {
+            return Err(Fault::NonFinite);
+        }
+        self.fresh = true;
+        Ok(())
+    }
+
+    /// The Jorba–Zou step from the current series.
+    fn step_size(&self) -> f64 {
+        let p = self.series.len() - 1;
+        let norm = |k: usize| {
+            self.series[k]
+                .iter()
+                .flatten()
+                .fold(0.0_f64, |m, x| m.max(x.abs()))
+        };
+        let s = norm(0).max(1.0);
+        let rho = |k: usize| {
+            let n = norm(k);
+            if n == 0.0 {
+                f64::INFINITY
+            } else {
+                (s / n).powf(1.0 / k as f64)
+            }
+        };
+        let _ = self.tol;
+        rho(p - 1).min(rho(p)) * (-2.0 - 0.7 / (p - 1) as f64).exp()
+    }
+}
+
+/// Σ x_k τ^k by Horner's rule.
+fn horner<const N: usize>(series: &[Y<N>], tau: f64) -> Y<N> {
+    let mut y = series[series.len() - 1];
+    for x in series.iter().rev().skip(1) {
+        for c in 0..2 {
+            for i in 0..N {
+                y[c][i] = y[c][i] * tau + x[c][i];
+            }
+        }
+    }
+    y
+}
+
+impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Taylor<'_, L, N> {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_old
+    }
+    fn last_state(&self) -> Y<N> {
+        self.y
+    }
+    fn set_node(&mut self, y: Y<N>, _stats: &mut Stats) -> Result<(), Fault> {
+        self.y = y;
+        self.fresh = false;
+        Ok(())
+    }
+    fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
+        self.compute(stats)?;
+        let mut h = self.step_size().min(self.hmax);
+        let last = self.t + h >= t_end;
+        if last {
+            h = t_end - self.t;
+        }
+        if h.is_nan() || h <= 0.0 || self.t + h == self.t {
+            return Err(Fault::Underflow { h });
+        }
+        let y1 = horner(&self.series, h);
+        if !y1.iter().flatten().all(|x| x.is_finite()) {
+            return Err(Fault::NonFinite);
+        }
+        stats.steps += 1;
+        core::mem::swap(&mut self.old, &mut self.series);
+        self.t_old = self.t;
+        self.t = if last { t_end } else { self.t + h };
+        self.y = y1;
+        self.fresh = false;
+        Ok(())
+    }
+    fn interp(&mut self, t: f64, _stats: &mut Stats) -> Result<Y<N>, Fault> {
+        if t >= self.t {
+            return Ok(self.y);
+        }
+        Ok(horner(&self.old, t - self.t_old))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// p = ⌈−ln(tol)/2 + 1⌉: 10 at 1e-8, 19 at 1e-15.
+    #[test]
+    fn order_from_tolerance() {
+        assert_eq!((order(1e-8), order(1e-15), order(0.5)), (11, 19, 2));
+    }
+
+    /// Horner's rule sums the series (cos τ to 8th order at τ = 0.1 vs cos).
+    #[test]
+    fn horner_sums_the_series() {
+        let mut s = vec![[[0.0; 1]; 2]; 9];
+        let mut f = 1.0;
+        for k in 0..9 {
+            if k > 0 {
+                f *= k as f64;
+            }
+            s[k][0][0] = [1.0, 0.0, -1.0, 0.0][k % 4] / f;
+        }
+        let y = horner(&s, 0.1);
+        assert!((y[0][0] - 0.1_f64.cos()).abs() < 1e-15);
+    }
+}
