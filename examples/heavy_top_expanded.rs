@@ -590,8 +590,10 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         if __lagrange_out.len() < 2 {
             return ::core::option::Option::Some(::core::result::Result::Ok(()));
         }
-        let __lagrange_order = __lagrange_out.len() - 1;
-        __lagrange_buf.reset(42, __lagrange_order);
+        let __lagrange_order =
+            (__lagrange_out.len() - 1).min(::lagrange::__private::taylor::MAX_ORDER);
+        let __lagrange_c: &mut [::lagrange::__private::taylor::Row; 42] =
+            __lagrange_buf.slots::<42>();
         let __lagrange_y0: [[f64; 3]; 2] = __lagrange_out[0];
         let (__lagrange_q, __lagrange_qdot): (&[f64; 3], &[f64; 3]) =
             (&__lagrange_y0[0], &__lagrange_y0[1]);
@@ -668,105 +670,220 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x91 + __lagrange_x93,
             __lagrange_x74 - __lagrange_x68,
         );
-        __lagrange_buf.set(1, 0, __lagrange_q[0]);
-        __lagrange_buf.set(2, 0, __lagrange_qdot[0]);
-        __lagrange_buf.set(3, 0, __lagrange_qdot[1]);
-        __lagrange_buf.set(4, 0, __lagrange_qdot[2]);
-        __lagrange_buf.set(5, 0, __lagrange_x8);
-        __lagrange_buf.set(6, 0, __lagrange_x9);
-        __lagrange_buf.set(7, 0, __lagrange_p_i_perp);
-        __lagrange_buf.set(8, 0, 2.0);
-        __lagrange_buf.set(9, 0, __lagrange_x15);
-        __lagrange_buf.set(10, 0, __lagrange_p_i_par);
-        __lagrange_buf.set(11, 0, __lagrange_x22);
-        __lagrange_buf.set(12, 0, __lagrange_x23);
-        __lagrange_buf.set(13, 0, __lagrange_x33);
-        __lagrange_buf.set(14, 0, __lagrange_x53);
-        __lagrange_buf.set(15, 0, __lagrange_x54);
-        __lagrange_buf.set(16, 0, __lagrange_x55);
-        __lagrange_buf.set(17, 0, __lagrange_x56);
-        __lagrange_buf.set(18, 0, __lagrange_x57);
-        __lagrange_buf.set(19, 0, __lagrange_x58);
-        __lagrange_buf.set(20, 0, __lagrange_x59);
-        __lagrange_buf.set(21, 0, __lagrange_x60);
-        __lagrange_buf.set(22, 0, __lagrange_x63);
-        __lagrange_buf.set(23, 0, __lagrange_x65);
-        __lagrange_buf.set(24, 0, __lagrange_x67);
-        __lagrange_buf.set(25, 0, __lagrange_x68);
-        __lagrange_buf.set(26, 0, __lagrange_x69);
-        __lagrange_buf.set(27, 0, __lagrange_x72);
-        __lagrange_buf.set(28, 0, __lagrange_x74);
-        __lagrange_buf.set(29, 0, __lagrange_x77);
-        __lagrange_buf.set(30, 0, __lagrange_x79);
-        __lagrange_buf.set(31, 0, __lagrange_x80);
-        __lagrange_buf.set(32, 0, __lagrange_x82);
-        __lagrange_buf.set(33, 0, __lagrange_x85);
-        __lagrange_buf.set(34, 0, __lagrange_x89);
-        __lagrange_buf.set(35, 0, __lagrange_x91);
-        __lagrange_buf.set(36, 0, __lagrange_x93);
-        __lagrange_buf.set(37, 0, __lagrange_x95);
-        __lagrange_buf.set(38, 0, __lagrange_x96);
-        let __lagrange_slots = ::lagrange::__private::taylor::Slots::<3> {
-            mass: [[7, 0, 0], [0, 18, 19], [0, 0, 10]],
-            varying: [
-                [false, false, false],
-                [false, true, true],
-                [false, false, false],
+        __lagrange_c[1][0] = __lagrange_q[0];
+        __lagrange_c[2][0] = __lagrange_qdot[0];
+        __lagrange_c[3][0] = __lagrange_qdot[1];
+        __lagrange_c[4][0] = __lagrange_qdot[2];
+        __lagrange_c[5][0] = __lagrange_x8;
+        __lagrange_c[6][0] = __lagrange_x9;
+        __lagrange_c[7][0] = __lagrange_p_i_perp;
+        __lagrange_c[8][0] = 2.0;
+        __lagrange_c[9][0] = __lagrange_x15;
+        __lagrange_c[10][0] = __lagrange_p_i_par;
+        __lagrange_c[11][0] = __lagrange_x22;
+        __lagrange_c[12][0] = __lagrange_x23;
+        __lagrange_c[13][0] = __lagrange_x33;
+        __lagrange_c[14][0] = __lagrange_x53;
+        __lagrange_c[15][0] = __lagrange_x54;
+        __lagrange_c[16][0] = __lagrange_x55;
+        __lagrange_c[17][0] = __lagrange_x56;
+        __lagrange_c[18][0] = __lagrange_x57;
+        __lagrange_c[19][0] = __lagrange_x58;
+        __lagrange_c[20][0] = __lagrange_x59;
+        __lagrange_c[21][0] = __lagrange_x60;
+        __lagrange_c[22][0] = __lagrange_x63;
+        __lagrange_c[23][0] = __lagrange_x65;
+        __lagrange_c[24][0] = __lagrange_x67;
+        __lagrange_c[25][0] = __lagrange_x68;
+        __lagrange_c[26][0] = __lagrange_x69;
+        __lagrange_c[27][0] = __lagrange_x72;
+        __lagrange_c[28][0] = __lagrange_x74;
+        __lagrange_c[29][0] = __lagrange_x77;
+        __lagrange_c[30][0] = __lagrange_x79;
+        __lagrange_c[31][0] = __lagrange_x80;
+        __lagrange_c[32][0] = __lagrange_x82;
+        __lagrange_c[33][0] = __lagrange_x85;
+        __lagrange_c[34][0] = __lagrange_x89;
+        __lagrange_c[35][0] = __lagrange_x91;
+        __lagrange_c[36][0] = __lagrange_x93;
+        __lagrange_c[37][0] = __lagrange_x95;
+        __lagrange_c[38][0] = __lagrange_x96;
+        __lagrange_c[0][1..].fill(0.0);
+        __lagrange_c[7][1..].fill(0.0);
+        __lagrange_c[8][1..].fill(0.0);
+        __lagrange_c[10][1..].fill(0.0);
+        __lagrange_c[13][1..].fill(0.0);
+        let __lagrange_factor = match ::lagrange::__private::taylor::Factor::<3>::new(
+            &[
+                [__lagrange_c[7][0], 0.0, 0.0],
+                [0.0, __lagrange_c[18][0], __lagrange_c[19][0]],
+                [0.0, 0.0, __lagrange_c[10][0]],
             ],
-            rhs: [37, 38, 29],
-            accel: [39, 40, 41],
-        };
-        let mut __lagrange_factor = ::lagrange::__private::taylor::Factor::None;
-        for __lagrange_k in 0..__lagrange_order {
-            if __lagrange_k > 0 {
-                __lagrange_buf.set(1, __lagrange_k, __lagrange_out[__lagrange_k][0][0]);
-                __lagrange_buf.set(2, __lagrange_k, __lagrange_out[__lagrange_k][1][0]);
-                __lagrange_buf.set(3, __lagrange_k, __lagrange_out[__lagrange_k][1][1]);
-                __lagrange_buf.set(4, __lagrange_k, __lagrange_out[__lagrange_k][1][2]);
-                __lagrange_buf.deriv(5, 1, 6, 0.0, __lagrange_k);
-                __lagrange_buf.deriv(6, 1, 30, 0.0, __lagrange_k);
-                __lagrange_buf.mul(9, 3, 5, __lagrange_k);
-                __lagrange_buf.mul(11, 3, 6, __lagrange_k);
-                __lagrange_buf.add(12, 4, 11, __lagrange_k);
-                __lagrange_buf.sqr(14, 5, __lagrange_k);
-                __lagrange_buf.scale(15, 14, __lagrange_buf.get(7, 0), __lagrange_k);
-                __lagrange_buf.sqr(16, 6, __lagrange_k);
-                __lagrange_buf.scale(17, 16, __lagrange_buf.get(10, 0), __lagrange_k);
-                __lagrange_buf.add(18, 15, 17, __lagrange_k);
-                __lagrange_buf.scale(19, 6, __lagrange_buf.get(10, 0), __lagrange_k);
-                __lagrange_buf.mul(20, 2, 6, __lagrange_k);
-                __lagrange_buf.mul(21, 2, 5, __lagrange_k);
-                __lagrange_buf.mul(22, 3, 21, __lagrange_k);
-                __lagrange_buf.mul(23, 9, 20, __lagrange_k);
-                __lagrange_buf.scale(24, 23, __lagrange_buf.get(7, 0), __lagrange_k);
-                __lagrange_buf.scale(25, 24, __lagrange_buf.get(8, 0), __lagrange_k);
-                __lagrange_buf.mul(26, 12, 21, __lagrange_k);
-                __lagrange_buf.add(27, 23, 26, __lagrange_k);
-                __lagrange_buf.scale(28, 27, __lagrange_buf.get(10, 0), __lagrange_k);
-                __lagrange_buf.scale(29, 22, __lagrange_buf.get(10, 0), __lagrange_k);
-                __lagrange_buf.neg(30, 5, __lagrange_k);
-                __lagrange_buf.mul(31, 9, 11, __lagrange_k);
-                __lagrange_buf.scale(32, 31, __lagrange_buf.get(7, 0), __lagrange_k);
-                __lagrange_buf.mul(33, 9, 12, __lagrange_k);
-                __lagrange_buf.scale(34, 33, __lagrange_buf.get(10, 0), __lagrange_k);
-                __lagrange_buf.sub(35, 32, 34, __lagrange_k);
-                __lagrange_buf.scale(36, 5, __lagrange_buf.get(13, 0), __lagrange_k);
-                __lagrange_buf.add(37, 35, 36, __lagrange_k);
-                __lagrange_buf.sub(38, 28, 25, __lagrange_k);
-            }
-            if let ::core::result::Result::Err(__lagrange_e) =
-                ::lagrange::__private::taylor::solve_order(
-                    __lagrange_buf,
-                    &__lagrange_slots,
-                    <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
-                    __lagrange_t,
-                    __lagrange_out,
-                    __lagrange_k,
-                    &mut __lagrange_factor,
-                )
-            {
+            &[
+                __lagrange_c[37][0],
+                __lagrange_c[38][0],
+                __lagrange_c[29][0],
+            ],
+            <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
+            __lagrange_q,
+            __lagrange_qdot,
+            __lagrange_t,
+        ) {
+            ::core::result::Result::Ok(__lagrange_f) => __lagrange_f,
+            ::core::result::Result::Err(__lagrange_e) => {
                 return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
             }
+        };
+        for __lagrange_k in 0..__lagrange_order {
+            let __lagrange_b: [f64; 3] = if __lagrange_k == 0 {
+                [
+                    __lagrange_c[37][0],
+                    __lagrange_c[38][0],
+                    __lagrange_c[29][0],
+                ]
+            } else {
+                __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
+                __lagrange_c[2][__lagrange_k] = __lagrange_out[__lagrange_k][1][0];
+                __lagrange_c[3][__lagrange_k] = __lagrange_out[__lagrange_k][1][1];
+                __lagrange_c[4][__lagrange_k] = __lagrange_out[__lagrange_k][1][2];
+                __lagrange_c[5][__lagrange_k] = ::lagrange::__private::taylor::deriv(
+                    &__lagrange_c[1],
+                    &__lagrange_c[6],
+                    __lagrange_k,
+                );
+                __lagrange_c[6][__lagrange_k] = ::lagrange::__private::taylor::deriv(
+                    &__lagrange_c[1],
+                    &__lagrange_c[30],
+                    __lagrange_k,
+                );
+                __lagrange_c[9][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                    &__lagrange_c[3],
+                    &__lagrange_c[5],
+                    __lagrange_k,
+                );
+                __lagrange_c[11][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                    &__lagrange_c[3],
+                    &__lagrange_c[6],
+                    __lagrange_k,
+                );
+                __lagrange_c[12][__lagrange_k] =
+                    __lagrange_c[4][__lagrange_k] + __lagrange_c[11][__lagrange_k];
+                __lagrange_c[14][__lagrange_k] =
+                    ::lagrange::__private::taylor::sqr(&__lagrange_c[5], __lagrange_k);
+                __lagrange_c[15][__lagrange_k] =
+                    __lagrange_p_i_perp * __lagrange_c[14][__lagrange_k];
+                __lagrange_c[16][__lagrange_k] =
+                    ::lagrange::__private::taylor::sqr(&__lagrange_c[6], __lagrange_k);
+                __lagrange_c[17][__lagrange_k] =
+                    __lagrange_p_i_par * __lagrange_c[16][__lagrange_k];
+                __lagrange_c[18][__lagrange_k] =
+                    __lagrange_c[15][__lagrange_k] + __lagrange_c[17][__lagrange_k];
+                __lagrange_c[19][__lagrange_k] = __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
+                __lagrange_c[20][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                    &__lagrange_c[2],
+                    &__lagrange_c[6],
+                    __lagrange_k,
+                );
+                __lagrange_c[21][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                    &__lagrange_c[2],
+                    &__lagrange_c[5],
+                    __lagrange_k,
+                );
+                __lagrange_c[22][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                    &__lagrange_c[3],
+                    &__lagrange_c[21],
+                    __lagrange_k,
+                );
+                __lagrange_c[23][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                    &__lagrange_c[9],
+                    &__lagrange_c[20],
+                    __lagrange_k,
+                );
+                __lagrange_c[24][__lagrange_k] =
+                    __lagrange_p_i_perp * __lagrange_c[23][__lagrange_k];
+                __lagrange_c[25][__lagrange_k] = 2.0 * __lagrange_c[24][__lagrange_k];
+                __lagrange_c[26][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                    &__lagrange_c[12],
+                    &__lagrange_c[21],
+                    __lagrange_k,
+                );
+                __lagrange_c[27][__lagrange_k] =
+                    __lagrange_c[23][__lagrange_k] + __lagrange_c[26][__lagrange_k];
+                __lagrange_c[28][__lagrange_k] =
+                    __lagrange_p_i_par * __lagrange_c[27][__lagrange_k];
+                __lagrange_c[29][__lagrange_k] =
+                    __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
+                __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
+                __lagrange_c[31][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                    &__lagrange_c[9],
+                    &__lagrange_c[11],
+                    __lagrange_k,
+                );
+                __lagrange_c[32][__lagrange_k] =
+                    __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
+                __lagrange_c[33][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                    &__lagrange_c[9],
+                    &__lagrange_c[12],
+                    __lagrange_k,
+                );
+                __lagrange_c[34][__lagrange_k] =
+                    __lagrange_p_i_par * __lagrange_c[33][__lagrange_k];
+                __lagrange_c[35][__lagrange_k] =
+                    __lagrange_c[32][__lagrange_k] - __lagrange_c[34][__lagrange_k];
+                __lagrange_c[36][__lagrange_k] = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
+                __lagrange_c[37][__lagrange_k] =
+                    __lagrange_c[35][__lagrange_k] + __lagrange_c[36][__lagrange_k];
+                __lagrange_c[38][__lagrange_k] =
+                    __lagrange_c[28][__lagrange_k] - __lagrange_c[25][__lagrange_k];
+                [
+                    __lagrange_c[37][__lagrange_k],
+                    __lagrange_c[38][__lagrange_k]
+                        - ::lagrange::__private::taylor::mass_tail(
+                            &__lagrange_c[18],
+                            &__lagrange_c[40],
+                            __lagrange_k,
+                        )
+                        - ::lagrange::__private::taylor::mass_tail(
+                            &__lagrange_c[19],
+                            &__lagrange_c[41],
+                            __lagrange_k,
+                        ),
+                    __lagrange_c[29][__lagrange_k]
+                        - ::lagrange::__private::taylor::mass_tail(
+                            &__lagrange_c[19],
+                            &__lagrange_c[40],
+                            __lagrange_k,
+                        ),
+                ]
+            };
+            let __lagrange_a = match __lagrange_factor.solve(
+                &__lagrange_b,
+                <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
+                __lagrange_q,
+                __lagrange_qdot,
+                __lagrange_t,
+            ) {
+                ::core::result::Result::Ok(__lagrange_a) => __lagrange_a,
+                ::core::result::Result::Err(__lagrange_e) => {
+                    return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
+                }
+            };
+            let __lagrange_r = 1.0 / (__lagrange_k + 1) as f64;
+            __lagrange_c[39][__lagrange_k] = __lagrange_a[0];
+            __lagrange_out[__lagrange_k + 1][0][0] =
+                __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
+            __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
+            __lagrange_c[40][__lagrange_k] = __lagrange_a[1];
+            __lagrange_out[__lagrange_k + 1][0][1] =
+                __lagrange_out[__lagrange_k][1][1] * __lagrange_r;
+            __lagrange_out[__lagrange_k + 1][1][1] = __lagrange_a[1] * __lagrange_r;
+            __lagrange_c[41][__lagrange_k] = __lagrange_a[2];
+            __lagrange_out[__lagrange_k + 1][0][2] =
+                __lagrange_out[__lagrange_k][1][2] * __lagrange_r;
+            __lagrange_out[__lagrange_k + 1][1][2] = __lagrange_a[2] * __lagrange_r;
+        }
+        for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {
+            *__lagrange_x = [[f64::NAN; 3]; 2];
         }
         ::core::option::Option::Some(::core::result::Result::Ok(()))
     }

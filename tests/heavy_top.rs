@@ -21,10 +21,10 @@ use crate::support::systems::HeavyTop;
 use crate::support::Rng;
 
 impl HeavyTop {
-    fn mgl(&self) -> f64 {
+    pub(crate) fn mgl(&self) -> f64 {
         self.m * self.g * self.l
     }
-    fn theory(&self) -> Top {
+    pub(crate) fn theory(&self) -> Top {
         Top {
             i_perp: self.i_perp,
             i_par: self.i_par,
@@ -35,11 +35,11 @@ impl HeavyTop {
 
 /// A top and an initial state.
 #[derive(Clone, Copy, Debug)]
-struct Regime {
-    name: &'static str,
-    top: HeavyTop,
-    q0: [f64; 3],
-    qdot0: [f64; 3],
+pub(crate) struct Regime {
+    pub(crate) name: &'static str,
+    pub(crate) top: HeavyTop,
+    pub(crate) q0: [f64; 3],
+    pub(crate) qdot0: [f64; 3],
     motion: Motion,
 }
 
@@ -51,7 +51,7 @@ const UNIT: HeavyTop = HeavyTop {
     l: 1.0,
 };
 
-fn regimes() -> [Regime; 6] {
+pub(crate) fn regimes() -> [Regime; 6] {
     [
         Regime {
             name: "wavy",

@@ -18,3 +18,4 @@ mod linearize;
 mod non_inertial;
 mod quaternion_top;
 mod rigid_body;
+mod taylor;

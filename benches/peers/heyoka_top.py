@@ -60,7 +60,7 @@ def measure(path, make, tol, repeats):
         steps = res[3]
     times.sort()
     print(f"heyoka {path} tol {tol:.0e} compile_ms {compile_ms:.1f} min_ms {times[0] * 1e3:.4f} "
-          f"median_ms {times[len(times) // 2] * 1e3:.4f} steps {steps} theta {ta.state[0]!r}",
+          f"median_ms {times[len(times) // 2] * 1e3:.4f} steps {steps} theta {float(ta.state[0])!r}",
           flush=True)
 
 

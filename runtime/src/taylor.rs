@@ -4,496 +4,341 @@
 //! provide [`Lagrangian::taylor_series`](crate::Lagrangian::taylor_series), which the Taylor
 //! method ([`Method::Taylor`](crate::Method::Taylor)) steps with.
 //!
-//! A series is a slot of a [`TaylorBuf`]: coefficients x₀, x₁, …, x_p of
-//! x(t₀ + τ) = Σ x_k τ^k. At order k every kernel computes the k-th coefficient of its result
-//! from the coefficients 0..=k of its operands (computed before it, in topological order):
+//! A series is a [`Row`]: coefficients x₀, x₁, …, x_p of x(t₀ + τ) = Σ x_k τ^k, p ≤
+//! [`MAX_ORDER`]. At order k every kernel computes the k-th coefficient of its result from the
+//! coefficients 0..=k of its operands (computed before it, in topological order):
 //!
-//! - sums and products: c_k = a_k ± b_k, c_k = Σ_{j=0..k} a_j b_{k−j};
-//! - quotients: c_k = (a_k − Σ_{j=1..k} b_j c_{k−j}) / b₀;
+//! - sums and products: c_k = a_k ± b_k, c_k = Σ_{j=0..k} a_j b_{k−j} ([`mul`], [`sqr`]);
+//! - quotients: c_k = (a_k − Σ_{j=1..k} b_j c_{k−j}) / b₀ ([`div`]);
 //! - a function c = f(a) with f′ known as another series d = f′(a) (which may use c itself, as
-//!   exp, sin/cos, tan do): from c′ = d a′, c_k = (1/k) Σ_{j=1..k} j a_j d_{k−j}, c₀ = f(a₀);
-//! - a constant power c = a^α: c_k = (1/(k a₀)) Σ_{j=1..k} (α j − (k − j)) a_j c_{k−j}.
+//!   exp, sin/cos, tan do): from c′ = d a′, c_k = (1/k) Σ_{j=1..k} j a_j d_{k−j} ([`deriv`]);
+//! - a constant power c = a^α: c_k = (1/(k a₀)) Σ_{j=1..k} (α j − (k − j)) a_j c_{k−j}
+//!   ([`powf`]).
 //!
 //! The equations of motion M(q, q̇, t) q̈ = f(q, q̇, t) become, order by order,
-//! M₀ a_k = f_k − Σ_{j=1..k} M_j a_{k−j} (a = q̈): one factorization of M₀ serves every order
-//! ([`solve_order`]), and q_{k+1} = q̇_k/(k+1), q̇_{k+1} = a_k/(k+1).
+//! M₀ a_k = f_k − Σ_{j=1..k} M_j a_{k−j} (a = q̈): one factorization of M₀ ([`Factor`]) serves
+//! every order, and q_{k+1} = q̇_k/(k+1), q̇_{k+1} = a_k/(k+1).
+//!
+//! The generated code holds its series in one fixed-size array ([`TaylorBuf::slots`]) and indexes
+//! it with constants, so that no index is checked at run time but the order's.
 //!
 //! ```
-//! use lagrange_runtime::taylor::TaylorBuf;
+//! use lagrange_runtime::taylor::{mul, Row};
 //! // c = a·b with a(τ) = 1 + τ, b(τ) = 2 − τ: c = 2 + τ − τ².
-//! let mut b = TaylorBuf::new();
-//! b.reset(3, 2); // slots 0 (zero), 1, 2; orders 0..=2
-//! for (k, (x, y)) in [(1.0, 2.0), (1.0, -1.0), (0.0, 0.0)].into_iter().enumerate() {
-//!     b.set(1, k, x);
-//!     b.set(2, k, y);
-//! }
-//! let mut c = TaylorBuf::new();
-//! c.reset(4, 2);
-//! for k in 0..=2 {
-//!     for s in 1..=2 { c.set(s, k, b.get(s, k)); }
-//!     c.mul(3, 1, 2, k);
-//! }
-//! assert_eq!([c.get(3, 0), c.get(3, 1), c.get(3, 2)], [2.0, 1.0, -1.0]);
+//! let (mut a, mut b): (Row, Row) = ([0.0; 32], [0.0; 32]);
+//! (a[0], a[1], b[0], b[1]) = (1.0, 1.0, 2.0, -1.0);
+//! assert_eq!([mul(&a, &b, 0), mul(&a, &b, 1), mul(&a, &b, 2)], [2.0, 1.0, -1.0]);
 //! ```
 
 use crate::eom::solve_mass_matrix;
 use crate::error::DynamicsError;
 use crate::linalg::Ldlt;
 
-/// The Taylor coefficients of a set of series (slots), orders 0..=p, slot-major. Slot 0 is the
-/// zero series.
+/// The highest order a series holds (the Taylor method's order is at most this).
+///
+/// ```
+/// assert_eq!(lagrange_runtime::taylor::MAX_ORDER, 31);
+/// ```
+pub const MAX_ORDER: usize = 31;
+
+/// One series: its coefficients of orders 0..=[`MAX_ORDER`].
+pub type Row = [f64; MAX_ORDER + 1];
+
+/// Scratch space for the series of a system's nodes, kept by the caller between calls so that a
+/// step allocates nothing.
 ///
 /// ```
 /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-/// b.reset(2, 3);
-/// b.set(1, 3, 4.0);
-/// assert_eq!((b.get(1, 3), b.get(0, 3), b.order()), (4.0, 0.0, 3));
+/// let c = b.slots::<3>();
+/// c[2][5] = 4.0;
+/// assert_eq!((b.slots::<3>()[2][5], b.slots::<3>()[0][5]), (4.0, 0.0));
 /// ```
 #[derive(Clone, Debug, Default)]
 pub struct TaylorBuf {
-    stride: usize,
-    c: Vec<f64>,
+    c: Vec<Row>,
 }
 
 impl TaylorBuf {
-    /// An empty buffer (sized by [`reset`](TaylorBuf::reset)).
+    /// An empty buffer (sized by [`slots`](TaylorBuf::slots)).
     ///
     /// ```
-    /// assert_eq!(lagrange_runtime::taylor::TaylorBuf::new().order(), 0);
+    /// assert_eq!(lagrange_runtime::taylor::TaylorBuf::new().slots::<4>().len(), 4);
     /// ```
     pub fn new() -> Self {
         TaylorBuf::default()
     }
 
-    /// Room for `slots` series of orders 0..=`order`, all zero.
+    /// `S` series (slot 0 is the zero series by convention: it is never written), as one array
+    /// the generated code indexes with constants. Coefficients a previous call wrote are kept
+    /// (the generated code writes every coefficient it reads first).
     ///
     /// ```
     /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(3, 5);
-    /// assert_eq!(b.get(2, 5), 0.0);
+    /// b.slots::<2>()[1][0] = 1.5;
+    /// assert_eq!(b.slots::<2>()[1][0], 1.5);
     /// ```
-    pub fn reset(&mut self, slots: usize, order: usize) {
-        let len = slots.max(1) * (order + 1);
-        if self.stride == order + 1 && self.c.len() == len {
-            // Same layout: every coefficient a caller writes is written again (the generated
-            // code writes each slot's orders in full, and leaves the others at zero), so only a
-            // new layout needs zeroing.
-            return;
+    #[inline]
+    pub fn slots<const S: usize>(&mut self) -> &mut [Row; S] {
+        if self.c.len() < S {
+            self.c.resize(S, [0.0; MAX_ORDER + 1]);
         }
-        self.stride = order + 1;
-        self.c.clear();
-        self.c.resize(len, 0.0);
-    }
-
-    /// Zeroes every coefficient (a fresh start for callers that do not write every slot).
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(2, 1);
-    /// b.set(1, 1, 3.0);
-    /// b.clear();
-    /// assert_eq!(b.get(1, 1), 0.0);
-    /// ```
-    pub fn clear(&mut self) {
-        self.c.fill(0.0);
-    }
-
-    /// The highest order held.
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(1, 7);
-    /// assert_eq!(b.order(), 7);
-    /// ```
-    pub fn order(&self) -> usize {
-        self.stride.saturating_sub(1)
-    }
-
-    /// Coefficient k of slot s.
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(2, 1);
-    /// b.set(1, 1, 2.5);
-    /// assert_eq!(b.get(1, 1), 2.5);
-    /// ```
-    #[inline(always)]
-    pub fn get(&self, s: usize, k: usize) -> f64 {
-        self.c[s * self.stride + k]
-    }
-
-    /// Sets coefficient k of slot s.
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(2, 0);
-    /// b.set(1, 0, -1.0);
-    /// assert_eq!(b.get(1, 0), -1.0);
-    /// ```
-    #[inline(always)]
-    pub fn set(&mut self, s: usize, k: usize, x: f64) {
-        self.c[s * self.stride + k] = x;
-    }
-
-    /// The coefficients 0..=k of slot s.
-    #[inline(always)]
-    fn series(&self, s: usize, k: usize) -> &[f64] {
-        &self.c[s * self.stride..s * self.stride + k + 1]
-    }
-
-    /// c_k = a_k + b_k.
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(4, 0);
-    /// b.set(1, 0, 1.0);
-    /// b.set(2, 0, 2.0);
-    /// b.add(3, 1, 2, 0);
-    /// assert_eq!(b.get(3, 0), 3.0);
-    /// ```
-    #[inline(always)]
-    pub fn add(&mut self, r: usize, a: usize, b: usize, k: usize) {
-        let x = self.get(a, k) + self.get(b, k);
-        self.set(r, k, x);
-    }
-
-    /// c_k = a_k − b_k.
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(4, 0);
-    /// b.set(1, 0, 1.0);
-    /// b.set(2, 0, 2.0);
-    /// b.sub(3, 1, 2, 0);
-    /// assert_eq!(b.get(3, 0), -1.0);
-    /// ```
-    #[inline(always)]
-    pub fn sub(&mut self, r: usize, a: usize, b: usize, k: usize) {
-        let x = self.get(a, k) - self.get(b, k);
-        self.set(r, k, x);
-    }
-
-    /// c_k = −a_k.
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(3, 0);
-    /// b.set(1, 0, 1.5);
-    /// b.neg(2, 1, 0);
-    /// assert_eq!(b.get(2, 0), -1.5);
-    /// ```
-    #[inline(always)]
-    pub fn neg(&mut self, r: usize, a: usize, k: usize) {
-        let x = -self.get(a, k);
-        self.set(r, k, x);
-    }
-
-    /// c_k = a_k (a copy: the branch an `if` on parameters picked).
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(3, 0);
-    /// b.set(1, 0, 1.5);
-    /// b.copy(2, 1, 0);
-    /// assert_eq!(b.get(2, 0), 1.5);
-    /// ```
-    #[inline(always)]
-    pub fn copy(&mut self, r: usize, a: usize, k: usize) {
-        let x = self.get(a, k);
-        self.set(r, k, x);
-    }
-
-    /// c_k = s a_k for a constant s (a product with a factor that does not change in time).
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(3, 1);
-    /// b.set(1, 1, 2.0);
-    /// b.scale(2, 1, 3.0, 1);
-    /// assert_eq!(b.get(2, 1), 6.0);
-    /// ```
-    #[inline(always)]
-    pub fn scale(&mut self, r: usize, a: usize, s: f64, k: usize) {
-        let x = s * self.get(a, k);
-        self.set(r, k, x);
-    }
-
-    /// c_k = Σ_{j=0..k} a_j b_{k−j}.
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(4, 1);
-    /// for (s, x) in [(1, [1.0, 1.0]), (2, [2.0, -1.0])] { b.set(s, 0, x[0]); b.set(s, 1, x[1]); }
-    /// b.mul(3, 1, 2, 0);
-    /// b.mul(3, 1, 2, 1);
-    /// assert_eq!((b.get(3, 0), b.get(3, 1)), (2.0, 1.0));
-    /// ```
-    #[inline(always)]
-    pub fn mul(&mut self, r: usize, a: usize, b: usize, k: usize) {
-        let s = conv(self.series(a, k), self.series(b, k), 0, k, |_| 1.0);
-        self.set(r, k, s);
-    }
-
-    /// c_k = Σ_{j=0..k} a_j a_{k−j} (a square, with the symmetric terms once).
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(3, 2);
-    /// b.set(1, 0, 1.0);
-    /// b.set(1, 1, 1.0);
-    /// for k in 0..=2 { b.sqr(2, 1, k); }
-    /// assert_eq!([b.get(2, 0), b.get(2, 1), b.get(2, 2)], [1.0, 2.0, 1.0]);
-    /// ```
-    #[inline(always)]
-    pub fn sqr(&mut self, r: usize, a: usize, k: usize) {
-        let x = self.series(a, k);
-        let mut s = 0.0;
-        if k > 0 {
-            // Σ_{j < k/2} twice, by pairs from both ends.
-            s = 2.0 * conv_to(x, x, 0, k.div_ceil(2) - 1, k, |_| 1.0);
+        match self.c.first_chunk_mut::<S>() {
+            Some(c) => c,
+            // The resize above makes the buffer at least S long.
+            None => unreachable!("TaylorBuf holds at least S slots"),
         }
-        if k.is_multiple_of(2) {
-            s += x[k / 2] * x[k / 2];
-        }
-        self.set(r, k, s);
-    }
-
-    /// c = a / b: c_k = (a_k − Σ_{j=1..k} b_j c_{k−j}) / b₀.
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(4, 2);
-    /// // 1 / (1 − τ) = 1 + τ + τ²
-    /// b.set(1, 0, 1.0);
-    /// b.set(2, 0, 1.0);
-    /// b.set(2, 1, -1.0);
-    /// for k in 0..=2 { b.div(3, 1, 2, k); }
-    /// assert_eq!([b.get(3, 0), b.get(3, 1), b.get(3, 2)], [1.0, 1.0, 1.0]);
-    /// ```
-    #[inline(always)]
-    pub fn div(&mut self, r: usize, a: usize, b: usize, k: usize) {
-        let s = self.get(a, k) - conv(self.series(b, k), self.series(r, k), 1, k, |_| 1.0);
-        let x = s / self.get(b, 0);
-        self.set(r, k, x);
-    }
-
-    /// c = f(a) from the series d = f′(a): c₀ = `f0` (= f(a₀)), and for k ≥ 1
-    /// c_k = (1/k) Σ_{j=1..k} j a_j d_{k−j} (d may depend on c: only d₀..d_{k−1} are read).
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(3, 3);
-    /// // c = exp(τ): a = τ, d = f′(a) = c itself.
-    /// b.set(1, 1, 1.0);
-    /// for k in 0..=3 { b.deriv(2, 1, 2, 1.0, k); }
-    /// assert_eq!([b.get(2, 1), b.get(2, 2), b.get(2, 3)], [1.0, 0.5, 1.0 / 6.0]);
-    /// ```
-    #[inline(always)]
-    pub fn deriv(&mut self, r: usize, a: usize, d: usize, f0: f64, k: usize) {
-        if k == 0 {
-            self.set(r, 0, f0);
-            return;
-        }
-        let s = conv(self.series(a, k), self.series(d, k), 1, k, |j| j as f64);
-        self.set(r, k, s / k as f64);
-    }
-
-    /// c = f(y, x) from the series p = ∂f/∂y and q = ∂f/∂x: c₀ = `f0`, and for k ≥ 1
-    /// c_k = (1/k) Σ_{j=1..k} j (y_j p_{k−j} + x_j q_{k−j}) (`atan2`).
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(6, 1);
-    /// // c = y·x written through its partials p = x, q = y at y = 2 + τ, x = 3.
-    /// b.set(1, 0, 2.0);
-    /// b.set(1, 1, 1.0);
-    /// b.set(2, 0, 3.0);
-    /// b.copy(3, 2, 0);
-    /// b.copy(4, 1, 0);
-    /// b.deriv2(5, 1, 3, 2, 4, 6.0, 1);
-    /// assert_eq!(b.get(5, 1), 3.0);
-    /// ```
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    pub fn deriv2(&mut self, r: usize, y: usize, p: usize, x: usize, q: usize, f0: f64, k: usize) {
-        if k == 0 {
-            self.set(r, 0, f0);
-            return;
-        }
-        let (ys, ps, xs, qs) = (
-            self.series(y, k),
-            self.series(p, k),
-            self.series(x, k),
-            self.series(q, k),
-        );
-        let s = conv(ys, ps, 1, k, |j| j as f64) + conv(xs, qs, 1, k, |j| j as f64);
-        self.set(r, k, s / k as f64);
-    }
-
-    /// c = a^α for a constant α: c₀ = a₀^α, c_k = (1/(k a₀)) Σ_{j=1..k} (α j − (k − j)) a_j c_{k−j}
-    /// (NaN where a₀ = 0 and k ≥ 1: the power is not analytic there).
-    ///
-    /// ```
-    /// let mut b = lagrange_runtime::taylor::TaylorBuf::new();
-    /// b.reset(3, 2);
-    /// // √(1 + τ) = 1 + τ/2 − τ²/8
-    /// b.set(1, 0, 1.0);
-    /// b.set(1, 1, 1.0);
-    /// for k in 0..=2 { b.powf(2, 1, 0.5, k); }
-    /// assert_eq!([b.get(2, 0), b.get(2, 1), b.get(2, 2)], [1.0, 0.5, -0.125]);
-    /// ```
-    #[inline(always)]
-    pub fn powf(&mut self, r: usize, a: usize, alpha: f64, k: usize) {
-        if k == 0 {
-            let x = self.get(a, 0).powf(alpha);
-            self.set(r, 0, x);
-            return;
-        }
-        let (x, c) = (self.series(a, k), self.series(r, k));
-        let s = conv(x, c, 1, k, |j| alpha * j as f64 - (k - j) as f64);
-        let v = s / (k as f64 * x[0]);
-        self.set(r, k, v);
     }
 }
 
-/// Σ_{j=lo..=hi} w(j) x_j y_{k−j} (hi ≤ k) with four partial sums (the products are
-/// independent; one running sum would make every step wait for the last addition).
+/// Σ_i x_i y_{n−1−i} over two slices of one length n, one running sum (measured faster than
+/// four partial sums on these short series: the kernels of independent nodes overlap instead).
 #[inline(always)]
-fn conv_to(x: &[f64], y: &[f64], lo: usize, hi: usize, k: usize, w: impl Fn(usize) -> f64) -> f64 {
-    let (x, y) = (&x[..=k], &y[..=k]);
-    let mut acc = [0.0; 4];
-    let mut j = lo;
-    while j + 4 <= hi + 1 {
-        for u in 0..4 {
-            acc[u] += w(j + u) * x[j + u] * y[k - j - u];
-        }
-        j += 4;
+fn dot_rev(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len().min(y.len());
+    let (x, y) = (&x[..n], &y[..n]);
+    let mut s = 0.0;
+    for (a, b) in x.iter().zip(y.iter().rev()) {
+        s += a * b;
     }
-    while j <= hi {
-        acc[0] += w(j) * x[j] * y[k - j];
-        j += 1;
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3])
+    s
 }
 
-/// Σ_{j=lo..=k} w(j) x_j y_{k−j}.
+/// Σ_{j=lo..=k} x_j y_{k−j} (lo ≤ k ≤ [`MAX_ORDER`]).
 #[inline(always)]
-fn conv(x: &[f64], y: &[f64], lo: usize, k: usize, w: impl Fn(usize) -> f64) -> f64 {
-    conv_to(x, y, lo, k, k, w)
+fn conv(x: &Row, y: &Row, lo: usize, k: usize) -> f64 {
+    dot_rev(&x[lo..=k], &y[..=k - lo])
 }
 
-/// The slots of the equations of motion in a [`TaylorBuf`]: M by its upper triangle (slot 0,
-/// the zero series, for a structural zero), the right-hand side f, and where the series of the
-/// accelerations a = q̈ go.
+/// Σ_{j=lo..=k} (α j + β) x_j y_{k−j}.
+#[inline(always)]
+fn conv_weighted(x: &Row, y: &Row, lo: usize, k: usize, alpha: f64, beta: f64) -> f64 {
+    let (x, y) = (&x[lo..=k], &y[..=k - lo]);
+    let mut s = 0.0;
+    let mut w = alpha * lo as f64 + beta;
+    for (a, b) in x.iter().zip(y.iter().rev()) {
+        s += w * a * b;
+        w += alpha;
+    }
+    s
+}
+
+/// Coefficient k of a·b: Σ_{j=0..k} a_j b_{k−j}.
 ///
 /// ```
-/// let eq = lagrange_runtime::taylor::Slots::<1> { mass: [[1]], varying: [[true]], rhs: [2], accel: [3] };
-/// assert_eq!(eq.rhs[0], 2);
+/// use lagrange_runtime::taylor::mul;
+/// let (mut a, mut b) = ([0.0; 32], [0.0; 32]);
+/// (a[0], a[1], b[0], b[1]) = (1.0, 1.0, 2.0, -1.0);
+/// assert_eq!(mul(&a, &b, 1), 1.0);
 /// ```
-#[derive(Clone, Copy, Debug)]
-pub struct Slots<const N: usize> {
-    /// `mass[i][k]`, k ≥ i: the slot of Mᵢₖ (entries below the diagonal are not read).
-    pub mass: [[usize; N]; N],
-    /// `varying[i][k]`, k ≥ i: whether Mᵢₖ changes along the motion (a constant entry has no
-    /// coefficients past order 0, and the solve skips it there).
-    pub varying: [[bool; N]; N],
-    /// The slot of fᵢ.
-    pub rhs: [usize; N],
-    /// The slot that receives the series of q̈ᵢ.
-    pub accel: [usize; N],
+#[inline(always)]
+pub fn mul(a: &Row, b: &Row, k: usize) -> f64 {
+    conv(a, b, 0, k)
+}
+
+/// Coefficient k of a²: Σ_{j=0..k} a_j a_{k−j}, the symmetric terms once.
+///
+/// ```
+/// use lagrange_runtime::taylor::sqr;
+/// let mut a = [0.0; 32];
+/// (a[0], a[1]) = (1.0, 1.0);
+/// assert_eq!([sqr(&a, 0), sqr(&a, 1), sqr(&a, 2)], [1.0, 2.0, 1.0]);
+/// ```
+#[inline(always)]
+pub fn sqr(a: &Row, k: usize) -> f64 {
+    let half = k.div_ceil(2);
+    let mut s = dot_rev(&a[..half], &a[k + 1 - half..=k]);
+    s += s;
+    if k.is_multiple_of(2) {
+        s += a[k / 2] * a[k / 2];
+    }
+    s
+}
+
+/// Coefficient k of c = a / b, given c's coefficients 0..k: (a_k − Σ_{j=1..k} b_j c_{k−j}) / b₀.
+///
+/// ```
+/// use lagrange_runtime::taylor::div;
+/// // 1 / (1 − τ) = 1 + τ + τ² + …
+/// let (mut a, mut b, mut c) = ([0.0; 32], [0.0; 32], [0.0; 32]);
+/// (a[0], b[0], b[1]) = (1.0, 1.0, -1.0);
+/// for k in 0..=3 { c[k] = div(&a, &b, &c, k); }
+/// assert_eq!(&c[..4], &[1.0; 4]);
+/// ```
+#[inline(always)]
+pub fn div(a: &Row, b: &Row, c: &Row, k: usize) -> f64 {
+    let s = if k == 0 { 0.0 } else { conv(b, c, 1, k) };
+    (a[k] - s) / b[0]
+}
+
+/// Coefficient k ≥ 1 of c = f(a) from the series d = f′(a): (1/k) Σ_{j=1..k} j a_j d_{k−j}
+/// (d may depend on c: only d₀..d_{k−1} are read).
+///
+/// ```
+/// use lagrange_runtime::taylor::deriv;
+/// // c = exp(τ): a = τ, d = f′(a) = c itself.
+/// let (mut a, mut c) = ([0.0; 32], [0.0; 32]);
+/// (a[1], c[0]) = (1.0, 1.0);
+/// for k in 1..=3 { c[k] = deriv(&a, &c, k); }
+/// assert_eq!(&c[1..4], &[1.0, 0.5, 1.0 / 6.0]);
+/// ```
+#[inline(always)]
+pub fn deriv(a: &Row, d: &Row, k: usize) -> f64 {
+    conv_weighted(a, d, 1, k, 1.0, 0.0) / k as f64
+}
+
+/// Coefficient k ≥ 1 of c = f(y, x) from the series p = ∂f/∂y and q = ∂f/∂x:
+/// (1/k) Σ_{j=1..k} j (y_j p_{k−j} + x_j q_{k−j}) (`atan2`).
+///
+/// ```
+/// use lagrange_runtime::taylor::deriv2;
+/// // c = y·x through its partials p = x, q = y at y = 2 + τ, x = 3: c₁ = 3.
+/// let (mut y, mut x) = ([0.0; 32], [0.0; 32]);
+/// (y[0], y[1], x[0]) = (2.0, 1.0, 3.0);
+/// assert_eq!(deriv2(&y, &x, &x, &y, 1), 3.0);
+/// ```
+#[inline(always)]
+pub fn deriv2(y: &Row, p: &Row, x: &Row, q: &Row, k: usize) -> f64 {
+    (conv_weighted(y, p, 1, k, 1.0, 0.0) + conv_weighted(x, q, 1, k, 1.0, 0.0)) / k as f64
+}
+
+/// Coefficient k ≥ 1 of c = a^α for a constant α, given c's coefficients 0..k:
+/// (1/(k a₀)) Σ_{j=1..k} (α j − (k − j)) a_j c_{k−j} (not finite where a₀ = 0: the power is not
+/// analytic there).
+///
+/// ```
+/// use lagrange_runtime::taylor::powf;
+/// // √(1 + τ) = 1 + τ/2 − τ²/8
+/// let (mut a, mut c) = ([0.0; 32], [0.0; 32]);
+/// (a[0], a[1], c[0]) = (1.0, 1.0, 1.0);
+/// for k in 1..=2 { c[k] = powf(&a, &c, 0.5, k); }
+/// assert_eq!(&c[..3], &[1.0, 0.5, -0.125]);
+/// ```
+#[inline(always)]
+pub fn powf(a: &Row, c: &Row, alpha: f64, k: usize) -> f64 {
+    conv_weighted(a, c, 1, k, alpha + 1.0, -(k as f64)) / (k as f64 * a[0])
+}
+
+/// Σ_{j=1..k} m_j a_{k−j}: the part of order k of M a that the coefficients of a already known
+/// give (the right-hand side of order k subtracts it).
+///
+/// ```
+/// use lagrange_runtime::taylor::mass_tail;
+/// let (mut m, mut a) = ([0.0; 32], [0.0; 32]);
+/// (m[1], a[0]) = (2.0, 3.0);
+/// assert_eq!(mass_tail(&m, &a, 1), 6.0);
+/// ```
+#[inline(always)]
+pub fn mass_tail(m: &Row, a: &Row, k: usize) -> f64 {
+    conv(m, a, 1, k)
 }
 
 /// The factorization of M₀ that every order of one step shares.
+///
+/// ```
+/// use lagrange_runtime::taylor::Factor;
+/// let f = Factor::new(&[[2.0]], &[4.0], ["x"], &[0.0], &[0.0], 0.0).unwrap();
+/// assert_eq!(f.solve(&[4.0], ["x"], &[0.0], &[0.0], 0.0).unwrap(), [2.0]);
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub enum Factor<const N: usize> {
-    /// Not factored yet (order 0 factors).
-    None,
-    /// LDLᵀ of M₀.
+    /// LDLᵀ of M₀ (its upper triangle).
     Ldlt(Ldlt<N>),
     /// M₀ is not positive definite but regular: each order solves it with pivoting.
     Pivoting([[f64; N]; N]),
 }
 
-/// Order k of the equations of motion: a_k from M₀ a_k = f_k − Σ_{j=1..k} M_j a_{k−j} (a_k into
-/// the `accel` slots), then q_{k+1} = q̇_k/(k+1) and q̇_{k+1} = a_k/(k+1) into `out`. `names`,
-/// `t` and `out[0]` name the state in an error.
-///
-/// ```
-/// use lagrange_runtime::taylor::{solve_order, Factor, Slots, TaylorBuf};
-/// // ẍ = −x as M = 1 (slot 1), f = −x (slot 2): from x = 1, ẋ = 0, x = cos τ = 1 − τ²/2 + …
-/// let mut b = TaylorBuf::new();
-/// b.reset(4, 3);
-/// let slots = Slots { mass: [[1]], varying: [[false]], rhs: [2], accel: [3] };
-/// let mut out = [[[0.0; 1]; 2]; 4];
-/// out[0] = [[1.0], [0.0]];
-/// let mut f = Factor::None;
-/// for k in 0..3 {
-///     b.set(1, k, if k == 0 { 1.0 } else { 0.0 });
-///     b.set(2, k, -out[k][0][0]);
-///     solve_order(&mut b, &slots, ["x"], 0.0, &mut out, k, &mut f).unwrap();
-/// }
-/// assert_eq!([out[1][0][0], out[2][0][0], out[3][0][0]], [0.0, -0.5, 0.0]);
-/// ```
-pub fn solve_order<const N: usize>(
-    buf: &mut TaylorBuf,
-    slots: &Slots<N>,
-    names: [&'static str; N],
-    t: f64,
-    out: &mut [[[f64; N]; 2]],
-    k: usize,
-    factor: &mut Factor<N>,
-) -> Result<(), DynamicsError> {
-    let mut b = [0.0; N];
-    for i in 0..N {
-        b[i] = buf.get(slots.rhs[i], k);
-        if k == 0 {
-            continue;
-        }
-        for l in 0..N {
-            let (r, c) = if i <= l { (i, l) } else { (l, i) };
-            let s = slots.mass[r][c];
-            if s != 0 && slots.varying[r][c] {
-                b[i] -= conv(
-                    buf.series(s, k),
-                    buf.series(slots.accel[l], k),
-                    1,
-                    k,
-                    |_| 1.0,
-                );
-            }
-        }
-    }
-    if let Factor::None = factor {
-        let mut m0 = [[0.0; N]; N];
-        for i in 0..N {
-            for l in i..N {
-                m0[i][l] = buf.get(slots.mass[i][l], 0);
-            }
-        }
-        *factor = match Ldlt::factor(&m0) {
-            Ok(f) => Factor::Ldlt(f),
+impl<const N: usize> Factor<N> {
+    /// Factors M₀ (upper triangle), with the right-hand side of order 0 `b0` and the state
+    /// (`names`, q, q̇, t) for an error: the error of `solve_mass_matrix` when M₀ is singular.
+    #[inline]
+    pub fn new(
+        m0: &[[f64; N]; N],
+        b0: &[f64; N],
+        names: [&'static str; N],
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> Result<Self, DynamicsError> {
+        match Ldlt::factor(m0) {
+            Ok(f) => Ok(Factor::Ldlt(f)),
             Err(_) => {
                 // The shared solve either explains why M₀ is singular or solves an indefinite
                 // M₀ with pivoting.
-                solve_mass_matrix(&m0, &b, names, &out[0][0], &out[0][1], t)?;
-                Factor::Pivoting(m0)
+                solve_mass_matrix(m0, b0, names, q, qdot, t)?;
+                Ok(Factor::Pivoting(*m0))
             }
-        };
-    }
-    let a = match factor {
-        Factor::Ldlt(f) => f.solve(&b),
-        Factor::Pivoting(m0) => solve_mass_matrix(m0, &b, names, &out[0][0], &out[0][1], t)?,
-        Factor::None => [f64::NAN; N],
-    };
-    for l in 0..N {
-        buf.set(slots.accel[l], k, a[l]);
-    }
-    if k + 1 < out.len() {
-        let r = 1.0 / (k + 1) as f64;
-        for i in 0..N {
-            out[k + 1][0][i] = out[k][1][i] * r;
-            out[k + 1][1][i] = a[i] * r;
         }
     }
-    Ok(())
+
+    /// M₀⁻¹ b.
+    #[inline]
+    pub fn solve(
+        &self,
+        b: &[f64; N],
+        names: [&'static str; N],
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> Result<[f64; N], DynamicsError> {
+        match self {
+            Factor::Ldlt(f) => Ok(f.solve(b)),
+            Factor::Pivoting(m0) => solve_mass_matrix(m0, b, names, q, qdot, t),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn series(c: &[f64]) -> Row {
+        let mut r = [0.0; MAX_ORDER + 1];
+        r[..c.len()].copy_from_slice(c);
+        r
+    }
+
+    /// The kernels against the direct convolution with arbitrary coefficients, at every order.
+    #[test]
+    fn kernels_against_direct_sums() {
+        let a: Vec<f64> = (0..=MAX_ORDER)
+            .map(|j| ((j * 7 + 3) % 11) as f64 - 4.5)
+            .collect();
+        let b: Vec<f64> = (0..=MAX_ORDER)
+            .map(|j| ((j * 5 + 1) % 13) as f64 - 6.0)
+            .collect();
+        let (ra, rb) = (series(&a), series(&b));
+        for k in 0..=MAX_ORDER {
+            let direct: f64 = (0..=k).map(|j| a[j] * b[k - j]).sum();
+            let sq: f64 = (0..=k).map(|j| a[j] * a[k - j]).sum();
+            assert!((mul(&ra, &rb, k) - direct).abs() <= 1e-12 * direct.abs().max(1.0));
+            assert!(
+                (sqr(&ra, k) - sq).abs() <= 1e-12 * sq.abs().max(1.0),
+                "k = {k}"
+            );
+            if k > 0 {
+                let w: f64 = (1..=k).map(|j| j as f64 * a[j] * b[k - j]).sum::<f64>() / k as f64;
+                assert!((deriv(&ra, &rb, k) - w).abs() <= 1e-12 * w.abs().max(1.0));
+                let alpha = 0.37;
+                let p: f64 = (1..=k)
+                    .map(|j| (alpha * j as f64 - (k - j) as f64) * a[j] * b[k - j])
+                    .sum::<f64>()
+                    / (k as f64 * a[0]);
+                assert!((powf(&ra, &rb, alpha, k) - p).abs() <= 1e-12 * p.abs().max(1.0));
+            }
+        }
+    }
+
+    /// a/b times b gives a back, order by order.
+    #[test]
+    fn quotient_times_divisor() {
+        let a = series(&[1.0, -2.0, 0.5, 3.0, 0.25, -1.0]);
+        let b = series(&[2.0, 1.0, -0.5, 0.1]);
+        let mut c = [0.0; MAX_ORDER + 1];
+        for k in 0..=MAX_ORDER {
+            c[k] = div(&a, &b, &c, k);
+        }
+        for k in 0..=MAX_ORDER {
+            assert!((mul(&b, &c, k) - a[k]).abs() < 1e-12, "k = {k}");
+        }
+    }
 }

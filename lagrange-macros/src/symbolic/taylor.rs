@@ -140,159 +140,214 @@ pub fn body(d: &Derivation, n: usize) -> Option<TokenStream> {
         rules[idx] = Some(r);
     }
     need.insert(Dag::ZERO);
-    // Slots: 0 is the zero series; then each needed node.
+    // Slots: 0 is the zero series; then each needed node; then the accelerations.
     let ids: Vec<Id> = need.iter().copied().filter(|&i| i != Dag::ZERO).collect();
     let mut slot = vec![0usize; dag.len()];
     for (s, &id) in ids.iter().enumerate() {
         slot[id as usize] = s + 1;
     }
-    // The accelerations' series after the nodes.
     let nslots = Literal::usize_unsuffixed(ids.len() + 1 + n);
-    let accel = (0..n).map(|l| Literal::usize_unsuffixed(ids.len() + 1 + l));
+    let accel: Vec<Literal> = (0..n)
+        .map(|l| Literal::usize_unsuffixed(ids.len() + 1 + l))
+        .collect();
     let names::Params { q, qdot, t } = names::Params::symbolic();
-    let (out, buf, k, factor) = (
+    let (out, buf, k, c) = (
         names::taylor("out"),
         names::taylor("buf"),
         names::taylor("k"),
+        names::taylor("c"),
+    );
+    let (order, factor, b, a) = (
+        names::taylor("order"),
         names::taylor("factor"),
+        names::taylor("b"),
+        names::taylor("a"),
     );
     let rt = quote!(::lagrange::__private::taylor);
+    let sl = |x: Id| Literal::usize_unsuffixed(slot[x as usize]);
     // Order 0: the straight-line values of every needed node.
     let code0 = codegen::emit(&dag, &d.fields, &d.conds, &ids);
     let stmts0 = &code0.stmts;
     let mut set0 = TokenStream::new();
+    // Slots with no coefficient past order 0 (constants, steps, the zero series): zeroed, since
+    // the buffer may have held another layout.
+    let mut flat = vec![Literal::usize_unsuffixed(0)];
     for &id in &ids {
-        let s = Literal::usize_unsuffixed(slot[id as usize]);
+        let s = sl(id);
         let v = codegen::operand(&dag, &d.fields, id);
-        set0.extend(quote!(#buf.set(#s, 0, #v);));
+        set0.extend(quote!(#c[#s][0] = #v;));
+        if matches!(
+            rules[id as usize],
+            Some(Rule::Constant | Rule::Deriv(_, Dag::ZERO))
+        ) {
+            flat.push(s);
+        }
     }
-    // Orders ≥ 1: one kernel per node.
+    // Orders ≥ 1: one kernel per node, indices constant.
     let mut step = TokenStream::new();
     for &id in &ids {
         let r = rules[id as usize].as_ref()?;
-        let sl = |x: Id| Literal::usize_unsuffixed(slot[x as usize]);
         let s = sl(id);
-        step.extend(match *r {
-            Rule::Constant => continue,
+        let value = match *r {
+            Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
             Rule::Leaf => match dag.node(id) {
                 Node::Q(i) => {
                     let i = Literal::usize_unsuffixed(i as usize);
-                    quote!(#buf.set(#s, #k, #out[#k][0][#i]);)
+                    quote!(#out[#k][0][#i])
                 }
                 Node::V(i) => {
                     let i = Literal::usize_unsuffixed(i as usize);
-                    quote!(#buf.set(#s, #k, #out[#k][1][#i]);)
+                    quote!(#out[#k][1][#i])
                 }
-                _ => quote!(#buf.set(#s, #k, if #k == 1 { 1.0 } else { 0.0 });),
+                _ => quote!(if #k == 1 { 1.0 } else { 0.0 }),
             },
-            Rule::Add(a, b) => {
-                let (a, b) = (sl(a), sl(b));
-                quote!(#buf.add(#s, #a, #b, #k);)
+            Rule::Add(x, y) => {
+                let (x, y) = (sl(x), sl(y));
+                quote!(#c[#x][#k] + #c[#y][#k])
             }
-            Rule::Sub(a, b) => {
-                let (a, b) = (sl(a), sl(b));
-                quote!(#buf.sub(#s, #a, #b, #k);)
+            Rule::Sub(x, y) => {
+                let (x, y) = (sl(x), sl(y));
+                quote!(#c[#x][#k] - #c[#y][#k])
             }
-            Rule::Neg(a) => {
-                let a = sl(a);
-                quote!(#buf.neg(#s, #a, #k);)
+            Rule::Neg(x) => {
+                let x = sl(x);
+                quote!(-#c[#x][#k])
             }
-            Rule::Mul(a, b) => {
-                let (a, b) = (sl(a), sl(b));
-                quote!(#buf.mul(#s, #a, #b, #k);)
+            Rule::Mul(x, y) => {
+                let (x, y) = (sl(x), sl(y));
+                quote!(#rt::mul(&#c[#x], &#c[#y], #k))
             }
-            Rule::Sqr(a) => {
-                let a = sl(a);
-                quote!(#buf.sqr(#s, #a, #k);)
+            Rule::Sqr(x) => {
+                let x = sl(x);
+                quote!(#rt::sqr(&#c[#x], #k))
             }
-            Rule::Scale(a, c) => {
-                let (a, c) = (sl(a), sl(c));
-                quote!(#buf.scale(#s, #a, #buf.get(#c, 0), #k);)
+            Rule::Scale(x, f) => {
+                let (x, f) = (sl(x), codegen::operand(&dag, &d.fields, f));
+                quote!(#f * #c[#x][#k])
             }
-            Rule::Div(a, b) => {
-                let (a, b) = (sl(a), sl(b));
-                quote!(#buf.div(#s, #a, #b, #k);)
+            Rule::Div(x, y) => {
+                let (x, y) = (sl(x), sl(y));
+                quote!(#rt::div(&#c[#x], &#c[#y], &#c[#s], #k))
             }
-            Rule::DivConst(a, c) => {
-                let (a, c) = (sl(a), sl(c));
-                quote!(#buf.scale(#s, #a, 1.0 / #buf.get(#c, 0), #k);)
+            Rule::DivConst(x, f) => {
+                let (x, f) = (sl(x), codegen::operand(&dag, &d.fields, f));
+                quote!(#c[#x][#k] / #f)
             }
-            Rule::Deriv(_, dd) if dd == Dag::ZERO => continue,
-            Rule::Deriv(a, dd) => {
-                let (a, dd) = (sl(a), sl(dd));
-                quote!(#buf.deriv(#s, #a, #dd, 0.0, #k);)
+            Rule::Deriv(x, dd) => {
+                let (x, dd) = (sl(x), sl(dd));
+                quote!(#rt::deriv(&#c[#x], &#c[#dd], #k))
             }
             Rule::Deriv2(y, p, x, qq) => {
                 let (y, p, x, qq) = (sl(y), sl(p), sl(x), sl(qq));
-                quote!(#buf.deriv2(#s, #y, #p, #x, #qq, 0.0, #k);)
+                quote!(#rt::deriv2(&#c[#y], &#c[#p], &#c[#x], &#c[#qq], #k))
             }
-            Rule::Powf(a, e) => {
-                let (a, e) = (sl(a), sl(e));
-                quote!(#buf.powf(#s, #a, #buf.get(#e, 0), #k);)
+            Rule::Powf(x, e) => {
+                let (x, e) = (sl(x), codegen::operand(&dag, &d.fields, e));
+                quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k))
             }
-            Rule::Select(c, a, b) => {
-                let (a, b) = (sl(a), sl(b));
-                let c = names::cond(c);
-                quote!(#buf.copy(#s, if #c { #a } else { #b }, #k);)
+            Rule::Select(cond, x, y) => {
+                let (x, y) = (sl(x), sl(y));
+                let cond = names::cond(cond);
+                quote!(if #cond { #c[#x][#k] } else { #c[#y][#k] })
             }
-        });
+        };
+        step.extend(quote!(#c[#s][#k] = #value;));
     }
-    // The slots of M (upper triangle) and of the right-hand side.
-    let mass_rows = (0..n).map(|i| {
-        let cols = (0..n).map(|kk| {
-            let id = if kk >= i { d.mass[i][kk] } else { Dag::ZERO };
-            Literal::usize_unsuffixed(if id == Dag::ZERO {
-                0
+    // M₀ (upper triangle) and the right-hand side of order k, less Σ_{j ≥ 1} M_j a_{k−j} over
+    // the entries of M that vary along the motion (the others have no coefficient past order 0).
+    let entry = |i: usize, l: usize| {
+        let (r, cc) = if i <= l { (i, l) } else { (l, i) };
+        d.mass[r][cc]
+    };
+    let m0_rows = (0..n).map(|i| {
+        let cols = (0..n).map(|l| {
+            let id = d.mass[i][l];
+            if l < i || id == Dag::ZERO {
+                quote!(0.0)
             } else {
-                slot[id as usize]
-            })
+                let s = sl(id);
+                quote!(#c[#s][0])
+            }
         });
         quote!([#(#cols),*])
     });
-    let varying_rows = (0..n).map(|i| {
-        let cols = (0..n).map(|kk| kk >= i && !dag.is_state_free(d.mass[i][kk]));
-        quote!([#(#cols),*])
+    let rhs = (0..n).map(|i| {
+        let f = match d.rhs[i] {
+            Dag::ZERO => quote!(0.0),
+            id => {
+                let s = sl(id);
+                quote!(#c[#s][#k])
+            }
+        };
+        let tail = (0..n)
+            .filter(|&l| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
+            .map(|l| {
+                let (m, al) = (sl(entry(i, l)), &accel[l]);
+                quote!(- #rt::mass_tail(&#c[#m], &#c[#al], #k))
+            });
+        quote!(#f #(#tail)*)
     });
-    let rhs = d.rhs.iter().map(|&id| {
-        Literal::usize_unsuffixed(if id == Dag::ZERO {
-            0
-        } else {
-            slot[id as usize]
+    let b0: Vec<TokenStream> = (0..n)
+        .map(|i| match d.rhs[i] {
+            Dag::ZERO => quote!(0.0),
+            id => {
+                let s = sl(id);
+                quote!(#c[#s][0])
+            }
         })
-    });
+        .collect();
     let nn = Literal::usize_unsuffixed(n);
+    let names_ = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES);
+    let ii = (0..n).map(Literal::usize_unsuffixed);
+    let ii2 = (0..n).map(Literal::usize_unsuffixed);
+    let max = quote!(#rt::MAX_ORDER);
     Some(quote! {
         if #out.len() < 2 {
             return ::core::option::Option::Some(::core::result::Result::Ok(()));
         }
-        let __lagrange_order = #out.len() - 1;
-        #buf.reset(#nslots, __lagrange_order);
+        let #order = (#out.len() - 1).min(#max);
+        let #c: &mut [#rt::Row; #nslots] = #buf.slots::<#nslots>();
         let __lagrange_y0: [[f64; #nn]; 2] = #out[0];
         let (#q, #qdot): (&[f64; #nn], &[f64; #nn]) = (&__lagrange_y0[0], &__lagrange_y0[1]);
         #stmts0
         #set0
-        let __lagrange_slots = #rt::Slots::<#nn> {
-            mass: [#(#mass_rows),*],
-            varying: [#(#varying_rows),*],
-            rhs: [#(#rhs),*],
-            accel: [#(#accel),*],
-        };
-        let mut #factor = #rt::Factor::None;
-        for #k in 0..__lagrange_order {
-            if #k > 0 {
-                #step
-            }
-            if let ::core::result::Result::Err(__lagrange_e) = #rt::solve_order(
-                #buf,
-                &__lagrange_slots,
-                <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
-                #t,
-                #out,
-                #k,
-                &mut #factor,
-            ) {
+        #( #c[#flat][1..].fill(0.0); )*
+        let #factor = match #rt::Factor::<#nn>::new(
+            &[#(#m0_rows),*],
+            &[#(#b0),*],
+            #names_,
+            #q,
+            #qdot,
+            #t,
+        ) {
+            ::core::result::Result::Ok(__lagrange_f) => __lagrange_f,
+            ::core::result::Result::Err(__lagrange_e) => {
                 return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
             }
+        };
+        for #k in 0..#order {
+            let #b: [f64; #nn] = if #k == 0 {
+                [#(#b0),*]
+            } else {
+                #step
+                [#(#rhs),*]
+            };
+            let #a = match #factor.solve(&#b, #names_, #q, #qdot, #t) {
+                ::core::result::Result::Ok(__lagrange_a) => __lagrange_a,
+                ::core::result::Result::Err(__lagrange_e) => {
+                    return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
+                }
+            };
+            let __lagrange_r = 1.0 / (#k + 1) as f64;
+            #(
+                #c[#accel][#k] = #a[#ii];
+                #out[#k + 1][0][#ii2] = #out[#k][1][#ii2] * __lagrange_r;
+                #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
+            )*
+        }
+        // Orders past MAX_ORDER are not computed.
+        for __lagrange_x in &mut #out[#order + 1..] {
+            *__lagrange_x = [[f64::NAN; #nn]; 2];
         }
         ::core::option::Option::Some(::core::result::Result::Ok(()))
     })

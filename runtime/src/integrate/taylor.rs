@@ -23,7 +23,6 @@ pub(crate) fn order(tol: f64) -> usize {
 /// The Taylor stepper.
 pub(crate) struct Taylor<'a, L: ?Sized, const N: usize> {
     sys: &'a L,
-    tol: f64,
     hmax: f64,
     t: f64,
     y: Y<N>,
@@ -42,7 +41,6 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
         let p = order(tol);
         Taylor {
             sys,
-            tol,
             hmax,
             t: t0,
             y: y0,
@@ -83,7 +81,8 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
         Ok(())
     }
 
-    /// The Jorba–Zou step from the current series.
+    /// The Jorba–Zou step from the current series (the tolerance enters through the order: with
+    /// p − 1 = −ln(tol)/2, e^{−2} = tol^{1/(p−1)}).
     fn step_size(&self) -> f64 {
         let p = self.series.len() - 1;
         let norm = |k: usize| {
@@ -101,7 +100,6 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
                 (s / n).powf(1.0 / k as f64)
             }
         };
-        let _ = self.tol;
         rho(p - 1).min(rho(p)) * (-2.0 - 0.7 / (p - 1) as f64).exp()
     }
 }

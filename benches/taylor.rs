@@ -1,0 +1,237 @@
+//! The work–precision race of the Taylor method: the heavy top of benches/integrators.rs
+//! (I⊥ = 1, I∥ = 0.5, m g l = 4.905; θ0 = 0.7, φ̇0 = 2, ψ̇0 = 12; t = 114.3), declared with
+//! `#[lagrangian]` (default symbolic mode), integrated by our DOP853 and our Taylor method at
+//! tolerances 1e-8 … 1e-15, and — in the same run, when python3 with heyoka is installed — by
+//! heyoka's Taylor integrator with a hand-written right-hand side and with the equations
+//! `heyoka.lagrangian` derives (`benches/peers/heyoka_top.py`, propagation timed alone, its JIT
+//! compile time reported apart). Each row: the final θ error against the reference below, the
+//! best and median wall time of many repeats, the steps.
+//!
+//! Reference θ(114.3) = 0.699904208155651450855…: heyoka 7.13 `taylor_adaptive` in quadruple
+//! precision (`fp_type = real128`, tol 1e-30, the hand-written right-hand side, the same f64
+//! inputs); the 80-bit long double run at tol 1e-19 agrees to 2e-18.
+//!
+//! Then the long run: 10⁵ nutation periods (t = 1.143·10⁵) at tol 1e-16, the relative drift of
+//! the energy and of the two cyclic momenta over every step.
+//!
+//! Run: `cargo bench --bench taylor` (python3 -m pip install heyoka for the peer rows).
+
+use lagrange::prelude::*;
+use std::process::Command;
+use std::time::Instant;
+
+/// The top as a user writes it.
+struct Top {
+    i_perp: f64,
+    i_par: f64,
+    mgl: f64,
+}
+
+#[lagrangian]
+impl Top {
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let (s, c) = theta.sin_cos();
+        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
+            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
+            - self.mgl * c
+    }
+}
+
+const TOP: Top = Top {
+    i_perp: 1.0,
+    i_par: 0.5,
+    mgl: 4.905,
+};
+const Q0: [f64; 3] = [0.7, 0.0, 0.0];
+const V0: [f64; 3] = [0.0, 2.0, 12.0];
+const T_END: f64 = 114.3;
+/// θ(114.3) in quadruple precision (see the module docs).
+const THETA_REF: f64 = 0.699_904_208_155_651_450_855_710_4;
+const TOLS: [f64; 8] = [1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15];
+const REPEATS: usize = 40;
+
+/// One row of the table.
+struct Row {
+    who: String,
+    tol: f64,
+    err: f64,
+    min_ms: f64,
+    median_ms: f64,
+    steps: usize,
+}
+
+fn ours(name: &str, tol: f64, method: Method) -> Row {
+    let run = || {
+        Simulation::new(&TOP, Q0, V0)
+            .method(method)
+            .until(T_END)
+            .keep_samples(false)
+            .run()
+            .expect("the heavy top integrates")
+    };
+    let mut times: Vec<f64> = (0..REPEATS)
+        .map(|_| {
+            let t0 = Instant::now();
+            std::hint::black_box(run());
+            t0.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    let tr = run();
+    Row {
+        who: name.to_string(),
+        tol,
+        err: (tr.q.last().map_or(f64::NAN, |q| q[0]) - THETA_REF).abs(),
+        min_ms: times[0],
+        median_ms: times[REPEATS / 2],
+        steps: tr.stats.steps,
+    }
+}
+
+const HEYOKA_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/heyoka_top.py");
+
+/// heyoka's rows, and its compile times, when python3 with heyoka is installed.
+fn heyoka() -> Option<(Vec<Row>, Vec<String>)> {
+    let mut cmd = Command::new("python3");
+    cmd.arg(HEYOKA_PEER)
+        .arg("--repeats")
+        .arg(REPEATS.to_string());
+    for t in TOLS {
+        cmd.arg(format!("{t:e}"));
+    }
+    let out = cmd.output().ok()?;
+    if !out.status.success() {
+        eprintln!(
+            "heyoka peer not run ({}): python3 -m pip install heyoka",
+            String::from_utf8_lossy(&out.stderr)
+                .lines()
+                .last()
+                .unwrap_or("?")
+        );
+        return None;
+    }
+    let (mut rows, mut compile) = (Vec::new(), Vec::new());
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        let field = |k: &str| -> Option<&str> {
+            w.iter()
+                .position(|x| *x == k)
+                .and_then(|i| w.get(i + 1))
+                .copied()
+        };
+        let num = |k: &str| field(k).and_then(|x| x.parse::<f64>().ok());
+        let (Some(path), Some(tol), Some(min_ms), Some(median_ms), Some(steps), Some(theta)) = (
+            field("heyoka"),
+            num("tol"),
+            num("min_ms"),
+            num("median_ms"),
+            num("steps"),
+            num("theta"),
+        ) else {
+            continue;
+        };
+        compile.push(format!(
+            "heyoka {path} tol {tol:e}: compile {} ms",
+            field("compile_ms").unwrap_or("?")
+        ));
+        rows.push(Row {
+            who: format!(
+                "heyoka, {}",
+                if path == "hand" {
+                    "hand-written RHS"
+                } else {
+                    "heyoka.lagrangian"
+                }
+            ),
+            tol,
+            err: (theta - THETA_REF).abs(),
+            min_ms,
+            median_ms,
+            steps: steps as usize,
+        });
+    }
+    Some((rows, compile))
+}
+
+fn main() {
+    // `cargo bench` passes --bench; `cargo test --benches` runs this with no argument: then only
+    // a smoke run.
+    if !std::env::args().any(|a| a == "--bench") {
+        let r = ours("taylor", 1e-10, Method::Taylor { tol: 1e-10 });
+        assert!(r.err < 1e-8, "{}", r.err);
+        return;
+    }
+    let mut rows = Vec::new();
+    for tol in TOLS {
+        rows.push(ours(
+            "our DOP853 (rtol = tol, atol = tol/100)",
+            tol,
+            Method::Dop853 {
+                rtol: tol,
+                atol: tol * 1e-2,
+            },
+        ));
+        rows.push(ours("our Taylor", tol, Method::Taylor { tol }));
+    }
+    let compile = match heyoka() {
+        Some((hy, compile)) => {
+            rows.extend(hy);
+            Some(compile)
+        }
+        None => None,
+    };
+    println!("| tol | integrator | final θ error | min ms | median ms | steps |");
+    println!("|---|---|---|---|---|---|");
+    for tol in TOLS {
+        for r in rows.iter().filter(|r| r.tol == tol) {
+            println!(
+                "| {tol:.0e} | {} | {:.1e} | {:.3} | {:.3} | {} |",
+                r.who, r.err, r.min_ms, r.median_ms, r.steps
+            );
+        }
+    }
+    if let Some(compile) = &compile {
+        for c in compile {
+            println!("{c}");
+        }
+        // Ratios at each tolerance (the two Taylor integrators take the same steps there).
+        for tol in TOLS {
+            let at = |who: &str| rows.iter().find(|r| r.tol == tol && r.who.starts_with(who));
+            if let (Some(t), Some(h), Some(l)) = (
+                at("our Taylor"),
+                at("heyoka, hand"),
+                at("heyoka, heyoka.lagrangian"),
+            ) {
+                println!(
+                    "tol {tol:.0e}: our Taylor / heyoka hand-written = {:.2}, / heyoka.lagrangian = {:.2} (min times)",
+                    t.min_ms / h.min_ms,
+                    t.min_ms / l.min_ms
+                );
+            }
+        }
+    }
+    // The long run.
+    let period = T_END / 100.0;
+    let t0 = Instant::now();
+    let tr = Simulation::new(&TOP, Q0, V0)
+        .method(Method::Taylor { tol: 1e-16 })
+        .until(1e5 * period)
+        .keep_samples(false)
+        .run()
+        .expect("the long run integrates");
+    let inv = tr.invariants();
+    let d = |x: Option<lagrange::Drift>| x.map_or(f64::NAN, |d| d.max_rel);
+    println!(
+        "10^5 nutation periods at tol 1e-16: {:.2} s, {} steps; max rel drift: energy {:.1e}, p_phi {:.1e}, p_psi {:.1e}",
+        t0.elapsed().as_secs_f64(),
+        tr.stats.steps,
+        d(inv.energy),
+        d(inv.momenta[1]),
+        d(inv.momenta[2])
+    );
+}
