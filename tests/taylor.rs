@@ -23,6 +23,21 @@ impl Oscillator {
     }
 }
 
+/// A plane pendulum in x, y with its rod as a constraint.
+pub struct PendulumXy {
+    pub l: f64,
+}
+
+#[lagrangian]
+impl PendulumXy {
+    fn lagrangian(&self, (_x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * (x_dot * x_dot + y_dot * y_dot) - 9.81 * y
+    }
+    fn constraints(&self, (x, _x_dot): Coord, (y, _y_dot): Coord) -> [Scalar; 1] {
+        [x * x + y * y - self.l * self.l]
+    }
+}
+
 /// The damped driven pendulum (forces with explicit time, dissipation).
 pub struct Driven {
     pub b: f64,
@@ -452,7 +467,7 @@ fn refusals_are_typed_errors() {
         }
         e => panic!("{e:?}"),
     }
-    for tol in [0.0, 1e-17, 1.0, f64::NAN, -1e-8] {
+    for tol in [0.0, 1e-27, 1.0, f64::NAN, -1e-8] {
         let err = Simulation::new(&r.top, r.q0, r.qdot0)
             .method(Method::Taylor { tol })
             .until(1.0)
@@ -462,6 +477,17 @@ fn refusals_are_typed_errors() {
             matches!(err, SimulationError::InvalidOptions { .. }),
             "{tol}: {err:?}"
         );
+    }
+    let err = Simulation::constrained(&PendulumXy { l: 1.0 }, [1.0, 0.0], [0.0, 0.5])
+        .method(Method::Taylor { tol: 1e-10 })
+        .until(1.0)
+        .run()
+        .unwrap_err();
+    match &err {
+        SimulationError::InvalidOptions { message } => {
+            assert!(message.contains("constraints"), "{message}");
+        }
+        e => panic!("{e:?}"),
     }
     let err = Simulation::new(&r.top, [0.0, 0.0, 0.0], [0.0, 1.0, 2.0])
         .method(Method::Taylor { tol: 1e-10 })

@@ -52,7 +52,9 @@ pub enum Method {
     /// Dense output (samples, events) is the Taylor polynomial itself, at no extra cost. Needs
     /// a system that provides the series (the symbolic mode); constraints are not supported yet.
     Taylor {
-        /// Tolerance (see above), in [1e-16, 1).
+        /// Tolerance (see above), in [1e-26, 1): below ε the order keeps growing (29 at
+        /// 1e-24), which makes the truncation error of a step negligible against round-off in long
+        /// runs (tol 1e-20 keeps the heavy top's energy to 1e-13 over 10⁵ nutation periods).
         tol: f64,
     },
 }

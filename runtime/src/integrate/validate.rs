@@ -64,11 +64,17 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                 }
             }
             Method::Taylor { tol } => {
-                if !(1e-16..1.0).contains(&tol) {
+                if !(1e-26..1.0).contains(&tol) {
                     return Err(format!(
-                        "the Taylor method's tol = {tol:e} must be in [1e-16, 1) (it is the \
+                        "the Taylor method's tol = {tol:e} must be in [1e-26, 1) (it is the \
                          local error per step, absolute for states of size ≤ 1, relative above)"
                     ));
+                }
+                if self.manifold.is_some() {
+                    return Err("the Taylor method does not take constraints yet: use \
+                         Method::Dop853 (projected after every step) or \
+                         Method::VariationalMidpoint (RATTLE) for a constrained run"
+                        .to_string());
                 }
                 let mut out = [[self.q0, self.qdot0], [[0.0; N]; 2]];
                 let mut buf = crate::taylor::TaylorBuf::new();
@@ -79,8 +85,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                 {
                     return Err("the Taylor method needs the system's Taylor series, which \
                          `#[lagrangian]` generates in its default symbolic mode: this system \
-                         was written in jets mode or by hand (or has constraints, which the \
-                         Taylor method does not support yet). Use Method::Dop853, or declare the \
+                         was written in jets mode or by hand. Use Method::Dop853, or declare the \
                          system with the symbolic mode"
                         .to_string());
                 }
