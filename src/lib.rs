@@ -180,6 +180,7 @@ pub mod prelude {
     pub use crate::{lagrangian, Coord, Coord3, Time};
     pub use lagrange_runtime::{equilibrium, Linearization, LinearizationError, Stability};
     pub use lagrange_runtime::{DynamicsError, Holonomic, Lagrangian, SMatrix, Scalar, Vector3};
+    pub use lagrange_runtime::{Ensemble, Member};
     pub use lagrange_runtime::{Event, EventHit, Method, Simulation, SimulationError, Trajectory};
 }
 

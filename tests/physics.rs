@@ -9,6 +9,7 @@
 mod support;
 
 mod constraints;
+mod ensemble;
 mod forces;
 mod forces_macro;
 mod hardening;

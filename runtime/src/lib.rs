@@ -9,6 +9,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod constraints;
+pub mod ensemble;
 pub mod eom;
 pub mod error;
 pub mod integrate;
@@ -24,6 +25,7 @@ pub mod taylor;
 pub mod theory;
 
 pub use constraints::Holonomic;
+pub use ensemble::{Ensemble, Member};
 pub use eom::solve_mass_matrix;
 pub use error::DynamicsError;
 pub use integrate::{

@@ -1,0 +1,328 @@
+//! Ensembles: many runs of one kind of system — a parameter sweep, Monte Carlo over initial
+//! states — on the [`Simulation`] builder's terms, in parallel threads, each member's failure kept
+//! in its own slot, the results in member order, and shards for job arrays on a cluster.
+//!
+//! A member is a system with its initial state and, for the CSV, its parameters by name
+//! ([`Member`]); the ensemble makes one from each index with a closure, applies the same options
+//! to every member's [`Simulation`] ([`Ensemble::configure`]), and returns for each member either
+//! its whole [`Trajectory`] ([`Ensemble::run`]) or a row of numbers a closure computes from it
+//! ([`Ensemble::reduce`]). [`Ensemble::shard`] runs the k-th of n contiguous blocks of members, so
+//! a batch scheduler's job array runs the blocks on as many machines and their CSVs concatenate
+//! (the README's "Ensembles" section has the recipe).
+//!
+//! ```
+//! use lagrange_runtime::ensemble::{Ensemble, Member};
+//! use lagrange_runtime::{Lagrangian, Method, Scalar};
+//! /// x'' = −w² x.
+//! struct Osc { w: f64 }
+//! impl Lagrangian<1> for Osc {
+//!     const COORDINATES: [&'static str; 1] = ["x"];
+//!     const CYCLIC: [bool; 1] = [false];
+//!     const AUTONOMOUS: bool = true;
+//!     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+//!         (v[0] * v[0] - q[0] * q[0] * (self.w * self.w)) * 0.5
+//!     }
+//! }
+//! // x(π) for w = 1, 2, 3 from x = 1 at rest: cos(wπ) = −1, 1, −1.
+//! let rows = Ensemble::new(3, |i| Member::new(Osc { w: (i + 1) as f64 }, [1.0], [0.0]).param("w", (i + 1) as f64))
+//!     .configure(|sim| sim.method(Method::Dop853 { rtol: 1e-12, atol: 1e-14 }).until(std::f64::consts::PI))
+//!     .reduce(&["x_end"], |tr| vec![tr.q[tr.q.len() - 1][0]]);
+//! let x: Vec<f64> = rows.results.iter().map(|r| r.as_ref().unwrap()[0]).collect();
+//! assert!((x[0] + 1.0).abs() < 1e-9 && (x[1] - 1.0).abs() < 1e-9 && (x[2] + 1.0).abs() < 1e-9);
+//! assert_eq!(rows.params[1], vec![("w", 2.0)]);
+//! ```
+
+use std::io::Write;
+use std::ops::Range;
+use std::path::Path;
+
+use rayon::prelude::*;
+
+use crate::integrate::{Simulation, SimulationError, Trajectory};
+use crate::lagrangian::Lagrangian;
+
+/// One member of an ensemble: a system, its initial state, and its parameters by name (the CSV's
+/// columns; they do not change the run).
+///
+/// ```
+/// # use lagrange_runtime::ensemble::Member;
+/// let m = Member::new((), [0.5], [0.0]).param("k", 2.0);
+/// assert_eq!((m.q0, m.params.clone()), ([0.5], vec![("k", 2.0)]));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Member<L, const N: usize> {
+    /// The system.
+    pub system: L,
+    /// Initial coordinates.
+    pub q0: [f64; N],
+    /// Initial velocities.
+    pub qdot0: [f64; N],
+    /// Named parameters, in the CSV's column order.
+    pub params: Params,
+}
+
+impl<L, const N: usize> Member<L, N> {
+    /// A member with no named parameters.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::Member;
+    /// assert!(Member::new((), [0.0; 2], [1.0; 2]).params.is_empty());
+    /// ```
+    pub fn new(system: L, q0: [f64; N], qdot0: [f64; N]) -> Self {
+        Member {
+            system,
+            q0,
+            qdot0,
+            params: Vec::new(),
+        }
+    }
+
+    /// Adds a named parameter (a CSV column).
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::Member;
+    /// let m = Member::new((), [0.0], [0.0]).param("a", 1.0).param("b", 2.0);
+    /// assert_eq!(m.params, vec![("a", 1.0), ("b", 2.0)]);
+    /// ```
+    pub fn param(mut self, name: &'static str, value: f64) -> Self {
+        self.params.push((name, value));
+        self
+    }
+}
+
+/// A member's named parameters.
+pub type Params = Vec<(&'static str, f64)>;
+
+/// The options every member's [`Simulation`] gets.
+type Configure<'c, L, const N: usize> =
+    Box<dyn for<'s> Fn(Simulation<'s, L, N>) -> Simulation<'s, L, N> + Sync + 'c>;
+
+/// An ensemble of `len` members made by a closure from their index (see the module docs).
+pub struct Ensemble<'c, L, F, const N: usize> {
+    len: usize,
+    member: F,
+    configure: Configure<'c, L, N>,
+    threads: Option<usize>,
+    shard: Option<(usize, usize)>,
+    progress: bool,
+}
+
+/// What an ensemble returns: for each member run, in member order, its index, its parameters and
+/// its result (its typed error in its slot if it failed: the others are not affected).
+#[derive(Debug)]
+pub struct Results<R> {
+    /// The members' indices (all of them, or the shard's block).
+    pub index: Vec<usize>,
+    /// The members' named parameters.
+    pub params: Vec<Params>,
+    /// Each member's result.
+    pub results: Vec<Result<R, SimulationError>>,
+    /// The names of a reduction's values (empty for whole trajectories).
+    pub columns: Vec<String>,
+}
+
+impl<'c, L, F, const N: usize> Ensemble<'c, L, F, N>
+where
+    L: Lagrangian<N>,
+    F: Fn(usize) -> Member<L, N> + Sync,
+{
+    /// `len` members, member `i` made by `member(i)`; each runs with the [`Simulation`]
+    /// defaults until [`configure`](Ensemble::configure) says otherwise.
+    pub fn new(len: usize, member: F) -> Self {
+        Ensemble {
+            len,
+            member,
+            configure: Box::new(|s| s),
+            threads: None,
+            shard: None,
+            progress: false,
+        }
+    }
+
+    /// The options of every member's run, on the [`Simulation`] builder's terms (method, end
+    /// time, samples, events, limits).
+    pub fn configure(
+        mut self,
+        f: impl for<'s> Fn(Simulation<'s, L, N>) -> Simulation<'s, L, N> + Sync + 'c,
+    ) -> Self {
+        self.configure = Box::new(f);
+        self
+    }
+
+    /// Runs on `n` threads (default: rayon's global pool, one thread per core). `n = 1` runs in
+    /// the calling thread.
+    pub fn threads(mut self, n: usize) -> Self {
+        self.threads = Some(n.max(1));
+        self
+    }
+
+    /// Runs only block `k` of `n` (0 ≤ k < n): members `k·len/n .. (k+1)·len/n`, so that n jobs
+    /// of a job array cover the ensemble exactly once and their CSVs concatenate in member order.
+    /// An out-of-range `k` or `n = 0` runs no member.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let e = Ensemble::new(10, |_| Member::new(Free, [0.0], [1.0])).shard(2, 3);
+    /// assert_eq!(e.members(), 6..10);
+    /// ```
+    pub fn shard(mut self, k: usize, n: usize) -> Self {
+        self.shard = Some((k, n));
+        self
+    }
+
+    /// Shows a progress bar on standard error while the members run (with the `progress`
+    /// feature, on by default; hidden where standard error is not a terminal).
+    pub fn progress(mut self, show: bool) -> Self {
+        self.progress = show;
+        self
+    }
+
+    /// The indices of the members this ensemble (or its shard) runs.
+    pub fn members(&self) -> Range<usize> {
+        match self.shard {
+            None => 0..self.len,
+            Some((k, n)) if n > 0 && k < n => {
+                let block = |k: usize| (k as u128 * self.len as u128 / n as u128) as usize;
+                block(k)..block(k + 1)
+            }
+            Some(_) => 0..0,
+        }
+    }
+
+    /// Runs every member and keeps its whole trajectory.
+    pub fn run(self) -> Results<Trajectory<N>> {
+        self.execute(Vec::new(), |tr| tr)
+    }
+
+    /// Runs every member and keeps the row of numbers `f` computes from its trajectory, named by
+    /// `columns` (for [`Results::write_csv`]).
+    pub fn reduce<R: Send>(
+        self,
+        columns: &[&str],
+        f: impl Fn(&Trajectory<N>) -> R + Sync,
+    ) -> Results<R> {
+        let columns = columns.iter().map(|c| c.to_string()).collect();
+        self.execute(columns, move |tr| f(&tr))
+    }
+
+    fn execute<R: Send>(
+        self,
+        columns: Vec<String>,
+        keep: impl Fn(Trajectory<N>) -> R + Sync,
+    ) -> Results<R> {
+        let range = self.members();
+        let bar = Bar::new(self.progress, range.len());
+        let one = |i: usize| {
+            let m = (self.member)(i);
+            let sim = (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0));
+            let r = sim.run().map(&keep);
+            bar.inc();
+            (m.params, r)
+        };
+        let out: Vec<(Params, Result<R, SimulationError>)> = match self.threads {
+            Some(1) => range.clone().map(one).collect(),
+            Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+                Ok(pool) => pool.install(|| range.clone().into_par_iter().map(one).collect()),
+                // No threads to be had: the calling thread runs them all.
+                Err(_) => range.clone().map(one).collect(),
+            },
+            None => range.clone().into_par_iter().map(one).collect(),
+        };
+        bar.finish();
+        let (params, results) = out.into_iter().unzip();
+        Results {
+            index: range.collect(),
+            params,
+            results,
+            columns,
+        }
+    }
+}
+
+impl<R> Results<R> {
+    /// How many members failed.
+    pub fn failures(&self) -> usize {
+        self.results.iter().filter(|r| r.is_err()).count()
+    }
+}
+
+impl Results<Vec<f64>> {
+    /// Writes one row per member: `member`, the parameters by name, the reduction's columns, and
+    /// `error` (empty, or the member's error as a sentence, its values then empty). With `header
+    /// = false` the header line is left out (for the second and later shards of a job array).
+    pub fn write_csv(&self, path: impl AsRef<Path>, header: bool) -> std::io::Result<()> {
+        let path = path.as_ref();
+        let named = |e: std::io::Error| {
+            std::io::Error::new(e.kind(), format!("writing {}: {e}", path.display()))
+        };
+        let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(named)?);
+        if header {
+            let mut cols = vec!["member".to_string()];
+            if let Some(p) = self.params.first() {
+                cols.extend(p.iter().map(|(n, _)| n.to_string()));
+            }
+            cols.extend(self.columns.iter().cloned());
+            cols.push("error".to_string());
+            writeln!(w, "{}", cols.join(",")).map_err(named)?;
+        }
+        for ((i, p), r) in self.index.iter().zip(&self.params).zip(&self.results) {
+            let mut row = vec![i.to_string()];
+            row.extend(p.iter().map(|(_, v)| format!("{v:e}")));
+            match r {
+                Ok(vals) => {
+                    row.extend(vals.iter().map(|v| format!("{v:e}")));
+                    row.push(String::new());
+                }
+                Err(e) => {
+                    row.extend(self.columns.iter().map(|_| String::new()));
+                    let msg = e.to_string().replace(['"', '\n'], " ");
+                    row.push(format!("\"{msg}\""));
+                }
+            }
+            writeln!(w, "{}", row.join(",")).map_err(named)?;
+        }
+        w.flush().map_err(named)
+    }
+}
+
+/// The progress bar (a no-op without the `progress` feature or when not asked for).
+struct Bar {
+    #[cfg(feature = "progress")]
+    bar: Option<indicatif::ProgressBar>,
+}
+
+impl Bar {
+    fn new(show: bool, len: usize) -> Self {
+        #[cfg(feature = "progress")]
+        {
+            Bar {
+                bar: show.then(|| indicatif::ProgressBar::new(len as u64)),
+            }
+        }
+        #[cfg(not(feature = "progress"))]
+        {
+            let _ = (show, len);
+            Bar {}
+        }
+    }
+    fn inc(&self) {
+        #[cfg(feature = "progress")]
+        if let Some(b) = &self.bar {
+            b.inc(1);
+        }
+    }
+    fn finish(&self) {
+        #[cfg(feature = "progress")]
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
