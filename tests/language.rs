@@ -2,7 +2,7 @@
 //! written (`Self::K`, `as` casts, `match` on a parameter, indexing an array field, a function of
 //! parameters), `std`/`core` constants and `f64::EPSILON`, the piecewise functions `max`, `min`,
 //! `clamp`, `abs`, `signum` (with the jets' one-sided rule at a tie, also at −0), `cbrt`,
-//! `ln_1p`, `exp_m1`, `log10`, `log2`, `asinh`, `acosh`, `atanh`, `exp2`, `hypot`, `atan2`, and `v.norm().powi(2)` at rest. Each
+//! `ln_1p`, `exp_m1`, `log10`, `log2`, `asinh`, `acosh`, `atanh`, `exp2`, `hypot`, `atan2`, `v.norm().powi(2)` at rest, and `powi` with a constant exponent. Each
 //! system is declared in both modes from one body and compared at random states to 1e-12.
 
 use lagrange::prelude::*;
@@ -66,6 +66,21 @@ twins! {
     }
 }
 
+/// The exponent of a module-level constant.
+const N3: i32 = 3;
+
+twins! {
+    /// `powi` with constant exponents: a module `const`, an associated `const`, a cast parameter.
+    ConstPowers, ConstPowersJets { k: f64, n: u8 }
+    const M: i32 = -2;
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * (x_dot.powi(2) + y_dot.powi(2)) * (2.0 + x.powi(N3).sin())
+            - self.k * y.powi(Self::M)
+            - x.powi(self.n as i32)
+            - (x * y).powi(N3)
+    }
+}
+
 /// max over |a|, for the comparisons.
 fn close(a: &[f64], b: &[f64], tol: f64) -> bool {
     let scale = b.iter().fold(1.0_f64, |s, x| s.max(x.abs()));
@@ -106,6 +121,32 @@ fn parameter_only_code_and_constants_agree_with_the_jets() {
         "{}",
         Params::EQUATIONS
     );
+}
+
+/// `x.powi(N)` with a constant N (module, associated, a parameter cast) agrees with the jets,
+/// also for negative x (an integer power, not a real one), and prints as written.
+#[test]
+fn constant_powi_exponents_agree_with_the_jets() {
+    let mut rng = Rng(17);
+    for n in [0, 1, 2, 5] {
+        let p = ConstPowers { k: 0.7, n };
+        for _ in 0..20 {
+            let q = [
+                rng.uniform(-2.0, 2.0),
+                rng.uniform(0.5, 2.0)
+                    * if rng.uniform(0.0, 1.0) < 0.5 {
+                        -1.0
+                    } else {
+                        1.0
+                    },
+            ];
+            let v = [rng.uniform(-2.0, 2.0), rng.uniform(-2.0, 2.0)];
+            compare(&p, &p.jets(), q, v);
+        }
+        compare(&p, &p.jets(), [-1.5, -0.8], [0.3, 0.2]);
+    }
+    let eq = ConstPowers::EQUATIONS;
+    assert!(eq.contains("N3") && eq.contains("Self::M"), "{eq}");
 }
 
 #[test]

@@ -1172,10 +1172,29 @@ impl Lower {
                                     "`powi` takes an integer exponent (`powi(2)`); for a real exponent use `powf`",
                                 ))
                             }
-                            None => self.unsupported(
-                                args[0].span(),
-                                "a `powi` exponent that is not an integer literal",
-                            ),
+                            // A constant exponent (`powi(N)`, `powi(Self::K)`): a parameter,
+                            // x^N as x.powf(N as f64), exact for integers also at x < 0.
+                            None => {
+                                let e = args[0];
+                                let cast: Expr = syn::parse_quote_spanned!(e.span()=> (#e) as f64);
+                                let before = self.fields.len();
+                                match self.opaque(&cast) {
+                                    Some(Val::S(n)) => {
+                                        // Printed as written (`N`), not as the cast.
+                                        if self.fields.len() > before {
+                                            if let Some(f) = self.fields.last_mut() {
+                                                f.name = cond_text(&quote::ToTokens::to_token_stream(e));
+                                            }
+                                        }
+                                        Val::S(self.dag.powf(x, n))
+                                    }
+                                    _ => self.unsupported(
+                                        args[0].span(),
+                                        "a `powi` exponent that depends on the state (it must be \
+                                         a constant: a literal, a `const`, a parameter)",
+                                    ),
+                                }
+                            }
                         },
                     );
                 }

@@ -404,8 +404,8 @@ fn unsupported_constructs_say_use_jets() {
         ("{ let f = |y: f64| y; x_dot }", "a closure"),
         ("{ println!(\"hi\"); x_dot }", "a macro call"),
         (
-            "{ x.powi(self.n) }",
-            "a `powi` exponent that is not an integer literal",
+            "{ x.powi(x_dot as i32) }",
+            "a `powi` exponent that depends on the state",
         ),
     ] {
         let errs = errors(body);
