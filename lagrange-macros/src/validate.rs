@@ -200,6 +200,8 @@ fn check_fn(
     };
     let mut next_index = 0;
     let mut declared_coordinates = 0;
+    let mut unknown_types = 0;
+    let mut state_names: Vec<proc_macro2::Ident> = Vec::new();
     for arg in inputs {
         let pt = match arg {
             FnArg::Typed(pt) => pt,
@@ -219,6 +221,14 @@ fn check_fn(
                 &pt.ty,
                 "unknown parameter type: a parameter of `fn lagrangian` is `(x, x_dot): Coord`, `(r, r_dot): Coord3` or `t: Time`",
             );
+            // Meant as a coordinate or the time all the same: its names are the body's state
+            // (for the body's own errors), and it is not "no coordinate" as well.
+            unknown_types += 1;
+            match (coord_pattern(&pt.pat), &*pt.pat) {
+                (Some((name, dot)), _) => state_names.extend([name, dot]),
+                (None, Pat::Ident(pi)) => state_names.push(pi.ident.clone()),
+                _ => {}
+            }
             continue;
         };
         if kind.is_some() {
@@ -259,13 +269,22 @@ fn check_fn(
             );
         }
     }
-    if declared_coordinates == 0 {
+    if declared_coordinates == 0 && unknown_types == 0 {
         errors.at(
             &sig.ident,
             format!("`fn lagrangian` needs at least one coordinate, e.g. `(x, x_dot): Coord`: `{SIGNATURE_HINT}`"),
         );
     }
     if !errors.is_empty() {
+        // The body's own mistakes (`x ^ 2`, `2 * x`) in the same build as the signature's.
+        let vars: Vec<String> = coords
+            .iter()
+            .flat_map(|c| [&c.name, &c.dot])
+            .chain(time.as_ref())
+            .chain(&state_names)
+            .map(crate::model::unraw)
+            .collect();
+        crate::analyze::lower_for_jets(&func.block, &vars, errors);
         return None;
     }
     Some(Decl {
