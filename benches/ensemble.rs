@@ -1,0 +1,207 @@
+//! Ensembles: 1024 heavy tops with random parameters and initial states (I⊥ ∈ [0.8, 1.2],
+//! I∥ ∈ [0.4, 0.6], m g l ∈ [4, 6], θ0 ∈ [0.5, 0.9], φ̇0 ∈ [1.5, 2.5], ψ̇0 ∈ [10, 14]; seeded),
+//! each to t = 114.3, on the ensemble API: DOP853 (rtol 1e-10) and the Taylor method (tol 1e-10,
+//! 1e-13) on one thread and on two; and — in the same run, when python3 with heyoka is installed —
+//! heyoka's batch mode (4 tops per vector, `benches/peers/heyoka_batch.py`) at tol 1e-10 and 1e-13.
+//! Every final θ is compared with a reference run of the same top (our Taylor method at tol
+//! 1e-18, not timed); the time per top is the best of three passes.
+//!
+//! Run: `cargo bench --bench ensemble`
+
+use lagrange::prelude::*;
+use std::io::Write;
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+/// The top as a user writes it.
+#[derive(Clone, Copy)]
+struct Top {
+    i_perp: f64,
+    i_par: f64,
+    mgl: f64,
+}
+
+#[lagrangian]
+impl Top {
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let (s, c) = theta.sin_cos();
+        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
+            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
+            - self.mgl * c
+    }
+}
+
+const T_END: f64 = 114.3;
+const TOPS: usize = 1024;
+
+/// The tops: (parameters, θ0, φ̇0, ψ̇0), from a fixed xorshift sequence.
+fn tops() -> Vec<(Top, f64, f64, f64)> {
+    let mut s: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut u = |lo: f64, hi: f64| {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        lo + (hi - lo) * ((s >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    (0..TOPS)
+        .map(|_| {
+            let top = Top {
+                i_perp: u(0.8, 1.2),
+                i_par: u(0.4, 0.6),
+                mgl: u(4.0, 6.0),
+            };
+            (top, u(0.5, 0.9), u(1.5, 2.5), u(10.0, 14.0))
+        })
+        .collect()
+}
+
+/// Final θ of every top with `method` on `threads` threads, and the best wall time of `passes`.
+fn sweep(
+    tops: &[(Top, f64, f64, f64)],
+    method: Method,
+    threads: usize,
+    passes: usize,
+) -> (Vec<f64>, f64) {
+    let mut best = f64::INFINITY;
+    let mut theta = Vec::new();
+    for _ in 0..passes {
+        let t0 = Instant::now();
+        let r = Ensemble::new(tops.len(), |i| {
+            let (top, th, ph_d, ps_d) = tops[i];
+            Member::new(top, [th, 0.0, 0.0], [0.0, ph_d, ps_d])
+        })
+        .configure(move |sim| sim.method(method).until(T_END).keep_samples(false))
+        .threads(threads)
+        .reduce(&["theta"], |tr| tr.q[tr.q.len() - 1][0]);
+        best = best.min(t0.elapsed().as_secs_f64());
+        theta = r
+            .results
+            .into_iter()
+            .map(|x| x.expect("every top integrates"))
+            .collect();
+    }
+    (theta, best)
+}
+
+fn errors(theta: &[f64], reference: &[f64]) -> (f64, f64) {
+    let mut e: Vec<f64> = theta
+        .iter()
+        .zip(reference)
+        .map(|(a, b)| (a - b).abs())
+        .collect();
+    e.sort_by(f64::total_cmp);
+    (e[e.len() / 2], e[e.len() - 1])
+}
+
+fn main() {
+    let tops = tops();
+    if !std::env::args().any(|a| a == "--bench") {
+        // `cargo test --benches`: a smoke run of a few members.
+        let (theta, _) = sweep(
+            &tops[..4],
+            Method::Dop853 {
+                rtol: 1e-8,
+                atol: 1e-10,
+            },
+            2,
+            1,
+        );
+        assert_eq!(theta.len(), 4);
+        return;
+    }
+    let (reference, _) = sweep(&tops, Method::Taylor { tol: 1e-18 }, 2, 1);
+    println!("{TOPS} heavy tops to t = {T_END}; final θ error against Taylor at tol 1e-18 (median, max); best of 3 passes");
+    let mut one_thread = Vec::new();
+    for (name, method) in [
+        (
+            "our DOP853 rtol 1e-10",
+            Method::Dop853 {
+                rtol: 1e-10,
+                atol: 1e-12,
+            },
+        ),
+        ("our Taylor tol 1e-10", Method::Taylor { tol: 1e-10 }),
+        ("our Taylor tol 1e-13", Method::Taylor { tol: 1e-13 }),
+    ] {
+        let (theta, t1) = sweep(&tops, method, 1, 3);
+        let (_, t2) = sweep(&tops, method, 2, 3);
+        let (med, max) = errors(&theta, &reference);
+        println!(
+            "{name}: one thread {:.4} ms per top, two threads {:.4} ms per top ({:.2}x); θ error median {med:.1e}, max {max:.1e}",
+            t1 / TOPS as f64 * 1e3,
+            t2 / TOPS as f64 * 1e3,
+            t1 / t2
+        );
+        one_thread.push((name, t1 / TOPS as f64 * 1e3));
+    }
+    let input: String = tops
+        .iter()
+        .map(|(t, th, ph_d, ps_d)| {
+            format!(
+                "{:?} {:?} {:?} {th:?} {ph_d:?} {ps_d:?}\n",
+                t.i_perp, t.i_par, t.mgl
+            )
+        })
+        .collect();
+    for tol in ["1e-10", "1e-13"] {
+        let child = Command::new("python3")
+            .arg(concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/benches/peers/heyoka_batch.py"
+            ))
+            .arg(tol)
+            .arg("3")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn();
+        let Ok(mut child) = child else {
+            println!("heyoka batch peer not run: no python3");
+            return;
+        };
+        if let Some(mut stdin) = child.stdin.take() {
+            let _ = stdin.write_all(input.as_bytes());
+        }
+        let Ok(out) = child.wait_with_output() else {
+            return;
+        };
+        if !out.status.success() {
+            println!(
+                "heyoka batch peer not run ({}): python3 -m pip install heyoka",
+                String::from_utf8_lossy(&out.stderr)
+                    .lines()
+                    .last()
+                    .unwrap_or("?")
+            );
+            return;
+        }
+        let text = String::from_utf8_lossy(&out.stdout);
+        let mut lines = text.lines();
+        let summary = lines.next().unwrap_or("").to_string();
+        let theta: Vec<f64> = lines.filter_map(|l| l.trim().parse().ok()).collect();
+        let per_top: Option<f64> = summary
+            .split(" ms per top")
+            .next()
+            .and_then(|s| s.rsplit(' ').next())
+            .and_then(|s| s.parse().ok());
+        if theta.len() == TOPS {
+            let (med, max) = errors(&theta, &reference);
+            println!("{summary}; θ error median {med:.1e}, max {max:.1e}");
+        } else {
+            println!("{summary}");
+        }
+        if let Some(h) = per_top {
+            for (name, ours) in &one_thread {
+                println!(
+                    "  {name}, one thread / heyoka batch-4 tol {tol}: {:.2}",
+                    ours / h
+                );
+            }
+        }
+    }
+}
