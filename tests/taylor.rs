@@ -8,7 +8,7 @@ use lagrange::theory::heavy_top::Constants;
 use lagrange::{taylor::TaylorBuf, SimulationError};
 
 use crate::heavy_top::regimes;
-use crate::support::systems::{HeavyTop, HeavyTopJets, Kepler};
+use crate::support::systems::{Chain16, Chain8, HeavyTop, HeavyTopJets, Kepler};
 use crate::support::Rng;
 
 /// x'' = −w² x.
@@ -467,6 +467,46 @@ fn refusals_are_typed_errors() {
         }
         e => panic!("{e:?}"),
     }
+    // Past 1024 series (a 16-link chain) the series are not generated (build time); 8 links are.
+    let c16 = Chain16 {
+        m: 1.0,
+        l: 1.0,
+        g: 9.81,
+    };
+    let err = Simulation::new(&c16, [0.1; 16], [0.0; 16])
+        .method(Method::Taylor { tol: 1e-10 })
+        .until(1.0)
+        .run()
+        .unwrap_err();
+    match &err {
+        SimulationError::InvalidOptions { message } => {
+            assert!(message.contains("1024"), "{message}")
+        }
+        e => panic!("{e:?}"),
+    }
+    let c8 = Chain8 {
+        m: 1.0,
+        l: 1.0,
+        g: 9.81,
+    };
+    let a = Simulation::new(&c8, [0.1; 8], [0.0; 8])
+        .method(Method::Taylor { tol: 1e-12 })
+        .until(1.0)
+        .run()
+        .unwrap();
+    let b = Simulation::new(&c8, [0.1; 8], [0.0; 8])
+        .method(Method::Dop853 {
+            rtol: 1e-12,
+            atol: 1e-14,
+        })
+        .until(1.0)
+        .run()
+        .unwrap();
+    let (x, y) = (a.q.last().unwrap(), b.q.last().unwrap());
+    assert!(
+        x.iter().zip(y).all(|(p, q)| (p - q).abs() < 1e-9),
+        "{x:?} vs {y:?}"
+    );
     for tol in [0.0, 1e-27, 1.0, f64::NAN, -1e-8] {
         let err = Simulation::new(&r.top, r.q0, r.qdot0)
             .method(Method::Taylor { tol })

@@ -50,7 +50,8 @@ pub enum Method {
     /// coefficients of (q, q̇) and s = max(1, ‖(q, q̇)‖∞): `tol` is an absolute tolerance for
     /// states of size ≤ 1 and a relative one for larger states, on the local error of a step.
     /// Dense output (samples, events) is the Taylor polynomial itself, at no extra cost. Needs
-    /// a system that provides the series (the symbolic mode); constraints are not supported yet.
+    /// a system that provides the series (the symbolic mode, for systems of up to 1024 series:
+    /// a 16-link chain is above that); constraints are not supported yet.
     Taylor {
         /// Tolerance (see above), in [1e-26, 1): below ε the order keeps growing (29 at
         /// 1e-24), which makes the truncation error of a step negligible against round-off in long

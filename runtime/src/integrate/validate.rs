@@ -84,9 +84,11 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                     .is_none()
                 {
                     return Err("the Taylor method needs the system's Taylor series, which \
-                         `#[lagrangian]` generates in its default symbolic mode: this system \
-                         was written in jets mode or by hand. Use Method::Dop853, or declare the \
-                         system with the symbolic mode"
+                         `#[lagrangian]` generates in its default symbolic mode for systems of \
+                         up to 1024 series (expression nodes the equations need; more would \
+                         cost seconds of build time): this system was written in jets mode or \
+                         by hand, or is larger. Use Method::Dop853, or declare the system with \
+                         the symbolic mode"
                         .to_string());
                 }
             }
