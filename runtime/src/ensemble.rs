@@ -128,6 +128,20 @@ where
 {
     /// `len` members, member `i` made by `member(i)`; each runs with the [`Simulation`]
     /// defaults until [`configure`](Ensemble::configure) says otherwise.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let e = Ensemble::new(5, |i| Member::new(Free, [0.0], [i as f64]));
+    /// assert_eq!(e.members(), 0..5);
+    /// ```
     pub fn new(len: usize, member: F) -> Self {
         Ensemble {
             len,
@@ -141,6 +155,23 @@ where
 
     /// The options of every member's run, on the [`Simulation`] builder's terms (method, end
     /// time, samples, events, limits).
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// // A free particle moves at its velocity: x(2) = 2 v.
+    /// let r = Ensemble::new(3, |i| Member::new(Free, [0.0], [i as f64]))
+    ///     .configure(|sim| sim.until(2.0))
+    ///     .reduce(&["x"], |tr| tr.q[tr.q.len() - 1][0]);
+    /// assert!((r.results[2].as_ref().unwrap() - 4.0).abs() < 1e-12);
+    /// ```
     pub fn configure(
         mut self,
         f: impl for<'s> Fn(Simulation<'s, L, N>) -> Simulation<'s, L, N> + Sync + 'c,
@@ -151,6 +182,24 @@ where
 
     /// Runs on `n` threads (default: rayon's global pool, one thread per core). `n = 1` runs in
     /// the calling thread.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let r = Ensemble::new(4, |i| Member::new(Free, [i as f64], [0.0]))
+    ///     .configure(|sim| sim.until(1.0))
+    ///     .threads(2)
+    ///     .run();
+    /// assert_eq!(r.index, vec![0, 1, 2, 3]); // member order, whatever thread ran them
+    /// assert_eq!(r.results[3].as_ref().unwrap().q[0], [3.0]);
+    /// ```
     pub fn threads(mut self, n: usize) -> Self {
         self.threads = Some(n.max(1));
         self
@@ -180,12 +229,42 @@ where
 
     /// Shows a progress bar on standard error while the members run (with the `progress`
     /// feature, on by default; hidden where standard error is not a terminal).
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let r = Ensemble::new(2, |_| Member::new(Free, [0.0], [1.0]))
+    ///     .configure(|sim| sim.until(1.0))
+    ///     .progress(true)
+    ///     .run();
+    /// assert_eq!(r.failures(), 0);
+    /// ```
     pub fn progress(mut self, show: bool) -> Self {
         self.progress = show;
         self
     }
 
     /// The indices of the members this ensemble (or its shard) runs.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// assert_eq!(Ensemble::new(7, |_| Member::new(Free, [0.0], [0.0])).shard(0, 2).members(), 0..3);
+    /// ```
     pub fn members(&self) -> Range<usize> {
         match self.shard {
             None => 0..self.len,
@@ -198,12 +277,45 @@ where
     }
 
     /// Runs every member and keeps its whole trajectory.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let r = Ensemble::new(2, |i| Member::new(Free, [0.0], [i as f64]))
+    ///     .configure(|sim| sim.until(1.0).sample_every(0.5))
+    ///     .run();
+    /// assert_eq!(r.results[1].as_ref().unwrap().t, vec![0.0, 0.5, 1.0]);
+    /// ```
     pub fn run(self) -> Results<Trajectory<N>> {
         self.execute(Vec::new(), |tr| tr)
     }
 
     /// Runs every member and keeps the row of numbers `f` computes from its trajectory, named by
     /// `columns` (for [`Results::write_csv`]).
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let r = Ensemble::new(2, |i| Member::new(Free, [0.0], [i as f64]))
+    ///     .configure(|sim| sim.until(3.0))
+    ///     .reduce(&["x_end"], |tr| vec![tr.q[tr.q.len() - 1][0]]);
+    /// assert_eq!(r.columns, vec!["x_end".to_string()]);
+    /// assert!((r.results[1].as_ref().unwrap()[0] - 3.0).abs() < 1e-12);
+    /// ```
     pub fn reduce<R: Send>(
         self,
         columns: &[&str],
@@ -249,6 +361,21 @@ where
 
 impl<R> Results<R> {
     /// How many members failed.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// // A NaN end time is rejected before any step: every member fails, in its own slot.
+    /// let r = Ensemble::new(3, |_| Member::new(Free, [0.0], [1.0])).configure(|sim| sim.until(f64::NAN)).run();
+    /// assert_eq!(r.failures(), 3);
+    /// ```
     pub fn failures(&self) -> usize {
         self.results.iter().filter(|r| r.is_err()).count()
     }
@@ -258,6 +385,26 @@ impl Results<Vec<f64>> {
     /// Writes one row per member: `member`, the parameters by name, the reduction's columns, and
     /// `error` (empty, or the member's error as a sentence, its values then empty). With `header
     /// = false` the header line is left out (for the second and later shards of a job array).
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let r = Ensemble::new(2, |i| Member::new(Free, [0.0], [i as f64]).param("v", i as f64))
+    ///     .configure(|sim| sim.until(1.0))
+    ///     .reduce(&["x"], |tr| vec![tr.q[tr.q.len() - 1][0]]);
+    /// let path = std::env::temp_dir().join(format!("lagrange-doc-{}.csv", std::process::id()));
+    /// r.write_csv(&path, true).unwrap();
+    /// let text = std::fs::read_to_string(&path).unwrap();
+    /// assert_eq!(text.lines().next(), Some("member,v,x,error"));
+    /// std::fs::remove_file(&path).unwrap();
+    /// ```
     pub fn write_csv(&self, path: impl AsRef<Path>, header: bool) -> std::io::Result<()> {
         let path = path.as_ref();
         let named = |e: std::io::Error| {
