@@ -85,27 +85,9 @@ impl Lagrangian<3> for HeavyTopClosedForm {
     }
 }
 
-/// The top as a user writes it: `#[lagrangian]` in the default (symbolic) mode.
-struct MacroTop {
-    i_perp: f64,
-    i_par: f64,
-    mgl: f64,
-}
-
-#[lagrangian]
-impl MacroTop {
-    fn lagrangian(
-        &self,
-        (theta, theta_dot): Coord,
-        (phi, phi_dot): Coord,
-        (psi, psi_dot): Coord,
-    ) -> Scalar {
-        let (s, c) = theta.sin_cos();
-        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
-            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
-            - self.mgl * c
-    }
-}
+#[path = "support/macro_top.rs"]
+mod macro_top;
+use macro_top::MacroTop;
 
 const TOP: HeavyTop = HeavyTop {
     i_perp: 1.0,
