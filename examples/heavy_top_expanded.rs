@@ -708,11 +708,11 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         __lagrange_c[36][0] = __lagrange_x93;
         __lagrange_c[37][0] = __lagrange_x95;
         __lagrange_c[38][0] = __lagrange_x96;
-        __lagrange_c[0][1..].fill(0.0);
-        __lagrange_c[7][1..].fill(0.0);
-        __lagrange_c[8][1..].fill(0.0);
-        __lagrange_c[10][1..].fill(0.0);
-        __lagrange_c[13][1..].fill(0.0);
+        __lagrange_c[0][1..=__lagrange_order].fill(0.0);
+        __lagrange_c[7][1..=__lagrange_order].fill(0.0);
+        __lagrange_c[8][1..=__lagrange_order].fill(0.0);
+        __lagrange_c[10][1..=__lagrange_order].fill(0.0);
+        __lagrange_c[13][1..=__lagrange_order].fill(0.0);
         let __lagrange_factor = match ::lagrange::__private::taylor::Factor::<3>::new(
             &[
                 [__lagrange_c[7][0], 0.0, 0.0],

@@ -450,6 +450,16 @@ fn forces_and_time_against_dop853() {
     }
 }
 
+/// `err` is `InvalidOptions` whose message says `what`.
+fn assert_invalid_options(err: &SimulationError, what: &str) {
+    match err {
+        SimulationError::InvalidOptions { message } => {
+            assert!(message.contains(what), "{message}");
+        }
+        e => panic!("{e:?}"),
+    }
+}
+
 /// What the method refuses: a jets-mode system (no series), a tolerance out of range, a
 /// constrained run; a singular mass matrix is the usual typed error.
 #[test]
@@ -461,12 +471,7 @@ fn refusals_are_typed_errors() {
         .until(1.0)
         .run()
         .unwrap_err();
-    match &err {
-        SimulationError::InvalidOptions { message } => {
-            assert!(message.contains("symbolic"), "{message}")
-        }
-        e => panic!("{e:?}"),
-    }
+    assert_invalid_options(&err, "symbolic");
     // Past 1024 series (a 16-link chain) the series are not generated (build time); 8 links are.
     let c16 = Chain16 {
         m: 1.0,
@@ -478,12 +483,7 @@ fn refusals_are_typed_errors() {
         .until(1.0)
         .run()
         .unwrap_err();
-    match &err {
-        SimulationError::InvalidOptions { message } => {
-            assert!(message.contains("1024"), "{message}")
-        }
-        e => panic!("{e:?}"),
-    }
+    assert_invalid_options(&err, "1024");
     let c8 = Chain8 {
         m: 1.0,
         l: 1.0,
@@ -523,12 +523,7 @@ fn refusals_are_typed_errors() {
         .until(1.0)
         .run()
         .unwrap_err();
-    match &err {
-        SimulationError::InvalidOptions { message } => {
-            assert!(message.contains("constraints"), "{message}");
-        }
-        e => panic!("{e:?}"),
-    }
+    assert_invalid_options(&err, "constraints");
     let err = Simulation::new(&r.top, [0.0, 0.0, 0.0], [0.0, 1.0, 2.0])
         .method(Method::Taylor { tol: 1e-10 })
         .until(1.0)

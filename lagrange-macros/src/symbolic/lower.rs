@@ -723,22 +723,28 @@ impl Lower {
     /// its tokens evaluated once per call, as written (see [`Field::opaque`]). `None` otherwise
     /// (the caller reports what it cannot lower).
     fn opaque(&mut self, e: &Expr) -> Option<Val> {
+        self.opaque_shown(e, None)
+    }
+
+    /// [`Self::opaque`], printed in the equations as `shown` instead of as `e` (the exponent
+    /// `N` of `powi(N)`, evaluated as `(N) as f64`). The same tokens share one parameter.
+    fn opaque_shown(&mut self, e: &Expr, shown: Option<String>) -> Option<Val> {
         let mut offenders = Vec::new();
         let tokens = self.walk_self(quote::ToTokens::to_token_stream(e), &mut offenders);
         if !offenders.is_empty() {
             return None;
         }
-        let text = cond_text(&tokens).replace("self.", "");
+        let text = cond_text(&tokens);
         let idx = match self
             .fields
             .iter()
-            .position(|f| f.opaque.is_some() && f.name == text)
+            .position(|f| matches!(&f.opaque, Some((_, t)) if cond_text(t) == text))
         {
             Some(i) => i,
             None => {
                 let k = self.fields.iter().filter(|f| f.opaque.is_some()).count();
                 self.fields.push(Field {
-                    name: text,
+                    name: shown.unwrap_or_else(|| text.replace("self.", "")),
                     span: e.span(),
                     member: Member::Unnamed(syn::Index::from(k)),
                     vector: false,
@@ -1177,17 +1183,9 @@ impl Lower {
                             None => {
                                 let e = args[0];
                                 let cast: Expr = syn::parse_quote_spanned!(e.span()=> (#e) as f64);
-                                let before = self.fields.len();
-                                match self.opaque(&cast) {
-                                    Some(Val::S(n)) => {
-                                        // Printed as written (`N`), not as the cast.
-                                        if self.fields.len() > before {
-                                            if let Some(f) = self.fields.last_mut() {
-                                                f.name = cond_text(&quote::ToTokens::to_token_stream(e));
-                                            }
-                                        }
-                                        Val::S(self.dag.powf(x, n))
-                                    }
+                                let shown = cond_text(&quote::ToTokens::to_token_stream(e));
+                                match self.opaque_shown(&cast, Some(shown)) {
+                                    Some(Val::S(n)) => Val::S(self.dag.powf(x, n)),
                                     _ => self.unsupported(
                                         args[0].span(),
                                         "a `powi` exponent that depends on the state (it must be \

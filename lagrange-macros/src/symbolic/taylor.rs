@@ -320,7 +320,7 @@ pub fn body(d: &Derivation, n: usize) -> Option<TokenStream> {
         let (#q, #qdot): (&[f64; #nn], &[f64; #nn]) = (&__lagrange_y0[0], &__lagrange_y0[1]);
         #stmts0
         #set0
-        #( #c[#flat][1..].fill(0.0); )*
+        #( #c[#flat][1..=#order].fill(0.0); )*
         let #factor = match #rt::Factor::<#nn>::new(
             &[#(#m0_rows),*],
             &[#(#b0),*],
