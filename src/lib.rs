@@ -169,6 +169,12 @@ pub enum Coord {}
 /// The macro replaces it; it is never constructed.
 #[derive(Debug, Clone, Copy)]
 pub enum Coord3 {}
+/// Marker for `K` coordinates bound as arrays `[Scalar; K]`: `(q, q_dot): Coords<6>`.
+///
+/// `K` is an integer literal; the slots are named `q[0]` … `q[K-1]` in `COORDINATES` and in the
+/// printed equations. The macro replaces it; it is never constructed.
+#[derive(Debug, Clone, Copy)]
+pub enum Coords<const K: usize> {}
 /// Marker for explicit time in a `#[lagrangian]` signature: `t: Time`.
 ///
 /// The macro replaces it; it is never constructed.
@@ -177,7 +183,7 @@ pub enum Time {}
 
 /// Everything a user of `#[lagrangian]` needs: `use lagrange::prelude::*;`.
 pub mod prelude {
-    pub use crate::{lagrangian, Coord, Coord3, Time};
+    pub use crate::{lagrangian, Coord, Coord3, Coords, Time};
     pub use lagrange_runtime::{equilibrium, Linearization, LinearizationError, Stability};
     pub use lagrange_runtime::{DynamicsError, Holonomic, Lagrangian, SMatrix, Scalar, Vector3};
     pub use lagrange_runtime::{Ensemble, Member};

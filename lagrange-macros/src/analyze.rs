@@ -264,30 +264,63 @@ impl Kind {
 }
 
 /// Rewrites the body for the jets path. `vars` are the bindings that carry coordinates or time.
-pub fn lower_for_jets(body: &Block, vars: &[String], errors: &mut Errors) -> Block {
-    let mut rw = Rewriter {
-        scopes: vec![vars.iter().map(|v| (v.clone(), Kind::Var)).collect()],
-        errors: Vec::new(),
-    };
-    let mut body = body.clone();
-    let kind = rw.block(&mut body);
-    if kind == Kind::Const {
-        lift_block_tail(&mut body);
+pub fn lower_for_jets(
+    body: &Block,
+    vars: &[String],
+    helpers: &Helpers,
+    errors: &mut Errors,
+) -> Block {
+    rewrite(errors, helpers, |rw| {
+        rw.scopes = vec![vars.iter().map(|v| (v.clone(), Kind::Var)).collect()];
+        let mut body = body.clone();
+        let kind = rw.block(&mut body);
+        if kind == Kind::Const {
+            lift_block_tail(&mut body);
+        }
+        body
+    })
+}
+
+/// Runs a rewrite until every `let mut` binding that is later assigned a variable value
+/// (`let mut sum = 0.0; … sum += m * v * v;`) is a variable from its `let` on (its constant
+/// initial value lifted): each run may find more such bindings, so it runs again with them.
+fn rewrite<T>(
+    errors: &mut Errors,
+    helpers: &Helpers,
+    mut run: impl FnMut(&mut Rewriter) -> T,
+) -> T {
+    let mut promote = HashSet::new();
+    loop {
+        let mut rw = Rewriter {
+            scopes: Vec::new(),
+            errors: Vec::new(),
+            promote: promote.clone(),
+            found: HashSet::new(),
+            helpers: helpers.clone(),
+        };
+        let out = run(&mut rw);
+        if rw.found.is_subset(&promote) {
+            rw.errors.into_iter().for_each(|e| errors.push(e));
+            return out;
+        }
+        promote.extend(rw.found);
     }
-    for e in rw.errors {
-        errors.push(e);
-    }
-    body
 }
 
 /// Rewrites the body of `fn forces` (an array of `Scalar`s) for the jets path: as
 /// [`lower_for_jets`], and a tail of constants becomes an array of `Scalar`s (each element of an
 /// array literal lifted, any other array mapped through the lift).
-pub fn lower_array_for_jets(body: &Block, vars: &[String], errors: &mut Errors) -> Block {
-    let mut rw = Rewriter {
-        scopes: vec![vars.iter().map(|v| (v.clone(), Kind::Var)).collect()],
-        errors: Vec::new(),
-    };
+pub fn lower_array_for_jets(
+    body: &Block,
+    vars: &[String],
+    helpers: &Helpers,
+    errors: &mut Errors,
+) -> Block {
+    rewrite(errors, helpers, |rw| lower_array_body(rw, body, vars))
+}
+
+fn lower_array_body(rw: &mut Rewriter, body: &Block, vars: &[String]) -> Block {
+    rw.scopes = vec![vars.iter().map(|v| (v.clone(), Kind::Var)).collect()];
     let mut body = body.clone();
     let kind = rw.block(&mut body);
     if kind == Kind::Const {
@@ -303,10 +336,35 @@ pub fn lower_array_for_jets(body: &Block, vars: &[String], errors: &mut Errors) 
             }
         }
     }
-    for e in rw.errors {
-        errors.push(e);
-    }
     body
+}
+
+/// The helper methods of the impl block (those written with `Scalar`, see
+/// [`crate::model::is_helper`]) made generic over the number type, their bodies rewritten as
+/// [`lower_for_jets`] does; the other items as written.
+pub fn lower_helpers_for_jets(
+    rest: &syn::ItemImpl,
+    helpers: &Helpers,
+    errors: &mut Errors,
+) -> syn::ItemImpl {
+    let mut rest = rest.clone();
+    for item in &mut rest.items {
+        if let syn::ImplItem::Fn(f) = item {
+            if crate::model::is_helper(f) {
+                let (sig, block) = rewrite(errors, helpers, |rw| {
+                    let (mut sig, mut block) = (f.sig.clone(), f.block.clone());
+                    rw.generic_fn(&mut sig, &mut block);
+                    (sig, block)
+                });
+                f.sig = sig;
+                f.block = block;
+                // The rewritten arithmetic keeps the user's parentheses as call arguments.
+                f.attrs
+                    .push(syn::parse_quote!(#[allow(unused_parens, unused_braces)]));
+            }
+        }
+    }
+    rest
 }
 
 struct Rewriter {
@@ -314,6 +372,40 @@ struct Rewriter {
     /// Mistakes a physicist makes that rustc would report in terms of the runtime's traits:
     /// `x ^ 2` meant as a power, `2 * x` with an integer literal.
     errors: Vec<syn::Error>,
+    /// `let mut` bindings to make variables at their `let` (see [`rewrite`]).
+    promote: HashSet<String>,
+    /// Constant bindings this run saw assigned a variable value.
+    found: HashSet<String>,
+    /// The helper methods of the impl block (see [`helpers`]).
+    helpers: Helpers,
+}
+
+/// The helper methods of the impl block by name ([`crate::model::is_helper`]): for each
+/// parameter after `self`, whether its type uses `Scalar` (a constant argument is lifted for
+/// it) or not (an `f64` parameter takes the constant as it is).
+pub type Helpers = std::rc::Rc<HashMap<String, Vec<bool>>>;
+
+/// The helper methods of `rest`.
+pub fn helpers(rest: &syn::ItemImpl) -> Helpers {
+    std::rc::Rc::new(
+        rest.items
+            .iter()
+            .filter_map(|item| match item {
+                syn::ImplItem::Fn(f) if crate::model::is_helper(f) => Some((
+                    unraw(&f.sig.ident),
+                    f.sig
+                        .inputs
+                        .iter()
+                        .filter_map(|a| match a {
+                            syn::FnArg::Typed(pt) => Some(mentions_scalar(&pt.ty)),
+                            syn::FnArg::Receiver(_) => None,
+                        })
+                        .collect(),
+                )),
+                _ => None,
+            })
+            .collect(),
+    )
 }
 
 /// `v.norm().powi(2k)` → `v.norm_squared().powi(k)` (and `magnitude` alike): the same value,
@@ -485,6 +577,16 @@ impl Rewriter {
                             kind = Kind::Var;
                         }
                     }
+                    if kind == Kind::Const
+                        && mut_binding(&local.pat).is_some_and(|n| self.promote.contains(&n))
+                    {
+                        match &mut *init.expr {
+                            Expr::Array(a) => a.elems.iter_mut().for_each(lift_in_place),
+                            Expr::Repeat(r) => lift_in_place(&mut r.expr),
+                            other => lift_in_place(other),
+                        }
+                        kind = Kind::Var;
+                    }
                 }
                 self.bind(&local.pat, kind);
                 Kind::Const
@@ -498,7 +600,42 @@ impl Rewriter {
                 }
             }
             Stmt::Macro(m) => self.macro_kind(&m.mac.tokens),
+            Stmt::Item(syn::Item::Fn(f)) if crate::model::uses_scalar(&f.sig) => {
+                // A nested `fn` written with `Scalar`: generic over it, like the body's own.
+                let saved = std::mem::take(&mut self.scopes);
+                self.generic_fn(&mut f.sig, &mut f.block);
+                self.scopes = saved;
+                Kind::Const
+            }
             Stmt::Item(_) => Kind::Const,
+        }
+    }
+
+    /// A function written with `Scalar` (a helper method, a nested `fn`): generic over the
+    /// number type, its parameters typed with `Scalar` variables, its body rewritten, and a
+    /// constant tail lifted when it returns a `Scalar`.
+    fn generic_fn(&mut self, sig: &mut syn::Signature, block: &mut Block) {
+        sig.generics
+            .params
+            .push(syn::parse_quote!(Scalar: ::lagrange::__private::Scalar));
+        self.scopes.push(HashMap::new());
+        for arg in &sig.inputs {
+            if let syn::FnArg::Typed(pt) = arg {
+                self.bind(
+                    &pt.pat,
+                    if mentions_scalar(&pt.ty) {
+                        Kind::Var
+                    } else {
+                        Kind::Const
+                    },
+                );
+            }
+        }
+        let kind = self.block(block);
+        self.scopes.pop();
+        let returns_scalar = matches!(&sig.output, syn::ReturnType::Type(_, t) if matches!(&**t, syn::Type::Path(p) if p.path.is_ident("Scalar")));
+        if kind == Kind::Const && returns_scalar {
+            lift_block_tail(block);
         }
     }
 
@@ -635,7 +772,10 @@ impl Rewriter {
             Expr::Cast(c) => self.expr(&mut c.expr),
             Expr::Index(i) => {
                 let k = self.expr(&mut i.expr);
+                // An index is an integer (`q[i - 1]`): no "write 1.0" inside it.
+                let n = self.errors.len();
                 self.expr(&mut i.index);
+                self.errors.truncate(n);
                 Kind::join(k, Kind::Const)
             }
             Expr::Assign(a) => {
@@ -644,12 +784,21 @@ impl Rewriter {
                 if kl.is_var() && kr == Kind::Const {
                     lift_in_place(&mut a.right);
                 }
+                if kl == Kind::Const && kr.is_var() {
+                    self.found.extend(assigned_root(&a.left));
+                }
                 Kind::Const
             }
             Expr::Closure(c) => {
                 self.scopes.push(HashMap::new());
+                // A parameter typed with anything but `Scalar` (`|m: f64, v: Scalar|`) is a
+                // constant; an untyped one may carry the coordinates.
                 for p in &c.inputs {
-                    self.bind(p, Kind::Var);
+                    let k = match p {
+                        Pat::Type(pt) if !mentions_scalar(&pt.ty) => Kind::Const,
+                        _ => Kind::Var,
+                    };
+                    self.bind(p, k);
                 }
                 let k = self.expr(&mut c.body);
                 self.scopes.pop();
@@ -660,7 +809,11 @@ impl Rewriter {
                 }
             }
             Expr::ForLoop(f) => {
-                let k = self.expr(&mut f.expr);
+                let mut k = self.expr(&mut f.expr);
+                // `.enumerate()` counts with integers.
+                if matches!(&*f.expr, Expr::MethodCall(m) if m.method == "enumerate") {
+                    k = Kind::Tuple(vec![Kind::Const, k]);
+                }
                 self.scopes.push(HashMap::new());
                 self.bind(&f.pat, k);
                 self.block(&mut f.body);
@@ -719,13 +872,26 @@ impl Rewriter {
         if !any_var {
             return Kind::Const;
         }
+        // Iterator adaptors take what they are given (`q.iter().zip(self.m.iter())`).
+        if ITERATOR_METHODS.contains(&m.method.to_string().as_str()) {
+            return Kind::Var;
+        }
         // A method of the user's own type (`self.omega(t)`) takes its arguments as
         // declared: `self` is never lifted.
         if kr == Kind::Const && !is_self(&m.receiver) {
             lift_in_place(&mut m.receiver);
         }
-        for (a, k) in m.args.iter_mut().zip(&kargs) {
-            if *k == Kind::Const {
+        // A helper method takes a constant as it is where it declares an `f64`.
+        let declared = if is_self(&m.receiver) {
+            self.helpers.get(&unraw(&m.method)).cloned()
+        } else {
+            None
+        };
+        for (i, (a, k)) in m.args.iter_mut().zip(&kargs).enumerate() {
+            let wants_scalar = declared
+                .as_ref()
+                .is_none_or(|d| d.get(i).copied().unwrap_or(true));
+            if *k == Kind::Const && wants_scalar {
                 lift_in_place(a);
             }
         }
@@ -853,10 +1019,51 @@ impl Rewriter {
                 if kl.is_var() && kr == Kind::Const {
                     lift_in_place(&mut b.right);
                 }
+                if kl == Kind::Const && kr.is_var() {
+                    self.found.extend(assigned_root(&b.left));
+                }
                 Kind::Const
             }
             _ => Kind::join(kl, kr),
         }
+    }
+}
+
+/// Iterator methods: their receiver and arguments are never lifted.
+pub const ITERATOR_METHODS: &[&str] = &[
+    "iter",
+    "into_iter",
+    "enumerate",
+    "zip",
+    "map",
+    "rev",
+    "skip",
+    "take",
+    "step_by",
+    "copied",
+    "cloned",
+    "sum",
+    "product",
+    "fold",
+    "count",
+    "len",
+];
+
+/// The name a `let mut name` (or `let mut name: T`) binds.
+fn mut_binding(pat: &Pat) -> Option<String> {
+    match pat {
+        Pat::Ident(pi) if pi.mutability.is_some() => Some(unraw(&pi.ident)),
+        Pat::Type(pt) => mut_binding(&pt.pat),
+        _ => None,
+    }
+}
+
+/// The binding an assignment writes to: `x` of `x`, `x[i]`, `x[i][j]`.
+fn assigned_root(e: &Expr) -> Option<String> {
+    match paren_less(e) {
+        Expr::Index(ix) => assigned_root(&ix.expr),
+        Expr::Path(p) => p.path.get_ident().map(unraw),
+        _ => None,
     }
 }
 

@@ -34,7 +34,7 @@ impl Fallback {
     /// The fallback of a split impl block, taken before validation consumes it.
     pub fn of(split: &parse::Split) -> Fallback {
         let mut rest = split.rest.clone();
-        rest.items.retain(|item| !matches!(item, syn::ImplItem::Fn(f) if f.sig.inputs.iter().any(validate::is_coordinate_param)));
+        rest.items.retain(|item| !matches!(item, syn::ImplItem::Fn(f) if f.sig.inputs.iter().any(validate::is_coordinate_param) || crate::model::is_helper(f)));
         let n_hint = split
             .funcs
             .first()
@@ -72,6 +72,7 @@ pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
 /// too, and nothing cascades; the build fails either way: no silent fallback).
 pub fn generate(
     decl: &Decl,
+    rest: &syn::ItemImpl,
     analysis: &Analysis,
     body: &syn::Block,
     funcs: &[syn::Block],
@@ -81,7 +82,6 @@ pub fn generate(
 ) -> TokenStream {
     let n = decl.n();
     let self_ty = &decl.rest.self_ty;
-    let rest = &decl.rest;
     let names = decl.coordinate_names();
     let cyclic = &analysis.cyclic;
     let autonomous = analysis.autonomous;
@@ -220,6 +220,10 @@ fn bind_slots(
                 CoordKind::Vector3 => {
                     quote!(let #ident = ::lagrange::__private::Vector3::new(#array[#i], #array[#i1], #array[#i2]);)
                 }
+                CoordKind::Array(k) => {
+                    let slots = (c.first_index..c.first_index + k).map(lit);
+                    quote!(let #ident: [Scalar; #k] = [#(#array[#slots]),*];)
+                }
             });
         }
     }
@@ -341,17 +345,17 @@ fn count_coordinate_params(f: &syn::ImplItemFn) -> usize {
         .inputs
         .iter()
         .map(|a| match a {
-            syn::FnArg::Typed(pt) => {
-                let ty = &pt.ty;
-                let s = quote!(#ty).to_string();
-                if s.ends_with("Coord3") {
-                    3
-                } else if s.ends_with("Coord") {
-                    1
-                } else {
-                    0
+            syn::FnArg::Typed(pt) => match validate::coord_type(&pt.ty) {
+                Some(Ok(kind)) => crate::model::CoordParam {
+                    kind,
+                    name: Ident::new("x", proc_macro2::Span::call_site()),
+                    dot: Ident::new("x", proc_macro2::Span::call_site()),
+                    first_index: 0,
                 }
-            }
+                .width(),
+                Some(Err(_)) => 1,
+                None => 0,
+            },
             syn::FnArg::Receiver(_) => 0,
         })
         .sum()

@@ -24,15 +24,19 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
         _ => return emit::stub(&errors, &fallback),
     };
     let analysis = analyze::analyze(&decl);
-    let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl), &mut errors);
+    let helpers = analyze::helpers(&decl.rest);
+    let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl), &helpers, &mut errors);
+    let rest = analyze::lower_helpers_for_jets(&decl.rest, &helpers, &mut errors);
     let funcs: Vec<syn::Block> = decl
         .funcs()
         .map(|f| {
             let vars = analysis.bound_func(f);
             match f.kind {
-                FuncKind::Dissipation => analyze::lower_for_jets(&f.body, &vars, &mut errors),
+                FuncKind::Dissipation => {
+                    analyze::lower_for_jets(&f.body, &vars, &helpers, &mut errors)
+                }
                 FuncKind::Forces | FuncKind::Constraints => {
-                    analyze::lower_array_for_jets(&f.body, &vars, &mut errors)
+                    analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
                 }
             }
         })
@@ -41,7 +45,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     // runtime's jets give G and the second derivatives along the motion).
     let constraints = decl.constraints.as_ref().map(|f| {
         let vars = analysis.bound_func(f);
-        analyze::lower_array_for_jets(&f.body, &vars, &mut errors)
+        analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
     });
     // `x ^ 2`, `2 * x`: said in the user's terms, and nothing emitted that rustc would report
     // again in the runtime's.
@@ -57,6 +61,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     let symbolic = symbolic.filter(|_| errors.is_empty());
     emit::generate(
         &decl,
+        &rest,
         &analysis,
         &body,
         &funcs,

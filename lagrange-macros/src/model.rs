@@ -28,6 +28,19 @@ pub enum CoordKind {
     Scalar,
     /// `(r, r_dot): Coord3`: three coordinates, bound as `Vector3<Scalar>`.
     Vector3,
+    /// `(q, q_dot): Coords<K>`: K coordinates, bound as `[Scalar; K]` (K ≥ 1, a literal).
+    Array(usize),
+}
+
+impl CoordKind {
+    /// The type as the user writes it (`Coord`, `Coord3`, `Coords<6>`).
+    pub fn type_name(self) -> String {
+        match self {
+            CoordKind::Scalar => "Coord".to_owned(),
+            CoordKind::Vector3 => "Coord3".to_owned(),
+            CoordKind::Array(k) => format!("Coords<{k}>"),
+        }
+    }
 }
 
 /// One coordinate parameter of `fn lagrangian`.
@@ -44,14 +57,16 @@ pub struct CoordParam {
 }
 
 impl CoordParam {
-    /// How many slots of q this parameter occupies (1 or 3).
+    /// How many slots of q this parameter occupies (1, 3 or K).
     pub fn width(&self) -> usize {
         match self.kind {
             CoordKind::Scalar => 1,
             CoordKind::Vector3 => 3,
+            CoordKind::Array(k) => k,
         }
     }
-    /// The COORDINATES names of this parameter's slots: `theta`, or `r.x`, `r.y`, `r.z`.
+    /// The COORDINATES names of this parameter's slots: `theta`, or `r.x`, `r.y`, `r.z`, or
+    /// `q[0]` … `q[K-1]`.
     pub fn slot_names(&self) -> Vec<String> {
         let base = unraw(&self.name);
         match self.kind {
@@ -60,6 +75,7 @@ impl CoordParam {
                 .iter()
                 .map(|c| format!("{base}.{c}"))
                 .collect(),
+            CoordKind::Array(k) => (0..k).map(|i| format!("{base}[{i}]")).collect(),
         }
     }
 }
@@ -174,4 +190,28 @@ impl Decl {
 pub fn unraw(ident: &Ident) -> String {
     let s = ident.to_string();
     s.strip_prefix("r#").map(str::to_owned).unwrap_or(s)
+}
+
+/// Whether tokens mention the identifier `Scalar`.
+pub fn mentions_scalar(ts: proc_macro2::TokenStream) -> bool {
+    ts.into_iter().any(|tt| match tt {
+        proc_macro2::TokenTree::Ident(i) => i == "Scalar",
+        proc_macro2::TokenTree::Group(g) => mentions_scalar(g.stream()),
+        _ => false,
+    })
+}
+
+/// Whether a function is written with the number type `Scalar` in its signature (and has no
+/// generics of its own): a helper method of the impl block (with `self`), or a `fn` item in a
+/// body. Both modes make it generic over the number type; the symbolic mode inlines it.
+pub fn uses_scalar(sig: &syn::Signature) -> bool {
+    sig.generics.params.is_empty()
+        && (mentions_scalar(quote::ToTokens::to_token_stream(&sig.inputs))
+            || mentions_scalar(quote::ToTokens::to_token_stream(&sig.output)))
+}
+
+/// Whether a method of the impl block is a helper: it takes `self` and is written with `Scalar`
+/// ([`uses_scalar`]), like `fn kinetic(&self, v: Scalar) -> Scalar`.
+pub fn is_helper(f: &syn::ImplItemFn) -> bool {
+    f.sig.receiver().is_some() && uses_scalar(&f.sig)
 }

@@ -210,16 +210,24 @@ fn check_fn(
                 continue;
             }
         };
-        let kind = if is_ident_type(&pt.ty, "Coord") {
-            Some(CoordKind::Scalar)
-        } else if is_ident_type(&pt.ty, "Coord3") {
-            Some(CoordKind::Vector3)
+        let kind = if let Some(kind) = coord_type(&pt.ty) {
+            match kind {
+                Ok(kind) => Some(kind),
+                Err(e) => {
+                    errors.push(e);
+                    unknown_types += 1;
+                    if let Some((name, dot)) = coord_pattern(&pt.pat) {
+                        state_names.extend([name, dot]);
+                    }
+                    continue;
+                }
+            }
         } else if is_ident_type(&pt.ty, "Time") {
             None
         } else {
             errors.at(
                 &pt.ty,
-                "unknown parameter type: a parameter of `fn lagrangian` is `(x, x_dot): Coord`, `(r, r_dot): Coord3` or `t: Time`",
+                "unknown parameter type: a parameter of `fn lagrangian` is `(x, x_dot): Coord`, `(r, r_dot): Coord3`, `(q, q_dot): Coords<6>` or `t: Time`",
             );
             // Meant as a coordinate or the time all the same: its names are the body's state
             // (for the body's own errors), and it is not "no coordinate" as well.
@@ -284,7 +292,7 @@ fn check_fn(
             .chain(&state_names)
             .map(crate::model::unraw)
             .collect();
-        crate::analyze::lower_for_jets(&func.block, &vars, errors);
+        crate::analyze::lower_for_jets(&func.block, &vars, &crate::analyze::helpers(&rest), errors);
         return None;
     }
     Some(Decl {
@@ -334,10 +342,10 @@ fn check_qualifiers(sig: &syn::Signature, name: &str, errors: &mut Errors) {
 
 /// The rule for the parameters of `fn dissipation` and `fn forces`, quoted by every error about
 /// them.
-const EXTRA_RULE: &str = "the coordinate parameters of `dissipation` and `forces` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`); any binding may be `_` (`(x, _)`, `(_, _)`) and names may differ; `t: Time` is optional in each";
+const EXTRA_RULE: &str = "the coordinate parameters of `dissipation` and `forces` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` (`(x, _)`, `(_, _)`) and names may differ; `t: Time` is optional in each";
 
 /// The rule for the parameters of `fn constraints`, quoted by every error about them.
-const CONSTRAINTS_RULE: &str = "the coordinate parameters of `constraints` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`); any binding may be `_` and names may differ; the constraints g(q, t) = 0 depend on the positions only, so bind each velocity as `_` (`(x, _): Coord`); `t: Time` is optional, for a moving constraint";
+const CONSTRAINTS_RULE: &str = "the coordinate parameters of `constraints` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` and names may differ; the constraints g(q, t) = 0 depend on the positions only, so bind each velocity as `_` (`(x, _): Coord`); `t: Time` is optional, for a moving constraint";
 
 /// The parameter rule quoted for `kind`.
 fn extra_rule(kind: FuncKind) -> &'static str {
@@ -353,10 +361,7 @@ fn extra_hint(kind: FuncKind, coords: &[CoordParam], time: bool, k: Option<usize
     let mut params: Vec<String> = coords
         .iter()
         .map(|c| {
-            let ty = match c.kind {
-                CoordKind::Scalar => "Coord",
-                CoordKind::Vector3 => "Coord3",
-            };
+            let ty = c.kind.type_name();
             if kind == FuncKind::Constraints {
                 format!("({}, _): {ty}", c.name)
             } else {
@@ -514,10 +519,15 @@ fn check_extra(
                 continue;
             }
         };
-        let kind_here = if is_ident_type(&pt.ty, "Coord") {
-            Some(CoordKind::Scalar)
-        } else if is_ident_type(&pt.ty, "Coord3") {
-            Some(CoordKind::Vector3)
+        let kind_here = if let Some(kind) = coord_type(&pt.ty) {
+            match kind {
+                Ok(kind) => Some(kind),
+                Err(e) => {
+                    errors.push(e);
+                    bindings.push((None, None));
+                    continue;
+                }
+            }
         } else if is_ident_type(&pt.ty, "Time") {
             None
         } else {
@@ -549,10 +559,7 @@ fn check_extra(
             continue;
         };
         let k = bindings.len();
-        let ty_name = |k: CoordKind| match k {
-            CoordKind::Scalar => "Coord",
-            CoordKind::Vector3 => "Coord3",
-        };
+        let ty_name = CoordKind::type_name;
         match lag_coords.get(k) {
             None => {
                 fail(
@@ -830,13 +837,71 @@ fn free_use(body: &syn::Block, name: &str) -> Option<proc_macro2::Ident> {
     }
 }
 
-/// Whether a parameter is typed `Coord`, `Coord3` or `Time` (to recognise a misnamed Lagrangian).
+/// Whether a parameter is typed `Coord`, `Coord3`, `Coords<K>` or `Time` (to recognise a misnamed Lagrangian).
 pub fn is_coordinate_param(arg: &FnArg) -> bool {
     match arg {
-        FnArg::Typed(pt) => ["Coord", "Coord3", "Time"]
-            .iter()
-            .any(|n| is_ident_type(&pt.ty, n)),
+        FnArg::Typed(pt) => coord_type(&pt.ty).is_some() || is_ident_type(&pt.ty, "Time"),
         FnArg::Receiver(_) => false,
+    }
+}
+
+/// The coordinate kind a parameter type names: `Coord`, `Coord3`, `Coords<K>` (optionally
+/// qualified); `None` for any other type, an error for `Coords` without a literal length ≥ 1.
+pub fn coord_type(ty: &Type) -> Option<syn::Result<CoordKind>> {
+    match ty {
+        Type::Group(g) => return coord_type(&g.elem),
+        Type::Paren(p) => return coord_type(&p.elem),
+        _ => {}
+    }
+    if is_ident_type(ty, "Coord") {
+        return Some(Ok(CoordKind::Scalar));
+    }
+    if is_ident_type(ty, "Coord3") {
+        return Some(Ok(CoordKind::Vector3));
+    }
+    let Type::Path(p) = ty else { return None };
+    if p.qself.is_some() {
+        return None;
+    }
+    let seg = p.path.segments.last()?;
+    if seg.ident != "Coords" {
+        return None;
+    }
+    let bad = |at: &dyn quote::ToTokens| {
+        Some(Err(syn::Error::new_spanned(
+            at,
+            "`Coords` takes the number of coordinates as an integer literal: `(q, q_dot): Coords<6>`",
+        )))
+    };
+    let syn::PathArguments::AngleBracketed(args) = &seg.arguments else {
+        return bad(seg);
+    };
+    if args.args.len() != 1 {
+        return bad(args);
+    }
+    let lit = match &args.args[0] {
+        syn::GenericArgument::Const(syn::Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Int(i),
+            ..
+        })) => i,
+        syn::GenericArgument::Const(syn::Expr::Block(b)) => match b.block.stmts.as_slice() {
+            [syn::Stmt::Expr(
+                syn::Expr::Lit(syn::ExprLit {
+                    lit: syn::Lit::Int(i),
+                    ..
+                }),
+                None,
+            )] => i,
+            _ => return bad(&args.args[0]),
+        },
+        other => return bad(other),
+    };
+    match lit.base10_parse::<usize>() {
+        Ok(k) if (1..=4096).contains(&k) => Some(Ok(CoordKind::Array(k))),
+        _ => Some(Err(syn::Error::new_spanned(
+            lit,
+            "`Coords<K>` takes 1 to 4096 coordinates",
+        ))),
     }
 }
 

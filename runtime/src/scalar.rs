@@ -33,6 +33,10 @@ pub trait Scalar:
     + DivAssign<f64>
     + Mul<Vector3<Self>, Output = Vector3<Self>>
     + From<f64>
+    + core::iter::Sum
+    + for<'a> core::iter::Sum<&'a Self>
+    + core::iter::Product
+    + for<'a> core::iter::Product<&'a Self>
 {
     /// The constant `x` in this number type (all derivative parts zero).
     ///

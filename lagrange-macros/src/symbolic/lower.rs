@@ -55,7 +55,63 @@ enum Val {
     S(Id),
     V([Id; 3]),
     Tuple(Vec<Val>),
+    /// An array (`Coords<K>` bindings, `[a, b]`, `[0.0; K]`) or a materialized iterator
+    /// (`q.iter().zip(..)`, `0..K`): one value per element.
+    A(Vec<Val>),
+    /// An integer known when the macro runs: a loop variable, an integer literal, `q.len()`,
+    /// an integer `const` of the impl block. Becomes a constant where a scalar is needed.
+    I(i64),
+    /// A closure, a nested `fn` item or a helper method of the impl block: inlined at each call.
+    F(std::rc::Rc<Callable>),
+    /// An array field of the struct (`self.m`), whose length the macro cannot know: indexed
+    /// with a known integer (`self.m[i]`) or zipped with an array of known length.
+    Seq(Box<Expr>),
     Poison,
+}
+
+/// A function the lowering inlines: its parameter patterns, its body and the bindings it sees.
+struct Callable {
+    /// What it is, for messages (`this closure`, `the helper method `kinetic``).
+    what: String,
+    params: Vec<Pat>,
+    body: CallBody,
+    /// The bindings visible in the body (a closure's captured scope; none for an item).
+    env: Vec<(String, Val)>,
+    /// A `fn` item: sees the other `fn` items of the scope it is called from, not the locals.
+    item: bool,
+}
+
+enum CallBody {
+    Expr(Expr),
+    Block(syn::Block),
+}
+
+impl std::fmt::Debug for Callable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.what)
+    }
+}
+
+/// The most elements one loop or array may unroll to.
+const MAX_UNROLL: i64 = 100_000;
+
+/// How deep helpers, closures and nested functions may call each other (recursion is an error).
+const MAX_CALL_DEPTH: usize = 64;
+
+impl Val {
+    /// What the value is, for messages (`a Vector3`, `an array`).
+    fn kind(&self) -> &'static str {
+        match self {
+            Val::S(_) => "a scalar",
+            Val::V(_) => "a Vector3",
+            Val::Tuple(_) => "a tuple",
+            Val::A(_) => "an array",
+            Val::I(_) => "an integer",
+            Val::F(_) => "a function",
+            Val::Seq(_) => "an array field whose length the macro does not know",
+            Val::Poison => "an erroneous value",
+        }
+    }
 }
 
 /// Lowering must restart because a field turned out to be a vector.
@@ -108,6 +164,10 @@ pub fn lower(decl: &Decl, sink: &mut Errors) -> Option<Lowered> {
             errors: Vec::new(),
             fields: std::mem::take(&mut fields),
             conds: Vec::new(),
+            helpers: helpers(&decl.rest),
+            int_consts: int_consts(&decl.rest),
+            depth: 0,
+            frame_base: 0,
         };
         match lw.bodies(decl) {
             Err(Retype(f)) => {
@@ -172,6 +232,56 @@ struct Lower {
     errors: Vec<syn::Error>,
     fields: Vec<Field>,
     conds: Vec<Cond>,
+    /// The methods of the impl block written with `Scalar` (`fn kinetic(&self, v: Scalar) ->
+    /// Scalar`), inlined where the body calls them.
+    helpers: std::collections::HashMap<String, std::rc::Rc<Callable>>,
+    /// The integer `const`s of the impl block with a literal value (`const N: usize = 6;`).
+    int_consts: std::collections::HashMap<String, i64>,
+    /// How many inlined calls are open.
+    depth: usize,
+    /// In an inlined call, how many bindings it captured: assigning to one of them (a closure
+    /// that mutates its environment) is not lowered.
+    frame_base: usize,
+}
+
+fn helpers(rest: &syn::ItemImpl) -> std::collections::HashMap<String, std::rc::Rc<Callable>> {
+    rest.items
+        .iter()
+        .filter_map(|item| match item {
+            syn::ImplItem::Fn(f) if crate::model::is_helper(f) => {
+                let params = f
+                    .sig
+                    .inputs
+                    .iter()
+                    .filter_map(|a| match a {
+                        syn::FnArg::Typed(pt) => Some((*pt.pat).clone()),
+                        syn::FnArg::Receiver(_) => None,
+                    })
+                    .collect();
+                Some((
+                    unraw(&f.sig.ident),
+                    std::rc::Rc::new(Callable {
+                        what: format!("the helper method `{}`", f.sig.ident),
+                        params,
+                        body: CallBody::Block(f.block.clone()),
+                        env: Vec::new(),
+                        item: true,
+                    }),
+                ))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+fn int_consts(rest: &syn::ItemImpl) -> std::collections::HashMap<String, i64> {
+    rest.items
+        .iter()
+        .filter_map(|item| match item {
+            syn::ImplItem::Const(c) => int_literal(&c.expr).map(|k| (unraw(&c.ident), k)),
+            _ => None,
+        })
+        .collect()
 }
 
 /// The identifiers of a path's segments (`f64::consts::PI` → ["f64", "consts", "PI"]).
@@ -283,9 +393,10 @@ impl Lower {
     }
 
     fn assign(&mut self, name: &str, val: Val) -> bool {
-        match self.scopes.iter_mut().rev().find(|(n, _)| n == name) {
-            Some(slot) => {
-                slot.1 = val;
+        match self.scopes.iter().rposition(|(n, _)| n == name) {
+            Some(k) if self.depth > 0 && k < self.frame_base => false,
+            Some(k) => {
+                self.scopes[k].1 = val;
                 true
             }
             None => false,
@@ -338,17 +449,14 @@ impl Lower {
                 Some(id)
             }
             Val::Poison => None,
-            Val::V(_) => {
+            // An integer where a float is needed: rustc says so at the user's token (the
+            // jets `fn lagrangian` is type-checked as written); here it is its value.
+            Val::I(k) => Some(self.dag.constant(k as f64)),
+            other => {
+                let kind = other.kind();
                 self.err(syn::Error::new(
                     at.at(),
-                    format!("{what} must be a scalar, but this is a Vector3"),
-                ));
-                None
-            }
-            Val::Tuple(_) => {
-                self.err(syn::Error::new(
-                    at.at(),
-                    format!("{what} must be a scalar, but this is a tuple"),
+                    format!("{what} must be a scalar, but this is {kind}"),
                 ));
                 None
             }
@@ -370,10 +478,11 @@ impl Lower {
                 ));
                 Ok(None)
             }
-            Val::Tuple(_) => {
+            other => {
+                let kind = other.kind();
                 self.err(syn::Error::new(
                     at.at(),
-                    format!("{what} must be a Vector3, but this is a tuple"),
+                    format!("{what} must be a Vector3, but this is {kind}"),
                 ));
                 Ok(None)
             }
@@ -423,6 +532,10 @@ impl Lower {
                 CoordKind::Vector3 => (
                     Val::V([self.dag.q(i), self.dag.q(i + 1), self.dag.q(i + 2)]),
                     Val::V([self.dag.v(i), self.dag.v(i + 1), self.dag.v(i + 2)]),
+                ),
+                CoordKind::Array(k) => (
+                    Val::A((i..i + k).map(|j| Val::S(self.dag.q(j))).collect()),
+                    Val::A((i..i + k).map(|j| Val::S(self.dag.v(j))).collect()),
                 ),
             };
             if let Some(name) = name {
@@ -478,11 +591,13 @@ impl Lower {
     fn scalar_result(&mut self, v: Val, body: &syn::Block, what: &str) -> Option<Id> {
         match v {
             Val::S(id) => Some(id),
+            Val::I(k) => Some(self.dag.constant(k as f64)),
             Val::Poison => None,
-            Val::V(_) | Val::Tuple(_) => {
+            other => {
+                let kind = other.kind();
                 self.errors.push(syn::Error::new(
                     body_tail_span(body),
-                    format!("{what} must be a scalar; this is a vector or a tuple"),
+                    format!("{what} must be a scalar; this is {kind}"),
                 ));
                 None
             }
@@ -541,6 +656,29 @@ impl Lower {
     fn stmts(&mut self, stmts: &[Stmt]) -> R<Val> {
         let mut result = Val::Tuple(Vec::new());
         let n = stmts.len();
+        // Nested `fn` items are visible in the whole block.
+        for stmt in stmts {
+            if let Stmt::Item(syn::Item::Fn(f)) = stmt {
+                let params = f
+                    .sig
+                    .inputs
+                    .iter()
+                    .filter_map(|a| match a {
+                        syn::FnArg::Typed(pt) => Some((*pt.pat).clone()),
+                        syn::FnArg::Receiver(_) => None,
+                    })
+                    .collect();
+                let callable = Callable {
+                    what: format!("the function `{}`", f.sig.ident),
+                    params,
+                    body: CallBody::Block((*f.block).clone()),
+                    env: Vec::new(),
+                    item: true,
+                };
+                self.scopes
+                    .push((unraw(&f.sig.ident), Val::F(std::rc::Rc::new(callable))));
+            }
+        }
         for (k, stmt) in stmts.iter().enumerate() {
             let last = k + 1 == n;
             match stmt {
@@ -562,8 +700,17 @@ impl Lower {
                         result = v;
                     }
                 }
+                Stmt::Item(syn::Item::Fn(_)) => {}
+                // `const K: f64 = 2.0;`: its value, if it does not depend on the state.
+                Stmt::Item(syn::Item::Const(c)) => {
+                    let v = self.expr(&c.expr)?;
+                    self.scopes.push((unraw(&c.ident), v));
+                }
                 Stmt::Item(item) => {
-                    self.unsupported(item.span(), "an item inside the Lagrangian body");
+                    self.unsupported(
+                        item.span(),
+                        "an item other than `fn` or `const` inside the body",
+                    );
                 }
                 Stmt::Macro(m) => {
                     self.unsupported(m.span(), "a macro call");
@@ -581,6 +728,7 @@ impl Lower {
             Pat::Wild(_) => {}
             Pat::Type(t) => self.bind(&t.pat, v),
             Pat::Paren(p) => self.bind(&p.pat, v),
+            Pat::Reference(r) => self.bind(&r.pat, v),
             Pat::Tuple(t) => match v {
                 Val::Tuple(items) if items.len() == t.elems.len() => {
                     for (p, item) in t.elems.iter().zip(items) {
@@ -626,9 +774,16 @@ impl Lower {
                     Ok(x) => Val::S(self.dag.constant(x)),
                     Err(e) => self.err(e),
                 },
-                Lit::Int(i) => match i.base10_parse::<f64>() {
-                    Ok(x) => Val::S(self.dag.constant(x)),
-                    Err(e) => self.err(e),
+                Lit::Int(i) => match (i.suffix(), i.base10_parse::<i64>()) {
+                    (
+                        "" | "i8" | "i16" | "i32" | "i64" | "isize" | "u8" | "u16" | "u32" | "u64"
+                        | "usize",
+                        Ok(k),
+                    ) => Val::I(k),
+                    _ => match i.base10_parse::<f64>() {
+                        Ok(x) => Val::S(self.dag.constant(x)),
+                        Err(e) => self.err(e),
+                    },
                 },
                 other => self.unsupported(other.span(), "this literal"),
             },
@@ -643,19 +798,39 @@ impl Lower {
             Expr::Block(b) if b.label.is_none() => self.block(&b.block)?,
             Expr::Field(f) => self.field_access(f)?,
             Expr::Index(ix) => {
-                // `self.k[i]`, `self.g[2]`: parameter-only, read as written.
+                // `self.k[i]`, `self.g[2]`: parameter-only, read as written (a loop variable
+                // in the index by its value).
                 if let Some(v) = self.opaque(e) {
                     return Ok(v);
                 }
                 let base = self.expr(&ix.expr)?;
-                match int_literal(&ix.index) {
-                    Some(k @ 0..=2) => match self.vector(base, &*ix.expr, "an indexed value")? {
-                        Some(c) => Val::S(c[k as usize]),
-                        None => Val::Poison,
-                    },
-                    _ => self.unsupported(ix.index.span(), "indexing other than by 0, 1 or 2"),
+                let index = self.expr(&ix.index)?;
+                self.index(base, index, ix)?
+            }
+            Expr::Array(a) => {
+                let mut items = Vec::with_capacity(a.elems.len());
+                for e in &a.elems {
+                    items.push(self.expr(e)?);
+                }
+                Val::A(items)
+            }
+            Expr::Repeat(r) => {
+                let v = self.expr(&r.expr)?;
+                match self.expr(&r.len)? {
+                    Val::I(k) if (0..=MAX_UNROLL).contains(&k) => Val::A(vec![v; k as usize]),
+                    Val::Poison => Val::Poison,
+                    _ => self.unsupported(r.len.span(), "an array length that is not an integer known when the macro expands (a literal or a `const` of this impl block, `Self::N`)"),
                 }
             }
+            Expr::Range(r) => self.range(r)?,
+            Expr::ForLoop(f) => self.for_loop(f)?,
+            Expr::Closure(c) => Val::F(std::rc::Rc::new(Callable {
+                what: "this closure".to_owned(),
+                params: c.inputs.iter().cloned().collect(),
+                body: CallBody::Expr((*c.body).clone()),
+                env: self.scopes.clone(),
+                item: false,
+            })),
             Expr::Binary(b) => self.binary(b)?,
             Expr::Assign(a) => {
                 let v = self.expr(&a.right)?;
@@ -665,6 +840,15 @@ impl Lower {
             Expr::MethodCall(m) => self.method(m)?,
             Expr::Call(c) => self.call(c)?,
             Expr::If(i) => self.if_expr(i)?,
+            // `i as f64` of a loop variable: its value.
+            Expr::Cast(c) if self.const_int(&c.expr).is_some() => {
+                let k = self.const_int(&c.expr).unwrap_or_default();
+                if is_float_type(&c.ty) {
+                    Val::S(self.dag.constant(k as f64))
+                } else {
+                    Val::I(k)
+                }
+            }
             Expr::Cast(_) | Expr::Match(_) => match self.opaque(e) {
                 Some(v) => v,
                 None => self.unsupported(e.span(), expr_kind(e)),
@@ -680,6 +864,15 @@ impl Lower {
     /// value that differs between them (the result and any binding assigned in a branch) becomes
     /// a `Select` on the condition.
     fn if_expr(&mut self, i: &syn::ExprIf) -> R<Val> {
+        // A condition known when the macro expands (`if i > 0` in an unrolled loop): only the
+        // branch taken is lowered.
+        if let Some(b) = self.const_bool(&i.cond) {
+            return match (b, &i.else_branch) {
+                (true, _) => self.block(&i.then_branch),
+                (false, Some((_, e))) => self.expr(e),
+                (false, None) => Ok(Val::Tuple(Vec::new())),
+            };
+        }
         let cond = self.condition(&i.cond);
         let before = self.scopes.clone();
         let a = self.block(&i.then_branch)?;
@@ -700,6 +893,256 @@ impl Lower {
         Ok(self.merge(c, a, b, span))
     }
 
+    /// `base[index]`: an element of an array, a component of a vector, an element of an array
+    /// field; the index must be known when the macro expands.
+    fn index(&mut self, base: Val, index: Val, ix: &syn::ExprIndex) -> R<Val> {
+        Ok(match (base, index) {
+            (Val::Poison, _) | (_, Val::Poison) => Val::Poison,
+            (Val::A(items), Val::I(k)) => {
+                match usize::try_from(k).ok().and_then(|k| items.get(k)) {
+                    Some(v) => v.clone(),
+                    None => self.err(syn::Error::new(
+                        ix.index.span(),
+                        format!(
+                            "index {k} is out of bounds: the array has {} elements",
+                            items.len()
+                        ),
+                    )),
+                }
+            }
+            (Val::Seq(b), Val::I(k)) => {
+                let k = proc_macro2::Literal::i64_unsuffixed(k);
+                let e: Expr = syn::parse_quote_spanned!(ix.index.span()=> #b[#k]);
+                match self.opaque(&e) {
+                    Some(v) => v,
+                    None => self.unsupported(ix.span(), "this indexing"),
+                }
+            }
+            (base @ (Val::S(_) | Val::V(_)), Val::I(k @ 0..=2)) => {
+                match self.vector(base, &*ix.expr, "an indexed value")? {
+                    Some(c) => Val::S(c[k as usize]),
+                    None => Val::Poison,
+                }
+            }
+            (_, Val::I(_)) | (Val::S(_) | Val::V(_), _) => self.unsupported(
+                ix.span(),
+                "indexing other than an array by a known integer or a Vector3 by 0, 1 or 2",
+            ),
+            (_, _) => self.unsupported(
+                ix.index.span(),
+                "an index that is not known when the macro expands (it may be a literal, a loop \
+                 variable, or an integer `const` of this impl block, `Self::N`)",
+            ),
+        })
+    }
+
+    /// `a..b`, `a..=b` with bounds known when the macro expands: the array of its integers.
+    fn range(&mut self, r: &syn::ExprRange) -> R<Val> {
+        let bound = |this: &mut Self, e: &Option<Box<Expr>>| -> R<Option<Val>> {
+            match e {
+                Some(e) => this.expr(e).map(Some),
+                None => Ok(None),
+            }
+        };
+        let lo = bound(self, &r.start)?;
+        let hi = bound(self, &r.end)?;
+        let inclusive = matches!(r.limits, syn::RangeLimits::Closed(_));
+        Ok(match (lo, hi) {
+            (Some(Val::Poison), _) | (_, Some(Val::Poison)) => Val::Poison,
+            (Some(Val::I(a)), Some(Val::I(b))) => {
+                let b = if inclusive { b.saturating_add(1) } else { b };
+                if b.saturating_sub(a) > MAX_UNROLL {
+                    return Ok(self.err(syn::Error::new(
+                        r.span(),
+                        format!("this range has {} elements: the symbolic mode unrolls at most {MAX_UNROLL}", b - a),
+                    )));
+                }
+                Val::A((a..b).map(Val::I).collect())
+            }
+            _ => self.err(syn::Error::new(
+                r.span(),
+                "the symbolic mode unrolls loops, so a range's bounds must be known when the macro \
+                 expands: integer literals, loop variables, `q.len()` of a coordinate array, or \
+                 integer `const`s of this impl block (`const N: usize = 6;` written `Self::N`; a \
+                 `const` declared elsewhere is not visible to the macro); or use \
+                 `#[lagrangian(mode = \"jets\")]` on this impl block",
+            )),
+        })
+    }
+
+    /// `for pat in iterable { body }`, unrolled: the body lowered once per element.
+    fn for_loop(&mut self, f: &syn::ExprForLoop) -> R<Val> {
+        if let Some(label) = &f.label {
+            return Ok(self.unsupported(label.span(), "a loop label"));
+        }
+        let items = match self.seq_or_expr(&f.expr)? {
+            Val::A(items) => items,
+            Val::Poison => return Ok(Val::Poison),
+            Val::Seq(b) => {
+                return Ok(self.err(syn::Error::new(
+                    f.expr.span(),
+                    format!(
+                        "the length of `{}` is not known when the macro expands: loop over a range \
+                         (`for i in 0..K`) and index it, or zip it with a coordinate array \
+                         (`q.iter().zip({}.iter())`)",
+                        cond_text(&quote::ToTokens::to_token_stream(&b)),
+                        quote::ToTokens::to_token_stream(&b),
+                    ),
+                )))
+            }
+            other => {
+                let kind = other.kind();
+                return Ok(self.err(syn::Error::new(
+                    f.expr.span(),
+                    format!("a `for` loop over {kind}: the symbolic mode unrolls loops over arrays, ranges with known bounds and their iterators (`.iter()`, `.enumerate()`, `.zip(..)`, `.rev()`)"),
+                )));
+            }
+        };
+        for item in items {
+            let depth = self.scopes.len();
+            self.bind(&f.pat, item);
+            self.block(&f.body)?;
+            self.scopes.truncate(depth);
+        }
+        Ok(Val::Tuple(Vec::new()))
+    }
+
+    /// `e`, or an array field of unknown length when `e` is `self.f` (`&self.f`,
+    /// `self.f.iter()`): where an iterable is expected.
+    fn seq_or_expr(&mut self, e: &Expr) -> R<Val> {
+        match self_field_seq(e) {
+            Some(b) => Ok(Val::Seq(Box::new(b))),
+            None => self.expr(e),
+        }
+    }
+
+    /// An integer known when the macro expands, read from the syntax (no lowering): literals,
+    /// integer bindings (loop variables), `Self::N`, `q.len()`, and `+ - * / %` of them.
+    fn const_int(&self, e: &Expr) -> Option<i64> {
+        match paren_less(e) {
+            Expr::Lit(l) => match &l.lit {
+                Lit::Int(i) if !matches!(i.suffix(), "f32" | "f64") => i.base10_parse().ok(),
+                _ => None,
+            },
+            Expr::Path(p) if p.qself.is_none() => {
+                if let Some(id) = p.path.get_ident() {
+                    return match self.lookup(&unraw(id))? {
+                        Val::I(k) => Some(k),
+                        _ => None,
+                    };
+                }
+                match segment_names(&p.path).as_slice() {
+                    [s, name] if s == "Self" => self.int_consts.get(name).copied(),
+                    _ => None,
+                }
+            }
+            Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => {
+                self.const_int(&u.expr)?.checked_neg()
+            }
+            Expr::Binary(b) => {
+                let (x, y) = (self.const_int(&b.left)?, self.const_int(&b.right)?);
+                match b.op {
+                    BinOp::Add(_) => x.checked_add(y),
+                    BinOp::Sub(_) => x.checked_sub(y),
+                    BinOp::Mul(_) => x.checked_mul(y),
+                    BinOp::Div(_) => x.checked_div(y),
+                    BinOp::Rem(_) => x.checked_rem(y),
+                    _ => None,
+                }
+            }
+            Expr::Cast(c) if !is_float_type(&c.ty) => self.const_int(&c.expr),
+            Expr::MethodCall(m) if m.method == "len" && m.args.is_empty() => {
+                match paren_less(&m.receiver) {
+                    Expr::Path(p) => match self.lookup(&unraw(p.path.get_ident()?))? {
+                        Val::A(items) => i64::try_from(items.len()).ok(),
+                        _ => None,
+                    },
+                    _ => None,
+                }
+            }
+            _ => None,
+        }
+    }
+
+    /// A condition known when the macro expands (`i > 0`, `i + 1 < Self::N`, `true`).
+    fn const_bool(&self, e: &Expr) -> Option<bool> {
+        match paren_less(e) {
+            Expr::Lit(l) => match &l.lit {
+                Lit::Bool(b) => Some(b.value),
+                _ => None,
+            },
+            Expr::Unary(u) if matches!(u.op, UnOp::Not(_)) => Some(!self.const_bool(&u.expr)?),
+            Expr::Binary(b) => match b.op {
+                BinOp::And(_) => Some(self.const_bool(&b.left)? && self.const_bool(&b.right)?),
+                BinOp::Or(_) => Some(self.const_bool(&b.left)? || self.const_bool(&b.right)?),
+                _ => {
+                    let (x, y) = (self.const_int(&b.left)?, self.const_int(&b.right)?);
+                    match b.op {
+                        BinOp::Eq(_) => Some(x == y),
+                        BinOp::Ne(_) => Some(x != y),
+                        BinOp::Lt(_) => Some(x < y),
+                        BinOp::Le(_) => Some(x <= y),
+                        BinOp::Gt(_) => Some(x > y),
+                        BinOp::Ge(_) => Some(x >= y),
+                        _ => None,
+                    }
+                }
+            },
+            _ => None,
+        }
+    }
+
+    /// Inlines a call of `f` (a closure, a nested `fn`, a helper method) with `args`.
+    fn call_fn(&mut self, f: &Callable, args: Vec<Val>, at: &dyn At) -> R<Val> {
+        if self.depth >= MAX_CALL_DEPTH {
+            return Ok(self.err(syn::Error::new(
+                at.at(),
+                format!(
+                    "{} is called {MAX_CALL_DEPTH} calls deep: the symbolic mode inlines every \
+                     call, so it cannot follow recursion; use `#[lagrangian(mode = \"jets\")]` on \
+                     this impl block",
+                    f.what
+                ),
+            )));
+        }
+        if args.len() != f.params.len() {
+            return Ok(self.err(syn::Error::new(
+                at.at(),
+                format!(
+                    "{} takes {} argument(s), and this call gives {}",
+                    f.what,
+                    f.params.len(),
+                    args.len()
+                ),
+            )));
+        }
+        // A nested `fn` sees the other `fn` items of the scope it is called from.
+        let env = if f.item {
+            self.scopes
+                .iter()
+                .filter(|(_, v)| matches!(v, Val::F(c) if c.item))
+                .cloned()
+                .collect()
+        } else {
+            f.env.clone()
+        };
+        let base = env.len();
+        let saved = std::mem::replace(&mut self.scopes, env);
+        let saved_base = std::mem::replace(&mut self.frame_base, base);
+        self.depth += 1;
+        for (p, a) in f.params.iter().zip(args) {
+            self.bind(p, a);
+        }
+        let result = match &f.body {
+            CallBody::Expr(e) => self.expr(e),
+            CallBody::Block(b) => self.block(b),
+        };
+        self.depth -= 1;
+        self.scopes = saved;
+        self.frame_base = saved_base;
+        result
+    }
+
     fn merge(&mut self, c: u32, a: Val, b: Val, span: Span) -> Val {
         match (a, b) {
             (Val::S(x), Val::S(y)) => Val::S(self.dag.select(c, x, y)),
@@ -710,11 +1153,31 @@ impl Lower {
                     .map(|(p, q)| self.merge(c, p, q, span))
                     .collect(),
             ),
+            (Val::A(x), Val::A(y)) if x.len() == y.len() => Val::A(
+                x.into_iter()
+                    .zip(y)
+                    .map(|(p, q)| self.merge(c, p, q, span))
+                    .collect(),
+            ),
+            (Val::I(x), Val::I(y)) if x == y => Val::I(x),
+            (Val::I(x), Val::S(y)) => {
+                let x = self.dag.constant(x as f64);
+                Val::S(self.dag.select(c, x, y))
+            }
+            (Val::S(x), Val::I(y)) => {
+                let y = self.dag.constant(y as f64);
+                Val::S(self.dag.select(c, x, y))
+            }
+            (Val::I(x), Val::I(y)) => {
+                let (x, y) = (self.dag.constant(x as f64), self.dag.constant(y as f64));
+                Val::S(self.dag.select(c, x, y))
+            }
+            (Val::F(x), Val::F(y)) if std::rc::Rc::ptr_eq(&x, &y) => Val::F(x),
             (Val::Poison, _) | (_, Val::Poison) => Val::Poison,
             _ => self.err(syn::Error::new(
                 span,
-                "the two branches of this `if` give values of different shapes (scalar, Vector3 \
-                 or tuple)",
+                "the two branches of this `if` give values of different shapes (scalar, Vector3, \
+                 array or tuple)",
             )),
         }
     }
@@ -839,6 +1302,22 @@ impl Lower {
                         ))
                     } else {
                         if !member && !path_seg {
+                            if let Some(Val::I(k)) = self.lookup(&unraw(id)) {
+                                // A loop variable: its value.
+                                let mut lit = proc_macro2::Literal::i64_unsuffixed(k);
+                                lit.set_span(id.span());
+                                prev2 = prev.take();
+                                prev = Some(tt.clone());
+                                out.push(if k >= 0 {
+                                    TokenTree::Literal(lit)
+                                } else {
+                                    TokenTree::Group(proc_macro2::Group::new(
+                                        proc_macro2::Delimiter::Parenthesis,
+                                        TokenTree::Literal(lit).into(),
+                                    ))
+                                });
+                                continue;
+                            }
                             if let Some(v) = self.lookup(&unraw(id)) {
                                 let what = match v {
                                     Val::S(n) | Val::V([n, ..]) => match self.dag.node(n) {
@@ -865,14 +1344,66 @@ impl Lower {
     }
 
     fn store(&mut self, target: &Expr, v: Val) {
-        if let Expr::Path(p) = paren_less(target) {
+        // `a`, `a[i]`, `a[i][j]`: the root binding and the indices, outermost last.
+        let mut indices = Vec::new();
+        let mut root = paren_less(target);
+        while let Expr::Index(ix) = root {
+            indices.push(&*ix.index);
+            root = paren_less(&ix.expr);
+        }
+        indices.reverse();
+        if let Expr::Path(p) = root {
             if let Some(id) = p.path.get_ident() {
-                if self.assign(&unraw(id), v) {
+                let name = unraw(id);
+                if self.depth > 0
+                    && self
+                        .scopes
+                        .iter()
+                        .rposition(|(n, _)| *n == name)
+                        .is_some_and(|k| k < self.frame_base)
+                {
+                    self.unsupported(
+                        target.span(),
+                        "a closure that assigns to a binding it captures",
+                    );
+                    return;
+                }
+                if indices.is_empty() {
+                    if self.assign(&name, v) {
+                        return;
+                    }
+                } else if let Some(mut whole) = self.lookup(&name) {
+                    let mut ks = Vec::new();
+                    for e in &indices {
+                        match self.const_int(e) {
+                            Some(k) => ks.push(k),
+                            None => {
+                                self.unsupported(
+                                    e.span(),
+                                    "an index that is not known when the macro expands (it may \
+                                     be a literal, a loop variable, or an integer `const` of this \
+                                     impl block, `Self::N`)",
+                                );
+                                return;
+                            }
+                        }
+                    }
+                    match set_element(&mut whole, &ks, v) {
+                        Ok(()) => {
+                            self.assign(&name, whole);
+                        }
+                        Err(msg) => {
+                            self.err(syn::Error::new(target.span(), msg));
+                        }
+                    }
                     return;
                 }
             }
         }
-        self.unsupported(target.span(), "assigning to anything but a local binding");
+        self.unsupported(
+            target.span(),
+            "assigning to anything but a local binding or an element of a local array",
+        );
     }
 
     fn path(&mut self, p: &syn::ExprPath) -> Val {
@@ -886,6 +1417,13 @@ impl Lower {
             }
             let segs = segment_names(&p.path);
             let n = segs.len();
+            if let [s, name] = segs.as_slice() {
+                if s == "Self" {
+                    if let Some(k) = self.int_consts.get(name) {
+                        return Val::I(*k);
+                    }
+                }
+            }
             if n >= 3 && segs[n - 3] == "f64" && segs[n - 2] == "consts" {
                 if let Some(c) = f64_const(&segs[n - 1]) {
                     return Val::S(self.dag.constant(c));
@@ -944,8 +1482,9 @@ impl Lower {
         match v {
             Val::S(a) => Val::S(self.dag.neg(a)),
             Val::V(c) => Val::V(c.map(|a| self.dag.neg(a))),
-            Val::Poison => Val::Poison,
-            Val::Tuple(_) => Val::Poison,
+            Val::I(k) => Val::I(-k),
+            Val::A(items) => Val::A(items.into_iter().map(|v| self.neg(v)).collect()),
+            _ => Val::Poison,
         }
     }
 
@@ -970,6 +1509,8 @@ impl Lower {
             BinOp::Sub(_) => ('-', false),
             BinOp::Mul(_) => ('*', false),
             BinOp::Div(_) => ('/', false),
+            BinOp::Rem(_) => ('%', false),
+            BinOp::RemAssign(_) => ('%', true),
             BinOp::AddAssign(_) => ('+', true),
             BinOp::SubAssign(_) => ('-', true),
             BinOp::MulAssign(_) => ('*', true),
@@ -991,6 +1532,38 @@ impl Lower {
     }
 
     fn arith(&mut self, op: char, l: Val, r: Val, le: &Expr, re: &Expr) -> R<Val> {
+        // Integers known when the macro runs stay integers among themselves (`i + 1`), and
+        // become constants where they meet a scalar.
+        let (l, r) = match (l, r) {
+            (Val::I(a), Val::I(b)) => {
+                let v = match op {
+                    '+' => a.checked_add(b),
+                    '-' => a.checked_sub(b),
+                    '*' => a.checked_mul(b),
+                    '/' => a.checked_div(b),
+                    _ => a.checked_rem(b),
+                };
+                return Ok(match v {
+                    Some(v) => Val::I(v),
+                    None => self.err(syn::Error::new(
+                        le.span().join(re.span()).unwrap_or_else(|| re.span()),
+                        "this integer arithmetic overflows or divides by zero",
+                    )),
+                });
+            }
+            (Val::I(a), r) => (Val::S(self.dag.constant(a as f64)), r),
+            (l, Val::I(b)) => (l, Val::S(self.dag.constant(b as f64))),
+            lr => lr,
+        };
+        if op == '%' {
+            return Ok(match (l, r) {
+                (Val::Poison, _) | (_, Val::Poison) => Val::Poison,
+                _ => self.unsupported(
+                    re.span(),
+                    "`%` on values that are not integers known when the macro expands",
+                ),
+            });
+        }
         let d = &mut self.dag;
         Ok(match (op, l, r) {
             (_, Val::Poison, _) | (_, _, Val::Poison) => Val::Poison,
@@ -1021,7 +1594,8 @@ impl Lower {
             }
             _ => self.err(syn::Error::new(
                 le.span().join(re.span()).unwrap_or_else(|| le.span()),
-                "these operands cannot be combined (a tuple or unit value is involved)",
+                "these operands cannot be combined (a tuple, an array, a function or a unit value \
+                 is involved)",
             )),
         })
     }
@@ -1030,6 +1604,26 @@ impl Lower {
         let Expr::Path(p) = paren_less(&c.func) else {
             return Ok(self.unsupported(c.func.span(), "calling this"));
         };
+        // A closure or a nested `fn` of the body, or `Self::kinetic(self, v)`: inlined.
+        let callee = match p.path.get_ident() {
+            Some(id) => match self.lookup(&unraw(id)) {
+                Some(Val::F(f)) => Some((f, 0)),
+                _ => None,
+            },
+            None => match segment_names(&p.path).as_slice() {
+                [s, name] if s == "Self" && p.qself.is_none() => {
+                    self.helpers.get(name).cloned().map(|f| (f, 1))
+                }
+                _ => None,
+            },
+        };
+        if let Some((f, skip)) = callee {
+            let mut args = Vec::with_capacity(c.args.len());
+            for a in c.args.iter().skip(skip) {
+                args.push(self.expr(a)?);
+            }
+            return self.call_fn(&f, args, c);
+        }
         let segs = segment_names(&p.path);
         let n = segs.len();
         // `Scalar::constant(c)`, `Scalar::from(c)`, `<Scalar as From<f64>>::from(c)`: the
@@ -1102,27 +1696,221 @@ impl Lower {
     /// A chain of method calls `x.sin().cos()…`: walked along its receivers with a loop, so a
     /// 2000-deep chain does not overflow the compiler's stack; innermost call first.
     fn method(&mut self, m: &syn::ExprMethodCall) -> R<Val> {
+        // `self.kinetic(v)`: a helper method of the impl block, inlined.
+        if let Some(h) = self.helper_called(m) {
+            let mut args = Vec::with_capacity(m.args.len());
+            for a in &m.args {
+                args.push(self.expr(a)?);
+            }
+            return self.call_fn(&h, args, m);
+        }
         // A method the symbolic mode does not know, on parameters only (`self.n.count_ones()`,
         // `self.table.len()`): evaluated once per call, as written.
         let name = m.method.to_string();
-        if Fun::from_method(&name).is_none() && !KNOWN_METHODS.contains(&name.as_str()) {
+        let adaptor = crate::analyze::ITERATOR_METHODS.contains(&name.as_str())
+            && !matches!(name.as_str(), "sum" | "product" | "fold" | "count" | "len");
+        if Fun::from_method(&name).is_none() && !KNOWN_METHODS.contains(&name.as_str()) && !adaptor
+        {
             if let Some(v) = self.opaque(&Expr::MethodCall(m.clone())) {
                 return Ok(v);
             }
         }
         let mut spine = vec![m];
         while let Expr::MethodCall(inner) = &*spine[spine.len() - 1].receiver {
+            if self.helper_called(inner).is_some() {
+                break;
+            }
             spine.push(inner);
         }
         let Some(innermost) = spine.last() else {
             return Ok(Val::Poison);
         };
-        let mut recv = self.expr(&innermost.receiver)?;
+        // `self.m.iter()`: an array field, whose length the macro does not know.
+        let seq = matches!(innermost.method.to_string().as_str(), "iter" | "into_iter")
+            .then(|| self_field_seq(&innermost.receiver))
+            .flatten();
+        let mut recv = match seq {
+            Some(b) => Val::Seq(Box::new(b)),
+            None => self.expr(&innermost.receiver)?,
+        };
         while let Some(m) = spine.pop() {
             let args: Vec<&Expr> = m.args.iter().collect();
             recv = self.apply_method(recv, &m.receiver, &m.method, &args, m)?;
         }
         Ok(recv)
+    }
+
+    /// The helper method `m` calls (`self.kinetic(v)`), if it calls one.
+    fn helper_called(&self, m: &syn::ExprMethodCall) -> Option<std::rc::Rc<Callable>> {
+        if !matches!(paren_less(&m.receiver), Expr::Path(p) if p.path.is_ident("self")) {
+            return None;
+        }
+        self.helpers.get(&unraw(&m.method)).cloned()
+    }
+
+    /// An iterator method (`iter`, `enumerate`, `zip`, `map`, `sum`, `fold`, ...) on an array
+    /// (or an array field of unknown length): `None` when `name` is not one or `recv` is not
+    /// an array.
+    fn iterator_method(
+        &mut self,
+        recv: &Val,
+        recv_e: &Expr,
+        name: &str,
+        args: &[&Expr],
+        whole: &dyn At,
+    ) -> R<Option<Val>> {
+        let nargs = args.len();
+        let items = match recv {
+            Val::A(items) => items.clone(),
+            Val::Seq(b) => {
+                return Ok(match (name, nargs) {
+                    ("iter" | "into_iter" | "copied" | "cloned", 0) => Some(Val::Seq(b.clone())),
+                    ("zip", 1) => {
+                        let other = self.seq_or_expr(args[0])?;
+                        match other {
+                            Val::A(ys) => {
+                                let xs = self.materialize(b, ys.len(), whole);
+                                Some(Val::A(
+                                    xs.into_iter()
+                                        .zip(ys)
+                                        .map(|(x, y)| Val::Tuple(vec![x, y]))
+                                        .collect(),
+                                ))
+                            }
+                            Val::Poison => Some(Val::Poison),
+                            _ => Some(self.unknown_length(b, whole)),
+                        }
+                    }
+                    (
+                        "enumerate" | "map" | "sum" | "product" | "fold" | "rev" | "len" | "skip"
+                        | "take",
+                        _,
+                    ) => Some(self.unknown_length(b, whole)),
+                    _ => None,
+                });
+            }
+            _ => return Ok(None),
+        };
+        let int_arg = |this: &mut Self, e: &Expr| -> R<Option<usize>> {
+            Ok(match this.expr(e)? {
+                Val::I(k) => usize::try_from(k).ok(),
+                _ => None,
+            })
+        };
+        Ok(Some(match (name, nargs) {
+            ("iter" | "into_iter" | "copied" | "cloned" | "by_ref", 0) => Val::A(items),
+            ("len" | "count", 0) => Val::I(items.len() as i64),
+            ("enumerate", 0) => Val::A(
+                items
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, x)| Val::Tuple(vec![Val::I(k as i64), x]))
+                    .collect(),
+            ),
+            ("rev", 0) => Val::A(items.into_iter().rev().collect()),
+            ("skip" | "take" | "step_by", 1) => match int_arg(self, args[0])? {
+                Some(k) => Val::A(match name {
+                    "skip" => items.into_iter().skip(k).collect(),
+                    "take" => items.into_iter().take(k).collect(),
+                    _ if k > 0 => items.into_iter().step_by(k).collect(),
+                    _ => return Ok(Some(self.err(syn::Error::new(args[0].span(), "`step_by(0)`")))),
+                }),
+                None => self.unsupported(
+                    args[0].span(),
+                    &format!("a `.{name}()` argument that is not an integer known when the macro expands"),
+                ),
+            },
+            ("zip", 1) => match self.seq_or_expr(args[0])? {
+                Val::A(ys) => Val::A(
+                    items
+                        .into_iter()
+                        .zip(ys)
+                        .map(|(x, y)| Val::Tuple(vec![x, y]))
+                        .collect(),
+                ),
+                Val::Seq(b) => {
+                    let ys = self.materialize(&b, items.len(), whole);
+                    Val::A(
+                        items
+                            .into_iter()
+                            .zip(ys)
+                            .map(|(x, y)| Val::Tuple(vec![x, y]))
+                            .collect(),
+                    )
+                }
+                Val::Poison => Val::Poison,
+                other => {
+                    let kind = other.kind();
+                    self.err(syn::Error::new(
+                        args[0].span(),
+                        format!("`.zip()` over {kind}: it zips arrays and their iterators"),
+                    ))
+                }
+            },
+            ("map", 1) => {
+                let f = self.expr(args[0])?;
+                let Val::F(f) = f else {
+                    return Ok(Some(self.unsupported(args[0].span(), "a `.map()` argument that is not a closure or a function of the body")));
+                };
+                let mut out = Vec::with_capacity(items.len());
+                for x in items {
+                    out.push(self.call_fn(&f, vec![x], args[0])?);
+                }
+                Val::A(out)
+            }
+            ("fold", 2) => {
+                let mut acc = self.expr(args[0])?;
+                let Val::F(f) = self.expr(args[1])? else {
+                    return Ok(Some(self.unsupported(args[1].span(), "a `.fold()` argument that is not a closure or a function of the body")));
+                };
+                for x in items {
+                    acc = self.call_fn(&f, vec![acc, x], args[1])?;
+                }
+                acc
+            }
+            ("sum" | "product", 0) => {
+                let op = if name == "sum" { '+' } else { '*' };
+                let mut it = items.into_iter();
+                match it.next() {
+                    None => Val::S(if op == '+' { Dag::ZERO } else { Dag::ONE }),
+                    Some(first) => {
+                        let mut acc = first;
+                        for x in it {
+                            acc = self.arith(op, acc, x, recv_e, recv_e)?;
+                        }
+                        acc
+                    }
+                }
+            }
+            _ => return Ok(None),
+        }))
+    }
+
+    /// The first `n` elements of the array field `b` (`self.m[0]`, ...), each a parameter.
+    fn materialize(&mut self, b: &Expr, n: usize, whole: &dyn At) -> Vec<Val> {
+        (0..n)
+            .map(|k| {
+                let k = proc_macro2::Literal::usize_unsuffixed(k);
+                let e: Expr = syn::parse_quote_spanned!(whole.at()=> #b[#k]);
+                match self.opaque(&e) {
+                    Some(v) => v,
+                    None => Val::Poison,
+                }
+            })
+            .collect()
+    }
+
+    fn unknown_length(&mut self, b: &Expr, whole: &dyn At) -> Val {
+        let text = cond_text(&quote::ToTokens::to_token_stream(b));
+        self.err(syn::Error::new(
+            whole.at(),
+            format!(
+                "the length of `{text}` is not known when the macro expands: zip it with a \
+                 coordinate array (`q.iter().zip({}.iter())`), or loop over a range and index \
+                 it (`for i in 0..K {{ .. self.{text}[i] .. }}`)",
+                quote::ToTokens::to_token_stream(b)
+            ),
+        ))
     }
 
     /// `recv.method(args)`, the receiver `recv_e` already lowered to `recv`.
@@ -1142,6 +1930,12 @@ impl Lower {
                 format!("`.{name}()` takes {k} argument(s) here"),
             ))
         };
+        if let Some(v) = self.iterator_method(&recv, recv_e, &name, args, whole)? {
+            return Ok(v);
+        }
+        if matches!(recv, Val::Poison) {
+            return Ok(Val::Poison);
+        }
         let fun = Fun::from_method(&name);
         if let Some(f) = fun {
             if nargs != 0 {
@@ -1313,6 +2107,9 @@ fn cond_text(ts: &proc_macro2::TokenStream) -> String {
         .replace("( ", "(")
         .replace(" )", ")")
         .replace(" ,", ",")
+        .replace(" [", "[")
+        .replace("[ ", "[")
+        .replace(" ]", "]")
         .replace("! ", "!");
     // A call's parenthesis follows its name directly.
     let mut out = String::with_capacity(s.len());
@@ -1389,4 +2186,61 @@ fn f64_const(name: &str) -> Option<f64> {
         "LOG10_2" => c::LOG10_2,
         _ => return None,
     })
+}
+
+/// Whether a type is `f64` or `f32` (a cast to it makes a float).
+fn is_float_type(ty: &syn::Type) -> bool {
+    matches!(ty, syn::Type::Path(p) if p.path.is_ident("f64") || p.path.is_ident("f32") || p.path.is_ident("Scalar"))
+}
+
+/// `self.f`, `&self.f`, `self.f.iter()`, `self.f.into_iter()` (and `.copied()`/`.cloned()`
+/// after them): the field `self.f`, an array whose length the macro does not know.
+fn self_field_seq(e: &Expr) -> Option<Expr> {
+    match paren_less(e) {
+        Expr::Reference(r) => self_field_seq(&r.expr),
+        Expr::Field(f) if matches!(paren_less(&f.base), Expr::Path(p) if p.path.is_ident("self")) => {
+            Some(Expr::Field(f.clone()))
+        }
+        Expr::MethodCall(m)
+            if m.args.is_empty()
+                && matches!(
+                    m.method.to_string().as_str(),
+                    "iter" | "into_iter" | "copied" | "cloned"
+                ) =>
+        {
+            self_field_seq(&m.receiver)
+        }
+        _ => None,
+    }
+}
+
+/// Sets the element of `whole` at the indices `ks` (outermost first) to `v`.
+fn set_element(whole: &mut Val, ks: &[i64], v: Val) -> Result<(), String> {
+    let Some((&k, rest)) = ks.split_first() else {
+        *whole = v;
+        return Ok(());
+    };
+    match whole {
+        Val::A(items) => {
+            let n = items.len();
+            match usize::try_from(k).ok().and_then(|k| items.get_mut(k)) {
+                Some(slot) => set_element(slot, rest, v),
+                None => Err(format!(
+                    "index {k} is out of bounds: the array has {n} elements"
+                )),
+            }
+        }
+        Val::V(c) if rest.is_empty() && (0..3).contains(&k) => match v {
+            Val::S(id) => {
+                c[k as usize] = id;
+                Ok(())
+            }
+            other => Err(format!(
+                "a Vector3 component must be a scalar, and this is {}",
+                other.kind()
+            )),
+        },
+        Val::Poison => Ok(()),
+        other => Err(format!("this assigns to an element of {}", other.kind())),
+    }
 }

@@ -724,12 +724,32 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
                     slots.push(s);
                 }
             }
+            CoordKind::Array(k) => {
+                for i in 0..k {
+                    let mut s = symbol(&name);
+                    s.sub_u = format!("{}[{i}]", s.sub_u);
+                    s.sub_l = if s.sub_l.is_empty() {
+                        format!("_{{{i}}}")
+                    } else {
+                        format!("{}{{}}_{{{i}}}", s.sub_l)
+                    };
+                    slots.push(s);
+                }
+            }
         }
     }
     let params = d
         .fields
         .iter()
         .map(|f| {
+            if let Some((base, k)) = f.opaque.as_ref().and_then(|_| element_of(&f.name)) {
+                // An element of an array field: `m[3]`.
+                let s = symbol(base);
+                return (
+                    format!("{}{}[{k}]", s.base_u, s.sub_u),
+                    format!("{}{}_{{{k}}}", s.base_l, s.sub_l),
+                );
+            }
             if f.opaque.is_some() {
                 // Parameter-only code as written: `(n as f64)`.
                 let l = f.name.replace('_', "\\_");
@@ -827,4 +847,14 @@ fn clone_slot(s: &SlotName) -> SlotName {
         sub_u: s.sub_u.clone(),
         sub_l: s.sub_l.clone(),
     }
+}
+
+/// `m[3]` → (`m`, 3): an element of an array field, indexed by a number.
+fn element_of(text: &str) -> Option<(&str, usize)> {
+    let (base, rest) = text.split_once('[')?;
+    let k = rest.strip_suffix(']')?.parse().ok()?;
+    let ident = !base.is_empty()
+        && base.chars().all(|c| c.is_alphanumeric() || c == '_')
+        && !base.starts_with(|c: char| c.is_ascii_digit());
+    ident.then_some((base, k))
 }

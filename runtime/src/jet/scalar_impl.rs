@@ -210,6 +210,16 @@ macro_rules! impl_jet_scalar {
                     it.fold(J::constant(1.0), J::mul)
                 }
             }
+            impl<'a, const N: usize> core::iter::Sum<&'a $T<N>> for $T<N> {
+                fn sum<I: Iterator<Item = &'a Self>>(it: I) -> Self {
+                    it.fold(J::constant(0.0), |a, b| J::add(a, *b))
+                }
+            }
+            impl<'a, const N: usize> core::iter::Product<&'a $T<N>> for $T<N> {
+                fn product<I: Iterator<Item = &'a Self>>(it: I) -> Self {
+                    it.fold(J::constant(1.0), |a, b| J::mul(a, *b))
+                }
+            }
 
             // ---- num-traits ----
             impl<const N: usize> num_traits::Zero for $T<N> {
