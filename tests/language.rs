@@ -240,3 +240,176 @@ fn a_squared_velocity_of_a_long_name_does_not_read_as_a_second_derivative() {
     assert!(!eq.contains("d(th₂)/dt²"), "{eq}");
     assert!(eq.contains("d²(th₁)/dt²"), "{eq}");
 }
+
+// ---- Coordinate arrays, loops, helpers, closures and nested functions ----
+
+twins! {
+    /// The 8-link chain of `support::systems::chain!`, written with `Coords<8>` and a loop.
+    ChainArray8, ChainArray8Jets { m: f64, l: f64, g: f64 }
+    fn lagrangian(&self, (q, q_dot): Coords<8>) -> Scalar {
+        let (s, c) = q[0].sin_cos();
+        let mut vx = self.l * c * q_dot[0];
+        let mut vy = self.l * s * q_dot[0];
+        let mut y = -self.l * c;
+        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        for k in 1..q.len() {
+            let (s, c) = q[k].sin_cos();
+            vx += self.l * c * q_dot[k];
+            vy += self.l * s * q_dot[k];
+            y -= self.l * c;
+            lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+        }
+        lag
+    }
+}
+
+/// A chain written with `Coords<8>` and a loop gives the same q̈ as the same chain written with
+/// eight `Coord`s (the same operations in the same order: bit-equal), in both modes.
+#[test]
+fn a_chain_written_with_coords_and_a_loop_equals_the_chain_written_out() {
+    use crate::support::systems::Chain8;
+    let mut rng = Rng(23);
+    let (m, l, g) = (0.7, 1.3, 9.81);
+    let arr = ChainArray8 { m, l, g };
+    let out = Chain8 { m, l, g };
+    for _ in 0..20 {
+        let q: [f64; 8] = std::array::from_fn(|_| rng.uniform(-2.0, 2.0));
+        let v: [f64; 8] = std::array::from_fn(|_| rng.uniform(-2.0, 2.0));
+        let a = arr.accelerations(&q, &v, 0.0).expect("array chain");
+        let b = out.accelerations(&q, &v, 0.0).expect("chain written out");
+        assert!(close(&a, &b, 1e-14), "{a:?} vs {b:?}");
+        let aj = arr
+            .jets()
+            .accelerations(&q, &v, 0.0)
+            .expect("array chain, jets");
+        let bj = out
+            .jets()
+            .accelerations(&q, &v, 0.0)
+            .expect("chain written out, jets");
+        assert_eq!(aj, bj, "jets: the same operations in the same order");
+        compare(&arr, &arr.jets(), q, v);
+    }
+    assert_eq!(ChainArray8::COORDINATES[0], "q[0]");
+    assert_eq!(ChainArray8::COORDINATES[7], "q[7]");
+    assert!(
+        ChainArray8::EQUATIONS.contains("q̈[7]"),
+        "{}",
+        ChainArray8::EQUATIONS
+    );
+    assert!(
+        ChainArray8::EQUATIONS_LATEX.contains("q_{7}"),
+        "{}",
+        ChainArray8::EQUATIONS_LATEX
+    );
+}
+
+twins! {
+    /// Beads on a line with springs between neighbours and a pendulum-like potential: every
+    /// construct of the language at once (helper methods, `Self::helper`, closures, a nested
+    /// `fn`, a `const` in the body, `iter`/`zip` with an array field/`map`/`sum`/`fold`/
+    /// `enumerate`/`rev`, a local array written element by element, an `if` on a loop
+    /// variable, `as f64` of a loop variable, associated consts as loop bounds).
+    Beads, BeadsJets { m: [f64; 3], k: f64, g: f64 }
+    const N: usize = 3;
+    fn spring(&self, a: Scalar, b: Scalar) -> Scalar {
+        let d = a - b;
+        0.5 * self.k * d * d
+    }
+    fn kinetic(&self, m: f64, v: Scalar) -> Scalar {
+        0.5 * m * v * v
+    }
+    fn lagrangian(&self, (q, q_dot): Coords<3>, (x, x_dot): Coord) -> Scalar {
+        const HALF: f64 = 0.5;
+        fn sq(v: Scalar) -> Scalar {
+            v * v
+        }
+        let ke = |m: f64, v: Scalar| HALF * m * sq(v);
+        let mut t = q_dot
+            .iter()
+            .zip(self.m.iter())
+            .map(|(v, m)| ke(*m, *v))
+            .sum::<Scalar>();
+        t += self.kinetic(1.0, x_dot);
+        let mut springs = [0.0; 3];
+        for (i, qi) in q.iter().enumerate() {
+            if i > 0 {
+                springs[i] = self.spring(*qi, q[i - 1]);
+            } else {
+                springs[i] = Self::spring(self, *qi, x);
+            }
+        }
+        let v = springs.iter().fold(0.0 * x, |acc, s| acc + *s);
+        let mut w = 0.0;
+        for i in (0..Self::N).rev() {
+            w += (i as f64 + 1.0) * self.g * q[i].cos() * self.m[i];
+        }
+        let tilt: Scalar = q.iter().skip(1).step_by(1).take(2).map(|a| a.sin()).product();
+        t - v - w - x.powi(2) - tilt
+    }
+    fn dissipation(&self, (_, q_dot): Coords<3>, (_, x_dot): Coord) -> Scalar {
+        let mut d = 0.05 * x_dot * x_dot;
+        for v in q_dot {
+            d += 0.1 * v * v;
+        }
+        d
+    }
+    fn forces(&self, (q, _): Coords<3>, _: Coord, t: Time) -> [Scalar; 4] {
+        let drive = (2.0 * t).cos();
+        [drive * q[0].cos(), 0.0 * q[1], -drive, 0.3 * drive]
+    }
+}
+
+/// Every construct of the language, both modes, at random states (1e-12); the helper methods
+/// stay ordinary methods, callable with `f64`; the equations name the array slots `q[i]` and
+/// the array field's elements `m[i]`.
+#[test]
+fn arrays_loops_helpers_closures_and_nested_functions_agree_with_the_jets() {
+    let mut rng = Rng(29);
+    let p = Beads {
+        m: [1.0, 2.0, 0.5],
+        k: 3.0,
+        g: 9.81,
+    };
+    for _ in 0..30 {
+        let q: [f64; 4] = std::array::from_fn(|_| rng.uniform(-2.0, 2.0));
+        let v: [f64; 4] = std::array::from_fn(|_| rng.uniform(-2.0, 2.0));
+        let t = rng.uniform(0.0, 10.0);
+        let a = p.accelerations(&q, &v, t).expect("symbolic");
+        let b = p.jets().accelerations(&q, &v, t).expect("jets");
+        assert!(close(&a, &b, 1e-12), "q = {q:?}, v = {v:?}: {a:?} vs {b:?}");
+    }
+    assert_eq!(p.kinetic(2.0, 3.0_f64), 9.0);
+    assert_eq!(p.jets().spring(1.0_f64, 0.5), 0.375);
+    assert_eq!(Beads::COORDINATES, ["q[0]", "q[1]", "q[2]", "x"]);
+    // x: ẍ = k q[0] − (2 + k) x − drive·0.3 … the spring to q[0] and the x² term.
+    let eqs = Beads::EQUATIONS;
+    assert!(eqs.contains("m[0] q̈[0]"), "{eqs}");
+    assert!(eqs.contains("k q[0]"), "{eqs}");
+}
+
+twins! {
+    /// `Coord`, `Coord3` and `Coords<K>` mixed in one signature.
+    Mixed, MixedJets { m: f64 }
+    fn lagrangian(&self, (a, a_dot): Coord, (r, r_dot): Coord3, (q, q_dot): Coords<2>) -> Scalar {
+        let mut t = 0.5 * self.m * (a_dot * a_dot + r_dot.norm_squared());
+        for (qi, vi) in q.iter().zip(q_dot.iter()) {
+            t += 0.5 * vi * vi - qi.cos() * a.sin();
+        }
+        t - r.norm_squared() * (1.0 + q[1] * q[1])
+    }
+}
+
+#[test]
+fn coord_coord3_and_coords_mix_in_one_signature() {
+    let mut rng = Rng(31);
+    let p = Mixed { m: 1.5 };
+    for _ in 0..20 {
+        let q: [f64; 6] = std::array::from_fn(|_| rng.uniform(-2.0, 2.0));
+        let v: [f64; 6] = std::array::from_fn(|_| rng.uniform(-2.0, 2.0));
+        compare(&p, &p.jets(), q, v);
+    }
+    assert_eq!(
+        Mixed::COORDINATES,
+        ["a", "r.x", "r.y", "r.z", "q[0]", "q[1]"]
+    );
+}

@@ -297,6 +297,7 @@ fn rewrite<T>(
             promote: promote.clone(),
             found: HashSet::new(),
             helpers: helpers.clone(),
+            closure_hint: None,
         };
         let out = run(&mut rw);
         if rw.found.is_subset(&promote) {
@@ -378,6 +379,9 @@ struct Rewriter {
     found: HashSet<String>,
     /// The helper methods of the impl block (see [`helpers`]).
     helpers: Helpers,
+    /// The kinds of the parameters of the closure about to be rewritten, when an iterator
+    /// method passes it elements of known kinds.
+    closure_hint: Option<Vec<Kind>>,
 }
 
 /// The helper methods of the impl block by name ([`crate::model::is_helper`]): for each
@@ -682,6 +686,17 @@ impl Rewriter {
                 let k = self.expr(&mut u.expr);
                 match u.op {
                     syn::UnOp::Not(_) => Kind::Const,
+                    // `*v` of an element of `q.iter()`, which is by value here (see
+                    // `method_chain`).
+                    syn::UnOp::Deref(_) if k == Kind::Var => {
+                        let inner = std::mem::replace(&mut *u.expr, placeholder());
+                        *e = Expr::Paren(syn::ExprParen {
+                            attrs: Vec::new(),
+                            paren_token: Default::default(),
+                            expr: Box::new(inner),
+                        });
+                        k
+                    }
                     _ => k,
                 }
             }
@@ -792,11 +807,14 @@ impl Rewriter {
             Expr::Closure(c) => {
                 self.scopes.push(HashMap::new());
                 // A parameter typed with anything but `Scalar` (`|m: f64, v: Scalar|`) is a
-                // constant; an untyped one may carry the coordinates.
-                for p in &c.inputs {
+                // constant; an untyped one has the kind of the elements an iterator method
+                // passes it (`.map(|(v, m)| ..)` after a `.zip`), or may carry the coordinates.
+                let hint = self.closure_hint.take().unwrap_or_default();
+                for (i, p) in c.inputs.iter().enumerate() {
                     let k = match p {
                         Pat::Type(pt) if !mentions_scalar(&pt.ty) => Kind::Const,
-                        _ => Kind::Var,
+                        Pat::Type(_) => Kind::Var,
+                        _ => hint.get(i).cloned().unwrap_or(Kind::Var),
                     };
                     self.bind(p, k);
                 }
@@ -809,11 +827,7 @@ impl Rewriter {
                 }
             }
             Expr::ForLoop(f) => {
-                let mut k = self.expr(&mut f.expr);
-                // `.enumerate()` counts with integers.
-                if matches!(&*f.expr, Expr::MethodCall(m) if m.method == "enumerate") {
-                    k = Kind::Tuple(vec![Kind::Const, k]);
-                }
+                let k = self.expr(&mut f.expr);
                 self.scopes.push(HashMap::new());
                 self.bind(&f.pat, k);
                 self.block(&mut f.body);
@@ -854,6 +868,16 @@ impl Rewriter {
         let mut kr = self.expr(&mut cur);
         while let Some(mut m) = spine.pop() {
             *m.receiver = cur;
+            // `q.iter()` of an array of the number type: by value, so the elements are
+            // `Scalar`s (generic code has no arithmetic on `&Scalar`); `*v` on them is dropped.
+            if kr.is_var() && m.method == "iter" && m.args.is_empty() {
+                let recv = &m.receiver;
+                let span = m.method.span();
+                cur = Expr::Verbatim(
+                    quote_spanned!(span=> ::core::iter::IntoIterator::into_iter(#recv)),
+                );
+                continue;
+            }
             kr = self.method_one(&mut m, kr);
             cur = Expr::MethodCall(m);
         }
@@ -864,7 +888,20 @@ impl Rewriter {
     /// One call of a chain, its receiver's kind `kr` known.
     fn method_one(&mut self, m: &mut syn::ExprMethodCall, kr: Kind) -> Kind {
         norm_power_to_norm_squared(m);
-        let kargs: Vec<Kind> = m.args.iter_mut().map(|a| self.expr(a)).collect();
+        let name = m.method.to_string();
+        let mut kargs: Vec<Kind> = Vec::with_capacity(m.args.len());
+        for (i, a) in m.args.iter_mut().enumerate() {
+            // The kinds of the elements a closure argument of an iterator method receives.
+            if matches!(a, Expr::Closure(_)) {
+                self.closure_hint = match (name.as_str(), i) {
+                    ("map" | "for_each" | "filter" | "any" | "all", 0) => Some(vec![kr.clone()]),
+                    ("fold", 1) => Some(vec![kargs[0].clone(), kr.clone()]),
+                    _ => None,
+                };
+            }
+            kargs.push(self.expr(a));
+            self.closure_hint = None;
+        }
         if m.method == "powi" {
             return kr;
         }
@@ -872,9 +909,18 @@ impl Rewriter {
         if !any_var {
             return Kind::Const;
         }
-        // Iterator adaptors take what they are given (`q.iter().zip(self.m.iter())`).
-        if ITERATOR_METHODS.contains(&m.method.to_string().as_str()) {
-            return Kind::Var;
+        // Iterator adaptors take what they are given (`q.iter().zip(self.m.iter())`); the
+        // kind is their elements'.
+        if ITERATOR_METHODS.contains(&name.as_str()) {
+            return match (name.as_str(), kargs.as_slice()) {
+                ("zip", [k]) => Kind::Tuple(vec![kr, k.clone()]),
+                ("enumerate", _) => Kind::Tuple(vec![Kind::Const, kr]),
+                ("map", [k]) => k.clone(),
+                ("fold", [a, b]) => Kind::join(a.clone(), b.clone()),
+                ("sum" | "product", _) => Kind::join(kr, Kind::Const),
+                ("count" | "len", _) => Kind::Const,
+                _ => kr,
+            };
         }
         // A method of the user's own type (`self.omega(t)`) takes its arguments as
         // declared: `self` is never lifted.
