@@ -125,10 +125,54 @@
 //!   parameter, a function of parameters): evaluated once per call, as written, and printed as
 //!   written in `EQUATIONS`.
 //!
-//! A loop, a call of a function of the state, or an `if`/`match` on the state is a compile error
-//! at that expression that says to use `#[lagrangian(mode = "jets")]`, where anything Rust can
-//! compute generically over `Scalar` works. `EQUATIONS` and `EQUATIONS_LATEX` are each one
-//! string, one line per coordinate.
+//! - coordinate arrays: `(q, q_dot): Coords<6>` binds `q` and `q_dot` as `[Scalar; 6]` (the
+//!   length an integer literal), named `q[0]` … `q[5]` in `COORDINATES` and `EQUATIONS`;
+//!   `Coord`, `Coord3` and `Coords<K>` mix in one signature;
+//! - `for` loops, unrolled when the macro expands: over ranges whose bounds it knows (literals,
+//!   loop variables, `q.len()`, integer `const`s of the impl block written `Self::N`), over
+//!   arrays, and over `.iter()`, `.enumerate()`, `.zip(..)` (also with an `f64` array field,
+//!   `self.m.iter()`), `.rev()`, `.skip(k)`, `.take(k)`, `.step_by(k)`; `.map(..)`, `.sum()`,
+//!   `.product()` and `.fold(..)` on them; indexing with constants and loop variables; local
+//!   arrays (`[0.0; 3]`, written element by element); `if` on a loop variable;
+//! - helpers, inlined: methods of the same impl block written with `Scalar`
+//!   (`fn kinetic(&self, m: f64, v: Scalar) -> Scalar`, called as `self.kinetic(m, v)` or
+//!   `Self::kinetic(self, m, v)`; both modes make them generic, so they stay ordinary methods,
+//!   callable with `f64`), closures, and nested `fn` items in the body.
+//!
+//! A call of a function the macro cannot see with the state, recursion, or an `if`/`match` on
+//! the state is a compile error at that expression that says to use
+//! `#[lagrangian(mode = "jets")]`, where anything Rust can compute generically over `Scalar`
+//! works. `EQUATIONS` and `EQUATIONS_LATEX` are each one string, one line per coordinate (a very
+//! large system says from which equation on it is too large to print).
+//!
+//! ```
+//! use lagrange::prelude::*;
+//!
+//! /// Three beads on a ring of springs, written with an array, a loop, a helper and a closure.
+//! pub struct Beads { pub m: [f64; 3], pub k: f64 }
+//!
+//! #[lagrangian]
+//! impl Beads {
+//!     fn spring(&self, a: Scalar, b: Scalar) -> Scalar {
+//!         0.5 * self.k * (a - b).powi(2)
+//!     }
+//!     fn lagrangian(&self, (x, x_dot): Coords<3>) -> Scalar {
+//!         let kinetic = |m: f64, v: Scalar| 0.5 * m * v * v;
+//!         let mut l = 0.0;
+//!         for (i, (v, m)) in x_dot.iter().zip(self.m.iter()).enumerate() {
+//!             l += kinetic(*m, *v) - self.spring(x[i], x[(i + 1) % 3]);
+//!         }
+//!         l
+//!     }
+//! }
+//!
+//! let b = Beads { m: [1.0, 2.0, 4.0], k: 8.0 };
+//! assert_eq!(Beads::COORDINATES, ["x[0]", "x[1]", "x[2]"]);
+//! // Bead 0 pulled by its neighbours at 1 and −1: (8 (1 − 0) + 8 (−1 − 0)) / 1 = 0.
+//! let a = b.accelerations(&[0.0, 1.0, -1.0], &[0.0; 3], 0.0).unwrap();
+//! assert_eq!(a, [0.0, 8.0 * (-1.0 - 1.0 + 0.0 - 1.0) / 2.0, 8.0 * (0.0 + 1.0 + 1.0 + 1.0) / 4.0]);
+//! assert!(Beads::EQUATIONS.contains("x[1]: m[1] x\u{308}[1] = k x[0]")); // ẍ: x and a combining ¨
+//! ```
 //!
 //! ```
 //! use lagrange::prelude::*;

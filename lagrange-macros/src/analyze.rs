@@ -581,6 +581,21 @@ impl Rewriter {
                             kind = Kind::Var;
                         }
                     }
+                    // `let (mut a, mut b) = (0.0, 0.0);`: each element as its own `let`.
+                    if let (Pat::Tuple(pt), Expr::Tuple(et), Kind::Tuple(ks)) =
+                        (&local.pat, &mut *init.expr, &mut kind)
+                    {
+                        if pt.elems.len() == et.elems.len() && ks.len() == et.elems.len() {
+                            for ((p, e), k) in pt.elems.iter().zip(et.elems.iter_mut()).zip(ks) {
+                                if *k == Kind::Const
+                                    && mut_binding(p).is_some_and(|n| self.promote.contains(&n))
+                                {
+                                    lift_in_place(e);
+                                    *k = Kind::Var;
+                                }
+                            }
+                        }
+                    }
                     if kind == Kind::Const
                         && mut_binding(&local.pat).is_some_and(|n| self.promote.contains(&n))
                     {

@@ -63,6 +63,16 @@ pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
     quote!(#errs #rest #stub)
 }
 
+/// The bodies lowered for jets (emitted in both modes): the rest of the impl block (its helper
+/// methods made generic), `fn lagrangian`'s body, those of `decl.funcs()` in that order, and
+/// `fn constraints`'s.
+pub struct JetsBodies {
+    pub rest: syn::ItemImpl,
+    pub body: syn::Block,
+    pub funcs: Vec<syn::Block>,
+    pub constraints: Option<syn::Block>,
+}
+
 /// The `impl Lagrangian<N>`: the jets `fn lagrangian` (its body `body`, lowered for jets), the
 /// generic `fn dissipation` / `fn generalized_forces` (the bodies `funcs` of `decl.funcs()`,
 /// lowered for jets, in that order), and,
@@ -72,14 +82,18 @@ pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
 /// too, and nothing cascades; the build fails either way: no silent fallback).
 pub fn generate(
     decl: &Decl,
-    rest: &syn::ItemImpl,
     analysis: &Analysis,
-    body: &syn::Block,
-    funcs: &[syn::Block],
-    constraints: Option<&syn::Block>,
+    jets: &JetsBodies,
     symbolic: Option<&SymbolicOutput>,
     errors: &Errors,
 ) -> TokenStream {
+    let JetsBodies {
+        rest,
+        body,
+        funcs,
+        constraints,
+    } = jets;
+    let constraints = constraints.as_ref();
     let n = decl.n();
     let self_ty = &decl.rest.self_ty;
     let names = decl.coordinate_names();

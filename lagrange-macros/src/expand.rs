@@ -59,14 +59,11 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     // With errors from the symbolic stage the impl is still emitted (with the jets `fn
     // lagrangian` and without the symbolic methods), next to the errors: see `emit::generate`.
     let symbolic = symbolic.filter(|_| errors.is_empty());
-    emit::generate(
-        &decl,
-        &rest,
-        &analysis,
-        &body,
-        &funcs,
-        constraints.as_ref(),
-        symbolic.as_ref(),
-        &errors,
-    )
+    let jets = emit::JetsBodies {
+        rest,
+        body,
+        funcs,
+        constraints,
+    };
+    emit::generate(&decl, &analysis, &jets, symbolic.as_ref(), &errors)
 }

@@ -41,6 +41,41 @@ use proc_macro::TokenStream;
 /// (and the optional `fn dissipation` and `fn forces`) written as plain Rust. See the `lagrange`
 /// crate documentation.
 ///
+/// # Signature forms
+///
+/// `fn lagrangian(&self, <coordinates>, t: Time) -> Scalar` (`self: &Self` also works), each
+/// coordinate parameter one of `(x, x_dot): Coord` (a `Scalar`), `(r, r_dot): Coord3` (a
+/// `Vector3<Scalar>`, slots `r.x`, `r.y`, `r.z`) or `(q, q_dot): Coords<K>` (a `[Scalar; K]`, K an
+/// integer literal, slots `q[0]` … `q[K-1]`), mixed freely; `t: Time` is optional. Methods of
+/// the same impl block written with `Scalar` are helpers: generic over the number type in both
+/// modes, inlined by the symbolic mode.
+///
+/// ```
+/// use lagrange::prelude::*;
+///
+/// pub struct Chain { pub m: f64, pub l: f64, pub g: f64 }
+///
+/// #[lagrangian]
+/// impl Chain {
+///     fn lagrangian(&self, (q, q_dot): Coords<3>) -> Scalar {
+///         let (mut vx, mut vy, mut y, mut l) = (0.0, 0.0, 0.0, 0.0);
+///         for k in 0..q.len() {
+///             let (s, c) = q[k].sin_cos();
+///             vx += self.l * c * q_dot[k];
+///             vy += self.l * s * q_dot[k];
+///             y -= self.l * c;
+///             l += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+///         }
+///         l
+///     }
+/// }
+///
+/// let c = Chain { m: 1.0, l: 1.0, g: 9.81 };
+/// let a = c.accelerations(&[0.0; 3], &[0.0; 3], 0.0).unwrap();
+/// assert_eq!(a, [0.0; 3]); // hanging straight down, at rest
+/// assert_eq!(Chain::COORDINATES, ["q[0]", "q[1]", "q[2]"]);
+/// ```
+///
 /// # Constraints
 ///
 /// An optional `fn constraints(&self, (x, _): Coord, ..., t: Time) -> [Scalar; K]` next to

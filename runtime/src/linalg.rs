@@ -1,6 +1,6 @@
 //! Small fixed-size dense solves for the mass matrix: LDLᵀ with scale-invariant pivot tests, and
-//! LU (partial pivoting, on the equilibrated matrix) when the matrix is indefinite. Written for
-//! N ≤ ~20 where loop overhead dominates.
+//! LU (partial pivoting, on the equilibrated matrix) when the matrix is indefinite. The loops run
+//! along rows (contiguous, vectorizable), so the same code serves N = 2 and N = 64.
 
 /// Why a small solve failed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,10 +90,10 @@ impl<const N: usize> Ldlt<N> {
             Ok(Some(f)) => Ok(f),
             Ok(None) => {
                 // Report the first non-positive pivot.
-                let mut a = *m;
+                let (mut a, mut u) = (*m, *m);
                 let mut d = [0.0; N];
                 for j in 0..N {
-                    let dj = Self::pivot(&mut a, &mut d, j);
+                    let dj = Self::pivot(&mut a, &mut u, &mut d, j);
                     if dj.is_nan() || dj <= 0.0 {
                         let mjj = m[j][j];
                         return Err(SolveFailure::Singular {
@@ -111,24 +111,30 @@ impl<const N: usize> Ldlt<N> {
         }
     }
 
-    /// Eliminates column j of the factorization in progress and returns its pivot d_j.
+    /// Eliminates column j of the factorization in progress and returns its pivot d_j. Row k
+    /// of `u` holds u_ki = l_ki d_k (the row before its division by the pivot), row k of `a`
+    /// holds l_ki, for k < j: d_j = m_jj − Σ_k l_kj u_kj and u_ji = m_ji − Σ_k l_kj u_ki, the
+    /// sums over k in increasing order (as the generated straight-line solve), each a row update.
     #[inline(always)]
-    fn pivot(a: &mut [[f64; N]; N], d: &mut [f64; N], j: usize) -> f64 {
-        let mut dj = a[j][j];
-        for k in 0..j {
-            dj -= a[k][j] * a[k][j] * d[k];
+    fn pivot(a: &mut [[f64; N]; N], u: &mut [[f64; N]; N], d: &mut [f64; N], j: usize) -> f64 {
+        let (done, rest) = u.split_at_mut(j);
+        let Some(row_j) = rest.first_mut() else {
+            return f64::NAN;
+        };
+        for (k, row_k) in done.iter().enumerate() {
+            let lkj = a[k][j];
+            for (x, &y) in row_j[j..].iter_mut().zip(&row_k[j..]) {
+                *x -= lkj * y;
+            }
         }
+        let dj = row_j[j];
         if dj.is_nan() || dj <= 0.0 {
             return dj;
         }
         d[j] = dj;
         let r = 1.0 / dj;
-        for i in j + 1..N {
-            let mut s = a[j][i];
-            for k in 0..j {
-                s -= a[k][j] * a[k][i] * d[k];
-            }
-            a[j][i] = s * r;
+        for (l, &x) in a[j][j + 1..].iter_mut().zip(&row_j[j + 1..]) {
+            *l = x * r;
         }
         dj
     }
@@ -140,10 +146,10 @@ impl<const N: usize> Ldlt<N> {
         if m.iter().enumerate().any(|(i, row)| !row[i].is_finite()) {
             return Err(SolveFailure::NonFinite);
         }
-        let mut a = *m;
+        let (mut a, mut u) = (*m, *m);
         let mut d = [0.0; N];
         for j in 0..N {
-            let dj = Self::pivot(&mut a, &mut d, j);
+            let dj = Self::pivot(&mut a, &mut u, &mut d, j);
             if dj.is_nan() || dj <= 0.0 {
                 return Ok(None);
             }
@@ -166,9 +172,11 @@ impl<const N: usize> Ldlt<N> {
     pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
         let (a, d_inv) = (&self.a, &self.d_inv);
         let mut x = *b;
-        for i in 0..N {
-            for k in 0..i {
-                x[i] -= a[k][i] * x[k];
+        // Forward: x_i −= l_ki x_k for k < i, k in increasing order, as row updates.
+        for k in 0..N {
+            let xk = x[k];
+            for (xi, &l) in x[k + 1..].iter_mut().zip(&a[k][k + 1..]) {
+                *xi -= l * xk;
             }
         }
         for i in 0..N {

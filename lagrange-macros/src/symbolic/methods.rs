@@ -54,6 +54,11 @@ pub struct SymbolicOutput {
 }
 
 /// The bodies of the generated methods and the printed equations of a derivation.
+/// Above this many coordinates the accelerations solve M q̈ = f with the runtime's loop-based
+/// LDLᵀ (M and f from `pieces`) instead of the unrolled elimination: the measured crossover of
+/// q̈ time on an N-link chain lies between 32 and 64 (BENCHMARKS.md, "Chains of N links").
+const LOOP_SOLVE_ABOVE: usize = 32;
+
 pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     let n = decl.n();
     let names::Params { q, qdot, t } = names::Params::symbolic();
@@ -93,23 +98,52 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         .iter()
         .map(|&(i, k, det, exact)| (i, k, op(det), exact))
         .collect();
-    let solve = solve::ldlt(&eq, &pairs);
     let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
-    let accelerations = quote! {
-        #touch
-        #stmts
-        // The fast path; the arrays for the runtime's solve are only built when it fails.
-        let #fast: ::core::option::Option<[f64; #nn]> = #fast_label: { #solve };
-        match #fast {
-            ::core::option::Option::Some(#x) => ::core::result::Result::Ok(#x),
-            ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
-                &[#(#rows),*],
+    let large = n > LOOP_SOLVE_ABOVE;
+    let lagrangian_trait = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>);
+    let accelerations = if large {
+        // Large N: M (upper triangle) and f as arrays, solved by the runtime's row-oriented
+        // LDLᵀ (the same pivot test and fallback): O(N²) code instead of the O(N³) of the
+        // unrolled elimination, which costs minutes of build and is slower at this size
+        // (BENCHMARKS.md, "Chains of N links").
+        let upper = eq.mass.iter().enumerate().map(|(i, row)| {
+            let cells = row
+                .iter()
+                .enumerate()
+                .map(|(k, c)| if k < i { quote!(0.0) } else { or_zero(c) });
+            quote!([#(#cells),*])
+        });
+        let f = eq.rhs.iter().map(or_zero);
+        quote! {
+            #touch
+            #stmts
+            ::lagrange::__private::solve_mass_matrix(
+                &[#(#upper),*],
                 &[#(#f),*],
-                <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
+                #lagrangian_trait::COORDINATES,
                 #q,
                 #qdot,
                 #t,
-            ),
+            )
+        }
+    } else {
+        let solve = solve::ldlt(&eq, &pairs);
+        quote! {
+            #touch
+            #stmts
+            // The fast path; the arrays for the runtime's solve are only built when it fails.
+            let #fast: ::core::option::Option<[f64; #nn]> = #fast_label: { #solve };
+            match #fast {
+                ::core::option::Option::Some(#x) => ::core::result::Result::Ok(#x),
+                ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
+                    &[#(#rows),*],
+                    &[#(#f),*],
+                    <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
+                    #q,
+                    #qdot,
+                    #t,
+                ),
+            }
         }
     };
 
@@ -158,7 +192,13 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         #w
     };
 
-    // mass_matrix
+    // mass_matrix (large N: from `pieces`, one copy of M's code)
+    let mass_matrix_large = quote! {
+        let __lagrange_pieces = #lagrangian_trait::pieces(self, #q, #qdot, #t);
+        ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_fn(|__lagrange_i, __lagrange_k| {
+            __lagrange_pieces.mass_entry(__lagrange_i, __lagrange_k)
+        })
+    };
     let mut outs: Vec<Id> = Vec::new();
     for (i, row) in d.mass.iter().enumerate() {
         outs.extend(&row[i..]);
@@ -172,10 +212,14 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
             op(id)
         });
     let stmts = code.stmts;
-    let mass_matrix = quote! {
-        #touch
-        #stmts
-        ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_row_slice(&[#(#cells),*])
+    let mass_matrix = if large {
+        mass_matrix_large
+    } else {
+        quote! {
+            #touch
+            #stmts
+            ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_row_slice(&[#(#cells),*])
+        }
     };
 
     // momenta
@@ -183,10 +227,14 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     lets += code.lets;
     let p = d.momenta.iter().map(|&x| op(x));
     let stmts = code.stmts;
-    let momenta = quote! {
-        #touch
-        #stmts
-        [#(#p),*]
+    let momenta = if large {
+        quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).1)
+    } else {
+        quote! {
+            #touch
+            #stmts
+            [#(#p),*]
+        }
     };
 
     // energy
@@ -194,10 +242,14 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     lets += code.lets;
     let h = op(d.energy);
     let stmts = code.stmts;
-    let energy = quote! {
-        #touch
-        #stmts
-        #h
+    let energy = if large {
+        quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).0)
+    } else {
+        quote! {
+            #touch
+            #stmts
+            #h
+        }
     };
 
     // energy and momenta together (what an integrator records every step): shared subexpressions

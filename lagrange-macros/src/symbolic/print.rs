@@ -66,12 +66,26 @@ fn unexpanded(a: Id, b: Id, sign: i32) -> Poly {
 struct Expander<'a> {
     dag: &'a Dag,
     memo: HashMap<Id, Poly>,
+    /// Monomials expanded so far; past [`PRINT_BUDGET`] the printing stops (see `equations`).
+    work: usize,
 }
 
+/// The most monomials the printer expands for one system: a 64-link chain's equations cost
+/// 28 s of its build to expand in full; past this the remaining equations say they are too
+/// large to print (M, f and the equations themselves are unaffected).
+const PRINT_BUDGET: usize = 400_000;
+
 impl Expander<'_> {
+    fn over_budget(&self) -> bool {
+        self.work > PRINT_BUDGET
+    }
+
     fn poly(&mut self, id: Id) -> Poly {
         if let Some(p) = self.memo.get(&id) {
             return p.clone();
+        }
+        if self.over_budget() {
+            return Poly::atom(Atom::Paren(id), 1);
         }
         // Expand children first, iteratively, to bound the recursion depth.
         // Each node is expanded once: a node reached again by another path before it is done
@@ -98,8 +112,12 @@ impl Expander<'_> {
             }
         }
         for x in order {
+            if self.over_budget() {
+                return Poly::atom(Atom::Paren(id), 1);
+            }
             if !self.memo.contains_key(&x) {
                 let p = self.one(x);
+                self.work += p.0.len();
                 self.memo.insert(x, p);
             }
         }
@@ -423,6 +441,11 @@ impl Printer<'_> {
         let mut seen = std::collections::HashSet::new();
         while let Some((x, ready)) = stack.pop() {
             if self.flat.contains_key(&x) || (!ready && !seen.insert(x)) {
+                continue;
+            }
+            if self.ex.over_budget() && !self.ex.memo.contains_key(&x) {
+                // Past the budget nothing new is expanded: the equation says it is too long.
+                self.flat.insert(x, TOO_LONG.to_owned());
                 continue;
             }
             let p = self.ex.poly(x);
@@ -766,12 +789,15 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
         unicode: String::new(),
         latex: String::new(),
     };
+    // One expansion for both renderings.
+    let mut ex = Expander {
+        dag: &d.dag,
+        memo: HashMap::new(),
+        work: 0,
+    };
     for latex in [false, true] {
         let mut pr = Printer {
-            ex: Expander {
-                dag: &d.dag,
-                memo: HashMap::new(),
-            },
+            ex,
             names: Names {
                 slots: slots.iter().map(clone_slot).collect(),
                 params: params.clone(),
@@ -782,6 +808,18 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
         };
         let mut text = String::new();
         for i in 0..decl.n() {
+            if pr.ex.over_budget() {
+                let rest = decl.n() - i;
+                let _ = if latex {
+                    writeln!(
+                        text,
+                        "\text{{({rest} more equations, too large to print at compile time)}}"
+                    )
+                } else {
+                    writeln!(text, "({rest} more equations, too large to print at compile time; `mass_matrix` and `pieces` give M and f at run time)")
+                };
+                break;
+            }
             let mut lhs = Poly::default();
             for k in 0..decl.n() {
                 let m = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
@@ -835,6 +873,7 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
         } else {
             out.unicode = text;
         }
+        ex = pr.ex;
     }
     out
 }
