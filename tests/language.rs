@@ -413,3 +413,62 @@ fn coord_coord3_and_coords_mix_in_one_signature() {
         ["a", "r.x", "r.y", "r.z", "q[0]", "q[1]"]
     );
 }
+
+twins! {
+    /// 40 beads joined by springs, fixed ends: above 32 coordinates the accelerations take the
+    /// runtime's loop-based LDLᵀ and `mass_matrix`, `momenta` and `energy` come from
+    /// `pieces` and `energy_and_momenta`.
+    Beads40, Beads40Jets { m: f64, k: f64 }
+    fn lagrangian(&self, (x, x_dot): Coords<40>) -> Scalar {
+        let mut l = 0.5 * self.k * (x[0] * x[0] + x[39] * x[39]);
+        for i in 0..39 {
+            l += 0.5 * self.k * (x[i + 1] - x[i]).powi(2);
+        }
+        let mut t = 0.0;
+        for v in x_dot {
+            t += 0.5 * self.m * v * v;
+        }
+        t - l
+    }
+}
+
+/// The large-system path against the closed form m ẍᵢ = k (xᵢ₊₁ − 2xᵢ + xᵢ₋₁) and against the
+/// jets (M, momenta, energy).
+#[test]
+fn above_32_coordinates_the_loop_solve_gives_the_closed_form() {
+    let mut rng = Rng(37);
+    let p = Beads40 { m: 0.5, k: 3.0 };
+    let q: [f64; 40] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+    let v: [f64; 40] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+    let a = p.accelerations(&q, &v, 0.0).expect("symbolic");
+    for i in 0..40 {
+        let left = if i > 0 { q[i - 1] } else { 0.0 };
+        let right = if i < 39 { q[i + 1] } else { 0.0 };
+        let want = p.k * (right - 2.0 * q[i] + left) / p.m;
+        assert!(
+            (a[i] - want).abs() <= 1e-13 * want.abs().max(1.0),
+            "{i}: {} vs {want}",
+            a[i]
+        );
+    }
+    let (mass, energy, momenta) = (
+        p.mass_matrix(&q, &v, 0.0),
+        p.energy(&q, &v, 0.0),
+        p.momenta(&q, &v, 0.0),
+    );
+    // The jets of 40 coordinates carry 40×40 second derivatives per number: their evaluation
+    // wants more than a test thread's 2 MiB of stack.
+    let j = p.jets();
+    std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(move || {
+            compare(&p, &j, q, v);
+            assert_eq!(mass, j.mass_matrix(&q, &v, 0.0));
+            let m = j.energy(&q, &v, 0.0);
+            assert!((energy - m).abs() <= 1e-13 * m.abs(), "{energy} vs {m}");
+            assert!(close(&momenta, &j.momenta(&q, &v, 0.0), 1e-14));
+        })
+        .expect("a thread")
+        .join()
+        .expect("the jets agree");
+}
