@@ -524,6 +524,12 @@ pub fn solve_constrained<const N: usize, const K: usize>(
             bt[i] -= w * g[j][i] * c[j];
         }
     }
+    // The fast path: one factorization and one sweep for z = M̃⁻¹ b̃ and Y_j = M̃⁻¹ G_jᵀ, and
+    // the K×K system by Cholesky; anything unusual (a small pivot, an indefinite M̃, dependent
+    // rows, a non-finite value) goes to the careful path below, which says what happened.
+    if let Some(done) = constrained_fast(&mt, &bt, g, c) {
+        return Ok(done);
+    }
     // z = M̃⁻¹ b̃ and Y_j = M̃⁻¹ G_jᵀ, from one factorization.
     let singular = |row: usize, relative_pivot: f64| {
         singular_constrained(names, row, relative_pivot, q, qdot, t)
@@ -586,6 +592,47 @@ pub fn solve_constrained<const N: usize, const K: usize>(
     } else {
         Err(non_finite(q, qdot, t))
     }
+}
+
+/// [`solve_constrained`] after M̃ and b̃: `None` wherever the careful path must decide.
+#[inline(always)]
+fn constrained_fast<const N: usize, const K: usize>(
+    mt: &[[f64; N]; N],
+    bt: &[f64; N],
+    g: &[[f64; N]; K],
+    c: &[f64; K],
+) -> Option<([f64; N], [f64; K])> {
+    let (z, y) = crate::linalg::ldlt_solve_with(mt, bt, g)?;
+    // S = G Y (symmetric positive definite for independent rows), r = −c − G z.
+    let mut s = [[0.0; K]; K];
+    let mut r = [0.0; K];
+    for j in 0..K {
+        for l in j..K {
+            s[j][l] = (0..N).map(|i| g[j][i] * y[l][i]).sum();
+        }
+        r[j] = -c[j] - (0..N).map(|i| g[j][i] * z[i]).sum::<f64>();
+    }
+    let lambda: [f64; K] = if K == 1 {
+        // The careful path's test for a 1×1 system: a positive pivot.
+        if s[0][0].is_nan() || s[0][0] <= 0.0 {
+            return None;
+        }
+        let mut out = [0.0; K];
+        out[0] = r[0] / s[0][0];
+        out
+    } else {
+        crate::linalg::ldlt_solve_with(&s, &r, &[])?.0
+    };
+    let mut a = z;
+    for j in 0..K {
+        for i in 0..N {
+            a[i] += lambda[j] * y[j][i];
+        }
+    }
+    a.iter()
+        .chain(&lambda)
+        .all(|x| x.is_finite())
+        .then_some((a, lambda))
 }
 
 fn dependent<const N: usize>(

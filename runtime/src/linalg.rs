@@ -191,6 +191,84 @@ impl<const N: usize> Ldlt<N> {
     }
 }
 
+/// Solves M x = b and M Yⱼ = gⱼ (j < K) for symmetric positive definite M (upper triangle)
+/// with one LDLᵀ and one sweep over all K + 1 right-hand sides; `None` where a pivot is not
+/// positive or fails [`ACCURATE_RELATIVE_PIVOT`], or anything is not finite (the caller then
+/// takes the careful path, which says why). The constrained solve's fast path.
+///
+/// ```
+/// use lagrange_runtime::linalg::ldlt_solve_with;
+/// let m = [[4.0, 2.0], [0.0, 3.0]]; // upper triangle of [[4, 2], [2, 3]]
+/// let (x, y) = ldlt_solve_with(&m, &[2.0, 1.0], &[[4.0, 2.0]]).unwrap();
+/// assert!((x[0] - 0.5).abs() < 1e-15 && x[1].abs() < 1e-15);
+/// assert!((y[0][0] - 1.0).abs() < 1e-15 && y[0][1].abs() < 1e-15);
+/// assert!(ldlt_solve_with(&[[1.0, 2.0], [0.0, 1.0]], &[1.0, 1.0], &[[1.0, 0.0]]).is_none());
+/// ```
+#[inline]
+pub fn ldlt_solve_with<const N: usize, const K: usize>(
+    m: &[[f64; N]; N],
+    b: &[f64; N],
+    g: &[[f64; N]; K],
+) -> Option<([f64; N], [[f64; N]; K])> {
+    // l[k][i] (i > k) and u[k][i] = l[k][i] d_k, rows updated in place (see `Ldlt::pivot`).
+    let mut u = *m;
+    let mut l = [[0.0; N]; N];
+    let mut d_inv = [0.0; N];
+    for j in 0..N {
+        let (done, rest) = u.split_at_mut(j);
+        let row_j = rest.first_mut()?;
+        for (k, row_k) in done.iter().enumerate() {
+            let lkj = l[k][j];
+            for (x, &y) in row_j[j..].iter_mut().zip(&row_k[j..]) {
+                *x -= lkj * y;
+            }
+        }
+        let dj = row_j[j];
+        // Also false for NaN.
+        let accurate = dj > ACCURATE_RELATIVE_PIVOT * m[j][j];
+        if !accurate || !dj.is_finite() {
+            return None;
+        }
+        let r = 1.0 / dj;
+        d_inv[j] = r;
+        for (li, &x) in l[j][j + 1..].iter_mut().zip(&row_j[j + 1..]) {
+            *li = x * r;
+        }
+    }
+    let mut x = *b;
+    let mut y = *g;
+    for k in 0..N {
+        let lk = &l[k];
+        let xk = x[k];
+        for i in k + 1..N {
+            x[i] -= lk[i] * xk;
+        }
+        for yj in y.iter_mut() {
+            let yk = yj[k];
+            for i in k + 1..N {
+                yj[i] -= lk[i] * yk;
+            }
+        }
+    }
+    for i in 0..N {
+        x[i] *= d_inv[i];
+        for yj in y.iter_mut() {
+            yj[i] *= d_inv[i];
+        }
+    }
+    for i in (0..N).rev() {
+        let li = &l[i];
+        for k in i + 1..N {
+            x[i] -= li[k] * x[k];
+            for yj in y.iter_mut() {
+                yj[i] -= li[k] * yj[k];
+            }
+        }
+    }
+    let finite = x.iter().chain(y.iter().flatten()).all(|v| v.is_finite());
+    finite.then_some((x, y))
+}
+
 fn lu_solve_upper<const N: usize>(
     m: &[[f64; N]; N],
     b: &[f64; N],
