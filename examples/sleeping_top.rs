@@ -6,7 +6,7 @@
 //! cargo run --release --example sleeping_top -- --nudge 1e-6 --points 161 --svg out/sleeping.svg
 //! ```
 //!
-//! Sweeps Ω/ω0 in parallel (rayon, with a progress bar). Each top starts **exactly upright**,
+//! Sweeps Ω/ω0 on the ensemble API (threads, a progress bar, constrained members). Each top starts **exactly upright**,
 //! spinning about its axis, with a tilt rate θ̇0 = ε (the nudge, default 1e-8 rad/s): the top is
 //! written in unit quaternions with the constraint |q|² = 1 (`#[lagrangian]` with
 //! `fn constraints`), a chart with no singularity, where the Euler angles of eq. 92 are singular
@@ -18,11 +18,9 @@
 
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressStyle};
 use lagrange::prelude::*;
 use lagrange::theory::heavy_top::sleeping_top_lowest_cos;
 use plotters::prelude::*;
-use rayon::prelude::*;
 
 // The top of eq. 92 in unit quaternions, declared with `#[lagrangian]` and `fn constraints`;
 // shared with the tests and the benches.
@@ -88,35 +86,22 @@ fn parse() -> Result<Options, String> {
     Ok(o)
 }
 
-/// One run: θ_max (rad) reached from exactly upright with the tilt rate `nudge` and the given
-/// Ω/ω0.
-fn largest_nutation(top: &QuaternionTop, nudge: f64, ratio: f64) -> Result<f64, String> {
+/// The initial state of one member: exactly upright, with the tilt rate `nudge` and the spin
+/// of the given Ω/ω0. Body angular velocity (ε, 0, ω3) with Ω = L∥/I⊥ = I∥ ω3/I⊥;
+/// q = (1, 0, 0, 0), q̇ = ½ q ⊗ (0, ω).
+fn upright(top: &QuaternionTop, nudge: f64, ratio: f64) -> ([f64; 4], [f64; 4]) {
     let omega0 = (top.mgl / top.i_perp).sqrt();
-    // Upright, body angular velocity (ε, 0, ω3) with Ω = L∥/I⊥ = I∥ ω3/I⊥;
-    // q = (1, 0, 0, 0), q̇ = ½ q ⊗ (0, ω).
     let spin = ratio * omega0 * top.i_perp / top.i_par;
-    let (q0, qd0) = ([1.0, 0.0, 0.0, 0.0], [0.0, nudge / 2.0, 0.0, spin / 2.0]);
-    let traj = Simulation::constrained(top, q0, qd0)
-        .method(Method::Dop853 {
-            rtol: 1e-12,
-            atol: 1e-15,
-        })
-        .until(1e4 / omega0)
-        .max_steps(2_000_000)
-        .event(
-            Event::zero_crossing("theta max", |_t, q: &[f64; 4], v: &[f64; 4]| {
-                axis_z_rate(q, v)
-            })
-            .rising()
-            .terminal(),
-        )
-        .run()
-        .map_err(|e| e.to_string())?;
-    Ok(traj
-        .events
+    ([1.0, 0.0, 0.0, 0.0], [0.0, nudge / 2.0, 0.0, spin / 2.0])
+}
+
+/// θ_max (rad) of one run: where the axis stops tipping (the terminal event), or the largest
+/// tilt sampled if it never does.
+fn largest_nutation(traj: &Trajectory<4>) -> f64 {
+    traj.events
         .first()
         .map(|e| tilt(&e.q))
-        .unwrap_or_else(|| traj.q.iter().map(tilt).fold(0.0, f64::max)))
+        .unwrap_or_else(|| traj.q.iter().map(tilt).fold(0.0, f64::max))
 }
 
 fn main() {
@@ -136,21 +121,38 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
         o.points,
         rayon::current_num_threads()
     );
-    let bar = ProgressBar::new(ratios.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed_precise}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    // The constrained run of each member (the quaternion chart has no singularity upright),
+    // on the ensemble API: threads, a progress bar, results in member order.
+    let top = o.top;
+    let omega0 = (top.mgl / top.i_perp).sqrt();
     let start = Instant::now();
-    let results: Vec<(f64, Result<f64, String>)> = ratios
-        .par_iter()
-        .map(|&r| {
-            let out = largest_nutation(&o.top, o.nudge, r);
-            bar.inc(1);
-            (r, out)
+    let sweep = Ensemble::new(ratios.len(), |k| {
+        let (q0, qd0) = upright(&top, o.nudge, ratios[k]);
+        Member::new(top, q0, qd0).param("ratio", ratios[k])
+    })
+    .constrained::<1>()
+    .configure(|sim| {
+        sim.method(Method::Dop853 {
+            rtol: 1e-12,
+            atol: 1e-15,
         })
+        .until(1e4 / omega0)
+        .max_steps(2_000_000)
+        .event(
+            Event::zero_crossing("theta max", |_t, q: &[f64; 4], v: &[f64; 4]| {
+                axis_z_rate(q, v)
+            })
+            .rising()
+            .terminal(),
+        )
+    })
+    .progress(true)
+    .reduce(&["theta_max"], largest_nutation);
+    let results: Vec<(f64, Result<f64, String>)> = ratios
+        .iter()
+        .zip(sweep.results)
+        .map(|(&r, out)| (r, out.map_err(|e| e.to_string())))
         .collect();
-    bar.finish();
     println!(
         "{} runs in {:.2} s\n",
         results.len(),

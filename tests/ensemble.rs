@@ -166,3 +166,51 @@ fn csv_columns_are_named() {
     assert_eq!(joined, text);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `.constrained::<K>()`: every member is the constrained run of its system with the options
+/// `configure` gives: its samples (q, q̇, λ) equal a `Simulation::constrained` run's bit for bit,
+/// in member order, with two threads.
+#[test]
+fn constrained_members_equal_their_constrained_runs() {
+    use crate::support::quaternion_top::QuaternionTop;
+    let top = || QuaternionTop {
+        i_perp: 1.0,
+        i_par: 0.4,
+        mgl: 1.5,
+    };
+    // Upright, nudged, spinning about the axis at rates 2 … 7.
+    let state = |i: usize| {
+        let spin = 2.0 + i as f64;
+        ([1.0, 0.0, 0.0, 0.0], [0.0, 0.05, 0.0, spin / 2.0])
+    };
+    let method = Method::Dop853 {
+        rtol: 1e-11,
+        atol: 1e-13,
+    };
+    let r = Ensemble::new(6, |i| {
+        let (q0, v0) = state(i);
+        Member::new(top(), q0, v0).param("spin", 2.0 + i as f64)
+    })
+    .constrained::<1>()
+    .configure(move |sim| sim.method(method).until(4.0).sample_every(0.5))
+    .threads(2)
+    .run();
+    assert_eq!(r.index, (0..6).collect::<Vec<_>>());
+    for (i, got) in r.results.iter().enumerate() {
+        let got = got.as_ref().expect("member runs");
+        let (q0, v0) = state(i);
+        let system = top();
+        let want = Simulation::constrained(&system, q0, v0)
+            .method(method)
+            .until(4.0)
+            .sample_every(0.5)
+            .run()
+            .expect("the constrained run");
+        assert_eq!(got.t, want.t, "member {i}");
+        assert_eq!(got.q, want.q, "member {i}");
+        assert_eq!(got.qdot, want.qdot, "member {i}");
+        assert_eq!(got.lambda, want.lambda, "member {i}");
+        assert_eq!(got.t.len(), 9);
+        assert!(got.invariants().constraints.expect("constrained").position < 1e-12);
+    }
+}

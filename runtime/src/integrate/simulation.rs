@@ -113,6 +113,11 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
         }
     }
 
+    /// The initial state (q0, q̇0) as given.
+    pub(crate) fn initial(&self) -> ([f64; N], [f64; N]) {
+        (self.q0, self.qdot0)
+    }
+
     /// The integration method.
     ///
     /// ```
@@ -548,6 +553,25 @@ where
         let mut sim = Self::with(Sys::Owned(Box::new(view)), q0, qdot0);
         sim.manifold = Some(Box::new(view));
         sim
+    }
+
+    /// This constrained run with every option of `plain` (method, end time, samples, events,
+    /// observer, limits): how an ensemble gives its members' constrained runs the options it was
+    /// configured with on the plain builder.
+    pub(crate) fn options_from<M: ?Sized>(mut self, plain: Simulation<'a, M, N>) -> Self {
+        self.t0 = plain.t0;
+        self.until = plain.until;
+        self.method = plain.method;
+        self.sample_every = plain.sample_every;
+        self.sample_at = plain.sample_at;
+        self.events = plain.events;
+        self.max_steps = plain.max_steps;
+        self.max_step = plain.max_step;
+        self.max_samples = plain.max_samples;
+        self.observer = plain.observer;
+        self.keep_samples = plain.keep_samples;
+        self.project_initial |= plain.project_initial;
+        self
     }
 
     /// Start from the projection of (q0, q̇0) onto the constraints (the nearest q with
