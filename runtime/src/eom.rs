@@ -560,14 +560,7 @@ pub fn solve_constrained<const N: usize, const K: usize>(
         }
     };
     // (G M̃⁻¹ Gᵀ) λ = −c − G z.
-    let mut s = [[0.0; K]; K];
-    let mut r = [0.0; K];
-    for j in 0..K {
-        for l in j..K {
-            s[j][l] = (0..N).map(|i| g[j][i] * y[l][i]).sum();
-        }
-        r[j] = -c[j] - (0..N).map(|i| g[j][i] * z[i]).sum::<f64>();
-    }
+    let (s, r) = multiplier_system(g, &y, &z, c);
     let lambda = match solve_symmetric(&s, &r) {
         Ok(l) => l,
         Err(SolveFailure::NonFinite) => return Err(non_finite(q, qdot, t)),
@@ -594,6 +587,26 @@ pub fn solve_constrained<const N: usize, const K: usize>(
     }
 }
 
+/// The multipliers' system S λ = r of [`solve_constrained`]: S = G Y (upper triangle) with
+/// Y_j = M̃⁻¹ G_jᵀ, and r = −c − G z with z = M̃⁻¹ b̃.
+#[inline(always)]
+fn multiplier_system<const N: usize, const K: usize>(
+    g: &[[f64; N]; K],
+    y: &[[f64; N]; K],
+    z: &[f64; N],
+    c: &[f64; K],
+) -> ([[f64; K]; K], [f64; K]) {
+    let mut s = [[0.0; K]; K];
+    let mut r = [0.0; K];
+    for j in 0..K {
+        for l in j..K {
+            s[j][l] = (0..N).map(|i| g[j][i] * y[l][i]).sum();
+        }
+        r[j] = -c[j] - (0..N).map(|i| g[j][i] * z[i]).sum::<f64>();
+    }
+    (s, r)
+}
+
 /// [`solve_constrained`] after M̃ and b̃: `None` wherever the careful path must decide.
 #[inline(always)]
 fn constrained_fast<const N: usize, const K: usize>(
@@ -603,15 +616,8 @@ fn constrained_fast<const N: usize, const K: usize>(
     c: &[f64; K],
 ) -> Option<([f64; N], [f64; K])> {
     let (z, y) = crate::linalg::ldlt_solve_with(mt, bt, g)?;
-    // S = G Y (symmetric positive definite for independent rows), r = −c − G z.
-    let mut s = [[0.0; K]; K];
-    let mut r = [0.0; K];
-    for j in 0..K {
-        for l in j..K {
-            s[j][l] = (0..N).map(|i| g[j][i] * y[l][i]).sum();
-        }
-        r[j] = -c[j] - (0..N).map(|i| g[j][i] * z[i]).sum::<f64>();
-    }
+    // S is symmetric positive definite for independent rows.
+    let (s, r) = multiplier_system(g, &y, &z, c);
     let lambda: [f64; K] = if K == 1 {
         // The careful path's test for a 1×1 system: a positive pivot.
         if s[0][0].is_nan() || s[0][0] <= 0.0 {

@@ -244,20 +244,23 @@ struct Lower {
     frame_base: usize,
 }
 
+/// The patterns of a function's parameters after `self`.
+fn param_pats(sig: &syn::Signature) -> Vec<Pat> {
+    sig.inputs
+        .iter()
+        .filter_map(|a| match a {
+            syn::FnArg::Typed(pt) => Some((*pt.pat).clone()),
+            syn::FnArg::Receiver(_) => None,
+        })
+        .collect()
+}
+
 fn helpers(rest: &syn::ItemImpl) -> std::collections::HashMap<String, std::rc::Rc<Callable>> {
     rest.items
         .iter()
         .filter_map(|item| match item {
             syn::ImplItem::Fn(f) if crate::model::is_helper(f) => {
-                let params = f
-                    .sig
-                    .inputs
-                    .iter()
-                    .filter_map(|a| match a {
-                        syn::FnArg::Typed(pt) => Some((*pt.pat).clone()),
-                        syn::FnArg::Receiver(_) => None,
-                    })
-                    .collect();
+                let params = param_pats(&f.sig);
                 Some((
                     unraw(&f.sig.ident),
                     std::rc::Rc::new(Callable {
@@ -659,15 +662,7 @@ impl Lower {
         // Nested `fn` items are visible in the whole block.
         for stmt in stmts {
             if let Stmt::Item(syn::Item::Fn(f)) = stmt {
-                let params = f
-                    .sig
-                    .inputs
-                    .iter()
-                    .filter_map(|a| match a {
-                        syn::FnArg::Typed(pt) => Some((*pt.pat).clone()),
-                        syn::FnArg::Receiver(_) => None,
-                    })
-                    .collect();
+                let params = param_pats(&f.sig);
                 let callable = Callable {
                     what: format!("the function `{}`", f.sig.ident),
                     params,

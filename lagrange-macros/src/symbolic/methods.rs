@@ -192,64 +192,57 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         #w
     };
 
-    // mass_matrix (large N: from `pieces`, one copy of M's code)
-    let mass_matrix_large = quote! {
-        let __lagrange_pieces = #lagrangian_trait::pieces(self, #q, #qdot, #t);
-        ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_fn(|__lagrange_i, __lagrange_k| {
-            __lagrange_pieces.mass_entry(__lagrange_i, __lagrange_k)
-        })
-    };
-    let mut outs: Vec<Id> = Vec::new();
-    for (i, row) in d.mass.iter().enumerate() {
-        outs.extend(&row[i..]);
-    }
-    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
-    lets += code.lets;
-    let cells = (0..n)
-        .flat_map(|i| (0..n).map(move |k| (i, k)))
-        .map(|(i, k)| {
-            let id = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
-            op(id)
-        });
-    let stmts = code.stmts;
-    let mass_matrix = if large {
-        mass_matrix_large
+    // mass_matrix, momenta and energy; for large N from `pieces` and `energy_and_momenta`
+    // (one copy of the code of M, of p and of H).
+    let (mass_matrix, momenta, energy) = if large {
+        (
+            quote! {
+                let __lagrange_pieces = #lagrangian_trait::pieces(self, #q, #qdot, #t);
+                ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_fn(|__lagrange_i, __lagrange_k| {
+                    __lagrange_pieces.mass_entry(__lagrange_i, __lagrange_k)
+                })
+            },
+            quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).1),
+            quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).0),
+        )
     } else {
-        quote! {
+        let mut outs: Vec<Id> = Vec::new();
+        for (i, row) in d.mass.iter().enumerate() {
+            outs.extend(&row[i..]);
+        }
+        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+        lets += code.lets;
+        let cells = (0..n)
+            .flat_map(|i| (0..n).map(move |k| (i, k)))
+            .map(|(i, k)| {
+                let id = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
+                op(id)
+            });
+        let stmts = code.stmts;
+        let mass_matrix = quote! {
             #touch
             #stmts
             ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_row_slice(&[#(#cells),*])
-        }
-    };
-
-    // momenta
-    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &d.momenta);
-    lets += code.lets;
-    let p = d.momenta.iter().map(|&x| op(x));
-    let stmts = code.stmts;
-    let momenta = if large {
-        quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).1)
-    } else {
-        quote! {
+        };
+        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &d.momenta);
+        lets += code.lets;
+        let p = d.momenta.iter().map(|&x| op(x));
+        let stmts = code.stmts;
+        let momenta = quote! {
             #touch
             #stmts
             [#(#p),*]
-        }
-    };
-
-    // energy
-    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.energy]);
-    lets += code.lets;
-    let h = op(d.energy);
-    let stmts = code.stmts;
-    let energy = if large {
-        quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).0)
-    } else {
-        quote! {
+        };
+        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.energy]);
+        lets += code.lets;
+        let h = op(d.energy);
+        let stmts = code.stmts;
+        let energy = quote! {
             #touch
             #stmts
             #h
-        }
+        };
+        (mass_matrix, momenta, energy)
     };
 
     // energy and momenta together (what an integrator records every step): shared subexpressions
