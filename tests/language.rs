@@ -472,3 +472,37 @@ fn above_32_coordinates_the_loop_solve_gives_the_closed_form() {
         .join()
         .expect("the jets agree");
 }
+
+twins! {
+    /// Four particles on a line, every pair joined by a spring: nested loops, the inner bound a
+    /// loop variable.
+    AllPairs, AllPairsJets { m: f64, k: f64 }
+    fn lagrangian(&self, (x, x_dot): Coords<4>) -> Scalar {
+        let mut v = 0.0;
+        for i in 0..4 {
+            for j in 0..i {
+                v += 0.5 * self.k * (x[i] - x[j]).powi(2);
+            }
+        }
+        let t: Scalar = x_dot.iter().map(|u| 0.5 * self.m * u * u).sum();
+        t - v
+    }
+}
+
+/// m ẍᵢ = −k Σⱼ (xᵢ − xⱼ) = −k (4 xᵢ − Σⱼ xⱼ), in both modes.
+#[test]
+fn nested_loops_with_a_loop_variable_bound() {
+    let mut rng = Rng(41);
+    let p = AllPairs { m: 2.0, k: 0.5 };
+    for _ in 0..10 {
+        let q: [f64; 4] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+        let v: [f64; 4] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+        let a = p.accelerations(&q, &v, 0.0).expect("symbolic");
+        let sum: f64 = q.iter().sum();
+        for i in 0..4 {
+            let want = -p.k * (4.0 * q[i] - sum) / p.m;
+            assert!((a[i] - want).abs() <= 1e-14, "{i}: {} vs {want}", a[i]);
+        }
+        compare(&p, &p.jets(), q, v);
+    }
+}
