@@ -506,3 +506,32 @@ fn nested_loops_with_a_loop_variable_bound() {
         compare(&p, &p.jets(), q, v);
     }
 }
+
+twins! {
+    /// `*` on references and on iterator elements, as Rust code on `f64` would write it.
+    Derefs, DerefsJets { m: [f64; 2] }
+    fn lagrangian(&self, (x, x_dot): Coords<2>) -> Scalar {
+        let first = &x[0];
+        let mut t = 0.0;
+        for (v, m) in x_dot.iter().zip(self.m.iter()) {
+            t += 0.5 * *m * *v * *v;
+        }
+        let sq = |u: &Scalar| *u * *u;
+        t - sq(first) - (*first) * x[1]
+    }
+}
+
+#[test]
+fn derefs_of_references_and_elements_agree_with_the_jets() {
+    let p = Derefs { m: [1.5, 0.5] };
+    let mut rng = Rng(43);
+    for _ in 0..10 {
+        let q = [rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)];
+        let v = [rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)];
+        compare(&p, &p.jets(), q, v);
+        // V = x0² + x0 x1: m0 ẍ0 = −(2 x0 + x1), m1 ẍ1 = −x0.
+        let a = p.accelerations(&q, &v, 0.0).expect("symbolic");
+        assert!((a[0] + (2.0 * q[0] + q[1]) / 1.5).abs() < 1e-14);
+        assert!((a[1] + q[0] / 0.5).abs() < 1e-14);
+    }
+}

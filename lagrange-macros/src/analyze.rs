@@ -702,14 +702,13 @@ impl Rewriter {
                 match u.op {
                     syn::UnOp::Not(_) => Kind::Const,
                     // `*v` of an element of `q.iter()`, which is by value here (see
-                    // `method_chain`).
+                    // `method_chain`), or of a reference: the value either way.
                     syn::UnOp::Deref(_) if k == Kind::Var => {
-                        let inner = std::mem::replace(&mut *u.expr, placeholder());
-                        *e = Expr::Paren(syn::ExprParen {
-                            attrs: Vec::new(),
-                            paren_token: Default::default(),
-                            expr: Box::new(inner),
-                        });
+                        let inner = &u.expr;
+                        let span = u.op.span();
+                        *e = Expr::Verbatim(
+                            quote_spanned!(span=> ::lagrange::__private::by_value(#inner)),
+                        );
                         k
                     }
                     _ => k,

@@ -59,6 +59,59 @@ pub fn lift<S, C: Lift<S>>(c: C) -> C::Output {
     c.lift()
 }
 
+/// Marker: the value itself (see [`ByValue`]).
+pub struct Own;
+/// Marker: a reference to the value (see [`ByValue`]).
+pub struct Ref;
+
+/// `*v` in a Lagrangian body, where `v` may be a value of the scalar type (an element of
+/// `q.iter()`, which the jets lowering iterates by value) or a reference to one: the value
+/// either way. The marker `M` keeps the two impls apart.
+pub trait ByValue<M> {
+    type Output;
+    fn by_value(self) -> Self::Output;
+}
+impl<S: Scalar> ByValue<Own> for S {
+    type Output = S;
+    #[inline(always)]
+    fn by_value(self) -> S {
+        self
+    }
+}
+impl<S: Scalar> ByValue<Ref> for &S {
+    type Output = S;
+    #[inline(always)]
+    fn by_value(self) -> S {
+        *self
+    }
+}
+impl<S: Scalar> ByValue<Own> for Vector3<S> {
+    type Output = Vector3<S>;
+    #[inline(always)]
+    fn by_value(self) -> Vector3<S> {
+        self
+    }
+}
+impl<S: Scalar> ByValue<Ref> for &Vector3<S> {
+    type Output = Vector3<S>;
+    #[inline(always)]
+    fn by_value(self) -> Vector3<S> {
+        *self
+    }
+}
+
+/// `by_value(v)`: `*v` for a reference, `v` for a value (see [`ByValue`]).
+///
+/// ```
+/// use lagrange_runtime::mix::by_value;
+/// let x = 2.0_f64;
+/// assert_eq!(by_value(x) + by_value(&x), 4.0);
+/// ```
+#[inline(always)]
+pub fn by_value<M, T: ByValue<M>>(v: T) -> T::Output {
+    v.by_value()
+}
+
 macro_rules! mixed_op {
     ($ConstOp:ident $const_op:ident, $OpConst:ident $op_const:ident,
      ss: |$a1:ident, $b1:ident| $e1:expr, sc: |$a2:ident, $b2:ident| $e2:expr) => {
