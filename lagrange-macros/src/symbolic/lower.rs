@@ -268,7 +268,7 @@ fn helpers(rest: &syn::ItemImpl) -> std::collections::HashMap<String, std::rc::R
                         params,
                         body: CallBody::Block(f.block.clone()),
                         env: Vec::new(),
-                        item: true,
+                        item: false,
                     }),
                 ))
             }
@@ -835,16 +835,16 @@ impl Lower {
             Expr::MethodCall(m) => self.method(m)?,
             Expr::Call(c) => self.call(c)?,
             Expr::If(i) => self.if_expr(i)?,
-            // `i as f64` of a loop variable: its value.
-            Expr::Cast(c) if self.const_int(&c.expr).is_some() => {
-                let k = self.const_int(&c.expr).unwrap_or_default();
-                if is_float_type(&c.ty) {
-                    Val::S(self.dag.constant(k as f64))
-                } else {
-                    Val::I(k)
-                }
-            }
-            Expr::Cast(_) | Expr::Match(_) => match self.opaque(e) {
+            Expr::Cast(c) => match self.const_int(&c.expr) {
+                // `i as f64` of a loop variable: its value.
+                Some(k) if is_float_type(&c.ty) => Val::S(self.dag.constant(k as f64)),
+                Some(k) => Val::I(k),
+                None => match self.opaque(e) {
+                    Some(v) => v,
+                    None => self.unsupported(e.span(), expr_kind(e)),
+                },
+            },
+            Expr::Match(_) => match self.opaque(e) {
                 Some(v) => v,
                 None => self.unsupported(e.span(), expr_kind(e)),
             },
