@@ -94,6 +94,12 @@ fn node_level(dag: &Dag, level: &[usize], node: Node) -> usize {
         .unwrap_or(0)
 }
 
+/// Up to this many values, one tuple `let` per level in every build. Above, optimized builds get
+/// plain `let`s (see `emit`). Plain `let`s nest one debug-info scope each, and rustc's stack
+/// overflowed at 5 000 of them with debug info (2 500 were fine), so the tuples stay where debug
+/// info is the default.
+const TUPLES_UP_TO: usize = 2000;
+
 /// Emits the code computing `outputs` (and everything they need).
 pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code {
     let mut need = vec![false; dag.len()];
@@ -260,14 +266,32 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
         by_level[lv].push((pat, ty, rhs));
         lets += 1;
     }
-    for group in by_level {
+    // Above `TUPLES_UP_TO` values the tuples are for builds with debug assertions only (the dev
+    // and test profiles, which carry debug info and do not run rustc's MIR optimizations); an
+    // optimized build gets one plain `let` per value: rustc's scalar replacement of aggregates
+    // is superlinear in the tuples' sizes (a 64-link chain spent 68 s of a 104 s release build in
+    // that pass; a synthetic body of 60 000 values: 311 s as level tuples, 30 s as plain lets).
+    let split = lets > TUPLES_UP_TO;
+    let tuples_cfg = if split {
+        quote!(#[cfg(debug_assertions)])
+    } else {
+        TokenStream::new()
+    };
+    for group in &by_level {
         if let [(x, ty, rhs)] = group.as_slice() {
-            stmts.extend(quote!(let #x: #ty = #rhs;));
+            stmts.extend(quote!(#tuples_cfg let #x: #ty = #rhs;));
         } else if !group.is_empty() {
             let xs = group.iter().map(|(x, _, _)| x);
             let tys = group.iter().map(|(_, t, _)| t);
             let rhss = group.iter().map(|(_, _, r)| r);
-            stmts.extend(quote!(let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
+            stmts.extend(quote!(#tuples_cfg let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
+        }
+    }
+    if split {
+        // In the tuples' order (a sin/cos pair is emitted at the sin, which may come after the
+        // cos in id order, but never after the cos's users in level order).
+        for (x, ty, rhs) in by_level.iter().flatten() {
+            stmts.extend(quote!(#[cfg(not(debug_assertions))] let #x: #ty = #rhs;));
         }
     }
     Code { stmts, lets }

@@ -23,6 +23,9 @@ pub struct SymbolicOutput {
     /// Body of `fn pieces(&self, q, qdot, t) -> ::lagrange::__private::eom::Pieces<N>`: M, f_L
     /// and the applied forces, straight-line.
     pub pieces: TokenStream,
+    /// `#[inline(never)]` for a large system (its `accelerations` calls `pieces`), `#[inline]`
+    /// otherwise.
+    pub pieces_inline: TokenStream,
     /// Body of `fn power(&self, q, qdot, t) -> f64`: (Q − ∂D/∂q̇)·q̇ − ∂L/∂t, straight-line.
     pub power: TokenStream,
     /// Body of `fn mass_matrix(&self, q, qdot, t) -> ::lagrange::__private::SMatrix<f64, N, N>`.
@@ -67,68 +70,62 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
 
     // accelerations
-    let mut outs: Vec<Id> = Vec::new();
-    for (i, row) in d.mass.iter().enumerate() {
-        outs.extend(&row[i..]);
-    }
-    outs.extend(&d.rhs);
-    outs.extend(d.pairs.iter().map(|p| p.2));
-    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
-    let mut lets = code.lets;
-    // A small right-hand side is inlined at every call site (the twelve stages of DOP853 call
-    // it from unrolled code; `#[inline]` alone let LLVM keep it out of line and the whole run
-    // was 11 % slower); a large one is left to LLVM so code size stays in bounds.
-    let accelerations_inline = if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
-        quote!(#[inline(always)])
-    } else {
-        quote!(#[inline])
-    };
-    // M and the right-hand side, formed once: the fast path's solve and the fallback's arrays
-    // read the same operands.
-    let eq = Equations::of(d);
-    let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| quote!(0.0));
-    let rows = eq.mass.iter().map(|row| {
-        let cells = row.iter().map(or_zero);
-        quote!([#(#cells),*])
-    });
-    let f = eq.rhs.iter().map(or_zero);
-    let stmts = code.stmts;
-    let pairs: Vec<(usize, usize, TokenStream, bool)> = d
-        .pairs
-        .iter()
-        .map(|&(i, k, det, exact)| (i, k, op(det), exact))
-        .collect();
-    let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
     let large = n > LOOP_SOLVE_ABOVE;
     let lagrangian_trait = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>);
-    let accelerations = if large {
-        // Large N: M (upper triangle) and f as arrays, solved by the runtime's row-oriented
-        // LDLᵀ (the same pivot test and fallback): O(N²) code instead of the O(N³) of the
-        // unrolled elimination, which costs minutes of build and is slower at this size
-        // (BENCHMARKS.md, "Chains of N links").
-        let upper = eq.mass.iter().enumerate().map(|(i, row)| {
-            let cells = row
-                .iter()
-                .enumerate()
-                .map(|(k, c)| if k < i { quote!(0.0) } else { or_zero(c) });
-            quote!([#(#cells),*])
-        });
-        let f = eq.rhs.iter().map(or_zero);
-        quote! {
+    let mut lets = 0;
+    let (accelerations, accelerations_inline) = if large {
+        // Large N: M (upper triangle) and the right-hand side from `pieces` (one copy of their
+        // code, kept out of line), solved by the runtime's row-oriented LDLᵀ (the same pivot
+        // test and fallback): O(N²) code instead of the O(N³) of the unrolled elimination, which
+        // costs minutes of build and is slower at this size (BENCHMARKS.md, "Chains of N links").
+        let body = quote! {
             #touch
-            #stmts
+            let __lagrange_pieces = #lagrangian_trait::pieces(self, #q, #qdot, #t);
             ::lagrange::__private::solve_mass_matrix(
-                &[#(#upper),*],
-                &[#(#f),*],
+                &__lagrange_pieces.mass,
+                &__lagrange_pieces.rhs(),
                 #lagrangian_trait::COORDINATES,
                 #q,
                 #qdot,
                 #t,
             )
-        }
+        };
+        (body, quote!(#[inline]))
     } else {
+        let mut outs: Vec<Id> = Vec::new();
+        for (i, row) in d.mass.iter().enumerate() {
+            outs.extend(&row[i..]);
+        }
+        outs.extend(&d.rhs);
+        outs.extend(d.pairs.iter().map(|p| p.2));
+        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+        lets += code.lets;
+        // A small right-hand side is inlined at every call site (the twelve stages of DOP853
+        // call it from unrolled code; `#[inline]` alone let LLVM keep it out of line and the
+        // whole run was 11 % slower); a large one is left to LLVM so code size stays in bounds.
+        let inline = if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
+            quote!(#[inline(always)])
+        } else {
+            quote!(#[inline])
+        };
+        // M and the right-hand side, formed once: the fast path's solve and the fallback's
+        // arrays read the same operands.
+        let eq = Equations::of(d);
+        let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| quote!(0.0));
+        let rows = eq.mass.iter().map(|row| {
+            let cells = row.iter().map(or_zero);
+            quote!([#(#cells),*])
+        });
+        let f = eq.rhs.iter().map(or_zero);
+        let stmts = code.stmts;
+        let pairs: Vec<(usize, usize, TokenStream, bool)> = d
+            .pairs
+            .iter()
+            .map(|&(i, k, det, exact)| (i, k, op(det), exact))
+            .collect();
+        let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
         let solve = solve::ldlt(&eq, &pairs);
-        quote! {
+        let body = quote! {
             #touch
             #stmts
             // The fast path; the arrays for the runtime's solve are only built when it fails.
@@ -138,13 +135,20 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
                 ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
                     &[#(#rows),*],
                     &[#(#f),*],
-                    <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
+                    #lagrangian_trait::COORDINATES,
                     #q,
                     #qdot,
                     #t,
                 ),
             }
-        }
+        };
+        (body, inline)
+    };
+    // `pieces` of a large system is the accelerations' code too: out of line, one copy.
+    let pieces_inline = if large {
+        quote!(#[inline(never)])
+    } else {
+        quote!(#[inline])
     };
 
     // pieces: M (upper triangle), f_L and the applied forces
@@ -275,6 +279,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         accelerations,
         accelerations_inline,
         pieces,
+        pieces_inline,
         power,
         mass_matrix,
         momenta,
@@ -308,6 +313,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         accelerations,
         accelerations_inline,
         pieces,
+        pieces_inline,
         power,
         mass_matrix,
         momenta,
@@ -329,7 +335,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
             #accelerations
         }
         #allow
-        #[inline]
+        #pieces_inline
         fn pieces(#sig) -> ::lagrange::__private::eom::Pieces<#nn> {
             #pieces
         }

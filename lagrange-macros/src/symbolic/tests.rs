@@ -500,6 +500,50 @@ fn chain_16_expands_fast_and_compactly() {
     assert_eq!(out.equations.lines().count(), 16);
 }
 
+/// A large body is emitted twice: level tuples under `cfg(debug_assertions)` and plain `let`s for
+/// optimized builds, where every local is defined before it is read; a large system's
+/// `accelerations` calls the out-of-line `pieces` (one copy of M and f).
+#[test]
+fn large_bodies_get_plain_lets_in_dependency_order_and_one_copy_of_m_and_f() {
+    let out = expand(&chain_decl(40)).unwrap_or_else(|_| panic!("expands"));
+    let acc = out.accelerations.to_string();
+    assert!(acc.contains("pieces (self"), "{acc}");
+    assert!(!acc.contains("sin_cos"), "{acc}");
+    assert_eq!(
+        out.pieces_inline.to_string().replace(' ', ""),
+        "#[inline(never)]"
+    );
+    let pieces = out.pieces.to_string();
+    let (debug, plain) = (
+        "# [cfg (debug_assertions)]",
+        "# [cfg (not (debug_assertions))]",
+    );
+    assert!(pieces.contains(debug) && pieces.contains(plain));
+    let mut defined = std::collections::HashSet::new();
+    let mut count = 0;
+    for stmt in pieces.split(plain).skip(1) {
+        let stmt = stmt.split(';').next().unwrap_or_default();
+        let (lhs, rhs) = stmt
+            .split_once('=')
+            .unwrap_or_else(|| panic!("a let: {stmt}"));
+        for used in rhs.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
+            if used.starts_with("__lagrange_x") {
+                assert!(defined.contains(used), "{used} read before its let: {stmt}");
+            }
+        }
+        for name in lhs.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
+            if name.starts_with("__lagrange_x") {
+                defined.insert(name.to_string());
+            }
+        }
+        count += 1;
+    }
+    assert!(count > 2000, "{count}");
+    // Small bodies keep one form.
+    let small = expand(&chain_decl(4)).unwrap_or_else(|_| panic!("expands"));
+    assert!(!small.pieces.to_string().contains("debug_assertions"));
+}
+
 /// Small right-hand sides are `#[inline(always)]` (every stage of an integrator inlines them);
 /// large ones are left to LLVM.
 #[test]
