@@ -57,7 +57,7 @@
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
 use crate::lagrangian::Lagrangian;
-use crate::linalg::{solve_symmetric, Ldlt, SolveFailure};
+use crate::linalg::{all_finite, solve_symmetric, Ldlt, SolveFailure};
 
 /// The pieces of the equations of motion M q̈ = f_L + Q − ∂D/∂q̇ at one state, as a backend
 /// supplies them.
@@ -490,7 +490,7 @@ pub fn solve_constrained<const N: usize, const K: usize>(
     let f = pieces.rhs();
     let g = &rows.jacobian;
     let c = &rows.curvature;
-    if g.iter().flatten().chain(c).any(|x| !x.is_finite()) {
+    if !(all_finite(g.as_flattened()) && all_finite(c)) {
         return Err(non_finite(q, qdot, t));
     }
     let mut mscale = 0.0_f64;
@@ -508,7 +508,11 @@ pub fn solve_constrained<const N: usize, const K: usize>(
         }
         gscale = gscale.max(n2);
     }
-    let w = if K == 0 { 0.0 } else { mscale / gscale };
+    let w = if K == 0 {
+        0.0
+    } else {
+        power_of_two_ratio(mscale, gscale)
+    };
     // M̃ = M + w GᵀG (upper triangle) and b̃ = f − w Gᵀ c.
     let mut mt = pieces.mass;
     let mut bt = f;
@@ -580,10 +584,24 @@ pub fn solve_constrained<const N: usize, const K: usize>(
             a[i] += lambda[j] * y[j][i];
         }
     }
-    if a.iter().chain(&lambda).all(|x| x.is_finite()) {
+    if all_finite(&a) && all_finite(&lambda) {
         Ok((a, lambda))
     } else {
         Err(non_finite(q, qdot, t))
+    }
+}
+
+/// A power of two within a factor 2 of a / b (a, b > 0), from the exponents: no division on the
+/// constrained solve's critical path (the weight w of M + w GᵀG only sets the conditioning, and
+/// scaling by a power of two is exact). Falls back to a / b outside the normal range.
+#[inline(always)]
+fn power_of_two_ratio(a: f64, b: f64) -> f64 {
+    let exponent = |x: f64| ((x.to_bits() >> 52) & 0x7ff) as i64;
+    let e = exponent(a) - exponent(b) + 1023;
+    if a.is_normal() && b.is_normal() && (1..=2046).contains(&e) {
+        f64::from_bits((e as u64) << 52)
+    } else {
+        a / b
     }
 }
 
@@ -635,10 +653,7 @@ fn constrained_fast<const N: usize, const K: usize>(
             a[i] += lambda[j] * y[j][i];
         }
     }
-    a.iter()
-        .chain(&lambda)
-        .all(|x| x.is_finite())
-        .then_some((a, lambda))
+    (all_finite(&a) && all_finite(&lambda)).then_some((a, lambda))
 }
 
 fn dependent<const N: usize>(

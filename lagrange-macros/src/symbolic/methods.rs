@@ -144,13 +144,6 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         };
         (body, inline)
     };
-    // `pieces` of a large system is the accelerations' code too: out of line, one copy.
-    let pieces_inline = if large {
-        quote!(#[inline(never)])
-    } else {
-        quote!(#[inline])
-    };
-
     // pieces: M (upper triangle), f_L and the applied forces
     let mut outs: Vec<Id> = Vec::new();
     for (i, row) in d.mass.iter().enumerate() {
@@ -160,6 +153,16 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     outs.extend(&d.applied);
     let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
     lets += code.lets;
+    // `pieces` of a large system is the accelerations' code too: out of line, one copy. A small
+    // one is inlined where it is called (the constrained right-hand side calls it at every
+    // stage, as the integrators call `accelerations`).
+    let pieces_inline = if large {
+        quote!(#[inline(never)])
+    } else if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
+        quote!(#[inline(always)])
+    } else {
+        quote!(#[inline])
+    };
     let rows = d.mass.iter().enumerate().map(|(i, row)| {
         let cells = row
             .iter()
