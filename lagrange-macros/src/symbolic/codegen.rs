@@ -162,10 +162,6 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
     let mut level = vec![0usize; dag.len()];
     // (pattern, type, value) per level.
     let mut by_level: Vec<Vec<(TokenStream, TokenStream, TokenStream)>> = Vec::new();
-    // The plain form, in id order: a value is computed close to its operands (the level order
-    // of the tuples keeps thousands of values live at once; that spills).
-    let mut plain: Vec<(TokenStream, TokenStream, TokenStream)> = Vec::new();
-    let split = need.iter().filter(|&&n| n).count() > TUPLES_UP_TO;
     let mut lets = 0;
     for (id, needed) in need.iter().enumerate() {
         let id = id as Id;
@@ -173,19 +169,23 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
         if !*needed || node.is_leaf() {
             continue;
         }
-        // A needed sin(a) and cos(a) become one `a.sin_cos()`, emitted at the first of the two in
-        // id order (`(sin id, cos id)`).
+        // A needed sin(a) and cos(a) become one `a.sin_cos()` (emitted with the sin).
         let partner = match node {
-            Node::Un(Fun::Sin, a) => match dag.find(Node::Un(Fun::Cos, a)) {
-                Some(c) if need[c as usize] && c < id => continue,
-                Some(c) if need[c as usize] => Some((id, c)),
-                _ => None,
-            },
-            Node::Un(Fun::Cos, a) => match dag.find(Node::Un(Fun::Sin, a)) {
-                Some(s) if need[s as usize] && s < id => continue,
-                Some(s) if need[s as usize] => Some((s, id)),
-                _ => None,
-            },
+            Node::Un(Fun::Sin, a) => dag
+                .find(Node::Un(Fun::Cos, a))
+                .filter(|&c| need[c as usize])
+                .map(|c| (id, c)),
+            Node::Un(Fun::Cos, a) => {
+                if dag
+                    .find(Node::Un(Fun::Sin, a))
+                    .is_some_and(|s| need[s as usize])
+                {
+                    // Emitted with the sin.
+                    level[id as usize] = node_level(dag, &level, node);
+                    continue;
+                }
+                None
+            }
             _ => None,
         };
         let o = |i: Id| operand(dag, fields, i);
@@ -249,11 +249,6 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
         };
         let lv = node_level(dag, &level, node);
         level[id as usize] = lv;
-        if let Some((s, c)) = partner {
-            // The pair's other node, skipped where it comes in id order.
-            level[s as usize] = lv;
-            level[c as usize] = lv;
-        }
         if by_level.len() <= lv {
             by_level.resize_with(lv + 1, Vec::new);
         }
@@ -268,9 +263,6 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
                 (quote!(#x), quote!(f64))
             }
         };
-        if split {
-            plain.push((pat.clone(), ty.clone(), rhs.clone()));
-        }
         by_level[lv].push((pat, ty, rhs));
         lets += 1;
     }
@@ -279,6 +271,7 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
     // optimized build gets one plain `let` per value: rustc's scalar replacement of aggregates
     // is superlinear in the tuples' sizes (a 64-link chain spent 68 s of a 104 s release build in
     // that pass; a synthetic body of 60 000 values: 311 s as level tuples, 30 s as plain lets).
+    let split = lets > TUPLES_UP_TO;
     let tuples_cfg = if split {
         quote!(#[cfg(debug_assertions)])
     } else {
@@ -295,7 +288,9 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
         }
     }
     if split {
-        for (x, ty, rhs) in &plain {
+        // In the tuples' order (a sin/cos pair is emitted at the sin, which may come after the
+        // cos in id order, but never after the cos's users in level order).
+        for (x, ty, rhs) in by_level.iter().flatten() {
             stmts.extend(quote!(#[cfg(not(debug_assertions))] let #x: #ty = #rhs;));
         }
     }
