@@ -228,7 +228,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         clippy::pedantic,
         clippy::nursery
     )]
-    #[inline]
+    #[inline(always)]
     fn pieces(
         &self,
         __lagrange_q: &[f64; 3],
