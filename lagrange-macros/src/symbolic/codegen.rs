@@ -13,6 +13,12 @@ use crate::names;
 pub struct Code {
     /// The `let` statements (parameter loads first).
     pub stmts: TokenStream,
+    /// The parameter loads and conditions alone (the start of `stmts`).
+    pub loads: TokenStream,
+    /// The values alone (the rest of `stmts`).
+    pub values: TokenStream,
+    /// The locals `loads` binds, with their types, in order: the inputs of `values`.
+    pub inputs: Vec<(Ident, TokenStream)>,
     /// How many `let` statements were emitted for DAG nodes.
     pub lets: usize,
 }
@@ -100,6 +106,36 @@ fn node_level(dag: &Dag, level: &[usize], node: Node) -> usize {
 /// info is the default.
 const TUPLES_UP_TO: usize = 2000;
 
+/// Where to split `outputs` into two runs whose code is about the same size: the `b` that
+/// minimizes the larger of the node counts of `outputs[..b]` and `outputs[b..]` (each counted with
+/// everything it needs).
+pub fn balanced_split(dag: &Dag, outputs: &[Id]) -> usize {
+    let size = |part: &[Id]| {
+        let mut need = vec![false; dag.len()];
+        let mut stack: Vec<Id> = part.to_vec();
+        let mut count = 0;
+        while let Some(id) = stack.pop() {
+            if !need[id as usize] {
+                need[id as usize] = true;
+                count += 1;
+                stack.extend(dag.node(id).children());
+            }
+        }
+        count
+    };
+    // The prefix grows and the suffix shrinks with b: bisect for the crossing.
+    let (mut lo, mut hi) = (0, outputs.len());
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        if size(&outputs[..mid]) < size(&outputs[mid..]) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
 /// Emits the code computing `outputs` (and everything they need).
 pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code {
     let mut need = vec![false; dag.len()];
@@ -113,6 +149,7 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
     }
     // Parameter loads, typed, spanned at the field's first use.
     let mut stmts = TokenStream::new();
+    let mut inputs = Vec::new();
     let mut loaded = vec![false; fields.len()];
     for (id, needed) in need.iter().enumerate() {
         if let (true, Node::Param(f, _)) = (*needed, dag.node(id as Id)) {
@@ -133,6 +170,7 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
         // `self` must resolve like the receiver of the generated method (call-site hygiene),
         // while errors point at the user's field.
         let this = Ident::new("self", Span::call_site().located_at(field.span));
+        inputs.push((local.clone(), ty.clone()));
         if let Some((_, tokens)) = &field.opaque {
             stmts.extend(quote_spanned!(field.span=> let #local: #ty = #tokens;));
         } else if field.free {
@@ -154,8 +192,11 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
             let b = names::cond(k as u32);
             let tokens = &cond.tokens;
             stmts.extend(quote_spanned!(cond.span=> let #b: bool = #tokens;));
+            inputs.push((b, quote!(bool)));
         }
     }
+    let loads = stmts.clone();
+    let mut stmts = TokenStream::new();
     // Every `let` opens a lexical scope, and debug info nests them: thousands of sequential
     // `let`s overflow LLVM's stack. Nodes are grouped by level (1 + the deepest inner operand)
     // into one tuple `let` per level, so the nesting depth is the depth of the DAG.
@@ -294,5 +335,14 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
             stmts.extend(quote!(#[cfg(not(debug_assertions))] let #x: #ty = #rhs;));
         }
     }
-    Code { stmts, lets }
+    let values = stmts.clone();
+    let mut stmts = loads.clone();
+    stmts.extend(values.clone());
+    Code {
+        stmts,
+        loads,
+        values,
+        inputs,
+        lets,
+    }
 }

@@ -2,8 +2,8 @@
 //! `mass_matrix`, `momenta`, `energy` and `energy_and_momenta`, and the `EQUATIONS` /
 //! `EQUATIONS_LATEX` consts.
 
-use proc_macro2::{Literal, TokenStream};
-use quote::quote;
+use proc_macro2::{Ident, Literal, TokenStream};
+use quote::{format_ident, quote};
 
 use super::dag::{Dag, Id};
 use super::derive::{Derivation, Equations};
@@ -41,6 +41,8 @@ pub struct SymbolicOutput {
     /// Body of `fn taylor_series(&self, t, out, buf)` (the Taylor method's series), where every
     /// node has a Taylor rule.
     pub taylor: Option<TokenStream>,
+    /// Items to emit next to the user's impl: the modules of a large system's out-of-line bodies.
+    pub items: TokenStream,
     /// Lint attributes to put on each of the generated methods (machine-written code).
     pub allow: TokenStream,
     /// Whether the system has `fn dissipation` or `fn forces` (the docs then name Q and D).
@@ -71,6 +73,9 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
 
     // accelerations
     let large = n > LOOP_SOLVE_ABOVE;
+    // Items next to the impl (the modules of `out_of_line`).
+    let mut items = TokenStream::new();
+    let prefix = module_prefix(&decl.rest.self_ty);
     let lagrangian_trait = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>);
     let mut lets = 0;
     let (accelerations, accelerations_inline) = if large {
@@ -144,24 +149,21 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         };
         (body, inline)
     };
-    // pieces: M (upper triangle), f_L and the applied forces
-    let mut outs: Vec<Id> = Vec::new();
-    for (i, row) in d.mass.iter().enumerate() {
-        outs.extend(&row[i..]);
-    }
-    outs.extend(&d.force);
-    outs.extend(&d.applied);
-    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
-    lets += code.lets;
-    // `pieces` of a large system is the accelerations' code too: out of line, one copy. A small
-    // one is inlined where it is called (the constrained right-hand side calls it at every
-    // stage, as the integrators call `accelerations`).
-    let pieces_inline = if large {
-        quote!(#[inline(never)])
-    } else if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
-        quote!(#[inline(always)])
-    } else {
-        quote!(#[inline])
+    // pieces: M (upper triangle), f_L and the applied forces (a large system's out of line)
+    let code = (!large).then(|| {
+        let mut outs: Vec<Id> = Vec::new();
+        for (i, row) in d.mass.iter().enumerate() {
+            outs.extend(&row[i..]);
+        }
+        outs.extend(&d.force);
+        outs.extend(&d.applied);
+        codegen::emit(&d.dag, &d.fields, &d.conds, &outs)
+    });
+    // A small `pieces` is inlined where it is called (the constrained right-hand side calls it
+    // at every stage, as the integrators call `accelerations`).
+    let pieces_inline = match &code {
+        Some(code) if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS => quote!(#[inline(always)]),
+        _ => quote!(#[inline]),
     };
     let rows = d.mass.iter().enumerate().map(|(i, row)| {
         let cells = row
@@ -171,20 +173,74 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         quote!([#(#cells),*])
     });
     let f = d.force.iter().map(|&x| op(x));
-    let new = quote!(::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f),*]));
-    let stmts = code.stmts;
-    let pieces = if d.applied.iter().all(|&a| a == Dag::ZERO) {
+    let a = d.applied.iter().map(|&x| op(x));
+    let conservative = d.applied.iter().all(|&a| a == Dag::ZERO);
+    let pieces = if large {
+        // M and (f_L, Q − ∂D/∂q̇) each computed in a function of its own module (see
+        // `out_of_line`): LLVM optimizes the two in parallel.
+        let mut outs: Vec<Id> = Vec::new();
+        for (i, row) in d.mass.iter().enumerate() {
+            outs.extend(&row[i..]);
+        }
+        let mass = out_of_line(
+            &codegen::emit(&d.dag, &d.fields, &d.conds, &outs),
+            format_ident!("{prefix}_mass"),
+            &nn,
+            quote!([[f64; #nn]; #nn]),
+            quote!([#(#rows),*]),
+            &mut items,
+        );
+        // f_L and Q − ∂D/∂q̇ in two functions of about the same size (the largest body).
+        let mut outs: Vec<Id> = d.force.clone();
+        outs.extend(&d.applied);
+        let split = codegen::balanced_split(&d.dag, &outs);
+        let mut parts = TokenStream::new();
+        let mut cells = Vec::with_capacity(outs.len());
+        for (p, range) in [0..split, split..outs.len()].into_iter().enumerate() {
+            let part = &outs[range];
+            let len = Literal::usize_unsuffixed(part.len());
+            let local = format_ident!("__lagrange_rhs_{}", p);
+            let values = part.iter().map(|&x| op(x));
+            let call = out_of_line(
+                &codegen::emit(&d.dag, &d.fields, &d.conds, part),
+                format_ident!("{prefix}_force{p}"),
+                &nn,
+                quote!([f64; #len]),
+                quote!([#(#values),*]),
+                &mut items,
+            );
+            parts.extend(quote!(let #local: [f64; #len] = { #call };));
+            cells.extend((0..part.len()).map(|i| {
+                let i = Literal::usize_unsuffixed(i);
+                quote!(#local[#i])
+            }));
+        }
+        let (f, a) = cells.split_at(n);
+        let m = format_ident!("__lagrange_mass");
         quote! {
             #touch
-            #stmts
-            #new
+            let #m: [[f64; #nn]; #nn] = { #mass };
+            #parts
+            ::lagrange::__private::eom::Pieces::new(#m, [#(#f),*]).with_applied([#(#a),*])
         }
     } else {
-        let a = d.applied.iter().map(|&x| op(x));
-        quote! {
-            #touch
-            #stmts
-            #new.with_applied([#(#a),*])
+        let new = quote!(::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f),*]));
+        let stmts = code.map(|c| {
+            lets += c.lets;
+            c.stmts
+        });
+        if conservative {
+            quote! {
+                #touch
+                #stmts
+                #new
+            }
+        } else {
+            quote! {
+                #touch
+                #stmts
+                #new.with_applied([#(#a),*])
+            }
         }
     };
 
@@ -259,11 +315,26 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     lets += code.lets;
     let h = op(d.energy);
     let p = d.momenta.iter().map(|&x| op(x));
-    let stmts = code.stmts;
-    let energy_and_momenta = quote! {
-        #touch
-        #stmts
-        (#h, [#(#p),*])
+    let energy_and_momenta = if large {
+        let body = out_of_line(
+            &code,
+            format_ident!("{prefix}_energy"),
+            &nn,
+            quote!((f64, [f64; #nn])),
+            quote!((#h, [#(#p),*])),
+            &mut items,
+        );
+        quote! {
+            #touch
+            #body
+        }
+    } else {
+        let stmts = code.stmts;
+        quote! {
+            #touch
+            #stmts
+            (#h, [#(#p),*])
+        }
     };
 
     let eq = print::equations(d, decl);
@@ -279,6 +350,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         eq.unicode
     );
     SymbolicOutput {
+        items,
         accelerations,
         accelerations_inline,
         pieces,
@@ -307,6 +379,70 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     }
 }
 
+/// The straight-line `code` of a large system as a function `eval` in a module of its own, next to
+/// the user's impl (pushed to `items`), and the tokens that load the parameters and call it:
+/// rustc optimizes each module that is not inside a function in a codegen unit of its own, so
+/// LLVM works on the large bodies in parallel (the methods of one type otherwise share one
+/// unit, optimized one after the other). The function reads nothing of the user's scope: only
+/// its arguments, `f64` and `::lagrange` paths.
+fn out_of_line(
+    code: &codegen::Code,
+    module: Ident,
+    nn: &Literal,
+    ret: TokenStream,
+    tail: TokenStream,
+    items: &mut TokenStream,
+) -> TokenStream {
+    let names::Params { q, qdot, t } = names::Params::symbolic();
+    let params = code.inputs.iter().map(|(x, ty)| quote!(#x: #ty));
+    let args = code.inputs.iter().map(|(x, _)| x);
+    let (loads, values) = (&code.loads, &code.values);
+    items.extend(quote! {
+        #[doc(hidden)]
+        #[allow(non_snake_case, clippy::all, clippy::pedantic, clippy::nursery)]
+        mod #module {
+            #[allow(
+                unused_variables,
+                unused_parens,
+                non_snake_case,
+                clippy::all,
+                clippy::pedantic,
+                clippy::nursery
+            )]
+            #[inline(never)]
+            pub(super) fn eval(
+                #(#params,)*
+                #q: &[f64; #nn],
+                #qdot: &[f64; #nn],
+                #t: f64,
+            ) -> #ret {
+                let _ = (#q, #qdot, #t);
+                #values
+                #tail
+            }
+        }
+    });
+    quote! {
+        #loads
+        #module::eval(#(#args,)* #q, #qdot, #t)
+    }
+}
+
+/// The prefix of the modules of [`out_of_line`] for the impl of `self_ty`: the type's last
+/// identifier and a hash of its tokens (unique among the impls of one scope).
+fn module_prefix(self_ty: &syn::Type) -> String {
+    use std::hash::{Hash, Hasher};
+    let text = quote!(#self_ty).to_string();
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    text.hash(&mut h);
+    let ident: String = text
+        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .rfind(|w| !w.is_empty())
+        .unwrap_or("system")
+        .to_string();
+    format!("__lagrange_{ident}_{:08x}", h.finish() as u32)
+}
+
 /// The generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
 /// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
 pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStream, TokenStream) {
@@ -328,6 +464,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         doc,
         has_applied,
         taylor,
+        items,
         ..
     } = out;
     let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
@@ -399,6 +536,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
     let latex_doc = "The Euler–Lagrange equations in LaTeX, one line per coordinate (the same \
                      equations as `EQUATIONS`).";
     let consts = quote! {
+        #items
         #[doc = #doc]
         impl #self_ty {
             #[doc = #eq_doc]

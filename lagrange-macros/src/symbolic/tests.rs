@@ -500,47 +500,76 @@ fn chain_16_expands_fast_and_compactly() {
     assert_eq!(out.equations.lines().count(), 16);
 }
 
-/// A large body is emitted twice: level tuples under `cfg(debug_assertions)` and plain `let`s for
-/// optimized builds, where every local is defined before it is read; a large system's
-/// `accelerations` calls the out-of-line `pieces` (one copy of M and f).
+/// A large system: `accelerations` calls `pieces` (one copy of M and f), whose bodies are
+/// functions in modules next to the impl (M, and the right-hand side in two halves of about the
+/// same size; also the energy), each body emitted twice: level tuples under
+/// `cfg(debug_assertions)` and plain `let`s for optimized builds, every local defined before it
+/// is read.
 #[test]
-fn large_bodies_get_plain_lets_in_dependency_order_and_one_copy_of_m_and_f() {
+fn large_bodies_go_out_of_line_with_plain_lets_in_dependency_order() {
     let out = expand(&chain_decl(40)).unwrap_or_else(|_| panic!("expands"));
     let acc = out.accelerations.to_string();
     assert!(acc.contains("pieces (self"), "{acc}");
     assert!(!acc.contains("sin_cos"), "{acc}");
-    assert_eq!(
-        out.pieces_inline.to_string().replace(' ', ""),
-        "#[inline(never)]"
-    );
     let pieces = out.pieces.to_string();
+    assert!(!pieces.contains("sin_cos"), "{pieces}");
+    let items = out.items.to_string();
+    let modules: Vec<&str> = items
+        .split("mod ")
+        .skip(1)
+        .filter_map(|m| m.split_whitespace().next())
+        .collect();
+    assert_eq!(modules.len(), 4, "{modules:?}");
+    for (m, suffix) in modules
+        .iter()
+        .zip(["_mass", "_force0", "_force1", "_energy"])
+    {
+        assert!(m.starts_with("__lagrange_X_") && m.ends_with(suffix), "{m}");
+        assert!(
+            pieces.contains(m) || out.energy_and_momenta.to_string().contains(m),
+            "{m}"
+        );
+    }
+    // The two halves of the right-hand side: neither more than twice the other.
+    let bodies: Vec<usize> = items
+        .split("mod ")
+        .skip(1)
+        .map(|b| b.matches(" let ").count())
+        .collect();
+    assert!(
+        bodies[1] < 2 * bodies[2] && bodies[2] < 2 * bodies[1],
+        "{bodies:?}"
+    );
     let (debug, plain) = (
         "# [cfg (debug_assertions)]",
         "# [cfg (not (debug_assertions))]",
     );
-    assert!(pieces.contains(debug) && pieces.contains(plain));
-    let mut defined = std::collections::HashSet::new();
-    let mut count = 0;
-    for stmt in pieces.split(plain).skip(1) {
-        let stmt = stmt.split(';').next().unwrap_or_default();
-        let (lhs, rhs) = stmt
-            .split_once('=')
-            .unwrap_or_else(|| panic!("a let: {stmt}"));
-        for used in rhs.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
-            if used.starts_with("__lagrange_x") {
-                assert!(defined.contains(used), "{used} read before its let: {stmt}");
+    for body in items.split("mod ").skip(1) {
+        assert!(body.contains(debug) && body.contains(plain));
+        let mut defined = std::collections::HashSet::new();
+        let mut count = 0;
+        for stmt in body.split(plain).skip(1) {
+            let stmt = stmt.split(';').next().unwrap_or_default();
+            let (lhs, rhs) = stmt
+                .split_once('=')
+                .unwrap_or_else(|| panic!("a let: {stmt}"));
+            for used in rhs.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
+                if used.starts_with("__lagrange_x") {
+                    assert!(defined.contains(used), "{used} read before its let: {stmt}");
+                }
             }
-        }
-        for name in lhs.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
-            if name.starts_with("__lagrange_x") {
-                defined.insert(name.to_string());
+            for name in lhs.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
+                if name.starts_with("__lagrange_x") {
+                    defined.insert(name.to_string());
+                }
             }
+            count += 1;
         }
-        count += 1;
+        assert!(count > 2000, "{count}");
     }
-    assert!(count > 2000, "{count}");
-    // Small bodies keep one form.
+    // Small systems: everything in the methods, one form.
     let small = expand(&chain_decl(4)).unwrap_or_else(|_| panic!("expands"));
+    assert!(small.items.is_empty());
     assert!(!small.pieces.to_string().contains("debug_assertions"));
 }
 
