@@ -106,36 +106,6 @@ fn node_level(dag: &Dag, level: &[usize], node: Node) -> usize {
 /// info is the default.
 const TUPLES_UP_TO: usize = 2000;
 
-/// Where to split `outputs` into two runs whose code is about the same size: the `b` that
-/// minimizes the larger of the node counts of `outputs[..b]` and `outputs[b..]` (each counted with
-/// everything it needs).
-pub fn balanced_split(dag: &Dag, outputs: &[Id]) -> usize {
-    let size = |part: &[Id]| {
-        let mut need = vec![false; dag.len()];
-        let mut stack: Vec<Id> = part.to_vec();
-        let mut count = 0;
-        while let Some(id) = stack.pop() {
-            if !need[id as usize] {
-                need[id as usize] = true;
-                count += 1;
-                stack.extend(dag.node(id).children());
-            }
-        }
-        count
-    };
-    // The prefix grows and the suffix shrinks with b: bisect for the crossing.
-    let (mut lo, mut hi) = (0, outputs.len());
-    while lo < hi {
-        let mid = (lo + hi) / 2;
-        if size(&outputs[..mid]) < size(&outputs[mid..]) {
-            lo = mid + 1;
-        } else {
-            hi = mid;
-        }
-    }
-    lo
-}
-
 /// Emits the code computing `outputs` (and everything they need).
 pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code {
     let mut need = vec![false; dag.len()];

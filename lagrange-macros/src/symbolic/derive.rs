@@ -115,7 +115,8 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
         let g = dag.tangents(&[l], &unit(vars.q(i)), &|_, node| {
             (node == Node::Q(i as u32)).then_some(Dag::ONE)
         });
-        force.push(dag.sub(g[0], dpi));
+        let f = dag.sub(g[0], dpi);
+        force.push(dag.collect_terms(f));
     }
     let mut energy = dag.neg(l);
     for (i, &p) in momenta.iter().enumerate() {

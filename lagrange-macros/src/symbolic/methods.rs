@@ -177,7 +177,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     let conservative = d.applied.iter().all(|&a| a == Dag::ZERO);
     let pieces = if large {
         // M and (f_L, Q − ∂D/∂q̇) each computed in a function of its own module (see
-        // `out_of_line`): LLVM optimizes the two in parallel.
+        // `out_of_line`): LLVM optimizes them in parallel (with the energy's).
         let mut outs: Vec<Id> = Vec::new();
         for (i, row) in d.mass.iter().enumerate() {
             outs.extend(&row[i..]);
@@ -190,31 +190,27 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
             quote!([#(#rows),*]),
             &mut items,
         );
-        // f_L and Q − ∂D/∂q̇ in two functions of about the same size (the largest body).
+        // f_L and Q − ∂D/∂q̇ in a third.
         let mut outs: Vec<Id> = d.force.clone();
         outs.extend(&d.applied);
-        let split = codegen::balanced_split(&d.dag, &outs);
-        let mut parts = TokenStream::new();
-        let mut cells = Vec::with_capacity(outs.len());
-        for (p, range) in [0..split, split..outs.len()].into_iter().enumerate() {
-            let part = &outs[range];
-            let len = Literal::usize_unsuffixed(part.len());
-            let local = format_ident!("__lagrange_rhs_{}", p);
-            let values = part.iter().map(|&x| op(x));
-            let call = out_of_line(
-                &codegen::emit(&d.dag, &d.fields, &d.conds, part),
-                format_ident!("{prefix}_force{p}"),
-                &nn,
-                quote!([f64; #len]),
-                quote!([#(#values),*]),
-                &mut items,
-            );
-            parts.extend(quote!(let #local: [f64; #len] = { #call };));
-            cells.extend((0..part.len()).map(|i| {
+        let values = outs.iter().map(|&x| op(x));
+        let len = Literal::usize_unsuffixed(outs.len());
+        let local = format_ident!("__lagrange_rhs");
+        let call = out_of_line(
+            &codegen::emit(&d.dag, &d.fields, &d.conds, &outs),
+            format_ident!("{prefix}_force"),
+            &nn,
+            quote!([f64; #len]),
+            quote!([#(#values),*]),
+            &mut items,
+        );
+        let parts = quote!(let #local: [f64; #len] = { #call };);
+        let cells: Vec<TokenStream> = (0..outs.len())
+            .map(|i| {
                 let i = Literal::usize_unsuffixed(i);
                 quote!(#local[#i])
-            }));
-        }
+            })
+            .collect();
         let (f, a) = cells.split_at(n);
         let m = format_ident!("__lagrange_mass");
         quote! {
