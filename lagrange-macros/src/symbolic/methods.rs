@@ -23,8 +23,8 @@ pub struct SymbolicOutput {
     /// Body of `fn pieces(&self, q, qdot, t) -> ::lagrange::__private::eom::Pieces<N>`: M, f_L
     /// and the applied forces, straight-line.
     pub pieces: TokenStream,
-    /// `#[inline(never)]` for a large system (its `accelerations` calls `pieces`), `#[inline]`
-    /// otherwise.
+    /// `#[inline(always)]` for a small `pieces` (the constrained right-hand side calls it at every
+    /// stage), `#[inline]` otherwise.
     pub pieces_inline: TokenStream,
     /// Body of `fn power(&self, q, qdot, t) -> f64`: (Q − ∂D/∂q̇)·q̇ − ∂L/∂t, straight-line.
     pub power: TokenStream,
@@ -176,48 +176,44 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     let a = d.applied.iter().map(|&x| op(x));
     let conservative = d.applied.iter().all(|&a| a == Dag::ZERO);
     let pieces = if large {
-        // M and (f_L, Q − ∂D/∂q̇) each computed in a function of its own module (see
-        // `out_of_line`): LLVM optimizes them in parallel (with the energy's).
+        // M, and f_L with Q − ∂D/∂q̇, each computed by a function in a module of its own (see
+        // `out_of_line`): LLVM optimizes them in parallel (and the energy's).
         let mut outs: Vec<Id> = Vec::new();
         for (i, row) in d.mass.iter().enumerate() {
             outs.extend(&row[i..]);
         }
+        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+        lets += code.lets;
         let mass = out_of_line(
-            &codegen::emit(&d.dag, &d.fields, &d.conds, &outs),
+            &code,
             format_ident!("{prefix}_mass"),
             &nn,
             quote!([[f64; #nn]; #nn]),
             quote!([#(#rows),*]),
             &mut items,
         );
-        // f_L and Q − ∂D/∂q̇ in a third.
         let mut outs: Vec<Id> = d.force.clone();
         outs.extend(&d.applied);
-        let values = outs.iter().map(|&x| op(x));
-        let len = Literal::usize_unsuffixed(outs.len());
-        let local = format_ident!("__lagrange_rhs");
-        let call = out_of_line(
-            &codegen::emit(&d.dag, &d.fields, &d.conds, &outs),
+        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+        lets += code.lets;
+        let force = out_of_line(
+            &code,
             format_ident!("{prefix}_force"),
             &nn,
-            quote!([f64; #len]),
-            quote!([#(#values),*]),
+            quote!(([f64; #nn], [f64; #nn])),
+            quote!(([#(#f),*], [#(#a),*])),
             &mut items,
         );
-        let parts = quote!(let #local: [f64; #len] = { #call };);
-        let cells: Vec<TokenStream> = (0..outs.len())
-            .map(|i| {
-                let i = Literal::usize_unsuffixed(i);
-                quote!(#local[#i])
-            })
-            .collect();
-        let (f, a) = cells.split_at(n);
-        let m = format_ident!("__lagrange_mass");
+        let (m, f, a) = (
+            format_ident!("__lagrange_mass"),
+            format_ident!("__lagrange_lagrangian_force"),
+            format_ident!("__lagrange_applied"),
+        );
         quote! {
             #touch
             let #m: [[f64; #nn]; #nn] = { #mass };
-            #parts
-            ::lagrange::__private::eom::Pieces::new(#m, [#(#f),*]).with_applied([#(#a),*])
+            let (#f, #a): ([f64; #nn], [f64; #nn]) = { #force };
+            ::lagrange::__private::eom::Pieces::new(#m, #f).with_applied(#a)
         }
     } else {
         let new = quote!(::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f),*]));
