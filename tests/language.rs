@@ -474,6 +474,71 @@ fn above_32_coordinates_the_loop_solve_gives_the_closed_form() {
 }
 
 twins! {
+    /// 33 beads and a particle in space (36 coordinates: the code of M, of the right-hand side
+    /// and of the energy goes into modules next to the impl) with every kind of input those
+    /// modules take: `f64` and `Vector3` fields, an array field, parameter-only code, a
+    /// constant `match`, and a dissipation (applied forces).
+    Large36, Large36Jets { m: f64, k: [f64; 2], n: usize, g: Vector3<f64>, kind: Stiffness, c: f64 }
+    fn lagrangian(&self, (x, x_dot): Coords<33>, (r, r_dot): Coord3) -> Scalar {
+        let stiff = match self.kind {
+            Stiffness::Soft => self.k[0],
+            Stiffness::Hard => self.k[1],
+        };
+        let mut l = 0.5 * self.m * r_dot.norm_squared() + self.m * self.g.dot(&r);
+        for i in 0..33 {
+            l += 0.5 * self.m * x_dot[i] * x_dot[i] * (1.0 + 0.1 * x[i].cos());
+        }
+        for i in 0..32 {
+            l -= 0.5 * stiff * (self.n as f64) * (x[i + 1] - x[i]).powi(2) * (1.0 + r.z * r.z);
+        }
+        l
+    }
+    fn dissipation(&self, (_, x_dot): Coords<33>, (_, r_dot): Coord3) -> Scalar {
+        let mut d = 0.5 * self.c * r_dot.norm_squared();
+        for v in x_dot {
+            d += 0.1 * self.c * v * v;
+        }
+        d
+    }
+}
+
+/// The out-of-line modules of a large system get every input right: both modes agree, with the
+/// constant `match` taking either arm.
+#[test]
+fn large_system_modules_take_every_kind_of_input() {
+    let mut rng = Rng(43);
+    for kind in [Stiffness::Soft, Stiffness::Hard] {
+        let p = Large36 {
+            m: 0.7,
+            k: [1.5, 4.0],
+            n: 3,
+            g: Vector3::new(0.1, -0.2, -9.81),
+            kind,
+            c: 0.3,
+        };
+        let q: [f64; 36] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+        let v: [f64; 36] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+        let (e, m) = (p.energy(&q, &v, 0.0), p.momenta(&q, &v, 0.0));
+        let pieces = p.pieces(&q, &v, 0.0);
+        let j = p.jets();
+        std::thread::Builder::new()
+            .stack_size(256 << 20)
+            .spawn(move || {
+                compare(&p, &j, q, v);
+                let je = j.energy(&q, &v, 0.0);
+                assert!((e - je).abs() <= 1e-13 * je.abs().max(1.0), "{e} vs {je}");
+                assert!(close(&m, &j.momenta(&q, &v, 0.0), 1e-13));
+                let jp = j.pieces(&q, &v, 0.0);
+                assert!(close(&pieces.applied, &jp.applied, 1e-13));
+                assert!(close(&pieces.lagrangian_force, &jp.lagrangian_force, 1e-12));
+            })
+            .expect("a thread")
+            .join()
+            .expect("the jets agree");
+    }
+}
+
+twins! {
     /// Four particles on a line, every pair joined by a spring: nested loops, the inner bound a
     /// loop variable.
     AllPairs, AllPairsJets { m: f64, k: f64 }
