@@ -372,23 +372,19 @@ impl Dag {
                 let c = self.as_const(a).unwrap_or(1.0);
                 self.linear_terms(b, factor, coef * c, out, budget)
             }
+            // A product with one state-free factor p: p x, with x distributed over when a sum.
             Node::Mul(a, b)
-                if factor == Dag::ONE && self.is_state_free(a) && !self.is_state_free(b) =>
+                if factor == Dag::ONE && self.is_state_free(a) != self.is_state_free(b) =>
             {
-                if is_sum(b) {
-                    self.linear_terms(b, a, coef, out, budget)
+                let (p, x) = if self.is_state_free(a) {
+                    (a, b)
                 } else {
-                    out.push((a, b, coef));
-                    true
-                }
-            }
-            Node::Mul(a, b)
-                if factor == Dag::ONE && self.is_state_free(b) && !self.is_state_free(a) =>
-            {
-                if is_sum(a) {
-                    self.linear_terms(a, b, coef, out, budget)
+                    (b, a)
+                };
+                if is_sum(x) {
+                    self.linear_terms(x, p, coef, out, budget)
                 } else {
-                    out.push((b, a, coef));
+                    out.push((p, x, coef));
                     true
                 }
             }

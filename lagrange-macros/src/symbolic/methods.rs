@@ -352,22 +352,27 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         momenta,
         energy,
         energy_and_momenta,
-        allow: quote! {
-            #[allow(
-                unused_variables,
-                unused_parens,
-                non_snake_case,
-                clippy::all,
-                clippy::pedantic,
-                clippy::nursery
-            )]
-        },
+        allow: allow_generated(),
         has_applied,
         taylor: super::taylor::body(d, n),
         equations: eq.unicode,
         equations_latex: eq.latex,
         doc,
         generated_lets: lets,
+    }
+}
+
+/// The lint attributes of every generated function (machine-written code).
+fn allow_generated() -> TokenStream {
+    quote! {
+        #[allow(
+            unused_variables,
+            unused_parens,
+            non_snake_case,
+            clippy::all,
+            clippy::pedantic,
+            clippy::nursery
+        )]
     }
 }
 
@@ -389,18 +394,12 @@ fn out_of_line(
     let params = code.inputs.iter().map(|(x, ty)| quote!(#x: #ty));
     let args = code.inputs.iter().map(|(x, _)| x);
     let (loads, values) = (&code.loads, &code.values);
+    let allow = allow_generated();
     items.extend(quote! {
         #[doc(hidden)]
         #[allow(non_snake_case, clippy::all, clippy::pedantic, clippy::nursery)]
         mod #module {
-            #[allow(
-                unused_variables,
-                unused_parens,
-                non_snake_case,
-                clippy::all,
-                clippy::pedantic,
-                clippy::nursery
-            )]
+            #allow
             #[inline(never)]
             pub(super) fn eval(
                 #(#params,)*
