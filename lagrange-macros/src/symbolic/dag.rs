@@ -301,7 +301,8 @@ impl Dag {
     /// `id` with the like terms of its sum cancelled: the sum is flattened through `+`, `−`,
     /// negation, constant factors and a state-free factor of a sum (`p (a − b)` is `p a − p b`),
     /// terms equal up to their coefficient are merged, and the sum is rebuilt (grouped by
-    /// state-free factor, in first-seen order) only when that removed a term. The Euler–Lagrange
+    /// state-free factor, in first-seen order) only when that removed a term and the rebuilt sum
+    /// takes fewer new nodes than the sum visited. The Euler–Lagrange
     /// force fᵢ = ∂L/∂qᵢ − d/dt|_q̈ ∂L/∂q̇ᵢ is where this pays: the two halves share terms that
     /// cancel (a 64-link chain's f has ≈ 2 300 top-level terms, ≈ 1 400 after cancelling).
     pub fn collect_terms(&mut self, id: Id) -> Id {
@@ -310,6 +311,8 @@ impl Dag {
         if !self.linear_terms(id, Dag::ONE, 1.0, &mut terms, &mut budget) {
             return id;
         }
+        let visited = COLLECT_MAX_VISITS - budget;
+        let before = self.len();
         let mut index: HashMap<(Id, Id), usize> = HashMap::new();
         let mut merged: Vec<((Id, Id), f64)> = Vec::new();
         for &(factor, leaf, c) in &terms {
@@ -340,7 +343,13 @@ impl Dag {
             let term = self.mul(factor, sum);
             total = self.add(total, term);
         }
-        total
+        // Only if the rebuilt sum is smaller than the one it replaces (the sum's nodes may be
+        // shared with other outputs, which keep them; the new nodes are left unused).
+        if self.len() - before < visited {
+            total
+        } else {
+            id
+        }
     }
 
     /// Appends the terms (state-free factor or 1, leaf, coefficient) of `coef · factor · id` to
