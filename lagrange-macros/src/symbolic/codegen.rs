@@ -100,11 +100,6 @@ fn node_level(dag: &Dag, level: &[usize], node: Node) -> usize {
         .unwrap_or(0)
 }
 
-/// Up to this many values, one tuple `let` per level in every build. Above, optimized builds bind
-/// each level from an array instead (see `emit`), and builds with debug assertions keep the
-/// tuples (they skip the MIR pass the tuples are slow in).
-const TUPLES_UP_TO: usize = 2000;
-
 /// Emits the code computing `outputs` (and everything they need).
 pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code {
     let mut need = vec![false; dag.len()];
@@ -276,49 +271,14 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
         by_level[lv].push((pat, ty, rhs));
         lets += 1;
     }
-    // Above `TUPLES_UP_TO` values the tuples are for builds with debug assertions only (the dev
-    // and test profiles, which carry debug info and do not run rustc's MIR optimizations); an
-    // optimized build binds each level from an array: rustc's scalar replacement of aggregates
-    // is superlinear in the tuples' sizes (a 64-link chain spent 68 s of a 104 s release build in
-    // that pass; a synthetic body of 60 000 values: 311 s as level tuples, 27 s as level arrays).
-    let split = lets > TUPLES_UP_TO;
-    let tuples_cfg = if split {
-        quote!(#[cfg(debug_assertions)])
-    } else {
-        TokenStream::new()
-    };
     for group in &by_level {
         if let [(x, ty, rhs)] = group.as_slice() {
-            stmts.extend(quote!(#tuples_cfg let #x: #ty = #rhs;));
+            stmts.extend(quote!(let #x: #ty = #rhs;));
         } else if !group.is_empty() {
             let xs = group.iter().map(|(x, _, _)| x);
             let tys = group.iter().map(|(_, t, _)| t);
             let rhss = group.iter().map(|(_, _, r)| r);
-            stmts.extend(quote!(#tuples_cfg let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
-        }
-    }
-    if split {
-        // One array `let` per level (and one array of sin/cos pairs): not split by that MIR pass,
-        // and one debug-info scope per level (plain `let`s, one scope each, crashed rustc's stack
-        // from 5 000 values on with debug info, as a release profile with `debug = true` has).
-        let cfg = quote!(#[cfg(not(debug_assertions))]);
-        for group in &by_level {
-            if let [(x, ty, rhs)] = group.as_slice() {
-                stmts.extend(quote!(#cfg let #x: #ty = #rhs;));
-                continue;
-            }
-            for pairs in [false, true] {
-                let part: Vec<_> = group
-                    .iter()
-                    .filter(|(_, ty, _)| (ty.to_string() != "f64") == pairs)
-                    .collect();
-                if let Some((_, ty, _)) = part.first() {
-                    let xs = part.iter().map(|v| &v.0);
-                    let rhss = part.iter().map(|v| &v.2);
-                    let len = Literal::usize_unsuffixed(part.len());
-                    stmts.extend(quote!(#cfg let [#(#xs),*]: [#ty; #len] = [#(#rhss),*];));
-                }
-            }
+            stmts.extend(quote!(let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
         }
     }
     let values = stmts.clone();
