@@ -11,11 +11,9 @@ use crate::names;
 
 /// Straight-line code computing a set of DAG nodes.
 pub struct Code {
-    /// The `let` statements (parameter loads first).
-    pub stmts: TokenStream,
-    /// The parameter loads and conditions alone (the start of `stmts`).
+    /// The parameter loads and conditions.
     pub loads: TokenStream,
-    /// The values alone (the rest of `stmts`).
+    /// The values, after the loads.
     pub values: TokenStream,
     /// The locals `loads` binds, with their types, in order: the inputs of `values`.
     pub inputs: Vec<(Ident, TokenStream)>,
@@ -159,8 +157,7 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
             inputs.push((b, quote!(bool)));
         }
     }
-    let loads = stmts.clone();
-    let mut stmts = TokenStream::new();
+    let loads = std::mem::take(&mut stmts);
     // Every `let` opens a lexical scope, and debug info nests them: thousands of sequential
     // `let`s overflow LLVM's stack. Nodes are grouped by level (1 + the deepest inner operand)
     // into one tuple `let` per level, so the nesting depth is the depth of the DAG.
@@ -281,14 +278,19 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
             stmts.extend(quote!(let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
         }
     }
-    let values = stmts.clone();
-    let mut stmts = loads.clone();
-    stmts.extend(values.clone());
     Code {
-        stmts,
         loads,
-        values,
+        values: stmts,
         inputs,
         lets,
+    }
+}
+
+impl Code {
+    /// All the `let` statements: the loads, then the values.
+    pub fn stmts(&self) -> TokenStream {
+        let mut all = self.loads.clone();
+        all.extend(self.values.clone());
+        all
     }
 }

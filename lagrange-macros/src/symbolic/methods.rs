@@ -122,7 +122,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
             quote!([#(#cells),*])
         });
         let f = eq.rhs.iter().map(or_zero);
-        let stmts = code.stmts;
+        let stmts = code.stmts();
         let pairs: Vec<(usize, usize, TokenStream, bool)> = d
             .pairs
             .iter()
@@ -219,7 +219,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         let new = quote!(::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f),*]));
         let stmts = code.map(|c| {
             lets += c.lets;
-            c.stmts
+            c.stmts()
         });
         if conservative {
             quote! {
@@ -240,7 +240,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.power]);
     lets += code.lets;
     let w = op(d.power);
-    let stmts = code.stmts;
+    let stmts = code.stmts();
     let power = quote! {
         #touch
         #stmts
@@ -273,7 +273,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
                 let id = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
                 op(id)
             });
-        let stmts = code.stmts;
+        let stmts = code.stmts();
         let mass_matrix = quote! {
             #touch
             #stmts
@@ -282,7 +282,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         let code = codegen::emit(&d.dag, &d.fields, &d.conds, &d.momenta);
         lets += code.lets;
         let p = d.momenta.iter().map(|&x| op(x));
-        let stmts = code.stmts;
+        let stmts = code.stmts();
         let momenta = quote! {
             #touch
             #stmts
@@ -291,7 +291,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.energy]);
         lets += code.lets;
         let h = op(d.energy);
-        let stmts = code.stmts;
+        let stmts = code.stmts();
         let energy = quote! {
             #touch
             #stmts
@@ -321,7 +321,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
             #body
         }
     } else {
-        let stmts = code.stmts;
+        let stmts = code.stmts();
         quote! {
             #touch
             #stmts

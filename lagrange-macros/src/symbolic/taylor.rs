@@ -176,7 +176,7 @@ pub fn body(d: &Derivation, n: usize) -> Option<TokenStream> {
     let sl = |x: Id| Literal::usize_unsuffixed(slot[x as usize]);
     // Order 0: the straight-line values of every needed node.
     let code0 = codegen::emit(&dag, &d.fields, &d.conds, &ids);
-    let stmts0 = &code0.stmts;
+    let stmts0 = &code0.stmts();
     let mut set0 = TokenStream::new();
     // Slots with no coefficient past order 0 (constants, steps, the zero series): zeroed, since
     // the buffer may have held another layout.
