@@ -39,6 +39,7 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use crate::constraints::Holonomic;
+use crate::integrate::lanes::run_lanes;
 use crate::integrate::{Simulation, SimulationError, Trajectory};
 use crate::lagrangian::Lagrangian;
 
@@ -130,6 +131,11 @@ pub struct Ensemble<'c, L, F, const N: usize> {
     threads: Option<usize>,
     shard: Option<(usize, usize)>,
     progress: bool,
+    /// Members per vector of the lanes engine (1: one member at a time); `None`: 4 where the
+    /// system has generated lanes code, else 1.
+    lanes: Option<usize>,
+    /// Whether members run as they are (not constrained): only those can share lanes.
+    plain: bool,
 }
 
 /// What an ensemble returns: for each member run, in member order, its index, its parameters and
@@ -176,6 +182,8 @@ where
             threads: None,
             shard: None,
             progress: false,
+            lanes: None,
+            plain: true,
         }
     }
 
@@ -215,6 +223,7 @@ where
         L: Holonomic<N, K>,
     {
         self.runner = run_constrained::<L, N, K>;
+        self.plain = false;
         self
     }
 
@@ -316,6 +325,42 @@ where
         self
     }
 
+    /// Runs `w` members per vector: DOP853 members step together, one per SIMD lane, each with
+    /// its own step size and accept/reject decision, a member's lane going to the next member as
+    /// soon as it ends. Results equal the one-at-a-time runs bit for bit. `w` is 1 (off), 2, 4 or
+    /// 8 (other values round down to one of these). Without this call: 4 where the system's
+    /// accelerations are generated lanes code ([`Lagrangian::VECTORIZED_LANES`]: `#[lagrangian]`
+    /// in symbolic mode), else 1. Members with another method, or constrained ones, run one at a
+    /// time whatever `w` is.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Osc { w: f64 }
+    /// # impl Lagrangian<1> for Osc {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+    /// #         (v[0] * v[0] - q[0] * q[0] * (self.w * self.w)) * 0.5
+    /// #     }
+    /// # }
+    /// let sweep = |w| {
+    ///     Ensemble::new(6, |i| Member::new(Osc { w: 1.0 + i as f64 }, [1.0], [0.0]))
+    ///         .configure(|sim| sim.until(3.0))
+    ///         .lanes(w)
+    ///         .reduce(&["x"], |tr| tr.q[tr.q.len() - 1][0])
+    /// };
+    /// let (one, four) = (sweep(1), sweep(4));
+    /// for (a, b) in one.results.iter().zip(&four.results) {
+    ///     assert_eq!(a.as_ref().unwrap().to_bits(), b.as_ref().unwrap().to_bits());
+    /// }
+    /// ```
+    pub fn lanes(mut self, w: usize) -> Self {
+        self.lanes = Some(w);
+        self
+    }
+
     /// The indices of the members this ensemble (or its shard) runs.
     ///
     /// ```
@@ -397,21 +442,37 @@ where
     ) -> Results<R> {
         let range = self.members();
         let bar = Bar::new(self.progress, range.len());
-        let one = |i: usize| {
-            let m = (self.member)(i);
-            let sim = (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0));
-            let r = (self.runner)(&m.system, sim).map(&keep);
-            bar.inc();
-            (m.params, r)
+        let width = match self.lanes {
+            None if L::VECTORIZED_LANES => 4,
+            None => 1,
+            Some(w) => w,
         };
-        let out: Vec<(Params, Result<R, SimulationError>)> = match self.threads {
-            Some(1) => range.clone().map(one).collect(),
-            Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
-                Ok(pool) => pool.install(|| range.clone().into_par_iter().map(one).collect()),
-                // No threads to be had: the calling thread runs them all.
-                Err(_) => range.clone().map(one).collect(),
-            },
-            None => range.clone().into_par_iter().map(one).collect(),
+        let width = if self.plain { width } else { 1 };
+        let out: Vec<(Params, Result<R, SimulationError>)> = if width >= 2 {
+            // Blocks of members, each run by the lanes engine in one thread.
+            let threads = self
+                .threads
+                .unwrap_or_else(rayon::current_num_threads)
+                .max(1);
+            let block = (range.len().div_ceil(4 * threads)).max(16 * width);
+            let blocks: Vec<Range<usize>> = range
+                .clone()
+                .step_by(block)
+                .map(|a| a..(a + block).min(range.end))
+                .collect();
+            let one = |r: Range<usize>| self.lanes_block(r, width, &keep, &bar);
+            let parts: Vec<Vec<(Params, Result<R, SimulationError>)>> =
+                self.in_threads(blocks, one);
+            parts.into_iter().flatten().collect()
+        } else {
+            let one = |i: usize| {
+                let m = (self.member)(i);
+                let sim = (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0));
+                let r = (self.runner)(&m.system, sim).map(&keep);
+                bar.inc();
+                (m.params, r)
+            };
+            self.in_threads(range.clone().collect(), one)
         };
         bar.finish();
         let (params, results) = out.into_iter().unzip();
@@ -421,6 +482,66 @@ where
             results,
             columns,
         }
+    }
+
+    /// `f` of every item, in order, on the ensemble's threads.
+    fn in_threads<I: Send, T: Send>(
+        &self,
+        items: Vec<I>,
+        f: impl Fn(I) -> T + Sync + Send,
+    ) -> Vec<T> {
+        match self.threads {
+            Some(1) => items.into_iter().map(f).collect(),
+            Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+                Ok(pool) => pool.install(|| items.into_par_iter().map(f).collect()),
+                // No threads to be had: the calling thread runs them all.
+                Err(_) => items.into_iter().map(f).collect(),
+            },
+            None => items.into_par_iter().map(f).collect(),
+        }
+    }
+
+    /// The members of `range` on the lanes engine, `width` per vector, in member order.
+    fn lanes_block<R>(
+        &self,
+        range: Range<usize>,
+        width: usize,
+        keep: &(impl Fn(Trajectory<N>) -> R + Sync),
+        bar: &Bar,
+    ) -> Vec<(Params, Result<R, SimulationError>)> {
+        let members: Vec<Member<L, N>> = range.map(&self.member).collect();
+        let mut slots: Vec<Option<Result<R, SimulationError>>> =
+            members.iter().map(|_| None).collect();
+        {
+            let mut sims: Vec<Simulation<'_, L, N>> = members
+                .iter()
+                .map(|m| (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0)))
+                .collect();
+            let out = |pos: usize, r: Result<Trajectory<N>, SimulationError>| {
+                slots[pos] = Some(r.map(keep));
+                bar.inc();
+            };
+            match width {
+                2 | 3 => run_lanes::<L, N, 2>(&mut sims, out),
+                4..=7 => run_lanes::<L, N, 4>(&mut sims, out),
+                _ => run_lanes::<L, N, 8>(&mut sims, out),
+            }
+        }
+        members
+            .into_iter()
+            .zip(slots)
+            .map(|(m, r)| {
+                // The engine ends every member it is given; a slot left empty would be a bug,
+                // reported in the member's slot rather than as a panic.
+                let r = r.unwrap_or_else(|| {
+                    Err(SimulationError::InvalidOptions {
+                        message: "the lanes engine did not run this member (a bug in lagrange)"
+                            .to_string(),
+                    })
+                });
+                (m.params, r)
+            })
+            .collect()
     }
 }
 

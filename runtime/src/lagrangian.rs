@@ -5,6 +5,7 @@ use nalgebra::SMatrix;
 use crate::eom::{self, jet_pieces, jet_power, Pieces};
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
+use crate::lanes::Lanes;
 use crate::linearize::{jet_linearize, Linearization};
 use crate::scalar::Scalar;
 
@@ -157,6 +158,61 @@ pub trait Lagrangian<const N: usize> {
         eom::solve(&self.pieces(q, qdot, t), Self::COORDINATES, q, qdot, t)
     }
 
+    /// How many numbers [`lane_params`](Self::lane_params) writes: the parameters the
+    /// generated [`accelerations_lanes`](Self::accelerations_lanes) reads (0 by default).
+    #[doc(hidden)]
+    const LANE_PARAMS: usize = 0;
+
+    /// Whether [`accelerations_lanes`](Self::accelerations_lanes) is generated straight-line
+    /// code over [`Lanes`] (`#[lagrangian]` in symbolic mode, up to 32 coordinates) rather than
+    /// the default, which calls [`accelerations`](Self::accelerations) once per lane.
+    const VECTORIZED_LANES: bool = false;
+
+    /// Writes the `LANE_PARAMS` parameters the lanes code reads (the generated code's parameter
+    /// loads, run once when a member enters a lane). The default writes nothing.
+    #[doc(hidden)]
+    fn lane_params(&self, _out: &mut [f64]) {}
+
+    /// q̈ of W members at once, lane l for `members[l]` at (q, q̇, t) of lane l; `params` holds
+    /// each member's [`lane_params`](Self::lane_params) (parameter p of all lanes in
+    /// `params[p]`). A lane whose dynamics fail (a singular mass matrix, a non-finite value) is
+    /// NaN: the caller asks [`accelerations`](Self::accelerations) for that member's typed error.
+    ///
+    /// Every lane equals `accelerations` of its member bit for bit. The default calls
+    /// `accelerations` once per lane; `#[lagrangian]` in symbolic mode generates one
+    /// straight-line pass over [`Lanes`] (with the same per-lane fallback where a pivot test
+    /// fails in any lane).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, lanes::Lanes};
+    /// struct Spring { k: f64 }
+    /// impl Lagrangian<1> for Spring {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+    ///         (v[0] * v[0] - q[0] * q[0] * self.k) * 0.5
+    ///     }
+    /// }
+    /// let (a, b) = (Spring { k: 1.0 }, Spring { k: 4.0 });
+    /// let x = Lanes([1.0, 0.5]);
+    /// let qdd = Spring::accelerations_lanes(&[&a, &b], &[], &[x], &[Lanes([0.0; 2])], Lanes([0.0; 2]));
+    /// assert_eq!(qdd[0].0, [-1.0, -2.0]);
+    /// ```
+    #[inline]
+    fn accelerations_lanes<const W: usize>(
+        members: &[&Self; W],
+        _params: &[Lanes<W>],
+        q: &[Lanes<W>; N],
+        qdot: &[Lanes<W>; N],
+        t: Lanes<W>,
+    ) -> [Lanes<W>; N]
+    where
+        Self: Sized,
+    {
+        lanes_one_by_one(members, q, qdot, t)
+    }
+
     /// The mass matrix M = ∂²L/∂q̇∂q̇ (from [`pieces`](Self::pieces)).
     fn mass_matrix(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> SMatrix<f64, N, N> {
         let p = self.pieces(q, qdot, t);
@@ -279,6 +335,45 @@ pub trait Lagrangian<const N: usize> {
         // Not through `energy_and_momenta`: an override of that one may call this.
         jet_energy_and_momenta(self, q, qdot, t).0
     }
+}
+
+/// q̈ of each lane's member by its own [`Lagrangian::accelerations`], NaN where that fails: the
+/// default of [`Lagrangian::accelerations_lanes`] and the generated code's fallback when a pivot
+/// test fails in some lane.
+///
+/// ```
+/// # use lagrange_runtime::{Lagrangian, Scalar, lanes::Lanes, lagrangian_lanes_one_by_one};
+/// struct Free;
+/// impl Lagrangian<1> for Free {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [true];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+/// }
+/// let z = Lanes([0.0; 2]);
+/// assert_eq!(lagrangian_lanes_one_by_one(&[&Free, &Free], &[z], &[z], z)[0].0, [0.0, 0.0]);
+/// ```
+#[doc(hidden)]
+pub fn lanes_one_by_one<L, const N: usize, const W: usize>(
+    members: &[&L; W],
+    q: &[Lanes<W>; N],
+    qdot: &[Lanes<W>; N],
+    t: Lanes<W>,
+) -> [Lanes<W>; N]
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let mut out = [Lanes::NAN; N];
+    for (l, sys) in members.iter().enumerate() {
+        let ql: [f64; N] = core::array::from_fn(|i| q[i].0[l]);
+        let vl: [f64; N] = core::array::from_fn(|i| qdot[i].0[l]);
+        if let Ok(a) = sys.accelerations(&ql, &vl, t.0[l]) {
+            for i in 0..N {
+                out[i].0[l] = a[i];
+            }
+        }
+    }
+    out
 }
 
 /// h = q̇·p − L and p from one jet pass: the defaults of `energy` and `energy_and_momenta`.

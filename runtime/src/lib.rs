@@ -15,6 +15,7 @@ pub mod error;
 pub mod integrate;
 pub mod jet;
 mod lagrangian;
+pub mod lanes;
 pub mod linalg;
 pub mod linearize;
 #[doc(hidden)]
@@ -32,6 +33,8 @@ pub use integrate::{
     ConstraintResidual, Direction, Drift, Event, EventHit, Invariants, Method, PartialTrajectory,
     Sample, Simulation, SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
 };
+#[doc(hidden)]
+pub use lagrangian::lanes_one_by_one as lagrangian_lanes_one_by_one;
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
 pub use linearize::{equilibrium, Linearization, LinearizationError, Mode, Stability};
 pub use nalgebra::{SMatrix, Vector3};

@@ -78,7 +78,7 @@ pub(crate) fn initial_step<L: Lagrangian<N> + ?Sized, const N: usize>(
         (dny / dnf).sqrt() * 0.01
     };
     h = h.min(hmax);
-    let y1 = combine::<1, _, _, _>(y, h, &[1.0], &[*f0]);
+    let y1 = combine::<1, _, _, _, _>(y, h, &[1.0], &[*f0]);
     let f1 = rhs(sys, t + h, &y1, stats)?;
     let mut d = [[0.0; N]; 2];
     for r in 0..2 {

@@ -26,12 +26,12 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     stats: &mut Stats,
 ) -> Result<(Y<N>, f64), Fault> {
     stages!((A, C), sys, t, y, h, k, stats; 1 2 3 4 5 6 7 8 9 10 11);
-    let y1 = combine::<12, _, _, _>(y, h, &A[12], k);
+    let y1 = combine::<12, _, _, _, _>(y, h, &A[12], k);
     if !finite(&y1) {
         return Err(Fault::NonFinite);
     }
-    let e5 = weighted::<12, _, _, _>(&E5, k);
-    let e3 = weighted::<12, _, _, _>(&E3, k);
+    let e5 = weighted::<12, _, _, _, _>(&E5, k);
+    let e3 = weighted::<12, _, _, _, _>(&E3, k);
     let sk = scales(rtol, atol, y, &y1);
     let err5 = sum_sq(&e5, &sk);
     let err3 = sum_sq(&e3, &sk);
@@ -59,7 +59,7 @@ pub(crate) fn dense<L: Lagrangian<N> + ?Sized, const N: usize>(
     stages!((A, C), sys, t, y, h, k, stats; 13 14 15);
     let mut r = [[[0.0; N]; 2]; 8];
     for (j, dj) in D.iter().enumerate() {
-        let w = weighted::<16, _, _, _>(dj, k);
+        let w = weighted::<16, _, _, _, _>(dj, k);
         for c in 0..2 {
             for i in 0..N {
                 r[4 + j][c][i] = h * w[c][i];
@@ -151,6 +151,109 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
     }
 }
 
+/// What one attempted step produced: y₁, ln err and, for an accepted step, f(t + h, y₁); or the
+/// fault of a stage.
+pub(crate) type Attempt<const N: usize> = Result<(Y<N>, f64, Option<Y<N>>), Fault>;
+
+impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
+    /// Starts the next step from the current node: its first stage is f there (FSAL).
+    #[inline(always)]
+    pub(crate) fn begin_step(&mut self) {
+        self.k[0] = self.k[12];
+    }
+
+    /// The next trial step and whether it ends at `t_end` (see [`StepControl::trial`]).
+    #[inline(always)]
+    pub(crate) fn trial(&mut self, t_end: f64) -> Result<(f64, bool), Fault> {
+        self.sc.trial(self.t, t_end)
+    }
+
+    /// Attempts a step of size h from the current node; f at y₁ only if the error is accepted.
+    #[inline(always)]
+    pub(crate) fn attempt(&mut self, h: f64, stats: &mut Stats) -> Attempt<N> {
+        step(
+            self.sys,
+            self.t,
+            &self.y,
+            &mut self.k,
+            h,
+            self.rtol,
+            self.atol,
+            stats,
+        )
+        .and_then(|(y1, ln_err)| {
+            if ln_err <= 0.0 {
+                // f at the new point: needed for the next step (FSAL) and the dense output.
+                let f1 = rhs(self.sys, self.t + h, &y1, stats)?;
+                Ok((y1, ln_err, Some(f1)))
+            } else {
+                Ok((y1, ln_err, None))
+            }
+        })
+    }
+
+    /// Takes the outcome of an attempt of size h (the stages in `k`): accepts it and moves to
+    /// y₁ (true), or records the rejection or fault and proposes the retry (false).
+    #[inline(always)]
+    pub(crate) fn settle(
+        &mut self,
+        h: f64,
+        last: bool,
+        t_end: f64,
+        attempt: Attempt<N>,
+        stats: &mut Stats,
+    ) -> bool {
+        match attempt {
+            Ok((y1, ln_err, Some(f1))) => {
+                self.sc.accept(h, ln_err, stats);
+                self.k[12] = f1;
+                self.r = None;
+                self.t_old = self.t;
+                self.y_old = self.y;
+                self.h_old = h;
+                self.t = if last { t_end } else { self.t + h };
+                self.y = y1;
+                true
+            }
+            Ok((_, ln_err, None)) => {
+                self.sc.reject(h, ln_err, stats);
+                false
+            }
+            // A stage left the domain of the dynamics: retry with a smaller step.
+            Err(f) => {
+                self.sc.shrink(h, f, stats);
+                false
+            }
+        }
+    }
+
+    /// The tolerances (rtol, atol) the error weights use.
+    pub(crate) fn tolerances(&self) -> (f64, f64) {
+        (self.rtol, self.atol)
+    }
+
+    /// The current node (t, y).
+    pub(crate) fn node_state(&self) -> (f64, &Y<N>) {
+        (self.t, &self.y)
+    }
+
+    /// The system.
+    pub(crate) fn sys(&self) -> &'a L {
+        self.sys
+    }
+
+    /// The stages (see [`stages_mut`](Self::stages_mut)).
+    pub(crate) fn stages(&self) -> &[Y<N>; 16] {
+        &self.k
+    }
+
+    /// The stages: `k[0]` = f at the node after [`begin_step`](Self::begin_step); an attempt
+    /// fills `k[1..12]`.
+    pub(crate) fn stages_mut(&mut self) -> &mut [Y<N>; 16] {
+        &mut self.k
+    }
+}
+
 impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> {
     fn t(&self) -> f64 {
         self.t
@@ -170,43 +273,12 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> 
         Ok(())
     }
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
-        self.k[0] = self.k[12];
+        self.begin_step();
         loop {
-            let (h, last) = self.sc.trial(self.t, t_end)?;
-            let attempt = step(
-                self.sys,
-                self.t,
-                &self.y,
-                &mut self.k,
-                h,
-                self.rtol,
-                self.atol,
-                stats,
-            )
-            .and_then(|(y1, ln_err)| {
-                if ln_err <= 0.0 {
-                    // f at the new point: needed for the next step (FSAL) and the dense output.
-                    let f1 = rhs(self.sys, self.t + h, &y1, stats)?;
-                    Ok((y1, ln_err, Some(f1)))
-                } else {
-                    Ok((y1, ln_err, None))
-                }
-            });
-            match attempt {
-                Ok((y1, ln_err, Some(f1))) => {
-                    self.sc.accept(h, ln_err, stats);
-                    self.k[12] = f1;
-                    self.r = None;
-                    self.t_old = self.t;
-                    self.y_old = self.y;
-                    self.h_old = h;
-                    self.t = if last { t_end } else { self.t + h };
-                    self.y = y1;
-                    return Ok(());
-                }
-                Ok((_, ln_err, None)) => self.sc.reject(h, ln_err, stats),
-                // A stage left the domain of the dynamics: retry with a smaller step.
-                Err(f) => self.sc.shrink(h, f, stats),
+            let (h, last) = self.trial(t_end)?;
+            let attempt = self.attempt(h, stats);
+            if self.settle(h, last, t_end, attempt, stats) {
+                return Ok(());
             }
         }
     }

@@ -73,12 +73,12 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     stats: &mut Stats,
 ) -> Result<(Y<N>, Y<N>), Fault> {
     stages!((A, C), sys, t, y, h, k, stats; 1 2 3 4 5);
-    let y1 = combine::<6, _, _, _>(y, h, &A[6], k);
+    let y1 = combine::<6, _, _, _, _>(y, h, &A[6], k);
     if !finite(&y1) {
         return Err(Fault::NonFinite);
     }
     k[6] = rhs(sys, t + h, &y1, stats)?;
-    let mut err = weighted::<7, _, _, _>(&E, k);
+    let mut err = weighted::<7, _, _, _, _>(&E, k);
     for row in err.iter_mut() {
         for e in row.iter_mut() {
             *e *= h;
@@ -90,7 +90,7 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
 /// The coefficients of the continuous extension on [t, t + h].
 pub(crate) fn dense<const N: usize>(y: &Y<N>, y1: &Y<N>, k: &[Y<N>; 7], h: f64) -> [Y<N>; 5] {
     let mut r = [[[0.0; N]; 2]; 5];
-    let d = weighted::<7, _, _, _>(&D, k);
+    let d = weighted::<7, _, _, _, _>(&D, k);
     for c in 0..2 {
         for i in 0..N {
             let ydiff = y1[c][i] - y[c][i];

@@ -33,18 +33,7 @@ pub(super) fn run<L: Lagrangian<N> + ?Sized, const N: usize>(
     o: &RunOptions,
     observer: Option<&mut dyn FnMut(&Sample<N>)>,
 ) -> Result<Trajectory<N>, SimulationError> {
-    let mut driver = Driver {
-        sys,
-        events,
-        observer,
-        keep: o.keep_samples,
-        max_samples: o.max_samples,
-        traj: Trajectory::empty::<L>(manifold.map_or(0, |m| m.count())),
-        work: Work::default(),
-        stats: Stats::default(),
-        manifold,
-        project_steps: manifold.is_some() && !matches!(method, Method::VariationalMidpoint { .. }),
-    };
+    let mut driver = Driver::new(sys, manifold, events, method, o, observer);
     let (t0, until) = (o.t0, o.until);
     match method {
         Method::Rk4 { dt } => {
@@ -138,7 +127,7 @@ impl Sampling<'_> {
     }
 }
 
-struct Driver<'s, 'a, 'o, L: ?Sized, const N: usize> {
+pub(super) struct Driver<'s, 'a, 'o, L: ?Sized, const N: usize> {
     sys: &'s L,
     /// The constraints of a constrained run.
     manifold: Option<&'s dyn Manifold<N>>,
@@ -171,7 +160,42 @@ const GAUSS4: [(f64, f64); 4] = [
     (0.930_568_155_797_026_3, 0.173_927_422_568_726_92),
 ];
 
-impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, '_, L, N> {
+impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L, N> {
+    /// The driver of a run of `method` on `sys` under the options `o`.
+    pub(super) fn new(
+        sys: &'s L,
+        manifold: Option<&'s dyn Manifold<N>>,
+        events: &'s [Event<'a, N>],
+        method: Method,
+        o: &RunOptions,
+        observer: Option<&'o mut dyn FnMut(&Sample<N>)>,
+    ) -> Self {
+        Driver {
+            sys,
+            events,
+            observer,
+            keep: o.keep_samples,
+            max_samples: o.max_samples,
+            traj: Trajectory::empty::<L>(manifold.map_or(0, |m| m.count())),
+            work: Work::default(),
+            stats: Stats::default(),
+            manifold,
+            project_steps: manifold.is_some()
+                && !matches!(method, Method::VariationalMidpoint { .. }),
+        }
+    }
+
+    /// Whether the run reads the method's interpolant between nodes (samples off the nodes,
+    /// events, the work integral): a lane run then keeps each member's stages.
+    pub(super) fn needs_interpolant(&self, o: &RunOptions) -> bool {
+        Self::RECORDS_WORK || !self.events.is_empty() || !matches!(o.sampling, Sampling::Steps)
+    }
+
+    /// The statistics so far (the lanes engine counts a member's work here).
+    pub(super) fn stats(&mut self) -> &mut Stats {
+        &mut self.stats
+    }
+
     /// Whether the run records the work (the energy is not conserved); a constant per system.
     const RECORDS_WORK: bool = !L::ENERGY_CONSERVED;
 
@@ -240,7 +264,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, '_, L, N> {
     }
 
     /// Turns a stepper fault into the error, with the trajectory so far ending at (t, y).
-    fn fail(mut self, fault: Fault, t: f64, y: Y<N>) -> SimulationError {
+    pub(super) fn fail(mut self, fault: Fault, t: f64, y: Y<N>) -> SimulationError {
         if y.iter().flatten().all(|x| x.is_finite()) {
             let w = self.work.at_node;
             // Past max_samples (or where the constraints fail there) the partial trajectory ends
@@ -306,7 +330,179 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, '_, L, N> {
         mut s: S,
         o: &RunOptions,
     ) -> Result<Trajectory<N>, SimulationError> {
-        match self.drive(&mut s, o) {
+        let r = self.drive(&mut s, o);
+        self.conclude(r, &s)
+    }
+
+    fn drive<S: Stepper<N>>(&mut self, s: &mut S, o: &RunOptions) -> Result<(), Fault> {
+        let mut p = self.begin(s, o)?;
+        while s.t() < o.until {
+            self.check_budget(o)?;
+            s.advance(o.until, &mut self.stats)?;
+            if self.after_step(s, o, &mut p)? {
+                return Ok(());
+            }
+        }
+        self.finish(s)
+    }
+
+    /// The step budget, checked before every step.
+    pub(super) fn check_budget(&self, o: &RunOptions) -> Result<(), Fault> {
+        if self.stats.steps + self.stats.rejected >= o.max_steps {
+            return Err(Fault::MaxSteps(o.max_steps));
+        }
+        Ok(())
+    }
+
+    /// Records the initial state and the events' first values.
+    pub(super) fn begin<S: Stepper<N>>(
+        &mut self,
+        s: &mut S,
+        o: &RunOptions,
+    ) -> Result<Progress, Fault> {
+        let y0 = s.node(&mut self.stats)?;
+        self.push(o.t0, &y0, 0.0)?;
+        let g_old: Vec<f64> = self
+            .events
+            .iter()
+            .map(|e| e.value(o.t0, &y0[0], &y0[1]))
+            .collect();
+        Ok(Progress {
+            g_new: g_old.clone(),
+            g_old,
+            hits: Vec::new(),
+            next_sample: 0,
+        })
+    }
+
+    /// The end time, if the sample grid did not land on it.
+    pub(super) fn finish<S: Stepper<N>>(&mut self, s: &mut S) -> Result<(), Fault> {
+        let y = s.node(&mut self.stats)?;
+        let w = self.work.at_node;
+        self.push(s.t(), &y, w)
+    }
+
+    /// What follows an accepted step of `s`: the projection of a constrained run, the work, the
+    /// events located in the step, the samples in it. True when a terminal event ended the run.
+    pub(super) fn after_step<S: Stepper<N>>(
+        &mut self,
+        s: &mut S,
+        o: &RunOptions,
+        p: &mut Progress,
+    ) -> Result<bool, Fault> {
+        let Progress {
+            g_old,
+            g_new,
+            hits,
+            next_sample,
+        } = p;
+        let (t_a, t_b) = (s.t_prev(), s.t());
+        if self.project_steps {
+            if let Some(m) = self.manifold {
+                let mut y = s.last_state();
+                let moved = m.project(t_b, &mut y)?;
+                self.traj.note_projection(moved);
+                s.set_node(y, &mut self.stats)?;
+            }
+        }
+        if Self::RECORDS_WORK {
+            self.work.at_prev = self.work.at_node;
+            self.work.at_node = f64::NAN;
+            let dw = self.power_integral(s, t_a, t_b)?;
+            self.work.at_node = self.work.at_prev + dw;
+        }
+        // Events: sign changes of g over the step, located on the interpolant.
+        hits.clear();
+        if !self.events.is_empty() {
+            let yb = s.node(&mut self.stats)?;
+            for (i, ev) in self.events.iter().enumerate() {
+                g_new[i] = ev.value(t_b, &yb[0], &yb[1]);
+                if let Some(dir) = ev.crosses(g_old[i], g_new[i]) {
+                    let tol = 1e-12_f64.max(4.0 * f64::EPSILON * t_b.abs());
+                    let stats = &mut self.stats;
+                    let tz = brent(
+                        |t| {
+                            let y = s.interp(t, stats)?;
+                            Ok::<f64, Fault>(ev.value(t, &y[0], &y[1]))
+                        },
+                        t_a,
+                        t_b,
+                        g_old[i],
+                        g_new[i],
+                        tol,
+                    )?;
+                    hits.push((tz, i, dir));
+                }
+            }
+            g_old.copy_from_slice(g_new);
+            hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+        }
+        let stop = hits
+            .iter()
+            .position(|h| self.events[h.1].is_terminal())
+            .map(|k| hits[k].0);
+        let t_stop = stop.unwrap_or(t_b);
+        // Samples in (t_a, t_stop], then the events up to t_stop.
+        match o.sampling {
+            Sampling::Every(_) | Sampling::At { .. } => {
+                // A time within `snap` past this node is this node (grid rounding), unless a
+                // terminal event ends the run here.
+                let snap = o.sampling.snap();
+                let limit = if stop.is_some() { t_stop } else { t_b + snap };
+                while let Some(ts) = o.sampling.time(*next_sample, o.t0, o.until) {
+                    if ts > limit {
+                        break;
+                    }
+                    let (y, w) = if (t_b - ts).abs() <= snap {
+                        (s.node(&mut self.stats)?, self.work.at_node)
+                    } else {
+                        (s.interp(ts, &mut self.stats)?, self.work_at(s, ts)?)
+                    };
+                    self.push(ts, &y, w)?;
+                    *next_sample += 1;
+                }
+            }
+            Sampling::Steps => {
+                if stop.is_none() {
+                    let y = s.node(&mut self.stats)?;
+                    let w = self.work.at_node;
+                    self.push(t_b, &y, w)?;
+                }
+            }
+        }
+        for &(tz, i, dir) in hits.iter() {
+            if tz > t_stop {
+                break;
+            }
+            let y = s.interp(tz, &mut self.stats)?;
+            self.traj.events.push(EventHit {
+                name: self.events[i].name().to_string(),
+                t: tz,
+                q: y[0],
+                qdot: y[1],
+                direction: dir,
+            });
+        }
+        if let Some(tz) = stop {
+            let y = s.interp(tz, &mut self.stats)?;
+            let w = self.work_at(s, tz)?;
+            self.push(tz, &y, w)?;
+            if let Some(h) = self.traj.events.last() {
+                self.traj.terminated_by = Some(h.name.clone());
+            }
+            return Ok(true);
+        }
+        Ok(false)
+    }
+
+    /// The run's outcome: its trajectory, or the error with the trajectory up to the stepper's
+    /// last accepted node.
+    pub(super) fn conclude<S: Stepper<N>>(
+        mut self,
+        r: Result<(), Fault>,
+        s: &S,
+    ) -> Result<Trajectory<N>, SimulationError> {
+        match r {
             Ok(()) => {
                 self.traj.stats = self.stats;
                 Ok(self.traj)
@@ -318,124 +514,12 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Driver<'_, '_, '_, L, N> {
             }
         }
     }
+}
 
-    fn drive<S: Stepper<N>>(&mut self, s: &mut S, o: &RunOptions) -> Result<(), Fault> {
-        let y0 = s.node(&mut self.stats)?;
-        self.push(o.t0, &y0, 0.0)?;
-        let mut g_old: Vec<f64> = self
-            .events
-            .iter()
-            .map(|e| e.value(o.t0, &y0[0], &y0[1]))
-            .collect();
-        let mut g_new = g_old.clone();
-        let mut hits: Vec<(f64, usize, Direction)> = Vec::new();
-        let mut next_sample: usize = 0;
-        while s.t() < o.until {
-            if self.stats.steps + self.stats.rejected >= o.max_steps {
-                return Err(Fault::MaxSteps(o.max_steps));
-            }
-            s.advance(o.until, &mut self.stats)?;
-            let (t_a, t_b) = (s.t_prev(), s.t());
-            if self.project_steps {
-                if let Some(m) = self.manifold {
-                    let mut y = s.last_state();
-                    let moved = m.project(t_b, &mut y)?;
-                    self.traj.note_projection(moved);
-                    s.set_node(y, &mut self.stats)?;
-                }
-            }
-            if Self::RECORDS_WORK {
-                self.work.at_prev = self.work.at_node;
-                self.work.at_node = f64::NAN;
-                let dw = self.power_integral(s, t_a, t_b)?;
-                self.work.at_node = self.work.at_prev + dw;
-            }
-            // Events: sign changes of g over the step, located on the interpolant.
-            hits.clear();
-            if !self.events.is_empty() {
-                let yb = s.node(&mut self.stats)?;
-                for (i, ev) in self.events.iter().enumerate() {
-                    g_new[i] = ev.value(t_b, &yb[0], &yb[1]);
-                    if let Some(dir) = ev.crosses(g_old[i], g_new[i]) {
-                        let tol = 1e-12_f64.max(4.0 * f64::EPSILON * t_b.abs());
-                        let stats = &mut self.stats;
-                        let tz = brent(
-                            |t| {
-                                let y = s.interp(t, stats)?;
-                                Ok::<f64, Fault>(ev.value(t, &y[0], &y[1]))
-                            },
-                            t_a,
-                            t_b,
-                            g_old[i],
-                            g_new[i],
-                            tol,
-                        )?;
-                        hits.push((tz, i, dir));
-                    }
-                }
-                g_old.copy_from_slice(&g_new);
-                hits.sort_by(|a, b| a.0.total_cmp(&b.0));
-            }
-            let stop = hits
-                .iter()
-                .position(|h| self.events[h.1].is_terminal())
-                .map(|k| hits[k].0);
-            let t_stop = stop.unwrap_or(t_b);
-            // Samples in (t_a, t_stop], then the events up to t_stop.
-            match o.sampling {
-                Sampling::Every(_) | Sampling::At { .. } => {
-                    // A time within `snap` past this node is this node (grid rounding), unless a
-                    // terminal event ends the run here.
-                    let snap = o.sampling.snap();
-                    let limit = if stop.is_some() { t_stop } else { t_b + snap };
-                    while let Some(ts) = o.sampling.time(next_sample, o.t0, o.until) {
-                        if ts > limit {
-                            break;
-                        }
-                        let (y, w) = if (t_b - ts).abs() <= snap {
-                            (s.node(&mut self.stats)?, self.work.at_node)
-                        } else {
-                            (s.interp(ts, &mut self.stats)?, self.work_at(s, ts)?)
-                        };
-                        self.push(ts, &y, w)?;
-                        next_sample += 1;
-                    }
-                }
-                Sampling::Steps => {
-                    if stop.is_none() {
-                        let y = s.node(&mut self.stats)?;
-                        let w = self.work.at_node;
-                        self.push(t_b, &y, w)?;
-                    }
-                }
-            }
-            for &(tz, i, dir) in &hits {
-                if tz > t_stop {
-                    break;
-                }
-                let y = s.interp(tz, &mut self.stats)?;
-                self.traj.events.push(EventHit {
-                    name: self.events[i].name().to_string(),
-                    t: tz,
-                    q: y[0],
-                    qdot: y[1],
-                    direction: dir,
-                });
-            }
-            if let Some(tz) = stop {
-                let y = s.interp(tz, &mut self.stats)?;
-                let w = self.work_at(s, tz)?;
-                self.push(tz, &y, w)?;
-                if let Some(h) = self.traj.events.last() {
-                    self.traj.terminated_by = Some(h.name.clone());
-                }
-                return Ok(());
-            }
-        }
-        // The end time, if the sample grid did not land on it.
-        let y = s.node(&mut self.stats)?;
-        let w = self.work.at_node;
-        self.push(s.t(), &y, w)?;
-        Ok(())
-    }
+/// A run's place between steps: the events' last values and the next sample.
+pub(super) struct Progress {
+    g_old: Vec<f64>,
+    g_new: Vec<f64>,
+    hits: Vec<(f64, usize, Direction)>,
+    next_sample: usize,
 }

@@ -41,6 +41,7 @@ mod dopri5;
 mod driver;
 mod error;
 mod events;
+pub(crate) mod lanes;
 mod manifold;
 mod method;
 mod newton;

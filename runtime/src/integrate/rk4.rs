@@ -20,22 +20,22 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
     let k2 = rhs(
         sys,
         t + 0.5 * h,
-        &combine::<1, _, _, _>(y, h, &[0.5], &[k1]),
+        &combine::<1, _, _, _, _>(y, h, &[0.5], &[k1]),
         stats,
     )?;
     let k3 = rhs(
         sys,
         t + 0.5 * h,
-        &combine::<1, _, _, _>(y, h, &[0.5], &[k2]),
+        &combine::<1, _, _, _, _>(y, h, &[0.5], &[k2]),
         stats,
     )?;
     let k4 = rhs(
         sys,
         t + h,
-        &combine::<1, _, _, _>(y, h, &[1.0], &[k3]),
+        &combine::<1, _, _, _, _>(y, h, &[1.0], &[k3]),
         stats,
     )?;
-    let y1 = combine::<4, _, _, _>(
+    let y1 = combine::<4, _, _, _, _>(
         y,
         h,
         &[1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],

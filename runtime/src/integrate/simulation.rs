@@ -389,6 +389,15 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
     /// assert!(matches!(err, SimulationError::InvalidOptions { .. }));
     /// ```
     pub fn run(mut self) -> Result<Trajectory<N>, SimulationError> {
+        let p = self.prepare()?;
+        driver::run(
+            p.sys, p.manifold, p.events, p.method, p.y0, p.hmax, &p.opts, p.observer,
+        )
+    }
+
+    /// Checks the options and gathers what the driver needs (the lanes engine of an ensemble
+    /// takes the same).
+    pub(super) fn prepare(&mut self) -> Result<Prepared<'_, 'a, L, N>, SimulationError> {
         let until = self
             .validate()
             .and_then(|until| self.check_cyclic().map(|()| until))
@@ -416,20 +425,33 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
             keep_samples: self.keep_samples,
             max_samples: self.max_samples,
         };
-        let mut observer = self.observer.take();
-        driver::run(
-            &*self.sys,
-            self.manifold.as_deref(),
-            &self.events,
-            self.method,
+        Ok(Prepared {
+            sys: &*self.sys,
+            manifold: self.manifold.as_deref(),
+            events: &self.events,
+            method: self.method,
             y0,
             hmax,
-            &opts,
-            observer
+            opts,
+            observer: self
+                .observer
                 .as_mut()
                 .map(|f| &mut **f as &mut dyn FnMut(&Sample<N>)),
-        )
+        })
     }
+}
+
+/// A checked run, ready for the driver: the system, its constraints and events, the method, the
+/// initial state, the largest step and the run options.
+pub(super) struct Prepared<'p, 'a, L: ?Sized, const N: usize> {
+    pub(super) sys: &'p L,
+    pub(super) manifold: Option<&'p (dyn Manifold<N> + 'a)>,
+    pub(super) events: &'p [Event<'a, N>],
+    pub(super) method: Method,
+    pub(super) y0: super::state::Y<N>,
+    pub(super) hmax: f64,
+    pub(super) opts: RunOptions<'p>,
+    pub(super) observer: Option<&'p mut dyn FnMut(&Sample<N>)>,
 }
 
 /// The system of a run: borrowed from the caller ([`Simulation::new`]) or a view made for the

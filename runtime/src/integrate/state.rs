@@ -10,6 +10,24 @@ use super::trajectory::Stats;
 /// The first-order state y = (q, q̇): `y[0]` = q, `y[1]` = q̇.
 pub(crate) type Y<const N: usize> = [[f64; N]; 2];
 
+/// The state of several members side by side (`Y` over [`Lanes`](crate::lanes::Lanes)), or `Y`
+/// itself for T = f64.
+pub(crate) type YOf<T, const N: usize> = [[T; N]; 2];
+
+/// The numbers the stage combinations run on: `f64`, and [`Lanes`](crate::lanes::Lanes) for
+/// ensembles (every operation lane by lane, so each lane is the scalar computation bit for bit).
+pub(crate) trait Real:
+    Copy
+    + core::ops::Add<Output = Self>
+    + core::ops::Mul<Output = Self>
+    + core::ops::AddAssign
+    + From<f64>
+{
+}
+
+impl Real for f64 {}
+impl<const W: usize> Real for crate::lanes::Lanes<W> {}
+
 /// Why a stepper could not go on (the driver adds t, the state and the partial trajectory).
 #[derive(Debug)]
 pub(crate) enum Fault {
@@ -58,7 +76,7 @@ pub(crate) fn rhs<L: Lagrangian<N> + ?Sized, const N: usize>(
 macro_rules! stages {
     (($a:ident, $c:ident), $sys:ident, $t:ident, $y:ident, $h:ident, $k:ident, $stats:ident;
      $($s:literal)*) => {$(
-        let mut ys = $crate::integrate::state::combine::<$s, _, _, _>($y, $h, &$a[$s], $k);
+        let mut ys = $crate::integrate::state::combine::<$s, _, _, _, _>($y, $h, &$a[$s], $k);
         $crate::integrate::state::hold_cyclic($sys, $y, &mut ys);
         $k[$s] = $crate::integrate::state::rhs($sys, $t + $c[$s] * $h, &ys, $stats)?;
     )*};
@@ -94,12 +112,12 @@ pub(crate) fn hold_cyclic<L: Lagrangian<N> + ?Sized, const N: usize>(
 ///
 /// Zero coefficients are skipped (a test decided at compile time: the tableaux are constants).
 #[inline(always)]
-pub(crate) fn combine<const S: usize, const N: usize, const R: usize, const K: usize>(
-    y: &Y<N>,
-    h: f64,
+pub(crate) fn combine<const S: usize, const N: usize, const R: usize, const K: usize, T: Real>(
+    y: &YOf<T, N>,
+    h: T,
     a: &[f64; R],
-    k: &[Y<N>; K],
-) -> Y<N> {
+    k: &[YOf<T, N>; K],
+) -> YOf<T, N> {
     const { assert!(S >= 1 && S <= R && S <= K) };
     let mut last = S - 1;
     while last > 0 && a[last] == 0.0 {
@@ -114,8 +132,8 @@ pub(crate) fn combine<const S: usize, const N: usize, const R: usize, const K: u
             }
         }
     }
-    let hl = h * a[last];
-    let mut out = [[0.0; N]; 2];
+    let hl = h * T::from(a[last]);
+    let mut out = [[T::from(0.0); N]; 2];
     for r in 0..2 {
         for i in 0..N {
             out[r][i] = base[r][i] + hl * k[last][r][i];
@@ -126,25 +144,25 @@ pub(crate) fn combine<const S: usize, const N: usize, const R: usize, const K: u
 
 /// Σ_{j<S} a_j k_j (no base, no h).
 #[inline(always)]
-pub(crate) fn weighted<const S: usize, const N: usize, const R: usize, const K: usize>(
+pub(crate) fn weighted<const S: usize, const N: usize, const R: usize, const K: usize, T: Real>(
     a: &[f64; R],
-    k: &[Y<N>; K],
-) -> Y<N> {
+    k: &[YOf<T, N>; K],
+) -> YOf<T, N> {
     const { assert!(S >= 1 && S <= R && S <= K) };
     weighted_to(S, a, k)
 }
 
 /// Σ_{j<s} a_j k_j for 1 ≤ s ≤ min(R, K); `s` is a constant after inlining.
 #[inline(always)]
-fn weighted_to<const N: usize, const R: usize, const K: usize>(
+fn weighted_to<const N: usize, const R: usize, const K: usize, T: Real>(
     s: usize,
     a: &[f64; R],
-    k: &[Y<N>; K],
-) -> Y<N> {
-    let mut w = [[0.0; N]; 2];
+    k: &[YOf<T, N>; K],
+) -> YOf<T, N> {
+    let mut w = [[T::from(0.0); N]; 2];
     for r in 0..2 {
         for i in 0..N {
-            w[r][i] = a[0] * k[0][r][i];
+            w[r][i] = T::from(a[0]) * k[0][r][i];
         }
     }
     for j in 1..s {
@@ -155,7 +173,7 @@ fn weighted_to<const N: usize, const R: usize, const K: usize>(
         }
         for r in 0..2 {
             for i in 0..N {
-                w[r][i] += a[j] * k[j][r][i];
+                w[r][i] += T::from(a[j]) * k[j][r][i];
             }
         }
     }
@@ -209,11 +227,11 @@ mod combine_tests {
                 .all(|(g, w)| (g - w).abs() <= 4.0 * f64::EPSILON * w.abs().max(1.0))
         };
         for a in &rows {
-            let got = combine::<4, _, _, _>(&y, h, a, &k);
+            let got = combine::<4, _, _, _, _>(&y, h, a, &k);
             assert!(close(got, naive(&y, h, a, &k)), "row {a:?}: {got:?}");
         }
         // S shorter than the row: the later coefficients are ignored.
-        let got = combine::<2, _, _, _>(&y, h, &rows[0], &k);
+        let got = combine::<2, _, _, _, _>(&y, h, &rows[0], &k);
         assert!(close(got, naive(&y, h, &rows[0][..2], &k[..2])));
     }
 }

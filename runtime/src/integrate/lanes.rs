@@ -1,0 +1,369 @@
+//! DOP853 over SIMD lanes: W members of an ensemble step together, one member per lane of
+//! [`Lanes`], each with its own step size, error norm and accept/reject decision (as heyoka's
+//! batch mode does).
+//!
+//! The stages, the new state and the error sums of all lanes are one pass of vector code (the
+//! system's [`Lagrangian::accelerations_lanes`]); everything that is per member stays the scalar
+//! code of [`Dop853`] and the driver, run on that member's own stepper: the step-size controller,
+//! the decision, the samples, events, dense output and errors. So a lane's trajectory is the
+//! scalar run's bit for bit (tests/ensemble_lanes.rs), and a member that ends (or fails) frees
+//! its lane for the next member at once: the lanes stay full until the queue runs dry.
+//!
+//! A lane whose stages are not all finite (the dynamics failed there, or the state blew up) has
+//! its attempt redone by the scalar stepper, which then reports exactly what a scalar run would.
+//! Members that are not plain DOP853 runs (another method, constraints) run the scalar driver.
+
+use crate::lagrangian::Lagrangian;
+use crate::lanes::Lanes;
+
+use super::dop853::{Attempt, Dop853};
+use super::dop853_coefficients::{A, C, E3, E5};
+use super::driver::{self, Driver, Progress, RunOptions};
+use super::error::SimulationError;
+use super::method::Method;
+use super::simulation::{Prepared, Simulation};
+use super::state::{combine, weighted, Fault, YOf, Y};
+use super::stepper::Stepper;
+use super::trajectory::Trajectory;
+
+/// One member in a lane: its driver (samples, events, trajectory), its scalar stepper (step
+/// control, dense output) and its parameters for the lanes code.
+struct Slot<'p, 'a, L: ?Sized, const N: usize> {
+    /// The member's position in the input.
+    pos: usize,
+    driver: Driver<'p, 'a, 'p, L, N>,
+    progress: Progress,
+    stepper: Dop853<'p, L, N>,
+    opts: RunOptions<'p>,
+    /// Whether the driver reads the interpolant: the accepted stages are then copied back.
+    dense: bool,
+    /// At a node: the next attempt opens a new step (end test, step budget, FSAL).
+    at_node: bool,
+    /// The trial step and whether it ends the run.
+    h: f64,
+    last: bool,
+    params: Vec<f64>,
+}
+
+/// Runs `sims` (in order) with W members per vector, calling `out(position, result)` as each
+/// member ends (not in order). Members that are not DOP853 runs without constraints run the scalar
+/// driver.
+pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize, const W: usize>(
+    sims: &mut [Simulation<'_, L, N>],
+    mut out: impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) {
+    let mut queue = sims.iter_mut().enumerate();
+    let mut slots: [Option<Slot<'_, '_, L, N>>; W] = core::array::from_fn(|_| None);
+    let mut params = vec![Lanes::<W>::ZERO; L::LANE_PARAMS];
+    let mut k = [[[Lanes::<W>::ZERO; N]; 2]; 16];
+    loop {
+        // Bring every lane to a pending attempt, filling free lanes from the queue.
+        let mut refreshed = false;
+        for l in 0..W {
+            loop {
+                let slot = match &mut slots[l] {
+                    Some(slot) => slot,
+                    None => match queue.next() {
+                        None => break,
+                        Some((pos, sim)) => {
+                            slots[l] = start(pos, sim, &mut out);
+                            refreshed = true;
+                            continue;
+                        }
+                    },
+                };
+                match slot.pending() {
+                    Ok(true) => break,
+                    Ok(false) => {
+                        let done = slots[l].take().map(|s| (s.pos, s.finish()));
+                        if let Some((pos, r)) = done {
+                            out(pos, r);
+                        }
+                    }
+                    Err(f) => {
+                        let done = slots[l].take().map(|s| (s.pos, s.fail(f)));
+                        if let Some((pos, r)) = done {
+                            out(pos, r);
+                        }
+                    }
+                }
+            }
+        }
+        // A free lane computes a copy of a busy one (its results are not read).
+        let Some(busy) = slots.iter().position(Option::is_some) else {
+            return;
+        };
+        let src: [usize; W] = core::array::from_fn(|l| if slots[l].is_some() { l } else { busy });
+        let lane: [&Slot<'_, '_, L, N>; W] = match slots.each_ref().map(Option::as_ref) {
+            busy_lanes => core::array::from_fn(|l| match busy_lanes[src[l]] {
+                Some(s) => s,
+                None => unreachable_free_lane(),
+            }),
+        };
+        if refreshed {
+            for (p, v) in params.iter_mut().enumerate() {
+                *v = Lanes::from_fn(|l| lane[l].params[p]);
+            }
+        }
+        let members: [&L; W] = core::array::from_fn(|l| lane[l].stepper.sys());
+        // Gather: t, h, tolerances, y and f at the node (k₀) of every lane.
+        let mut t = Lanes::ZERO;
+        let mut h = Lanes::ZERO;
+        let mut rtol = Lanes::ZERO;
+        let mut atol = Lanes::ZERO;
+        let mut y = [[Lanes::<W>::ZERO; N]; 2];
+        for (l, s) in lane.iter().enumerate() {
+            let (tl, yl) = s.stepper.node_state();
+            let (r, a) = s.stepper.tolerances();
+            let k0 = &s.stepper.stages()[0];
+            (t.0[l], h.0[l], rtol.0[l], atol.0[l]) = (tl, s.h, r, a);
+            for c in 0..2 {
+                for i in 0..N {
+                    y[c][i].0[l] = yl[c][i];
+                    k[0][c][i].0[l] = k0[c][i];
+                }
+            }
+        }
+        let v = vector_step(&members, &params, t, &y, &mut k, h, rtol, atol);
+        // f at y₁ for the lanes that accept (the others' values are not read).
+        let f1 = v
+            .ln_err
+            .0
+            .iter()
+            .any(|&e| e <= 0.0)
+            .then(|| L::accelerations_lanes(&members, &params, &v.y1[0], &v.y1[1], t + h));
+        // Scatter: each busy lane settles its attempt on its own stepper.
+        for l in 0..W {
+            let Some(s) = slots[l].as_mut() else { continue };
+            let accepted = v.ln_err.0[l] <= 0.0;
+            let f1l: Option<[f64; N]> = match (&f1, accepted) {
+                (Some(f1), true) => Some(core::array::from_fn(|i| f1[i].0[l])),
+                _ => None,
+            };
+            let clean = v.finite.0[l] == 0.0 && f1l.is_none_or(|a| a.iter().all(|x| x.is_finite()));
+            let attempt: Attempt<N> = if clean {
+                let stats = s.driver.stats();
+                stats.rhs_evals += 11;
+                let y1: Y<N> = core::array::from_fn(|c| core::array::from_fn(|i| v.y1[c][i].0[l]));
+                let f1 = f1l.map(|a| {
+                    stats.rhs_evals += 1;
+                    [y1[1], a]
+                });
+                if s.dense {
+                    let ks = s.stepper.stages_mut();
+                    for j in 1..12 {
+                        for c in 0..2 {
+                            for i in 0..N {
+                                ks[j][c][i] = k[j][c][i].0[l];
+                            }
+                        }
+                    }
+                }
+                Ok((y1, v.ln_err.0[l], f1))
+            } else {
+                // Something was not finite in this lane: the scalar attempt says what.
+                s.stepper.attempt(s.h, s.driver.stats())
+            };
+            let until = s.opts.until;
+            let (h, last) = (s.h, s.last);
+            if s.stepper.settle(h, last, until, attempt, s.driver.stats()) {
+                match s
+                    .driver
+                    .after_step(&mut s.stepper, &s.opts, &mut s.progress)
+                {
+                    Ok(false) => s.at_node = true,
+                    Ok(true) => {
+                        let done = slots[l].take().map(|s| (s.pos, s.conclude(Ok(()))));
+                        if let Some((pos, r)) = done {
+                            out(pos, r);
+                        }
+                    }
+                    Err(f) => {
+                        let done = slots[l].take().map(|s| (s.pos, s.fail(f)));
+                        if let Some((pos, r)) = done {
+                            out(pos, r);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// `src` maps every lane to a busy one, so this is never called.
+#[cold]
+fn unreachable_free_lane() -> ! {
+    unreachable!("every lane reads a busy slot")
+}
+
+/// Starts the run of `sim`: a slot for a DOP853 run without constraints; any other run (or one
+/// that fails before its first step) runs or ends here and goes to `out`.
+fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
+    pos: usize,
+    sim: &'p mut Simulation<'a, L, N>,
+    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) -> Option<Slot<'p, 'a, L, N>> {
+    let p = match sim.prepare() {
+        Ok(p) => p,
+        Err(e) => {
+            out(pos, Err(e));
+            return None;
+        }
+    };
+    let (rtol, atol) = match (p.method, p.manifold) {
+        (Method::Dop853 { rtol, atol }, None) => (rtol, atol),
+        _ => {
+            out(pos, scalar(p));
+            return None;
+        }
+    };
+    let Prepared {
+        sys,
+        events,
+        method,
+        y0,
+        hmax,
+        opts,
+        observer,
+        ..
+    } = p;
+    let mut driver = Driver::new(sys, None, events, method, &opts, observer);
+    let t0 = opts.t0;
+    let mut stepper = match Dop853::new(sys, t0, y0, rtol, atol, hmax, driver.stats()) {
+        Ok(s) => s,
+        Err(f) => {
+            out(pos, Err(driver.fail(f, t0, y0)));
+            return None;
+        }
+    };
+    let progress = match driver.begin(&mut stepper, &opts) {
+        Ok(p) => p,
+        Err(f) => {
+            out(pos, driver.conclude(Err(f), &stepper));
+            return None;
+        }
+    };
+    let mut params = vec![0.0; L::LANE_PARAMS];
+    sys.lane_params(&mut params);
+    Some(Slot {
+        pos,
+        dense: driver.needs_interpolant(&opts),
+        driver,
+        progress,
+        stepper,
+        opts,
+        at_node: true,
+        h: 0.0,
+        last: false,
+        params,
+    })
+}
+
+/// A run the lanes do not take, on the scalar driver.
+fn scalar<L: Lagrangian<N>, const N: usize>(
+    p: Prepared<'_, '_, L, N>,
+) -> Result<Trajectory<N>, SimulationError> {
+    driver::run(
+        p.sys, p.manifold, p.events, p.method, p.y0, p.hmax, &p.opts, p.observer,
+    )
+}
+
+impl<L: Lagrangian<N>, const N: usize> Slot<'_, '_, L, N> {
+    /// Readies the next attempt: at a node, the end test, the step budget and FSAL; then the
+    /// trial step. `Ok(false)` when the run has reached its end.
+    fn pending(&mut self) -> Result<bool, Fault> {
+        if self.at_node {
+            if self.stepper.t() >= self.opts.until {
+                return Ok(false);
+            }
+            self.driver.check_budget(&self.opts)?;
+            self.stepper.begin_step();
+            self.at_node = false;
+        }
+        (self.h, self.last) = self.stepper.trial(self.opts.until)?;
+        Ok(true)
+    }
+
+    /// The trajectory of a run that reached its end time.
+    fn finish(mut self) -> Result<Trajectory<N>, SimulationError> {
+        let r = self.driver.finish(&mut self.stepper);
+        self.conclude(r)
+    }
+
+    fn fail(self, f: Fault) -> Result<Trajectory<N>, SimulationError> {
+        self.conclude(Err(f))
+    }
+
+    fn conclude(self, r: Result<(), Fault>) -> Result<Trajectory<N>, SimulationError> {
+        self.driver.conclude(r, &self.stepper)
+    }
+}
+
+/// What one vector attempt gives: y₁ and ln err per lane, and a lane sum that is 0 where every
+/// stage was finite (NaN otherwise).
+struct VectorStep<const N: usize, const W: usize> {
+    y1: YOf<Lanes<W>, N>,
+    ln_err: Lanes<W>,
+    finite: Lanes<W>,
+}
+
+/// The stages 1..=11 and y₁ of DOP853 for every lane, and each lane's ln err: the arithmetic of
+/// the scalar `dop853::step`, operation for operation, on W members at once.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize>(
+    members: &[&L; W],
+    params: &[Lanes<W>],
+    t: Lanes<W>,
+    y: &YOf<Lanes<W>, N>,
+    k: &mut [YOf<Lanes<W>, N>; 16],
+    h: Lanes<W>,
+    rtol: Lanes<W>,
+    atol: Lanes<W>,
+) -> VectorStep<N, W> {
+    let cyclic: [bool; N] = const { L::CYCLIC };
+    // 0 · x is 0 for finite x and NaN otherwise: the sum is 0 only if every stage was finite.
+    let mut finite = Lanes::<W>::ZERO;
+    macro_rules! stages {
+        ($($s:literal)*) => {$(
+            let mut ys = combine::<$s, _, _, _, _>(y, h, &A[$s], k);
+            // The cyclic coordinates' stage positions are not read (see `state::hold_cyclic`).
+            for i in 0..N {
+                if cyclic[i] {
+                    ys[0][i] = y[0][i];
+                }
+            }
+            let a = L::accelerations_lanes(members, params, &ys[0], &ys[1], t + C[$s] * h);
+            for ai in &a {
+                finite += *ai * 0.0;
+            }
+            k[$s] = [ys[1], a];
+        )*};
+    }
+    stages!(1 2 3 4 5 6 7 8 9 10 11);
+    let y1 = combine::<12, _, _, _, _>(y, h, &A[12], k);
+    let e5 = weighted::<12, _, _, _, _>(&E5, k);
+    let e3 = weighted::<12, _, _, _, _>(&E3, k);
+    // The error weights and sums of `control::scales` and `control::sum_sq`, lane by lane.
+    let mut err5 = Lanes::<W>::ZERO;
+    let mut err3 = Lanes::<W>::ZERO;
+    for i in 0..N {
+        let sk = |c: usize| atol + rtol * y[c][i].abs().zip(y1[c][i].abs(), f64::max);
+        let (s0, s1) = (sk(0), sk(1));
+        let (a, b) = (e5[0][i] / s0, e5[1][i] / s1);
+        err5 += a * a + b * b;
+        let (a, b) = (e3[0][i] / s0, e3[1][i] / s1);
+        err3 += a * a + b * b;
+    }
+    for c in 0..2 {
+        for i in 0..N {
+            finite += y1[c][i] * 0.0;
+        }
+    }
+    let deno = err5 + 0.01 * err3;
+    let ln_err = Lanes::from_fn(|l| {
+        let deno = if deno.0[l] <= 0.0 { 1.0 } else { deno.0[l] };
+        (h.0[l] * err5.0[l]).ln() - 0.5 * ((2 * N) as f64 * deno).ln()
+    });
+    VectorStep { y1, ln_err, finite }
+}
