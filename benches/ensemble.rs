@@ -45,6 +45,7 @@ fn tops() -> Vec<(Top, f64, f64, f64)> {
 fn sweep(
     tops: &[(Top, f64, f64, f64)],
     method: Method,
+    lanes: usize,
     threads: usize,
     passes: usize,
 ) -> (Vec<f64>, f64) {
@@ -58,6 +59,7 @@ fn sweep(
         })
         .configure(move |sim| sim.method(method).until(T_END).keep_samples(false))
         .threads(threads)
+        .lanes(lanes)
         .reduce(&["theta"], |tr| tr.q[tr.q.len() - 1][0]);
         best = best.min(t0.elapsed().as_secs_f64());
         theta = r
@@ -89,28 +91,30 @@ fn main() {
                 rtol: 1e-8,
                 atol: 1e-10,
             },
+            4,
             2,
             1,
         );
         assert_eq!(theta.len(), 4);
         return;
     }
-    let (reference, _) = sweep(&tops, Method::Taylor { tol: 1e-18 }, 2, 1);
+    let (reference, _) = sweep(&tops, Method::Taylor { tol: 1e-18 }, 1, 2, 1);
     println!("{TOPS} heavy tops to t = {T_END}; final θ error against Taylor at tol 1e-18 (median, max); best of 3 passes");
     let mut one_thread = Vec::new();
-    for (name, method) in [
-        (
-            "our DOP853 rtol 1e-10",
-            Method::Dop853 {
-                rtol: 1e-10,
-                atol: 1e-12,
-            },
-        ),
-        ("our Taylor tol 1e-10", Method::Taylor { tol: 1e-10 }),
-        ("our Taylor tol 1e-13", Method::Taylor { tol: 1e-13 }),
+    let dop853 = Method::Dop853 {
+        rtol: 1e-10,
+        atol: 1e-12,
+    };
+    for (name, method, lanes) in [
+        ("our DOP853 rtol 1e-10, one member at a time", dop853, 1),
+        ("our DOP853 rtol 1e-10, 2 lanes", dop853, 2),
+        ("our DOP853 rtol 1e-10, 4 lanes", dop853, 4),
+        ("our DOP853 rtol 1e-10, 8 lanes", dop853, 8),
+        ("our Taylor tol 1e-10", Method::Taylor { tol: 1e-10 }, 1),
+        ("our Taylor tol 1e-13", Method::Taylor { tol: 1e-13 }, 1),
     ] {
-        let (theta, t1) = sweep(&tops, method, 1, 3);
-        let (_, t2) = sweep(&tops, method, 2, 3);
+        let (theta, t1) = sweep(&tops, method, lanes, 1, 3);
+        let (_, t2) = sweep(&tops, method, lanes, 2, 3);
         let (med, max) = errors(&theta, &reference);
         println!(
             "{name}: one thread {:.4} ms per top, two threads {:.4} ms per top ({:.2}x); θ error median {med:.1e}, max {max:.1e}",

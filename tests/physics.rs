@@ -10,6 +10,7 @@ mod support;
 
 mod constraints;
 mod ensemble;
+mod ensemble_lanes;
 mod forces;
 mod forces_macro;
 mod hardening;

@@ -125,3 +125,29 @@ pub fn fast() -> Ident {
 pub fn fast_label() -> Lifetime {
     Lifetime::new(&format!("'{PREFIX}fast"), Span::call_site())
 }
+
+/// The lane count of the generated `accelerations_lanes` (a const generic parameter).
+pub fn lane_width() -> Ident {
+    Ident::new("__LAGRANGE_W", Span::call_site())
+}
+
+/// The parameters of the lanes methods: the members, their parameters as lanes, and
+/// `lane_params`' output slice.
+pub fn lane_members() -> Ident {
+    local(format_args!("members"))
+}
+
+/// See [`lane_members`].
+pub fn lane_params() -> Ident {
+    local(format_args!("params"))
+}
+
+/// See [`lane_members`].
+pub fn lane_out() -> Ident {
+    local(format_args!("out"))
+}
+
+/// The lanes whose pivot tests passed so far in the generated lanes solve (a `Mask`).
+pub fn lane_ok() -> Ident {
+    local(format_args!("ok"))
+}

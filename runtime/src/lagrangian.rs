@@ -5,7 +5,7 @@ use nalgebra::SMatrix;
 use crate::eom::{self, jet_pieces, jet_power, Pieces};
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
-use crate::lanes::Lanes;
+use crate::lanes::{Lanes, Mask};
 use crate::linearize::{jet_linearize, Linearization};
 use crate::scalar::Scalar;
 
@@ -374,6 +374,49 @@ where
         }
     }
     out
+}
+
+/// `x`, with every lane not set in `ok` replaced by its member's own
+/// [`Lagrangian::accelerations`] (NaN where that fails): the generated lanes code's per-lane
+/// fallback where a pivot test failed or a value was not finite in that lane.
+///
+/// ```
+/// # use lagrange_runtime::{Lagrangian, Scalar, lanes::{Lanes, Mask}, lagrangian_lanes_patch};
+/// struct Free;
+/// impl Lagrangian<1> for Free {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [true];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+/// }
+/// let z = Lanes([0.0; 2]);
+/// let x = [Lanes([7.0, f64::NAN])];
+/// assert_eq!(lagrangian_lanes_patch(&[&Free, &Free], &[z], &[z], z, x, Mask([true, false]))[0].0, [7.0, 0.0]);
+/// ```
+#[doc(hidden)]
+pub fn lanes_patch<L, const N: usize, const W: usize>(
+    members: &[&L; W],
+    q: &[Lanes<W>; N],
+    qdot: &[Lanes<W>; N],
+    t: Lanes<W>,
+    mut x: [Lanes<W>; N],
+    ok: Mask<W>,
+) -> [Lanes<W>; N]
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    for (l, sys) in members.iter().enumerate() {
+        if ok.0[l] {
+            continue;
+        }
+        let ql: [f64; N] = core::array::from_fn(|i| q[i].0[l]);
+        let vl: [f64; N] = core::array::from_fn(|i| qdot[i].0[l]);
+        let a = sys.accelerations(&ql, &vl, t.0[l]).unwrap_or([f64::NAN; N]);
+        for i in 0..N {
+            x[i].0[l] = a[i];
+        }
+    }
+    x
 }
 
 /// h = q̇·p − L and p from one jet pass: the defaults of `energy` and `energy_and_momenta`.

@@ -35,6 +35,8 @@ pub use integrate::{
 };
 #[doc(hidden)]
 pub use lagrangian::lanes_one_by_one as lagrangian_lanes_one_by_one;
+#[doc(hidden)]
+pub use lagrangian::lanes_patch as lagrangian_lanes_patch;
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
 pub use linearize::{equilibrium, Linearization, LinearizationError, Mode, Stability};
 pub use nalgebra::{SMatrix, Vector3};

@@ -74,9 +74,14 @@ pub fn operand(dag: &Dag, fields: &[Field], id: Id) -> TokenStream {
     }
 }
 
-/// An operand in method-receiver position (a constant needs its type and, if negative, parens).
-fn receiver(dag: &Dag, fields: &[Field], id: Id) -> TokenStream {
+/// An operand in method-receiver position (a constant needs its type and, if negative, parens;
+/// in lanes code it is splat to the lane type).
+fn receiver(dag: &Dag, fields: &[Field], id: Id, lanes: Option<&TokenStream>) -> TokenStream {
     match dag.as_const(id) {
+        Some(_) if lanes.is_some() => {
+            let c = operand(dag, fields, id);
+            quote!(<#lanes>::splat(#c))
+        }
         Some(c) if c.is_finite() => {
             let l = Literal::f64_suffixed(c.abs());
             if c < 0.0 {
@@ -100,6 +105,30 @@ fn node_level(dag: &Dag, level: &[usize], node: Node) -> usize {
 
 /// Emits the code computing `outputs` (and everything they need).
 pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code {
+    emit_as(dag, fields, conds, outputs, None)
+}
+
+/// The lane type of the generated `accelerations_lanes`: `Lanes<__LAGRANGE_W>`.
+pub fn lane_type() -> TokenStream {
+    let w = names::lane_width();
+    quote!(::lagrange::__private::lanes::Lanes<#w>)
+}
+
+/// Emits the code computing `outputs` over `lanes` (the lane type; `None`: `f64`): the same
+/// operations in the same order, each lane the scalar code's value bit for bit. In lanes code
+/// the loads are the scalar ones (for `lane_params`); the values read the lanes locals
+/// [`lane_loads`] binds.
+pub fn emit_as(
+    dag: &Dag,
+    fields: &[Field],
+    conds: &[Cond],
+    outputs: &[Id],
+    lanes: Option<&TokenStream>,
+) -> Code {
+    let num = match lanes {
+        Some(l) => l.clone(),
+        None => quote!(f64),
+    };
     let mut need = vec![false; dag.len()];
     let mut stack: Vec<Id> = outputs.to_vec();
     while let Some(id) = stack.pop() {
@@ -191,9 +220,10 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
             _ => None,
         };
         let o = |i: Id| operand(dag, fields, i);
+        let receiver = |i: Id| receiver(dag, fields, i, lanes);
         let rhs = match node {
             Node::Un(_, a) if partner.is_some() => {
-                let a = receiver(dag, fields, a);
+                let a = receiver(a);
                 quote!(#a.sin_cos())
             }
             Node::Add(a, b) => {
@@ -221,29 +251,35 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
                 quote!(#a * #a)
             }
             Node::Powi(a, n) => {
-                let a = receiver(dag, fields, a);
+                let a = receiver(a);
                 let n = Literal::i32_unsuffixed(n);
                 quote!(#a.powi(#n))
             }
             Node::Powf(a, b) => {
-                let (a, b) = (receiver(dag, fields, a), o(b));
+                let (a, b) = (receiver(a), o(b));
                 quote!(#a.powf(#b))
             }
             Node::Select(c, a, b) => {
                 let (a, b) = (o(a), o(b));
                 let c = names::cond(c);
-                quote!(if #c { #a } else { #b })
+                match lanes {
+                    Some(l) => quote!(<#l>::select(#c, #a, #b)),
+                    None => quote!(if #c { #a } else { #b }),
+                }
             }
             Node::Atan2(y, x) => {
-                let (y, x) = (receiver(dag, fields, y), o(x));
+                let (y, x) = (receiver(y), o(x));
                 quote!(#y.atan2(#x))
             }
             Node::Un(Fun::Step, a) => {
                 let a = o(a);
-                quote!(if #a >= 0.0 { 1.0_f64 } else { 0.0_f64 })
+                match lanes {
+                    Some(l) => quote!(<#l>::from(#a).step()),
+                    None => quote!(if #a >= 0.0 { 1.0_f64 } else { 0.0_f64 }),
+                }
             }
             Node::Un(f, a) => {
-                let a = receiver(dag, fields, a);
+                let a = receiver(a);
                 let m = Ident::new(f.method(), Span::call_site());
                 quote!(#a.#m())
             }
@@ -258,11 +294,11 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
             Some((s, c)) => {
                 let (s, c) = (names::node(s), names::node(c));
                 lets += 1;
-                (quote!((#s, #c)), quote!((f64, f64)))
+                (quote!((#s, #c)), quote!((#num, #num)))
             }
             None => {
                 let x = names::node(id);
-                (quote!(#x), quote!(f64))
+                (quote!(#x), quote!(#num))
             }
         };
         by_level[lv].push((pat, ty, rhs));
@@ -284,6 +320,50 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
         inputs,
         lets,
     }
+}
+
+/// The parameters of lanes code: the statements binding each input of `code` (its scalar loads)
+/// as lanes, read from `params` (parameter p of every lane in `params[p]`), and the body of
+/// `lane_params(&self, out)`, which runs the scalar loads and writes them to `out` in the same
+/// order; with the number of slots.
+pub fn lane_loads(code: &Code, params: &Ident, out: &Ident) -> (TokenStream, TokenStream, usize) {
+    let l = lane_type();
+    let w = names::lane_width();
+    let mut loads = TokenStream::new();
+    let mut writes = TokenStream::new();
+    let mut k = 0usize;
+    for (x, ty) in &code.inputs {
+        let ty = ty.to_string();
+        if ty == "bool" {
+            let i = Literal::usize_unsuffixed(k);
+            loads.extend(quote! {
+                let #x: ::lagrange::__private::lanes::Mask<#w> =
+                    ::lagrange::__private::lanes::Mask::from_fn(|__lagrange_l| #params[#i].0[__lagrange_l] != 0.0);
+            });
+            writes.extend(quote!(#out[#i] = if #x { 1.0 } else { 0.0 };));
+            k += 1;
+        } else if ty.contains("Vector3") {
+            let (i, j, m) = (
+                Literal::usize_unsuffixed(k),
+                Literal::usize_unsuffixed(k + 1),
+                Literal::usize_unsuffixed(k + 2),
+            );
+            loads.extend(quote! {
+                let #x: ::lagrange::__private::Vector3<#l> =
+                    ::lagrange::__private::Vector3::new(#params[#i], #params[#j], #params[#m]);
+            });
+            writes.extend(quote!(#out[#i] = #x.x; #out[#j] = #x.y; #out[#m] = #x.z;));
+            k += 3;
+        } else {
+            let i = Literal::usize_unsuffixed(k);
+            loads.extend(quote!(let #x: #l = #params[#i];));
+            writes.extend(quote!(#out[#i] = #x;));
+            k += 1;
+        }
+    }
+    let mut body = code.loads.clone();
+    body.extend(writes);
+    (loads, body, k)
 }
 
 impl Code {

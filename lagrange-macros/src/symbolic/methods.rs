@@ -41,6 +41,9 @@ pub struct SymbolicOutput {
     /// Body of `fn taylor_series(&self, t, out, buf)` (the Taylor method's series), where every
     /// node has a Taylor rule.
     pub taylor: Option<TokenStream>,
+    /// The lanes code (systems with the unrolled solve): the body of `accelerations_lanes`, the
+    /// body of `lane_params` and how many numbers it writes.
+    pub lanes: Option<(TokenStream, TokenStream, usize)>,
     /// Items to emit next to the user's impl: the modules of a large system's out-of-line bodies.
     pub items: TokenStream,
     /// Lint attributes to put on each of the generated methods (machine-written code).
@@ -78,6 +81,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     let prefix = module_prefix(&decl.rest.self_ty);
     let lagrangian_trait = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>);
     let mut lets = 0;
+    let mut lanes = None;
     let (accelerations, accelerations_inline) = if large {
         // Large N: M (upper triangle) and the right-hand side from `pieces` (one copy of their
         // code, kept out of line), solved by the runtime's row-oriented LDLᵀ (the same pivot
@@ -130,6 +134,48 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
             .collect();
         let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
         let solve = solve::ldlt(&eq, &pairs);
+        // The same code over lanes: W members at once, each lane the scalar value bit for bit;
+        // where a pivot test fails in any lane, every lane takes the scalar path.
+        {
+            let lane = codegen::lane_type();
+            let (members, params, out) = (
+                names::lane_members(),
+                names::lane_params(),
+                names::lane_out(),
+            );
+            let lane_code = codegen::emit_as(&d.dag, &d.fields, &d.conds, &outs, Some(&lane));
+            let (loads, params_body, count) = codegen::lane_loads(&code, &params, &out);
+            let values = &lane_code.values;
+            let lane_solve = solve::ldlt_as(&eq, &pairs, Some(&lane));
+            let pc = Literal::usize_unsuffixed(count);
+            let one_by_one = quote!(::lagrange::__private::lagrangian_lanes_one_by_one(
+                #members, #q, #qdot, #t
+            ));
+            let ok = names::lane_ok();
+            let body = quote! {
+                #touch
+                let #params: &[#lane; #pc] = match <&[#lane; #pc]>::try_from(#params) {
+                    ::core::result::Result::Ok(#params) => #params,
+                    ::core::result::Result::Err(_) => return #one_by_one,
+                };
+                #loads
+                #values
+                // Every lane runs the whole solve; a lane whose pivot test failed (or whose
+                // values are not finite) takes its member's scalar path, the others keep theirs.
+                let (#x, #ok) = { #lane_solve };
+                if #ok.all() {
+                    #x
+                } else {
+                    ::lagrange::__private::lagrangian_lanes_patch(#members, #q, #qdot, #t, #x, #ok)
+                }
+            };
+            let params_body = quote! {
+                if let ::core::option::Option::Some(#out) = #out.get_mut(..#pc) {
+                    #params_body
+                }
+            };
+            lanes = Some((body, params_body, count));
+        }
         let body = quote! {
             #touch
             #stmts
@@ -343,6 +389,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     );
     SymbolicOutput {
         items,
+        lanes,
         accelerations,
         accelerations_inline,
         pieces,
@@ -456,6 +503,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         has_applied,
         taylor,
         items,
+        lanes,
         ..
     } = out;
     let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
@@ -495,6 +543,43 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         fn energy_and_momenta(#sig) -> (f64, [f64; #nn]) {
             #energy_and_momenta
         }
+    };
+    let methods = match lanes {
+        Some((body, params_body, count)) => {
+            let lane = codegen::lane_type();
+            let w = names::lane_width();
+            let (members, params, out) = (
+                names::lane_members(),
+                names::lane_params(),
+                names::lane_out(),
+            );
+            let count = Literal::usize_unsuffixed(*count);
+            quote! {
+                #methods
+                const LANE_PARAMS: usize = #count;
+                const VECTORIZED_LANES: bool = true;
+                #allow
+                #[inline]
+                fn lane_params(&self, #out: &mut [f64]) {
+                    #params_body
+                }
+                #allow
+                #accelerations_inline
+                fn accelerations_lanes<const #w: usize>(
+                    #members: &[&Self; #w],
+                    #params: &[#lane],
+                    #q: &[#lane; #nn],
+                    #qdot: &[#lane; #nn],
+                    #t: #lane,
+                ) -> [#lane; #nn]
+                where
+                    Self: ::core::marker::Sized,
+                {
+                    #body
+                }
+            }
+        }
+        None => methods,
     };
     let methods = match taylor {
         Some(body) => {

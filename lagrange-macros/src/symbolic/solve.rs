@@ -19,6 +19,56 @@ use crate::names;
 /// hands over to `solve_mass_matrix`, which decides between LU and a `DynamicsError` exactly as
 /// the jets path.
 pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> TokenStream {
+    ldlt_as(eq, pairs, None)
+}
+
+/// The numbers a solve is emitted over: `f64`, or a lane type (every lane the scalar solve's
+/// operations; a pivot test passes only if it passes in every lane).
+#[derive(Clone, Copy)]
+pub struct Num<'a>(pub Option<&'a TokenStream>);
+
+impl Num<'_> {
+    /// The type of a local.
+    fn ty(self) -> TokenStream {
+        match self.0 {
+            Some(l) => quote!(#l),
+            None => quote!(f64),
+        }
+    }
+    /// A value bound to a local: a constant operand becomes a lane value.
+    fn value(self, e: TokenStream) -> TokenStream {
+        match self.0 {
+            Some(l) => quote!(<#l>::from(#e)),
+            None => e,
+        }
+    }
+    /// The test `a > b`: in scalar code, a `break` out of the fast path where it fails; in lanes
+    /// code, the lanes where it fails are cleared from the mask [`names::lane_ok`] (every lane
+    /// runs the whole solve, and the caller hands the cleared lanes to the scalar path).
+    fn require(self, a: TokenStream, b: TokenStream) -> TokenStream {
+        let fast = names::fast_label();
+        match self.0 {
+            Some(l) => {
+                let ok = names::lane_ok();
+                quote!(let #ok = #ok & <#l>::from(#a).gt(#b);)
+            }
+            None => quote! {
+                if !(#a > #b) {
+                    break #fast ::core::option::Option::None;
+                }
+            },
+        }
+    }
+}
+
+/// [`ldlt`] over the numbers `num` (`None`: `f64`).
+pub fn ldlt_as(
+    eq: &Equations,
+    pairs: &[(usize, usize, TokenStream, bool)],
+    num: Option<&TokenStream>,
+) -> TokenStream {
+    let num = Num(num);
+    let ty = num.ty();
     let (m, b) = (&eq.mass, &eq.rhs);
     let n = m.len();
     // Indices solved as a decoupled 2×2 block (Cramer) instead of by the elimination.
@@ -32,7 +82,6 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> Toke
     let r_id = names::ldl_r;
     let u_id = names::ldl_u;
     let x_id = names::solve_y;
-    let fast = names::fast_label();
     let accurate = quote!(::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT);
     let mut out = TokenStream::new();
     // l[j][i] (i > j): true when not structurally zero.
@@ -40,7 +89,7 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> Toke
     // Whether pivot j has a reciprocal `r_j` (used by its row of l and by y_j).
     let mut recip = vec![false; n];
     for (i, k, det, exact) in pairs {
-        out.extend(cramer(m, b, *i, *k, det, *exact));
+        out.extend(cramer(m, b, *i, *k, det, *exact, num));
     }
     for j in 0..n {
         if paired[j] {
@@ -64,11 +113,11 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> Toke
             Some(x) => quote!(#x),
             None => quote!(0.0_f64),
         };
+        let e = num.value(e);
+        let test = num.require(quote!(#dj), quote!(#accurate * #mjj));
         out.extend(quote! {
-            let #dj: f64 = #e;
-            if !(#dj > #accurate * #mjj) {
-                break #fast ::core::option::Option::None;
-            }
+            let #dj: #ty = #e;
+            #test
         });
         // (i, u_ji, its value)
         let mut row: Vec<(usize, Ident, TokenStream)> = Vec::new();
@@ -90,7 +139,7 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> Toke
             for t in terms {
                 s = quote!(#s - #t);
             }
-            row.push((i, u_id(j, i), s));
+            row.push((i, u_id(j, i), num.value(s)));
             l[j][i] = true;
         }
         // A reciprocal adds a multiplication to the (latency-bound) critical path; it pays off
@@ -98,14 +147,14 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> Toke
         let rj = r_id(j);
         if row.len() >= 2 {
             recip[j] = true;
-            out.extend(quote!(let #rj: f64 = 1.0 / #dj;));
+            out.extend(quote!(let #rj: #ty = 1.0 / #dj;));
         }
         // Two `let`s per row keep the scope nesting shallow (see codegen): the row before its
         // division by the pivot (u), then L's row.
         if !row.is_empty() {
             let us: Vec<Ident> = row.iter().map(|(_, x, _)| x.clone()).collect();
             let ls = row.iter().map(|&(i, _, _)| a_id(j, i));
-            let tys: Vec<TokenStream> = row.iter().map(|_| quote!(f64)).collect();
+            let tys: Vec<TokenStream> = row.iter().map(|_| ty.clone()).collect();
             let es = row.iter().map(|(_, _, e)| e);
             out.extend(quote!(let (#(#us,)*): (#(#tys,)*) = (#(#es,)*);));
             let divided = us.iter().map(|u| {
@@ -130,14 +179,15 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> Toke
                 e = quote!(#e - #lki * #xk);
             }
         }
-        out.extend(quote!(let #xi: f64 = #e;));
+        let e = num.value(e);
+        out.extend(quote!(let #xi: #ty = #e;));
     }
     for i in (0..n).filter(|&i| !paired[i]) {
         let (xi, di, ri) = (x_id(i), d_id(i), r_id(i));
         if recip[i] {
-            out.extend(quote!(let #xi: f64 = #xi * #ri;));
+            out.extend(quote!(let #xi: #ty = #xi * #ri;));
         } else {
-            out.extend(quote!(let #xi: f64 = #xi / #di;));
+            out.extend(quote!(let #xi: #ty = #xi / #di;));
         }
     }
     for i in (0..n).rev() {
@@ -152,22 +202,40 @@ pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> Toke
             }
         }
         if any {
-            out.extend(quote!(let #xi: f64 = #e;));
+            out.extend(quote!(let #xi: #ty = #e;));
         }
     }
     let xs: Vec<Ident> = (0..n).map(x_id).collect();
     // One test for all: a sum is finite only if every term is (a finite sum that overflows only
     // sends the solve to the runtime's path, which then returns the same finite values).
     let x = names::solution();
-    out.extend(quote! {
-        let #x = [#(#xs),*];
-        if (#(#xs)+*).is_finite() {
-            ::core::option::Option::Some(#x)
-        } else {
-            ::core::option::Option::None
+    match num.0 {
+        // Lanes: (q̈, the lanes whose pivots passed and whose values are finite).
+        Some(l) => {
+            let ok = names::lane_ok();
+            let w = names::lane_width();
+            let mut head = quote! {
+                let #ok = ::lagrange::__private::lanes::Mask::<#w>::splat(true);
+            };
+            head.extend(out);
+            head.extend(quote! {
+                let #ok = #ok & <#l>::from(#(#xs)+*).finite();
+                ([#(#xs),*], #ok)
+            });
+            head
         }
-    });
-    out
+        None => {
+            out.extend(quote! {
+                let #x = [#(#xs),*];
+                if (#(#xs)+*).is_finite() {
+                    ::core::option::Option::Some(#x)
+                } else {
+                    ::core::option::Option::None
+                }
+            });
+            out
+        }
+    }
 }
 
 /// The decoupled 2×2 block {i, k} of M q̈ = f by Cramer's rule, one division depth, with the
@@ -183,7 +251,9 @@ fn cramer(
     k: usize,
     det: &TokenStream,
     exact: bool,
+    num: Num<'_>,
 ) -> TokenStream {
+    let ty = num.ty();
     let zero = quote!(0.0_f64);
     let get = |e: &Option<TokenStream>| e.clone().unwrap_or_else(|| zero.clone());
     let (mii, mkk, mik) = (get(&m[i][i]), get(&m[k][k]), get(&m[i][k]));
@@ -197,21 +267,25 @@ fn cramer(
     let (ni, nk) = (minus(&mkk, &b[i], &b[k]), minus(&mii, &b[k], &b[i]));
     let det_id = names::det(i, k);
     let (yi, yk) = (names::solve_y(i), names::solve_y(k));
-    let fast = names::fast_label();
     let det_test = if exact {
-        quote!(#det_id > 0.0)
+        num.require(quote!(#det_id), quote!(0.0))
     } else {
-        quote!(#det_id > ::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT * #mii * #mkk)
+        num.require(
+            quote!(#det_id),
+            quote!(::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT * #mii * #mkk),
+        )
     };
+    let mii_test = num.require(mii.clone(), quote!(0.0));
+    let det = num.value(det.clone());
+    let (ni, nk) = (
+        num.value(quote!((#ni) / #det_id)),
+        num.value(quote!((#nk) / #det_id)),
+    );
     quote! {
-        if !(#mii > 0.0) {
-            break #fast ::core::option::Option::None;
-        }
-        let #det_id: f64 = #det;
-        if !(#det_test) {
-            break #fast ::core::option::Option::None;
-        }
-        let #yi: f64 = (#ni) / #det_id;
-        let #yk: f64 = (#nk) / #det_id;
+        #mii_test
+        let #det_id: #ty = #det;
+        #det_test
+        let #yi: #ty = #ni;
+        let #yk: #ty = #nk;
     }
 }

@@ -1,0 +1,391 @@
+//! SIMD lanes: an ensemble run W members per vector gives every member's scalar run — bit for bit
+//! (steps, samples, events, statistics, errors) where the lanes compute what the scalar code
+//! computes (arithmetic, `sqrt`, the `f64` methods per lane: a polynomial system in symbolic mode,
+//! any system in jets mode), and to round-off where the lanes' vector sin and cos (within 1 ulp of
+//! the `f64` methods) enter (the heavy top); the generated `accelerations_lanes` equals
+//! `accelerations` lane by lane for every kind of input.
+
+use lagrange::lanes::Lanes;
+use lagrange::prelude::*;
+use lagrange::Stats;
+
+use crate::support::systems::{HeavyTop, HeavyTopJets};
+
+fn top(i: usize) -> HeavyTop {
+    HeavyTop {
+        i_perp: 1.0 + 0.013 * i as f64,
+        i_par: 0.5 - 0.007 * i as f64,
+        m: 1.0,
+        g: 9.81,
+        l: 0.4 + 0.01 * i as f64,
+    }
+}
+
+/// θ0 of member i; `bad` starts at θ = 0, the chart's singularity (the member fails at once).
+fn theta0(i: usize, bad: Option<usize>) -> f64 {
+    if Some(i) == bad {
+        0.0
+    } else {
+        0.3 + 0.04 * i as f64
+    }
+}
+
+/// Every recorded number of a trajectory, as bits.
+fn bits(tr: &Trajectory<3>) -> Vec<u64> {
+    let mut out: Vec<u64> = Vec::new();
+    for k in 0..tr.t.len() {
+        out.push(tr.t[k].to_bits());
+        out.extend(tr.q[k].iter().chain(&tr.qdot[k]).map(|x| x.to_bits()));
+        out.push(tr.energy[k].to_bits());
+    }
+    for e in &tr.events {
+        out.push(e.t.to_bits());
+        out.extend(e.q.iter().map(|x| x.to_bits()));
+    }
+    out
+}
+
+/// A particle in an anharmonic well with a velocity-dependent coupling (a mass matrix that depends
+/// on the state): polynomial, so the lanes compute exactly the scalar operations.
+#[derive(Clone, Copy, Debug)]
+pub struct Anharmonic {
+    m: f64,
+    k: f64,
+    a: f64,
+}
+
+#[lagrangian]
+impl Anharmonic {
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord, (z, z_dot): Coord) -> Scalar {
+        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot + z_dot * z_dot)
+            + 0.5 * self.a * (x * y_dot - y * x_dot).powi(2)
+            - 0.5 * self.k * (x * x + y * y + z * z)
+            - 0.25 * (x * x * y * y + z.powi(4))
+    }
+}
+
+fn well(i: usize) -> Anharmonic {
+    Anharmonic {
+        m: 1.0 + 0.05 * i as f64,
+        k: 2.0 - 0.03 * i as f64,
+        a: 0.3 + 0.02 * i as f64,
+    }
+}
+
+/// The members' trajectories (or errors, as text) with `w` lanes.
+fn sweep<L: Lagrangian<3> + Sync>(
+    len: usize,
+    w: usize,
+    bad: Option<usize>,
+    system: impl Fn(usize) -> L + Sync,
+    configure: for<'s> fn(Sim<'s, L>) -> Sim<'s, L>,
+) -> Vec<Result<(Vec<u64>, Stats, Option<String>), String>> {
+    Ensemble::new(len, |i| {
+        Member::new(
+            system(i),
+            [theta0(i, bad), 0.1, 0.0],
+            [0.2, 1.0 + 0.1 * i as f64, 15.0],
+        )
+    })
+    .configure(configure)
+    .lanes(w)
+    .threads(1)
+    .run()
+    .results
+    .into_iter()
+    .map(|r| {
+        r.map(|tr| (bits(&tr), tr.stats, tr.terminated_by.clone()))
+            .map_err(|e| e.to_string())
+    })
+    .collect()
+}
+
+/// The options of the tests' runs (fns: closures do not infer the higher-ranked signature).
+type Sim<'s, L> = Simulation<'s, L, 3>;
+
+fn every_step(sim: Sim<'_, HeavyTop>) -> Sim<'_, HeavyTop> {
+    every_step_any(sim)
+}
+
+fn every_step_any<L: Lagrangian<3>>(sim: Sim<'_, L>) -> Sim<'_, L> {
+    sim.method(Method::Dop853 {
+        rtol: 1e-10,
+        atol: 1e-12,
+    })
+    .until(4.0)
+}
+
+fn samples_and_events(sim: Sim<'_, Anharmonic>) -> Sim<'_, Anharmonic> {
+    sim.method(Method::Dop853 {
+        rtol: 1e-9,
+        atol: 1e-12,
+    })
+    .until(6.0)
+    .sample_every(0.05)
+    .event(Event::zero_crossing("y = 0.9", |_t, q: &[f64; 3], _v| q[1] - 0.9).terminal())
+    .event(Event::zero_crossing("x turns", |_t, _q, v: &[f64; 3]| v[0]))
+}
+
+fn short<L: Lagrangian<3>>(sim: Sim<'_, L>) -> Sim<'_, L> {
+    sim.until(2.0)
+}
+
+fn budget(sim: Sim<'_, Anharmonic>) -> Sim<'_, Anharmonic> {
+    sim.until(50.0).max_steps(40)
+}
+
+fn rk4(sim: Sim<'_, Anharmonic>) -> Sim<'_, Anharmonic> {
+    sim.method(Method::Rk4 { dt: 0.01 }).until(1.0)
+}
+
+fn nan_end(sim: Sim<'_, Anharmonic>) -> Sim<'_, Anharmonic> {
+    sim.until(f64::NAN)
+}
+
+/// Every step recorded: the generated lanes code at 2, 4 and 8 lanes gives the scalar run of
+/// every member, step for step, with the same statistics; 13 members, so the lanes refill
+/// unevenly and the last vector runs part empty.
+#[test]
+fn generated_lanes_equal_scalar_runs_bit_for_bit() {
+    const { assert!(Anharmonic::VECTORIZED_LANES && !HeavyTopJets::VECTORIZED_LANES) };
+    let scalar = sweep(13, 1, None, well, every_step_any);
+    for w in [2, 4, 8] {
+        let lanes = sweep(13, w, None, well, every_step_any);
+        assert_eq!(lanes, scalar, "{w} lanes");
+    }
+    let steps = scalar[0].as_ref().map(|r| r.1.steps).unwrap_or(0);
+    assert!(steps > 50, "a run of many steps: {steps}");
+}
+
+/// The heavy top's lanes take sin and cos from the vector code (within 1 ulp of the `f64`
+/// methods): every member's run equals its scalar run to round-off — the same number of steps
+/// (±1) and every final coordinate within 1e-12 relative after 4 s.
+#[test]
+fn heavy_top_lanes_equal_scalar_runs_to_round_off() {
+    const { assert!(HeavyTop::VECTORIZED_LANES) };
+    let run = |w: usize| {
+        Ensemble::new(13, |i| {
+            Member::new(
+                top(i),
+                [theta0(i, None), 0.1, 0.0],
+                [0.2, 1.0 + 0.1 * i as f64, 15.0],
+            )
+        })
+        .configure(every_step)
+        .lanes(w)
+        .threads(1)
+        .run()
+        .results
+    };
+    let scalar = run(1);
+    let four = run(4);
+    for w in [4, 8] {
+        let mut differ = 0;
+        for (i, (a, b)) in run(w).iter().zip(&scalar).enumerate() {
+            let (a, b) = (
+                a.as_ref().expect("lanes run"),
+                b.as_ref().expect("scalar run"),
+            );
+            assert!(
+                a.stats.steps.abs_diff(b.stats.steps) <= 1,
+                "member {i}: {:?} vs {:?}",
+                a.stats,
+                b.stats
+            );
+            let (ya, yb) = (a.q.last().expect("a state"), b.q.last().expect("a state"));
+            for c in 0..3 {
+                let tol = 1e-12 * yb[c].abs().max(1.0);
+                assert!(
+                    (ya[c] - yb[c]).abs() <= tol,
+                    "member {i}, q{c}: {} vs {}",
+                    ya[c],
+                    yb[c]
+                );
+                differ += usize::from(ya[c] != yb[c]);
+            }
+        }
+        assert!(differ > 0, "{w} lanes: the vector sin and cos do enter");
+    }
+    // A lane's value never depends on the other lanes: 2, 4 and 8 lanes, and two threads (other
+    // blocks of members), give the same bits.
+    let bits = |r: &[Result<Trajectory<3>, SimulationError>]| -> Vec<Vec<u64>> {
+        r.iter()
+            .map(|x| x.as_ref().map(bits).unwrap_or_default())
+            .collect()
+    };
+    let two_threads = Ensemble::new(13, |i| {
+        Member::new(
+            top(i),
+            [theta0(i, None), 0.1, 0.0],
+            [0.2, 1.0 + 0.1 * i as f64, 15.0],
+        )
+    })
+    .configure(every_step)
+    .lanes(4)
+    .threads(2)
+    .run()
+    .results;
+    for other in [run(2), run(8), two_threads] {
+        assert_eq!(bits(&other), bits(&four));
+    }
+}
+
+/// Samples between the nodes, a terminal event and a non-terminal one read each member's dense
+/// output: all equal the scalar runs.
+#[test]
+fn samples_and_events_in_lanes_equal_scalar_runs() {
+    let cfg = samples_and_events;
+    let scalar = sweep(11, 1, None, well, cfg);
+    let ended = scalar
+        .iter()
+        .filter(|r| r.as_ref().is_ok_and(|r| r.2.is_some()))
+        .count();
+    assert!(
+        ended > 0 && ended < 11,
+        "some members end at the terminal event: {ended}"
+    );
+    assert_eq!(sweep(11, 4, None, well, cfg), scalar);
+}
+
+/// The jets mode has no generated lanes code: the default calls `accelerations` lane by lane, and
+/// the runs are again the scalar ones.
+#[test]
+fn default_lanes_of_the_jets_mode_equal_scalar_runs() {
+    let jets = |i: usize| top(i).jets();
+    let cfg = short::<HeavyTopJets>;
+    assert_eq!(sweep(6, 4, None, jets, cfg), sweep(6, 1, None, jets, cfg));
+}
+
+/// A member that fails (θ0 = 0, a singular mass matrix) reports the scalar run's error in its
+/// slot; the members sharing its vector are unaffected (the jets twin: bit for bit).
+#[test]
+fn a_failing_lane_reports_the_scalar_error_and_spares_the_others() {
+    let jets = |i: usize| top(i).jets();
+    let cfg = short::<HeavyTopJets>;
+    let scalar = sweep(9, 1, Some(5), jets, cfg);
+    assert!(scalar[5].is_err(), "{:?}", scalar[5]);
+    assert_eq!(sweep(9, 4, Some(5), jets, cfg), scalar);
+    // The generated lanes: the same error where the pivot test fails in one lane.
+    let scalar = sweep(9, 1, Some(5), top, short::<HeavyTop>);
+    let lanes = sweep(9, 4, Some(5), top, short::<HeavyTop>);
+    assert_eq!(lanes[5], scalar[5]);
+    assert!(lanes.iter().filter(|r| r.is_ok()).count() == 8);
+}
+
+/// A step budget, a non-DOP853 method and bad options behave in lanes as in scalar runs.
+#[test]
+fn limits_other_methods_and_bad_options_in_lanes() {
+    let r = sweep(5, 4, None, well, budget);
+    assert!(
+        r.iter()
+            .all(|x| x.as_ref().is_err_and(|e| e.contains("40"))),
+        "{r:?}"
+    );
+    assert_eq!(r, sweep(5, 1, None, well, budget));
+    assert_eq!(sweep(5, 4, None, well, rk4), sweep(5, 1, None, well, rk4));
+    let r = sweep(5, 4, None, well, nan_end);
+    assert!(r.iter().all(Result::is_err));
+    assert_eq!(r, sweep(5, 1, None, well, nan_end));
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Spring {
+    Soft,
+    Hard,
+}
+
+/// A charged particle in a magnetic field (a `Vector3` parameter), in a spring whose stiffness a
+/// constant `match` picks, driven in time, with drag: every kind of input the lanes code reads.
+#[derive(Clone, Copy, Debug)]
+pub struct Mixed {
+    m: f64,
+    k: [f64; 2],
+    spring: Spring,
+    b: Vector3<f64>,
+    drive: f64,
+    c: f64,
+}
+
+#[lagrangian]
+impl Mixed {
+    fn lagrangian(&self, (r, r_dot): Coord3, t: Time) -> Scalar {
+        let k = match self.spring {
+            Spring::Soft => self.k[0],
+            Spring::Hard => self.k[1],
+        };
+        let a = self.b.cross(&r) / 2.0;
+        0.5 * self.m * (1.0 + 0.1 * r.z.cos()) * r_dot.norm_squared() + r_dot.dot(&a)
+            - 0.5 * k * r.norm_squared()
+            - (r.x * r.x + 1.0).sqrt() * (self.drive * t).sin()
+            + 0.01 * r.y.atan2(2.0 + r.x) * r.z.exp()
+    }
+    fn dissipation(&self, (_, r_dot): Coord3) -> Scalar {
+        0.5 * self.c * r_dot.norm_squared()
+    }
+}
+
+/// `accelerations_lanes` of the generated code equals `accelerations` of each lane's member to
+/// round-off (1e-14 relative: its cos and sin are the vector ones), with members of both `match`
+/// arms in one vector; a lane whose mass matrix is singular (m = 0) is NaN and the other lanes
+/// keep their values.
+#[test]
+fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
+    const { assert!(Mixed::VECTORIZED_LANES) };
+    let member = |i: usize| Mixed {
+        m: 1.0 + 0.3 * i as f64,
+        k: [0.5 + 0.1 * i as f64, 3.0],
+        spring: if i % 2 == 0 {
+            Spring::Soft
+        } else {
+            Spring::Hard
+        },
+        b: Vector3::new(0.1 * i as f64, -0.2, 1.5),
+        drive: 1.3,
+        c: 0.05 * i as f64,
+    };
+    let check = |ms: [Mixed; 4]| {
+        let refs = [&ms[0], &ms[1], &ms[2], &ms[3]];
+        let mut params = vec![Lanes::<4>::ZERO; Mixed::LANE_PARAMS];
+        let mut one = vec![0.0; Mixed::LANE_PARAMS];
+        for (l, m) in ms.iter().enumerate() {
+            m.lane_params(&mut one);
+            for (p, x) in one.iter().enumerate() {
+                params[p].0[l] = *x;
+            }
+        }
+        let q = [
+            Lanes([0.3, -0.2, 0.5, 1.1]),
+            Lanes([0.1, 0.7, -0.4, 0.2]),
+            Lanes([0.2, 0.0, 1.0, -0.6]),
+        ];
+        let v = [
+            Lanes([1.0, -0.5, 0.25, 0.0]),
+            Lanes([0.3, 0.2, -1.0, 0.4]),
+            Lanes([-0.7, 0.1, 0.6, 2.0]),
+        ];
+        let t = Lanes([0.0, 0.5, 1.7, 3.2]);
+        let a = Mixed::accelerations_lanes(&refs, &params, &q, &v, t);
+        for (l, m) in ms.iter().enumerate() {
+            let ql = [q[0].0[l], q[1].0[l], q[2].0[l]];
+            let vl = [v[0].0[l], v[1].0[l], v[2].0[l]];
+            match m.accelerations(&ql, &vl, t.0[l]) {
+                Ok(s) => {
+                    for i in 0..3 {
+                        let tol = 1e-14 * s[i].abs().max(1.0);
+                        assert!(
+                            (a[i].0[l] - s[i]).abs() <= tol,
+                            "lane {l}, q̈{i}: {} vs {}",
+                            a[i].0[l],
+                            s[i]
+                        );
+                    }
+                }
+                Err(_) => assert!(a.iter().all(|x| x.0[l].is_nan()), "lane {l} fails: NaN"),
+            }
+        }
+    };
+    check(std::array::from_fn(member));
+    let mut singular: [Mixed; 4] = std::array::from_fn(|i| member(i + 4));
+    singular[2].m = 0.0;
+    check(singular);
+}
