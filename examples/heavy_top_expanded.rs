@@ -572,6 +572,235 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             [__lagrange_x37, __lagrange_x49, __lagrange_x51],
         )
     }
+    const LANE_PARAMS: usize = 5;
+    const VECTORIZED_LANES: bool = true;
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn lane_params(&self, __lagrange_out: &mut [f64]) {
+        if let ::core::option::Option::Some(__lagrange_out) = __lagrange_out.get_mut(..5) {
+            let __lagrange_p_i_perp: f64 = self.i_perp;
+            let __lagrange_p_i_par: f64 = self.i_par;
+            let __lagrange_p_m: f64 = self.m;
+            let __lagrange_p_g: f64 = self.g;
+            let __lagrange_p_l: f64 = self.l;
+            __lagrange_out[0] = __lagrange_p_i_perp;
+            __lagrange_out[1] = __lagrange_p_i_par;
+            __lagrange_out[2] = __lagrange_p_m;
+            __lagrange_out[3] = __lagrange_p_g;
+            __lagrange_out[4] = __lagrange_p_l;
+        }
+    }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline(always)]
+    fn accelerations_lanes<const __LAGRANGE_W: usize>(
+        __lagrange_members: &[&Self; __LAGRANGE_W],
+        __lagrange_params: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>],
+        __lagrange_q: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3],
+        __lagrange_qdot: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3],
+        __lagrange_t: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+    ) -> [::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3]
+    where
+        Self: ::core::marker::Sized,
+    {
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        let __lagrange_params: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 5] =
+            match <&[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 5]>::try_from(
+                __lagrange_params,
+            ) {
+                ::core::result::Result::Ok(__lagrange_params) => __lagrange_params,
+                ::core::result::Result::Err(_) => {
+                    return ::lagrange::__private::lagrangian_lanes_one_by_one(
+                        __lagrange_members,
+                        __lagrange_q,
+                        __lagrange_qdot,
+                        __lagrange_t,
+                    )
+                }
+            };
+        let __lagrange_p_i_perp: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[0];
+        let __lagrange_p_i_par: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[1];
+        let __lagrange_p_m: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[2];
+        let __lagrange_p_g: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[3];
+        let __lagrange_p_l: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[4];
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): (
+            (
+                ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+                ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ),
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
+        let (
+            __lagrange_x15,
+            __lagrange_x22,
+            __lagrange_x33,
+            __lagrange_x53,
+            __lagrange_x55,
+            __lagrange_x58,
+            __lagrange_x59,
+            __lagrange_x60,
+        ): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_qdot[1] * __lagrange_x8,
+            __lagrange_qdot[1] * __lagrange_x9,
+            __lagrange_x31 * __lagrange_p_l,
+            __lagrange_x8 * __lagrange_x8,
+            __lagrange_x9 * __lagrange_x9,
+            __lagrange_x9 * __lagrange_p_i_par,
+            __lagrange_qdot[0] * __lagrange_x9,
+            __lagrange_qdot[0] * __lagrange_x8,
+        );
+        let (
+            __lagrange_x23,
+            __lagrange_x54,
+            __lagrange_x56,
+            __lagrange_x63,
+            __lagrange_x65,
+            __lagrange_x80,
+            __lagrange_x93,
+        ): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_qdot[2] + __lagrange_x22,
+            __lagrange_p_i_perp * __lagrange_x53,
+            __lagrange_p_i_par * __lagrange_x55,
+            __lagrange_qdot[1] * __lagrange_x60,
+            __lagrange_x15 * __lagrange_x59,
+            __lagrange_x15 * __lagrange_x22,
+            __lagrange_x8 * __lagrange_x33,
+        );
+        let (
+            __lagrange_x57,
+            __lagrange_x67,
+            __lagrange_x69,
+            __lagrange_x77,
+            __lagrange_x82,
+            __lagrange_x85,
+            __lagrange_x104,
+        ): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_x54 + __lagrange_x56,
+            __lagrange_p_i_perp * __lagrange_x65,
+            __lagrange_x23 * __lagrange_x60,
+            __lagrange_p_i_par * __lagrange_x63,
+            __lagrange_p_i_perp * __lagrange_x80,
+            __lagrange_x15 * __lagrange_x23,
+            __lagrange_p_i_par * __lagrange_x54,
+        );
+        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            2.0 * __lagrange_x67,
+            __lagrange_x65 + __lagrange_x69,
+            __lagrange_p_i_par * __lagrange_x85,
+        );
+        let (__lagrange_x74, __lagrange_x91): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_p_i_par * __lagrange_x72,
+            __lagrange_x82 - __lagrange_x89,
+        );
+        let (__lagrange_x95, __lagrange_x96): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_x91 + __lagrange_x93,
+            __lagrange_x74 - __lagrange_x68,
+        );
+        let (__lagrange_qddot, __lagrange_ok) = {
+            let __lagrange_ok = ::lagrange::__private::lanes::Mask::<__LAGRANGE_W>::splat(true);
+            let __lagrange_ok = __lagrange_ok
+                & <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x57).gt(0.0);
+            let __lagrange_det_1_2: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x104);
+            let __lagrange_ok = __lagrange_ok
+                & <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_det_1_2)
+                    .gt(0.0);
+            let __lagrange_y_1: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(
+                    (__lagrange_p_i_par * __lagrange_x96 - __lagrange_x58 * __lagrange_x77)
+                        / __lagrange_det_1_2,
+                );
+            let __lagrange_y_2: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(
+                    (__lagrange_x57 * __lagrange_x77 - __lagrange_x58 * __lagrange_x96)
+                        / __lagrange_det_1_2,
+                );
+            let __lagrange_d_0: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_p_i_perp);
+            let __lagrange_ok = __lagrange_ok
+                & <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_d_0)
+                    .gt(::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT
+                        * __lagrange_p_i_perp);
+            let __lagrange_y_0: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x95);
+            let __lagrange_y_0: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+                __lagrange_y_0 / __lagrange_d_0;
+            let __lagrange_ok = __lagrange_ok
+                & <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(
+                    __lagrange_y_0 + __lagrange_y_1 + __lagrange_y_2,
+                )
+                .finite();
+            (
+                [__lagrange_y_0, __lagrange_y_1, __lagrange_y_2],
+                __lagrange_ok,
+            )
+        };
+        if __lagrange_ok.all() {
+            __lagrange_qddot
+        } else {
+            ::lagrange::__private::lagrangian_lanes_patch(
+                __lagrange_members,
+                __lagrange_q,
+                __lagrange_qdot,
+                __lagrange_t,
+                __lagrange_qddot,
+                __lagrange_ok,
+            )
+        }
+    }
     #[allow(
         unused_variables,
         unused_parens,
