@@ -142,17 +142,14 @@ fn nan_end(sim: Sim<'_, Anharmonic>) -> Sim<'_, Anharmonic> {
     sim.until(f64::NAN)
 }
 
-/// Every step recorded: the generated lanes code at 2, 4 and 8 lanes gives the scalar run of
-/// every member, step for step, with the same statistics; 13 members, so the lanes refill
-/// unevenly and the last vector runs part empty.
+/// Every step recorded: the generated lanes code gives the scalar run of every member, step for
+/// step, with the same statistics; 13 members, so the lanes refill unevenly and the last vector
+/// runs part empty.
 #[test]
 fn generated_lanes_equal_scalar_runs_bit_for_bit() {
     const { assert!(Anharmonic::VECTORIZED_LANES && !HeavyTopJets::VECTORIZED_LANES) };
     let scalar = sweep(13, 1, None, well, every_step_any);
-    for w in [2, 4, 8] {
-        let lanes = sweep(13, w, None, well, every_step_any);
-        assert_eq!(lanes, scalar, "{w} lanes");
-    }
+    assert_eq!(sweep(13, 4, None, well, every_step_any), scalar);
     let steps = scalar[0].as_ref().map(|r| r.1.steps).unwrap_or(0);
     assert!(steps > 50, "a run of many steps: {steps}");
 }
@@ -179,9 +176,10 @@ fn heavy_top_lanes_equal_scalar_runs_to_round_off() {
     };
     let scalar = run(1);
     let four = run(4);
-    for w in [4, 8] {
+    {
+        let w = 4;
         let mut differ = 0;
-        for (i, (a, b)) in run(w).iter().zip(&scalar).enumerate() {
+        for (i, (a, b)) in four.iter().zip(&scalar).enumerate() {
             let (a, b) = (
                 a.as_ref().expect("lanes run"),
                 b.as_ref().expect("scalar run"),
@@ -206,8 +204,8 @@ fn heavy_top_lanes_equal_scalar_runs_to_round_off() {
         }
         assert!(differ > 0, "{w} lanes: the vector sin and cos do enter");
     }
-    // A lane's value never depends on the other lanes: 2, 4 and 8 lanes, and two threads (other
-    // blocks of members), give the same bits.
+    // A lane's value never depends on the other lanes: two threads (other blocks of members,
+    // other neighbours) give the same bits.
     let bits = |r: &[Result<Trajectory<3>, SimulationError>]| -> Vec<Vec<u64>> {
         r.iter()
             .map(|x| x.as_ref().map(bits).unwrap_or_default())
@@ -225,9 +223,7 @@ fn heavy_top_lanes_equal_scalar_runs_to_round_off() {
     .threads(2)
     .run()
     .results;
-    for other in [run(2), run(8), two_threads] {
-        assert_eq!(bits(&other), bits(&four));
-    }
+    assert_eq!(bits(&two_threads), bits(&four));
 }
 
 /// Samples between the nodes, a terminal event and a non-terminal one read each member's dense

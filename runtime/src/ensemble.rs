@@ -6,7 +6,9 @@
 //! ([`Member`]); the ensemble makes one from each index with a closure, applies the same options
 //! to every member's [`Simulation`] ([`Ensemble::configure`]), and returns for each member either
 //! its whole [`Trajectory`] ([`Ensemble::run`]) or a row of numbers a closure computes from it
-//! ([`Ensemble::reduce`]). [`Ensemble::shard`] runs the k-th of n contiguous blocks of members, so
+//! ([`Ensemble::reduce`]). DOP853 members run several per vector, one per SIMD lane
+//! ([`Ensemble::lanes`]; 4 by default for a system with generated lanes code).
+//! [`Ensemble::shard`] runs the k-th of n contiguous blocks of members, so
 //! a batch scheduler's job array runs the blocks on as many machines and their CSVs concatenate
 //! (the README's "Ensembles" section has the recipe).
 //!
@@ -325,13 +327,15 @@ where
         self
     }
 
-    /// Runs `w` members per vector: DOP853 members step together, one per SIMD lane, each with
-    /// its own step size and accept/reject decision, a member's lane going to the next member as
-    /// soon as it ends. Results equal the one-at-a-time runs bit for bit. `w` is 1 (off), 2, 4 or
-    /// 8 (other values round down to one of these). Without this call: 4 where the system's
-    /// accelerations are generated lanes code ([`Lagrangian::VECTORIZED_LANES`]: `#[lagrangian]`
-    /// in symbolic mode), else 1. Members with another method, or constrained ones, run one at a
-    /// time whatever `w` is.
+    /// Runs DOP853 members several per vector (`w` ≥ 2; 1 turns lanes off): they step together,
+    /// one per SIMD lane, each with its own step size and accept/reject decision, a member's lane
+    /// going to the next member as soon as it ends. Any `w` ≥ 2 runs 4 lanes, the fastest width
+    /// measured (2 and 8 were slower; one width keeps the build short). Without this call: 4
+    /// where the system's accelerations are generated lanes code
+    /// ([`Lagrangian::VECTORIZED_LANES`]: `#[lagrangian]` in symbolic mode), else 1. A lane
+    /// equals the member's single run bit for bit where the lanes compute the scalar operations,
+    /// and to round-off where the vector sin and cos enter; it never depends on the other lanes.
+    /// Members with another method, or constrained ones, run one at a time whatever `w` is.
     ///
     /// ```
     /// # use lagrange_runtime::ensemble::{Ensemble, Member};
@@ -521,11 +525,10 @@ where
                 slots[pos] = Some(r.map(keep));
                 bar.inc();
             };
-            match width {
-                2 | 3 => run_lanes::<L, N, 2>(&mut sims, out),
-                4..=7 => run_lanes::<L, N, 4>(&mut sims, out),
-                _ => run_lanes::<L, N, 8>(&mut sims, out),
-            }
+            // One width is compiled (the engine is large and generic in the system): 4, the
+            // fastest measured on AVX2 (BENCHMARKS.md, "Ensembles with SIMD lanes").
+            let _ = width;
+            run_lanes::<L, N, 4>(&mut sims, out);
         }
         members
             .into_iter()

@@ -354,6 +354,9 @@ pub trait Lagrangian<const N: usize> {
 /// assert_eq!(lagrangian_lanes_one_by_one(&[&Free, &Free], &[z], &[z], z)[0].0, [0.0, 0.0]);
 /// ```
 #[doc(hidden)]
+// Out of line: the lanes engine calls it at every stage, and inlining a jets derivation (or the
+// scalar fallback) there twelve times per instantiation costs build time for nothing.
+#[inline(never)]
 pub fn lanes_one_by_one<L, const N: usize, const W: usize>(
     members: &[&L; W],
     q: &[Lanes<W>; N],
@@ -394,6 +397,8 @@ where
 /// assert_eq!(lagrangian_lanes_patch(&[&Free, &Free], &[z], &[z], z, x, Mask([true, false]))[0].0, [7.0, 0.0]);
 /// ```
 #[doc(hidden)]
+// Out of line: a cold path (see `lanes_one_by_one`).
+#[inline(never)]
 pub fn lanes_patch<L, const N: usize, const W: usize>(
     members: &[&L; W],
     q: &[Lanes<W>; N],

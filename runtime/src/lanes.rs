@@ -279,7 +279,8 @@ impl<const W: usize> Lanes<W> {
         if !self.all_le_abs(1e5) {
             // Lane by lane, so a lane's value never depends on the other lanes.
             for l in 0..W {
-                if !(self.0[l].abs() <= 1e5) {
+                let reduced = self.0[l].abs() <= 1e5;
+                if !reduced {
                     (s.0[l], c.0[l]) = self.0[l].sin_cos();
                 }
             }
@@ -388,6 +389,16 @@ unary! {
     atanh
     /// ∛x lane by lane.
     cbrt
+    /// 2ˣ lane by lane.
+    exp2
+    /// ln(1 + x) lane by lane.
+    ln_1p
+    /// eˣ − 1 lane by lane.
+    exp_m1
+    /// log₁₀ lane by lane.
+    log10
+    /// log₂ lane by lane.
+    log2
     /// signum lane by lane.
     signum
     /// asin lane by lane.

@@ -126,12 +126,11 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
             return;
         };
         let src: [usize; W] = core::array::from_fn(|l| if slots[l].is_some() { l } else { busy });
-        let lane: [&Slot<'_, '_, L, N>; W] = match slots.each_ref().map(Option::as_ref) {
-            busy_lanes => core::array::from_fn(|l| match busy_lanes[src[l]] {
-                Some(s) => s,
-                None => unreachable_free_lane(),
-            }),
-        };
+        let busy_lanes = slots.each_ref().map(Option::as_ref);
+        let lane: [&Slot<'_, '_, L, N>; W] = core::array::from_fn(|l| match busy_lanes[src[l]] {
+            Some(s) => s,
+            None => unreachable_free_lane(),
+        });
         if refreshed {
             for (p, v) in params.iter_mut().enumerate() {
                 *v = Lanes::from_fn(|l| lane[l].params[p]);
@@ -194,7 +193,7 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
                 Ok((y1, v.ln_err.0[l], f1))
             } else {
                 // Something was not finite in this lane: the scalar attempt says what.
-                s.stepper.attempt(s.h, s.driver.stats())
+                redo(&mut s.stepper, s.h, s.driver.stats())
             };
             let until = s.opts.until;
             let (h, last) = (s.h, s.last);
@@ -220,6 +219,17 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
             }
         }
     }
+}
+
+/// The scalar attempt of a lane whose vector attempt was not finite (out of line: a cold path, and
+/// the scalar step inlined into every instantiation of the engine would only cost build time).
+#[inline(never)]
+fn redo<L: Lagrangian<N>, const N: usize>(
+    stepper: &mut Dop853<'_, L, N>,
+    h: f64,
+    stats: &mut super::trajectory::Stats,
+) -> Attempt<N> {
+    stepper.attempt(h, stats)
 }
 
 /// `src` maps every lane to a busy one, so this is never called.
