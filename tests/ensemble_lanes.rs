@@ -72,6 +72,9 @@ fn well(i: usize) -> Anharmonic {
     }
 }
 
+/// A member's recorded bits, statistics and terminating event, or its error as text.
+type Outcome = Result<(Vec<u64>, Stats, Option<String>), String>;
+
 /// The members' trajectories (or errors, as text) with `w` lanes.
 fn sweep<L: Lagrangian<3> + Sync>(
     len: usize,
@@ -79,7 +82,7 @@ fn sweep<L: Lagrangian<3> + Sync>(
     bad: Option<usize>,
     system: impl Fn(usize) -> L + Sync,
     configure: for<'s> fn(Sim<'s, L>) -> Sim<'s, L>,
-) -> Vec<Result<(Vec<u64>, Stats, Option<String>), String>> {
+) -> Vec<Outcome> {
     Ensemble::new(len, |i| {
         Member::new(
             system(i),
@@ -330,7 +333,7 @@ fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
     let member = |i: usize| Mixed {
         m: 1.0 + 0.3 * i as f64,
         k: [0.5 + 0.1 * i as f64, 3.0],
-        spring: if i % 2 == 0 {
+        spring: if i.is_multiple_of(2) {
             Spring::Soft
         } else {
             Spring::Hard

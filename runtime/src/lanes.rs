@@ -241,12 +241,7 @@ impl<const W: usize> Lanes<W> {
     /// ```
     #[inline(always)]
     pub fn all_finite(self) -> bool {
-        // x − x is 0 for a finite x and NaN otherwise; the sum of the lanes' is 0 only if all are.
-        let mut s = 0.0;
-        for l in 0..W {
-            s += self.0[l] - self.0[l];
-        }
-        s == 0.0
+        (0..W).fold(true, |ok, l| ok & self.0[l].is_finite())
     }
 
     /// The Heaviside step lane by lane: 1 where `self ≥ 0`, else 0.
@@ -494,11 +489,8 @@ macro_rules! binary {
             type Output = Self;
             #[inline(always)]
             fn $method(self, rhs: Self) -> Self {
-                let mut out = self.0;
-                for l in 0..W {
-                    out[l] = out[l] $op rhs.0[l];
-                }
-                Lanes(out)
+                let a = self.0;
+                Lanes(core::array::from_fn(|l| a[l] $op rhs.0[l]))
             }
         }
         impl<const W: usize> $trait<f64> for Lanes<W> {
