@@ -1116,6 +1116,415 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         }
         ::core::option::Option::Some(::core::result::Result::Ok(()))
     }
+    #[allow(
+        unused_variables,
+        unused_parens,
+        non_snake_case,
+        clippy::all,
+        clippy::pedantic,
+        clippy::nursery
+    )]
+    #[inline]
+    fn taylor_series_lanes<const __LAGRANGE_W: usize>(
+        __lagrange_members: &[&Self; __LAGRANGE_W],
+        __lagrange_params: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>],
+        __lagrange_t: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        __lagrange_out: &mut [[[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3]; 2]],
+        __lagrange_buf: &mut ::lagrange::__private::taylor::SeriesBuf<
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        >,
+    ) -> ::core::option::Option<::lagrange::__private::lanes::Mask<__LAGRANGE_W>>
+    where
+        Self: ::core::marker::Sized,
+    {
+        if __lagrange_out.len() < 2 {
+            return ::core::option::Option::Some(
+                ::lagrange::__private::lanes::Mask::<__LAGRANGE_W>::splat(true),
+            );
+        }
+        let __lagrange_params: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 5] =
+            match <&[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 5]>::try_from(
+                __lagrange_params,
+            ) {
+                ::core::result::Result::Ok(__lagrange_params) => __lagrange_params,
+                ::core::result::Result::Err(_) => return ::core::option::Option::None,
+            };
+        let __lagrange_order =
+            (__lagrange_out.len() - 1).min(::lagrange::__private::taylor::MAX_ORDER);
+        let __lagrange_c: &mut [::lagrange::__private::taylor::RowOf<
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        >; 42] = __lagrange_buf.slots::<42>();
+        let __lagrange_y0: [[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3]; 2] =
+            __lagrange_out[0];
+        let (__lagrange_q, __lagrange_qdot): (
+            &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3],
+            &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3],
+        ) = (&__lagrange_y0[0], &__lagrange_y0[1]);
+        let __lagrange_p_i_perp: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[0];
+        let __lagrange_p_i_par: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[1];
+        let __lagrange_p_m: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[2];
+        let __lagrange_p_g: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[3];
+        let __lagrange_p_l: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
+            __lagrange_params[4];
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): (
+            (
+                ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+                ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ),
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
+        let (
+            __lagrange_x15,
+            __lagrange_x22,
+            __lagrange_x33,
+            __lagrange_x53,
+            __lagrange_x55,
+            __lagrange_x58,
+            __lagrange_x59,
+            __lagrange_x60,
+            __lagrange_x79,
+        ): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_qdot[1] * __lagrange_x8,
+            __lagrange_qdot[1] * __lagrange_x9,
+            __lagrange_x31 * __lagrange_p_l,
+            __lagrange_x8 * __lagrange_x8,
+            __lagrange_x9 * __lagrange_x9,
+            __lagrange_x9 * __lagrange_p_i_par,
+            __lagrange_qdot[0] * __lagrange_x9,
+            __lagrange_qdot[0] * __lagrange_x8,
+            -__lagrange_x8,
+        );
+        let (
+            __lagrange_x23,
+            __lagrange_x54,
+            __lagrange_x56,
+            __lagrange_x63,
+            __lagrange_x65,
+            __lagrange_x80,
+            __lagrange_x93,
+        ): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_qdot[2] + __lagrange_x22,
+            __lagrange_p_i_perp * __lagrange_x53,
+            __lagrange_p_i_par * __lagrange_x55,
+            __lagrange_qdot[1] * __lagrange_x60,
+            __lagrange_x15 * __lagrange_x59,
+            __lagrange_x15 * __lagrange_x22,
+            __lagrange_x8 * __lagrange_x33,
+        );
+        let (
+            __lagrange_x57,
+            __lagrange_x67,
+            __lagrange_x69,
+            __lagrange_x77,
+            __lagrange_x82,
+            __lagrange_x85,
+        ): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_x54 + __lagrange_x56,
+            __lagrange_p_i_perp * __lagrange_x65,
+            __lagrange_x23 * __lagrange_x60,
+            __lagrange_p_i_par * __lagrange_x63,
+            __lagrange_p_i_perp * __lagrange_x80,
+            __lagrange_x15 * __lagrange_x23,
+        );
+        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            2.0 * __lagrange_x67,
+            __lagrange_x65 + __lagrange_x69,
+            __lagrange_p_i_par * __lagrange_x85,
+        );
+        let (__lagrange_x74, __lagrange_x91): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_p_i_par * __lagrange_x72,
+            __lagrange_x82 - __lagrange_x89,
+        );
+        let (__lagrange_x95, __lagrange_x96): (
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
+        ) = (
+            __lagrange_x91 + __lagrange_x93,
+            __lagrange_x74 - __lagrange_x68,
+        );
+        __lagrange_c[1][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_q[0]);
+        __lagrange_c[2][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_qdot[0]);
+        __lagrange_c[3][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_qdot[1]);
+        __lagrange_c[4][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_qdot[2]);
+        __lagrange_c[5][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x8);
+        __lagrange_c[6][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x9);
+        __lagrange_c[7][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_p_i_perp);
+        __lagrange_c[8][0] = <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(2.0);
+        __lagrange_c[9][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x15);
+        __lagrange_c[10][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_p_i_par);
+        __lagrange_c[11][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x22);
+        __lagrange_c[12][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x23);
+        __lagrange_c[13][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x33);
+        __lagrange_c[14][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x53);
+        __lagrange_c[15][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x54);
+        __lagrange_c[16][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x55);
+        __lagrange_c[17][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x56);
+        __lagrange_c[18][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x57);
+        __lagrange_c[19][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x58);
+        __lagrange_c[20][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x59);
+        __lagrange_c[21][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x60);
+        __lagrange_c[22][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x63);
+        __lagrange_c[23][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x65);
+        __lagrange_c[24][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x67);
+        __lagrange_c[25][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x68);
+        __lagrange_c[26][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x69);
+        __lagrange_c[27][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x72);
+        __lagrange_c[28][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x74);
+        __lagrange_c[29][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x77);
+        __lagrange_c[30][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x79);
+        __lagrange_c[31][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x80);
+        __lagrange_c[32][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x82);
+        __lagrange_c[33][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x85);
+        __lagrange_c[34][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x89);
+        __lagrange_c[35][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x91);
+        __lagrange_c[36][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x93);
+        __lagrange_c[37][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x95);
+        __lagrange_c[38][0] =
+            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x96);
+        __lagrange_c[0][1..=__lagrange_order]
+            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
+        __lagrange_c[7][1..=__lagrange_order]
+            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
+        __lagrange_c[8][1..=__lagrange_order]
+            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
+        __lagrange_c[10][1..=__lagrange_order]
+            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
+        __lagrange_c[13][1..=__lagrange_order]
+            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
+        let (__lagrange_factor, __lagrange_ok) =
+            ::lagrange::__private::taylor::FactorLanes::<3, __LAGRANGE_W>::new(&[
+                [
+                    __lagrange_c[7][0],
+                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
+                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
+                ],
+                [
+                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
+                    __lagrange_c[18][0],
+                    __lagrange_c[19][0],
+                ],
+                [
+                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
+                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
+                    __lagrange_c[10][0],
+                ],
+            ]);
+        for __lagrange_k in 0..__lagrange_order {
+            let __lagrange_b: [::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3] =
+                if __lagrange_k == 0 {
+                    [
+                        __lagrange_c[37][0],
+                        __lagrange_c[38][0],
+                        __lagrange_c[29][0],
+                    ]
+                } else {
+                    __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
+                    __lagrange_c[2][__lagrange_k] = __lagrange_out[__lagrange_k][1][0];
+                    __lagrange_c[3][__lagrange_k] = __lagrange_out[__lagrange_k][1][1];
+                    __lagrange_c[4][__lagrange_k] = __lagrange_out[__lagrange_k][1][2];
+                    __lagrange_c[5][__lagrange_k] = ::lagrange::__private::taylor::deriv(
+                        &__lagrange_c[1],
+                        &__lagrange_c[6],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[6][__lagrange_k] = ::lagrange::__private::taylor::deriv(
+                        &__lagrange_c[1],
+                        &__lagrange_c[30],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[9][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                        &__lagrange_c[3],
+                        &__lagrange_c[5],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[11][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                        &__lagrange_c[3],
+                        &__lagrange_c[6],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[12][__lagrange_k] =
+                        __lagrange_c[4][__lagrange_k] + __lagrange_c[11][__lagrange_k];
+                    __lagrange_c[14][__lagrange_k] =
+                        ::lagrange::__private::taylor::sqr(&__lagrange_c[5], __lagrange_k);
+                    __lagrange_c[15][__lagrange_k] =
+                        __lagrange_p_i_perp * __lagrange_c[14][__lagrange_k];
+                    __lagrange_c[16][__lagrange_k] =
+                        ::lagrange::__private::taylor::sqr(&__lagrange_c[6], __lagrange_k);
+                    __lagrange_c[17][__lagrange_k] =
+                        __lagrange_p_i_par * __lagrange_c[16][__lagrange_k];
+                    __lagrange_c[18][__lagrange_k] =
+                        __lagrange_c[15][__lagrange_k] + __lagrange_c[17][__lagrange_k];
+                    __lagrange_c[19][__lagrange_k] =
+                        __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
+                    __lagrange_c[20][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                        &__lagrange_c[2],
+                        &__lagrange_c[6],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[21][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                        &__lagrange_c[2],
+                        &__lagrange_c[5],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[22][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                        &__lagrange_c[3],
+                        &__lagrange_c[21],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[23][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                        &__lagrange_c[9],
+                        &__lagrange_c[20],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[24][__lagrange_k] =
+                        __lagrange_p_i_perp * __lagrange_c[23][__lagrange_k];
+                    __lagrange_c[25][__lagrange_k] = 2.0 * __lagrange_c[24][__lagrange_k];
+                    __lagrange_c[26][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                        &__lagrange_c[12],
+                        &__lagrange_c[21],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[27][__lagrange_k] =
+                        __lagrange_c[23][__lagrange_k] + __lagrange_c[26][__lagrange_k];
+                    __lagrange_c[28][__lagrange_k] =
+                        __lagrange_p_i_par * __lagrange_c[27][__lagrange_k];
+                    __lagrange_c[29][__lagrange_k] =
+                        __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
+                    __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
+                    __lagrange_c[31][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                        &__lagrange_c[9],
+                        &__lagrange_c[11],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[32][__lagrange_k] =
+                        __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
+                    __lagrange_c[33][__lagrange_k] = ::lagrange::__private::taylor::mul(
+                        &__lagrange_c[9],
+                        &__lagrange_c[12],
+                        __lagrange_k,
+                    );
+                    __lagrange_c[34][__lagrange_k] =
+                        __lagrange_p_i_par * __lagrange_c[33][__lagrange_k];
+                    __lagrange_c[35][__lagrange_k] =
+                        __lagrange_c[32][__lagrange_k] - __lagrange_c[34][__lagrange_k];
+                    __lagrange_c[36][__lagrange_k] = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
+                    __lagrange_c[37][__lagrange_k] =
+                        __lagrange_c[35][__lagrange_k] + __lagrange_c[36][__lagrange_k];
+                    __lagrange_c[38][__lagrange_k] =
+                        __lagrange_c[28][__lagrange_k] - __lagrange_c[25][__lagrange_k];
+                    [
+                        __lagrange_c[37][__lagrange_k],
+                        __lagrange_c[38][__lagrange_k]
+                            - ::lagrange::__private::taylor::mass_tail(
+                                &__lagrange_c[18],
+                                &__lagrange_c[40],
+                                __lagrange_k,
+                            )
+                            - ::lagrange::__private::taylor::mass_tail(
+                                &__lagrange_c[19],
+                                &__lagrange_c[41],
+                                __lagrange_k,
+                            ),
+                        __lagrange_c[29][__lagrange_k]
+                            - ::lagrange::__private::taylor::mass_tail(
+                                &__lagrange_c[19],
+                                &__lagrange_c[40],
+                                __lagrange_k,
+                            ),
+                    ]
+                };
+            let __lagrange_a = __lagrange_factor.solve(&__lagrange_b);
+            let __lagrange_r = 1.0 / (__lagrange_k + 1) as f64;
+            __lagrange_c[39][__lagrange_k] = __lagrange_a[0];
+            __lagrange_out[__lagrange_k + 1][0][0] =
+                __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
+            __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
+            __lagrange_c[40][__lagrange_k] = __lagrange_a[1];
+            __lagrange_out[__lagrange_k + 1][0][1] =
+                __lagrange_out[__lagrange_k][1][1] * __lagrange_r;
+            __lagrange_out[__lagrange_k + 1][1][1] = __lagrange_a[1] * __lagrange_r;
+            __lagrange_c[41][__lagrange_k] = __lagrange_a[2];
+            __lagrange_out[__lagrange_k + 1][0][2] =
+                __lagrange_out[__lagrange_k][1][2] * __lagrange_r;
+            __lagrange_out[__lagrange_k + 1][1][2] = __lagrange_a[2] * __lagrange_r;
+        }
+        for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {
+            *__lagrange_x = [[<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::NAN; 3]; 2];
+        }
+        ::core::option::Option::Some(__lagrange_ok)
+    }
 }
 #[doc = "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` (d/dt ∂L/∂q\u{307} = ∂L/∂q, one line per coordinate):\n\n```text\ntheta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)\nphi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)\npsi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)\n```\n"]
 impl HeavyTop {

@@ -129,6 +129,18 @@ fn samples_and_events(sim: Sim<'_, Anharmonic>) -> Sim<'_, Anharmonic> {
     .event(Event::zero_crossing("x turns", |_t, _q, v: &[f64; 3]| v[0]))
 }
 
+fn taylor_every_step<L: Lagrangian<3>>(sim: Sim<'_, L>) -> Sim<'_, L> {
+    sim.method(Method::Taylor { tol: 1e-12 }).until(4.0)
+}
+
+fn taylor_samples_and_events(sim: Sim<'_, Anharmonic>) -> Sim<'_, Anharmonic> {
+    samples_and_events(sim).method(Method::Taylor { tol: 1e-10 })
+}
+
+fn taylor_short<L: Lagrangian<3>>(sim: Sim<'_, L>) -> Sim<'_, L> {
+    sim.method(Method::Taylor { tol: 1e-10 }).until(2.0)
+}
+
 fn short<L: Lagrangian<3>>(sim: Sim<'_, L>) -> Sim<'_, L> {
     sim.until(2.0)
 }
@@ -271,6 +283,93 @@ fn a_failing_lane_reports_the_scalar_error_and_spares_the_others() {
     assert!(lanes.iter().filter(|r| r.is_ok()).count() == 8);
 }
 
+/// The Taylor method in lanes: the series of four members per vector, each member's step its
+/// own — the scalar runs bit for bit (13 members, every step recorded), with samples between the
+/// nodes and events from each member's series; a member whose M₀ is indefinite (m < 0: the
+/// scalar series pivots) takes the scalar series in its lane and still equals its single run, up
+/// to the same error where it blows up.
+#[test]
+fn taylor_lanes_equal_scalar_runs_bit_for_bit() {
+    let negative = |i: usize| Anharmonic {
+        m: if i == 6 { -1.0 } else { well(i).m },
+        ..well(i)
+    };
+    let scalar = sweep(13, 1, None, negative, taylor_every_step);
+    // The negative mass makes z blow up (z̈ = k z + z³) after many pivoted steps.
+    assert!(
+        scalar[6].as_ref().is_err_and(|e| e.contains("underflow")),
+        "{:?}",
+        scalar[6]
+    );
+    assert_eq!(scalar.iter().filter(|r| r.is_ok()).count(), 12);
+    assert_eq!(sweep(13, 4, None, negative, taylor_every_step), scalar);
+    let steps = scalar[0].as_ref().map(|r| r.1.steps).unwrap_or(0);
+    assert!(steps > 20, "a run of many steps: {steps}");
+    let cfg = taylor_samples_and_events;
+    let scalar = sweep(11, 1, None, well, cfg);
+    let ended = scalar
+        .iter()
+        .filter(|r| r.as_ref().is_ok_and(|r| r.2.is_some()))
+        .count();
+    assert!(
+        ended > 0 && ended < 11,
+        "some end at the terminal event: {ended}"
+    );
+    assert_eq!(sweep(11, 4, None, well, cfg), scalar);
+}
+
+/// The heavy top's Taylor series in lanes use the vector sin and cos: every member's run equals
+/// its single run to round-off (steps ±1, final coordinates within 1e-11 relative after 4 s); a
+/// member starting at θ = 0 (M₀ singular) gets the scalar run's error and its neighbours finish.
+#[test]
+fn taylor_lanes_of_the_heavy_top_equal_scalar_runs_to_round_off() {
+    let scalar = sweep(13, 1, None, top, taylor_every_step);
+    let lanes = sweep(13, 4, None, top, taylor_every_step);
+    let mut differ = 0;
+    for (i, (a, b)) in lanes.iter().zip(&scalar).enumerate() {
+        let (a, b) = (
+            a.as_ref().expect("lanes run"),
+            b.as_ref().expect("scalar run"),
+        );
+        assert!(
+            a.1.steps.abs_diff(b.1.steps) <= 1,
+            "member {i}: {:?} vs {:?}",
+            a.1,
+            b.1
+        );
+        // The last state: its bits are the last record's t, q and q̇.
+        let last = |r: &[u64]| -> Vec<f64> {
+            r[r.len() - 8..r.len() - 1]
+                .iter()
+                .map(|&x| f64::from_bits(x))
+                .collect()
+        };
+        let (ya, yb) = (last(&a.0), last(&b.0));
+        for c in 0..7 {
+            let tol = 1e-11 * yb[c].abs().max(1.0);
+            assert!(
+                (ya[c] - yb[c]).abs() <= tol,
+                "member {i}, {c}: {} vs {}",
+                ya[c],
+                yb[c]
+            );
+            differ += usize::from(ya[c] != yb[c]);
+        }
+    }
+    assert!(differ > 0, "the vector sin and cos do enter");
+    let scalar = sweep(9, 1, Some(5), top, taylor_short::<HeavyTop>);
+    let lanes = sweep(9, 4, Some(5), top, taylor_short::<HeavyTop>);
+    assert!(scalar[5].is_err(), "{:?}", scalar[5]);
+    assert_eq!(lanes[5], scalar[5]);
+    assert_eq!(lanes.iter().filter(|r| r.is_ok()).count(), 8);
+    // The jets twin has no series: its Taylor runs fail alike, in lanes or not.
+    let jets = |i: usize| top(i).jets();
+    let cfg = taylor_short::<HeavyTopJets>;
+    let r = sweep(5, 4, None, jets, cfg);
+    assert!(r.iter().all(Result::is_err), "{r:?}");
+    assert_eq!(r, sweep(5, 1, None, jets, cfg));
+}
+
 /// A step budget, a non-DOP853 method and bad options behave in lanes as in scalar runs.
 #[test]
 fn limits_other_methods_and_bad_options_in_lanes() {
@@ -387,4 +486,80 @@ fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
     let mut singular: [Mixed; 4] = std::array::from_fn(|i| member(i + 4));
     singular[2].m = 0.0;
     check(singular);
+}
+
+/// `taylor_series_lanes` of the generated code equals `taylor_series` of each lane's member, every
+/// coefficient to order 12 within 1e-12 of its size (its sin and cos are the vector ones), for
+/// every kind of input (the `Vector3` field, both `match` arms in one vector, time, dissipation,
+/// sqrt, atan2, exp); a lane whose M₀ is singular (m = 0) is left out of the mask and the others
+/// keep their values.
+#[test]
+fn generated_taylor_lanes_equal_scalar_series_for_every_input_kind() {
+    use lagrange::taylor::{SeriesBuf, TaylorBuf};
+    let member = |i: usize| Mixed {
+        m: 1.0 + 0.3 * i as f64,
+        k: [0.5 + 0.1 * i as f64, 3.0],
+        spring: if i.is_multiple_of(2) {
+            Spring::Soft
+        } else {
+            Spring::Hard
+        },
+        b: Vector3::new(0.1 * i as f64, -0.2, 1.5),
+        drive: 1.3,
+        c: 0.05 * i as f64,
+    };
+    let check = |ms: [Mixed; 4], left_out: Option<usize>| {
+        let refs = [&ms[0], &ms[1], &ms[2], &ms[3]];
+        let mut params = vec![Lanes::<4>::ZERO; Mixed::LANE_PARAMS];
+        let mut one = vec![0.0; Mixed::LANE_PARAMS];
+        for (l, m) in ms.iter().enumerate() {
+            m.lane_params(&mut one);
+            for (p, x) in one.iter().enumerate() {
+                params[p].0[l] = *x;
+            }
+        }
+        let y0 = [
+            [
+                Lanes([0.3, -0.2, 0.5, 1.1]),
+                Lanes([0.1, 0.7, -0.4, 0.2]),
+                Lanes([0.2, 0.0, 1.0, -0.6]),
+            ],
+            [
+                Lanes([1.0, -0.5, 0.25, 0.0]),
+                Lanes([0.3, 0.2, -1.0, 0.4]),
+                Lanes([-0.7, 0.1, 0.6, 2.0]),
+            ],
+        ];
+        let t = Lanes([0.0, 0.5, 1.7, 3.2]);
+        let mut series = vec![y0; 13];
+        let ok = Mixed::taylor_series_lanes(&refs, &params, t, &mut series, &mut SeriesBuf::new())
+            .expect("generated lanes series");
+        for (l, m) in ms.iter().enumerate() {
+            if Some(l) == left_out {
+                assert!(!ok.0[l], "lane {l} is left out");
+                continue;
+            }
+            assert!(ok.0[l], "lane {l}");
+            let mut one = vec![[[0.0; 3]; 2]; 13];
+            one[0] = [0, 1].map(|c| [0, 1, 2].map(|i| y0[c][i].0[l]));
+            m.taylor_series(t.0[l], &mut one, &mut TaylorBuf::new())
+                .expect("generated series")
+                .expect("regular M₀");
+            for k in 0..13 {
+                for c in 0..2 {
+                    for i in 0..3 {
+                        let (a, b) = (series[k][c][i].0[l], one[k][c][i]);
+                        assert!(
+                            (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                            "lane {l}, order {k}, ({c}, {i}): {a} vs {b}"
+                        );
+                    }
+                }
+            }
+        }
+    };
+    check(std::array::from_fn(member), None);
+    let mut singular: [Mixed; 4] = std::array::from_fn(|i| member(i + 4));
+    singular[2].m = 0.0;
+    check(singular, Some(2));
 }

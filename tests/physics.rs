@@ -1,7 +1,7 @@
-//! Integration tests, part 2 of 2 (one test crate whose modules are files of tests/): the
+//! Integration tests, part 2 of 3 (one test crate whose modules are files of tests/): the
 //! reference text's physics simulated end to end (the heavy top, rigid bodies, a particle in a
-//! non-inertial frame) and the integrators. Part 1 is tests/equations.rs; the two parts build in
-//! parallel, which on two cores is faster than one crate of both.
+//! non-inertial frame) and the integrators. Part 1 is tests/equations.rs, part 3 (ensembles)
+//! tests/ensembles.rs; the parts build in parallel, which on two cores is faster than one crate.
 //!
 //! Run one module with `cargo test --test physics heavy_top::`.
 
@@ -9,8 +9,6 @@
 mod support;
 
 mod constraints;
-mod ensemble;
-mod ensemble_lanes;
 mod forces;
 mod forces_macro;
 mod hardening;

@@ -330,6 +330,45 @@ pub trait Lagrangian<const N: usize> {
         None
     }
 
+    /// The Taylor series of W members at once (lane l for `members[l]`, from `out[0]` of lane l at
+    /// time t of lane l, `params` as for [`accelerations_lanes`](Self::accelerations_lanes)), for
+    /// the Taylor method of an [`Ensemble`](crate::ensemble::Ensemble) with lanes. Returns the
+    /// lanes where the series was computed: every such lane equals
+    /// [`taylor_series`](Self::taylor_series) of its member bit for bit where the arithmetic is
+    /// the scalar code's (and to round-off where the vector sin and cos enter). A lane left out
+    /// (its M₀ is not positive definite, say) has an unspecified series there: the caller asks
+    /// `taylor_series` of that member, which pivots or explains. `None` (the default): no lanes
+    /// code; `#[lagrangian]` in symbolic mode generates it wherever it generates `taylor_series`
+    /// and [`VECTORIZED_LANES`](Self::VECTORIZED_LANES) holds.
+    ///
+    /// ```
+    /// use lagrange_runtime::{lanes::Lanes, taylor::SeriesBuf, Lagrangian, Scalar};
+    /// struct Osc;
+    /// impl Lagrangian<1> for Osc {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// }
+    /// let mut out = [[[Lanes([1.0, 2.0])], [Lanes::ZERO]]; 3];
+    /// let lanes = Osc::taylor_series_lanes(&[&Osc, &Osc], &[], Lanes::ZERO, &mut out, &mut SeriesBuf::new());
+    /// assert!(lanes.is_none()); // hand-written: no lanes code
+    /// ```
+    #[inline]
+    fn taylor_series_lanes<const W: usize>(
+        members: &[&Self; W],
+        params: &[Lanes<W>],
+        t: Lanes<W>,
+        out: &mut [[[Lanes<W>; N]; 2]],
+        buf: &mut crate::taylor::SeriesBuf<Lanes<W>>,
+    ) -> Option<Mask<W>>
+    where
+        Self: Sized,
+    {
+        let _ = (members, params, t, out, buf);
+        None
+    }
+
     /// The energy (Jacobi integral) h = q̇·p − L.
     fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
         // Not through `energy_and_momenta`: an override of that one may call this.

@@ -30,9 +30,12 @@
 //! assert_eq!([mul(&a, &b, 0), mul(&a, &b, 1), mul(&a, &b, 2)], [2.0, 1.0, -1.0]);
 //! ```
 
+use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
+
 use crate::eom::solve_mass_matrix;
 use crate::error::DynamicsError;
-use crate::linalg::Ldlt;
+use crate::lanes::{Lanes, Mask};
+use crate::linalg::{Ldlt, ACCURATE_RELATIVE_PIVOT};
 
 /// The highest order a series holds (the Taylor method's order is at most this).
 ///
@@ -41,8 +44,44 @@ use crate::linalg::Ldlt;
 /// ```
 pub const MAX_ORDER: usize = 31;
 
+/// The numbers a series holds: `f64`, and [`Lanes`] for ensembles (the series of W members at
+/// once, each lane the scalar computation bit for bit: every kernel is written once, over this).
+///
+/// ```
+/// use lagrange_runtime::{lanes::Lanes, taylor::{mul, Coefficient}};
+/// let (mut a, mut b) = ([Lanes::<2>::ZERO; 32], [<Lanes<2> as Coefficient>::ZERO; 32]);
+/// // a = 1 + c τ with c = 1 in lane 0 and 2 in lane 1, b = 3 + τ: (ab)₁ = 3c + 1.
+/// (a[0], a[1], b[0], b[1]) = (Lanes([1.0; 2]), Lanes([1.0, 2.0]), Lanes([3.0; 2]), Lanes([1.0; 2]));
+/// assert_eq!(mul(&a, &b, 1).0, [4.0, 7.0]);
+/// ```
+pub trait Coefficient:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + From<f64>
+{
+    /// 0 (in every lane).
+    const ZERO: Self;
+}
+
+impl Coefficient for f64 {
+    const ZERO: Self = 0.0;
+}
+
+impl<const W: usize> Coefficient for Lanes<W> {
+    const ZERO: Self = Lanes([0.0; W]);
+}
+
+/// One series of `T`: its coefficients of orders 0..=[`MAX_ORDER`].
+pub type RowOf<T> = [T; MAX_ORDER + 1];
+
 /// One series: its coefficients of orders 0..=[`MAX_ORDER`].
-pub type Row = [f64; MAX_ORDER + 1];
+pub type Row = RowOf<f64>;
 
 /// Scratch space for the series of a system's nodes, kept by the caller between calls so that a
 /// step allocates nothing.
@@ -53,19 +92,35 @@ pub type Row = [f64; MAX_ORDER + 1];
 /// c[2][5] = 4.0;
 /// assert_eq!((b.slots::<3>()[2][5], b.slots::<3>()[0][5]), (4.0, 0.0));
 /// ```
-#[derive(Clone, Debug, Default)]
-pub struct TaylorBuf {
-    c: Vec<Row>,
+pub type TaylorBuf = SeriesBuf<f64>;
+
+/// Scratch space for the series of a system's nodes over numbers `T` ([`TaylorBuf`] for `f64`;
+/// `SeriesBuf<Lanes<W>>` for W ensemble members at once).
+///
+/// ```
+/// use lagrange_runtime::{lanes::Lanes, taylor::SeriesBuf};
+/// let mut b = SeriesBuf::<Lanes<4>>::new();
+/// assert_eq!(b.slots::<2>()[1][3], Lanes::ZERO);
+/// ```
+#[derive(Clone, Debug)]
+pub struct SeriesBuf<T> {
+    c: Vec<RowOf<T>>,
 }
 
-impl TaylorBuf {
+impl<T: Coefficient> Default for SeriesBuf<T> {
+    fn default() -> Self {
+        SeriesBuf { c: Vec::new() }
+    }
+}
+
+impl<T: Coefficient> SeriesBuf<T> {
     /// An empty buffer (sized by [`slots`](TaylorBuf::slots)).
     ///
     /// ```
     /// assert_eq!(lagrange_runtime::taylor::TaylorBuf::new().slots::<4>().len(), 4);
     /// ```
     pub fn new() -> Self {
-        TaylorBuf::default()
+        SeriesBuf::default()
     }
 
     /// `S` series (slot 0 is the zero series by convention: it is never written), as one array
@@ -78,9 +133,9 @@ impl TaylorBuf {
     /// assert_eq!(b.slots::<2>()[1][0], 1.5);
     /// ```
     #[inline]
-    pub fn slots<const S: usize>(&mut self) -> &mut [Row; S] {
+    pub fn slots<const S: usize>(&mut self) -> &mut [RowOf<T>; S] {
         if self.c.len() < S {
-            self.c.resize(S, [0.0; MAX_ORDER + 1]);
+            self.c.resize(S, [T::ZERO; MAX_ORDER + 1]);
         }
         match self.c.first_chunk_mut::<S>() {
             Some(c) => c,
@@ -93,11 +148,11 @@ impl TaylorBuf {
 /// Σ_i x_i y_{n−1−i} over two slices of one length n, one running sum (measured faster than
 /// four partial sums on these short series: the kernels of independent nodes overlap instead).
 #[inline(always)]
-fn dot_rev(x: &[f64], y: &[f64]) -> f64 {
+fn dot_rev<T: Coefficient>(x: &[T], y: &[T]) -> T {
     let n = x.len().min(y.len());
     let (x, y) = (&x[..n], &y[..n]);
-    let mut s = 0.0;
-    for (a, b) in x.iter().zip(y.iter().rev()) {
+    let mut s = T::ZERO;
+    for (&a, &b) in x.iter().zip(y.iter().rev()) {
         s += a * b;
     }
     s
@@ -105,18 +160,25 @@ fn dot_rev(x: &[f64], y: &[f64]) -> f64 {
 
 /// Σ_{j=lo..=k} x_j y_{k−j} (lo ≤ k ≤ [`MAX_ORDER`]).
 #[inline(always)]
-fn conv(x: &Row, y: &Row, lo: usize, k: usize) -> f64 {
+fn conv<T: Coefficient>(x: &RowOf<T>, y: &RowOf<T>, lo: usize, k: usize) -> T {
     dot_rev(&x[lo..=k], &y[..=k - lo])
 }
 
 /// Σ_{j=lo..=k} (α j + β) x_j y_{k−j}.
 #[inline(always)]
-fn conv_weighted(x: &Row, y: &Row, lo: usize, k: usize, alpha: f64, beta: f64) -> f64 {
+fn conv_weighted<T: Coefficient>(
+    x: &RowOf<T>,
+    y: &RowOf<T>,
+    lo: usize,
+    k: usize,
+    alpha: f64,
+    beta: f64,
+) -> T {
     let (x, y) = (&x[lo..=k], &y[..=k - lo]);
-    let mut s = 0.0;
+    let mut s = T::ZERO;
     let mut w = alpha * lo as f64 + beta;
-    for (a, b) in x.iter().zip(y.iter().rev()) {
-        s += w * a * b;
+    for (&a, &b) in x.iter().zip(y.iter().rev()) {
+        s += T::from(w) * a * b;
         w += alpha;
     }
     s
@@ -131,7 +193,7 @@ fn conv_weighted(x: &Row, y: &Row, lo: usize, k: usize, alpha: f64, beta: f64) -
 /// assert_eq!(mul(&a, &b, 1), 1.0);
 /// ```
 #[inline(always)]
-pub fn mul(a: &Row, b: &Row, k: usize) -> f64 {
+pub fn mul<T: Coefficient>(a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
     conv(a, b, 0, k)
 }
 
@@ -144,7 +206,7 @@ pub fn mul(a: &Row, b: &Row, k: usize) -> f64 {
 /// assert_eq!([sqr(&a, 0), sqr(&a, 1), sqr(&a, 2)], [1.0, 2.0, 1.0]);
 /// ```
 #[inline(always)]
-pub fn sqr(a: &Row, k: usize) -> f64 {
+pub fn sqr<T: Coefficient>(a: &RowOf<T>, k: usize) -> T {
     let half = k.div_ceil(2);
     let mut s = dot_rev(&a[..half], &a[k + 1 - half..=k]);
     s += s;
@@ -165,8 +227,8 @@ pub fn sqr(a: &Row, k: usize) -> f64 {
 /// assert_eq!(&c[..4], &[1.0; 4]);
 /// ```
 #[inline(always)]
-pub fn div(a: &Row, b: &Row, c: &Row, k: usize) -> f64 {
-    let s = if k == 0 { 0.0 } else { conv(b, c, 1, k) };
+pub fn div<T: Coefficient>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -> T {
+    let s = if k == 0 { T::ZERO } else { conv(b, c, 1, k) };
     (a[k] - s) / b[0]
 }
 
@@ -182,8 +244,8 @@ pub fn div(a: &Row, b: &Row, c: &Row, k: usize) -> f64 {
 /// assert_eq!(&c[1..4], &[1.0, 0.5, 1.0 / 6.0]);
 /// ```
 #[inline(always)]
-pub fn deriv(a: &Row, d: &Row, k: usize) -> f64 {
-    conv_weighted(a, d, 1, k, 1.0, 0.0) / k as f64
+pub fn deriv<T: Coefficient>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
+    conv_weighted(a, d, 1, k, 1.0, 0.0) / T::from(k as f64)
 }
 
 /// Coefficient k ≥ 1 of c = f(y, x) from the series p = ∂f/∂y and q = ∂f/∂x:
@@ -197,8 +259,14 @@ pub fn deriv(a: &Row, d: &Row, k: usize) -> f64 {
 /// assert_eq!(deriv2(&y, &x, &x, &y, 1), 3.0);
 /// ```
 #[inline(always)]
-pub fn deriv2(y: &Row, p: &Row, x: &Row, q: &Row, k: usize) -> f64 {
-    (conv_weighted(y, p, 1, k, 1.0, 0.0) + conv_weighted(x, q, 1, k, 1.0, 0.0)) / k as f64
+pub fn deriv2<T: Coefficient>(
+    y: &RowOf<T>,
+    p: &RowOf<T>,
+    x: &RowOf<T>,
+    q: &RowOf<T>,
+    k: usize,
+) -> T {
+    (conv_weighted(y, p, 1, k, 1.0, 0.0) + conv_weighted(x, q, 1, k, 1.0, 0.0)) / T::from(k as f64)
 }
 
 /// Coefficient k ≥ 1 of c = a^α for a constant α, given c's coefficients 0..k:
@@ -214,8 +282,8 @@ pub fn deriv2(y: &Row, p: &Row, x: &Row, q: &Row, k: usize) -> f64 {
 /// assert_eq!(&c[..3], &[1.0, 0.5, -0.125]);
 /// ```
 #[inline(always)]
-pub fn powf(a: &Row, c: &Row, alpha: f64, k: usize) -> f64 {
-    conv_weighted(a, c, 1, k, alpha + 1.0, -(k as f64)) / (k as f64 * a[0])
+pub fn powf<T: Coefficient>(a: &RowOf<T>, c: &RowOf<T>, alpha: f64, k: usize) -> T {
+    conv_weighted(a, c, 1, k, alpha + 1.0, -(k as f64)) / (T::from(k as f64) * a[0])
 }
 
 /// Σ_{j=1..k} m_j a_{k−j}: the part of order k of M a that the coefficients of a already known
@@ -228,7 +296,7 @@ pub fn powf(a: &Row, c: &Row, alpha: f64, k: usize) -> f64 {
 /// assert_eq!(mass_tail(&m, &a, 1), 6.0);
 /// ```
 #[inline(always)]
-pub fn mass_tail(m: &Row, a: &Row, k: usize) -> f64 {
+pub fn mass_tail<T: Coefficient>(m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
     conv(m, a, 1, k)
 }
 
@@ -287,6 +355,83 @@ impl<const N: usize> Factor<N> {
     }
 }
 
+/// The factorization of M₀ for W members at once: the operations of [`Ldlt`] (factor and solve)
+/// lane by lane, in the same order, so a lane whose factorization succeeds solves bit for bit as
+/// the scalar [`Factor`] does. A lane where [`Ldlt`] would not give a factorization (a diagonal
+/// entry not finite, a pivot not positive or below [`ACCURATE_RELATIVE_PIVOT`] of its diagonal
+/// entry) is cleared in the mask [`new`](FactorLanes::new) returns: the caller computes that
+/// member's series with the scalar code, which explains or pivots.
+///
+/// ```
+/// use lagrange_runtime::{lanes::Lanes, taylor::FactorLanes};
+/// let m = [[Lanes([2.0, -1.0])]];
+/// let (f, ok) = FactorLanes::<1, 2>::new(&m);
+/// assert_eq!(ok.0, [true, false]);
+/// assert_eq!(f.solve(&[Lanes([4.0, 4.0])])[0].0[0], 2.0);
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct FactorLanes<const N: usize, const W: usize> {
+    /// L below the diagonal, stored transposed in the upper triangle (as `Ldlt`).
+    a: [[Lanes<W>; N]; N],
+    /// 1/d_j.
+    d_inv: [Lanes<W>; N],
+}
+
+impl<const N: usize, const W: usize> FactorLanes<N, W> {
+    /// Factors M₀ (upper triangle) in every lane; the mask says where the factorization holds.
+    #[inline(always)]
+    pub fn new(m: &[[Lanes<W>; N]; N]) -> (Self, Mask<W>) {
+        let mut ok = Mask::splat(true);
+        for (i, row) in m.iter().enumerate() {
+            ok = ok & row[i].finite();
+        }
+        let (mut a, mut u) = (*m, *m);
+        let mut d_inv = [Lanes::ZERO; N];
+        for j in 0..N {
+            let (done, rest) = u.split_at_mut(j);
+            let Some(row_j) = rest.first_mut() else {
+                break;
+            };
+            for (k, row_k) in done.iter().enumerate() {
+                let lkj = a[k][j];
+                for (x, &y) in row_j[j..].iter_mut().zip(&row_k[j..]) {
+                    *x -= lkj * y;
+                }
+            }
+            let dj = row_j[j];
+            ok = ok & dj.gt(0.0) & dj.gt(ACCURATE_RELATIVE_PIVOT * m[j][j]);
+            let r = 1.0 / dj;
+            d_inv[j] = r;
+            for (l, &x) in a[j][j + 1..].iter_mut().zip(&row_j[j + 1..]) {
+                *l = x * r;
+            }
+        }
+        (FactorLanes { a, d_inv }, ok)
+    }
+
+    /// M₀⁻¹ b in every lane (meaningful where the factorization holds).
+    #[inline(always)]
+    pub fn solve(&self, b: &[Lanes<W>; N]) -> [Lanes<W>; N] {
+        let (a, d_inv) = (&self.a, &self.d_inv);
+        let mut x = *b;
+        for k in 0..N {
+            let xk = x[k];
+            for (xi, &l) in x[k + 1..].iter_mut().zip(&a[k][k + 1..]) {
+                *xi -= l * xk;
+            }
+        }
+        for i in 0..N {
+            x[i] *= d_inv[i];
+        }
+        for i in (0..N).rev() {
+            for k in i + 1..N {
+                x[i] -= a[i][k] * x[k];
+            }
+        }
+        x
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -324,6 +469,38 @@ mod tests {
                     .sum::<f64>()
                     / (k as f64 * a[0]);
                 assert!((powf(&ra, &rb, alpha, k) - p).abs() <= 1e-12 * p.abs().max(1.0));
+            }
+        }
+    }
+
+    /// The lanes factorization solves as `Ldlt` does, bit for bit, and flags the lanes `Ldlt`
+    /// refuses (indefinite, tiny pivot, not finite).
+    #[test]
+    fn lanes_factor_is_ldlt_per_lane() {
+        let ms: [[[f64; 3]; 3]; 4] = [
+            [[4.0, 1.2, -0.7], [0.0, 3.1, 0.4], [0.0, 0.0, 2.2]],
+            [[1.0, 2.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            [[1.0, 1.0, 0.0], [0.0, 1.0 + 1e-12, 0.0], [0.0, 0.0, 1.0]],
+            [[f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        ];
+        let m: [[Lanes<4>; 3]; 3] = core::array::from_fn(|i| {
+            core::array::from_fn(|j| Lanes(core::array::from_fn(|l| ms[l][i][j])))
+        });
+        let b = [
+            Lanes([0.3, 1.0, 2.0, 3.0]),
+            Lanes([-1.7, 0.0, 1.0, 0.0]),
+            Lanes([0.9; 4]),
+        ];
+        let (f, ok) = FactorLanes::<3, 4>::new(&m);
+        let x = f.solve(&b);
+        for l in 0..4 {
+            let scalar = Ldlt::factor(&ms[l]);
+            assert_eq!(ok.0[l], scalar.is_ok(), "lane {l}");
+            if let Ok(s) = scalar {
+                let xs = s.solve(&core::array::from_fn(|i| b[i].0[l]));
+                for i in 0..3 {
+                    assert_eq!(x[i].0[l].to_bits(), xs[i].to_bits());
+                }
             }
         }
     }

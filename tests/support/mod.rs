@@ -1,6 +1,7 @@
-//! What the modules of the integration test crates (tests/equations.rs, tests/physics.rs) share:
-//! the systems declared once ([`systems`], also included by benches/symbolic.rs), the
-//! hand-written heavy top ([`hand`]) and a small deterministic random generator ([`Rng`]).
+//! What the modules of the integration test crates (tests/equations.rs, tests/physics.rs,
+//! tests/ensembles.rs) share: the systems declared once ([`systems`], also included by
+//! benches/symbolic.rs), the hand-written heavy top ([`hand`]) and a small deterministic random
+//! generator ([`Rng`]).
 // Each test crate uses a subset.
 #![allow(dead_code)]
 

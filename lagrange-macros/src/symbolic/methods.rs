@@ -40,7 +40,8 @@ pub struct SymbolicOutput {
     pub energy_and_momenta: TokenStream,
     /// Body of `fn taylor_series(&self, t, out, buf)` (the Taylor method's series), where every
     /// node has a Taylor rule.
-    pub taylor: Option<TokenStream>,
+    /// and, with lanes code, of `fn taylor_series_lanes`.
+    pub taylor: Option<super::taylor::Series>,
     /// The lanes code (systems with the unrolled solve): the body of `accelerations_lanes`, the
     /// body of `lane_params` and how many numbers it writes.
     pub lanes: Option<(TokenStream, TokenStream, usize)>,
@@ -82,6 +83,8 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     let lagrangian_trait = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>);
     let mut lets = 0;
     let mut lanes = None;
+    // The lanes code's parameter loads and their count, for the Taylor series over lanes.
+    let mut lane_loads: Option<(TokenStream, usize)> = None;
     let (accelerations, accelerations_inline) = if large {
         // Large N: M (upper triangle) and the right-hand side from `pieces` (one copy of their
         // code, kept out of line), solved by the runtime's row-oriented LDLᵀ (the same pivot
@@ -175,6 +178,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
                 }
             };
             lanes = Some((body, params_body, count));
+            lane_loads = Some((loads, count));
         }
         let body = quote! {
             #touch
@@ -401,7 +405,16 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         energy_and_momenta,
         allow: allow_generated(),
         has_applied,
-        taylor: super::taylor::body(d, n),
+        taylor: super::taylor::body(
+            d,
+            n,
+            lane_loads
+                .as_ref()
+                .map(|(loads, count)| super::taylor::LaneLoads {
+                    loads,
+                    count: *count,
+                }),
+        ),
         equations: eq.unicode,
         equations_latex: eq.latex,
         doc,
@@ -582,8 +595,30 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         None => methods,
     };
     let methods = match taylor {
-        Some(body) => {
+        Some(series) => {
             let (out, buf) = (names::taylor("out"), names::taylor("buf"));
+            let body = &series.scalar;
+            let lanes = series.lanes.as_ref().map(|body| {
+                let lane = codegen::lane_type();
+                let w = names::lane_width();
+                let (members, params) = (names::lane_members(), names::lane_params());
+                quote! {
+                    #allow
+                    #[inline]
+                    fn taylor_series_lanes<const #w: usize>(
+                        #members: &[&Self; #w],
+                        #params: &[#lane],
+                        #t: #lane,
+                        #out: &mut [[[#lane; #nn]; 2]],
+                        #buf: &mut ::lagrange::__private::taylor::SeriesBuf<#lane>,
+                    ) -> ::core::option::Option<::lagrange::__private::lanes::Mask<#w>>
+                    where
+                        Self: ::core::marker::Sized,
+                    {
+                        #body
+                    }
+                }
+            });
             quote! {
                 #methods
                 #allow
@@ -595,6 +630,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
                 ) -> ::core::option::Option<::core::result::Result<(), ::lagrange::__private::DynamicsError>> {
                     #body
                 }
+                #lanes
             }
         }
         None => methods,

@@ -117,8 +117,23 @@ fn reads(r: &Rule) -> Vec<Id> {
     }
 }
 
-/// The body of `fn taylor_series(&self, t, out, buf)`, or `None` where some node has no rule.
-pub fn body(d: &Derivation, n: usize) -> Option<TokenStream> {
+/// The generated Taylor code: the body of `fn taylor_series` and, where the system has lanes
+/// code, of `fn taylor_series_lanes`.
+pub struct Series {
+    pub scalar: TokenStream,
+    pub lanes: Option<TokenStream>,
+}
+
+/// The parameters of the lanes code: the loads of `accelerations_lanes` (binding every field as
+/// lanes from `params`) and how many numbers `params` holds.
+pub struct LaneLoads<'a> {
+    pub loads: &'a TokenStream,
+    pub count: usize,
+}
+
+/// The bodies of `fn taylor_series(&self, t, out, buf)` and (given the lanes loads) of
+/// `fn taylor_series_lanes(members, params, t, out, buf)`, or `None` where some node has no rule.
+pub fn body(d: &Derivation, n: usize, lanes: Option<LaneLoads<'_>>) -> Option<Series> {
     let mut dag = d.dag.clone();
     let mut outputs: Vec<Id> = Vec::new();
     for (i, row) in d.mass.iter().enumerate() {
@@ -155,209 +170,313 @@ pub fn body(d: &Derivation, n: usize) -> Option<TokenStream> {
     for (s, &id) in ids.iter().enumerate() {
         slot[id as usize] = s + 1;
     }
-    let nslots = Literal::usize_unsuffixed(ids.len() + 1 + n);
-    let accel: Vec<Literal> = (0..n)
-        .map(|l| Literal::usize_unsuffixed(ids.len() + 1 + l))
-        .collect();
-    let names::Params { q, qdot, t } = names::Params::symbolic();
-    let (out, buf, k, c) = (
-        names::taylor("out"),
-        names::taylor("buf"),
-        names::taylor("k"),
-        names::taylor("c"),
-    );
-    let (order, factor, b, a) = (
-        names::taylor("order"),
-        names::taylor("factor"),
-        names::taylor("b"),
-        names::taylor("a"),
-    );
-    let rt = quote!(::lagrange::__private::taylor);
-    let sl = |x: Id| Literal::usize_unsuffixed(slot[x as usize]);
-    // Order 0: the straight-line values of every needed node.
-    let code0 = codegen::emit(&dag, &d.fields, &d.conds, &ids);
-    let stmts0 = &code0.stmts();
-    let mut set0 = TokenStream::new();
-    // Slots with no coefficient past order 0 (constants, steps, the zero series): zeroed, since
-    // the buffer may have held another layout.
-    let mut flat = vec![Literal::usize_unsuffixed(0)];
-    for &id in &ids {
-        let s = sl(id);
-        let v = codegen::operand(&dag, &d.fields, id);
-        set0.extend(quote!(#c[#s][0] = #v;));
-        if matches!(
-            rules[id as usize],
-            Some(Rule::Constant | Rule::Deriv(_, Dag::ZERO))
-        ) {
-            flat.push(s);
-        }
-    }
-    // Orders ≥ 1: one kernel per node, indices constant.
-    let mut step = TokenStream::new();
-    for &id in &ids {
-        let r = rules[id as usize].as_ref()?;
-        let s = sl(id);
-        let value = match *r {
-            Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
-            Rule::Leaf => match dag.node(id) {
-                Node::Q(i) => {
-                    let i = Literal::usize_unsuffixed(i as usize);
-                    quote!(#out[#k][0][#i])
-                }
-                Node::V(i) => {
-                    let i = Literal::usize_unsuffixed(i as usize);
-                    quote!(#out[#k][1][#i])
-                }
-                _ => quote!(if #k == 1 { 1.0 } else { 0.0 }),
-            },
-            Rule::Add(x, y) => {
-                let (x, y) = (sl(x), sl(y));
-                quote!(#c[#x][#k] + #c[#y][#k])
-            }
-            Rule::Sub(x, y) => {
-                let (x, y) = (sl(x), sl(y));
-                quote!(#c[#x][#k] - #c[#y][#k])
-            }
-            Rule::Neg(x) => {
-                let x = sl(x);
-                quote!(-#c[#x][#k])
-            }
-            Rule::Mul(x, y) => {
-                let (x, y) = (sl(x), sl(y));
-                quote!(#rt::mul(&#c[#x], &#c[#y], #k))
-            }
-            Rule::Sqr(x) => {
-                let x = sl(x);
-                quote!(#rt::sqr(&#c[#x], #k))
-            }
-            Rule::Scale(x, f) => {
-                let (x, f) = (sl(x), codegen::operand(&dag, &d.fields, f));
-                quote!(#f * #c[#x][#k])
-            }
-            Rule::Div(x, y) => {
-                let (x, y) = (sl(x), sl(y));
-                quote!(#rt::div(&#c[#x], &#c[#y], &#c[#s], #k))
-            }
-            Rule::DivConst(x, f) => {
-                let (x, f) = (sl(x), codegen::operand(&dag, &d.fields, f));
-                quote!(#c[#x][#k] / #f)
-            }
-            Rule::Deriv(x, dd) => {
-                let (x, dd) = (sl(x), sl(dd));
-                quote!(#rt::deriv(&#c[#x], &#c[#dd], #k))
-            }
-            Rule::Deriv2(y, p, x, qq) => {
-                let (y, p, x, qq) = (sl(y), sl(p), sl(x), sl(qq));
-                quote!(#rt::deriv2(&#c[#y], &#c[#p], &#c[#x], &#c[#qq], #k))
-            }
-            Rule::Powf(x, e) => {
-                let (x, e) = (sl(x), codegen::operand(&dag, &d.fields, e));
-                quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k))
-            }
-            Rule::Select(cond, x, y) => {
-                let (x, y) = (sl(x), sl(y));
-                let cond = names::cond(cond);
-                quote!(if #cond { #c[#x][#k] } else { #c[#y][#k] })
-            }
-        };
-        step.extend(quote!(#c[#s][#k] = #value;));
-    }
-    // M₀ (upper triangle) and the right-hand side of order k, less Σ_{j ≥ 1} M_j a_{k−j} over
-    // the entries of M that vary along the motion (the others have no coefficient past order 0).
-    let entry = |i: usize, l: usize| {
-        let (r, cc) = if i <= l { (i, l) } else { (l, i) };
-        d.mass[r][cc]
+    let program = Program {
+        d,
+        n,
+        dag: &dag,
+        rules: &rules,
+        ids: &ids,
+        slot: &slot,
     };
-    let m0_rows = (0..n).map(|i| {
-        let cols = (0..n).map(|l| {
-            let id = d.mass[i][l];
-            if l < i || id == Dag::ZERO {
-                quote!(0.0)
-            } else {
-                let s = sl(id);
-                quote!(#c[#s][0])
-            }
-        });
-        quote!([#(#cols),*])
-    });
-    let rhs = (0..n).map(|i| {
-        let f = match d.rhs[i] {
-            Dag::ZERO => quote!(0.0),
-            id => {
-                let s = sl(id);
-                quote!(#c[#s][#k])
-            }
+    let scalar = program.emit(None)?;
+    let lanes = match lanes {
+        Some(l) => Some(program.emit(Some(&l))?),
+        None => None,
+    };
+    Some(Series { scalar, lanes })
+}
+
+/// What the emission reads: the derivation, the extended DAG, every needed node's rule and slot.
+struct Program<'a> {
+    d: &'a Derivation,
+    n: usize,
+    dag: &'a Dag,
+    rules: &'a [Option<Rule>],
+    ids: &'a [Id],
+    slot: &'a [usize],
+}
+
+impl Program<'_> {
+    /// The body over `f64` (`lanes`: `None`) or over the lane type (the lanes loads given): the
+    /// same kernels in the same order, so each lane computes the scalar coefficients.
+    fn emit(&self, lanes: Option<&LaneLoads<'_>>) -> Option<TokenStream> {
+        let Program {
+            d,
+            n,
+            dag,
+            rules,
+            ids,
+            slot,
+        } = *self;
+        let lane = codegen::lane_type();
+        let zero = match lanes {
+            Some(_) => quote!(<#lane>::ZERO),
+            None => quote!(0.0),
         };
-        let tail = (0..n)
-            .filter(|&l| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
-            .map(|l| {
-                let (m, al) = (sl(entry(i, l)), &accel[l]);
-                quote!(- #rt::mass_tail(&#c[#m], &#c[#al], #k))
+        let nslots = Literal::usize_unsuffixed(ids.len() + 1 + n);
+        let accel: Vec<Literal> = (0..n)
+            .map(|l| Literal::usize_unsuffixed(ids.len() + 1 + l))
+            .collect();
+        let names::Params { q, qdot, t } = names::Params::symbolic();
+        let (out, buf, k, c) = (
+            names::taylor("out"),
+            names::taylor("buf"),
+            names::taylor("k"),
+            names::taylor("c"),
+        );
+        let (order, factor, b, a) = (
+            names::taylor("order"),
+            names::taylor("factor"),
+            names::taylor("b"),
+            names::taylor("a"),
+        );
+        let rt = quote!(::lagrange::__private::taylor);
+        let sl = |x: Id| Literal::usize_unsuffixed(slot[x as usize]);
+        // Order 0: the straight-line values of every needed node.
+        let stmts0 = match lanes {
+            // The lanes loads bind every field the accelerations read (a superset of these).
+            Some(l) => {
+                let code0 = codegen::emit_as(dag, &d.fields, &d.conds, ids, Some(&lane));
+                let (loads, values) = (l.loads, &code0.values);
+                quote!(#loads #values)
+            }
+            None => codegen::emit(dag, &d.fields, &d.conds, ids).stmts(),
+        };
+        let mut set0 = TokenStream::new();
+        // Slots with no coefficient past order 0 (constants, steps, the zero series): zeroed, since
+        // the buffer may have held another layout.
+        let mut flat = vec![Literal::usize_unsuffixed(0)];
+        for &id in ids {
+            let s = sl(id);
+            let v = codegen::operand(dag, &d.fields, id);
+            set0.extend(match lanes {
+                Some(_) => quote!(#c[#s][0] = <#lane>::from(#v);),
+                None => quote!(#c[#s][0] = #v;),
             });
-        quote!(#f #(#tail)*)
-    });
-    let b0: Vec<TokenStream> = (0..n)
-        .map(|i| match d.rhs[i] {
-            Dag::ZERO => quote!(0.0),
-            id => {
-                let s = sl(id);
-                quote!(#c[#s][0])
+            if matches!(
+                rules[id as usize],
+                Some(Rule::Constant | Rule::Deriv(_, Dag::ZERO))
+            ) {
+                flat.push(s);
             }
-        })
-        .collect();
-    let nn = Literal::usize_unsuffixed(n);
-    let names_ = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES);
-    let ii = (0..n).map(Literal::usize_unsuffixed);
-    let ii2 = (0..n).map(Literal::usize_unsuffixed);
-    let max = quote!(#rt::MAX_ORDER);
-    Some(quote! {
-        if #out.len() < 2 {
-            return ::core::option::Option::Some(::core::result::Result::Ok(()));
         }
-        let #order = (#out.len() - 1).min(#max);
-        let #c: &mut [#rt::Row; #nslots] = #buf.slots::<#nslots>();
-        let __lagrange_y0: [[f64; #nn]; 2] = #out[0];
-        let (#q, #qdot): (&[f64; #nn], &[f64; #nn]) = (&__lagrange_y0[0], &__lagrange_y0[1]);
-        #stmts0
-        #set0
-        #( #c[#flat][1..=#order].fill(0.0); )*
-        let #factor = match #rt::Factor::<#nn>::new(
-            &[#(#m0_rows),*],
-            &[#(#b0),*],
-            #names_,
-            #q,
-            #qdot,
-            #t,
-        ) {
-            ::core::result::Result::Ok(__lagrange_f) => __lagrange_f,
-            ::core::result::Result::Err(__lagrange_e) => {
-                return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
-            }
-        };
-        for #k in 0..#order {
-            let #b: [f64; #nn] = if #k == 0 {
-                [#(#b0),*]
-            } else {
-                #step
-                [#(#rhs),*]
+        // Orders ≥ 1: one kernel per node, indices constant.
+        let mut step = TokenStream::new();
+        for &id in ids {
+            let r = rules[id as usize].as_ref()?;
+            let s = sl(id);
+            let value = match *r {
+                Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
+                Rule::Leaf => match dag.node(id) {
+                    Node::Q(i) => {
+                        let i = Literal::usize_unsuffixed(i as usize);
+                        quote!(#out[#k][0][#i])
+                    }
+                    Node::V(i) => {
+                        let i = Literal::usize_unsuffixed(i as usize);
+                        quote!(#out[#k][1][#i])
+                    }
+                    _ => match lanes {
+                        Some(_) => quote!(<#lane>::splat(if #k == 1 { 1.0 } else { 0.0 })),
+                        None => quote!(if #k == 1 { 1.0 } else { 0.0 }),
+                    },
+                },
+                Rule::Add(x, y) => {
+                    let (x, y) = (sl(x), sl(y));
+                    quote!(#c[#x][#k] + #c[#y][#k])
+                }
+                Rule::Sub(x, y) => {
+                    let (x, y) = (sl(x), sl(y));
+                    quote!(#c[#x][#k] - #c[#y][#k])
+                }
+                Rule::Neg(x) => {
+                    let x = sl(x);
+                    quote!(-#c[#x][#k])
+                }
+                Rule::Mul(x, y) => {
+                    let (x, y) = (sl(x), sl(y));
+                    quote!(#rt::mul(&#c[#x], &#c[#y], #k))
+                }
+                Rule::Sqr(x) => {
+                    let x = sl(x);
+                    quote!(#rt::sqr(&#c[#x], #k))
+                }
+                Rule::Scale(x, f) => {
+                    let (x, f) = (sl(x), codegen::operand(dag, &d.fields, f));
+                    quote!(#f * #c[#x][#k])
+                }
+                Rule::Div(x, y) => {
+                    let (x, y) = (sl(x), sl(y));
+                    quote!(#rt::div(&#c[#x], &#c[#y], &#c[#s], #k))
+                }
+                Rule::DivConst(x, f) => {
+                    let (x, f) = (sl(x), codegen::operand(dag, &d.fields, f));
+                    quote!(#c[#x][#k] / #f)
+                }
+                Rule::Deriv(x, dd) => {
+                    let (x, dd) = (sl(x), sl(dd));
+                    quote!(#rt::deriv(&#c[#x], &#c[#dd], #k))
+                }
+                Rule::Deriv2(y, p, x, qq) => {
+                    let (y, p, x, qq) = (sl(y), sl(p), sl(x), sl(qq));
+                    quote!(#rt::deriv2(&#c[#y], &#c[#p], &#c[#x], &#c[#qq], #k))
+                }
+                Rule::Powf(x, e) => {
+                    let (x, e) = (sl(x), codegen::operand(dag, &d.fields, e));
+                    quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k))
+                }
+                Rule::Select(cond, x, y) => {
+                    let (x, y) = (sl(x), sl(y));
+                    let cond = names::cond(cond);
+                    match lanes {
+                        Some(_) => quote!(<#lane>::select(#cond, #c[#x][#k], #c[#y][#k])),
+                        None => quote!(if #cond { #c[#x][#k] } else { #c[#y][#k] }),
+                    }
+                }
             };
-            let #a = match #factor.solve(&#b, #names_, #q, #qdot, #t) {
-                ::core::result::Result::Ok(__lagrange_a) => __lagrange_a,
+            step.extend(quote!(#c[#s][#k] = #value;));
+        }
+        // M₀ (upper triangle) and the right-hand side of order k, less Σ_{j ≥ 1} M_j a_{k−j} over
+        // the entries of M that vary along the motion (the others have no coefficient past order 0).
+        let entry = |i: usize, l: usize| {
+            let (r, cc) = if i <= l { (i, l) } else { (l, i) };
+            d.mass[r][cc]
+        };
+        let m0_rows = (0..n).map(|i| {
+            let cols = (0..n).map(|l| {
+                let id = d.mass[i][l];
+                if l < i || id == Dag::ZERO {
+                    zero.clone()
+                } else {
+                    let s = sl(id);
+                    quote!(#c[#s][0])
+                }
+            });
+            quote!([#(#cols),*])
+        });
+        let rhs = (0..n).map(|i| {
+            let f = match d.rhs[i] {
+                Dag::ZERO => zero.clone(),
+                id => {
+                    let s = sl(id);
+                    quote!(#c[#s][#k])
+                }
+            };
+            let tail = (0..n)
+                .filter(|&l| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
+                .map(|l| {
+                    let (m, al) = (sl(entry(i, l)), &accel[l]);
+                    quote!(- #rt::mass_tail(&#c[#m], &#c[#al], #k))
+                });
+            quote!(#f #(#tail)*)
+        });
+        let b0: Vec<TokenStream> = (0..n)
+            .map(|i| match d.rhs[i] {
+                Dag::ZERO => zero.clone(),
+                id => {
+                    let s = sl(id);
+                    quote!(#c[#s][0])
+                }
+            })
+            .collect();
+        let nn = Literal::usize_unsuffixed(n);
+        let names_ = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES);
+        let ii = (0..n).map(Literal::usize_unsuffixed);
+        let ii2 = (0..n).map(Literal::usize_unsuffixed);
+        let max = quote!(#rt::MAX_ORDER);
+        if let Some(l) = lanes {
+            let params = names::lane_params();
+            let pc = Literal::usize_unsuffixed(l.count);
+            let w = names::lane_width();
+            let mask = quote!(::lagrange::__private::lanes::Mask::<#w>);
+            let ok = names::lane_ok();
+            return Some(quote! {
+                if #out.len() < 2 {
+                    return ::core::option::Option::Some(#mask::splat(true));
+                }
+                let #params: &[#lane; #pc] = match <&[#lane; #pc]>::try_from(#params) {
+                    ::core::result::Result::Ok(#params) => #params,
+                    ::core::result::Result::Err(_) => return ::core::option::Option::None,
+                };
+                let #order = (#out.len() - 1).min(#max);
+                let #c: &mut [#rt::RowOf<#lane>; #nslots] = #buf.slots::<#nslots>();
+                let __lagrange_y0: [[#lane; #nn]; 2] = #out[0];
+                let (#q, #qdot): (&[#lane; #nn], &[#lane; #nn]) = (&__lagrange_y0[0], &__lagrange_y0[1]);
+                #stmts0
+                #set0
+                #( #c[#flat][1..=#order].fill(<#lane>::ZERO); )*
+                // A lane whose M₀ has no LDLᵀ is left out: the caller takes its scalar series.
+                let (#factor, #ok) = #rt::FactorLanes::<#nn, #w>::new(&[#(#m0_rows),*]);
+                for #k in 0..#order {
+                    let #b: [#lane; #nn] = if #k == 0 {
+                        [#(#b0),*]
+                    } else {
+                        #step
+                        [#(#rhs),*]
+                    };
+                    let #a = #factor.solve(&#b);
+                    let __lagrange_r = 1.0 / (#k + 1) as f64;
+                    #(
+                        #c[#accel][#k] = #a[#ii];
+                        #out[#k + 1][0][#ii2] = #out[#k][1][#ii2] * __lagrange_r;
+                        #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
+                    )*
+                }
+                for __lagrange_x in &mut #out[#order + 1..] {
+                    *__lagrange_x = [[<#lane>::NAN; #nn]; 2];
+                }
+                ::core::option::Option::Some(#ok)
+            });
+        }
+        Some(quote! {
+            if #out.len() < 2 {
+                return ::core::option::Option::Some(::core::result::Result::Ok(()));
+            }
+            let #order = (#out.len() - 1).min(#max);
+            let #c: &mut [#rt::Row; #nslots] = #buf.slots::<#nslots>();
+            let __lagrange_y0: [[f64; #nn]; 2] = #out[0];
+            let (#q, #qdot): (&[f64; #nn], &[f64; #nn]) = (&__lagrange_y0[0], &__lagrange_y0[1]);
+            #stmts0
+            #set0
+            #( #c[#flat][1..=#order].fill(0.0); )*
+            let #factor = match #rt::Factor::<#nn>::new(
+                &[#(#m0_rows),*],
+                &[#(#b0),*],
+                #names_,
+                #q,
+                #qdot,
+                #t,
+            ) {
+                ::core::result::Result::Ok(__lagrange_f) => __lagrange_f,
                 ::core::result::Result::Err(__lagrange_e) => {
                     return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
                 }
             };
-            let __lagrange_r = 1.0 / (#k + 1) as f64;
-            #(
-                #c[#accel][#k] = #a[#ii];
-                #out[#k + 1][0][#ii2] = #out[#k][1][#ii2] * __lagrange_r;
-                #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
-            )*
-        }
-        // Orders past MAX_ORDER are not computed.
-        for __lagrange_x in &mut #out[#order + 1..] {
-            *__lagrange_x = [[f64::NAN; #nn]; 2];
-        }
-        ::core::option::Option::Some(::core::result::Result::Ok(()))
-    })
+            for #k in 0..#order {
+                let #b: [f64; #nn] = if #k == 0 {
+                    [#(#b0),*]
+                } else {
+                    #step
+                    [#(#rhs),*]
+                };
+                let #a = match #factor.solve(&#b, #names_, #q, #qdot, #t) {
+                    ::core::result::Result::Ok(__lagrange_a) => __lagrange_a,
+                    ::core::result::Result::Err(__lagrange_e) => {
+                        return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
+                    }
+                };
+                let __lagrange_r = 1.0 / (#k + 1) as f64;
+                #(
+                    #c[#accel][#k] = #a[#ii];
+                    #out[#k + 1][0][#ii2] = #out[#k][1][#ii2] * __lagrange_r;
+                    #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
+                )*
+            }
+            // Orders past MAX_ORDER are not computed.
+            for __lagrange_x in &mut #out[#order + 1..] {
+                *__lagrange_x = [[f64::NAN; #nn]; 2];
+            }
+            ::core::option::Option::Some(::core::result::Result::Ok(()))
+        })
+    }
 }

@@ -24,17 +24,15 @@ use super::method::Method;
 use super::simulation::{Prepared, Simulation};
 use super::state::{combine, weighted, Fault, YOf, Y};
 use super::stepper::Stepper;
-use super::trajectory::Trajectory;
+use super::taylor_lanes::run_taylor_lanes;
+use super::trajectory::{Stats, Trajectory};
 
 /// One member in a lane: its driver (samples, events, trajectory), its scalar stepper (step
 /// control, dense output) and its parameters for the lanes code.
 struct Slot<'p, 'a, L: ?Sized, const N: usize> {
     /// The member's position in the input.
     pos: usize,
-    driver: Driver<'p, 'a, 'p, L, N>,
-    progress: Progress,
-    stepper: Dop853<'p, L, N>,
-    opts: RunOptions<'p>,
+    run: Entered<'p, 'a, L, Dop853<'p, L, N>, N>,
     /// Whether the driver reads the interpolant: the accepted stages are then copied back.
     dense: bool,
     /// At a node: the next attempt opens a new step (end test, step budget, FSAL).
@@ -42,7 +40,6 @@ struct Slot<'p, 'a, L: ?Sized, const N: usize> {
     /// The trial step and whether it ends the run.
     h: f64,
     last: bool,
-    params: Vec<f64>,
 }
 
 /// Runs `sims` (in order) with W members per vector, calling `out(position, result)` as each
@@ -78,13 +75,30 @@ fn run_lanes_avx2<L: Lagrangian<N>, const N: usize, const W: usize>(
     run_lanes_here::<L, N, W>(sims, out)
 }
 
-/// The engine, for the instruction set of its caller.
+/// The engines, for the instruction set of their caller: the Taylor members on the Taylor
+/// engine ([`run_taylor_lanes`]), every other member on this DOP853 engine (which hands what is
+/// not DOP853 to the scalar driver).
 #[inline(always)]
 fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
     sims: &mut [Simulation<'_, L, N>],
     mut out: impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
 ) {
-    let mut queue = sims.iter_mut().enumerate();
+    let taylor = |s: &Simulation<'_, L, N>| matches!(s.method, Method::Taylor { .. });
+    if sims.iter().any(taylor) {
+        let queue = sims.iter_mut().enumerate().filter(|(_, s)| taylor(s));
+        run_taylor_lanes::<L, N, W>(queue, &mut out);
+    }
+    let queue = sims.iter_mut().enumerate().filter(|(_, s)| !taylor(s));
+    run_dop853_lanes::<L, N, W>(queue, &mut out);
+}
+
+/// The DOP853 engine over the members of `queue` (see the module docs).
+#[inline(always)]
+fn run_dop853_lanes<'p, 'a: 'p, L: Lagrangian<N> + 'a, const N: usize, const W: usize>(
+    queue: impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
+    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) {
+    let mut queue = queue;
     let mut slots: [Option<Slot<'_, '_, L, N>>; W] = core::array::from_fn(|_| None);
     let mut params = vec![Lanes::<W>::ZERO; L::LANE_PARAMS];
     let mut k = [[[Lanes::<W>::ZERO; N]; 2]; 16];
@@ -98,7 +112,7 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
                     None => match queue.next() {
                         None => break,
                         Some((pos, sim)) => {
-                            slots[l] = start(pos, sim, &mut out);
+                            slots[l] = start(pos, sim, out);
                             refreshed = true;
                             continue;
                         }
@@ -106,18 +120,8 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
                 };
                 match slot.pending() {
                     Ok(true) => break,
-                    Ok(false) => {
-                        let done = slots[l].take().map(|s| (s.pos, s.finish()));
-                        if let Some((pos, r)) = done {
-                            out(pos, r);
-                        }
-                    }
-                    Err(f) => {
-                        let done = slots[l].take().map(|s| (s.pos, s.fail(f)));
-                        if let Some((pos, r)) = done {
-                            out(pos, r);
-                        }
-                    }
+                    Ok(false) => retire(&mut slots[l], End::Finished, out),
+                    Err(f) => retire(&mut slots[l], End::Failed(f), out),
                 }
             }
         }
@@ -133,10 +137,10 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
         });
         if refreshed {
             for (p, v) in params.iter_mut().enumerate() {
-                *v = Lanes::from_fn(|l| lane[l].params[p]);
+                *v = Lanes::from_fn(|l| lane[l].run.params[p]);
             }
         }
-        let members: [&L; W] = core::array::from_fn(|l| lane[l].stepper.sys());
+        let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.sys());
         // Gather: t, h, tolerances, y and f at the node (k₀) of every lane.
         let mut t = Lanes::ZERO;
         let mut h = Lanes::ZERO;
@@ -144,9 +148,9 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
         let mut atol = Lanes::ZERO;
         let mut y = [[Lanes::<W>::ZERO; N]; 2];
         for (l, s) in lane.iter().enumerate() {
-            let (tl, yl) = s.stepper.node_state();
-            let (r, a) = s.stepper.tolerances();
-            let k0 = &s.stepper.stages()[0];
+            let (tl, yl) = s.run.stepper.node_state();
+            let (r, a) = s.run.stepper.tolerances();
+            let k0 = &s.run.stepper.stages()[0];
             (t.0[l], h.0[l], rtol.0[l], atol.0[l]) = (tl, s.h, r, a);
             for c in 0..2 {
                 for i in 0..N {
@@ -173,7 +177,7 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
             };
             let clean = v.finite.0[l] == 0.0 && f1l.is_none_or(|a| a.iter().all(|x| x.is_finite()));
             let attempt: Attempt<N> = if clean {
-                let stats = s.driver.stats();
+                let stats = s.run.driver.stats();
                 stats.rhs_evals += 11;
                 let y1: Y<N> = core::array::from_fn(|c| core::array::from_fn(|i| v.y1[c][i].0[l]));
                 let f1 = f1l.map(|a| {
@@ -181,7 +185,7 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
                     [y1[1], a]
                 });
                 if s.dense {
-                    let ks = s.stepper.stages_mut();
+                    let ks = s.run.stepper.stages_mut();
                     for j in 1..12 {
                         for c in 0..2 {
                             for i in 0..N {
@@ -193,28 +197,22 @@ fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
                 Ok((y1, v.ln_err.0[l], f1))
             } else {
                 // Something was not finite in this lane: the scalar attempt says what.
-                redo(&mut s.stepper, s.h, s.driver.stats())
+                redo(&mut s.run.stepper, s.h, s.run.driver.stats())
             };
-            let until = s.opts.until;
+            let until = s.run.opts.until;
             let (h, last) = (s.h, s.last);
-            if s.stepper.settle(h, last, until, attempt, s.driver.stats()) {
-                match s
+            if s.run
+                .stepper
+                .settle(h, last, until, attempt, s.run.driver.stats())
+            {
+                let r = &mut s.run;
+                match r
                     .driver
-                    .after_step(&mut s.stepper, &s.opts, &mut s.progress)
+                    .after_step(&mut r.stepper, &r.opts, &mut r.progress)
                 {
                     Ok(false) => s.at_node = true,
-                    Ok(true) => {
-                        let done = slots[l].take().map(|s| (s.pos, s.conclude(Ok(()))));
-                        if let Some((pos, r)) = done {
-                            out(pos, r);
-                        }
-                    }
-                    Err(f) => {
-                        let done = slots[l].take().map(|s| (s.pos, s.fail(f)));
-                        if let Some((pos, r)) = done {
-                            out(pos, r);
-                        }
-                    }
+                    Ok(true) => retire(&mut slots[l], End::Stopped, out),
+                    Err(f) => retire(&mut slots[l], End::Failed(f), out),
                 }
             }
         }
@@ -232,19 +230,54 @@ fn redo<L: Lagrangian<N>, const N: usize>(
     stepper.attempt(h, stats)
 }
 
+/// How a member's run ended.
+pub(super) enum End {
+    /// It reached its end time (its last sample is still to record).
+    Finished,
+    /// A terminal event ended it.
+    Stopped,
+    /// A fault stopped it.
+    Failed(Fault),
+}
+
+/// Ends the run in `slot` and sends its result to `out`.
+#[inline(never)]
+fn retire<L: Lagrangian<N>, const N: usize>(
+    slot: &mut Option<Slot<'_, '_, L, N>>,
+    end: End,
+    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) {
+    if let Some(s) = slot.take() {
+        out(s.pos, s.run.end(end));
+    }
+}
+
 /// `src` maps every lane to a busy one, so this is never called.
 #[cold]
-fn unreachable_free_lane() -> ! {
+pub(super) fn unreachable_free_lane() -> ! {
     unreachable!("every lane reads a busy slot")
 }
 
-/// Starts the run of `sim`: a slot for a DOP853 run without constraints; any other run (or one
-/// that fails before its first step) runs or ends here and goes to `out`.
-fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
+/// A member taken into a lane, whatever its method: its driver (samples, events, trajectory),
+/// its place between steps, its scalar stepper, its options and its parameters for the lanes code.
+pub(super) struct Entered<'p, 'a, L: ?Sized, S, const N: usize> {
+    pub(super) driver: Driver<'p, 'a, 'p, L, N>,
+    pub(super) progress: Progress,
+    pub(super) stepper: S,
+    pub(super) opts: RunOptions<'p>,
+    pub(super) params: Vec<f64>,
+}
+
+/// Starts the run of `sim` for a lanes engine, where `takes` finds the engine's method (and
+/// gives its settings) and the run has no constraints: the stepper from `make`. Any other run (or
+/// one that fails before its first step) runs or ends here and goes to `out`.
+pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
     pos: usize,
     sim: &'p mut Simulation<'a, L, N>,
     out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
-) -> Option<Slot<'p, 'a, L, N>> {
+    takes: impl FnOnce(Method) -> Option<P>,
+    make: impl FnOnce(&'p L, P, f64, Y<N>, f64, &mut Stats) -> Result<S, Fault>,
+) -> Option<Entered<'p, 'a, L, S, N>> {
     let p = match sim.prepare() {
         Ok(p) => p,
         Err(e) => {
@@ -252,8 +285,8 @@ fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
             return None;
         }
     };
-    let (rtol, atol) = match (p.method, p.manifold) {
-        (Method::Dop853 { rtol, atol }, None) => (rtol, atol),
+    let settings = match (takes(p.method), &p.manifold) {
+        (Some(settings), None) => settings,
         _ => {
             out(pos, scalar(p));
             return None;
@@ -271,7 +304,7 @@ fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
     } = p;
     let mut driver = Driver::new(sys, None, events, method, &opts, observer);
     let t0 = opts.t0;
-    let mut stepper = match Dop853::new(sys, t0, y0, rtol, atol, hmax, driver.stats()) {
+    let mut stepper = match make(sys, settings, t0, y0, hmax, driver.stats()) {
         Ok(s) => s,
         Err(f) => {
             out(pos, Err(driver.fail(f, t0, y0)));
@@ -287,17 +320,38 @@ fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
     };
     let mut params = vec![0.0; L::LANE_PARAMS];
     sys.lane_params(&mut params);
-    Some(Slot {
-        pos,
-        dense: driver.needs_interpolant(&opts),
+    Some(Entered {
         driver,
         progress,
         stepper,
         opts,
+        params,
+    })
+}
+
+/// Starts a DOP853 member (see [`enter`]).
+fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
+    pos: usize,
+    sim: &'p mut Simulation<'a, L, N>,
+    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) -> Option<Slot<'p, 'a, L, N>> {
+    let e = enter(
+        pos,
+        sim,
+        out,
+        |method| match method {
+            Method::Dop853 { rtol, atol } => Some((rtol, atol)),
+            _ => None,
+        },
+        |sys, (rtol, atol), t0, y0, hmax, stats| Dop853::new(sys, t0, y0, rtol, atol, hmax, stats),
+    )?;
+    Some(Slot {
+        pos,
+        dense: e.driver.needs_interpolant(&e.opts),
+        run: e,
         at_node: true,
         h: 0.0,
         last: false,
-        params,
     })
 }
 
@@ -315,29 +369,33 @@ impl<L: Lagrangian<N>, const N: usize> Slot<'_, '_, L, N> {
     /// trial step. `Ok(false)` when the run has reached its end.
     fn pending(&mut self) -> Result<bool, Fault> {
         if self.at_node {
-            if self.stepper.t() >= self.opts.until {
+            if self.run.stepper.t() >= self.run.opts.until {
                 return Ok(false);
             }
-            self.driver.check_budget(&self.opts)?;
-            self.stepper.begin_step();
+            self.run.driver.check_budget(&self.run.opts)?;
+            self.run.stepper.begin_step();
             self.at_node = false;
         }
-        (self.h, self.last) = self.stepper.trial(self.opts.until)?;
+        (self.h, self.last) = self.run.stepper.trial(self.run.opts.until)?;
         Ok(true)
     }
+}
 
-    /// The trajectory of a run that reached its end time.
-    fn finish(mut self) -> Result<Trajectory<N>, SimulationError> {
-        let r = self.driver.finish(&mut self.stepper);
-        self.conclude(r)
-    }
-
-    fn fail(self, f: Fault) -> Result<Trajectory<N>, SimulationError> {
-        self.conclude(Err(f))
-    }
-
-    fn conclude(self, r: Result<(), Fault>) -> Result<Trajectory<N>, SimulationError> {
-        self.driver.conclude(r, &self.stepper)
+impl<L: Lagrangian<N>, S: Stepper<N>, const N: usize> Entered<'_, '_, L, S, N> {
+    /// The run's result, however it ended (on reaching the end time its last sample is recorded
+    /// here).
+    pub(super) fn end(self, end: End) -> Result<Trajectory<N>, SimulationError> {
+        let Entered {
+            mut driver,
+            mut stepper,
+            ..
+        } = self;
+        let r = match end {
+            End::Finished => driver.finish(&mut stepper),
+            End::Stopped => Ok(()),
+            End::Failed(f) => Err(f),
+        };
+        driver.conclude(r, &stepper)
     }
 }
 

@@ -51,6 +51,7 @@ mod simulation;
 mod state;
 mod stepper;
 mod taylor;
+mod taylor_lanes;
 mod trajectory;
 mod validate;
 mod variational;

@@ -81,6 +81,46 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
         Ok(())
     }
 
+    /// The system.
+    pub(crate) fn sys(&self) -> &'a L {
+        self.sys
+    }
+
+    /// The order of the series.
+    pub(crate) fn order(&self) -> usize {
+        self.series.len() - 1
+    }
+
+    /// (t, y) at the current node.
+    pub(crate) fn node_state(&self) -> (f64, Y<N>) {
+        (self.t, self.y)
+    }
+
+    /// Takes the series at the current node from outside (the lanes engine): coefficient k ≥ 1 of
+    /// component (c, i) is `x(k, c, i)`, counted as one evaluation as `compute` counts its own. A
+    /// series that is not all finite is not taken: the next step computes its own, which then
+    /// says what failed, as in a single run.
+    pub(crate) fn take_series(
+        &mut self,
+        x: impl Fn(usize, usize, usize) -> f64,
+        stats: &mut Stats,
+    ) {
+        self.series[0] = self.y;
+        let mut finite = true;
+        for (k, row) in self.series.iter_mut().enumerate().skip(1) {
+            for (c, part) in row.iter_mut().enumerate() {
+                for (i, v) in part.iter_mut().enumerate() {
+                    *v = x(k, c, i);
+                    finite &= v.is_finite();
+                }
+            }
+        }
+        if finite {
+            stats.rhs_evals += 1;
+            self.fresh = true;
+        }
+    }
+
     /// The Jorba–Zou step from the current series (the tolerance enters through the order: with
     /// p − 1 = −ln(tol)/2, e^{−2} = tol^{1/(p−1)}).
     fn step_size(&self) -> f64 {

@@ -1,0 +1,180 @@
+//! The Taylor method over SIMD lanes: W members of an ensemble have their Taylor series computed
+//! together, one member per lane of [`Lanes`] (the system's generated
+//! [`Lagrangian::taylor_series_lanes`]: the recurrences of every node, order by order, as one pass
+//! of vector code); each member then takes its own step from its series with its own scalar
+//! [`Taylor`] stepper and driver (the Jorba–Zou step size, the sum, samples, events, dense output,
+//! errors). Taylor steps are never rejected, so a lane's step is the scalar run's step whenever its
+//! series is (bit for bit where the lanes compute the scalar operations), and a member that ends
+//! frees its lane for the next member at once.
+//!
+//! A lane the lanes code leaves out (its M₀ has no LDLᵀ: indefinite or singular) or whose series
+//! is not finite computes its series with the scalar code, which pivots or reports exactly what a
+//! single run would; so does every lane of a system without lanes code.
+
+use crate::lagrangian::Lagrangian;
+use crate::lanes::Lanes;
+use crate::taylor::SeriesBuf;
+
+use super::error::SimulationError;
+use super::lanes::{enter, unreachable_free_lane, End, Entered};
+use super::method::Method;
+use super::simulation::Simulation;
+use super::state::{Fault, YOf};
+use super::stepper::Stepper;
+use super::taylor::Taylor;
+use super::trajectory::Trajectory;
+
+/// One member in a lane.
+struct Slot<'p, 'a, L: ?Sized, const N: usize> {
+    /// The member's position in the input.
+    pos: usize,
+    run: Entered<'p, 'a, L, Taylor<'p, L, N>, N>,
+}
+
+impl<L: Lagrangian<N>, const N: usize> Slot<'_, '_, L, N> {
+    /// Whether the run goes on (`Ok(true)`: it needs the series at its node), has reached its end
+    /// (`Ok(false)`) or has used up its step budget.
+    fn pending(&self) -> Result<bool, Fault> {
+        let r = &self.run;
+        if r.stepper.t() >= r.opts.until {
+            return Ok(false);
+        }
+        r.driver.check_budget(&r.opts)?;
+        Ok(true)
+    }
+
+    /// One step from the series at the node (taken from the lanes, or computed here), then what
+    /// follows it; `Ok(true)` when a terminal event ended the run.
+    fn step(&mut self) -> Result<bool, Fault> {
+        let r = &mut self.run;
+        let until = r.opts.until;
+        r.stepper.advance(until, r.driver.stats())?;
+        r.driver
+            .after_step(&mut r.stepper, &r.opts, &mut r.progress)
+    }
+}
+
+/// Runs the Taylor members of `queue` with W per vector, calling `out(position, result)` as
+/// each ends; other members (another method, constraints) run the scalar driver.
+#[inline(always)]
+pub(super) fn run_taylor_lanes<
+    'p,
+    'a: 'p,
+    L: Lagrangian<N> + 'a,
+    const N: usize,
+    const W: usize,
+>(
+    queue: impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
+    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) {
+    let mut queue = queue;
+    let mut slots: [Option<Slot<'p, 'a, L, N>>; W] = core::array::from_fn(|_| None);
+    let mut params = vec![Lanes::<W>::ZERO; L::LANE_PARAMS];
+    let mut series: Vec<YOf<Lanes<W>, N>> = Vec::new();
+    let mut buf = SeriesBuf::<Lanes<W>>::new();
+    loop {
+        // Bring every lane to a node that needs its series, filling free lanes from the queue.
+        let mut refreshed = false;
+        for l in 0..W {
+            loop {
+                let slot = match &mut slots[l] {
+                    Some(slot) => slot,
+                    None => match queue.next() {
+                        None => break,
+                        Some((pos, sim)) => {
+                            slots[l] = start(pos, sim, out);
+                            refreshed = true;
+                            continue;
+                        }
+                    },
+                };
+                match slot.pending() {
+                    Ok(true) => break,
+                    Ok(false) => retire(&mut slots[l], End::Finished, out),
+                    Err(f) => retire(&mut slots[l], End::Failed(f), out),
+                }
+            }
+        }
+        let Some(busy) = slots.iter().position(Option::is_some) else {
+            return;
+        };
+        // A free lane computes a copy of a busy one (its results are not read).
+        let lane: [&Slot<'p, 'a, L, N>; W] = {
+            let src: [usize; W] =
+                core::array::from_fn(|l| if slots[l].is_some() { l } else { busy });
+            let busy_lanes = slots.each_ref().map(Option::as_ref);
+            core::array::from_fn(|l| match busy_lanes[src[l]] {
+                Some(s) => s,
+                None => unreachable_free_lane(),
+            })
+        };
+        if refreshed {
+            for (p, v) in params.iter_mut().enumerate() {
+                *v = Lanes::from_fn(|l| lane[l].run.params[p]);
+            }
+        }
+        let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.sys());
+        let order = lane
+            .iter()
+            .map(|s| s.run.stepper.order())
+            .max()
+            .unwrap_or(2);
+        series.resize(order + 1, [[Lanes::ZERO; N]; 2]);
+        let mut t = Lanes::ZERO;
+        for (l, s) in lane.iter().enumerate() {
+            let (tl, yl) = s.run.stepper.node_state();
+            t.0[l] = tl;
+            for c in 0..2 {
+                for i in 0..N {
+                    series[0][c][i].0[l] = yl[c][i];
+                }
+            }
+        }
+        let done = L::taylor_series_lanes(&members, &params, t, &mut series, &mut buf);
+        // Scatter: each lane whose series the vector code gave takes it; every busy lane steps.
+        for l in 0..W {
+            let Some(s) = slots[l].as_mut() else { continue };
+            if done.is_some_and(|m| m.0[l]) {
+                let r = &mut s.run;
+                r.stepper
+                    .take_series(|k, c, i| series[k][c][i].0[l], r.driver.stats());
+            }
+            match s.step() {
+                Ok(false) => {}
+                Ok(true) => retire(&mut slots[l], End::Stopped, out),
+                Err(f) => retire(&mut slots[l], End::Failed(f), out),
+            }
+        }
+    }
+}
+
+/// Ends the run in `slot` and sends its result to `out`.
+#[inline(never)]
+fn retire<L: Lagrangian<N>, const N: usize>(
+    slot: &mut Option<Slot<'_, '_, L, N>>,
+    end: End,
+    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) {
+    if let Some(s) = slot.take() {
+        out(s.pos, s.run.end(end));
+    }
+}
+
+/// Starts a Taylor member (see [`enter`]).
+fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
+    pos: usize,
+    sim: &'p mut Simulation<'a, L, N>,
+    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) -> Option<Slot<'p, 'a, L, N>> {
+    let run = enter(
+        pos,
+        sim,
+        out,
+        |method| match method {
+            Method::Taylor { tol } => Some(tol),
+            _ => None,
+        },
+        |sys, tol, t0, y0, hmax, _stats| Ok(Taylor::new(sys, t0, y0, tol, hmax)),
+    )?;
+    Some(Slot { pos, run })
+}
