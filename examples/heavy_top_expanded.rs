@@ -1124,7 +1124,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         clippy::pedantic,
         clippy::nursery
     )]
-    #[inline]
+    #[inline(always)]
     fn taylor_series_lanes<const __LAGRANGE_W: usize>(
         __lagrange_members: &[&Self; __LAGRANGE_W],
         __lagrange_params: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>],

@@ -402,6 +402,8 @@ pub struct Mixed {
     b: Vector3<f64>,
     drive: f64,
     c: f64,
+    /// An exponent of the potential (per member: a lane's own power).
+    p: f64,
 }
 
 #[lagrangian]
@@ -416,6 +418,7 @@ impl Mixed {
             - 0.5 * k * r.norm_squared()
             - (r.x * r.x + 1.0).sqrt() * (self.drive * t).sin()
             + 0.01 * r.y.atan2(2.0 + r.x) * r.z.exp()
+            - 0.1 * (r.y * r.y + 1.0).powf(self.p)
     }
     fn dissipation(&self, (_, r_dot): Coord3) -> Scalar {
         0.5 * self.c * r_dot.norm_squared()
@@ -440,6 +443,7 @@ fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
         b: Vector3::new(0.1 * i as f64, -0.2, 1.5),
         drive: 1.3,
         c: 0.05 * i as f64,
+        p: 0.5 + 0.25 * i as f64,
     };
     let check = |ms: [Mixed; 4]| {
         let refs = [&ms[0], &ms[1], &ms[2], &ms[3]];
@@ -491,7 +495,7 @@ fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
 /// `taylor_series_lanes` of the generated code equals `taylor_series` of each lane's member, every
 /// coefficient to order 12 within 1e-12 of its size (its sin and cos are the vector ones), for
 /// every kind of input (the `Vector3` field, both `match` arms in one vector, time, dissipation,
-/// sqrt, atan2, exp); a lane whose M₀ is singular (m = 0) is left out of the mask and the others
+/// sqrt, atan2, exp, a power whose exponent differs from lane to lane); a lane whose M₀ is singular (m = 0) is left out of the mask and the others
 /// keep their values.
 #[test]
 fn generated_taylor_lanes_equal_scalar_series_for_every_input_kind() {
@@ -507,6 +511,7 @@ fn generated_taylor_lanes_equal_scalar_series_for_every_input_kind() {
         b: Vector3::new(0.1 * i as f64, -0.2, 1.5),
         drive: 1.3,
         c: 0.05 * i as f64,
+        p: 0.5 + 0.25 * i as f64,
     };
     let check = |ms: [Mixed; 4], left_out: Option<usize>| {
         let refs = [&ms[0], &ms[1], &ms[2], &ms[3]];

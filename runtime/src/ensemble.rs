@@ -6,7 +6,7 @@
 //! ([`Member`]); the ensemble makes one from each index with a closure, applies the same options
 //! to every member's [`Simulation`] ([`Ensemble::configure`]), and returns for each member either
 //! its whole [`Trajectory`] ([`Ensemble::run`]) or a row of numbers a closure computes from it
-//! ([`Ensemble::reduce`]). DOP853 members run several per vector, one per SIMD lane
+//! ([`Ensemble::reduce`]). DOP853 and Taylor members run several per vector, one per SIMD lane
 //! ([`Ensemble::lanes`]; 4 by default for a system with generated lanes code).
 //! [`Ensemble::shard`] runs the k-th of n contiguous blocks of members, so
 //! a batch scheduler's job array runs the blocks on as many machines and their CSVs concatenate
@@ -327,15 +327,18 @@ where
         self
     }
 
-    /// Runs DOP853 members several per vector (`w` ≥ 2; 1 turns lanes off): they step together,
-    /// one per SIMD lane, each with its own step size and accept/reject decision, a member's lane
-    /// going to the next member as soon as it ends. Any `w` ≥ 2 runs 4 lanes, the fastest width
+    /// Runs DOP853 and Taylor members several per vector (`w` ≥ 2; 1 turns lanes off): they step
+    /// together, one per SIMD lane, each with its own step size (and, for DOP853, accept/reject
+    /// decision), a member's lane going to the next member as soon as it ends. The Taylor
+    /// method's lanes compute the series of W members in one pass of vector code
+    /// ([`Lagrangian::taylor_series_lanes`]); each member sums its own. Any `w` ≥ 2 runs 4 lanes, the fastest width
     /// measured (2 and 8 were slower; one width keeps the build short). Without this call: 4
     /// where the system's accelerations are generated lanes code
     /// ([`Lagrangian::VECTORIZED_LANES`]: `#[lagrangian]` in symbolic mode), else 1. A lane
     /// equals the member's single run bit for bit where the lanes compute the scalar operations,
     /// and to round-off where the vector sin and cos enter; it never depends on the other lanes.
-    /// Members with another method, or constrained ones, run one at a time whatever `w` is.
+    /// Members with another method (RK4, Dormand–Prince, variational), or constrained ones, run
+    /// one at a time whatever `w` is.
     ///
     /// ```
     /// # use lagrange_runtime::ensemble::{Ensemble, Member};

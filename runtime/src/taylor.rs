@@ -171,14 +171,14 @@ fn conv_weighted<T: Coefficient>(
     y: &RowOf<T>,
     lo: usize,
     k: usize,
-    alpha: f64,
-    beta: f64,
+    alpha: T,
+    beta: T,
 ) -> T {
     let (x, y) = (&x[lo..=k], &y[..=k - lo]);
     let mut s = T::ZERO;
-    let mut w = alpha * lo as f64 + beta;
+    let mut w = alpha * T::from(lo as f64) + beta;
     for (&a, &b) in x.iter().zip(y.iter().rev()) {
-        s += T::from(w) * a * b;
+        s += w * a * b;
         w += alpha;
     }
     s
@@ -245,7 +245,7 @@ pub fn div<T: Coefficient>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -
 /// ```
 #[inline(always)]
 pub fn deriv<T: Coefficient>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    conv_weighted(a, d, 1, k, 1.0, 0.0) / T::from(k as f64)
+    conv_weighted(a, d, 1, k, T::from(1.0), T::ZERO) / T::from(k as f64)
 }
 
 /// Coefficient k ≥ 1 of c = f(y, x) from the series p = ∂f/∂y and q = ∂f/∂x:
@@ -266,7 +266,9 @@ pub fn deriv2<T: Coefficient>(
     q: &RowOf<T>,
     k: usize,
 ) -> T {
-    (conv_weighted(y, p, 1, k, 1.0, 0.0) + conv_weighted(x, q, 1, k, 1.0, 0.0)) / T::from(k as f64)
+    let (one, zero) = (T::from(1.0), T::ZERO);
+    (conv_weighted(y, p, 1, k, one, zero) + conv_weighted(x, q, 1, k, one, zero))
+        / T::from(k as f64)
 }
 
 /// Coefficient k ≥ 1 of c = a^α for a constant α, given c's coefficients 0..k:
@@ -282,8 +284,9 @@ pub fn deriv2<T: Coefficient>(
 /// assert_eq!(&c[..3], &[1.0, 0.5, -0.125]);
 /// ```
 #[inline(always)]
-pub fn powf<T: Coefficient>(a: &RowOf<T>, c: &RowOf<T>, alpha: f64, k: usize) -> T {
-    conv_weighted(a, c, 1, k, alpha + 1.0, -(k as f64)) / (T::from(k as f64) * a[0])
+pub fn powf<T: Coefficient>(a: &RowOf<T>, c: &RowOf<T>, alpha: T, k: usize) -> T {
+    let kf = T::from(k as f64);
+    conv_weighted(a, c, 1, k, alpha + T::from(1.0), -kf) / (kf * a[0])
 }
 
 /// Σ_{j=1..k} m_j a_{k−j}: the part of order k of M a that the coefficients of a already known

@@ -602,9 +602,11 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
                 let lane = codegen::lane_type();
                 let w = names::lane_width();
                 let (members, params) = (names::lane_members(), names::lane_params());
+                // Inlined into the lanes engine, which is compiled for AVX2 where the CPU has
+                // it: out of line, the series would be SSE2 code.
                 quote! {
                     #allow
-                    #[inline]
+                    #[inline(always)]
                     fn taylor_series_lanes<const #w: usize>(
                         #members: &[&Self; #w],
                         #params: &[#lane],

@@ -323,7 +323,10 @@ impl Program<'_> {
                 }
                 Rule::Powf(x, e) => {
                     let (x, e) = (sl(x), codegen::operand(dag, &d.fields, e));
-                    quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k))
+                    match lanes {
+                        Some(_) => quote!(#rt::powf(&#c[#x], &#c[#s], <#lane>::from(#e), #k)),
+                        None => quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k)),
+                    }
                 }
                 Rule::Select(cond, x, y) => {
                     let (x, y) = (sl(x), sl(y));

@@ -9,9 +9,10 @@
 //! geometrically from there, so the truncated tail is below tol·s. Steps are never rejected.
 
 use crate::lagrangian::Lagrangian;
+use crate::lanes::Lanes;
 use crate::taylor::TaylorBuf;
 
-use super::state::{Fault, Y};
+use super::state::{Fault, YOf, Y};
 use super::stepper::Stepper;
 use super::trajectory::Stats;
 
@@ -96,29 +97,25 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
         (self.t, self.y)
     }
 
-    /// Takes the series at the current node from outside (the lanes engine): coefficient k ≥ 1 of
-    /// component (c, i) is `x(k, c, i)`, counted as one evaluation as `compute` counts its own. A
-    /// series that is not all finite is not taken: the next step computes its own, which then
-    /// says what failed, as in a single run.
-    pub(crate) fn take_series(
+    /// Takes the series at the current node from lane `l` of the lanes engine's series `src`
+    /// (whose orders are at least this stepper's), counted as one evaluation as `compute` counts
+    /// its own. The caller has checked that the lane's coefficients are finite.
+    pub(crate) fn take_series<const W: usize>(
         &mut self,
-        x: impl Fn(usize, usize, usize) -> f64,
+        src: &[YOf<Lanes<W>, N>],
+        l: usize,
         stats: &mut Stats,
     ) {
         self.series[0] = self.y;
-        let mut finite = true;
-        for (k, row) in self.series.iter_mut().enumerate().skip(1) {
-            for (c, part) in row.iter_mut().enumerate() {
-                for (i, v) in part.iter_mut().enumerate() {
-                    *v = x(k, c, i);
-                    finite &= v.is_finite();
+        for (row, from) in self.series.iter_mut().zip(src).skip(1) {
+            for (part, from) in row.iter_mut().zip(from) {
+                for (v, x) in part.iter_mut().zip(from) {
+                    *v = x.0[l];
                 }
             }
         }
-        if finite {
-            stats.rhs_evals += 1;
-            self.fresh = true;
-        }
+        stats.rhs_evals += 1;
+        self.fresh = true;
     }
 
     /// The Jorba–Zou step from the current series (the tolerance enters through the order: with

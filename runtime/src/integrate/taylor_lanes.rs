@@ -114,11 +114,10 @@ pub(super) fn run_taylor_lanes<
             }
         }
         let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.sys());
-        let order = lane
+        let orders = lane.map(|s| s.run.stepper.order());
+        let (order, min_order) = orders
             .iter()
-            .map(|s| s.run.stepper.order())
-            .max()
-            .unwrap_or(2);
+            .fold((0, usize::MAX), |(hi, lo), &p| (hi.max(p), lo.min(p)));
         series.resize(order + 1, [[Lanes::ZERO; N]; 2]);
         let mut t = Lanes::ZERO;
         for (l, s) in lane.iter().enumerate() {
@@ -131,13 +130,21 @@ pub(super) fn run_taylor_lanes<
             }
         }
         let done = L::taylor_series_lanes(&members, &params, t, &mut series, &mut buf);
+        // 0 · x is 0 for finite x and NaN otherwise: a lane's sum is 0 only where its series
+        // is finite (the orders past the lowest member's apart: a member does not read them).
+        let mut finite = [Lanes::<W>::ZERO; 2];
+        for (k, row) in series.iter().enumerate().skip(1) {
+            for x in row.iter().flatten() {
+                finite[usize::from(k > min_order)] += *x * 0.0;
+            }
+        }
         // Scatter: each lane whose series the vector code gave takes it; every busy lane steps.
         for l in 0..W {
             let Some(s) = slots[l].as_mut() else { continue };
-            if done.is_some_and(|m| m.0[l]) {
-                let r = &mut s.run;
-                r.stepper
-                    .take_series(|k, c, i| series[k][c][i].0[l], r.driver.stats());
+            let r = &mut s.run;
+            let clean = finite[0].0[l] == 0.0 && (orders[l] == min_order || finite[1].0[l] == 0.0);
+            if clean && done.is_some_and(|m| m.0[l]) {
+                r.stepper.take_series(&series, l, r.driver.stats());
             }
             match s.step() {
                 Ok(false) => {}
