@@ -164,9 +164,30 @@ fn conv<T: Coefficient>(x: &RowOf<T>, y: &RowOf<T>, lo: usize, k: usize) -> T {
     dot_rev(&x[lo..=k], &y[..=k - lo])
 }
 
-/// Σ_{j=lo..=k} (α j + β) x_j y_{k−j}.
+/// Σ_{j=lo..=k} (α j + β) x_j y_{k−j}, the weights in `f64` (the same in every lane).
 #[inline(always)]
 fn conv_weighted<T: Coefficient>(
+    x: &RowOf<T>,
+    y: &RowOf<T>,
+    lo: usize,
+    k: usize,
+    alpha: f64,
+    beta: f64,
+) -> T {
+    let (x, y) = (&x[lo..=k], &y[..=k - lo]);
+    let mut s = T::ZERO;
+    let mut w = alpha * lo as f64 + beta;
+    for (&a, &b) in x.iter().zip(y.iter().rev()) {
+        s += T::from(w) * a * b;
+        w += alpha;
+    }
+    s
+}
+
+/// [`conv_weighted`] with weights of `T` (an α that differs from lane to lane): the same
+/// operations in each lane.
+#[inline(always)]
+fn conv_weighted_by<T: Coefficient>(
     x: &RowOf<T>,
     y: &RowOf<T>,
     lo: usize,
@@ -245,7 +266,7 @@ pub fn div<T: Coefficient>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -
 /// ```
 #[inline(always)]
 pub fn deriv<T: Coefficient>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    conv_weighted(a, d, 1, k, T::from(1.0), T::ZERO) / T::from(k as f64)
+    conv_weighted(a, d, 1, k, 1.0, 0.0) / T::from(k as f64)
 }
 
 /// Coefficient k ≥ 1 of c = f(y, x) from the series p = ∂f/∂y and q = ∂f/∂x:
@@ -266,9 +287,7 @@ pub fn deriv2<T: Coefficient>(
     q: &RowOf<T>,
     k: usize,
 ) -> T {
-    let (one, zero) = (T::from(1.0), T::ZERO);
-    (conv_weighted(y, p, 1, k, one, zero) + conv_weighted(x, q, 1, k, one, zero))
-        / T::from(k as f64)
+    (conv_weighted(y, p, 1, k, 1.0, 0.0) + conv_weighted(x, q, 1, k, 1.0, 0.0)) / T::from(k as f64)
 }
 
 /// Coefficient k ≥ 1 of c = a^α for a constant α, given c's coefficients 0..k:
@@ -286,7 +305,7 @@ pub fn deriv2<T: Coefficient>(
 #[inline(always)]
 pub fn powf<T: Coefficient>(a: &RowOf<T>, c: &RowOf<T>, alpha: T, k: usize) -> T {
     let kf = T::from(k as f64);
-    conv_weighted(a, c, 1, k, alpha + T::from(1.0), -kf) / (kf * a[0])
+    conv_weighted_by(a, c, 1, k, alpha + T::from(1.0), -kf) / (kf * a[0])
 }
 
 /// Σ_{j=1..k} m_j a_{k−j}: the part of order k of M a that the coefficients of a already known
