@@ -27,12 +27,16 @@ use super::stepper::Stepper;
 use super::taylor_lanes::run_taylor_lanes;
 use super::trajectory::{Stats, Trajectory};
 
-/// One member in a lane: its driver (samples, events, trajectory), its scalar stepper (step
-/// control, dense output) and its parameters for the lanes code.
-struct Slot<'p, 'a, L: ?Sized, const N: usize> {
-    /// The member's position in the input.
-    pos: usize,
-    run: Entered<'p, 'a, L, Dop853<'p, L, N>, N>,
+/// One member in a lane: its position in the input, its run (driver, stepper, options,
+/// parameters) and what the engine keeps per member besides (`X`).
+pub(super) struct Slot<'p, 'a, L: ?Sized, S, X, const N: usize> {
+    pub(super) pos: usize,
+    pub(super) run: Entered<'p, 'a, L, S, N>,
+    pub(super) own: X,
+}
+
+/// What the DOP853 engine keeps per member.
+struct Attempting {
     /// Whether the driver reads the interpolant: the accepted stages are then copied back.
     dense: bool,
     /// At a node: the next attempt opens a new step (end test, step budget, FSAL).
@@ -40,6 +44,77 @@ struct Slot<'p, 'a, L: ?Sized, const N: usize> {
     /// The trial step and whether it ends the run.
     h: f64,
     last: bool,
+}
+
+/// A DOP853 member in a lane.
+type DopSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, L, Dop853<'p, L, N>, Attempting, N>;
+
+/// Brings every lane to a pending step, filling free lanes from `queue` (`start` takes a member
+/// in, `pending` readies its next step: `Ok(false)` at its end time); members that end go to
+/// `out`. Whether a lane took a new member (its parameters are then to load).
+pub(super) fn fill<
+    'p,
+    'a: 'p,
+    L: Lagrangian<N> + 'a,
+    S: Stepper<N>,
+    X,
+    const N: usize,
+    const W: usize,
+>(
+    slots: &mut [Option<Slot<'p, 'a, L, S, X, N>>; W],
+    queue: &mut impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
+    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    start: impl Fn(
+        usize,
+        &'p mut Simulation<'a, L, N>,
+        &mut dyn FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    ) -> Option<Slot<'p, 'a, L, S, X, N>>,
+    pending: impl Fn(&mut Slot<'p, 'a, L, S, X, N>) -> Result<bool, Fault>,
+) -> bool {
+    let mut refreshed = false;
+    for slot in slots.iter_mut() {
+        loop {
+            let s = match slot {
+                Some(s) => s,
+                None => match queue.next() {
+                    None => break,
+                    Some((pos, sim)) => {
+                        *slot = start(pos, sim, out);
+                        refreshed = true;
+                        continue;
+                    }
+                },
+            };
+            match pending(s) {
+                Ok(true) => break,
+                Ok(false) => retire(slot, End::Finished, out),
+                Err(f) => retire(slot, End::Failed(f), out),
+            }
+        }
+    }
+    refreshed
+}
+
+/// The slot each lane reads: its own where busy, else the first busy one (a free lane computes a
+/// copy whose results are not read); `None` when every lane is free.
+pub(super) fn lanes_of<T, const W: usize>(slots: &[Option<T>; W]) -> Option<[&T; W]> {
+    let busy = slots.iter().position(Option::is_some)?;
+    let src: [usize; W] = core::array::from_fn(|l| if slots[l].is_some() { l } else { busy });
+    let busy_lanes = slots.each_ref().map(Option::as_ref);
+    Some(core::array::from_fn(|l| match busy_lanes[src[l]] {
+        Some(s) => s,
+        None => unreachable_free_lane(),
+    }))
+}
+
+/// Loads the lane parameters of the members in `lane` (parameter p of every lane in `params[p]`).
+pub(super) fn load_params<L: ?Sized, S, X, const N: usize, const W: usize>(
+    params: &mut [Lanes<W>],
+    lane: &[&Slot<'_, '_, L, S, X, N>; W],
+) {
+    for (p, v) in params.iter_mut().enumerate() {
+        *v = Lanes::from_fn(|l| lane[l].run.params[p]);
+    }
 }
 
 /// Runs `sims` (in order) with W members per vector, calling `out(position, result)` as each
@@ -99,46 +174,16 @@ fn run_dop853_lanes<'p, 'a: 'p, L: Lagrangian<N> + 'a, const N: usize, const W: 
     out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
 ) {
     let mut queue = queue;
-    let mut slots: [Option<Slot<'_, '_, L, N>>; W] = core::array::from_fn(|_| None);
+    let mut slots: [Option<DopSlot<'_, '_, L, N>>; W] = core::array::from_fn(|_| None);
     let mut params = vec![Lanes::<W>::ZERO; L::LANE_PARAMS];
     let mut k = [[[Lanes::<W>::ZERO; N]; 2]; 16];
     loop {
-        // Bring every lane to a pending attempt, filling free lanes from the queue.
-        let mut refreshed = false;
-        for l in 0..W {
-            loop {
-                let slot = match &mut slots[l] {
-                    Some(slot) => slot,
-                    None => match queue.next() {
-                        None => break,
-                        Some((pos, sim)) => {
-                            slots[l] = start(pos, sim, out);
-                            refreshed = true;
-                            continue;
-                        }
-                    },
-                };
-                match slot.pending() {
-                    Ok(true) => break,
-                    Ok(false) => retire(&mut slots[l], End::Finished, out),
-                    Err(f) => retire(&mut slots[l], End::Failed(f), out),
-                }
-            }
-        }
-        // A free lane computes a copy of a busy one (its results are not read).
-        let Some(busy) = slots.iter().position(Option::is_some) else {
+        let refreshed = fill(&mut slots, &mut queue, out, start, pending);
+        let Some(lane) = lanes_of(&slots) else {
             return;
         };
-        let src: [usize; W] = core::array::from_fn(|l| if slots[l].is_some() { l } else { busy });
-        let busy_lanes = slots.each_ref().map(Option::as_ref);
-        let lane: [&Slot<'_, '_, L, N>; W] = core::array::from_fn(|l| match busy_lanes[src[l]] {
-            Some(s) => s,
-            None => unreachable_free_lane(),
-        });
         if refreshed {
-            for (p, v) in params.iter_mut().enumerate() {
-                *v = Lanes::from_fn(|l| lane[l].run.params[p]);
-            }
+            load_params(&mut params, &lane);
         }
         let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.sys());
         // Gather: t, h, tolerances, y and f at the node (k₀) of every lane.
@@ -151,7 +196,7 @@ fn run_dop853_lanes<'p, 'a: 'p, L: Lagrangian<N> + 'a, const N: usize, const W: 
             let (tl, yl) = s.run.stepper.node_state();
             let (r, a) = s.run.stepper.tolerances();
             let k0 = &s.run.stepper.stages()[0];
-            (t.0[l], h.0[l], rtol.0[l], atol.0[l]) = (tl, s.h, r, a);
+            (t.0[l], h.0[l], rtol.0[l], atol.0[l]) = (tl, s.own.h, r, a);
             for c in 0..2 {
                 for i in 0..N {
                     y[c][i].0[l] = yl[c][i];
@@ -184,7 +229,7 @@ fn run_dop853_lanes<'p, 'a: 'p, L: Lagrangian<N> + 'a, const N: usize, const W: 
                     stats.rhs_evals += 1;
                     [y1[1], a]
                 });
-                if s.dense {
+                if s.own.dense {
                     let ks = s.run.stepper.stages_mut();
                     for j in 1..12 {
                         for c in 0..2 {
@@ -197,10 +242,10 @@ fn run_dop853_lanes<'p, 'a: 'p, L: Lagrangian<N> + 'a, const N: usize, const W: 
                 Ok((y1, v.ln_err.0[l], f1))
             } else {
                 // Something was not finite in this lane: the scalar attempt says what.
-                redo(&mut s.run.stepper, s.h, s.run.driver.stats())
+                redo(&mut s.run.stepper, s.own.h, s.run.driver.stats())
             };
             let until = s.run.opts.until;
-            let (h, last) = (s.h, s.last);
+            let (h, last) = (s.own.h, s.own.last);
             if s.run
                 .stepper
                 .settle(h, last, until, attempt, s.run.driver.stats())
@@ -210,7 +255,7 @@ fn run_dop853_lanes<'p, 'a: 'p, L: Lagrangian<N> + 'a, const N: usize, const W: 
                     .driver
                     .after_step(&mut r.stepper, &r.opts, &mut r.progress)
                 {
-                    Ok(false) => s.at_node = true,
+                    Ok(false) => s.own.at_node = true,
                     Ok(true) => retire(&mut slots[l], End::Stopped, out),
                     Err(f) => retire(&mut slots[l], End::Failed(f), out),
                 }
@@ -242,10 +287,10 @@ pub(super) enum End {
 
 /// Ends the run in `slot` and sends its result to `out`.
 #[inline(never)]
-fn retire<L: Lagrangian<N>, const N: usize>(
-    slot: &mut Option<Slot<'_, '_, L, N>>,
+pub(super) fn retire<L: Lagrangian<N>, S: Stepper<N>, X, const N: usize>(
+    slot: &mut Option<Slot<'_, '_, L, S, X, N>>,
     end: End,
-    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut (impl FnMut(usize, Result<Trajectory<N>, SimulationError>) + ?Sized),
 ) {
     if let Some(s) = slot.take() {
         out(s.pos, s.run.end(end));
@@ -254,7 +299,7 @@ fn retire<L: Lagrangian<N>, const N: usize>(
 
 /// `src` maps every lane to a busy one, so this is never called.
 #[cold]
-pub(super) fn unreachable_free_lane() -> ! {
+fn unreachable_free_lane() -> ! {
     unreachable!("every lane reads a busy slot")
 }
 
@@ -274,7 +319,7 @@ pub(super) struct Entered<'p, 'a, L: ?Sized, S, const N: usize> {
 pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
     pos: usize,
     sim: &'p mut Simulation<'a, L, N>,
-    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut dyn FnMut(usize, Result<Trajectory<N>, SimulationError>),
     takes: impl FnOnce(Method) -> Option<P>,
     make: impl FnOnce(&'p L, P, f64, Y<N>, f64, &mut Stats) -> Result<S, Fault>,
 ) -> Option<Entered<'p, 'a, L, S, N>> {
@@ -333,9 +378,9 @@ pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
 fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
     pos: usize,
     sim: &'p mut Simulation<'a, L, N>,
-    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
-) -> Option<Slot<'p, 'a, L, N>> {
-    let e = enter(
+    out: &mut dyn FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) -> Option<DopSlot<'p, 'a, L, N>> {
+    let run = enter(
         pos,
         sim,
         out,
@@ -347,11 +392,13 @@ fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
     )?;
     Some(Slot {
         pos,
-        dense: e.driver.needs_interpolant(&e.opts),
-        run: e,
-        at_node: true,
-        h: 0.0,
-        last: false,
+        own: Attempting {
+            dense: run.driver.needs_interpolant(&run.opts),
+            at_node: true,
+            h: 0.0,
+            last: false,
+        },
+        run,
     })
 }
 
@@ -364,21 +411,20 @@ fn scalar<L: Lagrangian<N>, const N: usize>(
     )
 }
 
-impl<L: Lagrangian<N>, const N: usize> Slot<'_, '_, L, N> {
-    /// Readies the next attempt: at a node, the end test, the step budget and FSAL; then the
-    /// trial step. `Ok(false)` when the run has reached its end.
-    fn pending(&mut self) -> Result<bool, Fault> {
-        if self.at_node {
-            if self.run.stepper.t() >= self.run.opts.until {
-                return Ok(false);
-            }
-            self.run.driver.check_budget(&self.run.opts)?;
-            self.run.stepper.begin_step();
-            self.at_node = false;
+/// Readies a DOP853 member's next attempt: at a node, the end test, the step budget and FSAL;
+/// then the trial step. `Ok(false)` when the run has reached its end.
+fn pending<L: Lagrangian<N>, const N: usize>(s: &mut DopSlot<'_, '_, L, N>) -> Result<bool, Fault> {
+    let (run, own) = (&mut s.run, &mut s.own);
+    if own.at_node {
+        if run.stepper.t() >= run.opts.until {
+            return Ok(false);
         }
-        (self.h, self.last) = self.run.stepper.trial(self.run.opts.until)?;
-        Ok(true)
+        run.driver.check_budget(&run.opts)?;
+        run.stepper.begin_step();
+        own.at_node = false;
     }
+    (own.h, own.last) = run.stepper.trial(run.opts.until)?;
+    Ok(true)
 }
 
 impl<L: Lagrangian<N>, S: Stepper<N>, const N: usize> Entered<'_, '_, L, S, N> {

@@ -16,7 +16,7 @@ use crate::lanes::Lanes;
 use crate::taylor::SeriesBuf;
 
 use super::error::SimulationError;
-use super::lanes::{enter, unreachable_free_lane, End, Entered};
+use super::lanes::{enter, fill, lanes_of, load_params, retire, End, Slot};
 use super::method::Method;
 use super::simulation::Simulation;
 use super::state::{Fault, YOf};
@@ -24,34 +24,30 @@ use super::stepper::Stepper;
 use super::taylor::Taylor;
 use super::trajectory::Trajectory;
 
-/// One member in a lane.
-struct Slot<'p, 'a, L: ?Sized, const N: usize> {
-    /// The member's position in the input.
-    pos: usize,
-    run: Entered<'p, 'a, L, Taylor<'p, L, N>, N>,
+/// A Taylor member in a lane (nothing kept besides its run).
+type TaylorSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, L, Taylor<'p, L, N>, (), N>;
+
+/// Whether the run goes on (`Ok(true)`: it needs the series at its node), has reached its end
+/// (`Ok(false)`) or has used up its step budget.
+fn pending<L: Lagrangian<N>, const N: usize>(
+    s: &mut TaylorSlot<'_, '_, L, N>,
+) -> Result<bool, Fault> {
+    let r = &s.run;
+    if r.stepper.t() >= r.opts.until {
+        return Ok(false);
+    }
+    r.driver.check_budget(&r.opts)?;
+    Ok(true)
 }
 
-impl<L: Lagrangian<N>, const N: usize> Slot<'_, '_, L, N> {
-    /// Whether the run goes on (`Ok(true)`: it needs the series at its node), has reached its end
-    /// (`Ok(false)`) or has used up its step budget.
-    fn pending(&self) -> Result<bool, Fault> {
-        let r = &self.run;
-        if r.stepper.t() >= r.opts.until {
-            return Ok(false);
-        }
-        r.driver.check_budget(&r.opts)?;
-        Ok(true)
-    }
-
-    /// One step from the series at the node (taken from the lanes, or computed here), then what
-    /// follows it; `Ok(true)` when a terminal event ended the run.
-    fn step(&mut self) -> Result<bool, Fault> {
-        let r = &mut self.run;
-        let until = r.opts.until;
-        r.stepper.advance(until, r.driver.stats())?;
-        r.driver
-            .after_step(&mut r.stepper, &r.opts, &mut r.progress)
-    }
+/// One step from the series at the node (taken from the lanes, or computed here), then what
+/// follows it; `Ok(true)` when a terminal event ended the run.
+fn step<L: Lagrangian<N>, const N: usize>(s: &mut TaylorSlot<'_, '_, L, N>) -> Result<bool, Fault> {
+    let r = &mut s.run;
+    let until = r.opts.until;
+    r.stepper.advance(until, r.driver.stats())?;
+    r.driver
+        .after_step(&mut r.stepper, &r.opts, &mut r.progress)
 }
 
 /// Runs the Taylor members of `queue` with W per vector, calling `out(position, result)` as
@@ -68,50 +64,17 @@ pub(super) fn run_taylor_lanes<
     out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
 ) {
     let mut queue = queue;
-    let mut slots: [Option<Slot<'p, 'a, L, N>>; W] = core::array::from_fn(|_| None);
+    let mut slots: [Option<TaylorSlot<'p, 'a, L, N>>; W] = core::array::from_fn(|_| None);
     let mut params = vec![Lanes::<W>::ZERO; L::LANE_PARAMS];
     let mut series: Vec<YOf<Lanes<W>, N>> = Vec::new();
     let mut buf = SeriesBuf::<Lanes<W>>::new();
     loop {
-        // Bring every lane to a node that needs its series, filling free lanes from the queue.
-        let mut refreshed = false;
-        for l in 0..W {
-            loop {
-                let slot = match &mut slots[l] {
-                    Some(slot) => slot,
-                    None => match queue.next() {
-                        None => break,
-                        Some((pos, sim)) => {
-                            slots[l] = start(pos, sim, out);
-                            refreshed = true;
-                            continue;
-                        }
-                    },
-                };
-                match slot.pending() {
-                    Ok(true) => break,
-                    Ok(false) => retire(&mut slots[l], End::Finished, out),
-                    Err(f) => retire(&mut slots[l], End::Failed(f), out),
-                }
-            }
-        }
-        let Some(busy) = slots.iter().position(Option::is_some) else {
+        let refreshed = fill(&mut slots, &mut queue, out, start, pending);
+        let Some(lane) = lanes_of(&slots) else {
             return;
         };
-        // A free lane computes a copy of a busy one (its results are not read).
-        let lane: [&Slot<'p, 'a, L, N>; W] = {
-            let src: [usize; W] =
-                core::array::from_fn(|l| if slots[l].is_some() { l } else { busy });
-            let busy_lanes = slots.each_ref().map(Option::as_ref);
-            core::array::from_fn(|l| match busy_lanes[src[l]] {
-                Some(s) => s,
-                None => unreachable_free_lane(),
-            })
-        };
         if refreshed {
-            for (p, v) in params.iter_mut().enumerate() {
-                *v = Lanes::from_fn(|l| lane[l].run.params[p]);
-            }
+            load_params(&mut params, &lane);
         }
         let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.sys());
         let orders = lane.map(|s| s.run.stepper.order());
@@ -146,7 +109,7 @@ pub(super) fn run_taylor_lanes<
             if clean && done.is_some_and(|m| m.0[l]) {
                 r.stepper.take_series(&series, l, r.driver.stats());
             }
-            match s.step() {
+            match step(s) {
                 Ok(false) => {}
                 Ok(true) => retire(&mut slots[l], End::Stopped, out),
                 Err(f) => retire(&mut slots[l], End::Failed(f), out),
@@ -155,24 +118,12 @@ pub(super) fn run_taylor_lanes<
     }
 }
 
-/// Ends the run in `slot` and sends its result to `out`.
-#[inline(never)]
-fn retire<L: Lagrangian<N>, const N: usize>(
-    slot: &mut Option<Slot<'_, '_, L, N>>,
-    end: End,
-    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
-) {
-    if let Some(s) = slot.take() {
-        out(s.pos, s.run.end(end));
-    }
-}
-
 /// Starts a Taylor member (see [`enter`]).
 fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
     pos: usize,
     sim: &'p mut Simulation<'a, L, N>,
-    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
-) -> Option<Slot<'p, 'a, L, N>> {
+    out: &mut dyn FnMut(usize, Result<Trajectory<N>, SimulationError>),
+) -> Option<TaylorSlot<'p, 'a, L, N>> {
     let run = enter(
         pos,
         sim,
@@ -183,5 +134,5 @@ fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
         },
         |sys, tol, t0, y0, hmax, _stats| Ok(Taylor::new(sys, t0, y0, tol, hmax)),
     )?;
-    Some(Slot { pos, run })
+    Some(Slot { pos, run, own: () })
 }
