@@ -11,7 +11,9 @@
 //!
 //! A lane whose stages are not all finite (the dynamics failed there, or the state blew up) has
 //! its attempt redone by the scalar stepper, which then reports exactly what a scalar run would.
-//! Members that are not plain DOP853 runs (another method, constraints) run the scalar driver.
+//! Taylor members run on the Taylor engine of the same shape (`taylor_lanes`), which shares the
+//! member plumbing here (`enter`, `Slot`, `fill`, `retire`); members of another method, and
+//! constrained ones, run the scalar driver.
 
 use crate::lagrangian::Lagrangian;
 use crate::lanes::Lanes;
@@ -118,8 +120,8 @@ pub(super) fn load_params<L: ?Sized, S, X, const N: usize, const W: usize>(
 }
 
 /// Runs `sims` (in order) with W members per vector, calling `out(position, result)` as each
-/// member ends (not in order). Members that are not DOP853 runs without constraints run the scalar
-/// driver.
+/// member ends (not in order): DOP853 and Taylor members without constraints in lanes, any other
+/// member on the scalar driver.
 ///
 /// On an x86-64 CPU with AVX2 the engine runs as AVX2 code (4 lanes per instruction instead of
 /// SSE2's 2: 1.6× faster on the heavy-top ensemble, BENCHMARKS.md "Ensembles"), chosen at run
