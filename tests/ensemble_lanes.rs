@@ -425,14 +425,9 @@ impl Mixed {
     }
 }
 
-/// `accelerations_lanes` of the generated code equals `accelerations` of each lane's member to
-/// round-off (1e-14 relative: its cos and sin are the vector ones), with members of both `match`
-/// arms in one vector; a lane whose mass matrix is singular (m = 0) is NaN and the other lanes
-/// keep their values.
-#[test]
-fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
-    const { assert!(Mixed::VECTORIZED_LANES) };
-    let member = |i: usize| Mixed {
+/// Member i of the `Mixed` tests: both `match` arms alternate, every parameter varies.
+fn member(i: usize) -> Mixed {
+    Mixed {
         m: 1.0 + 0.3 * i as f64,
         k: [0.5 + 0.1 * i as f64, 3.0],
         spring: if i.is_multiple_of(2) {
@@ -444,28 +439,48 @@ fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
         drive: 1.3,
         c: 0.05 * i as f64,
         p: 0.5 + 0.25 * i as f64,
-    };
+    }
+}
+
+/// The lane parameters of four members (parameter p of lane l in `params[p].0[l]`).
+fn lane_params(ms: &[Mixed; 4]) -> Vec<Lanes<4>> {
+    let mut params = vec![Lanes::<4>::ZERO; Mixed::LANE_PARAMS];
+    let mut one = vec![0.0; Mixed::LANE_PARAMS];
+    for (l, m) in ms.iter().enumerate() {
+        m.lane_params(&mut one);
+        for (p, x) in one.iter().enumerate() {
+            params[p].0[l] = *x;
+        }
+    }
+    params
+}
+
+/// (q, q̇) of the four lanes of the `Mixed` tests, and their times.
+const MIXED_STATE: [[Lanes<4>; 3]; 2] = [
+    [
+        Lanes([0.3, -0.2, 0.5, 1.1]),
+        Lanes([0.1, 0.7, -0.4, 0.2]),
+        Lanes([0.2, 0.0, 1.0, -0.6]),
+    ],
+    [
+        Lanes([1.0, -0.5, 0.25, 0.0]),
+        Lanes([0.3, 0.2, -1.0, 0.4]),
+        Lanes([-0.7, 0.1, 0.6, 2.0]),
+    ],
+];
+const MIXED_T: Lanes<4> = Lanes([0.0, 0.5, 1.7, 3.2]);
+
+/// `accelerations_lanes` of the generated code equals `accelerations` of each lane's member to
+/// round-off (1e-14 relative: its cos and sin are the vector ones), with members of both `match`
+/// arms in one vector; a lane whose mass matrix is singular (m = 0) is NaN and the other lanes
+/// keep their values.
+#[test]
+fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
+    const { assert!(Mixed::VECTORIZED_LANES) };
     let check = |ms: [Mixed; 4]| {
         let refs = [&ms[0], &ms[1], &ms[2], &ms[3]];
-        let mut params = vec![Lanes::<4>::ZERO; Mixed::LANE_PARAMS];
-        let mut one = vec![0.0; Mixed::LANE_PARAMS];
-        for (l, m) in ms.iter().enumerate() {
-            m.lane_params(&mut one);
-            for (p, x) in one.iter().enumerate() {
-                params[p].0[l] = *x;
-            }
-        }
-        let q = [
-            Lanes([0.3, -0.2, 0.5, 1.1]),
-            Lanes([0.1, 0.7, -0.4, 0.2]),
-            Lanes([0.2, 0.0, 1.0, -0.6]),
-        ];
-        let v = [
-            Lanes([1.0, -0.5, 0.25, 0.0]),
-            Lanes([0.3, 0.2, -1.0, 0.4]),
-            Lanes([-0.7, 0.1, 0.6, 2.0]),
-        ];
-        let t = Lanes([0.0, 0.5, 1.7, 3.2]);
+        let params = lane_params(&ms);
+        let ([q, v], t) = (MIXED_STATE, MIXED_T);
         let a = Mixed::accelerations_lanes(&refs, &params, &q, &v, t);
         for (l, m) in ms.iter().enumerate() {
             let ql = [q[0].0[l], q[1].0[l], q[2].0[l]];
@@ -500,42 +515,10 @@ fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
 #[test]
 fn generated_taylor_lanes_equal_scalar_series_for_every_input_kind() {
     use lagrange::taylor::{SeriesBuf, TaylorBuf};
-    let member = |i: usize| Mixed {
-        m: 1.0 + 0.3 * i as f64,
-        k: [0.5 + 0.1 * i as f64, 3.0],
-        spring: if i.is_multiple_of(2) {
-            Spring::Soft
-        } else {
-            Spring::Hard
-        },
-        b: Vector3::new(0.1 * i as f64, -0.2, 1.5),
-        drive: 1.3,
-        c: 0.05 * i as f64,
-        p: 0.5 + 0.25 * i as f64,
-    };
     let check = |ms: [Mixed; 4], left_out: Option<usize>| {
         let refs = [&ms[0], &ms[1], &ms[2], &ms[3]];
-        let mut params = vec![Lanes::<4>::ZERO; Mixed::LANE_PARAMS];
-        let mut one = vec![0.0; Mixed::LANE_PARAMS];
-        for (l, m) in ms.iter().enumerate() {
-            m.lane_params(&mut one);
-            for (p, x) in one.iter().enumerate() {
-                params[p].0[l] = *x;
-            }
-        }
-        let y0 = [
-            [
-                Lanes([0.3, -0.2, 0.5, 1.1]),
-                Lanes([0.1, 0.7, -0.4, 0.2]),
-                Lanes([0.2, 0.0, 1.0, -0.6]),
-            ],
-            [
-                Lanes([1.0, -0.5, 0.25, 0.0]),
-                Lanes([0.3, 0.2, -1.0, 0.4]),
-                Lanes([-0.7, 0.1, 0.6, 2.0]),
-            ],
-        ];
-        let t = Lanes([0.0, 0.5, 1.7, 3.2]);
+        let params = lane_params(&ms);
+        let (y0, t) = (MIXED_STATE, MIXED_T);
         let mut series = vec![y0; 13];
         let ok = Mixed::taylor_series_lanes(&refs, &params, t, &mut series, &mut SeriesBuf::new())
             .expect("generated lanes series");
