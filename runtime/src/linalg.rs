@@ -167,24 +167,7 @@ impl<const N: usize> Ldlt<N> {
     /// Solves M x = b with the factorization.
     #[inline]
     pub fn solve(&self, b: &[f64; N]) -> [f64; N] {
-        let (a, d_inv) = (&self.a, &self.d_inv);
-        let mut x = *b;
-        // Forward: x_i −= l_ki x_k for k < i, k in increasing order, as row updates.
-        for k in 0..N {
-            let xk = x[k];
-            for (xi, &l) in x[k + 1..].iter_mut().zip(&a[k][k + 1..]) {
-                *xi -= l * xk;
-            }
-        }
-        for i in 0..N {
-            x[i] *= d_inv[i];
-        }
-        for i in (0..N).rev() {
-            for k in i + 1..N {
-                x[i] -= a[i][k] * x[k];
-            }
-        }
-        x
+        ldlt_solve(&self.a, &self.d_inv, b)
     }
 }
 
@@ -403,4 +386,33 @@ pub fn all_finite(xs: &[f64]) -> bool {
         acc += 0.0 * x;
     }
     acc == 0.0
+}
+
+/// Solves L D Lᵀ x = b with L stored transposed in the upper triangle of `a` and the reciprocal
+/// pivots `d_inv`: the solve of [`Ldlt`], written once for `f64` and for
+/// [`Lanes`](crate::lanes::Lanes) (the Taylor method's per-lane factorization), so each lane
+/// solves bit for bit as the scalar code does.
+#[inline(always)]
+pub(crate) fn ldlt_solve<T: crate::taylor::Coefficient, const N: usize>(
+    a: &[[T; N]; N],
+    d_inv: &[T; N],
+    b: &[T; N],
+) -> [T; N] {
+    let mut x = *b;
+    // Forward: x_i −= l_ki x_k for k < i, k in increasing order, as row updates.
+    for k in 0..N {
+        let xk = x[k];
+        for (xi, &l) in x[k + 1..].iter_mut().zip(&a[k][k + 1..]) {
+            *xi -= l * xk;
+        }
+    }
+    for i in 0..N {
+        x[i] = x[i] * d_inv[i];
+    }
+    for i in (0..N).rev() {
+        for k in i + 1..N {
+            x[i] -= a[i][k] * x[k];
+        }
+    }
+    x
 }

@@ -35,7 +35,7 @@ use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
 use crate::eom::solve_mass_matrix;
 use crate::error::DynamicsError;
 use crate::lanes::{Lanes, Mask};
-use crate::linalg::{Ldlt, ACCURATE_RELATIVE_PIVOT};
+use crate::linalg::{ldlt_solve, Ldlt, ACCURATE_RELATIVE_PIVOT};
 
 /// The highest order a series holds (the Taylor method's order is at most this).
 ///
@@ -434,23 +434,7 @@ impl<const N: usize, const W: usize> FactorLanes<N, W> {
     /// M₀⁻¹ b in every lane (meaningful where the factorization holds).
     #[inline(always)]
     pub fn solve(&self, b: &[Lanes<W>; N]) -> [Lanes<W>; N] {
-        let (a, d_inv) = (&self.a, &self.d_inv);
-        let mut x = *b;
-        for k in 0..N {
-            let xk = x[k];
-            for (xi, &l) in x[k + 1..].iter_mut().zip(&a[k][k + 1..]) {
-                *xi -= l * xk;
-            }
-        }
-        for i in 0..N {
-            x[i] *= d_inv[i];
-        }
-        for i in (0..N).rev() {
-            for k in i + 1..N {
-                x[i] -= a[i][k] * x[k];
-            }
-        }
-        x
+        ldlt_solve(&self.a, &self.d_inv, b)
     }
 }
 

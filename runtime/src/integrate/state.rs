@@ -15,18 +15,9 @@ pub(crate) type Y<const N: usize> = [[f64; N]; 2];
 pub(crate) type YOf<T, const N: usize> = [[T; N]; 2];
 
 /// The numbers the stage combinations run on: `f64`, and [`Lanes`](crate::lanes::Lanes) for
-/// ensembles (every operation lane by lane, so each lane is the scalar computation bit for bit).
-pub(crate) trait Real:
-    Copy
-    + core::ops::Add<Output = Self>
-    + core::ops::Mul<Output = Self>
-    + core::ops::AddAssign
-    + From<f64>
-{
-}
-
-impl Real for f64 {}
-impl<const W: usize> Real for crate::lanes::Lanes<W> {}
+/// ensembles (every operation lane by lane, so each lane is the scalar computation bit for bit) —
+/// the Taylor kernels' [`Coefficient`](crate::taylor::Coefficient).
+pub(crate) use crate::taylor::Coefficient as Real;
 
 /// Why a stepper could not go on (the driver adds t, the state and the partial trajectory).
 #[derive(Debug)]
