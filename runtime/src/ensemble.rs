@@ -524,14 +524,14 @@ where
                 .iter()
                 .map(|m| (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0)))
                 .collect();
-            let out = |pos: usize, r: Result<Trajectory<N>, SimulationError>| {
+            let mut out = |pos: usize, r: Result<Trajectory<N>, SimulationError>| {
                 slots[pos] = Some(r.map(keep));
                 bar.inc();
             };
             // One width is compiled (the engine is large and generic in the system): 4, the
             // fastest measured on AVX2 (BENCHMARKS.md, "Ensembles with SIMD lanes").
             let _ = width;
-            run_lanes::<L, N, 4>(&mut sims, out);
+            run_lanes::<L, N, 4>(&mut sims, &mut out);
         }
         members
             .into_iter()

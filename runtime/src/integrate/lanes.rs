@@ -65,11 +65,11 @@ pub(super) fn fill<
 >(
     slots: &mut [Option<Slot<'p, 'a, L, S, X, N>>; W],
     queue: &mut impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
-    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut Out<'_, N>,
     start: impl Fn(
         usize,
         &'p mut Simulation<'a, L, N>,
-        &mut dyn FnMut(usize, Result<Trajectory<N>, SimulationError>),
+        &mut Out<'_, N>,
     ) -> Option<Slot<'p, 'a, L, S, X, N>>,
     pending: impl Fn(&mut Slot<'p, 'a, L, S, X, N>) -> Result<bool, Fault>,
 ) -> bool {
@@ -96,6 +96,12 @@ pub(super) fn fill<
     }
     refreshed
 }
+
+/// Where the engines send each member's result as it ends (its position, its result). One type
+/// for every caller, so that the engines, large and generic in the system, are compiled once per
+/// system rather than once per ensemble closure (the test and example builds' largest cost).
+pub(crate) type Out<'o, const N: usize> =
+    dyn FnMut(usize, Result<Trajectory<N>, SimulationError>) + 'o;
 
 /// The slot each lane reads: its own where busy, else the first busy one (a free lane computes a
 /// copy whose results are not read); `None` when every lane is free.
@@ -129,7 +135,7 @@ pub(super) fn load_params<L: ?Sized, S, X, const N: usize, const W: usize>(
 /// unless asked (`mul_add`), so both paths compute the same numbers.
 pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize, const W: usize>(
     sims: &mut [Simulation<'_, L, N>],
-    out: impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut Out<'_, N>,
 ) {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
@@ -147,7 +153,7 @@ pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize, const W: usize>(
 #[target_feature(enable = "avx2")]
 fn run_lanes_avx2<L: Lagrangian<N>, const N: usize, const W: usize>(
     sims: &mut [Simulation<'_, L, N>],
-    out: impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut Out<'_, N>,
 ) {
     run_lanes_here::<L, N, W>(sims, out)
 }
@@ -158,22 +164,22 @@ fn run_lanes_avx2<L: Lagrangian<N>, const N: usize, const W: usize>(
 #[inline(always)]
 fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
     sims: &mut [Simulation<'_, L, N>],
-    mut out: impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut Out<'_, N>,
 ) {
     let taylor = |s: &Simulation<'_, L, N>| matches!(s.method, Method::Taylor { .. });
     if sims.iter().any(taylor) {
         let queue = sims.iter_mut().enumerate().filter(|(_, s)| taylor(s));
-        run_taylor_lanes::<L, N, W>(queue, &mut out);
+        run_taylor_lanes::<L, N, W>(queue, out);
     }
     let queue = sims.iter_mut().enumerate().filter(|(_, s)| !taylor(s));
-    run_dop853_lanes::<L, N, W>(queue, &mut out);
+    run_dop853_lanes::<L, N, W>(queue, out);
 }
 
 /// The DOP853 engine over the members of `queue` (see the module docs).
 #[inline(always)]
 fn run_dop853_lanes<'p, 'a: 'p, L: Lagrangian<N> + 'a, const N: usize, const W: usize>(
     queue: impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
-    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut Out<'_, N>,
 ) {
     let mut queue = queue;
     let mut slots: [Option<DopSlot<'_, '_, L, N>>; W] = core::array::from_fn(|_| None);
@@ -292,7 +298,7 @@ pub(super) enum End {
 pub(super) fn retire<L: Lagrangian<N>, S: Stepper<N>, X, const N: usize>(
     slot: &mut Option<Slot<'_, '_, L, S, X, N>>,
     end: End,
-    out: &mut (impl FnMut(usize, Result<Trajectory<N>, SimulationError>) + ?Sized),
+    out: &mut Out<'_, N>,
 ) {
     if let Some(s) = slot.take() {
         out(s.pos, s.run.end(end));
@@ -321,7 +327,7 @@ pub(super) struct Entered<'p, 'a, L: ?Sized, S, const N: usize> {
 pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
     pos: usize,
     sim: &'p mut Simulation<'a, L, N>,
-    out: &mut dyn FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut Out<'_, N>,
     takes: impl FnOnce(Method) -> Option<P>,
     make: impl FnOnce(&'p L, P, f64, Y<N>, f64, &mut Stats) -> Result<S, Fault>,
 ) -> Option<Entered<'p, 'a, L, S, N>> {
@@ -380,7 +386,7 @@ pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
 fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
     pos: usize,
     sim: &'p mut Simulation<'a, L, N>,
-    out: &mut dyn FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut Out<'_, N>,
 ) -> Option<DopSlot<'p, 'a, L, N>> {
     let run = enter(
         pos,

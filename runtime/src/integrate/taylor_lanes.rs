@@ -16,7 +16,7 @@ use crate::lanes::Lanes;
 use crate::taylor::SeriesBuf;
 
 use super::error::SimulationError;
-use super::lanes::{enter, fill, lanes_of, load_params, retire, End, Slot};
+use super::lanes::{enter, fill, lanes_of, load_params, retire, End, Out, Slot};
 use super::method::Method;
 use super::simulation::Simulation;
 use super::state::{Fault, YOf};
@@ -61,7 +61,7 @@ pub(super) fn run_taylor_lanes<
     const W: usize,
 >(
     queue: impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
-    out: &mut impl FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut Out<'_, N>,
 ) {
     let mut queue = queue;
     let mut slots: [Option<TaylorSlot<'p, 'a, L, N>>; W] = core::array::from_fn(|_| None);
@@ -122,7 +122,7 @@ pub(super) fn run_taylor_lanes<
 fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
     pos: usize,
     sim: &'p mut Simulation<'a, L, N>,
-    out: &mut dyn FnMut(usize, Result<Trajectory<N>, SimulationError>),
+    out: &mut Out<'_, N>,
 ) -> Option<TaylorSlot<'p, 'a, L, N>> {
     let run = enter(
         pos,
