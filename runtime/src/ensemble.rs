@@ -35,13 +35,14 @@
 //! ```
 
 use std::io::Write;
+use std::marker::PhantomData;
 use std::ops::Range;
 use std::path::Path;
 
 use rayon::prelude::*;
 
 use crate::constraints::Holonomic;
-use crate::integrate::lanes::run_lanes;
+use crate::integrate::lanes::{run_lanes, Out};
 use crate::integrate::{Simulation, SimulationError, Trajectory};
 use crate::lagrangian::Lagrangian;
 
@@ -101,43 +102,121 @@ pub type Params = Vec<(&'static str, f64)>;
 type Configure<'c, L, const N: usize> =
     Box<dyn for<'s> Fn(Simulation<'s, L, N>) -> Simulation<'s, L, N> + Sync + 'c>;
 
-/// How one configured member runs.
-type Runner<L, const N: usize> =
-    for<'s> fn(&'s L, Simulation<'s, L, N>) -> Result<Trajectory<N>, SimulationError>;
+/// The lanes engine's entry: members in order, each result to the sink as the member ends.
+type LanesFn<L, const N: usize> = for<'s, 'o> fn(&mut [Simulation<'s, L, N>], &mut Out<'o, N>);
 
-fn run_plain<L: Lagrangian<N>, const N: usize>(
-    _: &L,
-    sim: Simulation<'_, L, N>,
-) -> Result<Trajectory<N>, SimulationError> {
-    sim.run()
+/// How the members of an ensemble run: [`Plain`] (as they are; DOP853 and Taylor members share
+/// SIMD lanes) or [`Constrained`] (the constrained run of their system). A type parameter of
+/// [`Ensemble`] rather than a field, so that a constrained ensemble does not compile the lanes
+/// engines it never uses (large generic code: a minute and a half of build for one system).
+///
+/// ```
+/// use lagrange_runtime::ensemble::{Constrained, Engine, Plain};
+/// # use lagrange_runtime::{Holonomic, Lagrangian, Scalar};
+/// # struct P;
+/// # impl Lagrangian<2> for P {
+/// #     const COORDINATES: [&'static str; 2] = ["x", "y"];
+/// #     const CYCLIC: [bool; 2] = [true, true];
+/// #     const AUTONOMOUS: bool = true;
+/// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 2], v: &[S; 2], _t: S) -> S { (v[0] * v[0] + v[1] * v[1]) * 0.5 }
+/// # }
+/// # impl Holonomic<2, 1> for P {
+/// #     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] { [q[0] * q[0] + q[1] * q[1] - 1.0] }
+/// # }
+/// assert!(<Plain as Engine<P, 2>>::lanes().is_some());
+/// assert!(<Constrained<1> as Engine<P, 2>>::lanes().is_none());
+/// ```
+pub trait Engine<L: Lagrangian<N>, const N: usize> {
+    /// Runs one configured member.
+    fn run_one(system: &L, sim: Simulation<'_, L, N>) -> Result<Trajectory<N>, SimulationError>;
+
+    /// The lanes engine, where members may share SIMD lanes.
+    #[doc(hidden)]
+    fn lanes() -> Option<LanesFn<L, N>>;
 }
 
-fn run_constrained<L: Holonomic<N, K>, const N: usize, const K: usize>(
-    system: &L,
-    plain: Simulation<'_, L, N>,
-) -> Result<Trajectory<N>, SimulationError> {
-    let (q0, qdot0) = plain.initial();
-    Simulation::constrained(system, q0, qdot0)
-        .options_from(plain)
-        .run()
+/// Members run as they are ([`Ensemble::new`]'s engine).
+///
+/// ```
+/// # use lagrange_runtime::ensemble::{Engine, Plain};
+/// # use lagrange_runtime::{Lagrangian, Scalar};
+/// # struct Free;
+/// # impl Lagrangian<1> for Free {
+/// #     const COORDINATES: [&'static str; 1] = ["x"];
+/// #     const CYCLIC: [bool; 1] = [true];
+/// #     const AUTONOMOUS: bool = true;
+/// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+/// # }
+/// let sim = lagrange_runtime::Simulation::new(&Free, [0.0], [2.0]).until(1.0);
+/// let tr = <Plain as Engine<Free, 1>>::run_one(&Free, sim).unwrap();
+/// assert!((tr.q[tr.q.len() - 1][0] - 2.0).abs() < 1e-12);
+/// ```
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Plain;
+
+impl<L: Lagrangian<N>, const N: usize> Engine<L, N> for Plain {
+    fn run_one(_: &L, sim: Simulation<'_, L, N>) -> Result<Trajectory<N>, SimulationError> {
+        sim.run()
+    }
+
+    fn lanes() -> Option<LanesFn<L, N>> {
+        // One width is compiled (the engine is large and generic in the system): 4, the fastest
+        // measured on AVX2 (BENCHMARKS.md, "Ensembles with SIMD lanes").
+        Some(run_lanes::<L, N, 4>)
+    }
 }
 
-/// An ensemble of `len` members made by a closure from their index (see the module docs).
-pub struct Ensemble<'c, L, F, const N: usize> {
+/// Members run as the constrained run of their system with K constraints
+/// ([`Ensemble::constrained`]).
+///
+/// ```
+/// # use lagrange_runtime::ensemble::{Constrained, Engine};
+/// # use lagrange_runtime::{Holonomic, Lagrangian, Scalar};
+/// # struct P;
+/// # impl Lagrangian<2> for P {
+/// #     const COORDINATES: [&'static str; 2] = ["x", "y"];
+/// #     const CYCLIC: [bool; 2] = [true, true];
+/// #     const AUTONOMOUS: bool = true;
+/// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 2], v: &[S; 2], _t: S) -> S { (v[0] * v[0] + v[1] * v[1]) * 0.5 }
+/// # }
+/// # impl Holonomic<2, 1> for P {
+/// #     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] { [q[0] * q[0] + q[1] * q[1] - 1.0] }
+/// # }
+/// // A free particle on the unit circle keeps its speed and stays on the circle.
+/// let sim = lagrange_runtime::Simulation::new(&P, [1.0, 0.0], [0.0, 1.0]).until(3.0);
+/// let tr = <Constrained<1> as Engine<P, 2>>::run_one(&P, sim).unwrap();
+/// let [x, y] = tr.q[tr.q.len() - 1];
+/// assert!((x * x + y * y - 1.0).abs() < 1e-12);
+/// ```
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Constrained<const K: usize>;
+
+impl<L: Holonomic<N, K>, const N: usize, const K: usize> Engine<L, N> for Constrained<K> {
+    fn run_one(system: &L, plain: Simulation<'_, L, N>) -> Result<Trajectory<N>, SimulationError> {
+        let (q0, qdot0) = plain.initial();
+        Simulation::constrained(system, q0, qdot0)
+            .options_from(plain)
+            .run()
+    }
+
+    fn lanes() -> Option<LanesFn<L, N>> {
+        None
+    }
+}
+
+/// An ensemble of `len` members made by a closure from their index (see the module docs); `E`
+/// says how they run ([`Plain`], or [`Constrained`] after [`Ensemble::constrained`]).
+pub struct Ensemble<'c, L, F, const N: usize, E = Plain> {
     len: usize,
     member: F,
     configure: Configure<'c, L, N>,
-    /// How a configured member runs: as it is, or as the constrained run of its system
-    /// ([`Ensemble::constrained`]).
-    runner: Runner<L, N>,
     threads: Option<usize>,
     shard: Option<(usize, usize)>,
     progress: bool,
     /// Members per vector of the lanes engine (1: one member at a time); `None`: 4 where the
     /// system has generated lanes code, else 1.
     lanes: Option<usize>,
-    /// Whether members run as they are (not constrained): only those can share lanes.
-    plain: bool,
+    engine: PhantomData<fn() -> E>,
 }
 
 /// What an ensemble returns: for each member run, in member order, its index, its parameters and
@@ -154,7 +233,7 @@ pub struct Results<R> {
     pub columns: Vec<String>,
 }
 
-impl<'c, L, F, const N: usize> Ensemble<'c, L, F, N>
+impl<'c, L, F, const N: usize> Ensemble<'c, L, F, N, Plain>
 where
     L: Lagrangian<N>,
     F: Fn(usize) -> Member<L, N> + Sync,
@@ -180,12 +259,11 @@ where
             len,
             member,
             configure: Box::new(|s| s),
-            runner: run_plain::<L, N>,
             threads: None,
             shard: None,
             progress: false,
             lanes: None,
-            plain: true,
+            engine: PhantomData,
         }
     }
 
@@ -220,15 +298,29 @@ where
     ///     assert!(tr.as_ref().unwrap().invariants().constraints.unwrap().position < 1e-12);
     /// }
     /// ```
-    pub fn constrained<const K: usize>(mut self) -> Self
+    pub fn constrained<const K: usize>(self) -> Ensemble<'c, L, F, N, Constrained<K>>
     where
         L: Holonomic<N, K>,
     {
-        self.runner = run_constrained::<L, N, K>;
-        self.plain = false;
-        self
+        Ensemble {
+            len: self.len,
+            member: self.member,
+            configure: self.configure,
+            threads: self.threads,
+            shard: self.shard,
+            progress: self.progress,
+            lanes: self.lanes,
+            engine: PhantomData,
+        }
     }
+}
 
+impl<'c, L, F, E, const N: usize> Ensemble<'c, L, F, N, E>
+where
+    L: Lagrangian<N>,
+    F: Fn(usize) -> Member<L, N> + Sync,
+    E: Engine<L, N>,
+{
     /// The options of every member's run, on the [`Simulation`] builder's terms (method, end
     /// time, samples, events, limits).
     ///
@@ -454,8 +546,8 @@ where
             None => 1,
             Some(w) => w,
         };
-        let width = if self.plain { width } else { 1 };
-        let out: Vec<(Params, Result<R, SimulationError>)> = if width >= 2 {
+        let lanes = E::lanes().filter(|_| width >= 2);
+        let out: Vec<(Params, Result<R, SimulationError>)> = if let Some(engine) = lanes {
             // Blocks of members, each run by the lanes engine in one thread.
             let threads = self
                 .threads
@@ -467,7 +559,7 @@ where
                 .step_by(block)
                 .map(|a| a..(a + block).min(range.end))
                 .collect();
-            let one = |r: Range<usize>| self.lanes_block(r, width, &keep, &bar);
+            let one = |r: Range<usize>| self.lanes_block(r, engine, &keep, &bar);
             let parts: Vec<Vec<(Params, Result<R, SimulationError>)>> =
                 self.in_threads(blocks, one);
             parts.into_iter().flatten().collect()
@@ -475,7 +567,7 @@ where
             let one = |i: usize| {
                 let m = (self.member)(i);
                 let sim = (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0));
-                let r = (self.runner)(&m.system, sim).map(&keep);
+                let r = E::run_one(&m.system, sim).map(&keep);
                 bar.inc();
                 (m.params, r)
             };
@@ -512,7 +604,7 @@ where
     fn lanes_block<R>(
         &self,
         range: Range<usize>,
-        width: usize,
+        engine: LanesFn<L, N>,
         keep: &(impl Fn(Trajectory<N>) -> R + Sync),
         bar: &Bar,
     ) -> Vec<(Params, Result<R, SimulationError>)> {
@@ -528,10 +620,7 @@ where
                 slots[pos] = Some(r.map(keep));
                 bar.inc();
             };
-            // One width is compiled (the engine is large and generic in the system): 4, the
-            // fastest measured on AVX2 (BENCHMARKS.md, "Ensembles with SIMD lanes").
-            let _ = width;
-            run_lanes::<L, N, 4>(&mut sims, &mut out);
+            engine(&mut sims, &mut out);
         }
         members
             .into_iter()

@@ -15,14 +15,12 @@ use crate::lagrangian::Lagrangian;
 use crate::lanes::Lanes;
 use crate::taylor::SeriesBuf;
 
-use super::error::SimulationError;
 use super::lanes::{enter, fill, lanes_of, load_params, retire, End, Out, Slot};
 use super::method::Method;
 use super::simulation::Simulation;
 use super::state::{Fault, YOf};
 use super::stepper::Stepper;
 use super::taylor::Taylor;
-use super::trajectory::Trajectory;
 
 /// A Taylor member in a lane (nothing kept besides its run).
 type TaylorSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, L, Taylor<'p, L, N>, (), N>;
