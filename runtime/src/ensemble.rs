@@ -130,9 +130,11 @@ pub trait Engine<L: Lagrangian<N>, const N: usize> {
     /// Runs one configured member.
     fn run_one(system: &L, sim: Simulation<'_, L, N>) -> Result<Trajectory<N>, SimulationError>;
 
-    /// The lanes engine, where members may share SIMD lanes.
+    /// The lanes engine, where members may share SIMD lanes (none unless said).
     #[doc(hidden)]
-    fn lanes() -> Option<LanesFn<L, N>>;
+    fn lanes() -> Option<LanesFn<L, N>> {
+        None
+    }
 }
 
 /// Members run as they are ([`Ensemble::new`]'s engine).
@@ -197,10 +199,6 @@ impl<L: Holonomic<N, K>, const N: usize, const K: usize> Engine<L, N> for Constr
         Simulation::constrained(system, q0, qdot0)
             .options_from(plain)
             .run()
-    }
-
-    fn lanes() -> Option<LanesFn<L, N>> {
-        None
     }
 }
 
