@@ -4,9 +4,10 @@
 //! Every operation is the `f64` operation applied lane by lane, in the same order: a lane's
 //! result is bit for bit what the scalar code computes for that member (the lane-vs-scalar tests
 //! rely on it). Arithmetic is written as loops over a fixed-size array, which LLVM turns into
-//! vector instructions (SSE2 on any x86-64; AVX2 or AVX-512 with `-C target-cpu=native`); the
-//! elementary functions (`sin`, `exp`, …) call the scalar `f64` method per lane, so they round
-//! exactly as the scalar run does.
+//! vector instructions (the ensemble engines compile them for AVX2, chosen at run time); the
+//! elementary functions (`exp`, `ln`, …) call the scalar `f64` method per lane, so they round
+//! exactly as the scalar run does — but for sin and cos, a vector polynomial within 1 ulp of the
+//! `f64` methods ([`Lanes::sin_cos`]).
 //!
 //! ```
 //! use lagrange_runtime::lanes::Lanes;
