@@ -4,7 +4,8 @@
 //! lanes, and the Taylor method (tol 1e-10, 1e-13) likewise, on one thread and on two; DOP853 at
 //! rtol 1e-11 and Taylor at 1e-12 in lanes (final errors near 1e-10, the target's matched
 //! accuracy); and — in the same run, when python3 with heyoka is installed — heyoka's batch mode
-//! (4 tops per vector, `benches/peers/heyoka_batch.py`) at tol 1e-10, 1e-11, 1e-12 and 1e-13.
+//! (4 tops per vector, `benches/peers/heyoka_batch.py`) at tol 1e-10, 1e-11, 1e-12 and 1e-13, with
+//! the hand-written right-hand side and with the equations heyoka derives from the Lagrangian.
 //! Every final θ is compared with a reference run of the same top (our Taylor method at tol
 //! 1e-18, not timed); the time per top is the best of five passes, interleaved over the
 //! configurations.
@@ -170,7 +171,7 @@ fn main() {
             t2 / TOPS as f64 * 1e3,
             t1 / t2
         );
-        one_thread.push((name, t1 / TOPS as f64 * 1e3));
+        one_thread.push((name, t1 / TOPS as f64 * 1e3, med));
     }
     let input: String = tops
         .iter()
@@ -181,7 +182,13 @@ fn main() {
             )
         })
         .collect();
-    for tol in ["1e-10", "1e-11", "1e-12", "1e-13"] {
+    // heyoka with the hand-written right-hand side (the target's peer), then with the equations
+    // it derives itself from the same Lagrangian (heyoka.lagrangian: what we do).
+    let runs = ["hand", "lagrangian"]
+        .into_iter()
+        .flat_map(|path| ["1e-10", "1e-11", "1e-12", "1e-13"].map(|tol| (path, tol)));
+    let mut peer: Vec<(&str, f64, f64)> = Vec::new();
+    for (path, tol) in runs {
         let child = Command::new("python3")
             .arg(concat!(
                 env!("CARGO_MANIFEST_DIR"),
@@ -189,6 +196,7 @@ fn main() {
             ))
             .arg(tol)
             .arg(PASSES.to_string())
+            .arg(path)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -225,16 +233,42 @@ fn main() {
         if theta.len() == TOPS {
             let (med, max) = errors(&theta, &reference);
             println!("{summary}; θ error median {med:.1e}, max {max:.1e}");
+            if let Some(h) = per_top {
+                peer.push((path, h, med));
+            }
         } else {
             println!("{summary}");
         }
         if let Some(h) = per_top {
-            for (name, ours) in &one_thread {
+            for (name, ours, _) in &one_thread {
                 println!(
-                    "  {name}, one thread / heyoka batch-4 tol {tol}: {:.2}",
+                    "  {name}, one thread / heyoka batch-4 {path} tol {tol}: {:.2}",
                     ours / h
                 );
             }
+        }
+    }
+    // The target's measure: our time against heyoka's at our final error, heyoka's time
+    // interpolated log-log between the two tolerances whose median errors bracket ours.
+    println!("at matched final θ error (median), heyoka's time interpolated log-log between its tolerances:");
+    for path in ["hand", "lagrangian"] {
+        let mut pts: Vec<(f64, f64)> = peer
+            .iter()
+            .filter(|p| p.0 == path)
+            .map(|p| (p.2, p.1))
+            .collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (name, ours, err) in &one_thread {
+            let Some(w) = pts.windows(2).find(|w| w[0].0 <= *err && *err <= w[1].0) else {
+                continue;
+            };
+            let ((e0, t0), (e1, t1)) = (w[0], w[1]);
+            let x = (err / e0).ln() / (e1 / e0).ln();
+            let h = t0 * (t1 / t0).powf(x);
+            println!(
+                "  {name} (error {err:.1e}): {ours:.4} ms vs heyoka batch-4 {path} {h:.4} ms: {:.2}",
+                ours / h
+            );
         }
     }
 }

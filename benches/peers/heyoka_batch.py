@@ -1,12 +1,13 @@
 """heyoka batch peer for benches/ensemble.rs: heavy tops with their own parameters and initial
 states (read from stdin, one per line: "i_perp i_par mgl theta0 phidot0 psidot0"), integrated to
-t = 114.3 in heyoka's batch mode (4 tops per SIMD vector, taylor_adaptive_batch, the hand-written
-right-hand side with the parameters as heyoka `par`s), scalar tolerance TOL.
+t = 114.3 in heyoka's batch mode (4 tops per SIMD vector, taylor_adaptive_batch, the parameters as
+heyoka `par`s), scalar tolerance TOL, with PATH "hand" (the hand-written right-hand side, the
+default) or "lagrangian" (the equations heyoka derives itself with heyoka.lagrangian).
 
 Prints the best-of-R wall time of the whole propagation (compile time apart), the time per top,
 and the final theta of every top (one per line after the summary), for the bench's error check.
 
-Usage: python3 benches/peers/heyoka_batch.py TOL [REPEATS] < tops.txt
+Usage: python3 benches/peers/heyoka_batch.py TOL [REPEATS] [PATH] < tops.txt
 Install: python3 -m pip install heyoka   (7.x)
 """
 import sys
@@ -30,16 +31,28 @@ def system():
     return [(th, th_d), (ph, ph_d), (ps, ps_d), (th_d, th_dd), (ph_d, ph_dd), (ps_d, ps_dd)]
 
 
+def lagrangian_system():
+    th, ph, ps, th_d, ph_d, ps_d = hy.make_vars("th", "ph", "ps", "th_d", "ph_d", "ps_d")
+    i_perp, i_par, mgl = hy.par[0], hy.par[1], hy.par[2]
+    s, c = hy.sin(th), hy.cos(th)
+    w3 = ps_d + ph_d * c
+    L = i_perp / 2.0 * (th_d * th_d + (ph_d * s) * (ph_d * s)) + i_par / 2.0 * w3 * w3 - mgl * c
+    # The state in the order the pairs are given: the qs, then the q-dots (as system()).
+    return hy.lagrangian(L, [th, ph, ps], [th_d, ph_d, ps_d])
+
+
 def main():
     tol = float(sys.argv[1])
     repeats = int(sys.argv[2]) if len(sys.argv) > 2 else 3
+    path = sys.argv[3] if len(sys.argv) > 3 else "hand"
+    make = {"hand": system, "lagrangian": lagrangian_system}[path]
     tops = np.array([[float(x) for x in line.split()] for line in sys.stdin if line.strip()])
     n = len(tops)
     pad = (-n) % BATCH
     if pad:
         tops = np.vstack([tops, np.repeat(tops[-1:], pad, axis=0)])
     t0 = time.perf_counter()
-    ta = hy.taylor_adaptive_batch(system(), np.zeros((6, BATCH)), tol=tol, pars=np.ones((3, BATCH)))
+    ta = hy.taylor_adaptive_batch(make(), np.zeros((6, BATCH)), tol=tol, pars=np.ones((3, BATCH)))
     compile_ms = (time.perf_counter() - t0) * 1e3
     best = float("inf")
     theta = np.zeros(len(tops))
@@ -56,7 +69,7 @@ def main():
             ta.propagate_until(T_END)
             theta[b:b + BATCH] = ta.state[0, :]
         best = min(best, time.perf_counter() - t0)
-    print(f"heyoka batch-{BATCH} tol {tol:.0e}: {n} tops, best of {repeats} {best * 1e3:.1f} ms, "
+    print(f"heyoka batch-{BATCH} {path} tol {tol:.0e}: {n} tops, best of {repeats} {best * 1e3:.1f} ms, "
           f"{best / n * 1e3:.4f} ms per top, compile {compile_ms:.0f} ms", flush=True)
     for x in theta[:n]:
         print(repr(float(x)))
