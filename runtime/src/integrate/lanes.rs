@@ -158,7 +158,7 @@ pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize, const W: usize>(
 
 /// Every member on the scalar driver, in order.
 #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
-pub(crate) fn one_at_a_time<L: Lagrangian<N>, const N: usize>(
+fn one_at_a_time<L: Lagrangian<N>, const N: usize>(
     sims: &mut [Simulation<'_, L, N>],
     out: &mut Out<'_, N>,
 ) {
