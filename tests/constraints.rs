@@ -384,6 +384,26 @@ fn plane_pendulum_tension_and_motion_match_the_angle_pendulum() {
     assert!(xy.invariants().constraints.unwrap().position <= 1e-12);
 }
 
+#[test]
+fn the_constrained_solve_does_not_depend_on_the_unit_of_mass() {
+    // Masses 2^±140 (7e-43 and 1.4e42, atoms or planets in SI units): the accelerations are the
+    // same and λ scales with m, bit for bit — the solve scales M by a power of two before its
+    // division-free elimination, so no unit pushes it off its fast path or out of range.
+    let (q, v) = plane_point(PLANE.l, 0.7, -1.3);
+    let unit = PlanePendulum { m: 1.0, ..PLANE };
+    let (a1, l1) = unit.constrained_accelerations(&q, &v, 0.0).unwrap();
+    for e in [-140, 140] {
+        let m = 2f64.powi(e);
+        let heavy = PlanePendulum { m, ..PLANE };
+        let (a, l) = heavy.constrained_accelerations(&q, &v, 0.0).unwrap();
+        assert_eq!(a, a1, "m = 2^{e}");
+        assert_eq!(l[0], l1[0] * m, "m = 2^{e}");
+    }
+    // And the tension against the closed form m (l θ̇² + g cos θ), T = −2λl.
+    let tension = unit.m * (PLANE.l * 1.3 * 1.3 + PLANE.g * 0.7_f64.cos());
+    assert!((-2.0 * l1[0] * PLANE.l - tension).abs() < 1e-13 * tension);
+}
+
 // ---------------------------------------------------------------------------------------------
 // 3. Bead on a rotating hoop: a rheonomic constraint
 // ---------------------------------------------------------------------------------------------
