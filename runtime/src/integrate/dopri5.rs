@@ -173,7 +173,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
     fn last_state(&self) -> Y<N> {
         self.y
     }
-    fn set_node(&mut self, y: Y<N>, stats: &mut Stats) -> Result<(), Fault> {
+    fn set_node(&mut self, y: Y<N>, _stats: &mut Stats) -> Result<(), Fault> {
         // The dense output y_old + θ(r1 + (1−θ)(r2 + θ(r3 + (1−θ) r4))) with r1 = y1 − y_old,
         // r2 = h k0 − r1, r3 = r1 − h k6 − r2: rebuilt for y1 + δ it is r1 + δ, r2 − δ, r3 + 2δ,
         // so it ends at y.
@@ -185,7 +185,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> 
                 self.r[3][c][i] += 2.0 * d;
             }
         }
-        self.k[0] = rhs(self.sys, self.t, &y, stats)?;
+        // The slope there (FSAL) as `Stepper::set_node` says: q̇ from y, q̈ kept.
+        self.k[0][0] = y[1];
         self.y = y;
         Ok(())
     }

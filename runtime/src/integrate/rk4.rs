@@ -116,8 +116,9 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Rk4<'_, L, N> {
     fn last_state(&self) -> Y<N> {
         self.y
     }
-    fn set_node(&mut self, y: Y<N>, stats: &mut Stats) -> Result<(), Fault> {
-        self.f = rhs(self.sys, self.t, &y, stats)?;
+    fn set_node(&mut self, y: Y<N>, _stats: &mut Stats) -> Result<(), Fault> {
+        // The next step's k₁ as `Stepper::set_node` says: q̇ from y, q̈ kept.
+        self.f[0] = y[1];
         self.y = y;
         Ok(())
     }

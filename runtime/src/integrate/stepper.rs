@@ -47,6 +47,14 @@ pub(crate) trait Stepper<const N: usize> {
     /// Replaces the state at the current node by `y` (a constrained run's projection onto the
     /// constraints, a small change) and refreshes what the next step reuses from the node (the
     /// right-hand side there: FSAL), so the next step starts from `y`.
+    ///
+    /// The explicit methods take the velocity half of that slope from `y` exactly and keep the
+    /// acceleration half from before the projection: the projection moves the state by about
+    /// the step's local error δ, so q̈ there differs by O(δ) and the next step by O(h δ), far
+    /// below the tolerance, while evaluating it anew cost one right-hand side per step (1 in 13
+    /// for DOP853). Measured on the quaternion top (DOP853, t = 114.3, rtol 1e-8 / 1e-10 /
+    /// 1e-12): the largest error in cos θ moved 4.4e-6 → 4.8e-6, 3.58e-8 → 3.69e-8,
+    /// 2.50e-10 → 2.51e-10, with the same steps, for 5 % less time.
     fn set_node(&mut self, y: Y<N>, stats: &mut Stats) -> Result<(), Fault>;
     /// Takes one accepted step, not beyond `t_end`.
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault>;
