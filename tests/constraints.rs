@@ -387,8 +387,10 @@ fn plane_pendulum_tension_and_motion_match_the_angle_pendulum() {
 #[test]
 fn the_constrained_solve_does_not_depend_on_the_unit_of_mass() {
     // Masses 2^±140 (7e-43 and 1.4e42, atoms or planets in SI units): the accelerations are the
-    // same and λ scales with m, bit for bit — the solve scales M by a power of two before its
-    // division-free elimination, so no unit pushes it off its fast path or out of range.
+    // same and λ scales with m, bit for bit — every step of the solve is homogeneous in M and
+    // scaling by a power of two is exact, and M̃ is brought to order one before a division-free
+    // elimination whose factors would otherwise leave their range (so no unit pushes the
+    // solve off its fast path).
     let (q, v) = plane_point(PLANE.l, 0.7, -1.3);
     let unit = PlanePendulum { m: 1.0, ..PLANE };
     let (a1, l1) = unit.constrained_accelerations(&q, &v, 0.0).unwrap();
@@ -402,6 +404,23 @@ fn the_constrained_solve_does_not_depend_on_the_unit_of_mass() {
     // And the tension against the closed form m (l θ̇² + g cos θ), T = −2λl.
     let tension = unit.m * (PLANE.l * 1.3 * 1.3 + PLANE.g * 0.7_f64.cos());
     assert!((-2.0 * l1[0] * PLANE.l - tension).abs() < 1e-13 * tension);
+    // Two constraints (the four-bar linkage: masses and flywheel scaled together).
+    let fb = FourBar::crank_rocker();
+    let (q, v) = fb.closed_state(0.4, 2.0);
+    let (a1, l1) = fb.constrained_accelerations(&q, &v, 0.0).unwrap();
+    for e in [-140, 140] {
+        let m = 2f64.powi(e);
+        let heavy = FourBar {
+            m1: fb.m1 * m,
+            m2: fb.m2 * m,
+            m3: fb.m3 * m,
+            flywheel: fb.flywheel * m,
+            ..FourBar::crank_rocker()
+        };
+        let (a, l) = heavy.constrained_accelerations(&q, &v, 0.0).unwrap();
+        assert_eq!(a, a1, "four-bar, m = 2^{e}");
+        assert_eq!(l, l1.map(|x| x * m), "four-bar, m = 2^{e}");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -462,11 +462,15 @@ pub struct ConstraintRows<const N: usize, const K: usize> {
 /// (M + w GᵀG) q̈ = f − w Gᵀc + Gᵀλ for any w; with w = (largest Mᵢᵢ)/(largest |G row|²) the
 /// matrix M̃ = M + w GᵀG is positive definite exactly when the constrained system is regular,
 /// and one LDLᵀ of M̃ gives q̈ = M̃⁻¹(f − wGᵀc) + M̃⁻¹Gᵀλ, with λ from the K × K system
-/// (G M̃⁻¹ Gᵀ) λ = −c − G M̃⁻¹(f − wGᵀc). Everything stays on the stack. Small systems (N + K ≤ 6)
-/// solve the same equations as one saddle-point system by division-free elimination
-/// ([`linalg::saddle_solve`](crate::linalg::saddle_solve): the same pivot tests, a shorter
-/// chain of dependent steps), with M̃ scaled by a power of two first so the units of mass do not
-/// matter.
+/// (G M̃⁻¹ Gᵀ) λ = −c − G M̃⁻¹(f − wGᵀc). Everything stays on the stack.
+///
+/// Small systems (N + K ≤ 6), where a right-hand side's time is a chain of dependent steps,
+/// go faster ways first and fall back to the above wherever those decline: one constraint by
+/// coordinate partitioning ([`linalg::saddle_solve_one`](crate::linalg::saddle_solve_one): no
+/// w, the reduced system tested as the LDLᵀ is), then (and for K ≥ 2) the saddle-point system
+/// [M̃ Gᵀ; G 0] by division-free elimination ([`linalg::saddle_solve`](crate::linalg::saddle_solve):
+/// the same pivot tests; M̃ scaled by a power of two first so the units of mass do not matter).
+/// The errors are always those of the careful path.
 ///
 /// Errors: [`DynamicsError::DependentConstraints`] naming the constraint whose row depends on
 /// the others, [`DynamicsError::SingularMassMatrix`] naming the coordinate along which the
@@ -496,6 +500,13 @@ pub fn solve_constrained<const N: usize, const K: usize>(
     let c = &rows.curvature;
     if !(all_finite(g.as_flattened()) && all_finite(c)) {
         return Err(non_finite(q, qdot, t));
+    }
+    if K == 1 && N + K <= SADDLE_MAX {
+        if let Some((a, l)) = crate::linalg::saddle_solve_one(&pieces.mass, &f, &g[0], -c[0]) {
+            let mut lambda = [0.0; K];
+            lambda[0] = l;
+            return Ok((a, lambda));
+        }
     }
     let mut mscale = 0.0_f64;
     for i in 0..N {
@@ -646,10 +657,13 @@ fn multiplier_system<const N: usize, const K: usize>(
     (s, r)
 }
 
-/// Up to this many coordinates plus constraints, [`constrained_fast`] solves the saddle-point
-/// system by division-free elimination ([`linalg::saddle_solve`](crate::linalg::saddle_solve)):
-/// the quaternion top (4 + 1) ran 3.43 → 2.93 ms against the LDLᵀ with two right-hand sides
-/// (BENCHMARKS.md); larger systems are unmeasured and keep the LDLᵀ.
+/// Up to this many coordinates plus constraints, [`solve_constrained`] tries
+/// [`linalg::saddle_solve_one`](crate::linalg::saddle_solve_one) (K = 1) and
+/// [`linalg::saddle_solve`](crate::linalg::saddle_solve) before the LDLᵀ of M̃ with K + 1
+/// right-hand sides. The quaternion top (4 + 1, DOP853 rtol 1e-10) ran 3.43 ms with the LDLᵀ,
+/// 2.93 with `saddle_solve`, and (after the projection's change in `Stepper::set_node`) 2.82
+/// → 2.28 with `saddle_solve_one`; the four-bar linkage (3 + 2) 2.89 → 2.80 ms with
+/// `saddle_solve` (BENCHMARKS.md). Larger systems are unmeasured and keep the LDLᵀ.
 const SADDLE_MAX: usize = 6;
 
 /// [`solve_constrained`] after M̃ and b̃: `None` wherever the careful path must decide.

@@ -281,8 +281,6 @@ pub fn saddle_solve<const N: usize, const K: usize>(
     rows: &[[f64; N]; K],
     d: &[f64; K],
 ) -> Option<([f64; N], [f64; K])> {
-    // 2⁻⁹⁰⁰ and 2⁹⁰⁰.
-    let (low, high) = (f64::from_bits(123 << 52), f64::from_bits(1923 << 52));
     let mut u = *a;
     // col[l][i]: the entry (i, N + l), B's row l, eliminated alongside.
     let mut col = *rows;
@@ -313,7 +311,7 @@ pub fn saddle_solve<const N: usize, const K: usize>(
             r[l] = p * r[l] - clk * x[k];
         }
         scale *= p;
-        ok &= scale > low && scale < high;
+        ok &= in_range(scale);
     }
     // t = −s = c_N B A⁻¹ Bᵀ (positive definite), t λ = c_N (d − B A⁻¹ b) = r.
     let mut t = [[0.0; K]; K];
@@ -335,7 +333,7 @@ pub fn saddle_solve<const N: usize, const K: usize>(
             r[m] = p * r[m] - tlm * r[l];
         }
         tscale *= p;
-        ok &= tscale > low && tscale < high;
+        ok &= in_range(tscale);
     }
     if !ok {
         return None;
@@ -366,6 +364,175 @@ pub fn saddle_solve<const N: usize, const K: usize>(
         out[k] = v;
     }
     (all_finite(&out) && all_finite(&lambda)).then_some((out, lambda))
+}
+
+/// Solves A x = b + g λ, g·x = d (one constraint) for x and λ, with A symmetric positive
+/// semi-definite (upper triangle) as long as it is positive definite on the constraint's
+/// tangent space: [`saddle_solve`] for K = 1 by coordinate partitioning, for N ≤ 5.
+///
+/// The constraint fixes x_p, p the coordinate with the largest g_p² / A_pp (whatever the units): the
+/// other coordinates u solve the reduced system ZᵀAZ u = Zᵀ(b − A e_p d/g_p) with Z's columns
+/// e_a − (g_a/g_p) e_p, written times g_p² (no division), by division-free elimination whose last
+/// 2 × 2 block goes by Cramer's rule; x_p = d/g_p − Σ (g_a/g_p) u_a is found alongside the last
+/// back-substitution, and λ = (A x − b)_p / g_p. A chain of dependent steps about half as long
+/// as [`saddle_solve`]'s, which eliminates all N + 1 unknowns. `None` where a reduced pivot fails
+/// the test of [`ldlt_solve_with`] (d_k > [`ACCURATE_RELATIVE_PIVOT`] of its diagonal entry, i.e.
+/// the constrained system is singular or nearly), where g = 0, where the division-free factors
+/// leave their range, where anything is not finite, and for N > 5.
+///
+/// ```
+/// use lagrange_runtime::linalg::saddle_solve_one;
+/// // A unit mass in the plane pushed along x by 2, held on the line x = y.
+/// let (x, lambda) = saddle_solve_one(&[[1.0, 0.0], [0.0, 1.0]], &[2.0, 0.0], &[1.0, -1.0], 0.0).unwrap();
+/// assert_eq!((x, lambda), ([1.0, 1.0], -1.0));
+/// // A singular A is fine where the constraint fixes its null direction (a rank-1 A in 2D)...
+/// let (x, _) = saddle_solve_one(&[[1.0, 0.0], [0.0, 0.0]], &[2.0, 0.0], &[0.0, 1.0], 0.5).unwrap();
+/// assert_eq!(x, [2.0, 0.5]);
+/// // ...not where it leaves a direction without inertia free.
+/// assert!(saddle_solve_one(&[[1.0, 0.0], [0.0, 0.0]], &[2.0, 0.0], &[1.0, 0.0], 0.5).is_none());
+/// ```
+#[inline(always)]
+pub fn saddle_solve_one<const N: usize>(
+    a: &[[f64; N]; N],
+    b: &[f64; N],
+    g: &[f64; N],
+    d: f64,
+) -> Option<([f64; N], f64)> {
+    if N > 5 {
+        return None;
+    }
+    // The pivot: the largest g_p² / A_pp, compared by cross-multiplying (A_pp = 0 counts as
+    // infinitely large when g_p ≠ 0). The ratio does not change with the units of the
+    // coordinates (A_pp ∝ s_p², g_p ∝ s_p), so neither does the choice.
+    let mut p = 0;
+    let (mut bg, mut ba) = (g[0] * g[0], a[0][0]);
+    for i in 1..N {
+        let (gi, ai) = (g[i] * g[i], a[i][i]);
+        if gi * ba > bg * ai {
+            (bg, ba, p) = (gi, ai, i);
+        }
+    }
+    // One copy per pivot coordinate, so every index is a constant and the arrays stay in
+    // registers (an index known only at run time made the whole solve 20 % slower).
+    match p {
+        0 => partitioned::<N, 0>(a, b, g, d),
+        1 => partitioned::<N, 1>(a, b, g, d),
+        2 => partitioned::<N, 2>(a, b, g, d),
+        3 => partitioned::<N, 3>(a, b, g, d),
+        4 => partitioned::<N, 4>(a, b, g, d),
+        _ => None,
+    }
+}
+
+/// [`saddle_solve_one`] with the pivot coordinate P.
+#[inline(always)]
+fn partitioned<const N: usize, const P: usize>(
+    a: &[[f64; N]; N],
+    b: &[f64; N],
+    g: &[f64; N],
+    d: f64,
+) -> Option<([f64; N], f64)> {
+    if P >= N || N < 2 {
+        return None;
+    }
+    let at = |i: usize, k: usize| if i <= k { a[i][k] } else { a[k][i] };
+    // idx[j]: the coordinate of the j-th reduced unknown (all but P, in order).
+    let idx: [usize; N] = core::array::from_fn(|j| if j < P { j } else { (j + 1).min(N - 1) });
+    let n = N - 1;
+    let gp = g[P];
+    let gp2 = gp * gp;
+    let (app, bp) = (at(P, P), b[P]);
+    // g_p² ZᵀAZ (upper triangle) and g_p² Zᵀ(b − A e_p d/g_p).
+    let mut r = [[0.0; N]; N];
+    let mut rhs = [0.0; N];
+    for j in 0..n {
+        let i = idx[j];
+        let (gi, aip) = (g[i], at(i, P));
+        for l in j..n {
+            let k = idx[l];
+            let (gk, akp) = (g[k], at(k, P));
+            r[j][l] = (gp2 * at(i, k) - gp * gk * aip) + (gi * gk * app - gp * gi * akp);
+        }
+        rhs[j] = (gp2 * b[i] - gp * aip * d) + (gi * app * d - gp * gi * bp);
+    }
+    // Division-free elimination down to the last 2 × 2 block (as in `saddle_solve`: level k's
+    // entries are `scale` times the Schur complement's, the pivot test by multiplications).
+    let diag: [f64; N] = core::array::from_fn(|j| r[j][j]);
+    let mut scale = 1.0;
+    let mut ok = true;
+    let m = n.saturating_sub(2);
+    for k in 0..m {
+        let pk = r[k][k];
+        ok &= pk > ACCURATE_RELATIVE_PIVOT * diag[k] * scale;
+        for i in k + 1..n {
+            let rki = r[k][i];
+            for j in i..n {
+                r[i][j] = pk * r[i][j] - rki * r[k][j];
+            }
+            rhs[i] = pk * rhs[i] - rki * rhs[k];
+        }
+        scale *= pk;
+        ok &= in_range(scale);
+    }
+    let mut u = [0.0; N];
+    if n == 1 {
+        ok &= r[0][0] > ACCURATE_RELATIVE_PIVOT * diag[0];
+        u[0] = rhs[0] / r[0][0];
+    } else {
+        // The last two pivots, a and the next level's a c − b², tested as above.
+        let (j, l) = (n - 2, n - 1);
+        let (pa, pb, pc) = (r[j][j], r[j][l], r[l][l]);
+        let det = pa * pc - pb * pb;
+        ok &= pa > ACCURATE_RELATIVE_PIVOT * diag[j] * scale;
+        ok &= det > ACCURATE_RELATIVE_PIVOT * diag[l] * scale * pa;
+        let inv = 1.0 / det;
+        u[j] = (pc * rhs[j] - pb * rhs[l]) * inv;
+        u[l] = (pa * rhs[l] - pb * rhs[j]) * inv;
+    }
+    if !ok {
+        return None;
+    }
+    // x_p = d/g_p − Σ w_a u_a, w_a = g_a/g_p, with the u_k of the back-substitution (k < m)
+    // written in the last two unknowns by a sweep that does not wait for them.
+    let inv_gp = 1.0 / gp;
+    let inv_r: [f64; N] = core::array::from_fn(|k| 1.0 / r[k][k]);
+    let mut w: [f64; N] = core::array::from_fn(|j| g[idx[j]] * inv_gp);
+    let mut xp = d * inv_gp;
+    for k in 0..m {
+        let wk = w[k] * inv_r[k];
+        xp -= wk * rhs[k];
+        for i in k + 1..n {
+            w[i] -= wk * r[k][i];
+        }
+    }
+    for k in (0..m).rev() {
+        let mut v = rhs[k] * inv_r[k];
+        for i in (k + 1..n).rev() {
+            v -= (r[k][i] * inv_r[k]) * u[i];
+        }
+        u[k] = v;
+    }
+    for j in m..n {
+        xp -= w[j] * u[j];
+    }
+    let mut x = [0.0; N];
+    for j in 0..n {
+        x[idx[j]] = u[j];
+    }
+    x[P] = xp;
+    let mut ap = -bp;
+    for i in 0..N {
+        ap += at(P, i) * x[i];
+    }
+    let lambda = ap * inv_gp;
+    (all_finite(&x) && lambda.is_finite()).then_some((x, lambda))
+}
+
+/// The division-free eliminations' factor c_k within [2⁻⁹⁰⁰, 2⁹⁰⁰] (it grows like the entries
+/// to the power 2^k; outside, the caller takes another path).
+#[inline(always)]
+fn in_range(scale: f64) -> bool {
+    scale > f64::from_bits(123 << 52) && scale < f64::from_bits(1923 << 52)
 }
 
 fn lu_solve_upper<const N: usize>(
@@ -670,6 +837,95 @@ mod tests {
         // Coordinates in units 10⁻⁴…10⁴ apart: the pivot test is relative to each diagonal.
         agrees::<4, 1>(9, 4.0);
         agrees::<3, 2>(10, 4.0);
+    }
+
+    /// [`saddle_solve_one`] on random systems: A positive definite, or of rank N − 1 (the
+    /// quaternion top's kind: the constraint fixes the direction without inertia), in units
+    /// ±`spread` decades apart.
+    fn one_agrees<const N: usize>(seed: u64, spread: f64, singular: bool) {
+        let mut rng = Rng(seed);
+        let mut worst = [0.0_f64; 2];
+        for case in 0..500 {
+            let (mut a, b, rows, d, scale) = problem::<N, 1>(&mut rng, spread);
+            if singular {
+                // A = S RᵀR S with R of N − 1 rows: rank N − 1.
+                let r: [[f64; N]; N] =
+                    core::array::from_fn(|_| core::array::from_fn(|_| rng.next()));
+                for i in 0..N {
+                    for k in i..N {
+                        let s: f64 = r[..N - 1].iter().map(|row| row[i] * row[k]).sum();
+                        a[i][k] = s * scale[i] * scale[k];
+                    }
+                }
+            }
+            let (x, lambda) = saddle_solve_one(&a, &b, &rows[0], d[0])
+                .unwrap_or_else(|| panic!("N = {N}, case {case}: declined {a:?} {rows:?}"));
+            let (xr, lr) = reference(&a, &b, &rows, &d);
+            let sx = |x: &[f64]| -> Vec<f64> { x.iter().zip(&scale).map(|(v, s)| v * s).collect() };
+            let (x_s, xr_s) = (sx(&x), sx(&xr));
+            let size = xr_s.iter().chain(&lr).fold(0.0_f64, |m, v| m.max(v.abs()));
+            for (got, want) in x_s.iter().chain([&lambda]).zip(xr_s.iter().chain(&lr)) {
+                assert!(
+                    (got - want).abs() <= 1e-8 * size,
+                    "N = {N}, case {case}: {got} against {want}"
+                );
+            }
+            // Residuals relative to the terms summed: A x − b − gλ, and g·x − d (x_p is found
+            // from the constraint, so that one holds to the rounding of its own sum).
+            let at = |i: usize, k: usize| if i <= k { a[i][k] } else { a[k][i] };
+            for i in 0..N {
+                let terms = (0..N)
+                    .map(|k| at(i, k) * x[k])
+                    .chain([-rows[0][i] * lambda]);
+                let (sum, size) = terms.fold((-b[i], b[i].abs()), |(s, m), v| (s + v, m + v.abs()));
+                worst[0] = worst[0].max(sum.abs() / size);
+            }
+            let terms = (0..N).map(|i| rows[0][i] * x[i]);
+            let (sum, size) = terms.fold((-d[0], d[0].abs()), |(s, m), v| (s + v, m + v.abs()));
+            worst[1] = worst[1].max(sum.abs() / size);
+        }
+        // The largest seen: 2.4e-15 and 2.6e-16.
+        assert!(
+            worst[0] <= 1e-14 && worst[1] <= 1e-15,
+            "N = {N}: relative residuals {worst:?}"
+        );
+    }
+
+    #[test]
+    fn saddle_solve_one_agrees_with_full_pivoting_lu() {
+        one_agrees::<2>(11, 0.0, false);
+        one_agrees::<3>(12, 0.0, false);
+        one_agrees::<4>(13, 0.0, false);
+        one_agrees::<5>(14, 0.0, false);
+        one_agrees::<3>(15, 0.0, true);
+        one_agrees::<4>(16, 0.0, true);
+        one_agrees::<5>(17, 0.0, true);
+        one_agrees::<4>(18, 4.0, false);
+        one_agrees::<4>(19, 4.0, true);
+    }
+
+    #[test]
+    fn saddle_solve_one_declines_singular_systems_and_large_n() {
+        let eye = [[1.0, 0.0], [0.0, 1.0]];
+        // g = 0, or not finite.
+        assert!(saddle_solve_one(&eye, &[1.0, 0.0], &[0.0, 0.0], 0.0).is_none());
+        assert!(saddle_solve_one(&eye, &[1.0, 0.0], &[f64::NAN, 1.0], 0.0).is_none());
+        assert!(saddle_solve_one(&eye, &[f64::INFINITY, 0.0], &[1.0, 1.0], 0.0).is_none());
+        // A direction without inertia that the constraint does not fix (3 coordinates, the
+        // constraint on the first, no inertia along the third).
+        let a = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]];
+        assert!(saddle_solve_one(&a, &[1.0, 0.0, 0.0], &[1.0, 0.0, 0.0], 0.0).is_none());
+        // Nearly so: a pivot below √ε of its diagonal (the last 2 × 2 block's determinant).
+        let a = [[1.0, 0.0, 0.0], [0.0, 1.0, 1.0], [0.0, 0.0, 1.0 + 1e-10]];
+        assert!(saddle_solve_one(&a, &[1.0, 0.0, 0.0], &[1.0, 0.0, 0.0], 0.0).is_none());
+        let a = [[1.0, 0.0, 0.0], [0.0, 1.0, 1.0], [0.0, 0.0, 1.0 + 1e-6]];
+        assert!(saddle_solve_one(&a, &[1.0, 0.0, 0.0], &[1.0, 0.0, 0.0], 0.0).is_some());
+        // Six coordinates: not this solve's sizes.
+        let mut a6 = [[0.0; 6]; 6];
+        for (i, row) in a6.iter_mut().enumerate() {
+            row[i] = 1.0;
+        }
+        assert!(saddle_solve_one(&a6, &[0.0; 6], &[1.0; 6], 0.0).is_none());
     }
 
     #[test]
