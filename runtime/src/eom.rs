@@ -554,10 +554,11 @@ pub fn solve_constrained<const N: usize, const K: usize>(
             bt[i] -= wu * g[j][i] * c[j];
         }
     }
-    // The fast path: one factorization and one sweep for z = M̃⁻¹ b̃ and Y_j = M̃⁻¹ G_jᵀ, and
-    // the K×K system by Cholesky; anything unusual (a small pivot, an indefinite M̃, dependent
-    // rows, a non-finite value) goes to the careful path below, which says what happened.
-    // λ of the scaled system is `unit` λ.
+    // The fast path (`constrained_fast`: the saddle-point elimination for small systems, else
+    // one factorization and one sweep for z = M̃⁻¹ b̃ and Y_j = M̃⁻¹ G_jᵀ and the K×K system by
+    // Cholesky); anything unusual (a small pivot, an indefinite M̃, dependent rows, a non-finite
+    // value) goes to the careful path below, which says what happened. λ of the scaled system
+    // is `unit` λ.
     let back = if small {
         power_of_two_ratio(mscale, 1.0)
     } else {
