@@ -321,20 +321,7 @@ pub fn saddle_solve<const N: usize, const K: usize>(
         }
     }
     let tdiag: [f64; K] = core::array::from_fn(|l| t[l][l]);
-    let mut tscale = 1.0;
-    for l in 0..K {
-        let p = t[l][l];
-        ok &= p > ACCURATE_RELATIVE_PIVOT * tdiag[l] * tscale;
-        for m in l + 1..K {
-            let tlm = t[l][m];
-            for n in m..K {
-                t[m][n] = p * t[m][n] - tlm * t[l][n];
-            }
-            r[m] = p * r[m] - tlm * r[l];
-        }
-        tscale *= p;
-        ok &= in_range(tscale);
-    }
+    ok &= eliminate(&mut t, &mut r, K, K, &tdiag).0;
     if !ok {
         return None;
     }
@@ -455,25 +442,10 @@ fn partitioned<const N: usize, const P: usize>(
         }
         rhs[j] = (gp2 * b[i] - gp * aip * d) + (gi * app * d - gp * gi * bp);
     }
-    // Division-free elimination down to the last 2 × 2 block (as in `saddle_solve`: level k's
-    // entries are `scale` times the Schur complement's, the pivot test by multiplications).
+    // Division-free elimination down to the last 2 × 2 block.
     let diag: [f64; N] = core::array::from_fn(|j| r[j][j]);
-    let mut scale = 1.0;
-    let mut ok = true;
     let m = n.saturating_sub(2);
-    for k in 0..m {
-        let pk = r[k][k];
-        ok &= pk > ACCURATE_RELATIVE_PIVOT * diag[k] * scale;
-        for i in k + 1..n {
-            let rki = r[k][i];
-            for j in i..n {
-                r[i][j] = pk * r[i][j] - rki * r[k][j];
-            }
-            rhs[i] = pk * rhs[i] - rki * rhs[k];
-        }
-        scale *= pk;
-        ok &= in_range(scale);
-    }
+    let (mut ok, scale) = eliminate(&mut r, &mut rhs, n, m, &diag);
     let mut u = [0.0; N];
     if n == 1 {
         ok &= r[0][0] > ACCURATE_RELATIVE_PIVOT * diag[0];
@@ -526,6 +498,38 @@ fn partitioned<const N: usize, const P: usize>(
     }
     let lambda = ap * inv_gp;
     (all_finite(&x) && lambda.is_finite()).then_some((x, lambda))
+}
+
+/// The first `levels` levels of division-free elimination of the leading n × n block of a
+/// symmetric matrix (upper triangle) and its right side: a_ij ← p_k a_ij − a_ki a_kj for
+/// i, j > k, p_k = a_kk. Level k's entries are c_k times the Schur complement's (c_0 = 1,
+/// c_{k+1} = c_k p_k), so the LDLᵀ pivot d_k = p_k / c_k is tested against
+/// [`ACCURATE_RELATIVE_PIVOT`] of its diagonal entry (`diag`, before elimination) by
+/// multiplications. Returns whether every pivot passed and c stayed in range, and c.
+#[inline(always)]
+fn eliminate<const M: usize>(
+    a: &mut [[f64; M]; M],
+    rhs: &mut [f64; M],
+    n: usize,
+    levels: usize,
+    diag: &[f64; M],
+) -> (bool, f64) {
+    let mut scale = 1.0;
+    let mut ok = true;
+    for k in 0..levels {
+        let pk = a[k][k];
+        ok &= pk > ACCURATE_RELATIVE_PIVOT * diag[k] * scale;
+        for i in k + 1..n {
+            let aki = a[k][i];
+            for j in i..n {
+                a[i][j] = pk * a[i][j] - aki * a[k][j];
+            }
+            rhs[i] = pk * rhs[i] - aki * rhs[k];
+        }
+        scale *= pk;
+        ok &= in_range(scale);
+    }
+    (ok, scale)
 }
 
 /// The division-free eliminations' factor c_k within [2⁻⁹⁰⁰, 2⁹⁰⁰] (it grows like the entries
