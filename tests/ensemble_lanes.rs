@@ -258,6 +258,27 @@ fn samples_and_events_in_lanes_equal_scalar_runs() {
     assert_eq!(sweep(11, 4, None, well, cfg), scalar);
 }
 
+fn end_only<L: Lagrangian<3>>(sim: Sim<'_, L>) -> Sim<'_, L> {
+    every_step_any(sim).sample_every(4.0)
+}
+
+fn taylor_end_only<L: Lagrangian<3>>(sim: Sim<'_, L>) -> Sim<'_, L> {
+    taylor_every_step(sim).sample_every(4.0)
+}
+
+/// Samples at the start and the end only (the last node): the lanes keep no interpolant
+/// (nothing falls inside a step) and still give every member's scalar run.
+#[test]
+fn end_only_sampling_in_lanes_equals_scalar_runs() {
+    let scalar = sweep(13, 1, None, well, end_only);
+    assert!(scalar
+        .iter()
+        .all(|r| r.as_ref().is_ok_and(|r| r.0.len() == 2 * 8)));
+    assert_eq!(sweep(13, 4, None, well, end_only), scalar);
+    let scalar = sweep(13, 1, None, well, taylor_end_only);
+    assert_eq!(sweep(13, 4, None, well, taylor_end_only), scalar);
+}
+
 /// The jets mode has no generated lanes code: the default calls `accelerations` lane by lane, and
 /// the runs are again the scalar ones.
 #[test]

@@ -117,6 +117,18 @@ impl Sampling<'_> {
         }
     }
 
+    /// Whether a sample time falls strictly between t0 and the end `until` (beyond `snap` of
+    /// it): only then may a sample need the method's interpolant (t0 is the initial state, the
+    /// end is the last node).
+    fn inside(&self, t0: f64, until: f64) -> bool {
+        let end = until - self.snap();
+        match *self {
+            Sampling::Steps => false,
+            Sampling::Every(_) => self.time(0, t0, until).is_some_and(|t| t < end),
+            Sampling::At { times, .. } => times.iter().any(|&t| t > t0 && t < end),
+        }
+    }
+
     /// How close to a node a sample time is taken at the node.
     fn snap(&self) -> f64 {
         match *self {
@@ -188,7 +200,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
     /// Whether the run reads the method's interpolant between nodes (samples off the nodes,
     /// events, the work integral): a lane run then keeps each member's stages.
     pub(super) fn needs_interpolant(&self, o: &RunOptions) -> bool {
-        Self::RECORDS_WORK || !self.events.is_empty() || !matches!(o.sampling, Sampling::Steps)
+        Self::RECORDS_WORK || !self.events.is_empty() || o.sampling.inside(o.t0, o.until)
     }
 
     /// The statistics so far (the lanes engine counts a member's work here).
@@ -522,4 +534,24 @@ pub(super) struct Progress {
     g_new: Vec<f64>,
     hits: Vec<(f64, usize, Direction)>,
     next_sample: usize,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Sampling;
+
+    #[test]
+    fn only_samples_strictly_inside_the_run_need_the_interpolant() {
+        let (t0, until) = (1.0, 11.0);
+        assert!(!Sampling::Steps.inside(t0, until));
+        // A grid whose first time is the end (or past it, or within 1e-9 Δ of it).
+        assert!(!Sampling::Every(10.0).inside(t0, until));
+        assert!(!Sampling::Every(20.0).inside(t0, until));
+        assert!(!Sampling::Every(10.0 - 1e-12).inside(t0, until));
+        assert!(Sampling::Every(5.0).inside(t0, until));
+        let at = |times: &'static [f64]| Sampling::At { times, snap: 1e-9 };
+        assert!(!at(&[1.0, 11.0]).inside(t0, until));
+        assert!(!at(&[0.5, 11.0 - 1e-10]).inside(t0, until));
+        assert!(at(&[1.0, 6.0, 11.0]).inside(t0, until));
+    }
 }
