@@ -1,6 +1,9 @@
 //! Small fixed-size dense solves for the mass matrix: LDLᵀ with scale-invariant pivot tests, and
 //! LU (partial pivoting, on the equilibrated matrix) when the matrix is indefinite. The loops run
-//! along rows (contiguous, vectorizable), so the same code serves N = 2 and N = 64.
+//! along rows (contiguous, vectorizable), so the same code serves N = 2 and N = 64. For the
+//! constrained equations of small systems, the saddle-point solves [`saddle_solve`] and
+//! [`saddle_solve_one`]: division-free elimination, the same pivot tests, a shorter chain of
+//! dependent steps.
 
 /// Why a small solve failed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -260,7 +263,7 @@ pub fn ldlt_solve_with<const N: usize, const K: usize>(
 /// and overlap with the elimination; only the last one (the multipliers') is on the critical
 /// path. Level k's entries are c_k times the usual Schur complement's, c_{k+1} = c_k p_k, so the
 /// LDLᵀ pivot d_k = p_k / c_k is tested as in [`ldlt_solve_with`] (d_k > [`ACCURATE_RELATIVE_PIVOT`]
-/// · a_kk) by multiplications. `None` wherever that test fails (also for B G⁻¹ Bᵀ, by its own
+/// · a_kk) by multiplications. `None` wherever that test fails (also for B A⁻¹ Bᵀ, by its own
 /// diagonal), where c_k leaves [2⁻⁹⁰⁰, 2⁹⁰⁰] (it grows like the entries to the power 2^k, so
 /// scale A to a unit diagonal first), or where anything is not finite: the caller then takes a
 /// careful path.
