@@ -459,6 +459,7 @@ fn partitioned<const N: usize, const P: usize>(
         let (pa, pb, pc) = (r[j][j], r[j][l], r[l][l]);
         let det = pa * pc - pb * pb;
         ok &= pa > ACCURATE_RELATIVE_PIVOT * diag[j] * scale;
+        ok &= in_range(scale * pa);
         ok &= det > ACCURATE_RELATIVE_PIVOT * diag[l] * scale * pa;
         let inv = 1.0 / det;
         u[j] = (pc * rhs[j] - pb * rhs[l]) * inv;
