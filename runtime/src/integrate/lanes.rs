@@ -134,8 +134,8 @@ pub(super) fn load_params<L: ?Sized, S, X, const N: usize, const W: usize>(
 /// a lane is its scalar run bit for bit). Lanes in SSE2's 2-wide vectors were 1.6× slower than
 /// AVX2's (BENCHMARKS.md "Ensembles with SIMD lanes"), little faster than one member at a time,
 /// and cost a second compiled copy of both engines for every system in every build. Other
-/// architectures run the engines as their own vector code. Rust does not fuse a multiplication and an addition unless
-/// asked (`mul_add`), so every path computes the same numbers.
+/// architectures run the engines as their own vector code. Rust does not fuse a multiplication
+/// and an addition unless asked (`mul_add`), so every path computes the same numbers.
 pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize, const W: usize>(
     sims: &mut [Simulation<'_, L, N>],
     out: &mut Out<'_, N>,
