@@ -222,3 +222,52 @@ fn constrained_members_equal_their_constrained_runs() {
         assert!(got.invariants().constraints.expect("constrained").position < 1e-12);
     }
 }
+
+/// Members from an iterator run as the same members made from their index: in the iterator's
+/// order, bit for bit, with threads, lanes and shards.
+#[test]
+fn members_from_an_iterator_equal_members_from_an_index() {
+    let by_index = ensemble(13, Some(5))
+        .threads(2)
+        .reduce(&["th", "ph", "ps", "thd", "phd", "psd"], last_state);
+    let members: Vec<Member<HeavyTop, 3>> = (0..13)
+        .map(|i| {
+            let theta = if i == 5 { 0.0 } else { 0.3 + 0.02 * i as f64 };
+            Member::new(top(i), [theta, 0.0, 0.0], [0.0, 1.0, 20.0])
+                .param("i_par", top(i).i_par)
+                .param("theta0", theta)
+        })
+        .collect();
+    fn configure(sim: Simulation<'_, HeavyTop, 3>) -> Simulation<'_, HeavyTop, 3> {
+        sim.method(Method::Dop853 {
+            rtol: 1e-10,
+            atol: 1e-12,
+        })
+        .until(3.0)
+    }
+    let from_iter = Ensemble::from_members(members.clone())
+        .configure(configure)
+        .threads(2)
+        .reduce(&["th", "ph", "ps", "thd", "phd", "psd"], last_state);
+    assert_eq!(from_iter.index, by_index.index);
+    assert_eq!(from_iter.params, by_index.params);
+    for (i, (a, b)) in from_iter.results.iter().zip(&by_index.results).enumerate() {
+        match (a, b) {
+            (Ok(a), Ok(b)) => assert_eq!(a, b, "member {i}"),
+            (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string(), "member {i}"),
+            _ => panic!("member {i}: {a:?} vs {b:?}"),
+        }
+    }
+    assert_eq!(from_iter.failures(), 1);
+    let shard = Ensemble::from_members(members)
+        .configure(configure)
+        .shard(2, 3)
+        .reduce(&["th"], |tr| vec![last_state(tr)[0]]);
+    assert_eq!(shard.index, (8..13).collect::<Vec<_>>());
+    for (j, &i) in shard.index.iter().enumerate() {
+        assert_eq!(
+            shard.results[j].as_ref().unwrap()[0],
+            by_index.results[i].as_ref().unwrap()[0]
+        );
+    }
+}

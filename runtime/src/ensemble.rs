@@ -3,7 +3,8 @@
 //! in its own slot, the results in member order, and shards for job arrays on a cluster.
 //!
 //! A member is a system with its initial state and, for the CSV, its parameters by name
-//! ([`Member`]); the ensemble makes one from each index with a closure, applies the same options
+//! ([`Member`]); the ensemble makes one from each index with a closure ([`Ensemble::new`]) or
+//! takes them from an iterator ([`Ensemble::from_members`]), applies the same options
 //! to every member's [`Simulation`] ([`Ensemble::configure`]), and returns for each member either
 //! its whole [`Trajectory`] ([`Ensemble::run`]) or a row of numbers a closure computes from it
 //! ([`Ensemble::reduce`]). DOP853 and Taylor members run several per vector, one per SIMD lane
@@ -229,6 +230,50 @@ pub struct Results<R> {
     pub results: Vec<Result<R, SimulationError>>,
     /// The names of a reduction's values (empty for whole trajectories).
     pub columns: Vec<String>,
+}
+
+/// The index-to-member closure of [`Ensemble::from_members`] (a type to name the `impl` block by;
+/// it is never called).
+type FromMembers<L, const N: usize> = fn(usize) -> Member<L, N>;
+
+impl<'c, L, const N: usize> Ensemble<'c, L, FromMembers<L, N>, N, Plain>
+where
+    L: Lagrangian<N> + Clone + Sync,
+{
+    /// An ensemble of the members a (finite) iterator gives, in its order: for members that come
+    /// from data (measured initial states, rows of a parameter file) rather than from an index.
+    /// Member `i` is the iterator's `i`-th item; each runs on a clone of it, so shards, threads
+    /// and lanes work as with [`Ensemble::new`].
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # #[derive(Clone)]
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// // Three measured speeds; x(2) = 2 v.
+    /// let speeds = [0.5, -1.0, 3.0];
+    /// let r = Ensemble::from_members(speeds.iter().map(|&v| Member::new(Free, [0.0], [v]).param("v", v)))
+    ///     .configure(|sim| sim.until(2.0))
+    ///     .reduce(&["x_end"], |tr| tr.q[tr.q.len() - 1][0]);
+    /// assert_eq!(r.index, vec![0, 1, 2]);
+    /// for (i, v) in speeds.iter().enumerate() {
+    ///     assert!((r.results[i].as_ref().unwrap() - 2.0 * v).abs() < 1e-12);
+    ///     assert_eq!(r.params[i], vec![("v", *v)]);
+    /// }
+    /// ```
+    pub fn from_members(
+        members: impl IntoIterator<Item = Member<L, N>>,
+    ) -> Ensemble<'c, L, impl Fn(usize) -> Member<L, N> + Sync, N, Plain> {
+        let members: Vec<Member<L, N>> = members.into_iter().collect();
+        // `i` is one of `0..members.len()` (`Ensemble::members`): the index is in range.
+        Ensemble::new(members.len(), move |i| members[i].clone())
+    }
 }
 
 impl<'c, L, F, const N: usize> Ensemble<'c, L, F, N, Plain>
