@@ -9,7 +9,9 @@
 //! Every final θ is compared with a reference run of the same top (our Taylor method at tol
 //! 1e-18, not timed); the time per top is the best of five passes, interleaved over the
 //! configurations. Each member records its initial and final states only (`sample_every(T_END)`),
-//! as heyoka's `propagate_until` returns the final state only.
+//! as heyoka's `propagate_until` returns the final state only. Last, a floor: the time of the
+//! right-hand sides alone (the generated vector code in a chain of dependent evaluations) at the
+//! evaluations DOP853 takes at rtol 1e-11, against heyoka at the same error.
 //!
 //! Run: `cargo bench --bench ensemble`
 
@@ -91,6 +93,65 @@ fn errors(theta: &[f64], reference: &[f64]) -> (f64, f64) {
         .collect();
     e.sort_by(f64::total_cmp);
     (e[e.len() / 2], e[e.len() - 1])
+}
+
+/// The right-hand sides alone: ns per member per evaluation of the top's generated vector code in
+/// 4 AVX2 lanes (as the lanes engine runs it), each evaluation's input depending on the previous
+/// one's output as DOP853's stages do. `None` without AVX2.
+fn rhs_ns_per_member(tops: &[(Top, f64, f64, f64)]) -> Option<f64> {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: `rhs_chain_avx2` only needs AVX2, which the CPU has (checked just above).
+        #[allow(unsafe_code)]
+        return Some(unsafe { rhs_chain_avx2(tops) });
+    }
+    let _ = tops;
+    None
+}
+
+/// See [`rhs_ns_per_member`]: the best of five passes over the tops, 4 per vector.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn rhs_chain_avx2(tops: &[(Top, f64, f64, f64)]) -> f64 {
+    use lagrange::lanes::Lanes;
+    const EVALS: usize = 20_000;
+    let mut best = f64::INFINITY;
+    let mut sum = 0.0;
+    for _ in 0..PASSES {
+        let t0 = Instant::now();
+        for chunk in tops.chunks_exact(4) {
+            let members: [&Top; 4] = core::array::from_fn(|l| &chunk[l].0);
+            let mut per_member = vec![0.0; Top::LANE_PARAMS];
+            let mut params = vec![Lanes::<4>::ZERO; Top::LANE_PARAMS];
+            for (l, m) in members.iter().enumerate() {
+                m.lane_params(&mut per_member);
+                for (p, v) in params.iter_mut().zip(&per_member) {
+                    p.0[l] = *v;
+                }
+            }
+            let mut q = [
+                Lanes(core::array::from_fn(|l| chunk[l].1)),
+                Lanes::ZERO,
+                Lanes::ZERO,
+            ];
+            let mut v = [
+                Lanes::ZERO,
+                Lanes(core::array::from_fn(|l| chunk[l].2)),
+                Lanes(core::array::from_fn(|l| chunk[l].3)),
+            ];
+            for _ in 0..EVALS {
+                let a = Top::accelerations_lanes(&members, &params, &q, &v, Lanes::ZERO);
+                for i in 0..3 {
+                    v[i] += a[i] * 1e-9;
+                }
+                q[0] += v[0] * 1e-9;
+            }
+            sum += std::hint::black_box(q[0].0[0] + v[1].0[3]);
+        }
+        best = best.min(t0.elapsed().as_secs_f64());
+    }
+    std::hint::black_box(sum);
+    best * 1e9 / ((tops.len() / 4 * 4) as f64 * EVALS as f64)
 }
 
 fn main() {
@@ -178,6 +239,34 @@ fn main() {
             t1 / t2
         );
         one_thread.push((name, t1 / TOPS as f64 * 1e3, med));
+    }
+    // What the right-hand sides alone cost at the evaluations DOP853 takes at rtol 1e-11: a
+    // floor under any DOP853 run at that accuracy, however cheap its stages and step control.
+    let dop853_11 = Method::Dop853 {
+        rtol: 1e-11,
+        atol: 1e-13,
+    };
+    let evals = Ensemble::new(tops.len(), |i| {
+        let (top, th, ph_d, ps_d) = tops[i];
+        Member::new(top, [th, 0.0, 0.0], [0.0, ph_d, ps_d])
+    })
+    .configure(move |sim| sim.method(dop853_11).until(T_END).sample_every(T_END))
+    .reduce(&["evals"], |tr| tr.stats.rhs_evals as f64);
+    let evals = evals.results.iter().flatten().sum::<f64>() / TOPS as f64;
+    if let Some(ns) = rhs_ns_per_member(&tops) {
+        let floor = ns * evals * 1e-6;
+        println!(
+            "the top's vector right-hand side (4 AVX2 lanes, each evaluation waiting for the last): {ns:.2} ns per member; DOP853 rtol 1e-11 takes {evals:.0} per top: {floor:.4} ms per top for the right-hand sides alone"
+        );
+        let err = one_thread
+            .iter()
+            .find(|r| r.0 == "our DOP853 rtol 1e-11, 4 lanes")
+            .map_or(f64::NAN, |r| r.2);
+        one_thread.push((
+            "the right-hand sides alone of our DOP853 rtol 1e-11",
+            floor,
+            err,
+        ));
     }
     let input: String = tops
         .iter()
