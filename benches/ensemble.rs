@@ -9,9 +9,10 @@
 //! Every final θ is compared with a reference run of the same top (our Taylor method at tol
 //! 1e-18, not timed); the time per top is the best of five passes, interleaved over the
 //! configurations. Each member records its initial and final states only (`sample_every(T_END)`),
-//! as heyoka's `propagate_until` returns the final state only. Last, a floor: the time of the
-//! right-hand sides alone (the generated vector code in a chain of dependent evaluations) at the
-//! evaluations DOP853 takes at rtol 1e-11, against heyoka at the same error.
+//! as heyoka's `propagate_until` returns the final state only. Last, floors under our DOP853 lanes
+//! at the evaluations DOP853 takes at rtol 1e-11 (the generated vector right-hand side alone, one
+//! vector in flight and two; whole DOP853-shaped steps without step control), against heyoka at
+//! the same error.
 //!
 //! Run: `cargo bench --bench ensemble`
 
@@ -23,6 +24,13 @@ use std::time::Instant;
 #[path = "support/macro_top.rs"]
 mod macro_top;
 use macro_top::MacroTop as Top;
+
+// DOP853's tableau, for the floor measured with DOP853-shaped steps.
+#[path = "../runtime/src/integrate/dop853_coefficients.rs"]
+#[allow(dead_code)]
+mod dop853_coefficients;
+use dop853_coefficients::{A, C};
+use lagrange::lanes::Lanes;
 
 const T_END: f64 = 114.3;
 const TOPS: usize = 1024;
@@ -95,63 +103,153 @@ fn errors(theta: &[f64], reference: &[f64]) -> (f64, f64) {
     (e[e.len() / 2], e[e.len() - 1])
 }
 
-/// The right-hand sides alone: ns per member per evaluation of the top's generated vector code in
-/// 4 AVX2 lanes (as the lanes engine runs it), each evaluation's input depending on the previous
-/// one's output as DOP853's stages do. `None` without AVX2.
-fn rhs_ns_per_member(tops: &[(Top, f64, f64, f64)]) -> Option<f64> {
+/// Floors under the DOP853 lanes engine, in ns per member per evaluation of the top's generated
+/// vector right-hand side on AVX2 (as the engine runs it): `[one, two, steps]` = the right-hand
+/// side alone with one 4-lane vector in flight (each evaluation's input waiting for the last one's
+/// output, as DOP853's stages do), with two independent 4-lane vectors interleaved, and whole
+/// DOP853-shaped steps in 4 lanes (the stage sums of the tableau and y₁, no error norm, no step
+/// control, no bookkeeping). `None` without AVX2.
+fn floors_ns(tops: &[(Top, f64, f64, f64)]) -> Option<[f64; 3]> {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: `rhs_chain_avx2` only needs AVX2, which the CPU has (checked just above).
+        // SAFETY: these functions only need AVX2, which the CPU has (checked just above).
         #[allow(unsafe_code)]
-        return Some(unsafe { rhs_chain_avx2(tops) });
+        return Some(unsafe {
+            [
+                rhs_chains_avx2::<1>(tops),
+                rhs_chains_avx2::<2>(tops),
+                dop853_steps_avx2(tops),
+            ]
+        });
     }
     let _ = tops;
     None
 }
 
-/// See [`rhs_ns_per_member`]: the best of five passes over the tops, 4 per vector.
+/// The lane parameters and initial (q, q̇) of 4 tops.
+type Group<'t> = ([&'t Top; 4], Vec<Lanes<4>>, [[Lanes<4>; 3]; 2]);
+
+/// The 4-lane inputs of the tops `chunk[0..4]`.
+fn group(chunk: &[(Top, f64, f64, f64)]) -> Group<'_> {
+    let members: [&Top; 4] = core::array::from_fn(|l| &chunk[l].0);
+    let mut per_member = vec![0.0; Top::LANE_PARAMS];
+    let mut params = vec![Lanes::<4>::ZERO; Top::LANE_PARAMS];
+    for (l, m) in members.iter().enumerate() {
+        m.lane_params(&mut per_member);
+        for (p, v) in params.iter_mut().zip(&per_member) {
+            p.0[l] = *v;
+        }
+    }
+    let y = [
+        [
+            Lanes(core::array::from_fn(|l| chunk[l].1)),
+            Lanes::ZERO,
+            Lanes::ZERO,
+        ],
+        [
+            Lanes::ZERO,
+            Lanes(core::array::from_fn(|l| chunk[l].2)),
+            Lanes(core::array::from_fn(|l| chunk[l].3)),
+        ],
+    ];
+    (members, params, y)
+}
+
+/// See [`floors_ns`]: C chains of dependent evaluations interleaved, 4 lanes each; the best of
+/// five passes over the tops.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn rhs_chain_avx2(tops: &[(Top, f64, f64, f64)]) -> f64 {
-    use lagrange::lanes::Lanes;
+fn rhs_chains_avx2<const C: usize>(tops: &[(Top, f64, f64, f64)]) -> f64 {
     const EVALS: usize = 20_000;
     let mut best = f64::INFINITY;
     let mut sum = 0.0;
+    let chunks: Vec<&[(Top, f64, f64, f64)]> = tops.chunks_exact(4 * C).collect();
     for _ in 0..PASSES {
         let t0 = Instant::now();
-        for chunk in tops.chunks_exact(4) {
-            let members: [&Top; 4] = core::array::from_fn(|l| &chunk[l].0);
-            let mut per_member = vec![0.0; Top::LANE_PARAMS];
-            let mut params = vec![Lanes::<4>::ZERO; Top::LANE_PARAMS];
-            for (l, m) in members.iter().enumerate() {
-                m.lane_params(&mut per_member);
-                for (p, v) in params.iter_mut().zip(&per_member) {
-                    p.0[l] = *v;
-                }
-            }
-            let mut q = [
-                Lanes(core::array::from_fn(|l| chunk[l].1)),
-                Lanes::ZERO,
-                Lanes::ZERO,
-            ];
-            let mut v = [
-                Lanes::ZERO,
-                Lanes(core::array::from_fn(|l| chunk[l].2)),
-                Lanes(core::array::from_fn(|l| chunk[l].3)),
-            ];
+        for chunk in &chunks {
+            let groups: [Group<'_>; C] = core::array::from_fn(|c| group(&chunk[4 * c..]));
+            let mut y: [[[Lanes<4>; 3]; 2]; C] = core::array::from_fn(|c| groups[c].2);
             for _ in 0..EVALS {
-                let a = Top::accelerations_lanes(&members, &params, &q, &v, Lanes::ZERO);
-                for i in 0..3 {
-                    v[i] += a[i] * 1e-9;
+                for c in 0..C {
+                    let (members, params, _) = &groups[c];
+                    let a =
+                        Top::accelerations_lanes(members, params, &y[c][0], &y[c][1], Lanes::ZERO);
+                    for i in 0..3 {
+                        y[c][1][i] += a[i] * 1e-9;
+                    }
+                    y[c][0][0] += y[c][1][0] * 1e-9;
                 }
-                q[0] += v[0] * 1e-9;
             }
-            sum += std::hint::black_box(q[0].0[0] + v[1].0[3]);
+            sum += std::hint::black_box(y[0][0][0].0[0]);
         }
         best = best.min(t0.elapsed().as_secs_f64());
     }
     std::hint::black_box(sum);
-    best * 1e9 / ((tops.len() / 4 * 4) as f64 * EVALS as f64)
+    best * 1e9 / ((chunks.len() * 4 * C) as f64 * EVALS as f64)
+}
+
+/// ys = y + h Σ_j a_j k_j over the stages `k[..S]` (the tableau's zeros skipped at compile time).
+#[inline(always)]
+fn stage_sum<const S: usize>(
+    y: &[[Lanes<4>; 3]; 2],
+    h: Lanes<4>,
+    a: &[f64; 16],
+    k: &[[[Lanes<4>; 3]; 2]; 13],
+) -> [[Lanes<4>; 3]; 2] {
+    let mut acc = [[Lanes::<4>::ZERO; 3]; 2];
+    for j in 0..S {
+        if a[j] != 0.0 {
+            for r in 0..2 {
+                for i in 0..3 {
+                    acc[r][i] += k[j][r][i] * a[j];
+                }
+            }
+        }
+    }
+    let mut out = *y;
+    for r in 0..2 {
+        for i in 0..3 {
+            out[r][i] += h * acc[r][i];
+        }
+    }
+    out
+}
+
+/// See [`floors_ns`]: DOP853 steps of a fixed h (12 evaluations each, FSAL apart) in 4 lanes, the
+/// cyclic coordinates' stage positions held as the engine holds them; the best of five passes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn dop853_steps_avx2(tops: &[(Top, f64, f64, f64)]) -> f64 {
+    const STEPS: usize = 2_000;
+    let mut best = f64::INFINITY;
+    let mut sum = 0.0;
+    let h = Lanes::<4>::splat(0.02);
+    for _ in 0..PASSES {
+        let t0 = Instant::now();
+        for chunk in tops.chunks_exact(4) {
+            let (members, params, mut y) = group(chunk);
+            let mut k = [[[Lanes::<4>::ZERO; 3]; 2]; 13];
+            for _ in 0..STEPS {
+                let a0 = Top::accelerations_lanes(&members, &params, &y[0], &y[1], Lanes::ZERO);
+                k[0] = [y[1], a0];
+                macro_rules! stages {
+                    ($($s:literal)*) => {$(
+                        let mut ys = stage_sum::<$s>(&y, h, &A[$s], &k);
+                        ys[0][1] = y[0][1];
+                        ys[0][2] = y[0][2];
+                        let a = Top::accelerations_lanes(&members, &params, &ys[0], &ys[1], h * C[$s]);
+                        k[$s] = [ys[1], a];
+                    )*};
+                }
+                stages!(1 2 3 4 5 6 7 8 9 10 11);
+                y = stage_sum::<12>(&y, h, &A[12], &k);
+            }
+            sum += std::hint::black_box(y[0][0].0[0]);
+        }
+        best = best.min(t0.elapsed().as_secs_f64());
+    }
+    std::hint::black_box(sum);
+    best * 1e9 / ((tops.len() / 4 * 4) as f64 * (STEPS * 12) as f64)
 }
 
 fn main() {
@@ -240,8 +338,8 @@ fn main() {
         );
         one_thread.push((name, t1 / TOPS as f64 * 1e3, med));
     }
-    // What the right-hand sides alone cost at the evaluations DOP853 takes at rtol 1e-11: a
-    // floor under any DOP853 run at that accuracy, however cheap its stages and step control.
+    // What the vector arithmetic alone costs at the evaluations DOP853 takes at rtol 1e-11:
+    // floors under our DOP853 lanes at that accuracy, however cheap the step control.
     let dop853_11 = Method::Dop853 {
         rtol: 1e-11,
         atol: 1e-13,
@@ -253,20 +351,31 @@ fn main() {
     .configure(move |sim| sim.method(dop853_11).until(T_END).sample_every(T_END))
     .reduce(&["evals"], |tr| tr.stats.rhs_evals as f64);
     let evals = evals.results.iter().flatten().sum::<f64>() / TOPS as f64;
-    if let Some(ns) = rhs_ns_per_member(&tops) {
-        let floor = ns * evals * 1e-6;
+    if let Some([one, two, steps]) = floors_ns(&tops) {
+        let ms = |ns: f64| ns * evals * 1e-6;
         println!(
-            "the top's vector right-hand side (4 AVX2 lanes, each evaluation waiting for the last): {ns:.2} ns per member; DOP853 rtol 1e-11 takes {evals:.0} per top: {floor:.4} ms per top for the right-hand sides alone"
+            "floors at the {evals:.0} evaluations per top DOP853 takes at rtol 1e-11, per member per evaluation of the vector right-hand side (4 AVX2 lanes): alone, one vector in flight {one:.2} ns ({:.4} ms per top); alone, two vectors interleaved {two:.2} ns ({:.4} ms); DOP853-shaped steps (stage sums, no step control) {steps:.2} ns ({:.4} ms)",
+            ms(one),
+            ms(two),
+            ms(steps)
         );
         let err = one_thread
             .iter()
             .find(|r| r.0 == "our DOP853 rtol 1e-11, 4 lanes")
             .map_or(f64::NAN, |r| r.2);
-        one_thread.push((
-            "the right-hand sides alone of our DOP853 rtol 1e-11",
-            floor,
-            err,
-        ));
+        for (name, ns) in [
+            (
+                "floor: the right-hand sides alone, one vector in flight",
+                one,
+            ),
+            (
+                "floor: the right-hand sides alone, two vectors interleaved",
+                two,
+            ),
+            ("floor: DOP853-shaped steps without step control", steps),
+        ] {
+            one_thread.push((name, ms(ns), err));
+        }
     }
     let input: String = tops
         .iter()
