@@ -203,8 +203,9 @@ impl<L: Holonomic<N, K>, const N: usize, const K: usize> Engine<L, N> for Constr
     }
 }
 
-/// An ensemble of `len` members made by a closure from their index (see the module docs); `E`
-/// says how they run ([`Plain`], or [`Constrained`] after [`Ensemble::constrained`]).
+/// An ensemble of `len` members made by a closure from their index ([`Ensemble::new`]) or taken
+/// from an iterator ([`Ensemble::from_members`]; see the module docs); `E` says how they run
+/// ([`Plain`], or [`Constrained`] after [`Ensemble::constrained`]).
 pub struct Ensemble<'c, L, F, const N: usize, E = Plain> {
     len: usize,
     member: F,
