@@ -379,11 +379,20 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
             .iter()
             .map(|e| e.value(o.t0, &y0[0], &y0[1]))
             .collect();
+        // A step needs nothing here but the samples (no projection, no work, no events, not
+        // every step recorded): `after_step` then looks at the next sample time alone.
+        let quiet = !(self.project_steps && self.manifold.is_some())
+            && !Self::RECORDS_WORK
+            && self.events.is_empty()
+            && !matches!(o.sampling, Sampling::Steps);
         Ok(Progress {
             g_new: g_old.clone(),
             g_old,
             hits: Vec::new(),
             next_sample: 0,
+            quiet,
+            next_time: o.sampling.time(0, o.t0, o.until).unwrap_or(f64::INFINITY),
+            snap: o.sampling.snap(),
         })
     }
 
@@ -402,11 +411,18 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
         o: &RunOptions,
         p: &mut Progress,
     ) -> Result<bool, Fault> {
+        // No sample in this step (the test of the sample loop below, with the next sample time
+        // kept from the last step): nothing to do.
+        if p.quiet && p.next_time > s.t() + p.snap {
+            return Ok(false);
+        }
         let Progress {
             g_old,
             g_new,
             hits,
             next_sample,
+            next_time,
+            ..
         } = p;
         let (t_a, t_b) = (s.t_prev(), s.t());
         if self.project_steps {
@@ -473,6 +489,10 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
                     self.push(ts, &y, w)?;
                     *next_sample += 1;
                 }
+                *next_time = o
+                    .sampling
+                    .time(*next_sample, o.t0, o.until)
+                    .unwrap_or(f64::INFINITY);
             }
             Sampling::Steps => {
                 if stop.is_none() {
@@ -534,6 +554,12 @@ pub(super) struct Progress {
     g_new: Vec<f64>,
     hits: Vec<(f64, usize, Direction)>,
     next_sample: usize,
+    /// Whether a step needs nothing but its samples (see [`Driver::begin`]).
+    quiet: bool,
+    /// The time of sample `next_sample` (∞ past the last one).
+    next_time: f64,
+    /// The sampling's snap (how close to a node a sample is taken at the node).
+    snap: f64,
 }
 
 #[cfg(test)]
