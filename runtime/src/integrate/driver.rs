@@ -381,10 +381,11 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
             .collect();
         // A step needs nothing here but the samples (no projection, no work, no events, not
         // every step recorded): `after_step` then looks at the next sample time alone.
-        let quiet = !(self.project_steps && self.manifold.is_some())
-            && !Self::RECORDS_WORK
-            && self.events.is_empty()
-            && !matches!(o.sampling, Sampling::Steps);
+        let projects = self.project_steps && self.manifold.is_some();
+        let quiet = !(projects
+            || Self::RECORDS_WORK
+            || !self.events.is_empty()
+            || matches!(o.sampling, Sampling::Steps));
         Ok(Progress {
             g_new: g_old.clone(),
             g_old,
