@@ -478,8 +478,13 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
                 // terminal event ends the run here.
                 let snap = o.sampling.snap();
                 let limit = if stop.is_some() { t_stop } else { t_b + snap };
-                while let Some(ts) = o.sampling.time(*next_sample, o.t0, o.until) {
+                loop {
+                    let Some(ts) = o.sampling.time(*next_sample, o.t0, o.until) else {
+                        *next_time = f64::INFINITY;
+                        break;
+                    };
                     if ts > limit {
+                        *next_time = ts;
                         break;
                     }
                     let (y, w) = if (t_b - ts).abs() <= snap {
@@ -490,10 +495,6 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
                     self.push(ts, &y, w)?;
                     *next_sample += 1;
                 }
-                *next_time = o
-                    .sampling
-                    .time(*next_sample, o.t0, o.until)
-                    .unwrap_or(f64::INFINITY);
             }
             Sampling::Steps => {
                 if stop.is_none() {
@@ -559,7 +560,8 @@ pub(super) struct Progress {
     quiet: bool,
     /// The time of sample `next_sample` (∞ past the last one).
     next_time: f64,
-    /// The sampling's snap (how close to a node a sample is taken at the node).
+    /// The sampling's snap (how close to a node a sample is taken at the node), kept for the
+    /// test of every step.
     snap: f64,
 }
 
