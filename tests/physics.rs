@@ -19,3 +19,4 @@ mod non_inertial;
 mod quaternion_top;
 mod rigid_body;
 mod taylor;
+mod taylor_attack;

@@ -301,6 +301,25 @@ pub trait Lagrangian<const N: usize> {
         crate::linearize::equilibrium(self, q_guess, t)
     }
 
+    /// The construct of the body that is not analytic along the motion (`abs`, `signum`, `max`,
+    /// `min`, `clamp`, the square root of a square), where it has one: the Taylor method, whose
+    /// steps sum a series across any kink, refuses such a system (`Simulation::run` returns
+    /// [`InvalidOptions`](crate::SimulationError::InvalidOptions) naming it). `#[lagrangian]`
+    /// sets it in symbolic mode; `None` (the default) elsewhere.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// struct Osc;
+    /// impl Lagrangian<1> for Osc {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// }
+    /// assert_eq!(Osc::NOT_ANALYTIC, None);
+    /// ```
+    const NOT_ANALYTIC: Option<&'static str> = None;
+
     /// The Taylor coefficients of the motion through (q, q̇) = `out[0]` at time t, up to order
     /// `out.len() − 1`: on return `out[k] = [q_k, q̇_k]` with q(t + τ) = Σ q_k τ^k, for the Taylor
     /// method ([`Method::Taylor`](crate::Method::Taylor)); `buf` is scratch space the caller

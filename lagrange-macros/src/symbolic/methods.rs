@@ -38,10 +38,10 @@ pub struct SymbolicOutput {
     pub energy: TokenStream,
     /// Body of `fn energy_and_momenta(&self, q, qdot, t) -> (f64, [f64; N])`.
     pub energy_and_momenta: TokenStream,
-    /// Body of `fn taylor_series(&self, t, out, buf)` (the Taylor method's series), where every
-    /// node has a Taylor rule.
-    /// and, with lanes code, of `fn taylor_series_lanes`.
-    pub taylor: Option<super::taylor::Series>,
+    /// Body of `fn taylor_series(&self, t, out, buf)` (the Taylor method's series) and, with
+    /// lanes code, of `fn taylor_series_lanes`, where every node has a Taylor rule and the body
+    /// is analytic; else why not.
+    pub taylor: Result<super::taylor::Series, super::taylor::NoSeries>,
     /// The lanes code (systems with the unrolled solve): the body of `accelerations_lanes`, the
     /// body of `lane_params` and how many numbers it writes.
     pub lanes: Option<(TokenStream, TokenStream, usize)>,
@@ -595,7 +595,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         None => methods,
     };
     let methods = match taylor {
-        Some(series) => {
+        Ok(series) => {
             let (out, buf) = (names::taylor("out"), names::taylor("buf"));
             let body = &series.scalar;
             let lanes = series.lanes.as_ref().map(|body| {
@@ -635,7 +635,12 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
                 #lanes
             }
         }
-        None => methods,
+        Err(super::taylor::NoSeries::NotAnalytic(what)) => quote! {
+            #methods
+            const NOT_ANALYTIC: ::core::option::Option<&'static str> =
+                ::core::option::Option::Some(#what);
+        },
+        Err(super::taylor::NoSeries::Unsupported) => methods,
     };
     let form = if *has_applied {
         "`Σₖ Mᵢₖ q̈ₖ = fᵢ + Qᵢ − ∂D/∂q̇ᵢ` (accelerations on the left; on the right the terms of L, \

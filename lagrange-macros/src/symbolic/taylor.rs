@@ -5,13 +5,16 @@
 //! The program is built on a copy of the derivation's DAG, because some rules need nodes of their
 //! own: a function c = f(a) uses the series of f′(a) (the function table's derivative, which may
 //! use c itself: exp, tan, sin ↔ cos), an integer power aⁿ is built by squaring (exact at
-//! a = 0, O(log n) nodes), a negative power is 1/a⁻ⁿ, and atan2(y, x) uses x/(x² + y²) and −y/(x² + y²). The values at
-//! order 0 are the straight-line code of the other methods; orders 1, 2, … call one kernel per
-//! node, in id (topological) order. Nodes that depend on no coordinate, velocity or time are
-//! constants of the series (their order-0 value only), and a product or quotient by one is a
-//! scaling. A node the rules do not cover (a power with a state-dependent exponent), or more
-//! than [`MAX_TAYLOR_SLOTS`] series, leaves the method out: the Taylor method then says it needs
-//! another method.
+//! a = 0, O(log n) nodes), a negative power is 1/a⁻ⁿ, and atan2(y, x) uses x/(x² + y²) and
+//! −y/(x² + y²). The values at order 0 are the straight-line code of the other methods; orders
+//! 1, 2, … call one kernel per node, each after the operands it reads at the same order (not in id
+//! order: the nodes the rules add come after the nodes that read them). Nodes that depend on no
+//! coordinate, velocity or time are constants of the series (their order-0 value only), and a
+//! product or quotient by one is a scaling. A node the rules do not cover (a power with a
+//! state-dependent exponent), or more than [`MAX_TAYLOR_SLOTS`] series, leaves the method out:
+//! the Taylor method then says it needs another method. A body that is not analytic along the
+//! motion (`abs`, `signum`, `max`, `min`, `clamp`, the square root of a square) is named in
+//! [`not_analytic`]: the Taylor method refuses it.
 
 use std::collections::BTreeSet;
 
@@ -117,6 +120,119 @@ fn reads(r: &Rule) -> Vec<Id> {
     }
 }
 
+/// The operands whose coefficient of the same order k a rule reads (the others it reads only to
+/// order k − 1: a function's derivative series, a quotient's or a power's own series). The
+/// kernels of order k run in an order where these come first.
+fn reads_same_order(r: &Rule) -> Vec<Id> {
+    match *r {
+        Rule::Leaf | Rule::Constant => vec![],
+        Rule::Neg(a)
+        | Rule::Sqr(a)
+        | Rule::Scale(a, _)
+        | Rule::DivConst(a, _)
+        | Rule::Deriv(a, _)
+        | Rule::Powf(a, _) => vec![a],
+        Rule::Add(a, b)
+        | Rule::Sub(a, b)
+        | Rule::Mul(a, b)
+        | Rule::Div(a, b)
+        | Rule::Select(_, a, b) => vec![a, b],
+        Rule::Deriv2(y, _, x, _) => vec![y, x],
+    }
+}
+
+/// The needed nodes in an order where every node comes after the operands it reads at the same
+/// order (depth-first). Id order is not one: the rules create nodes (a power's square root
+/// aᵐ for a²ᵐ, the 1/x of a negative power) after the node that reads them. `None` on a cycle,
+/// which the rules above cannot make (a function reads its derivative's series one order behind).
+fn kernel_order(rules: &[Option<Rule>], ids: &[Id]) -> Option<Vec<Id>> {
+    let reads = |id: Id| {
+        rules
+            .get(id as usize)
+            .and_then(Option::as_ref)
+            .map(reads_same_order)
+            .unwrap_or_default()
+    };
+    // 0: not seen, 1: on the path, 2: placed.
+    let mut state = vec![0u8; rules.len().max(1)];
+    let mut order = Vec::with_capacity(ids.len());
+    for &root in ids {
+        if state[root as usize] != 0 {
+            continue;
+        }
+        let mut stack: Vec<(Id, Vec<Id>)> = vec![(root, reads(root))];
+        state[root as usize] = 1;
+        while let Some((id, pending)) = stack.last_mut() {
+            let id = *id;
+            match pending.pop() {
+                Some(x) if x == Dag::ZERO || state.get(x as usize).copied() == Some(2) => {}
+                Some(x) if state.get(x as usize).copied() == Some(1) => return None,
+                Some(x) => {
+                    if x as usize >= state.len() {
+                        // A node without a rule (an order-0-only operand): nothing to order.
+                        continue;
+                    }
+                    state[x as usize] = 1;
+                    let r = reads(x);
+                    stack.push((x, r));
+                }
+                None => {
+                    state[id as usize] = 2;
+                    order.push(id);
+                    stack.pop();
+                }
+            }
+        }
+    }
+    Some(order)
+}
+
+/// The first construct among `ids` whose value is not analytic along the motion, named for the
+/// user: the Taylor method would step over its kink (a series taken on one side of x = 0 sums to
+/// the other side's continuation: `|x|` becomes `x`), so it refuses such a body. Functions of the
+/// parameters alone are constants of the series and do not count.
+pub fn not_analytic(dag: &Dag, ids: &[Id]) -> Option<&'static str> {
+    use super::functions::Fun;
+    let square = |x: Id| match dag.node(x) {
+        Node::Mul(a, b) => a == b,
+        Node::Powi(_, n) => n % 2 == 0,
+        _ => false,
+    };
+    // The step H(u) is also in the derivative of `abs`: it is named only where nothing else is.
+    let what = |id: Id| {
+        if dag.is_state_free(id) {
+            return None;
+        }
+        match dag.node(id) {
+            Node::Un(Fun::Abs, _) => Some("`abs` (|x| has a kink at x = 0)"),
+            Node::Un(Fun::Signum, _) => Some("`signum` (a step at 0, as in Coulomb friction)"),
+            Node::Un(Fun::Step, _) => {
+                Some("`abs`, `max`, `min` or `clamp` (a kink: the slope jumps where the argument crosses 0 or the arguments meet)")
+            }
+            Node::Un(Fun::Sqrt, a) if square(a) => {
+                Some("the square root of a square (`sqrt(x * x)` is |x|, with a kink at x = 0)")
+            }
+            Node::Powf(a, e) if square(a) && dag.as_const(e).is_none_or(|e| e.fract() != 0.0) => {
+                Some("a fractional power of a square (`(x * x).powf(0.5)` is |x|, with a kink at x = 0)")
+            }
+            _ => None,
+        }
+    };
+    let step = |id: &Id| matches!(dag.node(*id), Node::Un(Fun::Step, _));
+    ids.iter()
+        .filter(|id| !step(id))
+        .find_map(|&id| what(id))
+        .or_else(|| ids.iter().filter(|id| step(id)).find_map(|&id| what(id)))
+}
+
+/// Why a system has no Taylor series.
+pub enum NoSeries {
+    /// A node has no rule, or the series would need more than [`MAX_TAYLOR_SLOTS`] slots.
+    Unsupported,
+    /// The body is not analytic along the motion: the construct ([`not_analytic`]).
+    NotAnalytic(&'static str),
+}
+
 /// The generated Taylor code: the body of `fn taylor_series` and, where the system has lanes
 /// code, of `fn taylor_series_lanes`.
 pub struct Series {
@@ -132,8 +248,20 @@ pub struct LaneLoads<'a> {
 }
 
 /// The bodies of `fn taylor_series(&self, t, out, buf)` and (given the lanes loads) of
-/// `fn taylor_series_lanes(members, params, t, out, buf)`, or `None` where some node has no rule.
-pub fn body(d: &Derivation, n: usize, lanes: Option<LaneLoads<'_>>) -> Option<Series> {
+/// `fn taylor_series_lanes(members, params, t, out, buf)`, or why there is none.
+pub fn body(d: &Derivation, n: usize, lanes: Option<LaneLoads<'_>>) -> Result<Series, NoSeries> {
+    series(d, n, lanes)
+        .ok_or(NoSeries::Unsupported)?
+        .map_err(NoSeries::NotAnalytic)
+}
+
+/// [`body`]: `None` where some node has no rule, `Some(Err(construct))` for a body that is not
+/// analytic.
+fn series(
+    d: &Derivation,
+    n: usize,
+    lanes: Option<LaneLoads<'_>>,
+) -> Option<Result<Series, &'static str>> {
     let mut dag = d.dag.clone();
     let mut outputs: Vec<Id> = Vec::new();
     for (i, row) in d.mass.iter().enumerate() {
@@ -163,6 +291,9 @@ pub fn body(d: &Derivation, n: usize, lanes: Option<LaneLoads<'_>>) -> Option<Se
     need.insert(Dag::ZERO);
     // Slots: 0 is the zero series; then each needed node; then the accelerations.
     let ids: Vec<Id> = need.iter().copied().filter(|&i| i != Dag::ZERO).collect();
+    if let Some(what) = not_analytic(&dag, &ids) {
+        return Some(Err(what));
+    }
     if ids.len() > MAX_TAYLOR_SLOTS {
         return None;
     }
@@ -170,12 +301,14 @@ pub fn body(d: &Derivation, n: usize, lanes: Option<LaneLoads<'_>>) -> Option<Se
     for (s, &id) in ids.iter().enumerate() {
         slot[id as usize] = s + 1;
     }
+    let kernels = kernel_order(&rules, &ids)?;
     let program = Program {
         d,
         n,
         dag: &dag,
         rules: &rules,
         ids: &ids,
+        kernels: &kernels,
         slot: &slot,
     };
     let scalar = program.emit(None)?;
@@ -183,7 +316,7 @@ pub fn body(d: &Derivation, n: usize, lanes: Option<LaneLoads<'_>>) -> Option<Se
         Some(l) => Some(program.emit(Some(&l))?),
         None => None,
     };
-    Some(Series { scalar, lanes })
+    Some(Ok(Series { scalar, lanes }))
 }
 
 /// What the emission reads: the derivation, the extended DAG, every needed node's rule and slot.
@@ -193,6 +326,8 @@ struct Program<'a> {
     dag: &'a Dag,
     rules: &'a [Option<Rule>],
     ids: &'a [Id],
+    /// The order of the kernels at orders ≥ 1 ([`kernel_order`]).
+    kernels: &'a [Id],
     slot: &'a [usize],
 }
 
@@ -206,6 +341,7 @@ impl Program<'_> {
             dag,
             rules,
             ids,
+            kernels,
             slot,
         } = *self;
         let lane = codegen::lane_type();
@@ -260,9 +396,9 @@ impl Program<'_> {
                 flat.push(s);
             }
         }
-        // Orders ≥ 1: one kernel per node, indices constant.
+        // Orders ≥ 1: one kernel per node, indices constant, each after what it reads.
         let mut step = TokenStream::new();
-        for &id in ids {
+        for &id in kernels {
             let r = rules[id as usize].as_ref()?;
             let s = sl(id);
             let value = match *r {

@@ -152,6 +152,8 @@ pub(super) struct Driver<'s, 'a, 'o, L: ?Sized, const N: usize> {
     traj: Trajectory<N>,
     stats: Stats,
     work: Work,
+    /// The Gauss–Legendre rule of the work integral where the method wants more than 4 points.
+    gauss: Vec<(f64, f64)>,
 }
 
 /// The work W done on the system since t0 (the integral of [`Lagrangian::power`]), known at the
@@ -172,6 +174,36 @@ const GAUSS4: [(f64, f64); 4] = [
     (0.930_568_155_797_026_3, 0.173_927_422_568_726_92),
 ];
 
+/// m-point Gauss–Legendre on [0, 1] (exact for polynomials of degree 2m − 1): the roots of the
+/// Legendre polynomial P_m by Newton's method from Tricomi's estimate, weights 2/((1 − x²)P′²).
+pub(super) fn gauss_legendre(m: usize) -> Vec<(f64, f64)> {
+    let mf = m as f64;
+    let mut out = Vec::with_capacity(m);
+    for i in 1..=m {
+        // cos(π(i − 1/4)/(m + 1/2)): the i-th root from the right, within 1e-3 or so.
+        let mut x = (core::f64::consts::PI * (i as f64 - 0.25) / (mf + 0.5)).cos();
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            // P_m(x) and P_m′(x) by the three-term recurrence.
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=m {
+                let kf = k as f64;
+                let p2 = ((2.0 * kf - 1.0) * x * p1 - (kf - 1.0) * p0) / kf;
+                (p0, p1) = (p1, p2);
+            }
+            dp = mf * (x * p1 - p0) / (x * x - 1.0);
+            let dx = p1 / dp;
+            x -= dx;
+            if dx.abs() <= 1e-16 {
+                break;
+            }
+        }
+        let w = 2.0 / ((1.0 - x * x) * dp * dp);
+        out.push(((1.0 - x) / 2.0, w / 2.0));
+    }
+    out
+}
+
 impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L, N> {
     /// The driver of a run of `method` on `sys` under the options `o`.
     pub(super) fn new(
@@ -190,6 +222,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
             max_samples: o.max_samples,
             traj: Trajectory::empty::<L>(manifold.map_or(0, |m| m.count())),
             work: Work::default(),
+            gauss: Vec::new(),
             stats: Stats::default(),
             manifold,
             project_steps: manifold.is_some()
@@ -244,16 +277,28 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
             .record(&sample, constraint, self.keep, self.max_samples)
     }
 
-    /// ∫ power dt over [a, b] within the last step, on the method's interpolant (4-point
-    /// Gauss–Legendre: the quadrature error is below the interpolant's, so W carries the
-    /// integrator's accuracy).
+    /// ∫ power dt over [a, b] within the last step, on the method's interpolant (Gauss–Legendre,
+    /// [`Stepper::gauss_points`] points: the quadrature error is below the interpolant's, so W
+    /// carries the integrator's accuracy).
     fn power_integral<S: Stepper<N>>(&mut self, s: &mut S, a: f64, b: f64) -> Result<f64, Fault> {
         let h = b - a;
         let mut sum = 0.0;
-        for (x, w) in GAUSS4 {
-            let t = a + x * h;
-            let y = s.interp(t, &mut self.stats)?;
-            sum += w * self.sys.power(&y[0], &y[1], t);
+        let m = s.gauss_points();
+        if m == 4 {
+            for (x, w) in GAUSS4 {
+                let t = a + x * h;
+                let y = s.interp(t, &mut self.stats)?;
+                sum += w * self.sys.power(&y[0], &y[1], t);
+            }
+        } else {
+            if self.gauss.len() != m {
+                self.gauss = gauss_legendre(m);
+            }
+            for &(x, w) in &self.gauss {
+                let t = a + x * h;
+                let y = s.interp(t, &mut self.stats)?;
+                sum += w * self.sys.power(&y[0], &y[1], t);
+            }
         }
         let dw = h * sum;
         if dw.is_finite() {
@@ -567,6 +612,26 @@ pub(super) struct Progress {
 
 #[cfg(test)]
 mod tests {
+    /// The computed rules: 4 points equal the tabulated ones; 10 integrate t¹⁹ on [0, 1] (1/20)
+    /// and their weights sum to 1.
+    #[test]
+    fn gauss_legendre_rules() {
+        let g4 = super::gauss_legendre(4);
+        for (a, b) in g4.iter().zip(super::GAUSS4) {
+            assert!(
+                (a.0 - b.0).abs() < 1e-15 && (a.1 - b.1).abs() < 1e-15,
+                "{a:?} {b:?}"
+            );
+        }
+        let g10 = super::gauss_legendre(10);
+        let sum: f64 = g10.iter().map(|p| p.1).sum();
+        let int: f64 = g10.iter().map(|p| p.1 * p.0.powi(19)).sum();
+        assert!(
+            (sum - 1.0).abs() < 1e-14 && (int - 0.05).abs() < 1e-15,
+            "{sum} {int}"
+        );
+    }
+
     use super::Sampling;
 
     #[test]

@@ -76,6 +76,15 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                          Method::VariationalMidpoint (RATTLE) for a constrained run"
                         .to_string());
                 }
+                if let Some(what) = L::NOT_ANALYTIC {
+                    return Err(format!(
+                        "the Taylor method needs a body that is analytic along the motion (each \
+                         step sums one series, which runs straight across a kink or a jump \
+                         without seeing it), and this system uses {what}. Use Method::Dop853 \
+                         (an adaptive step resolves the kink; an Event at the switch locates it), \
+                         or write the body with a smooth function (x.abs() ≈ (x * x + ε²).sqrt())"
+                    ));
+                }
                 let mut out = [[self.q0, self.qdot0], [[0.0; N]; 2]];
                 let mut buf = crate::taylor::TaylorBuf::new();
                 if self
