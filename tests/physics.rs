@@ -14,6 +14,7 @@ mod forces_macro;
 mod hardening;
 mod heavy_top;
 mod integrators;
+mod large_systems;
 mod linearize;
 mod non_inertial;
 mod quaternion_top;

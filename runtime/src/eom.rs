@@ -395,6 +395,25 @@ pub fn applied_jacobian<L, const N: usize>(
 where
     L: Lagrangian<N> + ?Sized,
 {
+    if N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE {
+        applied_by_columns(sys, q, qdot, t)
+    } else {
+        applied_whole(sys, q, qdot, t)
+    }
+}
+
+/// [`applied_jacobian`] from one evaluation of Q and D in Hessian jets (its own frame, as
+/// [`hessian_jet`](crate::hessian_jet)'s).
+#[inline(never)]
+fn applied_whole<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> AppliedJacobian<N>
+where
+    L: Lagrangian<N> + ?Sized,
+{
     let (qj, vj) = HessianJet::seed(q, qdot);
     let tj = HessianJet::from(t);
     let forces = sys.generalized_forces(&qj, &vj, tj);
@@ -411,6 +430,57 @@ where
         for k in 0..N {
             out.d_q[i][k] = gq[k] - dqv[k][i];
             out.d_qdot[i][k] = gv[k] - dvv[i][k];
+        }
+    }
+    out
+}
+
+/// [`applied_jacobian`] for a large system: Q's gradients from one evaluation in
+/// [`ColumnJet`](crate::jet::ColumnJet)s, D's Hessian in q̇ from one evaluation per column.
+#[inline(never)]
+fn applied_by_columns<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> AppliedJacobian<N>
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    use crate::jet::{ColumnJet, JetCalculus};
+    let tj = ColumnJet::from(t);
+    let (qj, vj) = ColumnJet::seed(q, qdot, None);
+    let forces = sys.generalized_forces(&qj, &vj, tj);
+    let mut out = AppliedJacobian {
+        value: [0.0; N],
+        d_q: [[0.0; N]; N],
+        d_qdot: [[0.0; N]; N],
+    };
+    for i in 0..N {
+        let (gq, gv) = (forces[i].grad_q(), forces[i].grad_qdot());
+        out.value[i] = forces[i].value();
+        out.d_q[i] = gq;
+        out.d_qdot[i] = gv;
+    }
+    // Column k of D's Hessian along q̇_k: ∂²D/∂q_a∂q̇_k and ∂²D/∂q̇_a∂q̇_k.
+    for k in 0..N {
+        let (qj, vj) = ColumnJet::seed(q, qdot, Some(N + k));
+        let d = sys.dissipation(&qj, &vj, tj);
+        if d.is_constant() {
+            // No dissipation (the default's zero): nothing in any column.
+            break;
+        }
+        let (cq, cv) = (d.column_q(), d.column_qdot());
+        if k == 0 {
+            let dv = d.grad_qdot();
+            for i in 0..N {
+                out.value[i] -= dv[i];
+            }
+        }
+        for i in 0..N {
+            // d_q[i][k] −= ∂²D/∂q_k∂q̇_i, d_qdot[i][k] −= ∂²D/∂q̇_i∂q̇_k (symmetric).
+            out.d_qdot[i][k] -= cv[i];
+            out.d_q[k][i] -= cq[i];
         }
     }
     out

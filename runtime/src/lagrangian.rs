@@ -545,6 +545,36 @@ pub fn hessian_jet<L, const N: usize>(
 where
     L: Lagrangian<N> + ?Sized,
 {
+    if N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE {
+        hessian_by_columns(sys, q, qdot, t)
+    } else {
+        hessian_whole(sys, q, qdot, t)
+    }
+}
+
+/// [`hessian_jet`] in one evaluation (its own frame: a large N's would be reserved on the stack
+/// even where the columns are taken).
+#[inline(never)]
+fn hessian_whole<L, const N: usize>(sys: &L, q: &[f64; N], qdot: &[f64; N], t: f64) -> HessianJet<N>
+where
+    L: Lagrangian<N> + ?Sized,
+{
     let (qj, vj) = HessianJet::seed(q, qdot);
     sys.lagrangian(&qj, &vj, HessianJet::from(t))
+}
+
+/// [`hessian_jet`] column by column (see [`HESSIAN_BY_COLUMNS_ABOVE`](crate::jet::HESSIAN_BY_COLUMNS_ABOVE)).
+#[inline(never)]
+fn hessian_by_columns<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> HessianJet<N>
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    HessianJet::by_columns(q, qdot, |qj, vj| {
+        sys.lagrangian(qj, vj, crate::jet::ColumnJet::from(t))
+    })
 }

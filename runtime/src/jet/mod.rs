@@ -7,6 +7,8 @@
 //! - [`ElJet`]: from one evaluation of L, ∂L/∂q, ∂L/∂q̇, the mass matrix ∂²L/∂q̇∂q̇ and the
 //!   directional derivative of ∂L/∂q̇ along (q̇, 0, 1) in (q, q̇, t).
 //! - [`HessianJet`]: the gradient and the full Hessian in (q, q̇), for implicit integrators.
+//! - [`ColumnJet`]: the gradient and one column of the Hessian, from which large systems
+//!   assemble the Hessian (2N evaluations, each O(N) numbers: see [`HESSIAN_BY_COLUMNS_ABOVE`]).
 //! - [`LinJet`]: the gradient and Hessian in (q, q̇) and their derivative along one direction in
 //!   (q, q̇, t) (third derivatives contracted with that direction), for the linearization about a
 //!   steady motion.
@@ -15,11 +17,13 @@
 
 #[macro_use]
 mod scalar_impl;
+mod column;
 mod constraint;
 mod el;
 mod hessian;
 mod lin;
 
+pub use column::{ColumnJet, HESSIAN_BY_COLUMNS_ABOVE};
 pub use constraint::ConstraintJet;
 pub use el::ElJet;
 pub use hessian::HessianJet;
