@@ -711,6 +711,18 @@ impl Results<Vec<f64>> {
     /// `error` (empty, or the member's error as a sentence, its values then empty). With `header
     /// = false` the header line is left out (for the second and later shards of a job array).
     ///
+    /// There is one parameter column per distinct name, in the order the names are first met
+    /// (member order, then each member's order); a member without a name has an empty cell there.
+    /// A shard's columns are those of its own members, so shards concatenate when every member
+    /// has the same names. Fields holding a comma, a quote or a line break are quoted as RFC 4180
+    /// says (inner quotes doubled). Missing parent folders are created.
+    ///
+    /// # Errors
+    ///
+    /// [`std::io::ErrorKind::InvalidInput`], before anything is written, when a member's row has
+    /// not one value per column (the reduction returned more or fewer values than `columns`
+    /// names) or a member names a parameter twice; otherwise the I/O error, naming the path.
+    ///
     /// ```
     /// # use lagrange_runtime::ensemble::{Ensemble, Member};
     /// # use lagrange_runtime::{Lagrangian, Scalar};
@@ -732,22 +744,68 @@ impl Results<Vec<f64>> {
     /// ```
     pub fn write_csv(&self, path: impl AsRef<Path>, header: bool) -> std::io::Result<()> {
         let path = path.as_ref();
+        let text = self.csv_text(header)?;
         let named = |e: std::io::Error| {
             std::io::Error::new(e.kind(), format!("writing {}: {e}", path.display()))
         };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(named)?;
+        }
         let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(named)?);
+        w.write_all(text.as_bytes()).map_err(named)?;
+        w.flush().map_err(named)
+    }
+
+    /// The CSV of [`Results::write_csv`] as text, checked before any of it is written.
+    fn csv_text(&self, header: bool) -> std::io::Result<String> {
+        let invalid = |msg: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, msg);
+        // One column per distinct parameter name, in first-seen order.
+        let mut names: Vec<&str> = Vec::new();
+        for (p, i) in self.params.iter().zip(&self.index) {
+            for (k, (n, _)) in p.iter().enumerate() {
+                if p[..k].iter().any(|(m, _)| m == n) {
+                    return Err(invalid(format!(
+                        "member {i} names the parameter {n:?} twice: give each parameter of a \
+                         member its own name (one CSV column per name)"
+                    )));
+                }
+                if !names.contains(n) {
+                    names.push(n);
+                }
+            }
+        }
+        for (i, r) in self.index.iter().zip(&self.results) {
+            if let Ok(vals) = r {
+                if vals.len() != self.columns.len() {
+                    return Err(invalid(format!(
+                        "member {i}: the reduction returned {} values for {} columns ({}); \
+                         return one value per column named in `reduce` (no CSV written)",
+                        vals.len(),
+                        self.columns.len(),
+                        self.columns.join(", ")
+                    )));
+                }
+            }
+        }
+        let mut out = String::new();
+        let mut line = |cells: Vec<String>| {
+            out.push_str(&cells.join(","));
+            out.push('\n');
+        };
         if header {
             let mut cols = vec!["member".to_string()];
-            if let Some(p) = self.params.first() {
-                cols.extend(p.iter().map(|(n, _)| n.to_string()));
-            }
-            cols.extend(self.columns.iter().cloned());
+            cols.extend(names.iter().map(|n| csv_field(n)));
+            cols.extend(self.columns.iter().map(|c| csv_field(c)));
             cols.push("error".to_string());
-            writeln!(w, "{}", cols.join(",")).map_err(named)?;
+            line(cols);
         }
         for ((i, p), r) in self.index.iter().zip(&self.params).zip(&self.results) {
             let mut row = vec![i.to_string()];
-            row.extend(p.iter().map(|(_, v)| format!("{v:e}")));
+            row.extend(names.iter().map(|n| {
+                p.iter()
+                    .find(|(m, _)| m == n)
+                    .map_or(String::new(), |(_, v)| format!("{v:e}"))
+            }));
             match r {
                 Ok(vals) => {
                     row.extend(vals.iter().map(|v| format!("{v:e}")));
@@ -755,13 +813,24 @@ impl Results<Vec<f64>> {
                 }
                 Err(e) => {
                     row.extend(self.columns.iter().map(|_| String::new()));
-                    let msg = e.to_string().replace(['"', '\n'], " ");
-                    row.push(format!("\"{msg}\""));
+                    // One line per member: a line break in the message becomes a space.
+                    let msg = e.to_string().replace(['\r', '\n'], " ");
+                    row.push(format!("\"{}\"", msg.replace('"', "\"\"")));
                 }
             }
-            writeln!(w, "{}", row.join(",")).map_err(named)?;
+            line(row);
         }
-        w.flush().map_err(named)
+        Ok(out)
+    }
+}
+
+/// A CSV field as RFC 4180 says: quoted, its quotes doubled, when it holds a comma, a quote or a
+/// line break; as it is otherwise.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
     }
 }
 
@@ -796,5 +865,96 @@ impl Bar {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn results(
+        params: Vec<Params>,
+        results: Vec<Result<Vec<f64>, SimulationError>>,
+    ) -> Results<Vec<f64>> {
+        Results {
+            index: (0..params.len()).collect(),
+            params,
+            results,
+            columns: vec!["x".to_string(), "y, z".to_string()],
+        }
+    }
+
+    fn temp(name: &str) -> std::path::PathBuf {
+        std::env::temp_dir()
+            .join(format!("lagrange-results-{}", std::process::id()))
+            .join(name)
+    }
+
+    /// Members with different parameter names get a column per name in first-seen order, empty
+    /// where a member lacks it; names with commas or quotes are quoted as RFC 4180 says; missing
+    /// folders are created.
+    #[test]
+    fn csv_has_a_column_per_parameter_name_quoted() {
+        let r = results(
+            vec![
+                vec![("a", 1.0), ("b,c", 2.0)],
+                vec![("d\"q", 3.0), ("a", 4.0)],
+            ],
+            vec![
+                Ok(vec![5.0, 6.0]),
+                Err(SimulationError::InvalidOptions {
+                    message: "said \"no\"\nthen".to_string(),
+                }),
+            ],
+        );
+        let path = temp("nested/deeper/sweep.csv");
+        let _ = std::fs::remove_dir_all(temp(""));
+        r.write_csv(&path, true).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "member,a,\"b,c\",\"d\"\"q\",x,\"y, z\",error");
+        assert_eq!(lines[1], "0,1e0,2e0,,5e0,6e0,");
+        assert!(lines[2].starts_with("1,4e0,,3e0,,,\""), "{}", lines[2]);
+        assert!(lines[2].contains("said \"\"no\"\" then"), "{}", lines[2]);
+        assert_eq!(lines.len(), 3);
+        // A shard without its header has the same columns.
+        r.write_csv(&path, false).unwrap();
+        let shard = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            shard,
+            lines[1..]
+                .iter()
+                .map(|l| format!("{l}\n"))
+                .collect::<String>()
+        );
+        let _ = std::fs::remove_dir_all(temp(""));
+    }
+
+    /// A reduction that returned fewer or more values than its columns is refused with
+    /// InvalidInput naming the member and the counts, and nothing is written.
+    #[test]
+    fn csv_refuses_a_row_of_the_wrong_length() {
+        for vals in [vec![1.0], vec![1.0, 2.0, 3.0]] {
+            let n = vals.len();
+            let r = results(vec![vec![], vec![]], vec![Ok(vec![1.0, 2.0]), Ok(vals)]);
+            let path = temp(&format!("ragged{n}.csv"));
+            let e = r.write_csv(&path, true).unwrap_err();
+            assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+            let msg = e.to_string();
+            assert!(
+                msg.contains("member 1") && msg.contains(&format!("{n} values for 2 columns")),
+                "{msg}"
+            );
+            assert!(!path.exists());
+        }
+    }
+
+    /// A member naming a parameter twice is refused (one column per name would lose a value).
+    #[test]
+    fn csv_refuses_a_parameter_named_twice() {
+        let r = results(vec![vec![("a", 1.0), ("a", 2.0)]], vec![Ok(vec![1.0, 2.0])]);
+        let e = r.write_csv(temp("twice.csv"), true).unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+        assert!(e.to_string().contains("member 0"), "{e}");
     }
 }
