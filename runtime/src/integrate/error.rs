@@ -116,6 +116,10 @@ pub enum SimulationError {
         qdot: Vec<f64>,
         /// The limit.
         max_samples: usize,
+        /// The bytes one stored sample takes (t, q, q̇, the energy, the momenta, the work and λ).
+        sample_bytes: usize,
+        /// Whether the limit was the default (a memory budget), not set with `.max_samples(n)`.
+        default_limit: bool,
         /// The trajectory up to t.
         partial: PartialTrajectory,
     },
@@ -300,14 +304,20 @@ impl fmt::Display for SimulationError {
                 q,
                 qdot,
                 max_samples,
+                sample_bytes,
+                default_limit,
                 ..
             } => write!(
                 f,
-                "the trajectory reached max_samples = {max_samples} stored samples at t = {t}, q = \
-                 {q}, q̇ = {qdot}: memory is bounded by that option (each sample holds (3N + 3) · 8 \
-                 bytes). Try: record less often (.sample_every(Δ) instead of every step), pass the \
+                "the trajectory reached {limit} stored samples at t = {t}, q = {q}, q̇ = {qdot}: \
+                 memory is bounded by that option. Try: record less often (.sample_every(Δ) instead of every step), pass the \
                  samples to an observer without storing them (.observe(f).keep_samples(false)), or \
                  raise .max_samples(n). The trajectory up to t is kept (partial_trajectory()).",
+                limit = super::trajectory::max_samples_phrase(
+                    *max_samples,
+                    *sample_bytes,
+                    *default_limit
+                ),
                 t = Short(*t),
                 q = Short(&q[..]),
                 qdot = Short(&qdot[..])

@@ -195,3 +195,62 @@ fn dop853_error_estimate_scales_like_h8() {
     let p = slope(&pts);
     assert!(p > 6.5 && p < 9.5, "estimate order {p}, {pts:?}");
 }
+
+/// The default `max_samples` is a memory budget (256 MiB at (3N + 3) · 8 bytes per sample), not
+/// 10⁸ (919 MB for every step of a 10⁷-step top): a grid of 10⁷ samples of x'' = −x is refused
+/// before any step, and the message says the bound is the default and what a sample takes.
+#[test]
+fn default_max_samples_is_a_memory_budget() {
+    use crate::integrate::{Simulation, SimulationError};
+    assert_eq!(super::trajectory::sample_bytes(1, 0), 48);
+    assert_eq!(super::trajectory::sample_bytes(32, 0), 99 * 8);
+    assert_eq!(super::trajectory::sample_bytes(2, 1), 72 + 32);
+    let sim = Simulation::new(&Osc, [1.0], [0.0]).until(1.0);
+    assert_eq!(sim.max_samples_bound(), (256 << 20) / 48);
+    let err = sim.sample_every(1e-7).run().unwrap_err();
+    assert!(
+        matches!(err, SimulationError::InvalidOptions { .. }),
+        "{err}"
+    );
+    let msg = err.to_string();
+    assert!(
+        msg.contains("the default: a 256 MiB budget") && msg.contains("48 bytes per sample"),
+        "{msg}"
+    );
+}
+
+/// Both `max_samples` messages, before the run (a sample grid) and during it (every step), give
+/// the same bytes per sample, computed by one function.
+#[test]
+fn max_samples_messages_agree_on_bytes_per_sample() {
+    use crate::integrate::{Method, Simulation, SimulationError};
+    let before = Simulation::new(&Kepler, kepler_start()[0], kepler_start()[1])
+        .until(1.0)
+        .sample_every(0.01)
+        .max_samples(5)
+        .run()
+        .unwrap_err();
+    let during = Simulation::new(&Kepler, kepler_start()[0], kepler_start()[1])
+        .method(Method::Rk4 { dt: 0.01 })
+        .until(1.0)
+        .max_samples(5)
+        .run()
+        .unwrap_err();
+    assert!(
+        matches!(
+            during,
+            SimulationError::MaxSamples {
+                sample_bytes: 72,
+                default_limit: false,
+                ..
+            }
+        ),
+        "{during}"
+    );
+    for e in [before.to_string(), during.to_string()] {
+        assert!(
+            e.contains("max_samples = 5 (at 72 bytes per sample)"),
+            "{e}"
+        );
+    }
+}

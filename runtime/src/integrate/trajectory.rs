@@ -7,6 +7,37 @@ use std::path::Path;
 use super::events::EventHit;
 use super::state::Fault;
 
+/// The memory the stored samples of a run may take when [`Simulation::max_samples`](crate::Simulation::max_samples)
+/// is not set: 256 MiB (the default bound is this over [`sample_bytes`]).
+pub(crate) const SAMPLE_BUDGET_BYTES: usize = 256 << 20;
+
+/// The bytes one stored sample of a run with `n` coordinates and `k` constraints takes: t, q, q̇,
+/// the energy, the momenta and the work, (3n + 3) · 8, and for k > 0 the multipliers λ (a `Vec`:
+/// 24 + 8k). The one count both `max_samples` messages use.
+pub(crate) fn sample_bytes(n: usize, k: usize) -> usize {
+    let lambda = if k > 0 { 24 + 8 * k } else { 0 };
+    (3 * n + 3) * 8 + lambda
+}
+
+/// The default `max_samples`: as many samples as fit in [`SAMPLE_BUDGET_BYTES`] (at least 2).
+pub(crate) fn default_max_samples(n: usize, k: usize) -> usize {
+    (SAMPLE_BUDGET_BYTES / sample_bytes(n, k)).max(2)
+}
+
+/// `max_samples = …` with what a sample takes and, for the default, where the bound comes from:
+/// the words both `max_samples` messages (before the run and during it) say it with.
+pub(crate) fn max_samples_phrase(max_samples: usize, bytes: usize, by_default: bool) -> String {
+    if by_default {
+        format!(
+            "max_samples = {max_samples} (the default: a {} MiB budget of stored samples at \
+             {bytes} bytes per sample)",
+            SAMPLE_BUDGET_BYTES >> 20
+        )
+    } else {
+        format!("max_samples = {max_samples} (at {bytes} bytes per sample)")
+    }
+}
+
 /// Counters of a run.
 ///
 /// For the explicit methods `rhs_evals` counts evaluations of the accelerations; for the

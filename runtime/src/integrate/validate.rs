@@ -145,7 +145,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
             }
             (None, None) => 0.0,
         };
-        if samples > self.max_samples as f64 {
+        let max_samples = self.max_samples_bound();
+        if samples > max_samples as f64 {
             let asked = match self.sample_every {
                 Some(ds) => format!(
                     "sample_every = {ds:e} over [{}, {until}] asks for {samples:.3e} samples",
@@ -154,9 +155,13 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                 None => format!("sample_at asks for {samples} samples (with t0 and until)"),
             };
             return Err(format!(
-                "{asked}, more than max_samples = {}: sample less often, shorten the run, or \
-                 raise the limit with .max_samples(n) (each sample holds (3N + 2) · 8 bytes)",
-                self.max_samples
+                "{asked}, more than {}: sample less often, shorten the run, or raise the limit \
+                 with .max_samples(n)",
+                super::trajectory::max_samples_phrase(
+                    max_samples,
+                    self.sample_bytes(),
+                    self.max_samples.is_none()
+                )
             ));
         }
         if let Some(times) = &self.sample_at {
