@@ -329,6 +329,8 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
     /// Whether the trajectory stores every sample (default `true`). With `false` it stores the
     /// first and the latest only (the observer of [`observe`](Simulation::observe) still sees
     /// every one), and [`Trajectory::invariants`] still reports the drift over all of them.
+    /// [`max_samples`](Simulation::max_samples) does not apply then (two samples are stored
+    /// whatever it is).
     ///
     /// ```
     /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};

@@ -254,3 +254,29 @@ fn max_samples_messages_agree_on_bytes_per_sample() {
         );
     }
 }
+
+/// `max_samples(1).keep_samples(false)` runs: streaming keeps two samples, so the bound on
+/// stored samples does not apply (it failed at the second sample, and a grid of 101 samples was
+/// refused before the run).
+#[test]
+fn max_samples_does_not_bound_a_run_that_keeps_no_samples() {
+    use crate::integrate::{Method, Simulation};
+    let mut seen = 0;
+    let tr = Simulation::new(&Osc, [1.0], [0.0])
+        .method(Method::Rk4 { dt: 0.1 })
+        .until(1.0)
+        .max_samples(1)
+        .keep_samples(false)
+        .observe(|_| seen += 1)
+        .run()
+        .unwrap();
+    assert_eq!((tr.t.len(), seen), (2, 11));
+    let tr = Simulation::new(&Osc, [1.0], [0.0])
+        .until(1.0)
+        .sample_every(0.01)
+        .max_samples(1)
+        .keep_samples(false)
+        .run()
+        .unwrap();
+    assert_eq!(tr.t, vec![0.0, 1.0]);
+}

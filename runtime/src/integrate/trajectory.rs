@@ -316,7 +316,8 @@ impl<const N: usize> Trajectory<N> {
     }
 
     /// Records a sample: stored when `keep` (at most `max_samples`, else [`Fault::MaxSamples`]);
-    /// otherwise only the first and the latest sample are stored. The running drift sees them all.
+    /// otherwise only the first and the latest sample are stored, whatever `max_samples` is (the
+    /// bound is on memory, and two samples take next to none). The running drift sees them all.
     pub(crate) fn record(
         &mut self,
         s: &Sample<N>,
@@ -327,7 +328,7 @@ impl<const N: usize> Trajectory<N> {
         if let Some((lambda, residual)) = constraint {
             self.residual.add(residual);
             if keep || self.t.len() < 2 {
-                if self.t.len() < max_samples {
+                if !keep || self.t.len() < max_samples {
                     self.lambda.push(lambda);
                 }
             } else if let Some(last) = self.lambda.last_mut() {
@@ -335,7 +336,7 @@ impl<const N: usize> Trajectory<N> {
             }
         }
         if keep || self.t.len() < 2 {
-            if self.t.len() >= max_samples {
+            if keep && self.t.len() >= max_samples {
                 return Err(Fault::MaxSamples(max_samples));
             }
             self.t.push(s.t);

@@ -146,7 +146,8 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
             (None, None) => 0.0,
         };
         let max_samples = self.max_samples_bound();
-        if samples > max_samples as f64 {
+        // Without keep_samples the trajectory stores two samples whatever the grid is.
+        if self.keep_samples && samples > max_samples as f64 {
             let asked = match self.sample_every {
                 Some(ds) => format!(
                     "sample_every = {ds:e} over [{}, {until}] asks for {samples:.3e} samples",
