@@ -96,6 +96,12 @@ impl<L, const N: usize> Member<L, N> {
     }
 }
 
+/// The most threads [`Ensemble::threads`] starts per available core.
+pub const MAX_THREADS_PER_CORE: usize = 4;
+
+/// The one width the lanes engine is compiled for ([`Ensemble::lanes`]).
+const LANES: usize = 4;
+
 /// A member's named parameters.
 pub type Params = Vec<(&'static str, f64)>;
 
@@ -165,7 +171,7 @@ impl<L: Lagrangian<N>, const N: usize> Engine<L, N> for Plain {
     fn lanes() -> Option<LanesFn<L, N>> {
         // One width is compiled (the engine is large and generic in the system): 4, the fastest
         // measured on AVX2 (BENCHMARKS.md, "Ensembles with SIMD lanes").
-        Some(run_lanes::<L, N, 4>)
+        Some(run_lanes::<L, N, LANES>)
     }
 }
 
@@ -393,7 +399,9 @@ where
     }
 
     /// Runs on `n` threads (default: rayon's global pool, one thread per core). `n = 1` runs in
-    /// the calling thread.
+    /// the calling thread; `n = 0` is taken as 1, and `n` above 4 × the available parallelism
+    /// ([`std::thread::available_parallelism`]) as that bound ([`MAX_THREADS_PER_CORE`]): more
+    /// threads than that only cost their start (5000 took 15 s) and memory.
     ///
     /// ```
     /// # use lagrange_runtime::ensemble::{Ensemble, Member};
@@ -413,7 +421,8 @@ where
     /// assert_eq!(r.results[3].as_ref().unwrap().q[0], [3.0]);
     /// ```
     pub fn threads(mut self, n: usize) -> Self {
-        self.threads = Some(n.max(1));
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        self.threads = Some(n.clamp(1, MAX_THREADS_PER_CORE.saturating_mul(cores)));
         self
     }
 
@@ -467,8 +476,9 @@ where
     /// together, one per SIMD lane, each with its own step size (and, for DOP853, accept/reject
     /// decision), a member's lane going to the next member as soon as it ends. The Taylor
     /// method's lanes compute the series of W members in one pass of vector code
-    /// ([`Lagrangian::taylor_series_lanes`]); each member sums its own. Any `w` ≥ 2 runs 4 lanes, the fastest width
-    /// measured (2 and 8 were slower; one width keeps the build short). Without this call: 4
+    /// ([`Lagrangian::taylor_series_lanes`]); each member sums its own. Any `w` ≥ 2 (up to
+    /// `usize::MAX`) runs 4 lanes, the fastest width measured (2 and 8 were slower; one width keeps
+    /// the build short); 0 and 1 turn lanes off. Without this call: 4
     /// where the system's accelerations are generated lanes code
     /// ([`Lagrangian::VECTORIZED_LANES`]: `#[lagrangian]` in symbolic mode), else 1. A lane
     /// equals the member's single run bit for bit where the lanes compute the scalar operations,
@@ -500,7 +510,8 @@ where
     /// }
     /// ```
     pub fn lanes(mut self, w: usize) -> Self {
-        self.lanes = Some(w);
+        // The one compiled width (see `Plain::lanes`), or none.
+        self.lanes = Some(if w >= 2 { LANES } else { 1 });
         self
     }
 
@@ -586,7 +597,7 @@ where
         let range = self.members();
         let bar = Bar::new(self.progress, range.len());
         let width = match self.lanes {
-            None if L::VECTORIZED_LANES => 4,
+            None if L::VECTORIZED_LANES => LANES,
             None => 1,
             Some(w) => w,
         };
@@ -597,7 +608,7 @@ where
                 .threads
                 .unwrap_or_else(rayon::current_num_threads)
                 .max(1);
-            let block = (range.len().div_ceil(4 * threads)).max(16 * width);
+            let block = (range.len().div_ceil(threads.saturating_mul(4))).max(16 * width);
             let blocks: Vec<Range<usize>> = range
                 .clone()
                 .step_by(block)
@@ -956,5 +967,42 @@ mod tests {
         let e = r.write_csv(temp("twice.csv"), true).unwrap_err();
         assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
         assert!(e.to_string().contains("member 0"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod limits {
+    use super::*;
+    use crate::scalar::Scalar;
+
+    /// x'' = −x.
+    #[derive(Clone)]
+    struct Osc;
+    impl Lagrangian<1> for Osc {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [false];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            (v[0] * v[0] - q[0] * q[0]) * 0.5
+        }
+    }
+
+    /// `lanes(usize::MAX)` and `threads(usize::MAX)` run (they overflowed `16 · width` and
+    /// `4 · threads` in a debug build); the threads are bounded by 4 × the available parallelism.
+    #[test]
+    fn huge_lanes_and_threads_are_clamped() {
+        let e = Ensemble::new(3, |i| Member::new(Osc, [i as f64], [0.0]))
+            .configure(|sim| sim.until(1.0))
+            .lanes(usize::MAX)
+            .threads(usize::MAX);
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        assert_eq!(e.threads, Some(MAX_THREADS_PER_CORE * cores));
+        assert_eq!(e.lanes, Some(LANES));
+        let r = e.run();
+        assert_eq!(r.failures(), 0);
+        let e = Ensemble::new(1, |_| Member::new(Osc, [1.0], [0.0]))
+            .threads(0)
+            .lanes(0);
+        assert_eq!((e.threads, e.lanes), (Some(1), Some(1)));
     }
 }
