@@ -226,7 +226,10 @@ pub struct Ensemble<'c, L, F, const N: usize, E = Plain> {
 }
 
 /// What an ensemble returns: for each member run, in member order, its index, its parameters and
-/// its result (its typed error in its slot if it failed: the others are not affected).
+/// its result (its typed error in its slot if it failed: the others are not affected). A member
+/// whose closures or system code panic gets [`SimulationError::MemberPanicked`] with the panic's
+/// message (and no parameters if its member closure panicked); with lanes, a panic in the
+/// system's code is that of every member of its block still running.
 #[derive(Debug)]
 pub struct Results<R> {
     /// The members' indices (all of them, or the shard's block).
@@ -620,11 +623,19 @@ where
             parts.into_iter().flatten().collect()
         } else {
             let one = |i: usize| {
-                let m = (self.member)(i);
-                let sim = (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0));
-                let r = E::run_one(&m.system, sim).map(&keep);
+                let out = match isolated(i, || (self.member)(i)) {
+                    Ok(m) => {
+                        let r = isolated(i, || {
+                            let sim = (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0));
+                            E::run_one(&m.system, sim).map(&keep)
+                        })
+                        .and_then(|r| r);
+                        (m.params, r)
+                    }
+                    Err(e) => (Vec::new(), Err(e)),
+                };
                 bar.inc();
-                (m.params, r)
+                out
             };
             self.in_threads(range.clone().collect(), one)
         };
@@ -655,7 +666,9 @@ where
         }
     }
 
-    /// The members of `range` on the lanes engine, `width` per vector, in member order.
+    /// The members of `range` on the lanes engine, `width` per vector, in member order. A panic
+    /// in a member's closures is that member's [`SimulationError::MemberPanicked`]; a panic in
+    /// the engine (the system's code) is that of every member of the block not yet ended.
     fn lanes_block<R>(
         &self,
         range: Range<usize>,
@@ -663,19 +676,61 @@ where
         keep: &(impl Fn(Trajectory<N>) -> R + Sync),
         bar: &Bar,
     ) -> Vec<(Params, Result<R, SimulationError>)> {
-        let members: Vec<Member<L, N>> = range.map(&self.member).collect();
-        let mut slots: Vec<Option<Result<R, SimulationError>>> =
-            members.iter().map(|_| None).collect();
+        let start = range.start;
+        let mut members: Vec<Option<Member<L, N>>> = Vec::with_capacity(range.len());
+        let mut slots: Vec<Option<Result<R, SimulationError>>> = Vec::with_capacity(range.len());
+        for i in range {
+            match isolated(i, || (self.member)(i)) {
+                Ok(m) => {
+                    members.push(Some(m));
+                    slots.push(None);
+                }
+                Err(e) => {
+                    members.push(None);
+                    slots.push(Some(Err(e)));
+                }
+            }
+        }
         {
-            let mut sims: Vec<Simulation<'_, L, N>> = members
-                .iter()
-                .map(|m| (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0)))
-                .collect();
-            let mut out = |pos: usize, r: Result<Trajectory<N>, SimulationError>| {
-                slots[pos] = Some(r.map(keep));
+            // The members made and configured, with their positions in the block.
+            let mut at: Vec<usize> = Vec::new();
+            let mut sims: Vec<Simulation<'_, L, N>> = Vec::new();
+            for (pos, m) in members.iter().enumerate() {
+                let Some(m) = m else { continue };
+                let sim = isolated(start + pos, || {
+                    (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0))
+                });
+                match sim {
+                    Ok(sim) => {
+                        at.push(pos);
+                        sims.push(sim);
+                    }
+                    Err(e) => slots[pos] = Some(Err(e)),
+                }
+            }
+            let mut out = |k: usize, r: Result<Trajectory<N>, SimulationError>| {
+                let pos = at[k];
+                let r = isolated(start + pos, || r.map(keep)).and_then(|r| r);
+                slots[pos] = Some(r);
                 bar.inc();
             };
-            engine(&mut sims, &mut out);
+            if let Err(e) = isolated(start, || engine(&mut sims, &mut out)) {
+                let message = match e {
+                    SimulationError::MemberPanicked { message, .. } => message,
+                    other => other.to_string(),
+                };
+                for &pos in &at {
+                    if slots[pos].is_none() {
+                        slots[pos] = Some(Err(SimulationError::MemberPanicked {
+                            member: start + pos,
+                            message: format!(
+                                "{message} (in the lanes engine, running members {start}.. \
+                                 together: the system's code panicked for one of them)"
+                            ),
+                        }));
+                    }
+                }
+            }
         }
         members
             .into_iter()
@@ -689,10 +744,25 @@ where
                             .to_string(),
                     })
                 });
-                (m.params, r)
+                (m.map_or_else(Vec::new, |m| m.params), r)
             })
             .collect()
     }
+}
+
+/// `f()`, or the member's [`SimulationError::MemberPanicked`] with the panic's message if it
+/// panicked: one member's panic does not take the others' results with it.
+fn isolated<T>(member: usize, f: impl FnOnce() -> T) -> Result<T, SimulationError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|payload| {
+        let message = if let Some(s) = payload.downcast_ref::<&str>() {
+            (*s).to_string()
+        } else if let Some(s) = payload.downcast_ref::<String>() {
+            s.clone()
+        } else {
+            "a panic whose payload is not a string".to_string()
+        };
+        SimulationError::MemberPanicked { member, message }
+    })
 }
 
 impl<R> Results<R> {
@@ -1004,5 +1074,93 @@ mod limits {
             .threads(0)
             .lanes(0);
         assert_eq!((e.threads, e.lanes), (Some(1), Some(1)));
+    }
+
+    /// x'' = −x, whose Lagrangian panics once |x| passes `limit` (system code that panics).
+    #[derive(Clone)]
+    struct Fragile {
+        limit: f64,
+    }
+    impl Lagrangian<1> for Fragile {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [false];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            assert!(q[0].value().abs() <= self.limit, "x left the table");
+            (v[0] * v[0] - q[0] * q[0]) * 0.5
+        }
+    }
+
+    /// A member whose closure, reduction or system code panics gets a MemberPanicked in its slot
+    /// with the panic's message; every other member's result is kept (one panic lost them all),
+    /// with lanes and without, on one thread and on two.
+    #[test]
+    fn a_panicking_member_loses_only_its_own_result() {
+        for (lanes, threads) in [(1, 1), (1, 2), (4, 1), (4, 2)] {
+            let r = Ensemble::new(40, |i| {
+                assert!(i != 3, "no member 3");
+                Member::new(Osc, [1.0], [i as f64]).param("v", i as f64)
+            })
+            .configure(|sim| sim.until(1.0))
+            .lanes(lanes)
+            .threads(threads)
+            .reduce(&["x"], |tr| {
+                let x = tr.q[tr.q.len() - 1][0];
+                assert!(tr.qdot[0][0] != 7.0, "reduce saw member 7");
+                vec![x]
+            });
+            assert_eq!(r.results.len(), 40);
+            assert_eq!(r.failures(), 2, "lanes {lanes}, threads {threads}");
+            for (i, res) in r.results.iter().enumerate() {
+                match (i, res) {
+                    (3 | 7, Err(SimulationError::MemberPanicked { member, message })) => {
+                        assert_eq!(*member, i);
+                        assert!(message.contains(&format!("member {i}")), "{message}");
+                    }
+                    (3 | 7, other) => panic!("member {i}: {other:?}"),
+                    (_, Ok(x)) => {
+                        assert!((x[0] - (1.0_f64.cos() + i as f64 * 1.0_f64.sin())).abs() < 1e-8)
+                    }
+                    (_, Err(e)) => panic!("member {i}: {e}"),
+                }
+            }
+            assert!(r.params[3].is_empty() && r.params[7] == vec![("v", 7.0)]);
+            let text = r.results[3].as_ref().unwrap_err().to_string();
+            assert!(
+                text.contains("ensemble member 3 panicked: no member 3"),
+                "{text}"
+            );
+        }
+        // System code that panics: without lanes only that member fails.
+        let r = Ensemble::new(6, |i| {
+            Member::new(Fragile { limit: 2.0 }, [1.0], [i as f64])
+        })
+        .configure(|sim| sim.until(1.0))
+        .lanes(1)
+        .threads(1)
+        .run();
+        assert_eq!(r.failures(), 4); // v ≥ 2 reaches |x| > 2 within t = 1
+        assert!(r.results[0].is_ok() && r.results[1].is_ok());
+        assert!(matches!(
+            &r.results[5],
+            Err(SimulationError::MemberPanicked { member: 5, message }) if message.contains("x left the table")
+        ));
+        // With lanes a panic in the system's code fails the members of its block not yet ended;
+        // the run returns, with every slot filled.
+        let r = Ensemble::new(6, |i| {
+            Member::new(Fragile { limit: 2.0 }, [1.0], [i as f64])
+        })
+        .configure(|sim| sim.until(1.0))
+        .lanes(4)
+        .threads(1)
+        .run();
+        assert_eq!(r.results.len(), 6);
+        assert!(r.failures() >= 4);
+        assert!(r.results.iter().all(|x| match x {
+            Ok(_) => true,
+            Err(SimulationError::MemberPanicked { message, .. }) =>
+                message.contains("x left the table"),
+            Err(_) => false,
+        }));
     }
 }

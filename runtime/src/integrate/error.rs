@@ -183,6 +183,15 @@ pub enum SimulationError {
         /// to its own scale.
         worst: usize,
     },
+    /// A member of an [`Ensemble`](crate::ensemble::Ensemble) panicked (in its member, configure
+    /// or reduce closure, or in the system's code): its slot holds this, the other members'
+    /// results are kept.
+    MemberPanicked {
+        /// The member's index.
+        member: usize,
+        /// The panic's message (or a note that it was not a string).
+        message: String,
+    },
 }
 
 impl SimulationError {
@@ -194,7 +203,7 @@ impl SimulationError {
     /// ```
     pub fn t(&self) -> Option<f64> {
         match self {
-            SimulationError::InvalidOptions { .. } => None,
+            SimulationError::InvalidOptions { .. } | SimulationError::MemberPanicked { .. } => None,
             SimulationError::OffConstraints { t, .. }
             | SimulationError::StepSizeUnderflow { t, .. }
             | SimulationError::MaxSteps { t, .. }
@@ -207,7 +216,9 @@ impl SimulationError {
 
     fn partial(&self) -> Option<&PartialTrajectory> {
         match self {
-            SimulationError::InvalidOptions { .. } | SimulationError::OffConstraints { .. } => None,
+            SimulationError::InvalidOptions { .. }
+            | SimulationError::OffConstraints { .. }
+            | SimulationError::MemberPanicked { .. } => None,
             SimulationError::StepSizeUnderflow { partial, .. }
             | SimulationError::MaxSteps { partial, .. }
             | SimulationError::MaxSamples { partial, .. }
@@ -237,7 +248,9 @@ impl SimulationError {
     /// ```
     pub fn into_partial_trajectory<const N: usize>(self) -> Option<Trajectory<N>> {
         match self {
-            SimulationError::InvalidOptions { .. } | SimulationError::OffConstraints { .. } => None,
+            SimulationError::InvalidOptions { .. }
+            | SimulationError::OffConstraints { .. }
+            | SimulationError::MemberPanicked { .. } => None,
             SimulationError::StepSizeUnderflow { partial, .. }
             | SimulationError::MaxSteps { partial, .. }
             | SimulationError::MaxSamples { partial, .. }
@@ -254,6 +267,13 @@ impl fmt::Display for SimulationError {
             SimulationError::InvalidOptions { message } => {
                 write!(f, "invalid simulation options: {message}")
             }
+            SimulationError::MemberPanicked { member, message } => write!(
+                f,
+                "ensemble member {member} panicked: {message}. Its result is lost; the other \
+                 members' results are kept. Try: run that member alone (Simulation::new with its \
+                 system and state) to see where, and check the member, configure and reduce \
+                 closures for indexing or unwrap on its values."
+            ),
             SimulationError::OffConstraints {
                 t,
                 q,
