@@ -1030,6 +1030,15 @@ mod tests {
         }
     }
 
+    /// A full disk (ENOSPC) names the path.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn csv_names_the_path_on_a_full_disk() {
+        let r = results(vec![vec![("a", 1.0)]], vec![Ok(vec![1.0, 2.0])]);
+        let e = r.write_csv("/dev/full", true).unwrap_err();
+        assert!(e.to_string().contains("/dev/full"), "{e}");
+    }
+
     /// A member naming a parameter twice is refused (one column per name would lose a value).
     #[test]
     fn csv_refuses_a_parameter_named_twice() {

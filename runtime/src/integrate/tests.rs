@@ -280,3 +280,18 @@ fn max_samples_does_not_bound_a_run_that_keeps_no_samples() {
         .unwrap();
     assert_eq!(tr.t, vec![0.0, 1.0]);
 }
+
+/// A full disk (ENOSPC, /dev/full) while writing the samples gives an error that names the path
+/// (the writes and the flush returned the bare OS error).
+#[cfg(target_os = "linux")]
+#[test]
+fn write_csv_names_the_path_on_a_full_disk() {
+    use crate::integrate::{Method, Simulation};
+    let tr = Simulation::new(&Osc, [1.0], [0.0])
+        .method(Method::Rk4 { dt: 0.1 })
+        .until(1.0)
+        .run()
+        .unwrap();
+    let e = tr.write_csv("/dev/full").unwrap_err();
+    assert!(e.to_string().contains("/dev/full"), "{e}");
+}

@@ -541,7 +541,7 @@ impl<const N: usize> Trajectory<N> {
             header.push("work".to_string());
         }
         header.extend((0..self.constraint_count).map(|j| format!("lambda_{j}")));
-        writeln!(w, "{}", header.join(","))?;
+        writeln!(w, "{}", header.join(",")).map_err(named)?;
         for k in 0..self.len() {
             let mut row = vec![self.t[k]];
             row.extend_from_slice(&self.q[k]);
@@ -558,8 +558,8 @@ impl<const N: usize> Trajectory<N> {
                 }
             }
             let cells: Vec<String> = row.iter().map(|x| format!("{x}")).collect();
-            writeln!(w, "{}", cells.join(","))?;
+            writeln!(w, "{}", cells.join(",")).map_err(named)?;
         }
-        w.flush()
+        w.flush().map_err(named)
     }
 }
