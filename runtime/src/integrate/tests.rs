@@ -295,3 +295,32 @@ fn write_csv_names_the_path_on_a_full_disk() {
     let e = tr.write_csv("/dev/full").unwrap_err();
     assert!(e.to_string().contains("/dev/full"), "{e}");
 }
+
+/// A free particle pushed by a force of 1e150 (and 1e153): the initial step estimate squared
+/// (1e150 / 1e-10)² = ∞ and started at h = 0, a StepSizeUnderflow at t = 0. Now x(1) = F/2.
+#[test]
+fn a_huge_force_does_not_underflow_the_initial_step() {
+    use crate::integrate::Simulation;
+    struct Pushed(f64);
+    impl Lagrangian<1> for Pushed {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [true];
+        const AUTONOMOUS: bool = true;
+        const MOMENTUM_CONSERVED: [bool; 1] = [false];
+        const ENERGY_CONSERVED: bool = false;
+        fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            v[0] * v[0] * 0.5
+        }
+        fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], _t: S) -> [S; 1] {
+            [S::constant(self.0)]
+        }
+    }
+    for f in [1e150, 1e153] {
+        let tr = Simulation::new(&Pushed(f), [0.0], [0.0])
+            .until(1.0)
+            .run()
+            .unwrap_or_else(|e| panic!("F = {f:e}: {e}"));
+        let x = tr.q[tr.q.len() - 1][0];
+        assert!((x / (0.5 * f) - 1.0).abs() < 1e-12, "F = {f:e}: x = {x:e}");
+    }
+}
