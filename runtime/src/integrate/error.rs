@@ -261,6 +261,11 @@ impl SimulationError {
     }
 }
 
+/// How the reasons of a failed projection onto the constraints (after an explicit method's step,
+/// `manifold::project`) begin, so that the message names the projection rather than the
+/// variational integrator's Newton solve.
+pub(crate) const PROJECTION: &str = "projecting";
+
 impl fmt::Display for SimulationError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -357,6 +362,25 @@ impl fmt::Display for SimulationError {
                 f,
                 "the equations of motion failed in the step after t = {t} (last accepted q = {q}, \
                  q̇ = {qdot}): {source} The trajectory up to t is kept (partial_trajectory()).",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
+            ),
+            SimulationError::NewtonFailed {
+                t,
+                q,
+                qdot,
+                iterations,
+                residual,
+                reason,
+                ..
+            } if reason.starts_with(PROJECTION) => write!(
+                f,
+                "the projection onto the constraints failed after the step from t = {t} (q = {q}, \
+                 q̇ = {qdot}): {reason}; {iterations} iterations, residual {residual:e}. Try: a \
+                 tighter tolerance or a smaller max_step (the step left the constraints too far), \
+                 or Method::VariationalMidpoint (RATTLE). The trajectory up to t is kept \
+                 (partial_trajectory()).",
                 t = Short(*t),
                 q = Short(&q[..]),
                 qdot = Short(&qdot[..])

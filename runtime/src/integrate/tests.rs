@@ -324,3 +324,36 @@ fn a_huge_force_does_not_underflow_the_initial_step() {
         assert!((x / (0.5 * f) - 1.0).abs() < 1e-12, "F = {f:e}: x = {x:e}");
     }
 }
+
+/// A failed projection onto the constraints (a blown-up projected DOP853 run) names the
+/// projection, not "the variational integrator's Newton solve"; the variational one still does.
+#[test]
+fn a_failed_projection_names_the_projection() {
+    use crate::integrate::SimulationError;
+    let err = |reason| SimulationError::NewtonFailed {
+        t: 1.0,
+        q: vec![0.0],
+        qdot: vec![0.0],
+        iterations: 8,
+        residual: 1.0,
+        reason,
+        partial: super::error::PartialTrajectory::none(),
+    };
+    let m = err("projecting the state back onto the constraints g(q, t) = 0 did not converge")
+        .to_string();
+    assert!(
+        m.starts_with("the projection onto the constraints failed"),
+        "{m}"
+    );
+    assert!(!m.contains("variational"), "{m}");
+    let m = err("projecting onto the constraints: their gradients are dependent").to_string();
+    assert!(
+        m.starts_with("the projection onto the constraints failed"),
+        "{m}"
+    );
+    let m = err("the midpoint equations did not converge").to_string();
+    assert!(
+        m.starts_with("the variational integrator's Newton solve"),
+        "{m}"
+    );
+}
