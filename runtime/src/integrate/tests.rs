@@ -357,3 +357,51 @@ fn a_failed_projection_names_the_projection() {
         "{m}"
     );
 }
+
+/// x'' = −x with a force (or a damping) that turns NaN after t = 0.5.
+struct Poisoned {
+    in_forces: bool,
+}
+impl Lagrangian<1> for Poisoned {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    const ENERGY_CONSERVED: bool = false;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        (v[0] * v[0] - q[0] * q[0]) * 0.5
+    }
+    fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] {
+        let bad = self.in_forces && t.value() > 0.5;
+        [S::constant(if bad { f64::NAN } else { 0.0 })]
+    }
+    fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], t: S) -> S {
+        let bad = !self.in_forces && t.value() > 0.5;
+        v[0] * v[0] * if bad { f64::NAN } else { 0.1 }
+    }
+}
+
+/// A NaN generalized force is reported as coming from `fn forces`, a NaN dissipation from
+/// `fn dissipation` (both were "the derivatives of L are not finite").
+#[test]
+fn a_non_finite_force_names_where_it_comes_from() {
+    use crate::integrate::{Method, Simulation, SimulationError};
+    for (in_forces, name) in [(true, "`fn forces`"), (false, "`fn dissipation`")] {
+        for method in [
+            Method::Rk4 { dt: 0.1 },
+            Method::Dop853 {
+                rtol: 1e-10,
+                atol: 1e-12,
+            },
+        ] {
+            let sys = Poisoned { in_forces };
+            let err = Simulation::new(&sys, [1.0], [0.0])
+                .method(method)
+                .until(1.0)
+                .run()
+                .unwrap_err();
+            assert!(matches!(err, SimulationError::Dynamics { .. }), "{err}");
+            let m = err.to_string();
+            assert!(m.contains(name) && !m.contains("derivatives of L"), "{m}");
+        }
+    }
+}
