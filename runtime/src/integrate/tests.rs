@@ -405,3 +405,45 @@ fn a_non_finite_force_names_where_it_comes_from() {
         }
     }
 }
+
+/// The Taylor method checks the time resolution as the fixed steps do: at t0 = 1e9 a run of
+/// 1e-5 cannot be cut into steps, and tol = 1e-12 is far below the rounding of each step's end
+/// time (1.2e-7 apart); both are InvalidOptions that say to shift the time origin. t0 = 0.7 to
+/// 40 with tol 1e-15 (the driven pendulum's test) and t0 = 1e9 with tol 1e-6 still run.
+#[test]
+fn taylor_checks_the_time_resolution() {
+    use crate::integrate::{Method, Simulation, SimulationError};
+    let check = |t0: f64, until: f64, tol: f64| {
+        let sim = Simulation::new(&Osc, [1.0], [0.0])
+            .method(Method::Taylor { tol })
+            .start_time(t0)
+            .until(until);
+        sim.validate()
+    };
+    for (t0, until, tol) in [(1e9, 1e9 + 1e-5, 1e-6), (1e9, 1e9 + 10.0, 1e-12)] {
+        let m = check(t0, until, tol).unwrap_err();
+        assert!(
+            m.contains("time resolution") && m.contains("Shift the time origin"),
+            "{m}"
+        );
+        let e = Simulation::new(&Osc, [1.0], [0.0])
+            .method(Method::Taylor { tol })
+            .start_time(t0)
+            .until(until)
+            .run()
+            .unwrap_err();
+        assert!(matches!(e, SimulationError::InvalidOptions { .. }), "{e}");
+    }
+    for (t0, until, tol) in [
+        (0.7, 40.0, 1e-15),
+        (1e9, 1e9 + 10.0, 1e-6),
+        (0.0, 1e3, 1e-15),
+    ] {
+        if let Err(m) = check(t0, until, tol) {
+            assert!(
+                !m.contains("time resolution"),
+                "[{t0}, {until}] tol {tol:e}: {m}"
+            );
+        }
+    }
+}
