@@ -96,6 +96,12 @@ impl<L, const N: usize> Member<L, N> {
     }
 }
 
+/// The most threads [`Ensemble::threads`] starts per available core.
+pub const MAX_THREADS_PER_CORE: usize = 4;
+
+/// The one width the lanes engine is compiled for ([`Ensemble::lanes`]).
+const LANES: usize = 4;
+
 /// A member's named parameters.
 pub type Params = Vec<(&'static str, f64)>;
 
@@ -165,7 +171,7 @@ impl<L: Lagrangian<N>, const N: usize> Engine<L, N> for Plain {
     fn lanes() -> Option<LanesFn<L, N>> {
         // One width is compiled (the engine is large and generic in the system): 4, the fastest
         // measured on AVX2 (BENCHMARKS.md, "Ensembles with SIMD lanes").
-        Some(run_lanes::<L, N, 4>)
+        Some(run_lanes::<L, N, LANES>)
     }
 }
 
@@ -220,7 +226,10 @@ pub struct Ensemble<'c, L, F, const N: usize, E = Plain> {
 }
 
 /// What an ensemble returns: for each member run, in member order, its index, its parameters and
-/// its result (its typed error in its slot if it failed: the others are not affected).
+/// its result (its typed error in its slot if it failed: the others are not affected). A member
+/// whose closures or system code panic gets [`SimulationError::MemberPanicked`] with the panic's
+/// message (and no parameters if its member closure panicked); with lanes, a panic in the
+/// system's code is that of every member of its block still running.
 #[derive(Debug)]
 pub struct Results<R> {
     /// The members' indices (all of them, or the shard's block).
@@ -393,7 +402,9 @@ where
     }
 
     /// Runs on `n` threads (default: rayon's global pool, one thread per core). `n = 1` runs in
-    /// the calling thread.
+    /// the calling thread; `n = 0` is taken as 1, and `n` above 4 × the available parallelism
+    /// ([`std::thread::available_parallelism`]) as that bound ([`MAX_THREADS_PER_CORE`]): more
+    /// threads than that only cost their start (5000 took 15 s) and memory.
     ///
     /// ```
     /// # use lagrange_runtime::ensemble::{Ensemble, Member};
@@ -413,7 +424,8 @@ where
     /// assert_eq!(r.results[3].as_ref().unwrap().q[0], [3.0]);
     /// ```
     pub fn threads(mut self, n: usize) -> Self {
-        self.threads = Some(n.max(1));
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        self.threads = Some(n.clamp(1, MAX_THREADS_PER_CORE.saturating_mul(cores)));
         self
     }
 
@@ -467,8 +479,9 @@ where
     /// together, one per SIMD lane, each with its own step size (and, for DOP853, accept/reject
     /// decision), a member's lane going to the next member as soon as it ends. The Taylor
     /// method's lanes compute the series of W members in one pass of vector code
-    /// ([`Lagrangian::taylor_series_lanes`]); each member sums its own. Any `w` ≥ 2 runs 4 lanes, the fastest width
-    /// measured (2 and 8 were slower; one width keeps the build short). Without this call: 4
+    /// ([`Lagrangian::taylor_series_lanes`]); each member sums its own. Any `w` ≥ 2 (up to
+    /// `usize::MAX`) runs 4 lanes, the fastest width measured (2 and 8 were slower; one width keeps
+    /// the build short); 0 and 1 turn lanes off. Without this call: 4
     /// where the system's accelerations are generated lanes code
     /// ([`Lagrangian::VECTORIZED_LANES`]: `#[lagrangian]` in symbolic mode), else 1. A lane
     /// equals the member's single run bit for bit where the lanes compute the scalar operations,
@@ -500,7 +513,8 @@ where
     /// }
     /// ```
     pub fn lanes(mut self, w: usize) -> Self {
-        self.lanes = Some(w);
+        // The one compiled width (see `Plain::lanes`), or none.
+        self.lanes = Some(if w >= 2 { LANES } else { 1 });
         self
     }
 
@@ -586,7 +600,7 @@ where
         let range = self.members();
         let bar = Bar::new(self.progress, range.len());
         let width = match self.lanes {
-            None if L::VECTORIZED_LANES => 4,
+            None if L::VECTORIZED_LANES => LANES,
             None => 1,
             Some(w) => w,
         };
@@ -597,7 +611,7 @@ where
                 .threads
                 .unwrap_or_else(rayon::current_num_threads)
                 .max(1);
-            let block = (range.len().div_ceil(4 * threads)).max(16 * width);
+            let block = (range.len().div_ceil(threads.saturating_mul(4))).max(16 * width);
             let blocks: Vec<Range<usize>> = range
                 .clone()
                 .step_by(block)
@@ -609,11 +623,19 @@ where
             parts.into_iter().flatten().collect()
         } else {
             let one = |i: usize| {
-                let m = (self.member)(i);
-                let sim = (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0));
-                let r = E::run_one(&m.system, sim).map(&keep);
+                let out = match isolated(i, || (self.member)(i)) {
+                    Ok(m) => {
+                        let r = isolated(i, || {
+                            let sim = (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0));
+                            E::run_one(&m.system, sim).map(&keep)
+                        })
+                        .and_then(|r| r);
+                        (m.params, r)
+                    }
+                    Err(e) => (Vec::new(), Err(e)),
+                };
                 bar.inc();
-                (m.params, r)
+                out
             };
             self.in_threads(range.clone().collect(), one)
         };
@@ -644,7 +666,9 @@ where
         }
     }
 
-    /// The members of `range` on the lanes engine, `width` per vector, in member order.
+    /// The members of `range` on the lanes engine, `width` per vector, in member order. A panic
+    /// in a member's closures is that member's [`SimulationError::MemberPanicked`]; a panic in
+    /// the engine (the system's code) is that of every member of the block not yet ended.
     fn lanes_block<R>(
         &self,
         range: Range<usize>,
@@ -652,19 +676,61 @@ where
         keep: &(impl Fn(Trajectory<N>) -> R + Sync),
         bar: &Bar,
     ) -> Vec<(Params, Result<R, SimulationError>)> {
-        let members: Vec<Member<L, N>> = range.map(&self.member).collect();
-        let mut slots: Vec<Option<Result<R, SimulationError>>> =
-            members.iter().map(|_| None).collect();
+        let start = range.start;
+        let mut members: Vec<Option<Member<L, N>>> = Vec::with_capacity(range.len());
+        let mut slots: Vec<Option<Result<R, SimulationError>>> = Vec::with_capacity(range.len());
+        for i in range {
+            match isolated(i, || (self.member)(i)) {
+                Ok(m) => {
+                    members.push(Some(m));
+                    slots.push(None);
+                }
+                Err(e) => {
+                    members.push(None);
+                    slots.push(Some(Err(e)));
+                }
+            }
+        }
         {
-            let mut sims: Vec<Simulation<'_, L, N>> = members
-                .iter()
-                .map(|m| (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0)))
-                .collect();
-            let mut out = |pos: usize, r: Result<Trajectory<N>, SimulationError>| {
-                slots[pos] = Some(r.map(keep));
+            // The members made and configured, with their positions in the block.
+            let mut at: Vec<usize> = Vec::new();
+            let mut sims: Vec<Simulation<'_, L, N>> = Vec::new();
+            for (pos, m) in members.iter().enumerate() {
+                let Some(m) = m else { continue };
+                let sim = isolated(start + pos, || {
+                    (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0))
+                });
+                match sim {
+                    Ok(sim) => {
+                        at.push(pos);
+                        sims.push(sim);
+                    }
+                    Err(e) => slots[pos] = Some(Err(e)),
+                }
+            }
+            let mut out = |k: usize, r: Result<Trajectory<N>, SimulationError>| {
+                let pos = at[k];
+                let r = isolated(start + pos, || r.map(keep)).and_then(|r| r);
+                slots[pos] = Some(r);
                 bar.inc();
             };
-            engine(&mut sims, &mut out);
+            if let Err(e) = isolated(start, || engine(&mut sims, &mut out)) {
+                let message = match e {
+                    SimulationError::MemberPanicked { message, .. } => message,
+                    other => other.to_string(),
+                };
+                for &pos in &at {
+                    if slots[pos].is_none() {
+                        slots[pos] = Some(Err(SimulationError::MemberPanicked {
+                            member: start + pos,
+                            message: format!(
+                                "{message} (in the lanes engine, running members {start}.. \
+                                 together: the system's code panicked for one of them)"
+                            ),
+                        }));
+                    }
+                }
+            }
         }
         members
             .into_iter()
@@ -678,10 +744,25 @@ where
                             .to_string(),
                     })
                 });
-                (m.params, r)
+                (m.map_or_else(Vec::new, |m| m.params), r)
             })
             .collect()
     }
+}
+
+/// `f()`, or the member's [`SimulationError::MemberPanicked`] with the panic's message if it
+/// panicked: one member's panic does not take the others' results with it.
+fn isolated<T>(member: usize, f: impl FnOnce() -> T) -> Result<T, SimulationError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|payload| {
+        let message = if let Some(s) = payload.downcast_ref::<&str>() {
+            (*s).to_string()
+        } else if let Some(s) = payload.downcast_ref::<String>() {
+            s.clone()
+        } else {
+            "a panic whose payload is not a string".to_string()
+        };
+        SimulationError::MemberPanicked { member, message }
+    })
 }
 
 impl<R> Results<R> {
@@ -711,6 +792,18 @@ impl Results<Vec<f64>> {
     /// `error` (empty, or the member's error as a sentence, its values then empty). With `header
     /// = false` the header line is left out (for the second and later shards of a job array).
     ///
+    /// There is one parameter column per distinct name, in the order the names are first met
+    /// (member order, then each member's order); a member without a name has an empty cell there.
+    /// A shard's columns are those of its own members, so shards concatenate when every member
+    /// has the same names. Fields holding a comma, a quote or a line break are quoted as RFC 4180
+    /// says (inner quotes doubled). Missing parent folders are created.
+    ///
+    /// # Errors
+    ///
+    /// [`std::io::ErrorKind::InvalidInput`], before anything is written, when a member's row has
+    /// not one value per column (the reduction returned more or fewer values than `columns`
+    /// names) or a member names a parameter twice; otherwise the I/O error, naming the path.
+    ///
     /// ```
     /// # use lagrange_runtime::ensemble::{Ensemble, Member};
     /// # use lagrange_runtime::{Lagrangian, Scalar};
@@ -732,22 +825,68 @@ impl Results<Vec<f64>> {
     /// ```
     pub fn write_csv(&self, path: impl AsRef<Path>, header: bool) -> std::io::Result<()> {
         let path = path.as_ref();
+        let text = self.csv_text(header)?;
         let named = |e: std::io::Error| {
             std::io::Error::new(e.kind(), format!("writing {}: {e}", path.display()))
         };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(named)?;
+        }
         let mut w = std::io::BufWriter::new(std::fs::File::create(path).map_err(named)?);
+        w.write_all(text.as_bytes()).map_err(named)?;
+        w.flush().map_err(named)
+    }
+
+    /// The CSV of [`Results::write_csv`] as text, checked before any of it is written.
+    fn csv_text(&self, header: bool) -> std::io::Result<String> {
+        let invalid = |msg: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, msg);
+        // One column per distinct parameter name, in first-seen order.
+        let mut names: Vec<&str> = Vec::new();
+        for (p, i) in self.params.iter().zip(&self.index) {
+            for (k, (n, _)) in p.iter().enumerate() {
+                if p[..k].iter().any(|(m, _)| m == n) {
+                    return Err(invalid(format!(
+                        "member {i} names the parameter {n:?} twice: give each parameter of a \
+                         member its own name (one CSV column per name)"
+                    )));
+                }
+                if !names.contains(n) {
+                    names.push(n);
+                }
+            }
+        }
+        for (i, r) in self.index.iter().zip(&self.results) {
+            if let Ok(vals) = r {
+                if vals.len() != self.columns.len() {
+                    return Err(invalid(format!(
+                        "member {i}: the reduction returned {} values for {} columns ({}); \
+                         return one value per column named in `reduce` (no CSV written)",
+                        vals.len(),
+                        self.columns.len(),
+                        self.columns.join(", ")
+                    )));
+                }
+            }
+        }
+        let mut out = String::new();
+        let mut line = |cells: Vec<String>| {
+            out.push_str(&cells.join(","));
+            out.push('\n');
+        };
         if header {
             let mut cols = vec!["member".to_string()];
-            if let Some(p) = self.params.first() {
-                cols.extend(p.iter().map(|(n, _)| n.to_string()));
-            }
-            cols.extend(self.columns.iter().cloned());
+            cols.extend(names.iter().map(|n| csv_field(n)));
+            cols.extend(self.columns.iter().map(|c| csv_field(c)));
             cols.push("error".to_string());
-            writeln!(w, "{}", cols.join(",")).map_err(named)?;
+            line(cols);
         }
         for ((i, p), r) in self.index.iter().zip(&self.params).zip(&self.results) {
             let mut row = vec![i.to_string()];
-            row.extend(p.iter().map(|(_, v)| format!("{v:e}")));
+            row.extend(names.iter().map(|n| {
+                p.iter()
+                    .find(|(m, _)| m == n)
+                    .map_or(String::new(), |(_, v)| format!("{v:e}"))
+            }));
             match r {
                 Ok(vals) => {
                     row.extend(vals.iter().map(|v| format!("{v:e}")));
@@ -755,13 +894,24 @@ impl Results<Vec<f64>> {
                 }
                 Err(e) => {
                     row.extend(self.columns.iter().map(|_| String::new()));
-                    let msg = e.to_string().replace(['"', '\n'], " ");
-                    row.push(format!("\"{msg}\""));
+                    // One line per member: a line break in the message becomes a space.
+                    let msg = e.to_string().replace(['\r', '\n'], " ");
+                    row.push(format!("\"{}\"", msg.replace('"', "\"\"")));
                 }
             }
-            writeln!(w, "{}", row.join(",")).map_err(named)?;
+            line(row);
         }
-        w.flush().map_err(named)
+        Ok(out)
+    }
+}
+
+/// A CSV field as RFC 4180 says: quoted, its quotes doubled, when it holds a comma, a quote or a
+/// line break; as it is otherwise.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
     }
 }
 
@@ -796,5 +946,230 @@ impl Bar {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn results(
+        params: Vec<Params>,
+        results: Vec<Result<Vec<f64>, SimulationError>>,
+    ) -> Results<Vec<f64>> {
+        Results {
+            index: (0..params.len()).collect(),
+            params,
+            results,
+            columns: vec!["x".to_string(), "y, z".to_string()],
+        }
+    }
+
+    fn temp(name: &str) -> std::path::PathBuf {
+        std::env::temp_dir()
+            .join(format!("lagrange-results-{}", std::process::id()))
+            .join(name)
+    }
+
+    /// Members with different parameter names get a column per name in first-seen order, empty
+    /// where a member lacks it; names with commas or quotes are quoted as RFC 4180 says; missing
+    /// folders are created.
+    #[test]
+    fn csv_has_a_column_per_parameter_name_quoted() {
+        let r = results(
+            vec![
+                vec![("a", 1.0), ("b,c", 2.0)],
+                vec![("d\"q", 3.0), ("a", 4.0)],
+            ],
+            vec![
+                Ok(vec![5.0, 6.0]),
+                Err(SimulationError::InvalidOptions {
+                    message: "said \"no\"\nthen".to_string(),
+                }),
+            ],
+        );
+        let path = temp("nested/deeper/sweep.csv");
+        let _ = std::fs::remove_dir_all(temp(""));
+        r.write_csv(&path, true).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "member,a,\"b,c\",\"d\"\"q\",x,\"y, z\",error");
+        assert_eq!(lines[1], "0,1e0,2e0,,5e0,6e0,");
+        assert!(lines[2].starts_with("1,4e0,,3e0,,,\""), "{}", lines[2]);
+        assert!(lines[2].contains("said \"\"no\"\" then"), "{}", lines[2]);
+        assert_eq!(lines.len(), 3);
+        // A shard without its header has the same columns.
+        r.write_csv(&path, false).unwrap();
+        let shard = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            shard,
+            lines[1..]
+                .iter()
+                .map(|l| format!("{l}\n"))
+                .collect::<String>()
+        );
+        let _ = std::fs::remove_dir_all(temp(""));
+    }
+
+    /// A reduction that returned fewer or more values than its columns is refused with
+    /// InvalidInput naming the member and the counts, and nothing is written.
+    #[test]
+    fn csv_refuses_a_row_of_the_wrong_length() {
+        for vals in [vec![1.0], vec![1.0, 2.0, 3.0]] {
+            let n = vals.len();
+            let r = results(vec![vec![], vec![]], vec![Ok(vec![1.0, 2.0]), Ok(vals)]);
+            let path = temp(&format!("ragged{n}.csv"));
+            let e = r.write_csv(&path, true).unwrap_err();
+            assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+            let msg = e.to_string();
+            assert!(
+                msg.contains("member 1") && msg.contains(&format!("{n} values for 2 columns")),
+                "{msg}"
+            );
+            assert!(!path.exists());
+        }
+    }
+
+    /// A full disk (ENOSPC) names the path.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn csv_names_the_path_on_a_full_disk() {
+        let r = results(vec![vec![("a", 1.0)]], vec![Ok(vec![1.0, 2.0])]);
+        let e = r.write_csv("/dev/full", true).unwrap_err();
+        assert!(e.to_string().contains("/dev/full"), "{e}");
+    }
+
+    /// A member naming a parameter twice is refused (one column per name would lose a value).
+    #[test]
+    fn csv_refuses_a_parameter_named_twice() {
+        let r = results(vec![vec![("a", 1.0), ("a", 2.0)]], vec![Ok(vec![1.0, 2.0])]);
+        let e = r.write_csv(temp("twice.csv"), true).unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+        assert!(e.to_string().contains("member 0"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod limits {
+    use super::*;
+    use crate::scalar::Scalar;
+
+    /// x'' = −x.
+    #[derive(Clone)]
+    struct Osc;
+    impl Lagrangian<1> for Osc {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [false];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            (v[0] * v[0] - q[0] * q[0]) * 0.5
+        }
+    }
+
+    /// `lanes(usize::MAX)` and `threads(usize::MAX)` run (they overflowed `16 · width` and
+    /// `4 · threads` in a debug build); the threads are bounded by 4 × the available parallelism.
+    #[test]
+    fn huge_lanes_and_threads_are_clamped() {
+        let e = Ensemble::new(3, |i| Member::new(Osc, [i as f64], [0.0]))
+            .configure(|sim| sim.until(1.0))
+            .lanes(usize::MAX)
+            .threads(usize::MAX);
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        assert_eq!(e.threads, Some(MAX_THREADS_PER_CORE * cores));
+        assert_eq!(e.lanes, Some(LANES));
+        let r = e.run();
+        assert_eq!(r.failures(), 0);
+        let e = Ensemble::new(1, |_| Member::new(Osc, [1.0], [0.0]))
+            .threads(0)
+            .lanes(0);
+        assert_eq!((e.threads, e.lanes), (Some(1), Some(1)));
+    }
+
+    /// x'' = −x, whose Lagrangian panics once |x| passes `limit` (system code that panics).
+    #[derive(Clone)]
+    struct Fragile {
+        limit: f64,
+    }
+    impl Lagrangian<1> for Fragile {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [false];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            assert!(q[0].value().abs() <= self.limit, "x left the table");
+            (v[0] * v[0] - q[0] * q[0]) * 0.5
+        }
+    }
+
+    /// A member whose closure, reduction or system code panics gets a MemberPanicked in its slot
+    /// with the panic's message; every other member's result is kept (one panic lost them all),
+    /// with lanes and without, on one thread and on two.
+    #[test]
+    fn a_panicking_member_loses_only_its_own_result() {
+        for (lanes, threads) in [(1, 1), (1, 2), (4, 1), (4, 2)] {
+            let r = Ensemble::new(40, |i| {
+                assert!(i != 3, "no member 3");
+                Member::new(Osc, [1.0], [i as f64]).param("v", i as f64)
+            })
+            .configure(|sim| sim.until(1.0))
+            .lanes(lanes)
+            .threads(threads)
+            .reduce(&["x"], |tr| {
+                let x = tr.q[tr.q.len() - 1][0];
+                assert!(tr.qdot[0][0] != 7.0, "reduce saw member 7");
+                vec![x]
+            });
+            assert_eq!(r.results.len(), 40);
+            assert_eq!(r.failures(), 2, "lanes {lanes}, threads {threads}");
+            for (i, res) in r.results.iter().enumerate() {
+                match (i, res) {
+                    (3 | 7, Err(SimulationError::MemberPanicked { member, message })) => {
+                        assert_eq!(*member, i);
+                        assert!(message.contains(&format!("member {i}")), "{message}");
+                    }
+                    (3 | 7, other) => panic!("member {i}: {other:?}"),
+                    (_, Ok(x)) => {
+                        assert!((x[0] - (1.0_f64.cos() + i as f64 * 1.0_f64.sin())).abs() < 1e-8)
+                    }
+                    (_, Err(e)) => panic!("member {i}: {e}"),
+                }
+            }
+            assert!(r.params[3].is_empty() && r.params[7] == vec![("v", 7.0)]);
+            let text = r.results[3].as_ref().unwrap_err().to_string();
+            assert!(
+                text.contains("ensemble member 3 panicked: no member 3"),
+                "{text}"
+            );
+        }
+        // System code that panics: without lanes only that member fails.
+        let r = Ensemble::new(6, |i| {
+            Member::new(Fragile { limit: 2.0 }, [1.0], [i as f64])
+        })
+        .configure(|sim| sim.until(1.0))
+        .lanes(1)
+        .threads(1)
+        .run();
+        assert_eq!(r.failures(), 4); // v ≥ 2 reaches |x| > 2 within t = 1
+        assert!(r.results[0].is_ok() && r.results[1].is_ok());
+        assert!(matches!(
+            &r.results[5],
+            Err(SimulationError::MemberPanicked { member: 5, message }) if message.contains("x left the table")
+        ));
+        // With lanes a panic in the system's code fails the members of its block not yet ended;
+        // the run returns, with every slot filled.
+        let r = Ensemble::new(6, |i| {
+            Member::new(Fragile { limit: 2.0 }, [1.0], [i as f64])
+        })
+        .configure(|sim| sim.until(1.0))
+        .lanes(4)
+        .threads(1)
+        .run();
+        assert_eq!(r.results.len(), 6);
+        assert!(r.failures() >= 4);
+        assert!(r.results.iter().all(|x| match x {
+            Ok(_) => true,
+            Err(SimulationError::MemberPanicked { message, .. }) =>
+                message.contains("x left the table"),
+            Err(_) => false,
+        }));
     }
 }

@@ -348,6 +348,64 @@ pub fn solve_mass_matrix<const N: usize>(
     }
 }
 
+/// A non-finite dynamics error traced to the applied forces where that is where it starts: at
+/// the failing state, non-finite generalized forces (`fn forces`) or dissipation forces −∂D/∂q̇
+/// (`fn dissipation`) are named in the message instead of "the derivatives of L". Any other
+/// error is returned as it is.
+pub(crate) fn blame_applied<L: Lagrangian<N> + ?Sized, const N: usize>(
+    sys: &L,
+    e: DynamicsError,
+) -> DynamicsError {
+    let DynamicsError::NonFinite {
+        t,
+        q,
+        qdot,
+        message,
+    } = e
+    else {
+        return e;
+    };
+    let state = <[f64; N]>::try_from(&q[..])
+        .ok()
+        .zip(<[f64; N]>::try_from(&qdot[..]).ok());
+    let what = match state {
+        Some((qa, va)) if t.is_finite() && qa.iter().chain(&va).all(|x| x.is_finite()) => {
+            let forces = sys.generalized_forces(&qa, &va, t);
+            if !all_finite(&forces) {
+                Some(format!(
+                    "the generalized forces Q of `fn forces` (Lagrangian::generalized_forces) are \
+                     not finite here: Q = {}",
+                    crate::error::Short(&forces[..])
+                ))
+            } else {
+                let applied = sys.pieces(&qa, &va, t).applied;
+                (!all_finite(&applied)).then(|| {
+                    format!(
+                        "the dissipation forces −∂D/∂q̇ of `fn dissipation` \
+                         (Lagrangian::dissipation) are not finite here: Q − ∂D/∂q̇ = {}",
+                        crate::error::Short(&applied[..])
+                    )
+                })
+            }
+        }
+        _ => None,
+    };
+    let message = match what {
+        Some(what) => format!(
+            "{what} (NaN or ∞). Check that function at this state (a division by zero, a sqrt or \
+             ln of a negative number, a parameter that is NaN); if an integrator got here, a \
+             smaller step or a tighter tolerance may keep the solution from blowing up."
+        ),
+        None => message,
+    };
+    DynamicsError::NonFinite {
+        t,
+        q,
+        qdot,
+        message,
+    }
+}
+
 fn non_finite<const N: usize>(q: &[f64; N], qdot: &[f64; N], t: f64) -> DynamicsError {
     let what = if q.iter().chain(qdot).any(|x| !x.is_finite()) || !t.is_finite() {
         "the state itself is not finite"

@@ -1808,7 +1808,13 @@ impl Lower {
                     "skip" => items.into_iter().skip(k).collect(),
                     "take" => items.into_iter().take(k).collect(),
                     _ if k > 0 => items.into_iter().step_by(k).collect(),
-                    _ => return Ok(Some(self.err(syn::Error::new(args[0].span(), "`step_by(0)`")))),
+                    _ => {
+                        return Ok(Some(self.err(syn::Error::new(
+                            args[0].span(),
+                            "`step_by(0)`: a step of 0 never advances (std's `step_by` panics on \
+                             it); give `.step_by(k)` a step k ≥ 1",
+                        ))))
+                    }
                 }),
                 None => self.unsupported(
                     args[0].span(),

@@ -474,6 +474,18 @@ fn unsupported_constructs_say_use_jets() {
     assert_eq!(errors("{ a(x) + x.foo() + b(x_dot) }").len(), 3);
 }
 
+/// `step_by(0)` is refused with a sentence that says what is wrong and what to do (it was the
+/// bare words "`step_by(0)`").
+#[test]
+fn step_by_zero_says_what_is_wrong() {
+    let e = errors("{ let mut s = x_dot * x_dot; for k in (0..3).step_by(0) { s = s + x; } s }");
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(
+        e[0].contains("never advances") && e[0].contains("k ≥ 1"),
+        "{e:?}"
+    );
+}
+
 #[test]
 fn type_errors_are_reported_not_panicked() {
     let e = errors("{ Vector3::new(x, x, x) * Vector3::new(x_dot, 0.0, 0.0) }");

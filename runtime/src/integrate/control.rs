@@ -44,7 +44,37 @@ pub(crate) fn sum_sq<const N: usize>(e: &Y<N>, sk: &Y<N>) -> f64 {
     s
 }
 
-/// Hairer's starting step (`hinit` of `dopri5.f`/`dop853.f`) for a method of order `order`.
+/// √(Σ (e_i / sk_i)²) over all 2N components without overflow or underflow of the squares: the
+/// ratios are scaled by their largest magnitude first (a force of 1e150 over weights of 1e-10
+/// would square to 1e320 = ∞).
+fn scaled_norm<const N: usize>(e: &Y<N>, sk: &Y<N>) -> f64 {
+    let mut m = 0.0_f64;
+    for r in 0..2 {
+        for i in 0..N {
+            m = m.max((e[r][i] / sk[r][i]).abs());
+        }
+    }
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    let mut s = 0.0;
+    for r in 0..2 {
+        for i in 0..N {
+            let x = e[r][i] / sk[r][i] / m;
+            s += x * x;
+        }
+    }
+    m * s.sqrt()
+}
+
+/// The starting step when the estimate is not a positive finite number (an overflowing or
+/// non-finite norm): small, and the controller grows or shrinks it from there.
+const FALLBACK_STEP: f64 = 1e-6;
+
+/// Hairer's starting step (`hinit` of `dopri5.f`/`dop853.f`) for a method of order `order`,
+/// with the norms computed scaled so that huge derivatives (a force of 1e150) give a tiny step,
+/// not an overflow to a zero step; a step that still comes out zero or non-finite is
+/// [`FALLBACK_STEP`] (at most `hmax`).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn initial_step<L: Lagrangian<N> + ?Sized, const N: usize>(
     sys: &L,
@@ -70,13 +100,36 @@ pub(crate) fn initial_step<L: Lagrangian<N> + ?Sized, const N: usize>(
             *w = floor;
         }
     }
-    let dnf = sum_sq(f0, &sk);
-    let dny = sum_sq(y, &sk);
-    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-        1e-6
-    } else {
-        (dny / dnf).sqrt() * 0.01
+    let usable = |h: f64| h > 0.0 && h.is_finite();
+    // Hairer's sums of squares where they are finite (the same step, bit for bit, as before);
+    // the scaled norms where a square overflowed.
+    let norm = |e: &Y<N>| {
+        let s = sum_sq(e, &sk);
+        if s.is_finite() {
+            s.sqrt()
+        } else {
+            scaled_norm(e, &sk)
+        }
     };
+    let (dnf2, dny2) = (sum_sq(f0, &sk), sum_sq(y, &sk));
+    let dnf = norm(f0);
+    let mut h = if dnf2.is_finite() && dny2.is_finite() {
+        if dnf2 <= 1e-10 || dny2 <= 1e-10 {
+            1e-6
+        } else {
+            (dny2 / dnf2).sqrt() * 0.01
+        }
+    } else {
+        let dny = norm(y);
+        if dnf <= 1e-5 || dny <= 1e-5 {
+            1e-6
+        } else {
+            (dny / dnf) * 0.01
+        }
+    };
+    if !usable(h) {
+        h = FALLBACK_STEP;
+    }
     h = h.min(hmax);
     let y1 = combine::<1, _, _, _, _>(y, h, &[1.0], &[*f0]);
     let f1 = rhs(sys, t + h, &y1, stats)?;
@@ -86,14 +139,16 @@ pub(crate) fn initial_step<L: Lagrangian<N> + ?Sized, const N: usize>(
             d[r][i] = f1[r][i] - f0[r][i];
         }
     }
-    let der2 = sum_sq(&d, &sk).sqrt() / h;
-    let der12 = der2.abs().max(dnf.sqrt());
+    let der2 = norm(&d) / h;
+    let der12 = der2.abs().max(dnf);
     let h1 = if der12 <= 1e-15 {
         (h * 1e-3).max(1e-6)
     } else {
         (0.01 / der12).powf(1.0 / f64::from(order))
     };
-    Ok((100.0 * h).min(h1).min(hmax))
+    // NaN compares false: a NaN h1 (an infinite der2) leaves 100 h.
+    let h0 = (100.0 * h).min(h1).min(hmax);
+    Ok(if usable(h0) { h0 } else { h.min(hmax) })
 }
 
 /// ln 10⁻⁴: the floor of err_old in the PI term (Hairer's `facold = max(err, 1e-4)`).

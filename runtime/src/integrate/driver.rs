@@ -86,6 +86,8 @@ pub(super) struct RunOptions<'s> {
     pub(super) keep_samples: bool,
     /// The most samples stored.
     pub(super) max_samples: usize,
+    /// Whether `max_samples` is the default (a memory budget), not the user's.
+    pub(super) max_samples_default: bool,
 }
 
 /// Which states the trajectory records.
@@ -149,6 +151,7 @@ pub(super) struct Driver<'s, 'a, 'o, L: ?Sized, const N: usize> {
     observer: Option<&'o mut dyn FnMut(&Sample<N>)>,
     keep: bool,
     max_samples: usize,
+    max_samples_default: bool,
     traj: Trajectory<N>,
     stats: Stats,
     work: Work,
@@ -220,6 +223,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
             observer,
             keep: o.keep_samples,
             max_samples: o.max_samples,
+            max_samples_default: o.max_samples_default,
             traj: Trajectory::empty::<L>(manifold.map_or(0, |m| m.count())),
             work: Work::default(),
             gauss: Vec::new(),
@@ -322,6 +326,10 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
 
     /// Turns a stepper fault into the error, with the trajectory so far ending at (t, y).
     pub(super) fn fail(mut self, fault: Fault, t: f64, y: Y<N>) -> SimulationError {
+        let fault = match fault {
+            Fault::Dynamics(e) => Fault::Dynamics(crate::eom::blame_applied(self.sys, e)),
+            other => other,
+        };
         if y.iter().flatten().all(|x| x.is_finite()) {
             let w = self.work.at_node;
             // Past max_samples (or where the constraints fail there) the partial trajectory ends
@@ -329,6 +337,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
             let _ = self.push(t, &y, w);
         }
         self.traj.stats = self.stats;
+        let (self_k, self_default) = (self.traj.constraint_count, self.max_samples_default);
         let (q, qdot) = (y[0].to_vec(), y[1].to_vec());
         let partial = PartialTrajectory::new(self.traj);
         match fault {
@@ -354,6 +363,8 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
                 partial,
             },
             Fault::MaxSamples(max_samples) => SimulationError::MaxSamples {
+                sample_bytes: super::trajectory::sample_bytes(N, self_k),
+                default_limit: self_default,
                 t,
                 q,
                 qdot,

@@ -116,6 +116,10 @@ pub enum SimulationError {
         qdot: Vec<f64>,
         /// The limit.
         max_samples: usize,
+        /// The bytes one stored sample takes (t, q, q̇, the energy, the momenta, the work and λ).
+        sample_bytes: usize,
+        /// Whether the limit was the default (a memory budget), not set with `.max_samples(n)`.
+        default_limit: bool,
         /// The trajectory up to t.
         partial: PartialTrajectory,
     },
@@ -179,6 +183,15 @@ pub enum SimulationError {
         /// to its own scale.
         worst: usize,
     },
+    /// A member of an [`Ensemble`](crate::ensemble::Ensemble) panicked (in its member, configure
+    /// or reduce closure, or in the system's code): its slot holds this, the other members'
+    /// results are kept.
+    MemberPanicked {
+        /// The member's index.
+        member: usize,
+        /// The panic's message (or a note that it was not a string).
+        message: String,
+    },
 }
 
 impl SimulationError {
@@ -190,7 +203,7 @@ impl SimulationError {
     /// ```
     pub fn t(&self) -> Option<f64> {
         match self {
-            SimulationError::InvalidOptions { .. } => None,
+            SimulationError::InvalidOptions { .. } | SimulationError::MemberPanicked { .. } => None,
             SimulationError::OffConstraints { t, .. }
             | SimulationError::StepSizeUnderflow { t, .. }
             | SimulationError::MaxSteps { t, .. }
@@ -203,7 +216,9 @@ impl SimulationError {
 
     fn partial(&self) -> Option<&PartialTrajectory> {
         match self {
-            SimulationError::InvalidOptions { .. } | SimulationError::OffConstraints { .. } => None,
+            SimulationError::InvalidOptions { .. }
+            | SimulationError::OffConstraints { .. }
+            | SimulationError::MemberPanicked { .. } => None,
             SimulationError::StepSizeUnderflow { partial, .. }
             | SimulationError::MaxSteps { partial, .. }
             | SimulationError::MaxSamples { partial, .. }
@@ -233,7 +248,9 @@ impl SimulationError {
     /// ```
     pub fn into_partial_trajectory<const N: usize>(self) -> Option<Trajectory<N>> {
         match self {
-            SimulationError::InvalidOptions { .. } | SimulationError::OffConstraints { .. } => None,
+            SimulationError::InvalidOptions { .. }
+            | SimulationError::OffConstraints { .. }
+            | SimulationError::MemberPanicked { .. } => None,
             SimulationError::StepSizeUnderflow { partial, .. }
             | SimulationError::MaxSteps { partial, .. }
             | SimulationError::MaxSamples { partial, .. }
@@ -244,12 +261,24 @@ impl SimulationError {
     }
 }
 
+/// How the reasons of a failed projection onto the constraints (after an explicit method's step,
+/// `manifold::project`) begin, so that the message names the projection rather than the
+/// variational integrator's Newton solve.
+pub(crate) const PROJECTION: &str = "projecting";
+
 impl fmt::Display for SimulationError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             SimulationError::InvalidOptions { message } => {
                 write!(f, "invalid simulation options: {message}")
             }
+            SimulationError::MemberPanicked { member, message } => write!(
+                f,
+                "ensemble member {member} panicked: {message}. Its result is lost; the other \
+                 members' results are kept. Try: run that member alone (Simulation::new with its \
+                 system and state) to see where, and check the member, configure and reduce \
+                 closures for indexing or unwrap on its values."
+            ),
             SimulationError::OffConstraints {
                 t,
                 q,
@@ -300,14 +329,20 @@ impl fmt::Display for SimulationError {
                 q,
                 qdot,
                 max_samples,
+                sample_bytes,
+                default_limit,
                 ..
             } => write!(
                 f,
-                "the trajectory reached max_samples = {max_samples} stored samples at t = {t}, q = \
-                 {q}, q̇ = {qdot}: memory is bounded by that option (each sample holds (3N + 3) · 8 \
-                 bytes). Try: record less often (.sample_every(Δ) instead of every step), pass the \
+                "the trajectory reached {limit} stored samples at t = {t}, q = {q}, q̇ = {qdot}: \
+                 memory is bounded by that option. Try: record less often (.sample_every(Δ) instead of every step), pass the \
                  samples to an observer without storing them (.observe(f).keep_samples(false)), or \
                  raise .max_samples(n). The trajectory up to t is kept (partial_trajectory()).",
+                limit = super::trajectory::max_samples_phrase(
+                    *max_samples,
+                    *sample_bytes,
+                    *default_limit
+                ),
                 t = Short(*t),
                 q = Short(&q[..]),
                 qdot = Short(&qdot[..])
@@ -327,6 +362,25 @@ impl fmt::Display for SimulationError {
                 f,
                 "the equations of motion failed in the step after t = {t} (last accepted q = {q}, \
                  q̇ = {qdot}): {source} The trajectory up to t is kept (partial_trajectory()).",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
+            ),
+            SimulationError::NewtonFailed {
+                t,
+                q,
+                qdot,
+                iterations,
+                residual,
+                reason,
+                ..
+            } if reason.starts_with(PROJECTION) => write!(
+                f,
+                "the projection onto the constraints failed after the step from t = {t} (q = {q}, \
+                 q̇ = {qdot}): {reason}; {iterations} iterations, residual {residual:e}. Try: a \
+                 tighter tolerance or a smaller max_step (the step left the constraints too far), \
+                 or Method::VariationalMidpoint (RATTLE). The trajectory up to t is kept \
+                 (partial_trajectory()).",
                 t = Short(*t),
                 q = Short(&q[..]),
                 qdot = Short(&qdot[..])

@@ -41,7 +41,8 @@ pub(crate) trait Manifold<const N: usize> {
     fn residual(&self, t: f64, y: &Y<N>) -> (f64, f64);
 }
 
-/// The least-norm solution Δ = Gᵀ(GGᵀ)⁻¹ r of G Δ = r.
+/// The least-norm solution Δ = Gᵀ(GGᵀ)⁻¹ r of G Δ = r. Its failure's reason, like the
+/// projection's, begins with [`PROJECTION`](super::error::PROJECTION).
 fn least_norm<const N: usize, const K: usize>(
     g: &[[f64; N]; K],
     r: &[f64; K],

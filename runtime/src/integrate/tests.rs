@@ -195,3 +195,255 @@ fn dop853_error_estimate_scales_like_h8() {
     let p = slope(&pts);
     assert!(p > 6.5 && p < 9.5, "estimate order {p}, {pts:?}");
 }
+
+/// The default `max_samples` is a memory budget (256 MiB at (3N + 3) · 8 bytes per sample), not
+/// 10⁸ (919 MB for every step of a 10⁷-step top): a grid of 10⁷ samples of x'' = −x is refused
+/// before any step, and the message says the bound is the default and what a sample takes.
+#[test]
+fn default_max_samples_is_a_memory_budget() {
+    use crate::integrate::{Simulation, SimulationError};
+    assert_eq!(super::trajectory::sample_bytes(1, 0), 48);
+    assert_eq!(super::trajectory::sample_bytes(32, 0), 99 * 8);
+    assert_eq!(super::trajectory::sample_bytes(2, 1), 72 + 32);
+    let sim = Simulation::new(&Osc, [1.0], [0.0]).until(1.0);
+    assert_eq!(sim.max_samples_bound(), (256 << 20) / 48);
+    let err = sim.sample_every(1e-7).run().unwrap_err();
+    assert!(
+        matches!(err, SimulationError::InvalidOptions { .. }),
+        "{err}"
+    );
+    let msg = err.to_string();
+    assert!(
+        msg.contains("the default: a 256 MiB budget") && msg.contains("48 bytes per sample"),
+        "{msg}"
+    );
+}
+
+/// Both `max_samples` messages, before the run (a sample grid) and during it (every step), give
+/// the same bytes per sample, computed by one function.
+#[test]
+fn max_samples_messages_agree_on_bytes_per_sample() {
+    use crate::integrate::{Method, Simulation, SimulationError};
+    let before = Simulation::new(&Kepler, kepler_start()[0], kepler_start()[1])
+        .until(1.0)
+        .sample_every(0.01)
+        .max_samples(5)
+        .run()
+        .unwrap_err();
+    let during = Simulation::new(&Kepler, kepler_start()[0], kepler_start()[1])
+        .method(Method::Rk4 { dt: 0.01 })
+        .until(1.0)
+        .max_samples(5)
+        .run()
+        .unwrap_err();
+    assert!(
+        matches!(
+            during,
+            SimulationError::MaxSamples {
+                sample_bytes: 72,
+                default_limit: false,
+                ..
+            }
+        ),
+        "{during}"
+    );
+    for e in [before.to_string(), during.to_string()] {
+        assert!(
+            e.contains("max_samples = 5 (at 72 bytes per sample)"),
+            "{e}"
+        );
+    }
+}
+
+/// `max_samples(1).keep_samples(false)` runs: streaming keeps two samples, so the bound on
+/// stored samples does not apply (it failed at the second sample, and a grid of 101 samples was
+/// refused before the run).
+#[test]
+fn max_samples_does_not_bound_a_run_that_keeps_no_samples() {
+    use crate::integrate::{Method, Simulation};
+    let mut seen = 0;
+    let tr = Simulation::new(&Osc, [1.0], [0.0])
+        .method(Method::Rk4 { dt: 0.1 })
+        .until(1.0)
+        .max_samples(1)
+        .keep_samples(false)
+        .observe(|_| seen += 1)
+        .run()
+        .unwrap();
+    assert_eq!((tr.t.len(), seen), (2, 11));
+    let tr = Simulation::new(&Osc, [1.0], [0.0])
+        .until(1.0)
+        .sample_every(0.01)
+        .max_samples(1)
+        .keep_samples(false)
+        .run()
+        .unwrap();
+    assert_eq!(tr.t, vec![0.0, 1.0]);
+}
+
+/// A full disk (ENOSPC, /dev/full) while writing the samples gives an error that names the path
+/// (the writes and the flush returned the bare OS error).
+#[cfg(target_os = "linux")]
+#[test]
+fn write_csv_names_the_path_on_a_full_disk() {
+    use crate::integrate::{Method, Simulation};
+    let tr = Simulation::new(&Osc, [1.0], [0.0])
+        .method(Method::Rk4 { dt: 0.1 })
+        .until(1.0)
+        .run()
+        .unwrap();
+    let e = tr.write_csv("/dev/full").unwrap_err();
+    assert!(e.to_string().contains("/dev/full"), "{e}");
+}
+
+/// A free particle pushed by a force of 1e150 (and 1e153): the initial step estimate squared
+/// (1e150 / 1e-10)² = ∞ and started at h = 0, a StepSizeUnderflow at t = 0. Now x(1) = F/2.
+#[test]
+fn a_huge_force_does_not_underflow_the_initial_step() {
+    use crate::integrate::Simulation;
+    struct Pushed(f64);
+    impl Lagrangian<1> for Pushed {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [true];
+        const AUTONOMOUS: bool = true;
+        const MOMENTUM_CONSERVED: [bool; 1] = [false];
+        const ENERGY_CONSERVED: bool = false;
+        fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            v[0] * v[0] * 0.5
+        }
+        fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], _t: S) -> [S; 1] {
+            [S::constant(self.0)]
+        }
+    }
+    for f in [1e150, 1e153] {
+        let tr = Simulation::new(&Pushed(f), [0.0], [0.0])
+            .until(1.0)
+            .run()
+            .unwrap_or_else(|e| panic!("F = {f:e}: {e}"));
+        let x = tr.q[tr.q.len() - 1][0];
+        assert!((x / (0.5 * f) - 1.0).abs() < 1e-12, "F = {f:e}: x = {x:e}");
+    }
+}
+
+/// A failed projection onto the constraints (a blown-up projected DOP853 run) names the
+/// projection, not "the variational integrator's Newton solve"; the variational one still does.
+#[test]
+fn a_failed_projection_names_the_projection() {
+    use crate::integrate::SimulationError;
+    let err = |reason| SimulationError::NewtonFailed {
+        t: 1.0,
+        q: vec![0.0],
+        qdot: vec![0.0],
+        iterations: 8,
+        residual: 1.0,
+        reason,
+        partial: super::error::PartialTrajectory::none(),
+    };
+    let m = err("projecting the state back onto the constraints g(q, t) = 0 did not converge")
+        .to_string();
+    assert!(
+        m.starts_with("the projection onto the constraints failed"),
+        "{m}"
+    );
+    assert!(!m.contains("variational"), "{m}");
+    let m = err("projecting onto the constraints: their gradients are dependent").to_string();
+    assert!(
+        m.starts_with("the projection onto the constraints failed"),
+        "{m}"
+    );
+    let m = err("the midpoint equations did not converge").to_string();
+    assert!(
+        m.starts_with("the variational integrator's Newton solve"),
+        "{m}"
+    );
+}
+
+/// x'' = −x with a force (or a damping) that turns NaN after t = 0.5.
+struct Poisoned {
+    in_forces: bool,
+}
+impl Lagrangian<1> for Poisoned {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    const ENERGY_CONSERVED: bool = false;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        (v[0] * v[0] - q[0] * q[0]) * 0.5
+    }
+    fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] {
+        let bad = self.in_forces && t.value() > 0.5;
+        [S::constant(if bad { f64::NAN } else { 0.0 })]
+    }
+    fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], t: S) -> S {
+        let bad = !self.in_forces && t.value() > 0.5;
+        v[0] * v[0] * if bad { f64::NAN } else { 0.1 }
+    }
+}
+
+/// A NaN generalized force is reported as coming from `fn forces`, a NaN dissipation from
+/// `fn dissipation` (both were "the derivatives of L are not finite").
+#[test]
+fn a_non_finite_force_names_where_it_comes_from() {
+    use crate::integrate::{Method, Simulation, SimulationError};
+    for (in_forces, name) in [(true, "`fn forces`"), (false, "`fn dissipation`")] {
+        for method in [
+            Method::Rk4 { dt: 0.1 },
+            Method::Dop853 {
+                rtol: 1e-10,
+                atol: 1e-12,
+            },
+        ] {
+            let sys = Poisoned { in_forces };
+            let err = Simulation::new(&sys, [1.0], [0.0])
+                .method(method)
+                .until(1.0)
+                .run()
+                .unwrap_err();
+            assert!(matches!(err, SimulationError::Dynamics { .. }), "{err}");
+            let m = err.to_string();
+            assert!(m.contains(name) && !m.contains("derivatives of L"), "{m}");
+        }
+    }
+}
+
+/// The Taylor method checks the time resolution as the fixed steps do: at t0 = 1e9 a run of
+/// 1e-5 cannot be cut into steps, and tol = 1e-12 is far below the rounding of each step's end
+/// time (1.2e-7 apart); both are InvalidOptions that say to shift the time origin. t0 = 0.7 to
+/// 40 with tol 1e-15 (the driven pendulum's test) and t0 = 1e9 with tol 1e-6 still run.
+#[test]
+fn taylor_checks_the_time_resolution() {
+    use crate::integrate::{Method, Simulation, SimulationError};
+    let check = |t0: f64, until: f64, tol: f64| {
+        let sim = Simulation::new(&Osc, [1.0], [0.0])
+            .method(Method::Taylor { tol })
+            .start_time(t0)
+            .until(until);
+        sim.validate()
+    };
+    for (t0, until, tol) in [(1e9, 1e9 + 1e-5, 1e-6), (1e9, 1e9 + 10.0, 1e-12)] {
+        let m = check(t0, until, tol).unwrap_err();
+        assert!(
+            m.contains("time resolution") && m.contains("Shift the time origin"),
+            "{m}"
+        );
+        let e = Simulation::new(&Osc, [1.0], [0.0])
+            .method(Method::Taylor { tol })
+            .start_time(t0)
+            .until(until)
+            .run()
+            .unwrap_err();
+        assert!(matches!(e, SimulationError::InvalidOptions { .. }), "{e}");
+    }
+    for (t0, until, tol) in [
+        (0.7, 40.0, 1e-15),
+        (1e9, 1e9 + 10.0, 1e-6),
+        (0.0, 1e3, 1e-15),
+    ] {
+        if let Err(m) = check(t0, until, tol) {
+            assert!(
+                !m.contains("time resolution"),
+                "[{t0}, {until}] tol {tol:e}: {m}"
+            );
+        }
+    }
+}

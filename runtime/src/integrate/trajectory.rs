@@ -7,6 +7,37 @@ use std::path::Path;
 use super::events::EventHit;
 use super::state::Fault;
 
+/// The memory the stored samples of a run may take when [`Simulation::max_samples`](crate::Simulation::max_samples)
+/// is not set: 256 MiB (the default bound is this over [`sample_bytes`]).
+pub(crate) const SAMPLE_BUDGET_BYTES: usize = 256 << 20;
+
+/// The bytes one stored sample of a run with `n` coordinates and `k` constraints takes: t, q, q̇,
+/// the energy, the momenta and the work, (3n + 3) · 8, and for k > 0 the multipliers λ (a `Vec`:
+/// 24 + 8k). The one count both `max_samples` messages use.
+pub(crate) fn sample_bytes(n: usize, k: usize) -> usize {
+    let lambda = if k > 0 { 24 + 8 * k } else { 0 };
+    (3 * n + 3) * 8 + lambda
+}
+
+/// The default `max_samples`: as many samples as fit in [`SAMPLE_BUDGET_BYTES`] (at least 2).
+pub(crate) fn default_max_samples(n: usize, k: usize) -> usize {
+    (SAMPLE_BUDGET_BYTES / sample_bytes(n, k)).max(2)
+}
+
+/// `max_samples = …` with what a sample takes and, for the default, where the bound comes from:
+/// the words both `max_samples` messages (before the run and during it) say it with.
+pub(crate) fn max_samples_phrase(max_samples: usize, bytes: usize, by_default: bool) -> String {
+    if by_default {
+        format!(
+            "max_samples = {max_samples} (the default: a {} MiB budget of stored samples at \
+             {bytes} bytes per sample)",
+            SAMPLE_BUDGET_BYTES >> 20
+        )
+    } else {
+        format!("max_samples = {max_samples} (at {bytes} bytes per sample)")
+    }
+}
+
 /// Counters of a run.
 ///
 /// For the explicit methods `rhs_evals` counts evaluations of the accelerations; for the
@@ -285,7 +316,8 @@ impl<const N: usize> Trajectory<N> {
     }
 
     /// Records a sample: stored when `keep` (at most `max_samples`, else [`Fault::MaxSamples`]);
-    /// otherwise only the first and the latest sample are stored. The running drift sees them all.
+    /// otherwise only the first and the latest sample are stored, whatever `max_samples` is (the
+    /// bound is on memory, and two samples take next to none). The running drift sees them all.
     pub(crate) fn record(
         &mut self,
         s: &Sample<N>,
@@ -296,7 +328,7 @@ impl<const N: usize> Trajectory<N> {
         if let Some((lambda, residual)) = constraint {
             self.residual.add(residual);
             if keep || self.t.len() < 2 {
-                if self.t.len() < max_samples {
+                if !keep || self.t.len() < max_samples {
                     self.lambda.push(lambda);
                 }
             } else if let Some(last) = self.lambda.last_mut() {
@@ -304,7 +336,7 @@ impl<const N: usize> Trajectory<N> {
             }
         }
         if keep || self.t.len() < 2 {
-            if self.t.len() >= max_samples {
+            if keep && self.t.len() >= max_samples {
                 return Err(Fault::MaxSamples(max_samples));
             }
             self.t.push(s.t);
@@ -509,7 +541,7 @@ impl<const N: usize> Trajectory<N> {
             header.push("work".to_string());
         }
         header.extend((0..self.constraint_count).map(|j| format!("lambda_{j}")));
-        writeln!(w, "{}", header.join(","))?;
+        writeln!(w, "{}", header.join(",")).map_err(named)?;
         for k in 0..self.len() {
             let mut row = vec![self.t[k]];
             row.extend_from_slice(&self.q[k]);
@@ -526,8 +558,8 @@ impl<const N: usize> Trajectory<N> {
                 }
             }
             let cells: Vec<String> = row.iter().map(|x| format!("{x}")).collect();
-            writeln!(w, "{}", cells.join(","))?;
+            writeln!(w, "{}", cells.join(",")).map_err(named)?;
         }
-        w.flush()
+        w.flush().map_err(named)
     }
 }

@@ -70,6 +70,34 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                          local error per step, absolute for states of size ≤ 1, relative above)"
                     ));
                 }
+                // The time resolution: adjacent f64 times near the run differ by `spacing`. A run
+                // shorter than 1024 of them cannot be cut into steps (as for the fixed steps
+                // above), and where rounding each step's end time (up to spacing / 2) moves the
+                // state by 1000 times the error a step is allowed, the answer is the rounding's,
+                // not the method's (t0 = 1e9: spacing 1.2e-7 against tol 1e-12).
+                let far = self.t0.abs().max(until.abs());
+                let spacing = far * f64::EPSILON;
+                if until - self.t0 < 1024.0 * spacing {
+                    return Err(format!(
+                        "the run [{}, {until}] is below the time resolution: near t = {far:e} \
+                         adjacent f64 times differ by about {spacing:.1e}, so the run cannot be \
+                         cut into Taylor steps. Shift the time origin (start at t0 = 0 and add the \
+                         offset inside your forces or L), or make the run longer than {:.1e}",
+                        self.t0,
+                        1024.0 * spacing
+                    ));
+                }
+                if 0.5 * spacing > 1e3 * tol {
+                    return Err(format!(
+                        "the Taylor method's tol = {tol:e} is far below the time resolution of the \
+                         run: near t = {far:e} adjacent f64 times differ by about {spacing:.1e}, so \
+                         rounding each step's end time moves the state by more than 1000 × tol \
+                         per step (a wrong answer that looks accurate). Shift the time origin \
+                         (start at t0 = 0 and add the offset inside your forces or L), or take \
+                         tol ≥ {:.1e}",
+                        spacing / 2e3
+                    ));
+                }
                 if self.manifold.is_some() {
                     return Err("the Taylor method does not take constraints yet: use \
                          Method::Dop853 (projected after every step) or \
@@ -145,7 +173,9 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
             }
             (None, None) => 0.0,
         };
-        if samples > self.max_samples as f64 {
+        let max_samples = self.max_samples_bound();
+        // Without keep_samples the trajectory stores two samples whatever the grid is.
+        if self.keep_samples && samples > max_samples as f64 {
             let asked = match self.sample_every {
                 Some(ds) => format!(
                     "sample_every = {ds:e} over [{}, {until}] asks for {samples:.3e} samples",
@@ -154,9 +184,13 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                 None => format!("sample_at asks for {samples} samples (with t0 and until)"),
             };
             return Err(format!(
-                "{asked}, more than max_samples = {}: sample less often, shorten the run, or \
-                 raise the limit with .max_samples(n) (each sample holds (3N + 2) · 8 bytes)",
-                self.max_samples
+                "{asked}, more than {}: sample less often, shorten the run, or raise the limit \
+                 with .max_samples(n)",
+                super::trajectory::max_samples_phrase(
+                    max_samples,
+                    self.sample_bytes(),
+                    self.max_samples.is_none()
+                )
             ));
         }
         if let Some(times) = &self.sample_at {
