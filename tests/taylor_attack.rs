@@ -4,99 +4,90 @@
 //! work integral carries the step's accuracy.
 
 use lagrange::ensemble::{Ensemble, Member};
+use lagrange::lanes::Lanes;
 use lagrange::prelude::*;
+use lagrange::taylor::{SeriesBuf, TaylorBuf};
 use lagrange::SimulationError;
 
-/// One coordinate per function of the table: M_ii = 2 + f(a) and V_i = ½x² + f(a)/10 with
-/// a = c + 0.3 x inside f's domain (|x| ≤ 0.5 along the motion).
-#[derive(Clone, Copy, Debug)]
-pub struct EveryFunction;
+/// A system of one coordinate per expression `f[i]` of x[i]: M_ii = 2 + f and V_i = ½x² + f/10
+/// (so f enters M and its derivative the right-hand side).
+macro_rules! functions {
+    ($name:ident, $n:literal, ($x:ident, $x_dot:ident); $($f:expr),* $(,)?) => {
+        #[derive(Clone, Copy, Debug)]
+        pub struct $name;
 
-#[lagrangian]
-impl EveryFunction {
-    fn lagrangian(&self, (x, x_dot): Coords<25>) -> Scalar {
-        let f = [
-            (1.0 + 0.3 * x[0]).sqrt() * 0.5,
-            (0.3 + 0.3 * x[1]).sin(),
-            (0.3 + 0.3 * x[2]).cos() * 0.5,
-            (0.3 + 0.3 * x[3]).tan(),
-            (0.3 * x[4]).exp() * 0.5,
-            (1.5 + 0.3 * x[5]).ln(),
-            (0.3 + 0.3 * x[6]).asinh(),
-            (1.5 + 0.3 * x[7]).acosh(),
-            (0.3 + 0.3 * x[8]).atanh(),
-            (0.3 * x[9]).exp2() * 0.5,
-            (1.0 + 0.3 * x[10]).cbrt() * 0.5,
-            (0.3 + 0.3 * x[11]).ln_1p(),
-            (0.3 * x[12]).exp_m1(),
-            (1.5 + 0.3 * x[13]).log10(),
-            (1.5 + 0.3 * x[14]).log2() * 0.5,
-            (0.3 + 0.3 * x[15]).asin(),
-            (0.3 + 0.3 * x[16]).acos() * 0.5,
-            (0.3 + 0.3 * x[17]).atan(),
-            (0.3 + 0.3 * x[18]).sinh(),
-            (0.3 + 0.3 * x[19]).cosh() * 0.5,
-            (0.3 + 0.3 * x[20]).tanh(),
-            (1.0 + 0.3 * x[21]).powf(2.5) * 0.3,
-            (0.3 + 0.3 * x[22]).atan2(1.0 + 0.2 * x[22]),
-            (0.3 + 0.3 * x[23]).hypot(1.0) * 0.5,
-            (1.5 + 0.3 * x[24]).recip(),
-        ];
-        let mut l = 0.0;
-        for i in 0..25 {
-            l += 0.5 * (2.0 + f[i]) * x_dot[i] * x_dot[i] - 0.5 * x[i] * x[i] - 0.1 * f[i];
+        #[lagrangian]
+        impl $name {
+            fn lagrangian(&self, ($x, $x_dot): Coords<$n>) -> Scalar {
+                let f = [$($f),*];
+                let mut l = 0.0;
+                for i in 0..$n {
+                    l += 0.5 * (2.0 + f[i]) * $x_dot[i] * $x_dot[i] - 0.5 * $x[i] * $x[i] - 0.1 * f[i];
+                }
+                l
+            }
         }
-        l
-    }
+    };
 }
 
-/// `powi(n)`, n = −3 … 8 (coordinate n + 3): in M through (1 + x/5)ⁿ, in V through (1 + x/5)ⁿ
-/// and, for n ≥ 2, xⁿ (through x = 0, where the power rule's 1/x₀ would fail).
-#[derive(Clone, Copy, Debug)]
-pub struct EveryPower;
+// Every function of the table at a = c + 0.3 x inside its domain (|x| ≤ 0.5 along the motion),
+// five per system: small enough for the lanes code (`VECTORIZED_LANES`).
+functions!(FunctionsA, 5, (x, x_dot);
+    (1.0 + 0.3 * x[0]).sqrt() * 0.5,
+    (0.3 + 0.3 * x[1]).sin(),
+    (0.3 + 0.3 * x[2]).cos() * 0.5,
+    (0.3 + 0.3 * x[3]).tan(),
+    (0.3 * x[4]).exp() * 0.5,
+);
+functions!(FunctionsB, 5, (x, x_dot);
+    (1.5 + 0.3 * x[0]).ln(),
+    (0.3 + 0.3 * x[1]).asinh(),
+    (1.5 + 0.3 * x[2]).acosh(),
+    (0.3 + 0.3 * x[3]).atanh(),
+    (0.3 * x[4]).exp2() * 0.5,
+);
+functions!(FunctionsC, 5, (x, x_dot);
+    (1.0 + 0.3 * x[0]).cbrt() * 0.5,
+    (0.3 + 0.3 * x[1]).ln_1p(),
+    (0.3 * x[2]).exp_m1(),
+    (1.5 + 0.3 * x[3]).log10(),
+    (1.5 + 0.3 * x[4]).log2() * 0.5,
+);
+functions!(FunctionsD, 5, (x, x_dot);
+    (0.3 + 0.3 * x[0]).asin(),
+    (0.3 + 0.3 * x[1]).acos() * 0.5,
+    (0.3 + 0.3 * x[2]).atan(),
+    (0.3 + 0.3 * x[3]).sinh(),
+    (0.3 + 0.3 * x[4]).cosh() * 0.5,
+);
+functions!(FunctionsE, 5, (x, x_dot);
+    (0.3 + 0.3 * x[0]).tanh(),
+    (1.0 + 0.3 * x[1]).powf(2.5) * 0.3,
+    (0.3 + 0.3 * x[2]).atan2(1.0 + 0.2 * x[2]),
+    (0.3 + 0.3 * x[3]).hypot(1.0) * 0.5,
+    (1.5 + 0.3 * x[4]).recip(),
+);
 
-#[lagrangian]
-impl EveryPower {
-    fn lagrangian(&self, (x, x_dot): Coords<12>) -> Scalar {
-        let b = |i: usize| 1.0 + 0.2 * x[i];
-        let m = [
-            b(0).powi(-3),
-            b(1).powi(-2),
-            b(2).powi(-1),
-            b(3).powi(0),
-            b(4).powi(1),
-            b(5).powi(2),
-            b(6).powi(3),
-            b(7).powi(4),
-            b(8).powi(5),
-            b(9).powi(6),
-            b(10).powi(7),
-            b(11).powi(8),
-        ];
-        let v = [
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-            x[5].powi(2),
-            x[6].powi(3),
-            x[7].powi(4),
-            x[8].powi(5),
-            x[9].powi(6),
-            x[10].powi(7),
-            x[11].powi(8),
-        ];
-        let mut l = 0.0;
-        for i in 0..12 {
-            l += 0.5 * (2.0 + 0.3 * m[i]) * x_dot[i] * x_dot[i]
-                - 0.5 * x[i] * x[i]
-                - 0.1 * m[i]
-                - 0.05 * v[i];
-        }
-        l
-    }
-}
+// `powi(n)`, n = −3 … 8: in M and V through (1 + x/5)ⁿ (0.3 (1 + x/5)ⁿ here), and for n ≥ 2
+// also xⁿ in V (through x = 0, where the power rule's 1/x₀ would fail).
+functions!(PowersA, 4, (x, x_dot);
+    0.3 * (1.0 + 0.2 * x[0]).powi(-3),
+    0.3 * (1.0 + 0.2 * x[1]).powi(-2),
+    0.3 * (1.0 + 0.2 * x[2]).powi(-1),
+    0.3 * (1.0 + 0.2 * x[3]).powi(0) + x[3].powi(2),
+);
+functions!(PowersB, 4, (x, x_dot);
+    0.3 * (1.0 + 0.2 * x[0]).powi(1) + x[0].powi(3),
+    0.3 * (1.0 + 0.2 * x[1]).powi(2) + x[1].powi(4),
+    0.3 * (1.0 + 0.2 * x[2]).powi(3) + x[2].powi(5),
+    0.3 * (1.0 + 0.2 * x[3]).powi(4) + x[3].powi(6),
+);
+functions!(PowersC, 4, (x, x_dot);
+    0.3 * (1.0 + 0.2 * x[0]).powi(5) + x[0].powi(7),
+    0.3 * (1.0 + 0.2 * x[1]).powi(6) + x[1].powi(8),
+    0.3 * (1.0 + 0.2 * x[2]).powi(7) + 0.5 * x[2].powi(4),
+    0.3 * (1.0 + 0.2 * x[3]).powi(8) + 0.5 * x[3].powi(5),
+);
 
 /// The reproducer: ẍ = −x − x³ from x = 1 at rest.
 pub struct Quartic;
@@ -149,48 +140,118 @@ fn taylor_equals_dop853_on_a_quartic_oscillator() {
     );
 }
 
+/// Taylor against DOP853 for one system of the tables, from a state of every coordinate ≈ 0.5.
+fn against_dop853<L: Lagrangian<N>, const N: usize>(sys: &L, what: &str) {
+    let q0 = core::array::from_fn(|i| 0.5 - 0.03 * i as f64);
+    agree(
+        end(sys, q0, Method::Taylor { tol: 1e-15 }),
+        end(sys, q0, DOP),
+        what,
+    );
+}
+
 #[test]
 fn taylor_equals_dop853_for_every_function_of_the_table() {
-    let q0 = core::array::from_fn(|i| 0.5 - 0.01 * i as f64);
-    agree(
-        end(&EveryFunction, q0, Method::Taylor { tol: 1e-15 }),
-        end(&EveryFunction, q0, DOP),
-        "functions",
-    );
+    against_dop853(&FunctionsA, "sqrt sin cos tan exp");
+    against_dop853(&FunctionsB, "ln asinh acosh atanh exp2");
+    against_dop853(&FunctionsC, "cbrt ln_1p exp_m1 log10 log2");
+    against_dop853(&FunctionsD, "asin acos atan sinh cosh");
+    against_dop853(&FunctionsE, "tanh powf atan2 hypot recip");
 }
 
 #[test]
 fn taylor_equals_dop853_for_every_power() {
-    let q0 = core::array::from_fn(|i| 0.5 - 0.02 * i as f64);
-    agree(
-        end(&EveryPower, q0, Method::Taylor { tol: 1e-15 }),
-        end(&EveryPower, q0, DOP),
-        "powers",
-    );
+    against_dop853(&PowersA, "powi −3 … 0");
+    against_dop853(&PowersB, "powi 1 … 4");
+    against_dop853(&PowersC, "powi 5 … 8");
 }
 
-/// The same in SIMD lanes: an ensemble of five members (one lane runs two) with the Taylor
-/// method equals DOP853 member by member.
-#[test]
-fn taylor_lanes_equal_dop853_for_every_function_and_power() {
-    fn lanes<L: Lagrangian<N> + Clone + Sync, const N: usize>(sys: L, what: &str) {
-        let q0 = |k: usize| core::array::from_fn(|i| 0.45 - 0.01 * i as f64 + 0.01 * k as f64);
-        let r = Ensemble::new(5, |k| Member::new(sys.clone(), q0(k), [0.0; N]))
-            .configure(|sim| {
-                sim.method(Method::Taylor { tol: 1e-15 })
-                    .until(10.0)
-                    .sample_at([0.0; 0])
-            })
-            .lanes(4)
-            .threads(1)
-            .run();
-        for (k, tr) in r.results.iter().enumerate() {
-            let tr = tr.as_ref().expect("a regular run");
-            agree(tr.q[tr.q.len() - 1], end(&sys, q0(k), DOP), what);
+/// The lanes code: `taylor_series_lanes` of four members at four states equals, lane by lane,
+/// `taylor_series` of that member (which the tests above hold against DOP853), to round-off
+/// (the vector sin, cos, exp and ln are not the scalar ones bit for bit).
+fn lanes_equal_scalar<L: Lagrangian<N>, const N: usize>(sys: &L, what: &str) {
+    const P: usize = 20;
+    assert!(L::VECTORIZED_LANES, "{what}: no lanes code");
+    let state = |l: usize, c: usize, i: usize| {
+        0.1 + 0.07 * l as f64 + 0.03 * i as f64 - if c == 1 { 0.2 } else { 0.0 }
+    };
+    let mut out = vec![[[Lanes::<4>::ZERO; N]; 2]; P + 1];
+    for l in 0..4 {
+        for c in 0..2 {
+            for i in 0..N {
+                out[0][c][i].0[l] = state(l, c, i);
+            }
         }
     }
-    lanes(EveryFunction, "functions in lanes");
-    lanes(EveryPower, "powers in lanes");
+    let mut params = vec![Lanes::<4>::ZERO; L::LANE_PARAMS];
+    let mut one = vec![0.0; L::LANE_PARAMS];
+    sys.lane_params(&mut one);
+    for (p, v) in params.iter_mut().zip(&one) {
+        *p = Lanes([*v; 4]);
+    }
+    let done = L::taylor_series_lanes(
+        &[sys, sys, sys, sys],
+        &params,
+        Lanes::ZERO,
+        &mut out,
+        &mut SeriesBuf::new(),
+    )
+    .expect("lanes code");
+    assert!(done.all(), "{what}: a lane was left out");
+    for l in 0..4 {
+        let mut scalar = vec![[[0.0; N]; 2]; P + 1];
+        scalar[0] = core::array::from_fn(|c| core::array::from_fn(|i| state(l, c, i)));
+        sys.taylor_series(0.0, &mut scalar, &mut TaylorBuf::new())
+            .expect("a series")
+            .expect("a regular state");
+        for k in 0..=P {
+            for c in 0..2 {
+                for i in 0..N {
+                    let (a, b) = (out[k][c][i].0[l], scalar[k][c][i]);
+                    assert!(
+                        (a - b).abs() <= 1e-13 * b.abs().max(1.0),
+                        "{what}: lane {l}, order {k}, {c}/{i}: {a} against {b}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn taylor_lanes_equal_the_scalar_series_for_every_function_and_power() {
+    lanes_equal_scalar(&FunctionsA, "sqrt sin cos tan exp");
+    lanes_equal_scalar(&FunctionsB, "ln asinh acosh atanh exp2");
+    lanes_equal_scalar(&FunctionsC, "cbrt ln_1p exp_m1 log10 log2");
+    lanes_equal_scalar(&FunctionsD, "asin acos atan sinh cosh");
+    lanes_equal_scalar(&FunctionsE, "tanh powf atan2 hypot recip");
+    lanes_equal_scalar(&PowersA, "powi −3 … 0");
+    lanes_equal_scalar(&PowersB, "powi 1 … 4");
+    lanes_equal_scalar(&PowersC, "powi 5 … 8");
+}
+
+/// An ensemble in lanes with the Taylor method (five members: one lane runs two) equals DOP853
+/// member by member.
+#[test]
+fn taylor_ensemble_in_lanes_equals_dop853() {
+    let q0 = |k: usize| core::array::from_fn(|i| 0.45 - 0.03 * i as f64 + 0.01 * k as f64);
+    let r = Ensemble::new(5, |k| Member::new(PowersC, q0(k), [0.0; 4]))
+        .configure(|sim| {
+            sim.method(Method::Taylor { tol: 1e-15 })
+                .until(10.0)
+                .sample_at([0.0; 0])
+        })
+        .lanes(4)
+        .threads(1)
+        .run();
+    for (k, tr) in r.results.iter().enumerate() {
+        let tr = tr.as_ref().expect("a regular run");
+        agree(
+            tr.q[tr.q.len() - 1],
+            end(&PowersC, q0(k), DOP),
+            "powers in lanes",
+        );
+    }
 }
 
 /// ẍ = −sgn x: a kink at x = 0 (exact x(10) = 0.137085; one Taylor step gave x(10) = −49).

@@ -15,6 +15,15 @@ use crate::names;
 /// `#[inline(always)]`.
 const INLINE_ALWAYS_MAX_OPS: usize = 256;
 
+/// Up to this many generated operations (values plus N² for the solve) the system gets lanes code
+/// (`accelerations_lanes`, `taylor_series_lanes`: W ensemble members per vector). Every
+/// `Ensemble` instantiates the lanes engines, which inline that code at each DOP853 stage and in
+/// the Taylor engine: measured release builds of a crate with one `Ensemble::run` (2026-11-26,
+/// 2 cores), a 12-link chain (984 operations) took 123 s with lanes code against 11 s without
+/// an ensemble and 18 s with one and no lanes code; an 8-link chain (478) 8.1 s against 3.9 s.
+/// A 6-link chain has 291, the heavy top fewer.
+const LANES_MAX_OPS: usize = 300;
+
 /// What the symbolic path contributes to the generated impl.
 pub struct SymbolicOutput {
     /// Body of `fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64)
@@ -138,8 +147,9 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
         let solve = solve::ldlt(&eq, &pairs);
         // The same code over lanes: W members at once, each lane the scalar value bit for bit;
-        // where a pivot test fails in any lane, every lane takes the scalar path.
-        {
+        // where a pivot test fails in any lane, every lane takes the scalar path. Only for a small
+        // system (see LANES_MAX_OPS): a larger one's ensembles run members one at a time.
+        if code.lets + n * n <= LANES_MAX_OPS {
             let lane = codegen::lane_type();
             let (members, params, out) = (
                 names::lane_members(),
