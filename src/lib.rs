@@ -131,7 +131,9 @@
 //! - `for` loops, unrolled when the macro expands: over ranges whose bounds it knows (literals,
 //!   loop variables, `q.len()`, integer `const`s of the impl block written `Self::N`), over
 //!   arrays, and over `.iter()`, `.enumerate()`, `.zip(..)` (also with an `f64` array field,
-//!   `self.m.iter()`), `.rev()`, `.skip(k)`, `.take(k)`, `.step_by(k)`; `.map(..)`, `.sum()`,
+//!   `self.m.iter()`, stopping at the shorter side like Rust's `zip`: the field's length is read
+//!   at run time, and `EQUATIONS` print its elements as if it were long enough), `.rev()`,
+//!   `.skip(k)`, `.take(k)`, `.step_by(k)`; `.map(..)`, `.sum()`,
 //!   `.product()` and `.fold(..)` on them; indexing with constants and loop variables; local
 //!   arrays (`[0.0; 3]`, written element by element); `if` on a loop variable;
 //! - helpers, inlined: methods of the same impl block written with `Scalar`
