@@ -122,6 +122,13 @@ const MAX_UNROLL: i64 = 100_000;
 /// How deep helpers, closures and nested functions may call each other (recursion is an error).
 const MAX_CALL_DEPTH: usize = 64;
 
+/// The most loop iterations (of `for` loops and of `.sum()`/`.product()`) and inlined calls
+/// (helpers, closures, nested `fn`s, the closures of `.map()`/`.fold()`) the lowering of one body
+/// expands, in total: beyond it (1000 × 1000 nested loops, a helper that calls itself twice per
+/// level) the macro would run for minutes and gigabytes, so it is a compile error that says to
+/// use the jets.
+const MAX_WORK: usize = 100_000;
+
 impl Val {
     /// What the value is, for messages (`a Vector3`, `an array`).
     fn kind(&self) -> &'static str {
@@ -193,6 +200,8 @@ pub fn lower(decl: &Decl, sink: &mut Errors) -> Option<Lowered> {
             int_consts: int_consts(&decl.rest),
             depth: 0,
             frame_base: 0,
+            work: 0,
+            over_budget: false,
         };
         match lw.bodies(decl) {
             Err(Retype(f)) => {
@@ -267,6 +276,11 @@ struct Lower {
     /// In an inlined call, how many bindings it captured: assigning to one of them (a closure
     /// that mutates its environment) is not lowered.
     frame_base: usize,
+    /// Loop iterations and inlined calls expanded in the current body (see [`MAX_WORK`]).
+    work: usize,
+    /// The current body went past [`MAX_WORK`] (reported once): what is left of it is not
+    /// expanded.
+    over_budget: bool,
 }
 
 /// The patterns of a function's parameters after `self`.
@@ -317,6 +331,10 @@ fn int_consts(rest: &syn::ItemImpl) -> std::collections::HashMap<String, i64> {
 /// walks all of its tokens, so taking it eagerly at every link of a 2000-deep chain is quadratic.
 trait At {
     fn at(&self) -> Span;
+    /// An error that covers the whole construct where the syntax has one (first to last token).
+    fn error(&self, msg: String) -> syn::Error {
+        syn::Error::new(self.at(), msg)
+    }
 }
 
 impl At for Span {
@@ -329,17 +347,40 @@ impl At for Expr {
     fn at(&self) -> Span {
         self.span()
     }
+    fn error(&self, msg: String) -> syn::Error {
+        syn::Error::new_spanned(self, msg)
+    }
 }
 
 impl At for syn::ExprMethodCall {
     fn at(&self) -> Span {
         self.span()
     }
+    fn error(&self, msg: String) -> syn::Error {
+        syn::Error::new_spanned(self, msg)
+    }
+}
+
+/// The head of a `for` loop (`for i in 0..N`), where an error about the loop points.
+struct LoopHead<'a>(&'a syn::ExprForLoop);
+
+impl At for LoopHead<'_> {
+    fn at(&self) -> Span {
+        self.0.for_token.span
+    }
+    fn error(&self, msg: String) -> syn::Error {
+        let f = self.0;
+        let (for_token, pat, in_token, expr) = (&f.for_token, &f.pat, &f.in_token, &f.expr);
+        syn::Error::new_spanned(quote::quote!(#for_token #pat #in_token #expr), msg)
+    }
 }
 
 impl At for syn::ExprCall {
     fn at(&self) -> Span {
         self.span()
+    }
+    fn error(&self, msg: String) -> syn::Error {
+        syn::Error::new_spanned(self, msg)
     }
 }
 
@@ -410,6 +451,32 @@ impl Lower {
 
     fn unsupported(&mut self, span: Span, what: &str) -> Val {
         self.err(unsupported(span, what))
+    }
+
+    fn new_body(&mut self) {
+        self.work = 0;
+        self.over_budget = false;
+    }
+
+    /// Counts one loop iteration or inlined call (`what`, at `at`) against [`MAX_WORK`]: `false`
+    /// once the body is past it (the first time, with an error at `at`), and then the caller
+    /// expands nothing more, so the macro stops early.
+    fn spend(&mut self, at: &dyn At, what: &str) -> bool {
+        if self.over_budget {
+            return false;
+        }
+        self.work += 1;
+        if self.work <= MAX_WORK {
+            return true;
+        }
+        self.over_budget = true;
+        self.errors.push(at.error(format!(
+            "{what} goes past {MAX_WORK} loop iterations and inlined calls in this body: the \
+             symbolic mode expands every iteration and every call when the macro runs, which \
+             would take minutes and gigabytes; use `#[lagrangian(mode = \"jets\")]` on this \
+             impl block, which runs loops and calls as written"
+        )));
+        false
     }
 
     fn lookup(&self, name: &str) -> Option<Val> {
@@ -587,6 +654,7 @@ impl Lower {
             .map(|c| (Some(&c.name), Some(&c.dot)))
             .collect();
         self.seed(decl, &own, decl.time.as_ref());
+        self.new_body();
         let lagrangian = self.block(&decl.body)?;
         fn bindings(f: &Func) -> Vec<(Option<&proc_macro2::Ident>, Option<&proc_macro2::Ident>)> {
             f.bindings
@@ -597,6 +665,7 @@ impl Lower {
         let dissipation = match &decl.dissipation {
             Some(f) => {
                 self.seed(decl, &bindings(f), f.time.as_ref());
+                self.new_body();
                 Some(self.block(&f.body)?)
             }
             None => None,
@@ -604,6 +673,7 @@ impl Lower {
         let forces = match &decl.forces {
             Some(f) => {
                 self.seed(decl, &bindings(f), f.time.as_ref());
+                self.new_body();
                 Some(self.array_block(&f.body, decl.n())?)
             }
             None => None,
@@ -995,6 +1065,9 @@ impl Lower {
         if let Some(label) = &f.label {
             return Ok(self.unsupported(label.span(), "a loop label"));
         }
+        if self.over_budget {
+            return Ok(Val::Poison);
+        }
         let items = match self.seq_or_expr(&f.expr)? {
             Val::A(items) => items.into_iter().map(|v| (v, Guard::new())).collect(),
             Val::Z(z) => z.items,
@@ -1019,7 +1092,11 @@ impl Lower {
                 )));
             }
         };
+        let head = LoopHead(f);
         for (item, guard) in items {
+            if !self.spend(&head, "this loop") {
+                return Ok(Val::Poison);
+            }
             let depth = self.scopes.len();
             let span = f.for_token.span;
             let before = self
@@ -1127,6 +1204,9 @@ impl Lower {
 
     /// Inlines a call of `f` (a closure, a nested `fn`, a helper method) with `args`.
     fn call_fn(&mut self, f: &Callable, args: Vec<Val>, at: &dyn At) -> R<Val> {
+        if !self.spend(at, &format!("this call of {}", f.what)) {
+            return Ok(Val::Poison);
+        }
         if self.depth >= MAX_CALL_DEPTH {
             return Ok(self.err(syn::Error::new(
                 at.at(),
@@ -1942,6 +2022,9 @@ impl Lower {
                     Some(first) => {
                         let mut acc = first;
                         for x in it {
+                            if !self.spend(whole, &format!("this `.{name}()`")) {
+                                return Ok(Some(Val::Poison));
+                            }
                             acc = self.arith(op, acc, x, recv_e, recv_e)?;
                         }
                         acc
@@ -2086,6 +2169,9 @@ impl Lower {
                 let op = if name == "sum" { '+' } else { '*' };
                 let mut acc: Option<Val> = None;
                 for (x, g) in items {
+                    if !self.spend(whole, &format!("this `.{name}()`")) {
+                        return Ok(Some(Val::Poison));
+                    }
                     // An element that does not exist adds 0 (multiplies by 1).
                     let x = match x {
                         Val::V(_) if op == '+' => self.guarded(&g, x, Val::V([Dag::ZERO; 3]), span),
