@@ -1367,7 +1367,7 @@ impl Lower {
         }
         let terms = g.iter().map(|(b, k)| {
             let k = proc_macro2::Literal::usize_unsuffixed(*k);
-            quote::quote_spanned!(span=> #k < #b.len())
+            quote::quote_spanned!(span=> #k < <[f64]>::len(&#b))
         });
         let ts = quote::quote_spanned!(span=> #(#terms)&&*);
         let mut offenders = Vec::new();
@@ -2062,8 +2062,12 @@ impl Lower {
         (0..n)
             .map(|k| {
                 let lit = proc_macro2::Literal::usize_unsuffixed(k);
+                // Paths, not methods: a user's trait in scope cannot change what they call.
                 let e: Expr = syn::parse_quote_spanned!(whole.at()=>
-                    #b.get(#lit).copied().unwrap_or(0.0));
+                ::core::option::Option::<f64>::unwrap_or(
+                    ::core::option::Option::<&f64>::copied(<[f64]>::get(&#b, #lit)),
+                    0.0,
+                ));
                 let shown = cond_text(&quote::quote!(#b[#lit]));
                 let v = self.opaque_shown(&e, Some(shown)).unwrap_or(Val::Poison);
                 (v, vec![(b.clone(), k)])
