@@ -131,13 +131,19 @@
 //! - `for` loops, unrolled when the macro expands: over ranges whose bounds it knows (literals,
 //!   loop variables, `q.len()`, integer `const`s of the impl block written `Self::N`), over
 //!   arrays, and over `.iter()`, `.enumerate()`, `.zip(..)` (also with an `f64` array field,
-//!   `self.m.iter()`), `.rev()`, `.skip(k)`, `.take(k)`, `.step_by(k)`; `.map(..)`, `.sum()`,
+//!   `self.m.iter()`, stopping at the shorter side like Rust's `zip`: the field's length is read
+//!   at run time, and `EQUATIONS` print its elements as if it were long enough), `.rev()`,
+//!   `.skip(k)`, `.take(k)`, `.step_by(k)`; `.map(..)`, `.sum()`,
 //!   `.product()` and `.fold(..)` on them; indexing with constants and loop variables; local
 //!   arrays (`[0.0; 3]`, written element by element); `if` on a loop variable;
 //! - helpers, inlined: methods of the same impl block written with `Scalar`
 //!   (`fn kinetic(&self, m: f64, v: Scalar) -> Scalar`, called as `self.kinetic(m, v)` or
 //!   `Self::kinetic(self, m, v)`; both modes make them generic, so they stay ordinary methods,
-//!   callable with `f64`), closures, and nested `fn` items in the body.
+//!   callable with `f64`), closures, and nested `fn` items in the body;
+//! - at most 100 000 loop iterations and inlined calls in total per body (`fn lagrangian`,
+//!   `fn dissipation`, `fn forces` each): past that (1000 × 1000 nested loops, a helper that
+//!   calls itself twice per level) the macro stops with a compile error at the loop or call that
+//!   crosses it, saying to use `#[lagrangian(mode = "jets")]`.
 //!
 //! A call of a function the macro cannot see with the state, recursion, or an `if`/`match` on
 //! the state is a compile error at that expression that says to use

@@ -600,3 +600,83 @@ fn derefs_of_references_and_elements_agree_with_the_jets() {
         assert!((a[1] + q[0] / 0.5).abs() < 1e-14);
     }
 }
+
+/// `zip` with an `f64` array field of each length against `Coords<3>`: one body per length.
+macro_rules! zip_twins {
+    ($($sym:ident, $jet:ident, $n:literal;)*) => {$(
+        twins! {
+            /// `zip` with an array field that may be shorter than the coordinates, through every
+            /// consumer: `map` + `sum`, `fold`, `product`, a `for` loop with `enumerate`, the
+            /// field on the left, `.rev()` (order-dependent), a zip of a zip, `skip`.
+            $sym, $jet { k: [f64; $n] }
+            fn lagrangian(&self, (q, q_dot): Coords<3>) -> Scalar {
+                let t: Scalar = q_dot.iter().map(|v| 0.5 * v * v).sum();
+                let extra = q_dot
+                    .iter()
+                    .zip(self.k.iter())
+                    .fold(0.0 * q[0], |acc, (v, k)| acc + 0.25 * *k * *v * *v);
+                let v1: Scalar = q.iter().zip(self.k.iter()).map(|(x, k)| *k * *x * *x).sum();
+                let mut v2 = 0.0 * q[0];
+                for (i, (k, x)) in self.k.iter().zip(q.iter()).enumerate() {
+                    v2 += (i as f64 + 1.0) * *k * x.cos();
+                }
+                let mut v3 = 0.0 * q[0];
+                for (x, k) in q.iter().zip(self.k.iter()).rev() {
+                    v3 = v3 * 0.5 + *k * x.sin();
+                }
+                let p: Scalar = q
+                    .iter()
+                    .zip(self.k.iter())
+                    .map(|(x, k)| 1.0 + 0.1 * *k * *x)
+                    .product();
+                let mut v4 = 0.0 * q[0];
+                for ((x, k), v) in q.iter().skip(1).zip(self.k.iter()).zip(q_dot.iter()) {
+                    v4 += *k * *x * *v;
+                }
+                t + extra - v1 - v2 - v3 - p - v4
+            }
+        }
+    )*};
+}
+
+zip_twins! {
+    ZipShort, ZipShortJets, 2;
+    ZipEqual, ZipEqualJets, 3;
+    ZipLong, ZipLongJets, 4;
+}
+
+#[test]
+fn zip_with_an_array_field_stops_at_the_shorter_side_like_the_jets() {
+    // Symbolic mode used to unroll to the coordinates' length and index `self.k[2]` of a
+    // 2-element field: an out-of-bounds panic at run time.
+    let mut rng = Rng(47);
+    let short = ZipShort { k: [0.7, -1.3] };
+    let equal = ZipEqual {
+        k: [0.7, -1.3, 0.4],
+    };
+    let long = ZipLong {
+        k: [0.7, -1.3, 0.4, 2.5],
+    };
+    for _ in 0..10 {
+        let q: [f64; 3] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+        let v: [f64; 3] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+        compare(&short, &short.jets(), q, v);
+        compare(&equal, &equal.jets(), q, v);
+        compare(&long, &long.jets(), q, v);
+        // The 2-element field reaches q[2] only through `q.iter().skip(1).zip(self.k)`: L's
+        // q[2] part is ½ q̇2² − k1 q2 q̇1, so q̈2 = −k1 q̇1.
+        let a = short.accelerations(&q, &v, 0.0).expect("symbolic");
+        assert!((a[2] + short.k[1] * v[1]).abs() < 1e-14, "{a:?}");
+    }
+    // The printed equations read the elements as written.
+    assert!(
+        ZipShort::EQUATIONS.contains("k[1]"),
+        "{}",
+        ZipShort::EQUATIONS
+    );
+    assert!(
+        !ZipShort::EQUATIONS.contains("len"),
+        "{}",
+        ZipShort::EQUATIONS
+    );
+}

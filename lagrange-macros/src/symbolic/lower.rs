@@ -48,6 +48,9 @@ pub struct Cond {
     pub text: String,
     /// Where it is written.
     pub span: Span,
+    /// A zip's guard (`2 < self.k.len()`: the array field reaches this element), not written by
+    /// the user: `EQUATIONS` print the guarded value as if it held (see [`Zipped`]).
+    pub assumed: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -66,8 +69,29 @@ enum Val {
     /// An array field of the struct (`self.m`), whose length the macro cannot know: indexed
     /// with a known integer (`self.m[i]`) or zipped with an array of known length.
     Seq(Box<Expr>),
+    /// A zip with such an array field (`q.iter().zip(self.m.iter())`): see [`Zipped`].
+    Z(Box<Zipped>),
     Poison,
 }
+
+/// `zip` with an array field whose length the macro does not know (`q.iter().zip(self.k.iter())`,
+/// `self.k.iter().zip(q.iter())`): the elements of the side whose length it knows, each guarded.
+/// Like Rust's `zip`, the sequence stops at the shorter side, so an element exists when every
+/// array field it reads is longer than the position it reads there (`2 < self.k.len()`): a
+/// condition on parameters, evaluated once per call. The consumers (`for`, `sum`, `product`,
+/// `fold`) take each element's contribution under its condition (a `Select`), and the loads are
+/// `self.k.get(2)`, so a field shorter than the coordinates neither panics nor adds terms.
+#[derive(Clone, Debug)]
+struct Zipped {
+    items: Vec<(Val, Guard)>,
+    /// The elements are in the order they were zipped in (`false` after `.rev()`): the ones that
+    /// exist are then a prefix, so `.enumerate()`, `.skip(k)`, `.take(k)`, `.step_by(k)` and
+    /// `.zip(..)` may follow.
+    forward: bool,
+}
+
+/// The array fields an element of a [`Zipped`] reads and at which position.
+type Guard = Vec<(Expr, usize)>;
 
 /// A function the lowering inlines: its parameter patterns, its body and the bindings it sees.
 struct Callable {
@@ -98,6 +122,13 @@ const MAX_UNROLL: i64 = 100_000;
 /// How deep helpers, closures and nested functions may call each other (recursion is an error).
 const MAX_CALL_DEPTH: usize = 64;
 
+/// The most loop iterations (of `for` loops and of `.sum()`/`.product()`) and inlined calls
+/// (helpers, closures, nested `fn`s, the closures of `.map()`/`.fold()`) the lowering of one body
+/// expands, in total: beyond it (1000 × 1000 nested loops, a helper that calls itself twice per
+/// level) the macro would run for minutes and gigabytes, so it is a compile error that says to
+/// use the jets.
+const MAX_WORK: usize = 100_000;
+
 impl Val {
     /// What the value is, for messages (`a Vector3`, `an array`).
     fn kind(&self) -> &'static str {
@@ -109,6 +140,7 @@ impl Val {
             Val::I(_) => "an integer",
             Val::F(_) => "a function",
             Val::Seq(_) => "an array field whose length the macro does not know",
+            Val::Z(_) => "a zip with an array field whose length the macro does not know",
             Val::Poison => "an erroneous value",
         }
     }
@@ -168,6 +200,8 @@ pub fn lower(decl: &Decl, sink: &mut Errors) -> Option<Lowered> {
             int_consts: int_consts(&decl.rest),
             depth: 0,
             frame_base: 0,
+            work: 0,
+            over_budget: false,
         };
         match lw.bodies(decl) {
             Err(Retype(f)) => {
@@ -242,6 +276,11 @@ struct Lower {
     /// In an inlined call, how many bindings it captured: assigning to one of them (a closure
     /// that mutates its environment) is not lowered.
     frame_base: usize,
+    /// Loop iterations and inlined calls expanded in the current body (see [`MAX_WORK`]).
+    work: usize,
+    /// The current body went past [`MAX_WORK`] (reported once): what is left of it is not
+    /// expanded.
+    over_budget: bool,
 }
 
 /// The patterns of a function's parameters after `self`.
@@ -292,6 +331,10 @@ fn int_consts(rest: &syn::ItemImpl) -> std::collections::HashMap<String, i64> {
 /// walks all of its tokens, so taking it eagerly at every link of a 2000-deep chain is quadratic.
 trait At {
     fn at(&self) -> Span;
+    /// An error that covers the whole construct where the syntax has one (first to last token).
+    fn error(&self, msg: String) -> syn::Error {
+        syn::Error::new(self.at(), msg)
+    }
 }
 
 impl At for Span {
@@ -304,17 +347,40 @@ impl At for Expr {
     fn at(&self) -> Span {
         self.span()
     }
+    fn error(&self, msg: String) -> syn::Error {
+        syn::Error::new_spanned(self, msg)
+    }
 }
 
 impl At for syn::ExprMethodCall {
     fn at(&self) -> Span {
         self.span()
     }
+    fn error(&self, msg: String) -> syn::Error {
+        syn::Error::new_spanned(self, msg)
+    }
+}
+
+/// The head of a `for` loop (`for i in 0..N`), where an error about the loop points.
+struct LoopHead<'a>(&'a syn::ExprForLoop);
+
+impl At for LoopHead<'_> {
+    fn at(&self) -> Span {
+        self.0.for_token.span
+    }
+    fn error(&self, msg: String) -> syn::Error {
+        let f = self.0;
+        let (for_token, pat, in_token, expr) = (&f.for_token, &f.pat, &f.in_token, &f.expr);
+        syn::Error::new_spanned(quote::quote!(#for_token #pat #in_token #expr), msg)
+    }
 }
 
 impl At for syn::ExprCall {
     fn at(&self) -> Span {
         self.span()
+    }
+    fn error(&self, msg: String) -> syn::Error {
+        syn::Error::new_spanned(self, msg)
     }
 }
 
@@ -385,6 +451,32 @@ impl Lower {
 
     fn unsupported(&mut self, span: Span, what: &str) -> Val {
         self.err(unsupported(span, what))
+    }
+
+    fn new_body(&mut self) {
+        self.work = 0;
+        self.over_budget = false;
+    }
+
+    /// Counts one loop iteration or inlined call (`what`, at `at`) against [`MAX_WORK`]: `false`
+    /// once the body is past it (the first time, with an error at `at`), and then the caller
+    /// expands nothing more, so the macro stops early.
+    fn spend(&mut self, at: &dyn At, what: &str) -> bool {
+        if self.over_budget {
+            return false;
+        }
+        self.work += 1;
+        if self.work <= MAX_WORK {
+            return true;
+        }
+        self.over_budget = true;
+        self.errors.push(at.error(format!(
+            "{what} goes past {MAX_WORK} loop iterations and inlined calls in this body: the \
+             symbolic mode expands every iteration and every call when the macro runs, which \
+             would take minutes and gigabytes; use `#[lagrangian(mode = \"jets\")]` on this \
+             impl block, which runs loops and calls as written"
+        )));
+        false
     }
 
     fn lookup(&self, name: &str) -> Option<Val> {
@@ -562,6 +654,7 @@ impl Lower {
             .map(|c| (Some(&c.name), Some(&c.dot)))
             .collect();
         self.seed(decl, &own, decl.time.as_ref());
+        self.new_body();
         let lagrangian = self.block(&decl.body)?;
         fn bindings(f: &Func) -> Vec<(Option<&proc_macro2::Ident>, Option<&proc_macro2::Ident>)> {
             f.bindings
@@ -572,6 +665,7 @@ impl Lower {
         let dissipation = match &decl.dissipation {
             Some(f) => {
                 self.seed(decl, &bindings(f), f.time.as_ref());
+                self.new_body();
                 Some(self.block(&f.body)?)
             }
             None => None,
@@ -579,6 +673,7 @@ impl Lower {
         let forces = match &decl.forces {
             Some(f) => {
                 self.seed(decl, &bindings(f), f.time.as_ref());
+                self.new_body();
                 Some(self.array_block(&f.body, decl.n())?)
             }
             None => None,
@@ -970,8 +1065,12 @@ impl Lower {
         if let Some(label) = &f.label {
             return Ok(self.unsupported(label.span(), "a loop label"));
         }
+        if self.over_budget {
+            return Ok(Val::Poison);
+        }
         let items = match self.seq_or_expr(&f.expr)? {
-            Val::A(items) => items,
+            Val::A(items) => items.into_iter().map(|v| (v, Guard::new())).collect(),
+            Val::Z(z) => z.items,
             Val::Poison => return Ok(Val::Poison),
             Val::Seq(b) => {
                 return Ok(self.err(syn::Error::new(
@@ -993,11 +1092,27 @@ impl Lower {
                 )));
             }
         };
-        for item in items {
+        let head = LoopHead(f);
+        for (item, guard) in items {
+            if !self.spend(&head, "this loop") {
+                return Ok(Val::Poison);
+            }
             let depth = self.scopes.len();
+            let span = f.for_token.span;
+            let before = self
+                .guard_cond(&guard, span)
+                .map(|c| (c, self.scopes.clone()));
             self.bind(&f.pat, item);
             self.block(&f.body)?;
             self.scopes.truncate(depth);
+            // An element of a zip that may not exist: what the body assigned, under its guard.
+            if let Some((c, before)) = before {
+                let after = std::mem::replace(&mut self.scopes, before.clone());
+                for (k, ((_, va), (_, vb))) in after.into_iter().zip(before).enumerate() {
+                    let v = self.merge(c, va, vb, span);
+                    self.scopes[k].1 = v;
+                }
+            }
         }
         Ok(Val::Tuple(Vec::new()))
     }
@@ -1089,6 +1204,9 @@ impl Lower {
 
     /// Inlines a call of `f` (a closure, a nested `fn`, a helper method) with `args`.
     fn call_fn(&mut self, f: &Callable, args: Vec<Val>, at: &dyn At) -> R<Val> {
+        if !self.spend(at, &format!("this call of {}", f.what)) {
+            return Ok(Val::Poison);
+        }
         if self.depth >= MAX_CALL_DEPTH {
             return Ok(self.err(syn::Error::new(
                 at.at(),
@@ -1236,8 +1354,43 @@ impl Lower {
             tokens,
             text,
             span: e.span(),
+            assumed: false,
         });
         Some(self.conds.len() as u32 - 1)
+    }
+
+    /// The condition that an element guarded by `g` exists (`2 < self.k.len() && ..`), registered
+    /// as an assumed condition (see [`Zipped`]). `None` for an element that always exists.
+    fn guard_cond(&mut self, g: &Guard, span: Span) -> Option<u32> {
+        if g.is_empty() {
+            return None;
+        }
+        let terms = g.iter().map(|(b, k)| {
+            let k = proc_macro2::Literal::usize_unsuffixed(*k);
+            quote::quote_spanned!(span=> #k < <[f64]>::len(&#b))
+        });
+        let ts = quote::quote_spanned!(span=> #(#terms)&&*);
+        let mut offenders = Vec::new();
+        let tokens = self.walk_self(ts, &mut offenders);
+        let text = cond_text(&tokens);
+        if let Some(k) = self.conds.iter().position(|c| c.assumed && c.text == text) {
+            return Some(k as u32);
+        }
+        self.conds.push(Cond {
+            tokens,
+            text,
+            span,
+            assumed: true,
+        });
+        Some(self.conds.len() as u32 - 1)
+    }
+
+    /// `v` where the guard `g` holds and `other` where it does not.
+    fn guarded(&mut self, g: &Guard, v: Val, other: Val, span: Span) -> Val {
+        match self.guard_cond(g, span) {
+            Some(c) => self.merge(c, v, other, span),
+            None => v,
+        }
     }
 
     fn cond_tokens(
@@ -1764,14 +1917,15 @@ impl Lower {
                         let other = self.seq_or_expr(args[0])?;
                         match other {
                             Val::A(ys) => {
-                                let xs = self.materialize(b, ys.len(), whole);
-                                Some(Val::A(
-                                    xs.into_iter()
-                                        .zip(ys)
-                                        .map(|(x, y)| Val::Tuple(vec![x, y]))
-                                        .collect(),
-                                ))
+                                let xs = self.guarded_elements(b, ys.len(), whole);
+                                let ys = ys.into_iter().map(|y| (y, Guard::new())).collect();
+                                Some(zip_guarded(xs, ys))
                             }
+                            Val::Z(z) if z.forward => {
+                                let xs = self.guarded_elements(b, z.items.len(), whole);
+                                Some(zip_guarded(xs, z.items))
+                            }
+                            Val::Z(_) => Some(self.after_rev("zip", whole)),
                             Val::Poison => Some(Val::Poison),
                             _ => Some(self.unknown_length(b, whole)),
                         }
@@ -1784,13 +1938,8 @@ impl Lower {
                     _ => None,
                 });
             }
+            Val::Z(z) => return self.zipped_method((**z).clone(), recv_e, name, args, whole),
             _ => return Ok(None),
-        };
-        let int_arg = |this: &mut Self, e: &Expr| -> R<Option<usize>> {
-            Ok(match this.expr(e)? {
-                Val::I(k) => usize::try_from(k).ok(),
-                _ => None,
-            })
         };
         Ok(Some(match (name, nargs) {
             ("iter" | "into_iter" | "copied" | "cloned" | "by_ref", 0) => Val::A(items),
@@ -1803,23 +1952,13 @@ impl Lower {
                     .collect(),
             ),
             ("rev", 0) => Val::A(items.into_iter().rev().collect()),
-            ("skip" | "take" | "step_by", 1) => match int_arg(self, args[0])? {
-                Some(k) => Val::A(match name {
+            ("skip" | "take" | "step_by", 1) => match self.int_arg(name, args[0])? {
+                Ok(k) => Val::A(match name {
                     "skip" => items.into_iter().skip(k).collect(),
                     "take" => items.into_iter().take(k).collect(),
-                    _ if k > 0 => items.into_iter().step_by(k).collect(),
-                    _ => {
-                        return Ok(Some(self.err(syn::Error::new(
-                            args[0].span(),
-                            "`step_by(0)`: a step of 0 never advances (std's `step_by` panics on \
-                             it); give `.step_by(k)` a step k ≥ 1",
-                        ))))
-                    }
+                    _ => items.into_iter().step_by(k).collect(),
                 }),
-                None => self.unsupported(
-                    args[0].span(),
-                    &format!("a `.{name}()` argument that is not an integer known when the macro expands"),
-                ),
+                Err(v) => v,
             },
             ("zip", 1) => match self.seq_or_expr(args[0])? {
                 Val::A(ys) => Val::A(
@@ -1830,15 +1969,15 @@ impl Lower {
                         .collect(),
                 ),
                 Val::Seq(b) => {
-                    let ys = self.materialize(&b, items.len(), whole);
-                    Val::A(
-                        items
-                            .into_iter()
-                            .zip(ys)
-                            .map(|(x, y)| Val::Tuple(vec![x, y]))
-                            .collect(),
-                    )
+                    let ys = self.guarded_elements(&b, items.len(), whole);
+                    let xs = items.into_iter().map(|x| (x, Guard::new())).collect();
+                    zip_guarded(xs, ys)
                 }
+                Val::Z(z) if z.forward => {
+                    let xs = items.into_iter().map(|x| (x, Guard::new())).collect();
+                    zip_guarded(xs, z.items)
+                }
+                Val::Z(_) => self.after_rev("zip", whole),
                 Val::Poison => Val::Poison,
                 other => {
                     let kind = other.kind();
@@ -1851,7 +1990,10 @@ impl Lower {
             ("map", 1) => {
                 let f = self.expr(args[0])?;
                 let Val::F(f) = f else {
-                    return Ok(Some(self.unsupported(args[0].span(), "a `.map()` argument that is not a closure or a function of the body")));
+                    return Ok(Some(self.unsupported(
+                        args[0].span(),
+                        "a `.map()` argument that is not a closure or a function of the body",
+                    )));
                 };
                 let mut out = Vec::with_capacity(items.len());
                 for x in items {
@@ -1862,7 +2004,10 @@ impl Lower {
             ("fold", 2) => {
                 let mut acc = self.expr(args[0])?;
                 let Val::F(f) = self.expr(args[1])? else {
-                    return Ok(Some(self.unsupported(args[1].span(), "a `.fold()` argument that is not a closure or a function of the body")));
+                    return Ok(Some(self.unsupported(
+                        args[1].span(),
+                        "a `.fold()` argument that is not a closure or a function of the body",
+                    )));
                 };
                 for x in items {
                     acc = self.call_fn(&f, vec![acc, x], args[1])?;
@@ -1877,6 +2022,9 @@ impl Lower {
                     Some(first) => {
                         let mut acc = first;
                         for x in it {
+                            if !self.spend(whole, &format!("this `.{name}()`")) {
+                                return Ok(Some(Val::Poison));
+                            }
                             acc = self.arith(op, acc, x, recv_e, recv_e)?;
                         }
                         acc
@@ -1887,18 +2035,176 @@ impl Lower {
         }))
     }
 
-    /// The first `n` elements of the array field `b` (`self.m[0]`, ...), each a parameter.
-    fn materialize(&mut self, b: &Expr, n: usize, whole: &dyn At) -> Vec<Val> {
+    /// The integer argument of `.skip(k)`, `.take(k)`, `.step_by(k)` (`Err`: the error's value).
+    fn int_arg(&mut self, name: &str, e: &Expr) -> R<Result<usize, Val>> {
+        Ok(match self.expr(e)? {
+            Val::I(k) => match usize::try_from(k) {
+                Ok(0) if name == "step_by" => {
+                    Err(self.err(syn::Error::new(
+                        e.span(),
+                        "`step_by(0)`: a step of 0 never advances (std's `step_by` panics on \
+                         it); give `.step_by(k)` a step k ≥ 1",
+                    )))
+                }
+                Ok(k) => Ok(k),
+                Err(_) => Err(self.unsupported(
+                    e.span(),
+                    &format!("a `.{name}()` argument that is not an integer known when the macro expands"),
+                )),
+            },
+            _ => Err(self.unsupported(
+                e.span(),
+                &format!("a `.{name}()` argument that is not an integer known when the macro expands"),
+            )),
+        })
+    }
+
+    /// The first `n` elements of the array field `b` that a zip may read, each a parameter
+    /// guarded by `k < b.len()` and loaded without a bounds panic (`self.m.get(k)`; see
+    /// [`Zipped`]), printed as `m[k]`.
+    fn guarded_elements(&mut self, b: &Expr, n: usize, whole: &dyn At) -> Vec<(Val, Guard)> {
         (0..n)
             .map(|k| {
-                let k = proc_macro2::Literal::usize_unsuffixed(k);
-                let e: Expr = syn::parse_quote_spanned!(whole.at()=> #b[#k]);
-                match self.opaque(&e) {
-                    Some(v) => v,
-                    None => Val::Poison,
-                }
+                let lit = proc_macro2::Literal::usize_unsuffixed(k);
+                // Paths, not methods: a user's trait in scope cannot change what they call.
+                let e: Expr = syn::parse_quote_spanned!(whole.at()=>
+                ::core::option::Option::<f64>::unwrap_or(
+                    ::core::option::Option::<&f64>::copied(<[f64]>::get(&#b, #lit)),
+                    0.0,
+                ));
+                let shown = cond_text(&quote::quote!(#b[#lit]));
+                let v = self.opaque_shown(&e, Some(shown)).unwrap_or(Val::Poison);
+                (v, vec![(b.clone(), k)])
             })
             .collect()
+    }
+
+    fn after_rev(&mut self, name: &str, whole: &dyn At) -> Val {
+        self.unsupported(
+            whole.at(),
+            &format!(
+                "`.{name}()` after `.rev()` on a zip with an array field whose length the macro \
+                 does not know (write `.{name}()` before `.rev()`)"
+            ),
+        )
+    }
+
+    /// An iterator method on a zip with an array field of unknown length (see [`Zipped`]).
+    fn zipped_method(
+        &mut self,
+        z: Zipped,
+        recv_e: &Expr,
+        name: &str,
+        args: &[&Expr],
+        whole: &dyn At,
+    ) -> R<Option<Val>> {
+        let Zipped { items, forward } = z;
+        let span = whole.at();
+        let z =
+            |items: Vec<(Val, Guard)>, forward: bool| Val::Z(Box::new(Zipped { items, forward }));
+        Ok(Some(match (name, args.len()) {
+            ("iter" | "into_iter" | "copied" | "cloned" | "by_ref", 0) => z(items, forward),
+            ("rev", 0) => z(items.into_iter().rev().collect(), !forward),
+            ("enumerate" | "skip" | "take" | "step_by" | "zip", _) if !forward => {
+                self.after_rev(name, whole)
+            }
+            ("enumerate", 0) => z(
+                items
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, (x, g))| (Val::Tuple(vec![Val::I(k as i64), x]), g))
+                    .collect(),
+                true,
+            ),
+            ("skip" | "take" | "step_by", 1) => match self.int_arg(name, args[0])? {
+                Ok(k) => z(
+                    match name {
+                        "skip" => items.into_iter().skip(k).collect(),
+                        "take" => items.into_iter().take(k).collect(),
+                        _ => items.into_iter().step_by(k).collect(),
+                    },
+                    true,
+                ),
+                Err(v) => v,
+            },
+            ("zip", 1) => match self.seq_or_expr(args[0])? {
+                Val::A(ys) => {
+                    zip_guarded(items, ys.into_iter().map(|y| (y, Guard::new())).collect())
+                }
+                Val::Seq(b) => {
+                    let ys = self.guarded_elements(&b, items.len(), whole);
+                    zip_guarded(items, ys)
+                }
+                Val::Z(o) if o.forward => zip_guarded(items, o.items),
+                Val::Z(_) => self.after_rev(name, whole),
+                Val::Poison => Val::Poison,
+                other => {
+                    let kind = other.kind();
+                    self.err(syn::Error::new(
+                        args[0].span(),
+                        format!("`.zip()` over {kind}: it zips arrays and their iterators"),
+                    ))
+                }
+            },
+            ("map", 1) => {
+                let Val::F(f) = self.expr(args[0])? else {
+                    return Ok(Some(self.unsupported(
+                        args[0].span(),
+                        "a `.map()` argument that is not a closure or a function of the body",
+                    )));
+                };
+                let mut out = Vec::with_capacity(items.len());
+                for (x, g) in items {
+                    out.push((self.call_fn(&f, vec![x], args[0])?, g));
+                }
+                z(out, forward)
+            }
+            ("fold", 2) => {
+                let mut acc = self.expr(args[0])?;
+                let Val::F(f) = self.expr(args[1])? else {
+                    return Ok(Some(self.unsupported(
+                        args[1].span(),
+                        "a `.fold()` argument that is not a closure or a function of the body",
+                    )));
+                };
+                for (x, g) in items {
+                    let next = self.call_fn(&f, vec![acc.clone(), x], args[1])?;
+                    acc = self.guarded(&g, next, acc, span);
+                }
+                acc
+            }
+            ("sum" | "product", 0) => {
+                let op = if name == "sum" { '+' } else { '*' };
+                let mut acc: Option<Val> = None;
+                for (x, g) in items {
+                    if !self.spend(whole, &format!("this `.{name}()`")) {
+                        return Ok(Some(Val::Poison));
+                    }
+                    // An element that does not exist adds 0 (multiplies by 1).
+                    let x = match x {
+                        Val::V(_) if op == '+' => self.guarded(&g, x, Val::V([Dag::ZERO; 3]), span),
+                        Val::S(_) | Val::I(_) | Val::V(_) => {
+                            let unit = Val::S(if op == '+' { Dag::ZERO } else { Dag::ONE });
+                            self.guarded(&g, x, unit, span)
+                        }
+                        other => other,
+                    };
+                    acc = Some(match acc {
+                        None => x,
+                        Some(a) => self.arith(op, a, x, recv_e, recv_e)?,
+                    });
+                }
+                acc.unwrap_or(Val::S(if op == '+' { Dag::ZERO } else { Dag::ONE }))
+            }
+            ("len" | "count", 0) => self.unsupported(
+                span,
+                &format!(
+                    "`.{name}()` of a zip with an array field whose length the macro does not \
+                     know (its length is known at run time only)"
+                ),
+            ),
+            _ => return Ok(None),
+        }))
     }
 
     fn unknown_length(&mut self, b: &Expr, whole: &dyn At) -> Val {
@@ -2213,6 +2519,21 @@ fn self_field_seq(e: &Expr) -> Option<Expr> {
         }
         _ => None,
     }
+}
+
+/// `xs.zip(ys)`: pairs, each guarded by both sides' guards (see [`Zipped`]).
+fn zip_guarded(xs: Vec<(Val, Guard)>, ys: Vec<(Val, Guard)>) -> Val {
+    Val::Z(Box::new(Zipped {
+        items: xs
+            .into_iter()
+            .zip(ys)
+            .map(|((x, mut g), (y, h))| {
+                g.extend(h);
+                (Val::Tuple(vec![x, y]), g)
+            })
+            .collect(),
+        forward: true,
+    }))
 }
 
 /// Sets the element of `whole` at the indices `ks` (outermost first) to `v`.

@@ -68,6 +68,9 @@ struct Expander<'a> {
     memo: HashMap<Id, Poly>,
     /// Monomials expanded so far; past [`PRINT_BUDGET`] the printing stops (see `equations`).
     work: usize,
+    /// The conditions printed as if they held: a zip's guards that an array field reaches an
+    /// element (`Cond::assumed`).
+    assumed: Vec<bool>,
 }
 
 /// The most monomials the printer expands for one system: a 64-link chain's equations cost
@@ -126,6 +129,7 @@ impl Expander<'_> {
 
     fn expandable_children(&self, id: Id) -> Vec<Id> {
         match self.dag.node(id) {
+            Node::Select(c, a, _) if self.assumed(c) => vec![a],
             Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
             Node::Neg(a) | Node::Powi(a, _) => vec![a],
             _ => Vec::new(),
@@ -199,8 +203,13 @@ impl Expander<'_> {
             Node::Powf(a, b) => Poly::atom(Atom::Powf(a, b), 1),
             Node::Atan2(a, b) => Poly::atom(Atom::Atan2(a, b), 1),
             Node::Un(f, a) => Poly::atom(Atom::Fun(f, a), 1),
+            Node::Select(c, a, _) if self.assumed(c) => self.get(a),
             Node::Select(..) => Poly::atom(Atom::Select(id), 1),
         }
+    }
+
+    fn assumed(&self, c: u32) -> bool {
+        self.assumed.get(c as usize).copied().unwrap_or(false)
     }
 }
 
@@ -794,6 +803,7 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
         dag: &d.dag,
         memo: HashMap::new(),
         work: 0,
+        assumed: d.conds.iter().map(|c| c.assumed).collect(),
     };
     for latex in [false, true] {
         let mut pr = Printer {

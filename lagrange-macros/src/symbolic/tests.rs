@@ -487,6 +487,55 @@ fn step_by_zero_says_what_is_wrong() {
 }
 
 #[test]
+fn unrolling_and_inlining_stop_at_the_budget_fast() {
+    // 2⁴⁰ inlined calls and 10⁶ loop iterations: the lowering ran for minutes (94 s and 4.9 GB
+    // for the loops) before the budget; now one error at the call or loop that crosses it.
+    for (body, what) in [
+        (
+            "{ fn grow(x: Scalar, n: usize) -> Scalar { \
+                 if n == 0 { x } else { grow(x, n - 1) + grow(x, n - 1) } \
+               } \
+               0.5 * x_dot * x_dot - grow(x, 40) }",
+            "this call of the function `grow`",
+        ),
+        (
+            "{ let mut v = 0.0 * x; \
+               for i in 0..1000 { for j in 0..1000 { v += ((i + j) as f64) * x; } } \
+               0.5 * x_dot * x_dot - v }",
+            "this loop",
+        ),
+        (
+            "{ let f = |a: Scalar| a * 1.5; \
+               let s: Scalar = (0..1000).map(|i| (0..1000).map(|j| f(x)).sum::<Scalar>()).sum(); \
+               0.5 * x_dot * x_dot - s }",
+            "this call of this closure",
+        ),
+    ] {
+        let start = std::time::Instant::now();
+        let errs = errors(body);
+        let took = start.elapsed();
+        assert_eq!(errs.len(), 1, "{body}: {errs:?}");
+        assert!(errs[0].starts_with(what), "{body}: {errs:?}");
+        assert!(
+            errs[0].contains("100000 loop iterations and inlined calls"),
+            "{errs:?}"
+        );
+        assert!(errs[0].contains("mode = \"jets\""), "{errs:?}");
+        assert!(took.as_secs_f64() < 3.0, "{body}: {took:?}");
+    }
+    // The budget counts loop iterations and calls: 4 + 4 × 24 999 = 100 000 is within it, one
+    // more iteration of the inner loop is not.
+    let at =
+        |n: usize| format!("{{ for i in 0..4 {{ for j in 0..{n} {{}} }} 0.5 * x_dot * x_dot }}");
+    assert_eq!(errors(&at(24_999)), Vec::<String>::new());
+    let errs = errors(&at(25_000));
+    assert!(
+        errs.len() == 1 && errs[0].starts_with("this loop goes past"),
+        "{errs:?}"
+    );
+}
+
+#[test]
 fn type_errors_are_reported_not_panicked() {
     let e = errors("{ Vector3::new(x, x, x) * Vector3::new(x_dot, 0.0, 0.0) }");
     assert!(e[0].contains("cannot be multiplied"), "{e:?}");
