@@ -176,13 +176,9 @@ fn lanes_equal_scalar<L: Lagrangian<N>, const N: usize>(sys: &L, what: &str) {
         0.1 + 0.07 * l as f64 + 0.03 * i as f64 - if c == 1 { 0.2 } else { 0.0 }
     };
     let mut out = vec![[[Lanes::<4>::ZERO; N]; 2]; P + 1];
-    for l in 0..4 {
-        for c in 0..2 {
-            for i in 0..N {
-                out[0][c][i].0[l] = state(l, c, i);
-            }
-        }
-    }
+    out[0] = core::array::from_fn(|c| {
+        core::array::from_fn(|i| Lanes(core::array::from_fn(|l| state(l, c, i))))
+    });
     let mut params = vec![Lanes::<4>::ZERO; L::LANE_PARAMS];
     let mut one = vec![0.0; L::LANE_PARAMS];
     sys.lane_params(&mut one);
