@@ -177,3 +177,13 @@ fn constrained_runs_with_16_constraints_on_a_2_mib_stack() {
         }
     }
 }
+
+/// A system above 300 generated operations has no lanes code (issue 33, item 6): every
+/// `Ensemble` instantiates the lanes engines, which inlined a 12-link chain's lanes code at each
+/// DOP853 stage and took its release build from 11 s to 123 s. Small systems keep theirs.
+#[test]
+fn only_small_systems_get_lanes_code() {
+    const { assert!(!Chain32::VECTORIZED_LANES && !Chain64::VECTORIZED_LANES) };
+    const { assert!(crate::support::systems::HeavyTop::VECTORIZED_LANES) };
+    const { assert!(!crate::support::systems::Chain16::VECTORIZED_LANES) };
+}
