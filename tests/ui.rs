@@ -1,7 +1,8 @@
 //! The one trybuild driver. Compile-fail cases of `#[lagrangian]`, one directory per kind under
 //! tests/ui/ (each bad input gets a clear error at the user's token, with the symbolic mode's own
 //! errors in tests/ui/symbolic/). The compile-pass cases (hygiene) are ordinary tests in
-//! tests/hygiene/.
+//! tests/hygiene/; tests/ui_pass/ holds bodies deeper than anything written by hand, built here
+//! because trybuild builds with full debug info (the test profile has line tables only).
 //! Regenerate the expected output with `TRYBUILD=overwrite cargo test --test ui` and review it.
 
 #[test]
@@ -19,4 +20,5 @@ fn ui() {
     for group in &groups {
         t.compile_fail(format!("tests/ui/{group}/*.rs"));
     }
+    t.pass("tests/ui_pass/*.rs");
 }

@@ -110,8 +110,13 @@ use proc_macro::TokenStream;
 /// ```
 #[proc_macro_attribute]
 pub fn lagrangian(args: TokenStream, input: TokenStream) -> TokenStream {
-    expand::expand(args.into(), input.into()).into()
+    // On a stack of its own (256 MiB reserved, committed as used, on this thread so the compiler's
+    // token streams stay reachable): syn parses and prints nested expressions recursively.
+    stacker::grow(STACK, || expand::expand(args.into(), input.into()).into())
 }
+
+/// The stack the expansion runs on.
+const STACK: usize = 256 << 20;
 
 #[cfg(test)]
 mod deep_bodies;

@@ -9,6 +9,9 @@ use super::dag::{Dag, Fun, Id, Node};
 use super::lower::{Cond, Field};
 use crate::names;
 
+/// Above this many levels the straight-line code is emitted in chunks (see [`emit_as`]).
+const CHUNK_ABOVE: usize = 256;
+
 /// Straight-line code computing a set of DAG nodes.
 pub struct Code {
     /// The parameter loads and conditions.
@@ -304,14 +307,32 @@ pub fn emit_as(
         by_level[lv].push((pat, ty, rhs));
         lets += 1;
     }
-    for group in &by_level {
-        if let [(x, ty, rhs)] = group.as_slice() {
-            stmts.extend(quote!(let #x: #ty = #rhs;));
-        } else if !group.is_empty() {
-            let xs = group.iter().map(|(x, _, _)| x);
-            let tys = group.iter().map(|(_, t, _)| t);
-            let rhss = group.iter().map(|(_, _, r)| r);
-            stmts.extend(quote!(let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
+    // A DAG deeper than CHUNK_ABOVE levels (a body of 1500 chained `let`s: some 5000) still
+    // nested too deep for a debug build: its levels are emitted in chunks of √levels, each a
+    // block whose value is the tuple of what it binds, so the nesting is about 2√levels.
+    let level_lets = |groups: &[Vec<(TokenStream, TokenStream, TokenStream)>]| {
+        let mut out = TokenStream::new();
+        for group in groups {
+            if let [(x, ty, rhs)] = group.as_slice() {
+                out.extend(quote!(let #x: #ty = #rhs;));
+            } else if !group.is_empty() {
+                let xs = group.iter().map(|(x, _, _)| x);
+                let tys = group.iter().map(|(_, t, _)| t);
+                let rhss = group.iter().map(|(_, _, r)| r);
+                out.extend(quote!(let (#(#xs,)*): (#(#tys,)*) = (#(#rhss,)*);));
+            }
+        }
+        out
+    };
+    if by_level.len() <= CHUNK_ABOVE {
+        stmts.extend(level_lets(&by_level));
+    } else {
+        let k = by_level.len().isqrt() + 1;
+        for chunk in by_level.chunks(k) {
+            let inner = level_lets(chunk);
+            let xs: Vec<&TokenStream> = chunk.iter().flatten().map(|(x, _, _)| x).collect();
+            let tys = chunk.iter().flatten().map(|(_, t, _)| t);
+            stmts.extend(quote!(let (#(#xs,)*): (#(#tys,)*) = { #inner (#(#xs,)*) };));
         }
     }
     Code {
