@@ -70,7 +70,14 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
         if self.fresh {
             return Ok(());
         }
-        self.series.resize(self.p + 1, [[0.0; N]; 2]);
+        self.series_to(self.p, stats)?;
+        self.fresh = true;
+        Ok(())
+    }
+
+    /// The series at the current node to order `p`, checked finite.
+    fn series_to(&mut self, p: usize, stats: &mut Stats) -> Result<(), Fault> {
+        self.series.resize(p + 1, [[0.0; N]; 2]);
         self.series[0] = self.y;
         stats.rhs_evals += 1;
         match self
@@ -91,7 +98,6 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
         {
             return Err(Fault::NonFinite);
         }
-        self.fresh = true;
         Ok(())
     }
 
@@ -170,27 +176,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
         if self.p >= MAX_ORDER || self.norm(self.p) != 0.0 || self.norm(self.p - 1) != 0.0 {
             return Ok(());
         }
-        self.series.resize(MAX_ORDER + 1, [[0.0; N]; 2]);
-        self.series[0] = self.y;
-        stats.rhs_evals += 1;
-        match self
-            .sys
-            .taylor_series(self.t, &mut self.series, &mut self.buf)
-        {
-            Some(Ok(())) => {}
-            Some(Err(e)) => return Err(Fault::Dynamics(e)),
-            None => return Err(Fault::NonFinite),
-        }
-        if !self
-            .series
-            .iter()
-            .flatten()
-            .flatten()
-            .all(|x| x.is_finite())
-        {
-            return Err(Fault::NonFinite);
-        }
-        Ok(())
+        self.series_to(MAX_ORDER, stats)
     }
 }
 
