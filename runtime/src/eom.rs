@@ -629,6 +629,38 @@ pub fn solve_constrained<const N: usize, const K: usize>(
     if !(all_finite(g.as_flattened()) && all_finite(c)) {
         return Err(non_finite(q, qdot, t));
     }
+    // A row whose squared norm leaves f64's normal range (a constraint 1e-200 (x − 1) has a
+    // gradient that squares to 0, and was called a zero gradient) is scaled by a power of two to
+    // order one, exactly, and its multiplier scaled back; other systems do not pass here.
+    let out_of_range = |row: &[f64; N]| {
+        let n2: f64 = row.iter().map(|x| x * x).sum();
+        !n2.is_normal() && row.iter().any(|x| *x != 0.0)
+    };
+    if g.iter().any(out_of_range) {
+        let mut scaled = *rows;
+        let mut s = [1.0; K];
+        for j in 0..K {
+            let m = g[j].iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            if m > 0.0 {
+                s[j] = power_of_two_ratio(1.0, m);
+                for x in &mut scaled.jacobian[j] {
+                    *x *= s[j];
+                }
+                scaled.curvature[j] *= s[j];
+                scaled.rate[j] *= s[j];
+                scaled.value[j] *= s[j];
+            }
+        }
+        // (Scaled to its largest entry, a non-zero row's squared norm is in [1, N].)
+        if !scaled.jacobian.iter().any(out_of_range) {
+            let (a, lambda) = solve_constrained(pieces, &scaled, names, q, qdot, t)?;
+            let mut out = lambda;
+            for j in 0..K {
+                out[j] *= s[j];
+            }
+            return Ok((a, out));
+        }
+    }
     if K == 1 && N + K <= SADDLE_MAX {
         if let Some((a, l)) = crate::linalg::saddle_solve_one(&pieces.mass, &f, &g[0], -c[0]) {
             let mut lambda = [0.0; K];
@@ -876,5 +908,51 @@ fn singular_constrained<const N: usize>(
              kinetic term or fix it by a constraint; if the chart is singular here (Euler angles \
              at sin θ = 0), start elsewhere or use coordinates without the singularity."
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{solve_constrained, ConstraintRows, Pieces};
+
+    /// A constraint of gradient 1e-200 (its squared norm underflows to 0) is a constraint, not a
+    /// zero gradient (issue 33): the mass on the line x = y pushed by (2, 0) accelerates at
+    /// (1, 1), and λ = −1e200 (Gᵀλ = (−1, 1)); 1e200 likewise (its square overflows).
+    #[test]
+    fn tiny_and_huge_constraint_gradients_are_scaled_not_refused() {
+        let p = Pieces::new([[1.0, 0.0], [0.0, 1.0]], [2.0, 0.0]);
+        for (k, lambda_expected) in [(1e-200, -1e200), (1e200, -1e-200)] {
+            let rows = ConstraintRows {
+                value: [0.0],
+                jacobian: [[k, -k]],
+                rate: [0.0],
+                curvature: [0.0],
+            };
+            let (a, lambda) = solve_constrained(&p, &rows, ["x", "y"], &[0.0; 2], &[0.0; 2], 0.0)
+                .expect("a regular constraint");
+            assert!(
+                (a[0] - 1.0).abs() < 1e-15 && (a[1] - 1.0).abs() < 1e-15,
+                "{a:?}"
+            );
+            assert!(
+                (lambda[0] / lambda_expected - 1.0).abs() < 1e-15,
+                "{lambda:?} against {lambda_expected:e}"
+            );
+        }
+        // Two constraints, one tiny: the particle in 3-D held on x = y and at z = 0.
+        let p = Pieces::new(
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            [2.0, 0.0, 5.0],
+        );
+        let rows = ConstraintRows {
+            value: [0.0; 2],
+            jacobian: [[1e-200, -1e-200, 0.0], [0.0, 0.0, 1.0]],
+            rate: [0.0; 2],
+            curvature: [0.0; 2],
+        };
+        let (a, lambda) = solve_constrained(&p, &rows, ["x", "y", "z"], &[0.0; 3], &[0.0; 3], 0.0)
+            .expect("regular constraints");
+        assert!((a[0] - 1.0).abs() < 1e-15 && (a[1] - 1.0).abs() < 1e-15 && a[2].abs() < 1e-15);
+        assert!((lambda[0] / -1e200 - 1.0).abs() < 1e-15 && (lambda[1] + 5.0).abs() < 1e-15);
     }
 }
