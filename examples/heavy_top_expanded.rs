@@ -942,7 +942,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         __lagrange_c[8][1..=__lagrange_order].fill(0.0);
         __lagrange_c[10][1..=__lagrange_order].fill(0.0);
         __lagrange_c[13][1..=__lagrange_order].fill(0.0);
-        let __lagrange_factor = match ::lagrange::__private::taylor::Factor::<3>::new(
+        let __lagrange_factor = match ::lagrange::__private::eom::Factor::<3>::new(
             &[
                 [__lagrange_c[7][0], 0.0, 0.0],
                 [0.0, __lagrange_c[18][0], __lagrange_c[19][0]],
@@ -1364,7 +1364,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         __lagrange_c[13][1..=__lagrange_order]
             .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
         let (__lagrange_factor, __lagrange_ok) =
-            ::lagrange::__private::taylor::FactorLanes::<3, __LAGRANGE_W>::new(&[
+            ::lagrange::__private::eom::FactorLanes::<3, __LAGRANGE_W>::new(&[
                 [
                     __lagrange_c[7][0],
                     <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,

@@ -20,6 +20,7 @@ pub mod linalg;
 pub mod linearize;
 #[doc(hidden)]
 pub mod mix;
+pub mod real;
 pub mod rigid;
 mod scalar;
 pub mod taylor;

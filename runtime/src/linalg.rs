@@ -686,7 +686,7 @@ pub fn all_finite(xs: &[f64]) -> bool {
 /// [`Lanes`](crate::lanes::Lanes) (the Taylor method's per-lane factorization), so each lane
 /// solves bit for bit as the scalar code does.
 #[inline(always)]
-pub(crate) fn ldlt_solve<T: crate::taylor::Coefficient, const N: usize>(
+pub(crate) fn ldlt_solve<T: crate::real::Real, const N: usize>(
     a: &[[T; N]; N],
     d_inv: &[T; N],
     b: &[T; N],

@@ -16,8 +16,9 @@
 //!   ([`powf`]).
 //!
 //! The equations of motion M(q, q̇, t) q̈ = f(q, q̇, t) become, order by order,
-//! M₀ a_k = f_k − Σ_{j=1..k} M_j a_{k−j} (a = q̈): one factorization of M₀ ([`Factor`]) serves
-//! every order, and q_{k+1} = q̇_k/(k+1), q̇_{k+1} = a_k/(k+1).
+//! M₀ a_k = f_k − Σ_{j=1..k} M_j a_{k−j} (a = q̈): one factorization of M₀
+//! ([`Factor`](crate::eom::Factor), with the other solves of the equations of motion) serves every
+//! order, and q_{k+1} = q̇_k/(k+1), q̇_{k+1} = a_k/(k+1).
 //!
 //! The generated code holds its series in one fixed-size array ([`TaylorBuf::slots`]) and indexes
 //! it with constants, so that no index is checked at run time but the order's.
@@ -30,12 +31,8 @@
 //! assert_eq!([mul(&a, &b, 0), mul(&a, &b, 1), mul(&a, &b, 2)], [2.0, 1.0, -1.0]);
 //! ```
 
-use core::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
-
-use crate::eom::solve_mass_matrix;
-use crate::error::DynamicsError;
-use crate::lanes::{Lanes, Mask};
-use crate::linalg::{ldlt_solve, Ldlt, ACCURATE_RELATIVE_PIVOT};
+pub use crate::real::Real as Coefficient;
+use crate::real::Real;
 
 /// The highest order a series holds (the Taylor method's order is at most this).
 ///
@@ -43,39 +40,6 @@ use crate::linalg::{ldlt_solve, Ldlt, ACCURATE_RELATIVE_PIVOT};
 /// assert_eq!(lagrange_runtime::taylor::MAX_ORDER, 31);
 /// ```
 pub const MAX_ORDER: usize = 31;
-
-/// The numbers a series holds: `f64`, and [`Lanes`] for ensembles (the series of W members at
-/// once, each lane the scalar computation bit for bit: every kernel is written once, over this).
-///
-/// ```
-/// use lagrange_runtime::{lanes::Lanes, taylor::{mul, Coefficient}};
-/// let (mut a, mut b) = ([Lanes::<2>::ZERO; 32], [<Lanes<2> as Coefficient>::ZERO; 32]);
-/// // a = 1 + c τ with c = 1 in lane 0 and 2 in lane 1, b = 3 + τ: (ab)₁ = 3c + 1.
-/// (a[0], a[1], b[0], b[1]) = (Lanes([1.0; 2]), Lanes([1.0, 2.0]), Lanes([3.0; 2]), Lanes([1.0; 2]));
-/// assert_eq!(mul(&a, &b, 1).0, [4.0, 7.0]);
-/// ```
-pub trait Coefficient:
-    Copy
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Div<Output = Self>
-    + Neg<Output = Self>
-    + AddAssign
-    + SubAssign
-    + From<f64>
-{
-    /// 0 (in every lane).
-    const ZERO: Self;
-}
-
-impl Coefficient for f64 {
-    const ZERO: Self = 0.0;
-}
-
-impl<const W: usize> Coefficient for Lanes<W> {
-    const ZERO: Self = Lanes([0.0; W]);
-}
 
 /// One series of `T`: its coefficients of orders 0..=[`MAX_ORDER`].
 pub type RowOf<T> = [T; MAX_ORDER + 1];
@@ -107,13 +71,13 @@ pub struct SeriesBuf<T> {
     c: Vec<RowOf<T>>,
 }
 
-impl<T: Coefficient> Default for SeriesBuf<T> {
+impl<T: Real> Default for SeriesBuf<T> {
     fn default() -> Self {
         SeriesBuf { c: Vec::new() }
     }
 }
 
-impl<T: Coefficient> SeriesBuf<T> {
+impl<T: Real> SeriesBuf<T> {
     /// An empty buffer (sized by [`slots`](TaylorBuf::slots)).
     ///
     /// ```
@@ -148,7 +112,7 @@ impl<T: Coefficient> SeriesBuf<T> {
 /// Σ_i x_i y_{n−1−i} over two slices of one length n, one running sum (measured faster than
 /// four partial sums on these short series: the kernels of independent nodes overlap instead).
 #[inline(always)]
-fn dot_rev<T: Coefficient>(x: &[T], y: &[T]) -> T {
+fn dot_rev<T: Real>(x: &[T], y: &[T]) -> T {
     let n = x.len().min(y.len());
     let (x, y) = (&x[..n], &y[..n]);
     let mut s = T::ZERO;
@@ -160,13 +124,13 @@ fn dot_rev<T: Coefficient>(x: &[T], y: &[T]) -> T {
 
 /// Σ_{j=lo..=k} x_j y_{k−j} (lo ≤ k ≤ [`MAX_ORDER`]).
 #[inline(always)]
-fn conv<T: Coefficient>(x: &RowOf<T>, y: &RowOf<T>, lo: usize, k: usize) -> T {
+fn conv<T: Real>(x: &RowOf<T>, y: &RowOf<T>, lo: usize, k: usize) -> T {
     dot_rev(&x[lo..=k], &y[..=k - lo])
 }
 
 /// Σ_{j=lo..=k} (α j + β) x_j y_{k−j}, the weights in `f64` (the same in every lane).
 #[inline(always)]
-fn conv_weighted<T: Coefficient>(
+fn conv_weighted<T: Real>(
     x: &RowOf<T>,
     y: &RowOf<T>,
     lo: usize,
@@ -187,7 +151,7 @@ fn conv_weighted<T: Coefficient>(
 /// [`conv_weighted`] with weights of `T` (an α that differs from lane to lane): the same
 /// operations in each lane.
 #[inline(always)]
-fn conv_weighted_by<T: Coefficient>(
+fn conv_weighted_by<T: Real>(
     x: &RowOf<T>,
     y: &RowOf<T>,
     lo: usize,
@@ -214,7 +178,7 @@ fn conv_weighted_by<T: Coefficient>(
 /// assert_eq!(mul(&a, &b, 1), 1.0);
 /// ```
 #[inline(always)]
-pub fn mul<T: Coefficient>(a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
+pub fn mul<T: Real>(a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
     conv(a, b, 0, k)
 }
 
@@ -227,7 +191,7 @@ pub fn mul<T: Coefficient>(a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
 /// assert_eq!([sqr(&a, 0), sqr(&a, 1), sqr(&a, 2)], [1.0, 2.0, 1.0]);
 /// ```
 #[inline(always)]
-pub fn sqr<T: Coefficient>(a: &RowOf<T>, k: usize) -> T {
+pub fn sqr<T: Real>(a: &RowOf<T>, k: usize) -> T {
     let half = k.div_ceil(2);
     let mut s = dot_rev(&a[..half], &a[k + 1 - half..=k]);
     s += s;
@@ -248,7 +212,7 @@ pub fn sqr<T: Coefficient>(a: &RowOf<T>, k: usize) -> T {
 /// assert_eq!(&c[..4], &[1.0; 4]);
 /// ```
 #[inline(always)]
-pub fn div<T: Coefficient>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -> T {
+pub fn div<T: Real>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -> T {
     let s = if k == 0 { T::ZERO } else { conv(b, c, 1, k) };
     (a[k] - s) / b[0]
 }
@@ -265,7 +229,7 @@ pub fn div<T: Coefficient>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -
 /// assert_eq!(&c[1..4], &[1.0, 0.5, 1.0 / 6.0]);
 /// ```
 #[inline(always)]
-pub fn deriv<T: Coefficient>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
+pub fn deriv<T: Real>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
     conv_weighted(a, d, 1, k, 1.0, 0.0) / T::from(k as f64)
 }
 
@@ -280,13 +244,7 @@ pub fn deriv<T: Coefficient>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
 /// assert_eq!(deriv2(&y, &x, &x, &y, 1), 3.0);
 /// ```
 #[inline(always)]
-pub fn deriv2<T: Coefficient>(
-    y: &RowOf<T>,
-    p: &RowOf<T>,
-    x: &RowOf<T>,
-    q: &RowOf<T>,
-    k: usize,
-) -> T {
+pub fn deriv2<T: Real>(y: &RowOf<T>, p: &RowOf<T>, x: &RowOf<T>, q: &RowOf<T>, k: usize) -> T {
     (conv_weighted(y, p, 1, k, 1.0, 0.0) + conv_weighted(x, q, 1, k, 1.0, 0.0)) / T::from(k as f64)
 }
 
@@ -303,7 +261,7 @@ pub fn deriv2<T: Coefficient>(
 /// assert_eq!(&c[..3], &[1.0, 0.5, -0.125]);
 /// ```
 #[inline(always)]
-pub fn powf<T: Coefficient>(a: &RowOf<T>, c: &RowOf<T>, alpha: T, k: usize) -> T {
+pub fn powf<T: Real>(a: &RowOf<T>, c: &RowOf<T>, alpha: T, k: usize) -> T {
     let kf = T::from(k as f64);
     conv_weighted_by(a, c, 1, k, alpha + T::from(1.0), -kf) / (kf * a[0])
 }
@@ -318,124 +276,8 @@ pub fn powf<T: Coefficient>(a: &RowOf<T>, c: &RowOf<T>, alpha: T, k: usize) -> T
 /// assert_eq!(mass_tail(&m, &a, 1), 6.0);
 /// ```
 #[inline(always)]
-pub fn mass_tail<T: Coefficient>(m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
+pub fn mass_tail<T: Real>(m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
     conv(m, a, 1, k)
-}
-
-/// The factorization of M₀ that every order of one step shares.
-///
-/// ```
-/// use lagrange_runtime::taylor::Factor;
-/// let f = Factor::new(&[[2.0]], &[4.0], ["x"], &[0.0], &[0.0], 0.0).unwrap();
-/// assert_eq!(f.solve(&[4.0], ["x"], &[0.0], &[0.0], 0.0).unwrap(), [2.0]);
-/// ```
-#[derive(Clone, Copy, Debug)]
-pub enum Factor<const N: usize> {
-    /// LDLᵀ of M₀ (its upper triangle).
-    Ldlt(Ldlt<N>),
-    /// M₀ is not positive definite but regular: each order solves it with pivoting.
-    Pivoting([[f64; N]; N]),
-}
-
-impl<const N: usize> Factor<N> {
-    /// Factors M₀ (upper triangle), with the right-hand side of order 0 `b0` and the state
-    /// (`names`, q, q̇, t) for an error: the error of `solve_mass_matrix` when M₀ is singular.
-    #[inline]
-    pub fn new(
-        m0: &[[f64; N]; N],
-        b0: &[f64; N],
-        names: [&'static str; N],
-        q: &[f64; N],
-        qdot: &[f64; N],
-        t: f64,
-    ) -> Result<Self, DynamicsError> {
-        match Ldlt::factor(m0) {
-            Ok(f) => Ok(Factor::Ldlt(f)),
-            Err(_) => {
-                // The shared solve either explains why M₀ is singular or solves an indefinite
-                // M₀ with pivoting.
-                solve_mass_matrix(m0, b0, names, q, qdot, t)?;
-                Ok(Factor::Pivoting(*m0))
-            }
-        }
-    }
-
-    /// M₀⁻¹ b.
-    #[inline]
-    pub fn solve(
-        &self,
-        b: &[f64; N],
-        names: [&'static str; N],
-        q: &[f64; N],
-        qdot: &[f64; N],
-        t: f64,
-    ) -> Result<[f64; N], DynamicsError> {
-        match self {
-            Factor::Ldlt(f) => Ok(f.solve(b)),
-            Factor::Pivoting(m0) => solve_mass_matrix(m0, b, names, q, qdot, t),
-        }
-    }
-}
-
-/// The factorization of M₀ for W members at once: the operations of [`Ldlt`] (factor and solve)
-/// lane by lane, in the same order, so a lane whose factorization succeeds solves bit for bit as
-/// the scalar [`Factor`] does. A lane where [`Ldlt`] would not give a factorization (a diagonal
-/// entry not finite, a pivot not positive or below [`ACCURATE_RELATIVE_PIVOT`] of its diagonal
-/// entry) is cleared in the mask [`new`](FactorLanes::new) returns: the caller computes that
-/// member's series with the scalar code, which explains or pivots.
-///
-/// ```
-/// use lagrange_runtime::{lanes::Lanes, taylor::FactorLanes};
-/// let m = [[Lanes([2.0, -1.0])]];
-/// let (f, ok) = FactorLanes::<1, 2>::new(&m);
-/// assert_eq!(ok.0, [true, false]);
-/// assert_eq!(f.solve(&[Lanes([4.0, 4.0])])[0].0[0], 2.0);
-/// ```
-#[derive(Clone, Copy, Debug)]
-pub struct FactorLanes<const N: usize, const W: usize> {
-    /// L below the diagonal, stored transposed in the upper triangle (as `Ldlt`).
-    a: [[Lanes<W>; N]; N],
-    /// 1/d_j.
-    d_inv: [Lanes<W>; N],
-}
-
-impl<const N: usize, const W: usize> FactorLanes<N, W> {
-    /// Factors M₀ (upper triangle) in every lane; the mask says where the factorization holds.
-    #[inline(always)]
-    pub fn new(m: &[[Lanes<W>; N]; N]) -> (Self, Mask<W>) {
-        let mut ok = Mask::splat(true);
-        for (i, row) in m.iter().enumerate() {
-            ok = ok & row[i].finite();
-        }
-        let (mut a, mut u) = (*m, *m);
-        let mut d_inv = [Lanes::ZERO; N];
-        for j in 0..N {
-            let (done, rest) = u.split_at_mut(j);
-            let Some(row_j) = rest.first_mut() else {
-                break;
-            };
-            for (k, row_k) in done.iter().enumerate() {
-                let lkj = a[k][j];
-                for (x, &y) in row_j[j..].iter_mut().zip(&row_k[j..]) {
-                    *x -= lkj * y;
-                }
-            }
-            let dj = row_j[j];
-            ok = ok & dj.gt(0.0) & dj.gt(ACCURATE_RELATIVE_PIVOT * m[j][j]);
-            let r = 1.0 / dj;
-            d_inv[j] = r;
-            for (l, &x) in a[j][j + 1..].iter_mut().zip(&row_j[j + 1..]) {
-                *l = x * r;
-            }
-        }
-        (FactorLanes { a, d_inv }, ok)
-    }
-
-    /// M₀⁻¹ b in every lane (meaningful where the factorization holds).
-    #[inline(always)]
-    pub fn solve(&self, b: &[Lanes<W>; N]) -> [Lanes<W>; N] {
-        ldlt_solve(&self.a, &self.d_inv, b)
-    }
 }
 
 #[cfg(test)]
@@ -475,38 +317,6 @@ mod tests {
                     .sum::<f64>()
                     / (k as f64 * a[0]);
                 assert!((powf(&ra, &rb, alpha, k) - p).abs() <= 1e-12 * p.abs().max(1.0));
-            }
-        }
-    }
-
-    /// The lanes factorization solves as `Ldlt` does, bit for bit, and flags the lanes `Ldlt`
-    /// refuses (indefinite, tiny pivot, not finite).
-    #[test]
-    fn lanes_factor_is_ldlt_per_lane() {
-        let ms: [[[f64; 3]; 3]; 4] = [
-            [[4.0, 1.2, -0.7], [0.0, 3.1, 0.4], [0.0, 0.0, 2.2]],
-            [[1.0, 2.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-            [[1.0, 1.0, 0.0], [0.0, 1.0 + 1e-12, 0.0], [0.0, 0.0, 1.0]],
-            [[f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-        ];
-        let m: [[Lanes<4>; 3]; 3] = core::array::from_fn(|i| {
-            core::array::from_fn(|j| Lanes(core::array::from_fn(|l| ms[l][i][j])))
-        });
-        let b = [
-            Lanes([0.3, 1.0, 2.0, 3.0]),
-            Lanes([-1.7, 0.0, 1.0, 0.0]),
-            Lanes([0.9; 4]),
-        ];
-        let (f, ok) = FactorLanes::<3, 4>::new(&m);
-        let x = f.solve(&b);
-        for l in 0..4 {
-            let scalar = Ldlt::factor(&ms[l]);
-            assert_eq!(ok.0[l], scalar.is_ok(), "lane {l}");
-            if let Ok(s) = scalar {
-                let xs = s.solve(&core::array::from_fn(|i| b[i].0[l]));
-                for i in 0..3 {
-                    assert_eq!(x[i].0[l].to_bits(), xs[i].to_bits());
-                }
             }
         }
     }

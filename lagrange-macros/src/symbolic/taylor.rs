@@ -545,7 +545,7 @@ impl Program<'_> {
                 #set0
                 #( #c[#flat][1..=#order].fill(<#lane>::ZERO); )*
                 // A lane whose M₀ has no LDLᵀ is left out: the caller takes its scalar series.
-                let (#factor, #ok) = #rt::FactorLanes::<#nn, #w>::new(&[#(#m0_rows),*]);
+                let (#factor, #ok) = ::lagrange::__private::eom::FactorLanes::<#nn, #w>::new(&[#(#m0_rows),*]);
                 for #k in 0..#order {
                     let #b: [#lane; #nn] = if #k == 0 {
                         [#(#b0),*]
@@ -578,7 +578,7 @@ impl Program<'_> {
             #stmts0
             #set0
             #( #c[#flat][1..=#order].fill(0.0); )*
-            let #factor = match #rt::Factor::<#nn>::new(
+            let #factor = match ::lagrange::__private::eom::Factor::<#nn>::new(
                 &[#(#m0_rows),*],
                 &[#(#b0),*],
                 #names_,

@@ -4,8 +4,8 @@
 use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 
+use super::state::Stats;
 use super::state::{combine, rhs, Fault, Y};
-use super::trajectory::Stats;
 
 /// The absolute tolerance the error weights use: `atol`, or for `atol = 0` (pure relative
 /// control) the smallest normal number, so that a component that is exactly zero with an exactly

@@ -6,9 +6,9 @@ use crate::lagrangian::Lagrangian;
 
 use super::control::{effective_atol, initial_step, scales, sum_sq, Controller, StepControl};
 use super::dop853_coefficients::{A, C, D, E3, E5};
+use super::state::Stats;
 use super::state::{combine, finite, rhs, stages, weighted, Fault, Y};
 use super::stepper::Stepper;
-use super::trajectory::Stats;
 
 /// One DOP853 step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages 1..=11
 /// into `k` (in place: no copy of the stage array per step), y₁ and the logarithm of the error

@@ -4,9 +4,9 @@
 use crate::lagrangian::Lagrangian;
 
 use super::control::{effective_atol, initial_step, scales, sum_sq, Controller, StepControl};
+use super::state::Stats;
 use super::state::{combine, finite, rhs, stages, weighted, Fault, Y};
 use super::stepper::Stepper;
-use super::trajectory::Stats;
 
 const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
 const A: [[f64; 6]; 7] = [

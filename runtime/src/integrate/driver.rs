@@ -12,10 +12,11 @@ use super::manifold::Manifold;
 use super::method::Method;
 use super::rattle::Rattle;
 use super::rk4::Rk4;
+use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
 use super::taylor::Taylor;
-use super::trajectory::{Sample, Stats, Trajectory};
+use super::trajectory::{Sample, Trajectory};
 use super::variational::VariationalMidpoint;
 
 /// Runs `method` on `sys` from y0 = (q0, q̇0) under the options `o`, with `events` located and

@@ -51,7 +51,6 @@ mod simulation;
 mod state;
 mod stepper;
 mod taylor;
-mod taylor_lanes;
 mod trajectory;
 mod validate;
 mod variational;
@@ -60,9 +59,8 @@ pub use error::{PartialTrajectory, SimulationError};
 pub use events::{Direction, Event, EventHit};
 pub use method::Method;
 pub use simulation::Simulation;
-pub use trajectory::{
-    ConstraintResidual, Drift, Invariants, Sample, Stats, Trajectory, INVARIANT_FLOOR,
-};
+pub use state::Stats;
+pub use trajectory::{ConstraintResidual, Drift, Invariants, Sample, Trajectory, INVARIANT_FLOOR};
 
 #[cfg(test)]
 mod tests;

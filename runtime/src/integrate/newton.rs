@@ -4,7 +4,7 @@
 //! [`Stats`] and the [`Fault::Newton`] report when the iteration does not converge.
 
 use super::state::Fault;
-use super::trajectory::Stats;
+use super::state::Stats;
 
 /// At most this many Newton iterations per solve.
 pub(crate) const MAX_NEWTON: usize = 30;

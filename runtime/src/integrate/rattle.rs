@@ -26,9 +26,9 @@ use crate::linalg::lu_solve_dyn;
 
 use super::manifold::Manifold;
 use super::newton::{inf_norm, MAX_NEWTON};
+use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
-use super::trajectory::Stats;
 use super::variational::{between_nodes, Midpoint, SINGULAR_STEP};
 
 /// The RATTLE stepper; its state is (t_k, q_k, p_k, q̇_k), every node on the constraints.

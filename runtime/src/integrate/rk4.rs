@@ -3,9 +3,9 @@
 
 use crate::lagrangian::Lagrangian;
 
+use super::state::Stats;
 use super::state::{combine, finite, rhs, Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
-use super::trajectory::Stats;
 
 /// One classical RK4 step of size h from (t, y) with k₁ = f(t, y).
 pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(

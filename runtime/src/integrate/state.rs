@@ -5,8 +5,6 @@
 use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 
-use super::trajectory::Stats;
-
 /// The first-order state y = (q, q̇): `y[0]` = q, `y[1]` = q̇.
 pub(crate) type Y<const N: usize> = [[f64; N]; 2];
 
@@ -16,8 +14,30 @@ pub(crate) type YOf<T, const N: usize> = [[T; N]; 2];
 
 /// The numbers the stage combinations run on: `f64`, and [`Lanes`](crate::lanes::Lanes) for
 /// ensembles (every operation lane by lane, so each lane is the scalar computation bit for bit) —
-/// the Taylor kernels' [`Coefficient`](crate::taylor::Coefficient).
-pub(crate) use crate::taylor::Coefficient as Real;
+/// the number trait of every compiled kernel.
+pub(crate) use crate::real::Real;
+
+/// Counters of a run.
+///
+/// For the explicit methods `rhs_evals` counts evaluations of the accelerations; for the
+/// variational midpoint it counts evaluations of L in the Hessian jet (Newton residual and
+/// Jacobian, and the inverse Legendre map at reported nodes).
+///
+/// ```
+/// let s = lagrange_runtime::Stats::default();
+/// assert_eq!((s.steps, s.rejected, s.rhs_evals, s.newton_iterations), (0, 0, 0, 0));
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected step attempts (adaptive methods).
+    pub rejected: usize,
+    /// Right-hand-side evaluations (see the type's documentation).
+    pub rhs_evals: usize,
+    /// Newton iterations (variational midpoint).
+    pub newton_iterations: usize,
+}
 
 /// Why a stepper could not go on (the driver adds t, the state and the partial trajectory).
 #[derive(Debug)]

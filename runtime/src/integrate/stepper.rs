@@ -1,8 +1,8 @@
 //! The [`Stepper`] trait every method implements for the driver, and the step grid of the
 //! fixed-step methods.
 
+use super::state::Stats;
 use super::state::{Fault, Y};
-use super::trajectory::Stats;
 
 /// The step grid of a fixed-step method: t_k = t0 + k·dt, with the last step shortened to end
 /// exactly at `until`.

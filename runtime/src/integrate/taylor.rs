@@ -21,9 +21,9 @@ use crate::lagrangian::Lagrangian;
 use crate::lanes::Lanes;
 use crate::taylor::{TaylorBuf, MAX_ORDER};
 
+use super::state::Stats;
 use super::state::{Fault, YOf, Y};
 use super::stepper::Stepper;
-use super::trajectory::Stats;
 
 /// The order of the Taylor method for a tolerance.
 pub(crate) fn order(tol: f64) -> usize {

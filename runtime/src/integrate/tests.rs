@@ -1,7 +1,7 @@
 //! Unit tests of the single steps and interpolants: convergence orders with fixed steps.
 
+use super::state::Stats;
 use super::state::Y;
-use super::trajectory::Stats;
 use super::{dop853, dopri5, rk4};
 use crate::lagrangian::Lagrangian;
 use crate::scalar::Scalar;

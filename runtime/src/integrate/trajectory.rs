@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::events::EventHit;
-use super::state::Fault;
+use super::state::{Fault, Stats};
 
 /// The memory the stored samples of a run may take when [`Simulation::max_samples`](crate::Simulation::max_samples)
 /// is not set: 256 MiB (the default bound is this over [`sample_bytes`]).
@@ -36,28 +36,6 @@ pub(crate) fn max_samples_phrase(max_samples: usize, bytes: usize, by_default: b
     } else {
         format!("max_samples = {max_samples} (at {bytes} bytes per sample)")
     }
-}
-
-/// Counters of a run.
-///
-/// For the explicit methods `rhs_evals` counts evaluations of the accelerations; for the
-/// variational midpoint it counts evaluations of L in the Hessian jet (Newton residual and
-/// Jacobian, and the inverse Legendre map at reported nodes).
-///
-/// ```
-/// let s = lagrange_runtime::Stats::default();
-/// assert_eq!((s.steps, s.rejected, s.rhs_evals, s.newton_iterations), (0, 0, 0, 0));
-/// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Stats {
-    /// Accepted steps.
-    pub steps: usize,
-    /// Rejected step attempts (adaptive methods).
-    pub rejected: usize,
-    /// Right-hand-side evaluations (see the type's documentation).
-    pub rhs_evals: usize,
-    /// Newton iterations (variational midpoint).
-    pub newton_iterations: usize,
 }
 
 /// Drift of one conserved quantity over the samples of a run.

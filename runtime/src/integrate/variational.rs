@@ -27,9 +27,9 @@ use crate::lagrangian::{hessian_jet, Lagrangian};
 use crate::linalg::lu_solve;
 
 use super::newton::{self, inf_norm, Residual};
+use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
-use super::trajectory::Stats;
 
 /// The variational midpoint stepper; its own state is (t_k, q_k, p_k).
 pub(crate) struct VariationalMidpoint<'a, L: ?Sized, const N: usize> {

@@ -54,6 +54,9 @@
 //! assert!((jets.lagrangian_force[0] - p.pieces(&[0.5], &[0.0], 0.0).lagrangian_force[0]).abs() < 1e-15);
 //! ```
 
+pub mod series;
+pub use series::{Factor, FactorLanes};
+
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
 use crate::lagrangian::Lagrangian;

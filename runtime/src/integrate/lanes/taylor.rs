@@ -15,12 +15,13 @@ use crate::lagrangian::Lagrangian;
 use crate::lanes::Lanes;
 use crate::taylor::SeriesBuf;
 
-use super::lanes::{enter, fill, lanes_of, load_params, retire, End, Out, Slot};
-use super::method::Method;
-use super::simulation::Simulation;
-use super::state::{Fault, YOf};
-use super::stepper::Stepper;
-use super::taylor::Taylor;
+use crate::integrate::method::Method;
+use crate::integrate::simulation::Simulation;
+use crate::integrate::state::{Fault, YOf};
+use crate::integrate::stepper::Stepper;
+use crate::integrate::taylor::Taylor;
+
+use super::members::{enter, fill, lanes_of, load_params, retire, End, Out, Slot};
 
 /// A Taylor member in a lane (nothing kept besides its run).
 type TaylorSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, L, Taylor<'p, L, N>, (), N>;

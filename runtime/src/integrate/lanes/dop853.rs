@@ -1,0 +1,267 @@
+//! DOP853 over SIMD lanes: W members of an ensemble step together, one member per lane of
+//! [`Lanes`], each with its own step size, error norm and accept/reject decision (as heyoka's
+//! batch mode does).
+//!
+//! The stages, the new state and the error sums of all lanes are one pass of vector code (the
+//! system's [`Lagrangian::accelerations_lanes`]); everything that is per member stays the scalar
+//! code of [`Dop853`] and the driver, run on that member's own stepper: the step-size controller,
+//! the decision, the samples, events, dense output and errors. So a lane's trajectory is the
+//! scalar run's bit for bit (tests/ensemble_lanes.rs), and a member that ends (or fails) frees
+//! its lane for the next member at once: the lanes stay full until the queue runs dry.
+//!
+//! A lane whose stages are not all finite (the dynamics failed there, or the state blew up) has
+//! its attempt redone by the scalar stepper, which then reports exactly what a scalar run would.
+//! The member plumbing (`enter`, `Slot`, `fill`, `retire`) is `members`, shared with the Taylor
+//! engine; members of another method, and constrained ones, run the scalar driver.
+
+use crate::integrate::dop853::{Attempt, Dop853};
+use crate::integrate::dop853_coefficients::{A, C, E3, E5};
+use crate::integrate::method::Method;
+use crate::integrate::simulation::Simulation;
+use crate::integrate::state::{combine, weighted, Fault, Stats, YOf, Y};
+use crate::integrate::stepper::Stepper;
+use crate::lagrangian::Lagrangian;
+use crate::lanes::Lanes;
+
+use super::members::{enter, fill, lanes_of, load_params, retire, End, Out, Slot};
+
+/// What the DOP853 engine keeps per member.
+struct Attempting {
+    /// Whether the driver reads the interpolant: the accepted stages are then copied back.
+    dense: bool,
+    /// At a node: the next attempt opens a new step (end test, step budget, FSAL).
+    at_node: bool,
+    /// The trial step and whether it ends the run.
+    h: f64,
+    last: bool,
+}
+
+/// A DOP853 member in a lane.
+type DopSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, L, Dop853<'p, L, N>, Attempting, N>;
+
+/// The DOP853 engine over the members of `queue` (see the module docs).
+#[inline(always)]
+pub(super) fn run_dop853_lanes<
+    'p,
+    'a: 'p,
+    L: Lagrangian<N> + 'a,
+    const N: usize,
+    const W: usize,
+>(
+    queue: impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
+    out: &mut Out<'_, N>,
+) {
+    let mut queue = queue;
+    let mut slots: [Option<DopSlot<'_, '_, L, N>>; W] = core::array::from_fn(|_| None);
+    let mut params = vec![Lanes::<W>::ZERO; L::LANE_PARAMS];
+    let mut k = [[[Lanes::<W>::ZERO; N]; 2]; 16];
+    loop {
+        let refreshed = fill(&mut slots, &mut queue, out, start, pending);
+        let Some(lane) = lanes_of(&slots) else {
+            return;
+        };
+        if refreshed {
+            load_params(&mut params, &lane);
+        }
+        let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.sys());
+        // Gather: t, h, tolerances, y and f at the node (k₀) of every lane.
+        let mut t = Lanes::ZERO;
+        let mut h = Lanes::ZERO;
+        let mut rtol = Lanes::ZERO;
+        let mut atol = Lanes::ZERO;
+        let mut y = [[Lanes::<W>::ZERO; N]; 2];
+        for (l, s) in lane.iter().enumerate() {
+            let (tl, yl) = s.run.stepper.node_state();
+            let (r, a) = s.run.stepper.tolerances();
+            let k0 = &s.run.stepper.stages()[0];
+            (t.0[l], h.0[l], rtol.0[l], atol.0[l]) = (tl, s.own.h, r, a);
+            for c in 0..2 {
+                for i in 0..N {
+                    y[c][i].0[l] = yl[c][i];
+                    k[0][c][i].0[l] = k0[c][i];
+                }
+            }
+        }
+        let v = vector_step(&members, &params, t, &y, &mut k, h, rtol, atol);
+        // f at y₁ for the lanes that accept (the others' values are not read).
+        let f1 = v
+            .ln_err
+            .0
+            .iter()
+            .any(|&e| e <= 0.0)
+            .then(|| L::accelerations_lanes(&members, &params, &v.y1[0], &v.y1[1], t + h));
+        // Scatter: each busy lane settles its attempt on its own stepper.
+        for l in 0..W {
+            let Some(s) = slots[l].as_mut() else { continue };
+            let accepted = v.ln_err.0[l] <= 0.0;
+            let f1l: Option<[f64; N]> = match (&f1, accepted) {
+                (Some(f1), true) => Some(core::array::from_fn(|i| f1[i].0[l])),
+                _ => None,
+            };
+            let clean = v.finite.0[l] == 0.0 && f1l.is_none_or(|a| a.iter().all(|x| x.is_finite()));
+            let attempt: Attempt<N> = if clean {
+                let stats = s.run.driver.stats();
+                stats.rhs_evals += 11;
+                let y1: Y<N> = core::array::from_fn(|c| core::array::from_fn(|i| v.y1[c][i].0[l]));
+                let f1 = f1l.map(|a| {
+                    stats.rhs_evals += 1;
+                    [y1[1], a]
+                });
+                if s.own.dense {
+                    let ks = s.run.stepper.stages_mut();
+                    for j in 1..12 {
+                        for c in 0..2 {
+                            for i in 0..N {
+                                ks[j][c][i] = k[j][c][i].0[l];
+                            }
+                        }
+                    }
+                }
+                Ok((y1, v.ln_err.0[l], f1))
+            } else {
+                // Something was not finite in this lane: the scalar attempt says what.
+                redo(&mut s.run.stepper, s.own.h, s.run.driver.stats())
+            };
+            let until = s.run.opts.until;
+            let (h, last) = (s.own.h, s.own.last);
+            if s.run
+                .stepper
+                .settle(h, last, until, attempt, s.run.driver.stats())
+            {
+                let r = &mut s.run;
+                match r
+                    .driver
+                    .after_step(&mut r.stepper, &r.opts, &mut r.progress)
+                {
+                    Ok(false) => s.own.at_node = true,
+                    Ok(true) => retire(&mut slots[l], End::Stopped, out),
+                    Err(f) => retire(&mut slots[l], End::Failed(f), out),
+                }
+            }
+        }
+    }
+}
+
+/// The scalar attempt of a lane whose vector attempt was not finite (out of line: a cold path, and
+/// the scalar step inlined into every instantiation of the engine would only cost build time).
+#[inline(never)]
+fn redo<L: Lagrangian<N>, const N: usize>(
+    stepper: &mut Dop853<'_, L, N>,
+    h: f64,
+    stats: &mut Stats,
+) -> Attempt<N> {
+    stepper.attempt(h, stats)
+}
+
+/// Starts a DOP853 member (see [`enter`]).
+fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
+    pos: usize,
+    sim: &'p mut Simulation<'a, L, N>,
+    out: &mut Out<'_, N>,
+) -> Option<DopSlot<'p, 'a, L, N>> {
+    let run = enter(
+        pos,
+        sim,
+        out,
+        |method| match method {
+            Method::Dop853 { rtol, atol } => Some((rtol, atol)),
+            _ => None,
+        },
+        |sys, (rtol, atol), t0, y0, hmax, stats| Dop853::new(sys, t0, y0, rtol, atol, hmax, stats),
+    )?;
+    Some(Slot {
+        pos,
+        own: Attempting {
+            dense: run.driver.needs_interpolant(&run.opts),
+            at_node: true,
+            h: 0.0,
+            last: false,
+        },
+        run,
+    })
+}
+
+/// Readies a DOP853 member's next attempt: at a node, the end test, the step budget and FSAL;
+/// then the trial step. `Ok(false)` when the run has reached its end.
+fn pending<L: Lagrangian<N>, const N: usize>(s: &mut DopSlot<'_, '_, L, N>) -> Result<bool, Fault> {
+    let (run, own) = (&mut s.run, &mut s.own);
+    if own.at_node {
+        if run.stepper.t() >= run.opts.until {
+            return Ok(false);
+        }
+        run.driver.check_budget(&run.opts)?;
+        run.stepper.begin_step();
+        own.at_node = false;
+    }
+    (own.h, own.last) = run.stepper.trial(run.opts.until)?;
+    Ok(true)
+}
+
+/// What one vector attempt gives: y₁ and ln err per lane, and a lane sum that is 0 where every
+/// stage was finite (NaN otherwise).
+struct VectorStep<const N: usize, const W: usize> {
+    y1: YOf<Lanes<W>, N>,
+    ln_err: Lanes<W>,
+    finite: Lanes<W>,
+}
+
+/// The stages 1..=11 and y₁ of DOP853 for every lane, and each lane's ln err: the arithmetic of
+/// the scalar `dop853::step`, operation for operation, on W members at once.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize>(
+    members: &[&L; W],
+    params: &[Lanes<W>],
+    t: Lanes<W>,
+    y: &YOf<Lanes<W>, N>,
+    k: &mut [YOf<Lanes<W>, N>; 16],
+    h: Lanes<W>,
+    rtol: Lanes<W>,
+    atol: Lanes<W>,
+) -> VectorStep<N, W> {
+    let cyclic: [bool; N] = const { L::CYCLIC };
+    // 0 · x is 0 for finite x and NaN otherwise: the sum is 0 only if every stage was finite.
+    let mut finite = Lanes::<W>::ZERO;
+    macro_rules! stages {
+        ($($s:literal)*) => {$(
+            let mut ys = combine::<$s, _, _, _, _>(y, h, &A[$s], k);
+            // The cyclic coordinates' stage positions are not read (see `state::hold_cyclic`).
+            for i in 0..N {
+                if cyclic[i] {
+                    ys[0][i] = y[0][i];
+                }
+            }
+            let a = L::accelerations_lanes(members, params, &ys[0], &ys[1], t + C[$s] * h);
+            for ai in &a {
+                finite += *ai * 0.0;
+            }
+            k[$s] = [ys[1], a];
+        )*};
+    }
+    stages!(1 2 3 4 5 6 7 8 9 10 11);
+    let y1 = combine::<12, _, _, _, _>(y, h, &A[12], k);
+    let e5 = weighted::<12, _, _, _, _>(&E5, k);
+    let e3 = weighted::<12, _, _, _, _>(&E3, k);
+    // The error weights and sums of `control::scales` and `control::sum_sq`, lane by lane.
+    let mut err5 = Lanes::<W>::ZERO;
+    let mut err3 = Lanes::<W>::ZERO;
+    for i in 0..N {
+        let sk = |c: usize| atol + rtol * y[c][i].abs().zip(y1[c][i].abs(), f64::max);
+        let (s0, s1) = (sk(0), sk(1));
+        let (a, b) = (e5[0][i] / s0, e5[1][i] / s1);
+        err5 += a * a + b * b;
+        let (a, b) = (e3[0][i] / s0, e3[1][i] / s1);
+        err3 += a * a + b * b;
+    }
+    for c in 0..2 {
+        for i in 0..N {
+            finite += y1[c][i] * 0.0;
+        }
+    }
+    let deno = err5 + 0.01 * err3;
+    let ln_err = Lanes::from_fn(|l| {
+        let deno = if deno.0[l] <= 0.0 { 1.0 } else { deno.0[l] };
+        (h.0[l] * err5.0[l]).ln() - 0.5 * ((2 * N) as f64 * deno).ln()
+    });
+    VectorStep { y1, ln_err, finite }
+}
