@@ -6,10 +6,8 @@
 
 use std::collections::HashMap;
 
-pub use super::functions::Fun;
-
-/// A node id.
-pub type Id = u32;
+pub use super::functions::{Fun, Id};
+use super::functions::Build;
 
 /// One node of the DAG.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -149,8 +147,8 @@ impl Dag {
         dag
     }
 
-    pub const ZERO: Id = 0;
-    pub const ONE: Id = 1;
+    pub const ZERO: Id = super::functions::ZERO;
+    pub const ONE: Id = super::functions::ONE;
 
     pub fn len(&self) -> usize {
         self.nodes.len()
@@ -792,4 +790,31 @@ impl Dag {
 #[cfg(test)]
 fn val_at(v: &[f64], i: Id) -> f64 {
     v[i as usize]
+}
+
+impl Build for Dag {
+    fn constant(&mut self, c: f64) -> Id {
+        Dag::constant(self, c)
+    }
+    fn add(&mut self, a: Id, b: Id) -> Id {
+        Dag::add(self, a, b)
+    }
+    fn sub(&mut self, a: Id, b: Id) -> Id {
+        Dag::sub(self, a, b)
+    }
+    fn mul(&mut self, a: Id, b: Id) -> Id {
+        Dag::mul(self, a, b)
+    }
+    fn div(&mut self, a: Id, b: Id) -> Id {
+        Dag::div(self, a, b)
+    }
+    fn neg(&mut self, a: Id) -> Id {
+        Dag::neg(self, a)
+    }
+    fn powi(&mut self, a: Id, n: i32) -> Id {
+        Dag::powi(self, a, n)
+    }
+    fn un(&mut self, f: Fun, a: Id) -> Id {
+        Dag::un(self, f, a)
+    }
 }

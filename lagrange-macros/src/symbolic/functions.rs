@@ -3,7 +3,34 @@
 //! for people (Unicode and LaTeX). Lowering, differentiation, code generation, evaluation and
 //! printing all read this table; adding a function is adding a row.
 
-use super::dag::{Dag, Id};
+/// A node id of the expression graph.
+pub type Id = u32;
+
+/// The id of the constant 0 in every graph.
+pub const ZERO: Id = 0;
+/// The id of the constant 1 in every graph.
+pub const ONE: Id = 1;
+
+/// The graph operations a derivative rule builds its result with (the DAG provides them): the
+/// table needs nothing else of the graph, so it does not depend on it.
+pub trait Build {
+    /// The constant c.
+    fn constant(&mut self, c: f64) -> Id;
+    /// a + b.
+    fn add(&mut self, a: Id, b: Id) -> Id;
+    /// a − b.
+    fn sub(&mut self, a: Id, b: Id) -> Id;
+    /// a · b.
+    fn mul(&mut self, a: Id, b: Id) -> Id;
+    /// a / b.
+    fn div(&mut self, a: Id, b: Id) -> Id;
+    /// −a.
+    fn neg(&mut self, a: Id) -> Id;
+    /// aⁿ.
+    fn powi(&mut self, a: Id, n: i32) -> Id;
+    /// f(a).
+    fn un(&mut self, f: Fun, a: Id) -> Id;
+}
 
 /// One elementary function.
 pub struct Row {
@@ -15,7 +42,7 @@ pub struct Row {
     pub eval: fn(f64) -> f64,
     /// d f(a) = `derivative(dag, f(a), a, da)`: the node of f(a), its argument and the
     /// argument's tangent.
-    pub derivative: fn(&mut Dag, Id, Id, Id) -> Id,
+    pub derivative: fn(&mut dyn Build, Id, Id, Id) -> Id,
     /// The name in the printed equations (Unicode).
     pub unicode: &'static str,
     /// The name in the printed equations (LaTeX).
@@ -63,7 +90,7 @@ functions! {
     };
     Tan: "tan", "tan", "\\tan", f64::tan, |d, y, _, da| {
         let r2 = d.powi(y, 2);
-        let k = d.add(Dag::ONE, r2);
+        let k = d.add(ONE, r2);
         d.mul(k, da)
     };
     Exp: "exp", "exp", "\\exp", f64::exp, |d, y, _, da| d.mul(y, da);
@@ -73,24 +100,24 @@ functions! {
         let h = d.un(Fun::Step, a);
         let two = d.constant(2.0);
         let h2 = d.mul(two, h);
-        let s = d.sub(h2, Dag::ONE);
+        let s = d.sub(h2, ONE);
         d.mul(s, da)
     };
     Asinh: "asinh", "asinh", "\\operatorname{arsinh}", f64::asinh, |d, _, a, da| {
         let a2 = d.powi(a, 2);
-        let w = d.add(Dag::ONE, a2);
+        let w = d.add(ONE, a2);
         let r = d.un(Fun::Sqrt, w);
         d.div(da, r)
     };
     Acosh: "acosh", "acosh", "\\operatorname{arcosh}", f64::acosh, |d, _, a, da| {
         let a2 = d.powi(a, 2);
-        let w = d.sub(a2, Dag::ONE);
+        let w = d.sub(a2, ONE);
         let r = d.un(Fun::Sqrt, w);
         d.div(da, r)
     };
     Atanh: "atanh", "atanh", "\\operatorname{artanh}", f64::atanh, |d, _, a, da| {
         let a2 = d.powi(a, 2);
-        let w = d.sub(Dag::ONE, a2);
+        let w = d.sub(ONE, a2);
         d.div(da, w)
     };
     Exp2: "exp2", "exp2", "2^", f64::exp2, |d, y, _, da| {
@@ -100,7 +127,7 @@ functions! {
     };
     // H(u) = 1 for u ≥ 0 (also −0), else 0: the switch of `max`, `min`, `clamp` and of |u|'s slope.
     // Not a method a body can call (the empty name matches no identifier); emitted as an `if`.
-    Step: "", "H", "H", step, |_, _, _, _| Dag::ZERO;
+    Step: "", "H", "H", step, |_, _, _, _| ZERO;
     Cbrt: "cbrt", "∛", "\\sqrt[3]", f64::cbrt, |d, y, a, da| {
         let three = d.constant(3.0);
         let den = d.mul(three, a);
@@ -108,7 +135,7 @@ functions! {
         d.mul(k, da)
     };
     Ln1p: "ln_1p", "ln1p", "\\operatorname{ln1p}", f64::ln_1p, |d, _, a, da| {
-        let w = d.add(Dag::ONE, a);
+        let w = d.add(ONE, a);
         d.div(da, w)
     };
     ExpM1: "exp_m1", "expm1", "\\operatorname{expm1}", f64::exp_m1, |d, _, a, da| {
@@ -125,23 +152,23 @@ functions! {
         let r = d.div(da, a);
         d.mul(k, r)
     };
-    Signum: "signum", "sgn", "\\operatorname{sgn}", f64::signum, |_, _, _, _| Dag::ZERO;
+    Signum: "signum", "sgn", "\\operatorname{sgn}", f64::signum, |_, _, _, _| ZERO;
     Asin: "asin", "asin", "\\arcsin", f64::asin, |d, _, a, da| {
         let a2 = d.powi(a, 2);
-        let w = d.sub(Dag::ONE, a2);
+        let w = d.sub(ONE, a2);
         let r = d.un(Fun::Sqrt, w);
         d.div(da, r)
     };
     Acos: "acos", "acos", "\\arccos", f64::acos, |d, _, a, da| {
         let a2 = d.powi(a, 2);
-        let w = d.sub(Dag::ONE, a2);
+        let w = d.sub(ONE, a2);
         let r = d.un(Fun::Sqrt, w);
         let k = d.div(da, r);
         d.neg(k)
     };
     Atan: "atan", "atan", "\\arctan", f64::atan, |d, _, a, da| {
         let a2 = d.powi(a, 2);
-        let w = d.add(Dag::ONE, a2);
+        let w = d.add(ONE, a2);
         d.div(da, w)
     };
     Sinh: "sinh", "sinh", "\\sinh", f64::sinh, |d, _, a, da| {
@@ -154,7 +181,7 @@ functions! {
     };
     Tanh: "tanh", "tanh", "\\tanh", f64::tanh, |d, y, _, da| {
         let r2 = d.powi(y, 2);
-        let k = d.sub(Dag::ONE, r2);
+        let k = d.sub(ONE, r2);
         d.mul(k, da)
     };
 }
@@ -193,7 +220,7 @@ impl Fun {
     }
 
     /// The tangent of `y = f(a)` given the tangent `da` of `a`.
-    pub fn derivative(self, dag: &mut Dag, y: Id, a: Id, da: Id) -> Id {
+    pub fn derivative(self, dag: &mut dyn Build, y: Id, a: Id, da: Id) -> Id {
         (self.row().derivative)(dag, y, a, da)
     }
 }
