@@ -6,8 +6,8 @@
 
 use std::collections::HashMap;
 
-pub use super::functions::{Fun, Id};
 use super::functions::Build;
+pub use super::functions::{Fun, Id};
 
 /// One node of the DAG.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
