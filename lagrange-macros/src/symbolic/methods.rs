@@ -77,317 +77,452 @@ pub struct SymbolicOutput {
 /// q̈ time on an N-link chain lies between 32 and 64 (BENCHMARKS.md, "Chains of N links").
 const LOOP_SOLVE_ABOVE: usize = 32;
 
-pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
-    let n = decl.n();
-    let names::Params { q, qdot, t } = names::Params::symbolic();
-    let nn = Literal::usize_unsuffixed(n);
-    let touch = quote!(let _ = (#q, #qdot, #t););
-    let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
+/// What every generated method's code is built from: the derivation, the names of the
+/// parameters, and what the methods add up (the items next to the impl, the count of `let`s).
+struct Gen<'a> {
+    d: &'a Derivation,
+    n: usize,
+    nn: Literal,
+    q: Ident,
+    qdot: Ident,
+    t: Ident,
+    /// `let _ = (q, qdot, t);`: every method reads its parameters.
+    touch: TokenStream,
+    /// `<Self as Lagrangian<N>>`.
+    lagrangian_trait: TokenStream,
+    /// The prefix of the out-of-line modules' names.
+    prefix: String,
+    /// Above [`LOOP_SOLVE_ABOVE`] coordinates: the loop-based solve and out-of-line bodies.
+    large: bool,
+    /// Items next to the impl (the modules of `out_of_line`).
+    items: TokenStream,
+    /// `let` statements over all the bodies.
+    lets: usize,
+}
 
-    // accelerations
-    let large = n > LOOP_SOLVE_ABOVE;
-    // Items next to the impl (the modules of `out_of_line`).
-    let mut items = TokenStream::new();
-    let prefix = module_prefix(&decl.rest.self_ty);
-    let lagrangian_trait = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>);
-    let mut lets = 0;
-    let mut lanes = None;
-    // The lanes code's parameter loads and their count, for the Taylor series over lanes.
-    let mut lane_loads: Option<(TokenStream, usize)> = None;
-    let (accelerations, accelerations_inline) = if large {
-        // Large N: M (upper triangle) and the right-hand side from `pieces` (one copy of their
-        // code, kept out of line), solved by the runtime's row-oriented LDLᵀ (the same pivot
-        // test and fallback): O(N²) code instead of the O(N³) of the unrolled elimination, which
-        // costs minutes of build and is slower at this size (BENCHMARKS.md, "Chains of N links").
-        let body = quote! {
-            #touch
-            let __lagrange_pieces = #lagrangian_trait::pieces(self, #q, #qdot, #t);
-            ::lagrange::__private::solve_mass_matrix(
-                &__lagrange_pieces.mass,
-                &__lagrange_pieces.rhs(),
-                #lagrangian_trait::COORDINATES,
-                #q,
-                #qdot,
-                #t,
-            )
-        };
-        (body, quote!(#[inline]))
-    } else {
-        let mut outs: Vec<Id> = Vec::new();
-        for (i, row) in d.mass.iter().enumerate() {
-            outs.extend(&row[i..]);
-        }
-        outs.extend(&d.rhs);
-        outs.extend(d.pairs.iter().map(|p| p.2));
-        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
-        lets += code.lets;
-        // A small right-hand side is inlined at every call site (the twelve stages of DOP853
-        // call it from unrolled code; `#[inline]` alone let LLVM keep it out of line and the
-        // whole run was 11 % slower); a large one is left to LLVM so code size stays in bounds.
-        let inline = if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
-            quote!(#[inline(always)])
-        } else {
-            quote!(#[inline])
-        };
-        // M and the right-hand side, formed once: the fast path's solve and the fallback's
-        // arrays read the same operands.
-        let eq = Equations::of(d);
-        let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| quote!(0.0));
-        let rows = eq.mass.iter().map(|row| {
-            let cells = row.iter().map(or_zero);
-            quote!([#(#cells),*])
-        });
-        let f = eq.rhs.iter().map(or_zero);
-        let stmts = code.stmts();
-        let pairs: Vec<(usize, usize, TokenStream, bool)> = d
-            .pairs
-            .iter()
-            .map(|&(i, k, det, exact)| (i, k, op(det), exact))
-            .collect();
-        let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
-        let solve = solve::ldlt(&eq, &pairs);
-        // The same code over lanes: W members at once, each lane the scalar value bit for bit;
-        // where a pivot test fails in any lane, every lane takes the scalar path. Only for a small
-        // system (see LANES_MAX_OPS): a larger one's ensembles run members one at a time.
-        if code.lets + n * n <= LANES_MAX_OPS {
-            let lane = codegen::lane_type();
-            let (members, params, out) = (
-                names::lane_members(),
-                names::lane_params(),
-                names::lane_out(),
-            );
-            let lane_code = codegen::emit_as(&d.dag, &d.fields, &d.conds, &outs, Some(&lane));
-            let (loads, params_body, count) = codegen::lane_loads(&code, &params, &out);
-            let values = &lane_code.values;
-            let lane_solve = solve::ldlt_as(&eq, &pairs, Some(&lane));
-            let pc = Literal::usize_unsuffixed(count);
-            let one_by_one = quote!(::lagrange::__private::lagrangian_lanes_one_by_one(
-                #members, #q, #qdot, #t
-            ));
-            let ok = names::lane_ok();
+/// The body of `accelerations` and its inline attribute; the lanes code and its parameter loads
+/// (the Taylor series over lanes reads them), for a small system.
+struct Accelerations {
+    body: TokenStream,
+    inline: TokenStream,
+    lanes: Option<(TokenStream, TokenStream, usize)>,
+    lane_loads: Option<(TokenStream, usize)>,
+}
+
+impl Gen<'_> {
+    /// `accelerations`: the unrolled solve with the pivot test and the fallback, or for a large
+    /// system the runtime's solve of `pieces`; with the lanes code of a small system.
+    fn accelerations(&mut self) -> Accelerations {
+        let Gen {
+            d,
+            n,
+            ref nn,
+            ref q,
+            ref qdot,
+            ref t,
+            ref touch,
+            ref lagrangian_trait,
+            large,
+            ..
+        } = *self;
+        let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
+        let mut lets = 0;
+        let mut lanes = None;
+        // The lanes code's parameter loads and their count, for the Taylor series over lanes.
+        let mut lane_loads: Option<(TokenStream, usize)> = None;
+        let (accelerations, accelerations_inline) = if large {
+            // Large N: M (upper triangle) and the right-hand side from `pieces` (one copy of their
+            // code, kept out of line), solved by the runtime's row-oriented LDLᵀ (the same pivot
+            // test and fallback): O(N²) code instead of the O(N³) of the unrolled elimination, which
+            // costs minutes of build and is slower at this size (BENCHMARKS.md, "Chains of N links").
             let body = quote! {
                 #touch
-                let #params: &[#lane; #pc] = match <&[#lane; #pc]>::try_from(#params) {
-                    ::core::result::Result::Ok(#params) => #params,
-                    ::core::result::Result::Err(_) => return #one_by_one,
-                };
-                #loads
-                #values
-                // Every lane runs the whole solve; a lane whose pivot test failed (or whose
-                // values are not finite) takes its member's scalar path, the others keep theirs.
-                let (#x, #ok) = { #lane_solve };
-                if #ok.all() {
-                    #x
-                } else {
-                    ::lagrange::__private::lagrangian_lanes_patch(#members, #q, #qdot, #t, #x, #ok)
-                }
-            };
-            let params_body = quote! {
-                if let ::core::option::Option::Some(#out) = #out.get_mut(..#pc) {
-                    #params_body
-                }
-            };
-            lanes = Some((body, params_body, count));
-            lane_loads = Some((loads, count));
-        }
-        let body = quote! {
-            #touch
-            #stmts
-            // The fast path; the arrays for the runtime's solve are only built when it fails.
-            let #fast: ::core::option::Option<[f64; #nn]> = #fast_label: { #solve };
-            match #fast {
-                ::core::option::Option::Some(#x) => ::core::result::Result::Ok(#x),
-                ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
-                    &[#(#rows),*],
-                    &[#(#f),*],
+                let __lagrange_pieces = #lagrangian_trait::pieces(self, #q, #qdot, #t);
+                ::lagrange::__private::solve_mass_matrix(
+                    &__lagrange_pieces.mass,
+                    &__lagrange_pieces.rhs(),
                     #lagrangian_trait::COORDINATES,
                     #q,
                     #qdot,
                     #t,
-                ),
+                )
+            };
+            (body, quote!(#[inline]))
+        } else {
+            let mut outs: Vec<Id> = Vec::new();
+            for (i, row) in d.mass.iter().enumerate() {
+                outs.extend(&row[i..]);
             }
-        };
-        (body, inline)
-    };
-    // pieces: M (upper triangle), f_L and the applied forces (a large system's out of line)
-    let code = (!large).then(|| {
-        let mut outs: Vec<Id> = Vec::new();
-        for (i, row) in d.mass.iter().enumerate() {
-            outs.extend(&row[i..]);
-        }
-        outs.extend(&d.force);
-        outs.extend(&d.applied);
-        codegen::emit(&d.dag, &d.fields, &d.conds, &outs)
-    });
-    // A small `pieces` is inlined where it is called (the constrained right-hand side calls it
-    // at every stage, as the integrators call `accelerations`).
-    let pieces_inline = match &code {
-        Some(code) if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS => quote!(#[inline(always)]),
-        _ => quote!(#[inline]),
-    };
-    let rows = d.mass.iter().enumerate().map(|(i, row)| {
-        let cells = row
-            .iter()
-            .enumerate()
-            .map(|(k, &m)| if k < i { quote!(0.0) } else { op(m) });
-        quote!([#(#cells),*])
-    });
-    let f = d.force.iter().map(|&x| op(x));
-    let a = d.applied.iter().map(|&x| op(x));
-    let conservative = d.applied.iter().all(|&a| a == Dag::ZERO);
-    let pieces = if large {
-        // M, and f_L with Q − ∂D/∂q̇, each computed by a function in a module of its own (see
-        // `out_of_line`): LLVM optimizes them in parallel (and the energy's).
-        let mut outs: Vec<Id> = Vec::new();
-        for (i, row) in d.mass.iter().enumerate() {
-            outs.extend(&row[i..]);
-        }
-        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
-        lets += code.lets;
-        let mass = out_of_line(
-            &code,
-            format_ident!("{prefix}_mass"),
-            &nn,
-            quote!([[f64; #nn]; #nn]),
-            quote!([#(#rows),*]),
-            &mut items,
-        );
-        let mut outs: Vec<Id> = d.force.clone();
-        outs.extend(&d.applied);
-        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
-        lets += code.lets;
-        let force = out_of_line(
-            &code,
-            format_ident!("{prefix}_force"),
-            &nn,
-            quote!(([f64; #nn], [f64; #nn])),
-            quote!(([#(#f),*], [#(#a),*])),
-            &mut items,
-        );
-        let (m, f, a) = (
-            format_ident!("__lagrange_mass"),
-            format_ident!("__lagrange_lagrangian_force"),
-            format_ident!("__lagrange_applied"),
-        );
-        quote! {
-            #touch
-            let #m: [[f64; #nn]; #nn] = { #mass };
-            let (#f, #a): ([f64; #nn], [f64; #nn]) = { #force };
-            ::lagrange::__private::eom::Pieces::new(#m, #f).with_applied(#a)
-        }
-    } else {
-        let new = quote!(::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f),*]));
-        let stmts = code.map(|c| {
-            lets += c.lets;
-            c.stmts()
-        });
-        if conservative {
-            quote! {
+            outs.extend(&d.rhs);
+            outs.extend(d.pairs.iter().map(|p| p.2));
+            let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+            lets += code.lets;
+            // A small right-hand side is inlined at every call site (the twelve stages of DOP853
+            // call it from unrolled code; `#[inline]` alone let LLVM keep it out of line and the
+            // whole run was 11 % slower); a large one is left to LLVM so code size stays in bounds.
+            let inline = if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
+                quote!(#[inline(always)])
+            } else {
+                quote!(#[inline])
+            };
+            // M and the right-hand side, formed once: the fast path's solve and the fallback's
+            // arrays read the same operands.
+            let eq = Equations::of(d);
+            let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| quote!(0.0));
+            let rows = eq.mass.iter().map(|row| {
+                let cells = row.iter().map(or_zero);
+                quote!([#(#cells),*])
+            });
+            let f = eq.rhs.iter().map(or_zero);
+            let stmts = code.stmts();
+            let pairs: Vec<(usize, usize, TokenStream, bool)> = d
+                .pairs
+                .iter()
+                .map(|&(i, k, det, exact)| (i, k, op(det), exact))
+                .collect();
+            let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
+            let solve = solve::ldlt(&eq, &pairs);
+            // The same code over lanes: W members at once, each lane the scalar value bit for bit;
+            // where a pivot test fails in any lane, every lane takes the scalar path. Only for a small
+            // system (see LANES_MAX_OPS): a larger one's ensembles run members one at a time.
+            if code.lets + n * n <= LANES_MAX_OPS {
+                let lane = codegen::lane_type();
+                let (members, params, out) = (
+                    names::lane_members(),
+                    names::lane_params(),
+                    names::lane_out(),
+                );
+                let lane_code = codegen::emit_as(&d.dag, &d.fields, &d.conds, &outs, Some(&lane));
+                let (loads, params_body, count) = codegen::lane_loads(&code, &params, &out);
+                let values = &lane_code.values;
+                let lane_solve = solve::ldlt_as(&eq, &pairs, Some(&lane));
+                let pc = Literal::usize_unsuffixed(count);
+                let one_by_one = quote!(::lagrange::__private::lagrangian_lanes_one_by_one(
+                    #members, #q, #qdot, #t
+                ));
+                let ok = names::lane_ok();
+                let body = quote! {
+                    #touch
+                    let #params: &[#lane; #pc] = match <&[#lane; #pc]>::try_from(#params) {
+                        ::core::result::Result::Ok(#params) => #params,
+                        ::core::result::Result::Err(_) => return #one_by_one,
+                    };
+                    #loads
+                    #values
+                    // Every lane runs the whole solve; a lane whose pivot test failed (or whose
+                    // values are not finite) takes its member's scalar path, the others keep theirs.
+                    let (#x, #ok) = { #lane_solve };
+                    if #ok.all() {
+                        #x
+                    } else {
+                        ::lagrange::__private::lagrangian_lanes_patch(#members, #q, #qdot, #t, #x, #ok)
+                    }
+                };
+                let params_body = quote! {
+                    if let ::core::option::Option::Some(#out) = #out.get_mut(..#pc) {
+                        #params_body
+                    }
+                };
+                lanes = Some((body, params_body, count));
+                lane_loads = Some((loads, count));
+            }
+            let body = quote! {
                 #touch
                 #stmts
-                #new
+                // The fast path; the arrays for the runtime's solve are only built when it fails.
+                let #fast: ::core::option::Option<[f64; #nn]> = #fast_label: { #solve };
+                match #fast {
+                    ::core::option::Option::Some(#x) => ::core::result::Result::Ok(#x),
+                    ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
+                        &[#(#rows),*],
+                        &[#(#f),*],
+                        #lagrangian_trait::COORDINATES,
+                        #q,
+                        #qdot,
+                        #t,
+                    ),
+                }
+            };
+            (body, inline)
+        };
+        self.lets += lets;
+        Accelerations {
+            body: accelerations,
+            inline: accelerations_inline,
+            lanes,
+            lane_loads,
+        }
+    }
+
+    /// `pieces`: M (upper triangle), f_L and the applied forces (a large system's out of line),
+    /// with its inline attribute.
+    fn pieces(&mut self) -> (TokenStream, TokenStream) {
+        let Gen {
+            d,
+            n,
+            ref nn,
+            ref touch,
+            ref prefix,
+            large,
+            ..
+        } = *self;
+        let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
+        let mut lets = 0;
+        let mut items = TokenStream::new();
+        let code = (!large).then(|| {
+            let mut outs: Vec<Id> = Vec::new();
+            for (i, row) in d.mass.iter().enumerate() {
+                outs.extend(&row[i..]);
+            }
+            outs.extend(&d.force);
+            outs.extend(&d.applied);
+            codegen::emit(&d.dag, &d.fields, &d.conds, &outs)
+        });
+        // A small `pieces` is inlined where it is called (the constrained right-hand side calls it
+        // at every stage, as the integrators call `accelerations`).
+        let pieces_inline = match &code {
+            Some(code) if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS => quote!(#[inline(always)]),
+            _ => quote!(#[inline]),
+        };
+        let rows = d.mass.iter().enumerate().map(|(i, row)| {
+            let cells = row
+                .iter()
+                .enumerate()
+                .map(|(k, &m)| if k < i { quote!(0.0) } else { op(m) });
+            quote!([#(#cells),*])
+        });
+        let f = d.force.iter().map(|&x| op(x));
+        let a = d.applied.iter().map(|&x| op(x));
+        let conservative = d.applied.iter().all(|&a| a == Dag::ZERO);
+        let pieces = if large {
+            // M, and f_L with Q − ∂D/∂q̇, each computed by a function in a module of its own (see
+            // `out_of_line`): LLVM optimizes them in parallel (and the energy's).
+            let mut outs: Vec<Id> = Vec::new();
+            for (i, row) in d.mass.iter().enumerate() {
+                outs.extend(&row[i..]);
+            }
+            let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+            lets += code.lets;
+            let mass = out_of_line(
+                &code,
+                format_ident!("{prefix}_mass"),
+                nn,
+                quote!([[f64; #nn]; #nn]),
+                quote!([#(#rows),*]),
+                &mut items,
+            );
+            let mut outs: Vec<Id> = d.force.clone();
+            outs.extend(&d.applied);
+            let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+            lets += code.lets;
+            let force = out_of_line(
+                &code,
+                format_ident!("{prefix}_force"),
+                nn,
+                quote!(([f64; #nn], [f64; #nn])),
+                quote!(([#(#f),*], [#(#a),*])),
+                &mut items,
+            );
+            let (m, f, a) = (
+                format_ident!("__lagrange_mass"),
+                format_ident!("__lagrange_lagrangian_force"),
+                format_ident!("__lagrange_applied"),
+            );
+            quote! {
+                #touch
+                let #m: [[f64; #nn]; #nn] = { #mass };
+                let (#f, #a): ([f64; #nn], [f64; #nn]) = { #force };
+                ::lagrange::__private::eom::Pieces::new(#m, #f).with_applied(#a)
             }
         } else {
+            let new = quote!(::lagrange::__private::eom::Pieces::new([#(#rows),*], [#(#f),*]));
+            let stmts = code.map(|c| {
+                lets += c.lets;
+                c.stmts()
+            });
+            if conservative {
+                quote! {
+                    #touch
+                    #stmts
+                    #new
+                }
+            } else {
+                quote! {
+                    #touch
+                    #stmts
+                    #new.with_applied([#(#a),*])
+                }
+            }
+        };
+        self.lets += lets;
+        self.items.extend(items);
+        (pieces, pieces_inline)
+    }
+
+    /// `power`: the power of the applied forces.
+    fn power(&mut self) -> TokenStream {
+        let Gen { d, ref touch, .. } = *self;
+        let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
+        let mut lets = 0;
+        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.power]);
+        lets += code.lets;
+        let w = op(d.power);
+        let stmts = code.stmts();
+        let power = quote! {
+            #touch
+            #stmts
+            #w
+        };
+        self.lets += lets;
+        power
+    }
+
+    /// `mass_matrix`, `momenta` and `energy`; for a large system from `pieces` and
+    /// `energy_and_momenta` (one copy of the code of M, of p and of H).
+    fn matrix_momenta_energy(&mut self) -> (TokenStream, TokenStream, TokenStream) {
+        let Gen {
+            d,
+            n,
+            ref nn,
+            ref q,
+            ref qdot,
+            ref t,
+            ref touch,
+            ref lagrangian_trait,
+            large,
+            ..
+        } = *self;
+        let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
+        let mut lets = 0;
+        let (mass_matrix, momenta, energy) = if large {
+            (
+                quote! {
+                    let __lagrange_pieces = #lagrangian_trait::pieces(self, #q, #qdot, #t);
+                    ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_fn(|__lagrange_i, __lagrange_k| {
+                        __lagrange_pieces.mass_entry(__lagrange_i, __lagrange_k)
+                    })
+                },
+                quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).1),
+                quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).0),
+            )
+        } else {
+            let mut outs: Vec<Id> = Vec::new();
+            for (i, row) in d.mass.iter().enumerate() {
+                outs.extend(&row[i..]);
+            }
+            let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+            lets += code.lets;
+            let cells = (0..n)
+                .flat_map(|i| (0..n).map(move |k| (i, k)))
+                .map(|(i, k)| {
+                    let id = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
+                    op(id)
+                });
+            let stmts = code.stmts();
+            let mass_matrix = quote! {
+                #touch
+                #stmts
+                ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_row_slice(&[#(#cells),*])
+            };
+            let code = codegen::emit(&d.dag, &d.fields, &d.conds, &d.momenta);
+            lets += code.lets;
+            let p = d.momenta.iter().map(|&x| op(x));
+            let stmts = code.stmts();
+            let momenta = quote! {
+                #touch
+                #stmts
+                [#(#p),*]
+            };
+            let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.energy]);
+            lets += code.lets;
+            let h = op(d.energy);
+            let stmts = code.stmts();
+            let energy = quote! {
+                #touch
+                #stmts
+                #h
+            };
+            (mass_matrix, momenta, energy)
+        };
+        self.lets += lets;
+        (mass_matrix, momenta, energy)
+    }
+
+    /// `energy_and_momenta` (what an integrator records every step): shared subexpressions.
+    fn energy_and_momenta(&mut self) -> TokenStream {
+        let Gen {
+            d,
+            ref nn,
+            ref touch,
+            ref prefix,
+            large,
+            ..
+        } = *self;
+        let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
+        let mut lets = 0;
+        let mut items = TokenStream::new();
+        let mut outs = vec![d.energy];
+        outs.extend(&d.momenta);
+        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
+        lets += code.lets;
+        let h = op(d.energy);
+        let p = d.momenta.iter().map(|&x| op(x));
+        let energy_and_momenta = if large {
+            let body = out_of_line(
+                &code,
+                format_ident!("{prefix}_energy"),
+                nn,
+                quote!((f64, [f64; #nn])),
+                quote!((#h, [#(#p),*])),
+                &mut items,
+            );
+            quote! {
+                #touch
+                #body
+            }
+        } else {
+            let stmts = code.stmts();
             quote! {
                 #touch
                 #stmts
-                #new.with_applied([#(#a),*])
+                (#h, [#(#p),*])
             }
-        }
-    };
-
-    // power
-    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.power]);
-    lets += code.lets;
-    let w = op(d.power);
-    let stmts = code.stmts();
-    let power = quote! {
-        #touch
-        #stmts
-        #w
-    };
-
-    // mass_matrix, momenta and energy; for large N from `pieces` and `energy_and_momenta`
-    // (one copy of the code of M, of p and of H).
-    let (mass_matrix, momenta, energy) = if large {
-        (
-            quote! {
-                let __lagrange_pieces = #lagrangian_trait::pieces(self, #q, #qdot, #t);
-                ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_fn(|__lagrange_i, __lagrange_k| {
-                    __lagrange_pieces.mass_entry(__lagrange_i, __lagrange_k)
-                })
-            },
-            quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).1),
-            quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).0),
-        )
-    } else {
-        let mut outs: Vec<Id> = Vec::new();
-        for (i, row) in d.mass.iter().enumerate() {
-            outs.extend(&row[i..]);
-        }
-        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
-        lets += code.lets;
-        let cells = (0..n)
-            .flat_map(|i| (0..n).map(move |k| (i, k)))
-            .map(|(i, k)| {
-                let id = if k >= i { d.mass[i][k] } else { d.mass[k][i] };
-                op(id)
-            });
-        let stmts = code.stmts();
-        let mass_matrix = quote! {
-            #touch
-            #stmts
-            ::lagrange::__private::SMatrix::<f64, #nn, #nn>::from_row_slice(&[#(#cells),*])
         };
-        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &d.momenta);
-        lets += code.lets;
-        let p = d.momenta.iter().map(|&x| op(x));
-        let stmts = code.stmts();
-        let momenta = quote! {
-            #touch
-            #stmts
-            [#(#p),*]
-        };
-        let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.energy]);
-        lets += code.lets;
-        let h = op(d.energy);
-        let stmts = code.stmts();
-        let energy = quote! {
-            #touch
-            #stmts
-            #h
-        };
-        (mass_matrix, momenta, energy)
-    };
+        self.lets += lets;
+        self.items.extend(items);
+        energy_and_momenta
+    }
+}
 
-    // energy and momenta together (what an integrator records every step): shared subexpressions
-    let mut outs = vec![d.energy];
-    outs.extend(&d.momenta);
-    let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
-    lets += code.lets;
-    let h = op(d.energy);
-    let p = d.momenta.iter().map(|&x| op(x));
-    let energy_and_momenta = if large {
-        let body = out_of_line(
-            &code,
-            format_ident!("{prefix}_energy"),
-            &nn,
-            quote!((f64, [f64; #nn])),
-            quote!((#h, [#(#p),*])),
-            &mut items,
-        );
-        quote! {
-            #touch
-            #body
-        }
-    } else {
-        let stmts = code.stmts();
-        quote! {
-            #touch
-            #stmts
-            (#h, [#(#p),*])
-        }
+pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
+    let n = decl.n();
+    let names::Params { q, qdot, t } = names::Params::symbolic();
+    let nn = Literal::usize_unsuffixed(n);
+    let mut gen = Gen {
+        d,
+        n,
+        touch: quote!(let _ = (#q, #qdot, #t);),
+        lagrangian_trait: quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>),
+        nn,
+        q,
+        qdot,
+        t,
+        prefix: module_prefix(&decl.rest.self_ty),
+        large: n > LOOP_SOLVE_ABOVE,
+        items: TokenStream::new(),
+        lets: 0,
     };
+    let Accelerations {
+        body: accelerations,
+        inline: accelerations_inline,
+        lanes,
+        lane_loads,
+    } = gen.accelerations();
+    let (pieces, pieces_inline) = gen.pieces();
+    let power = gen.power();
+    let (mass_matrix, momenta, energy) = gen.matrix_momenta_energy();
+    let energy_and_momenta = gen.energy_and_momenta();
+    let (items, lets) = (gen.items, gen.lets);
 
     let eq = print::equations(d, decl);
     let has_applied = decl.dissipation.is_some() || decl.forces.is_some();
