@@ -234,7 +234,9 @@ pub enum Time {}
 /// Everything a user of `#[lagrangian]` needs: `use lagrange::prelude::*;`.
 pub mod prelude {
     pub use crate::{lagrangian, Coord, Coord3, Coords, Time};
-    pub use lagrange_runtime::{equilibrium, Linearization, LinearizationError, Stability};
+    pub use lagrange_runtime::{
+        equilibrium, Linearization, LinearizationError, Linearize, Stability,
+    };
     pub use lagrange_runtime::{DynamicsError, Holonomic, Lagrangian, SMatrix, Scalar, Vector3};
     pub use lagrange_runtime::{Ensemble, Member};
     pub use lagrange_runtime::{Event, EventHit, Method, Simulation, SimulationError, Trajectory};

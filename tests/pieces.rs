@@ -2,7 +2,8 @@
 //! system supplies its pieces (M and f_L by hand) and every derived quantity follows from them;
 //! the jets derive the same pieces from L alone; `Method` is non-exhaustive.
 
-use lagrange::eom::{jet_pieces, solve, Pieces};
+use lagrange::eom::{solve, Pieces};
+use lagrange::lagrangian::jet_pieces;
 use lagrange::prelude::*;
 
 /// A particle on a vertical circle of radius r (a pendulum), L = m r² θ̇²/2 + m g r cos θ, whose

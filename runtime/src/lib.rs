@@ -14,7 +14,7 @@ pub mod eom;
 pub mod error;
 pub mod integrate;
 pub mod jet;
-mod lagrangian;
+pub mod lagrangian;
 pub mod lanes;
 pub mod linalg;
 pub mod linearize;
@@ -39,6 +39,6 @@ pub use lagrangian::lanes_one_by_one as lagrangian_lanes_one_by_one;
 #[doc(hidden)]
 pub use lagrangian::lanes_patch as lagrangian_lanes_patch;
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
-pub use linearize::{equilibrium, Linearization, LinearizationError, Mode, Stability};
+pub use linearize::{equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability};
 pub use nalgebra::{SMatrix, Vector3};
 pub use scalar::Scalar;

@@ -1,7 +1,7 @@
 //! Linearization of the equations of motion about a state: M δq̈ + C δq̇ + K δq = 0, its
 //! eigenvalues, normal modes and stability, and the equilibria from which it is usually taken.
 //!
-//! [`Lagrangian::linearize`] takes a reference motion through (q₀, q̇₀) at time t (an equilibrium,
+//! [`Linearize::linearize`] takes a reference motion through (q₀, q̇₀) at time t (an equilibrium,
 //! q̇₀ = 0, or a steady motion such as a spinning top) and returns the exact first-order
 //! variation of M(q, q̇, t) q̈ = F(q, q̇, t), F = f_L + Q − ∂D/∂q̇, about it. With a₀ = q̈(q₀, q̇₀, t)
 //! and H the Hessian of L in (q, q̇),
@@ -35,10 +35,9 @@ use core::fmt;
 
 use nalgebra::{Complex, DMatrix, SMatrix, SVector};
 
-use crate::eom::applied_jacobian;
 use crate::error::DynamicsError;
 use crate::jet::LinJet;
-use crate::lagrangian::Lagrangian;
+use crate::lagrangian::{applied_jacobian, Lagrangian};
 
 /// Relative tolerance of the stability classification: an eigenvalue counts as on the imaginary
 /// axis when |Re λ| ≤ `STABILITY_TOL` × s, s the frequency scale of the linearization (the
@@ -67,7 +66,7 @@ pub const SYMMETRY_TOL: f64 = 1e-10;
 /// [module documentation](self) for the formulas).
 ///
 /// ```
-/// use lagrange_runtime::{Lagrangian, Scalar};
+/// use lagrange_runtime::{Lagrangian, Linearize, Scalar};
 /// /// A damped oscillator m ẍ + b ẋ + k x = 0: m = 2, b = 0.4, k = 8.
 /// struct Damped;
 /// impl Lagrangian<1> for Damped {
@@ -248,8 +247,67 @@ impl From<DynamicsError> for LinearizationError {
     }
 }
 
+/// `linearize` and `equilibrium` as methods of every [`Lagrangian`] system (the prelude brings
+/// this trait in): the linearization is built on the trait, so it lives here rather than in it.
+pub trait Linearize<const N: usize>: Lagrangian<N> {
+    /// The linearized equations of motion M δq̈ + C δq̇ + K δq = 0 about the motion through
+    /// (q₀, q̇₀) at time t: an equilibrium (q̇₀ = 0) or a steady motion (q̇₀ ≠ 0), exact from the
+    /// jets (third derivatives of L along the reference motion; no finite differences). See
+    /// [`linearize`](crate::linearize) for the formulas, the eigenvalues, modes and stability.
+    ///
+    /// Fails where the accelerations cannot be solved (singular M, non-finite values). Holonomic
+    /// constraints ([`Holonomic`](crate::Holonomic)) are not taken into account: this linearizes
+    /// the unconstrained L (a linearization on the constraint manifold is not there yet).
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Linearize, Scalar};
+    /// /// A pendulum, L = θ̇²/2 + 4 cos θ: ω² = 4 about the bottom.
+    /// struct P;
+    /// impl Lagrangian<1> for P {
+    ///     const COORDINATES: [&'static str; 1] = ["theta"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() * 4.0 }
+    /// }
+    /// let lin = P.linearize(&[0.0], &[0.0], 0.0).unwrap();
+    /// assert_eq!(lin.modes().unwrap()[0].omega(), Some(2.0));
+    /// assert!(lin.is_stable());
+    /// ```
+    fn linearize(
+        &self,
+        q0: &[f64; N],
+        qdot0: &[f64; N],
+        t: f64,
+    ) -> Result<Linearization<N>, DynamicsError> {
+        jet_linearize(self, q0, qdot0, t)
+    }
+
+    /// An equilibrium near `q_guess`: q with q̈(q, 0, t) = 0, by Newton with the exact Jacobian
+    /// −M⁻¹K ([`linearize::equilibrium`](crate::linearize::equilibrium), as a method); a typed
+    /// error when there is none nearby.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Linearize, Scalar};
+    /// /// A pendulum, L = θ̇²/2 + 4 cos θ: the bottom is θ = 0.
+    /// struct P;
+    /// impl Lagrangian<1> for P {
+    ///     const COORDINATES: [&'static str; 1] = ["theta"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() * 4.0 }
+    /// }
+    /// let q = P.equilibrium(&[0.3], 0.0).unwrap();
+    /// assert!(q[0].abs() < 1e-14);
+    /// ```
+    fn equilibrium(&self, q_guess: &[f64; N], t: f64) -> Result<[f64; N], LinearizationError> {
+        equilibrium(self, q_guess, t)
+    }
+}
+
+impl<L: Lagrangian<N> + ?Sized, const N: usize> Linearize<N> for L {}
+
 /// The linearization about (q₀, q̇₀, t) from the jets: the default of
-/// [`Lagrangian::linearize`] (see the [module documentation](self) for the formulas).
+/// [`Linearize::linearize`] (see the [module documentation](self) for the formulas).
 ///
 /// ```
 /// use lagrange_runtime::{linearize::jet_linearize, Lagrangian, Scalar};
@@ -590,7 +648,7 @@ pub const EQUILIBRIUM_MAX_ITERATIONS: usize = 50;
 
 /// An equilibrium q* (q̈(q*, 0, t) = 0) near `q_guess`, by Newton's method at time t.
 ///
-/// Each step solves K δq = M q̈ with M and K from [`Lagrangian::linearize`] at (q, 0, t): the
+/// Each step solves K δq = M q̈ with M and K from [`Linearize::linearize`] at (q, 0, t): the
 /// Jacobian of q ↦ q̈(q, 0, t) is exactly −M⁻¹K there (K includes the (∂M/∂q)·q̈ term away from an
 /// equilibrium). The step is halved (up to 30 times) until max|M q̈| decreases. Converged when a
 /// full step is below 1e-13 (1 + max|q|) or q̈ = 0 exactly; at most

@@ -24,8 +24,8 @@
 //! ```
 //!
 //! for q̈ and the multipliers λ (the constraint forces in generalized coordinates are Gᵀλ).
-//! [`Lagrangian::pieces`] is where a system supplies its pieces (the default derives them from
-//! L with the jets); [`Lagrangian::accelerations`] is `solve(pieces)` unless a backend has a
+//! [`Lagrangian::pieces`](crate::Lagrangian::pieces) is where a system supplies its pieces (the default derives them from
+//! L with the jets); [`Lagrangian::accelerations`](crate::Lagrangian::accelerations) is `solve(pieces)` unless a backend has a
 //! faster path to the same numbers (the symbolic mode's straight-line elimination, which hands
 //! every case it does not handle back to [`solve_mass_matrix`]).
 //!
@@ -50,7 +50,7 @@
 //! let a = p.accelerations(&[0.5], &[0.0], 0.0).unwrap();
 //! assert!((a[0] + 9.81 / 2.0 * 0.5_f64.sin()).abs() < 1e-15);
 //! // The jets derive the same pieces from L alone.
-//! let jets = lagrange_runtime::eom::jet_pieces(&p, &[0.5], &[0.0], 0.0);
+//! let jets = lagrange_runtime::lagrangian::jet_pieces(&p, &[0.5], &[0.0], 0.0);
 //! assert!((jets.lagrangian_force[0] - p.pieces(&[0.5], &[0.0], 0.0).lagrangian_force[0]).abs() < 1e-15);
 //! ```
 
@@ -58,8 +58,6 @@ pub mod series;
 pub use series::{Factor, FactorLanes};
 
 use crate::error::DynamicsError;
-use crate::jet::{ElJet, HessianJet};
-use crate::lagrangian::Lagrangian;
 use crate::linalg::{all_finite, solve_symmetric, Ldlt, SolveFailure};
 
 /// The pieces of the equations of motion M q̈ = f_L + Q − ∂D/∂q̇ at one state, as a backend
@@ -150,136 +148,8 @@ impl<const N: usize> Pieces<N> {
     }
 }
 
-/// The pieces derived by the run-time jets: one evaluation of L in the Euler–Lagrange jet, and
-/// the applied forces from [`jet_applied_forces`]. The default of [`Lagrangian::pieces`].
-///
-/// ```
-/// use lagrange_runtime::{eom::jet_pieces, Lagrangian, Scalar};
-/// /// L = m q̇²/2 − k q²/2.
-/// struct Osc;
-/// impl Lagrangian<1> for Osc {
-///     const COORDINATES: [&'static str; 1] = ["x"];
-///     const CYCLIC: [bool; 1] = [false];
-///     const AUTONOMOUS: bool = true;
-///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
-///         v[0] * v[0] * 1.0 - q[0] * q[0] * 2.0
-///     }
-/// }
-/// let p = jet_pieces(&Osc, &[1.5], &[0.0], 0.0);
-/// assert_eq!((p.mass, p.lagrangian_force), ([[2.0]], [-6.0]));
-/// ```
-#[inline(always)]
-pub fn jet_pieces<L, const N: usize>(sys: &L, q: &[f64; N], qdot: &[f64; N], t: f64) -> Pieces<N>
-where
-    L: Lagrangian<N> + ?Sized,
-{
-    // One seeding serves L and D.
-    let (qj, vj, tj) = ElJet::seed(q, qdot, t);
-    let l = sys.lagrangian(&qj, &vj, tj);
-    let mut mass = [[0.0; N]; N];
-    for (i, row) in mass.iter_mut().enumerate() {
-        for (k, e) in row.iter_mut().enumerate().skip(i) {
-            *e = l.hess_qdot(i, k);
-        }
-    }
-    let gq = l.grad_q();
-    let mixed = l.mixed();
-    let mut f = [0.0; N];
-    for i in 0..N {
-        f[i] = gq[i] - mixed[i];
-    }
-    let applied = applied_from(sys, &qj, &vj, tj, q, qdot, t);
-    Pieces::new(mass, f).with_applied(applied)
-}
-
-/// Q − ∂D/∂q̇ with D evaluated on jets already seeded at (q, q̇, t).
-#[inline(always)]
-fn applied_from<L, const N: usize>(
-    sys: &L,
-    qj: &[ElJet<N>; N],
-    vj: &[ElJet<N>; N],
-    tj: ElJet<N>,
-    q: &[f64; N],
-    qdot: &[f64; N],
-    t: f64,
-) -> [f64; N]
-where
-    L: Lagrangian<N> + ?Sized,
-{
-    let mut applied = sys.generalized_forces(q, qdot, t);
-    let dd = sys.dissipation(qj, vj, tj).grad_qdot();
-    for (a, d) in applied.iter_mut().zip(dd) {
-        *a -= d;
-    }
-    applied
-}
-
-/// The applied forces Q − ∂D/∂q̇ at a state: [`Lagrangian::generalized_forces`] evaluated in
-/// `f64`, ∂D/∂q̇ from one evaluation of [`Lagrangian::dissipation`] in the jet. Zero (and free
-/// after inlining) for a system that supplies neither.
-///
-/// ```
-/// use lagrange_runtime::{eom::jet_applied_forces, Lagrangian, Scalar};
-/// struct Drag;
-/// impl Lagrangian<1> for Drag {
-///     const COORDINATES: [&'static str; 1] = ["x"];
-///     const CYCLIC: [bool; 1] = [true];
-///     const AUTONOMOUS: bool = true;
-///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
-///     fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * v[0].abs() / 3.0 }
-///     fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] { [t] }
-/// }
-/// // Q − ∂D/∂ẋ = t − ẋ|ẋ| at ẋ = 2, t = 1
-/// assert_eq!(jet_applied_forces(&Drag, &[0.0], &[2.0], 1.0), [1.0 - 4.0]);
-/// ```
-#[inline(always)]
-pub fn jet_applied_forces<L, const N: usize>(
-    sys: &L,
-    q: &[f64; N],
-    qdot: &[f64; N],
-    t: f64,
-) -> [f64; N]
-where
-    L: Lagrangian<N> + ?Sized,
-{
-    let (qj, vj, tj) = ElJet::seed(q, qdot, t);
-    applied_from(sys, &qj, &vj, tj, q, qdot, t)
-}
-
-/// The power dh/dt = (Q − ∂D/∂q̇)·q̇ − ∂L/∂t from the jets: the default of
-/// [`Lagrangian::power`]. ∂L/∂t comes from a jet that moves t alone (exact, and skipped for an
-/// autonomous L).
-///
-/// ```
-/// use lagrange_runtime::{eom::jet_power, Lagrangian, Scalar};
-/// /// A particle in a potential that grows in time, L = ẋ²/2 − t x².
-/// struct Growing;
-/// impl Lagrangian<1> for Growing {
-///     const COORDINATES: [&'static str; 1] = ["x"];
-///     const CYCLIC: [bool; 1] = [false];
-///     const AUTONOMOUS: bool = false;
-///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], t: S) -> S { v[0] * v[0] * 0.5 - t * q[0] * q[0] }
-/// }
-/// assert_eq!(jet_power(&Growing, &[3.0], &[1.0], 2.0), 9.0); // −∂L/∂t = x²
-/// ```
-pub fn jet_power<L, const N: usize>(sys: &L, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64
-where
-    L: Lagrangian<N> + ?Sized,
-{
-    let applied = jet_applied_forces(sys, q, qdot, t);
-    let mut p = 0.0;
-    for i in 0..N {
-        p += applied[i] * qdot[i];
-    }
-    if !L::AUTONOMOUS {
-        let (qj, vj, tj) = ElJet::seed_time(q, qdot, t);
-        p -= sys.lagrangian(&qj, &vj, tj).directional();
-    }
-    p
-}
-
 /// Assembles M q̈ = rhs from the pieces and solves it for q̈ (the default of
-/// [`Lagrangian::accelerations`]).
+/// [`Lagrangian::accelerations`](crate::Lagrangian::accelerations)).
 ///
 /// ```
 /// use lagrange_runtime::eom::{solve, Pieces};
@@ -351,64 +221,6 @@ pub fn solve_mass_matrix<const N: usize>(
     }
 }
 
-/// A non-finite dynamics error traced to the applied forces where that is where it starts: at
-/// the failing state, non-finite generalized forces (`fn forces`) or dissipation forces −∂D/∂q̇
-/// (`fn dissipation`) are named in the message instead of "the derivatives of L". Any other
-/// error is returned as it is.
-pub(crate) fn blame_applied<L: Lagrangian<N> + ?Sized, const N: usize>(
-    sys: &L,
-    e: DynamicsError,
-) -> DynamicsError {
-    let DynamicsError::NonFinite {
-        t,
-        q,
-        qdot,
-        message,
-    } = e
-    else {
-        return e;
-    };
-    let state = <[f64; N]>::try_from(&q[..])
-        .ok()
-        .zip(<[f64; N]>::try_from(&qdot[..]).ok());
-    let what = match state {
-        Some((qa, va)) if t.is_finite() && qa.iter().chain(&va).all(|x| x.is_finite()) => {
-            let forces = sys.generalized_forces(&qa, &va, t);
-            if !all_finite(&forces) {
-                Some(format!(
-                    "the generalized forces Q of `fn forces` (Lagrangian::generalized_forces) are \
-                     not finite here: Q = {}",
-                    crate::error::Short(&forces[..])
-                ))
-            } else {
-                let applied = sys.pieces(&qa, &va, t).applied;
-                (!all_finite(&applied)).then(|| {
-                    format!(
-                        "the dissipation forces −∂D/∂q̇ of `fn dissipation` \
-                         (Lagrangian::dissipation) are not finite here: Q − ∂D/∂q̇ = {}",
-                        crate::error::Short(&applied[..])
-                    )
-                })
-            }
-        }
-        _ => None,
-    };
-    let message = match what {
-        Some(what) => format!(
-            "{what} (NaN or ∞). Check that function at this state (a division by zero, a sqrt or \
-             ln of a negative number, a parameter that is NaN); if an integrator got here, a \
-             smaller step or a tighter tolerance may keep the solution from blowing up."
-        ),
-        None => message,
-    };
-    DynamicsError::NonFinite {
-        t,
-        q,
-        qdot,
-        message,
-    }
-}
-
 fn non_finite<const N: usize>(q: &[f64; N], qdot: &[f64; N], t: f64) -> DynamicsError {
     let what = if q.iter().chain(qdot).any(|x| !x.is_finite()) || !t.is_finite() {
         "the state itself is not finite"
@@ -425,143 +237,6 @@ fn non_finite<const N: usize>(q: &[f64; N], qdot: &[f64; N], t: f64) -> Dynamics
              here, a smaller step or a tighter tolerance may keep the solution from blowing up."
         ),
     }
-}
-
-/// The applied forces F = Q − ∂D/∂q̇ at a state with their derivatives, exact from the Hessian
-/// jet: what an implicit integrator's Newton Jacobian (and a linearization's damping) needs.
-///
-/// ```
-/// use lagrange_runtime::{eom::applied_jacobian, Lagrangian, Scalar};
-/// /// Drag D = c ẋ² x²/2 and a force Q = x t.
-/// struct S;
-/// impl Lagrangian<1> for S {
-///     const COORDINATES: [&'static str; 1] = ["x"];
-///     const CYCLIC: [bool; 1] = [false];
-///     const AUTONOMOUS: bool = true;
-///     fn lagrangian<S2: Scalar>(&self, _q: &[S2; 1], v: &[S2; 1], _t: S2) -> S2 { v[0] * v[0] * 0.5 }
-///     fn dissipation<S2: Scalar>(&self, q: &[S2; 1], v: &[S2; 1], _t: S2) -> S2 { v[0] * v[0] * q[0] * q[0] * 0.5 }
-///     fn generalized_forces<S2: Scalar>(&self, q: &[S2; 1], _v: &[S2; 1], t: S2) -> [S2; 1] { [q[0] * t] }
-/// }
-/// let j = applied_jacobian(&S, &[2.0], &[3.0], 5.0);
-/// assert_eq!(j.value, [10.0 - 3.0 * 4.0]);     // x t − ẋ x²
-/// assert_eq!(j.d_q, [[5.0 - 2.0 * 3.0 * 2.0]]); // t − 2 ẋ x
-/// assert_eq!(j.d_qdot, [[-4.0]]);                // −x²
-/// ```
-pub fn applied_jacobian<L, const N: usize>(
-    sys: &L,
-    q: &[f64; N],
-    qdot: &[f64; N],
-    t: f64,
-) -> AppliedJacobian<N>
-where
-    L: Lagrangian<N> + ?Sized,
-{
-    if N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE {
-        applied_by_columns(sys, q, qdot, t)
-    } else {
-        applied_whole(sys, q, qdot, t)
-    }
-}
-
-/// [`applied_jacobian`] from one evaluation of Q and D in Hessian jets (its own frame, as
-/// [`hessian_jet`](crate::hessian_jet)'s).
-#[inline(never)]
-fn applied_whole<L, const N: usize>(
-    sys: &L,
-    q: &[f64; N],
-    qdot: &[f64; N],
-    t: f64,
-) -> AppliedJacobian<N>
-where
-    L: Lagrangian<N> + ?Sized,
-{
-    let (qj, vj) = HessianJet::seed(q, qdot);
-    let tj = HessianJet::from(t);
-    let forces = sys.generalized_forces(&qj, &vj, tj);
-    let d = sys.dissipation(&qj, &vj, tj);
-    let (dv, dqv, dvv) = (d.grad_qdot(), d.hess_qqdot(), d.hess_qdotqdot());
-    let mut out = AppliedJacobian {
-        value: [0.0; N],
-        d_q: [[0.0; N]; N],
-        d_qdot: [[0.0; N]; N],
-    };
-    for i in 0..N {
-        let (gq, gv) = (forces[i].grad_q(), forces[i].grad_qdot());
-        out.value[i] = forces[i].value() - dv[i];
-        for k in 0..N {
-            out.d_q[i][k] = gq[k] - dqv[k][i];
-            out.d_qdot[i][k] = gv[k] - dvv[i][k];
-        }
-    }
-    out
-}
-
-/// [`applied_jacobian`] for a large system: Q's gradients from one evaluation in
-/// [`ColumnJet`](crate::jet::ColumnJet)s, D's Hessian in q̇ from one evaluation per column.
-#[inline(never)]
-fn applied_by_columns<L, const N: usize>(
-    sys: &L,
-    q: &[f64; N],
-    qdot: &[f64; N],
-    t: f64,
-) -> AppliedJacobian<N>
-where
-    L: Lagrangian<N> + ?Sized,
-{
-    use crate::jet::{ColumnJet, JetCalculus};
-    let tj = ColumnJet::from(t);
-    let (qj, vj) = ColumnJet::seed(q, qdot, None);
-    let forces = sys.generalized_forces(&qj, &vj, tj);
-    let mut out = AppliedJacobian {
-        value: [0.0; N],
-        d_q: [[0.0; N]; N],
-        d_qdot: [[0.0; N]; N],
-    };
-    for i in 0..N {
-        let (gq, gv) = (forces[i].grad_q(), forces[i].grad_qdot());
-        out.value[i] = forces[i].value();
-        out.d_q[i] = gq;
-        out.d_qdot[i] = gv;
-    }
-    // Column k of D's Hessian along q̇_k: ∂²D/∂q_a∂q̇_k and ∂²D/∂q̇_a∂q̇_k.
-    for k in 0..N {
-        let (qj, vj) = ColumnJet::seed(q, qdot, Some(N + k));
-        let d = sys.dissipation(&qj, &vj, tj);
-        if d.is_constant() {
-            // No dissipation (the default's zero): nothing in any column.
-            break;
-        }
-        let (cq, cv) = (d.column_q(), d.column_qdot());
-        if k == 0 {
-            let dv = d.grad_qdot();
-            for i in 0..N {
-                out.value[i] -= dv[i];
-            }
-        }
-        for i in 0..N {
-            // d_q[i][k] −= ∂²D/∂q_k∂q̇_i, d_qdot[i][k] −= ∂²D/∂q̇_i∂q̇_k (symmetric).
-            out.d_qdot[i][k] -= cv[i];
-            out.d_q[k][i] -= cq[i];
-        }
-    }
-    out
-}
-
-/// The applied forces F = Q − ∂D/∂q̇ and their Jacobians (see [`applied_jacobian`]).
-///
-/// ```
-/// use lagrange_runtime::eom::AppliedJacobian;
-/// let j = AppliedJacobian::<1> { value: [1.0], d_q: [[0.0]], d_qdot: [[-0.5]] };
-/// assert_eq!(j.d_qdot[0][0], -0.5);
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AppliedJacobian<const N: usize> {
-    /// Fᵢ.
-    pub value: [f64; N],
-    /// ∂Fᵢ/∂qₖ (`d_q[i][k]`).
-    pub d_q: [[f64; N]; N],
-    /// ∂Fᵢ/∂q̇ₖ (`d_qdot[i][k]`).
-    pub d_qdot: [[f64; N]; N],
 }
 
 /// The constraint rows at a state (q, q̇, t): what a system with holonomic constraints

@@ -328,7 +328,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L
     /// Turns a stepper fault into the error, with the trajectory so far ending at (t, y).
     pub(super) fn fail(mut self, fault: Fault, t: f64, y: Y<N>) -> SimulationError {
         let fault = match fault {
-            Fault::Dynamics(e) => Fault::Dynamics(crate::eom::blame_applied(self.sys, e)),
+            Fault::Dynamics(e) => Fault::Dynamics(crate::lagrangian::blame_applied(self.sys, e)),
             other => other,
         };
         if y.iter().flatten().all(|x| x.is_finite()) {

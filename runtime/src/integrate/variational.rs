@@ -21,8 +21,9 @@
 //! (solved by Newton with the mass matrix). So (q_k, q̇_k) is a consistent state: the momenta
 //! computed from it are the conserved p_k, and the energy from it is the integrator's energy.
 
-use crate::eom::{applied_jacobian, solve_mass_matrix, AppliedJacobian};
+use crate::eom::solve_mass_matrix;
 use crate::jet::HessianJet;
+use crate::lagrangian::{applied_jacobian, AppliedJacobian};
 use crate::lagrangian::{hessian_jet, Lagrangian};
 use crate::linalg::lu_solve;
 
