@@ -12,13 +12,15 @@ pub enum Mode {
     Symbolic,
 }
 
-/// Options from the attribute: `#[lagrangian(mode = "jets")]`.
+/// Options from the attribute: `#[lagrangian(mode = "jets")]`, `#[lagrangian(lanes)]`.
 #[derive(Clone, Debug)]
 pub struct Options {
     /// The derivation mode.
     pub mode: Mode,
     /// Whether `mode` was given explicitly (span of the value if so).
     pub mode_span: Option<Span>,
+    /// `lanes`: the lanes code whatever the system's size (span of the argument if given).
+    pub lanes: Option<Span>,
 }
 
 /// The kind of a coordinate parameter.

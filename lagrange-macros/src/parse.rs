@@ -12,11 +12,12 @@ use crate::model::{Mode, Options};
 /// The mode used when the attribute does not name one.
 pub const DEFAULT_MODE: Mode = Mode::Symbolic;
 
-/// Parses `mode = "jets" | "symbolic"`; anything else is an error at that argument.
+/// Parses `mode = "jets" | "symbolic"` and `lanes`; anything else is an error at that argument.
 pub fn options(args: TokenStream, errors: &mut Errors) -> Options {
     let mut options = Options {
         mode: DEFAULT_MODE,
         mode_span: None,
+        lanes: None,
     };
     let metas = match Punctuated::<Meta, Token![,]>::parse_terminated.parse2(args) {
         Ok(m) => m,
@@ -48,11 +49,25 @@ pub fn options(args: TokenStream, errors: &mut Errors) -> Options {
                 }
                 options.mode_span = Some(syn::spanned::Spanned::span(&nv.value));
             }
+            Meta::Path(p) if p.is_ident("lanes") => {
+                if options.lanes.is_some() {
+                    errors.at(&meta, "`lanes` is given twice");
+                    continue;
+                }
+                options.lanes = Some(syn::spanned::Spanned::span(p));
+            }
             _ => errors.at(
                 &meta,
-                "unknown argument to `#[lagrangian]`: the only argument is `mode = \"symbolic\"` or `mode = \"jets\"`",
+                "unknown argument to `#[lagrangian]`: the arguments are `mode = \"symbolic\"` or `mode = \"jets\"`, and `lanes`",
             ),
         }
+    }
+    if let (Some(span), Mode::Jets) = (options.lanes, options.mode) {
+        errors.push(syn::Error::new(
+            span,
+            "`lanes` asks for the symbolic mode's lanes code (SIMD ensembles), which the jets mode does \
+             not generate: remove `lanes`, or `mode = \"jets\"`",
+        ));
     }
     options
 }

@@ -21,7 +21,9 @@ const INLINE_ALWAYS_MAX_OPS: usize = 256;
 /// the Taylor engine: measured release builds of a crate with one `Ensemble::run` (2026-11-26,
 /// 2 cores), a 12-link chain (984 operations) took 123 s with lanes code against 11 s without
 /// an ensemble and 18 s with one and no lanes code; an 8-link chain (478) 8.1 s against 3.9 s.
-/// A 6-link chain has 291, the heavy top fewer.
+/// A 6-link chain has 291, the heavy top fewer. `#[lagrangian(lanes)]` asks for the lanes code
+/// whatever the size (up to 32 coordinates): an 8-link chain's ensemble of 64 DOP853 members took
+/// 1.8× the instructions one member at a time.
 const LANES_MAX_OPS: usize = 300;
 
 /// What the symbolic path contributes to the generated impl.
@@ -94,6 +96,8 @@ struct Gen<'a> {
     prefix: String,
     /// Above [`LOOP_SOLVE_ABOVE`] coordinates: the loop-based solve and out-of-line bodies.
     large: bool,
+    /// `#[lagrangian(lanes)]`: the lanes code above [`LANES_MAX_OPS`] too.
+    force_lanes: bool,
     /// Items next to the impl (the modules of `out_of_line`).
     items: TokenStream,
     /// `let` statements over all the bodies.
@@ -185,7 +189,7 @@ impl Gen<'_> {
             // The same code over lanes: W members at once, each lane the scalar value bit for bit;
             // where a pivot test fails in any lane, every lane takes the scalar path. Only for a small
             // system (see LANES_MAX_OPS): a larger one's ensembles run members one at a time.
-            if code.lets + n * n <= LANES_MAX_OPS {
+            if code.lets + n * n <= LANES_MAX_OPS || self.force_lanes {
                 let lane = codegen::lane_type();
                 let (members, params, out) = (
                     names::lane_members(),
@@ -509,6 +513,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         t,
         prefix: module_prefix(&decl.rest.self_ty),
         large: n > LOOP_SOLVE_ABOVE,
+        force_lanes: decl.options.lanes.is_some(),
         items: TokenStream::new(),
         lets: 0,
     };

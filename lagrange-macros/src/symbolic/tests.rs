@@ -63,6 +63,7 @@ fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
         options: Options {
             mode: Mode::Symbolic,
             mode_span: None,
+            lanes: None,
         },
         dissipation: None,
         forces: None,
