@@ -6,7 +6,7 @@ use lagrange::prelude::*;
 
 /// An N-link pendulum chain written with `Coords<N>` and a loop.
 macro_rules! chain {
-    ($name:ident, $n:literal) => {
+    ($name:ident, $n:literal $(, $arg:ident)?) => {
         #[derive(Clone, Copy, Debug)]
         pub struct $name {
             pub m: f64,
@@ -14,7 +14,7 @@ macro_rules! chain {
             pub g: f64,
         }
 
-        #[lagrangian]
+        #[lagrangian$(($arg))?]
         impl $name {
             fn lagrangian(&self, (q, q_dot): Coords<$n>) -> Scalar {
                 let (s, c) = q[0].sin_cos();
@@ -38,33 +38,9 @@ macro_rules! chain {
 chain!(Chain32, 32);
 chain!(Chain64, 64);
 
-/// An 8-link chain (478 generated operations) with `#[lagrangian(lanes)]`: its lanes code
-/// whatever its size.
-#[derive(Clone, Copy, Debug)]
-pub struct Chain8Lanes {
-    pub m: f64,
-    pub l: f64,
-    pub g: f64,
-}
-
-#[lagrangian(lanes)]
-impl Chain8Lanes {
-    fn lagrangian(&self, (q, q_dot): Coords<8>) -> Scalar {
-        let (s, c) = q[0].sin_cos();
-        let mut vx = self.l * c * q_dot[0];
-        let mut vy = self.l * s * q_dot[0];
-        let mut y = -self.l * c;
-        let mut lag = 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        for k in 1..q.len() {
-            let (s, c) = q[k].sin_cos();
-            vx += self.l * c * q_dot[k];
-            vy += self.l * s * q_dot[k];
-            y -= self.l * c;
-            lag += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
-        }
-        lag
-    }
-}
+// An 8-link chain (478 generated operations) with `#[lagrangian(lanes)]`: its lanes code
+// whatever its size.
+chain!(Chain8Lanes, 8, lanes);
 
 /// 16 particles in the plane, each on the unit circle, under gravity: 32 coordinates, 16
 /// constraints.

@@ -212,3 +212,85 @@ fn names_from_the_users_scope_are_constants() {
     let a = ScopedConstants.accelerations(&[0.5], &[0.0], 0.0).unwrap();
     assert!((a[0] - (-STIFFNESS * 0.5 + std::f64::consts::PI)).abs() < 1e-15);
 }
+
+/// A plane pendulum in x, y held by its rod, for the contract of the constrained method.
+pub struct RodPendulum;
+
+#[lagrangian]
+impl RodPendulum {
+    fn lagrangian(&self, (_x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * (x_dot * x_dot + y_dot * y_dot) - 9.81 * y
+    }
+    fn constraints(&self, (x, _x_dot): Coord, (y, _y_dot): Coord) -> [Scalar; 1] {
+        [x * x + y * y - 1.0]
+    }
+}
+
+/// A plane pendulum in its angle (no neutral coordinate: an isolated equilibrium at θ = 0).
+pub struct AnglePendulum;
+
+#[lagrangian]
+impl AnglePendulum {
+    fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
+        0.5 * theta_dot * theta_dot + theta.cos()
+    }
+}
+
+/// The public API the "One body for every kernel" issue names as its contract, used as a user
+/// does with the prelude alone: every `Lagrangian` method users call by method syntax
+/// (`linearize` and `equilibrium` among them), `Simulation`, `Method`, `Ensemble`, `Member`,
+/// `Trajectory` and the error types.
+#[test]
+fn the_contract_of_the_kernel_redesign_as_a_user_writes_it() {
+    let top = HeavyTop {
+        i_perp: 1.0,
+        i_par: 0.6,
+        m: 1.0,
+        g: 1.0,
+        l: 1.0,
+    };
+    let (q, qdot) = ([1.0, 0.0, 0.0], [0.0, -0.5, 8.0]);
+    let a: Result<[f64; 3], DynamicsError> = top.accelerations(&q, &qdot, 0.0);
+    let a = a.expect("a regular state");
+    let m: SMatrix<f64, 3, 3> = top.mass_matrix(&q, &qdot, 0.0);
+    let p: [f64; 3] = top.momenta(&q, &qdot, 0.0);
+    let h: f64 = top.energy(&q, &qdot, 0.0);
+    let (h2, p2) = top.energy_and_momenta(&q, &qdot, 0.0);
+    let w: f64 = top.power(&q, &qdot, 0.0);
+    let pieces = top.pieces(&q, &qdot, 0.0);
+    assert_eq!((h2, p2), (h, p));
+    assert_eq!(w, 0.0);
+    assert!((pieces.mass_entry(0, 0) - m[(0, 0)]).abs() < 1e-15);
+    // M q̈ = f: the pieces' right-hand side at the accelerations.
+    let f = pieces.rhs();
+    for i in 0..3 {
+        let mq: f64 = (0..3).map(|k| m[(i, k)] * a[k]).sum();
+        assert!((mq - f[i]).abs() < 1e-12, "row {i}");
+    }
+    // The top hanging straight down (θ = π) is an equilibrium, stable in θ.
+    let lin: Linearization<3> = top
+        .linearize(&[std::f64::consts::PI, 0.0, 0.0], &[0.0, 0.0, 0.0], 0.0)
+        .expect("a regular state");
+    assert!(lin.k[(0, 0)] > 0.0);
+    // (The top's φ and ψ are neutral: `equilibrium` asks for an isolated one.)
+    let eq: Result<[f64; 1], LinearizationError> = AnglePendulum.equilibrium(&[0.3], 0.0);
+    assert!(eq.expect("an equilibrium near θ = 0.3")[0].abs() < 1e-12);
+    let (qdd, lambda) = RodPendulum
+        .constrained_accelerations(&[1.0, 0.0], &[0.0, 0.0], 0.0)
+        .expect("a regular state");
+    assert!((qdd[1] + 9.81).abs() < 1e-12 && lambda[0].abs() < 1e-12);
+    let tr: Result<Trajectory<3>, SimulationError> = Simulation::new(&top, q, qdot)
+        .method(Method::Dop853 {
+            rtol: 1e-10,
+            atol: 1e-10,
+        })
+        .until(1.0)
+        .run();
+    assert!(tr.expect("a regular run").t.len() > 1);
+    let r = Ensemble::new(2, |i| {
+        Member::new(top.clone(), [1.0 + 0.1 * i as f64, 0.0, 0.0], qdot)
+    })
+    .configure(|sim| sim.until(0.5))
+    .run();
+    assert_eq!(r.failures(), 0);
+}
