@@ -288,7 +288,7 @@ fn the_contract_of_the_kernel_redesign_as_a_user_writes_it() {
         .run();
     assert!(tr.expect("a regular run").t.len() > 1);
     let r = Ensemble::new(2, |i| {
-        Member::new(top.clone(), [1.0 + 0.1 * i as f64, 0.0, 0.0], qdot)
+        Member::new(top, [1.0 + 0.1 * i as f64, 0.0, 0.0], qdot)
     })
     .configure(|sim| sim.until(0.5))
     .run();
