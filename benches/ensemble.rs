@@ -126,20 +126,26 @@ fn floors_ns(tops: &[(Top, f64, f64, f64)]) -> Option<[f64; 3]> {
     None
 }
 
-/// The lane parameters and initial (q, q̇) of 4 tops.
+/// The members, the lanes kernel's parameters (loaded at its first call) and initial (q, q̇)
+/// of 4 tops.
 type Group<'t> = ([&'t Top; 4], Vec<Lanes<4>>, [[Lanes<4>; 3]; 2]);
+
+/// q̈ of 4 tops by the generated kernel at width 4 (NaN if the system had none).
+#[inline(always)]
+fn rhs(
+    members: &[&Top; 4],
+    params: &mut Vec<Lanes<4>>,
+    q: &[Lanes<4>; 3],
+    qdot: &[Lanes<4>; 3],
+    t: Lanes<4>,
+) -> [Lanes<4>; 3] {
+    Top::accelerations_in(members, params, q, qdot, t).map_or([Lanes::NAN; 3], |(x, _)| x)
+}
 
 /// The 4-lane inputs of the tops `chunk[0..4]`.
 fn group(chunk: &[(Top, f64, f64, f64)]) -> Group<'_> {
     let members: [&Top; 4] = core::array::from_fn(|l| &chunk[l].0);
-    let mut per_member = vec![0.0; Top::LANE_PARAMS];
-    let mut params = vec![Lanes::<4>::ZERO; Top::LANE_PARAMS];
-    for (l, m) in members.iter().enumerate() {
-        m.lane_params(&mut per_member);
-        for (p, v) in params.iter_mut().zip(&per_member) {
-            p.0[l] = *v;
-        }
-    }
+    let params = Vec::new();
     let y = [
         [
             Lanes(core::array::from_fn(|l| chunk[l].1)),
@@ -167,13 +173,12 @@ fn rhs_chains_avx2<const C: usize>(tops: &[(Top, f64, f64, f64)]) -> f64 {
     for _ in 0..PASSES {
         let t0 = Instant::now();
         for chunk in &chunks {
-            let groups: [Group<'_>; C] = core::array::from_fn(|c| group(&chunk[4 * c..]));
+            let mut groups: [Group<'_>; C] = core::array::from_fn(|c| group(&chunk[4 * c..]));
             let mut y: [[[Lanes<4>; 3]; 2]; C] = core::array::from_fn(|c| groups[c].2);
             for _ in 0..EVALS {
                 for c in 0..C {
-                    let (members, params, _) = &groups[c];
-                    let a =
-                        Top::accelerations_lanes(members, params, &y[c][0], &y[c][1], Lanes::ZERO);
+                    let (members, params, _) = &mut groups[c];
+                    let a = rhs(members, params, &y[c][0], &y[c][1], Lanes::ZERO);
                     for i in 0..3 {
                         y[c][1][i] += a[i] * 1e-9;
                     }
@@ -227,17 +232,17 @@ fn dop853_steps_avx2(tops: &[(Top, f64, f64, f64)]) -> f64 {
     for _ in 0..PASSES {
         let t0 = Instant::now();
         for chunk in tops.chunks_exact(4) {
-            let (members, params, mut y) = group(chunk);
+            let (members, mut params, mut y) = group(chunk);
             let mut k = [[[Lanes::<4>::ZERO; 3]; 2]; 13];
             for _ in 0..STEPS {
-                let a0 = Top::accelerations_lanes(&members, &params, &y[0], &y[1], Lanes::ZERO);
+                let a0 = rhs(&members, &mut params, &y[0], &y[1], Lanes::ZERO);
                 k[0] = [y[1], a0];
                 macro_rules! stages {
                     ($($s:literal)*) => {$(
                         let mut ys = stage_sum::<$s>(&y, h, &A[$s], &k);
                         ys[0][1] = y[0][1];
                         ys[0][2] = y[0][2];
-                        let a = Top::accelerations_lanes(&members, &params, &ys[0], &ys[1], h * C[$s]);
+                        let a = rhs(&members, &mut params, &ys[0], &ys[1], h * C[$s]);
                         k[$s] = [ys[1], a];
                     )*};
                 }

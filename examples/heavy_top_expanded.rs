@@ -51,20 +51,20 @@ pub struct HeavyTop {
 
 // ---- BEGIN GENERATED (do not edit) ----
 #[automatically_derived]
+#[allow(
+    unused_parens,
+    unused_braces,
+    non_snake_case,
+    clippy::all,
+    clippy::pedantic,
+    clippy::nursery
+)]
 impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
     const COORDINATES: [&'static str; 3] = ["theta", "phi", "psi"];
     const CYCLIC: [bool; 3] = [false, true, true];
     const AUTONOMOUS: bool = true;
     #[doc = " Symmetric heavy top, eq. (92)."]
     #[inline]
-    #[allow(
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery,
-        unused_parens,
-        unused_braces,
-        non_snake_case
-    )]
     fn lagrangian<Scalar: ::lagrange::__private::Scalar>(
         &self,
         __lagrange_q: &[Scalar; 3],
@@ -84,14 +84,6 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             (psi_dot + phi_dot * c).powi(2),
         ) - ::lagrange::__private::ConstMul::const_mul(self.m * self.g * self.l, c)
     }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
     #[inline(always)]
     fn accelerations(
         &self,
@@ -99,135 +91,26 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         __lagrange_qdot: &[f64; 3],
         __lagrange_t: f64,
     ) -> ::core::result::Result<[f64; 3], ::lagrange::__private::DynamicsError> {
-        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
-        let __lagrange_p_i_perp: f64 = self.i_perp;
-        let __lagrange_p_i_par: f64 = self.i_par;
-        let __lagrange_p_m: f64 = self.m;
-        let __lagrange_p_g: f64 = self.g;
-        let __lagrange_p_l: f64 = self.l;
-        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): ((f64, f64), f64) =
-            (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
-        let (
-            __lagrange_x15,
-            __lagrange_x22,
-            __lagrange_x33,
-            __lagrange_x53,
-            __lagrange_x55,
-            __lagrange_x58,
-            __lagrange_x59,
-            __lagrange_x60,
-        ): (f64, f64, f64, f64, f64, f64, f64, f64) = (
-            __lagrange_qdot[1] * __lagrange_x8,
-            __lagrange_qdot[1] * __lagrange_x9,
-            __lagrange_x31 * __lagrange_p_l,
-            __lagrange_x8 * __lagrange_x8,
-            __lagrange_x9 * __lagrange_x9,
-            __lagrange_x9 * __lagrange_p_i_par,
-            __lagrange_qdot[0] * __lagrange_x9,
-            __lagrange_qdot[0] * __lagrange_x8,
-        );
-        let (
-            __lagrange_x23,
-            __lagrange_x54,
-            __lagrange_x56,
-            __lagrange_x63,
-            __lagrange_x65,
-            __lagrange_x80,
-            __lagrange_x93,
-        ): (f64, f64, f64, f64, f64, f64, f64) = (
-            __lagrange_qdot[2] + __lagrange_x22,
-            __lagrange_p_i_perp * __lagrange_x53,
-            __lagrange_p_i_par * __lagrange_x55,
-            __lagrange_qdot[1] * __lagrange_x60,
-            __lagrange_x15 * __lagrange_x59,
-            __lagrange_x15 * __lagrange_x22,
-            __lagrange_x8 * __lagrange_x33,
-        );
-        let (
-            __lagrange_x57,
-            __lagrange_x67,
-            __lagrange_x69,
-            __lagrange_x77,
-            __lagrange_x82,
-            __lagrange_x85,
-            __lagrange_x104,
-        ): (f64, f64, f64, f64, f64, f64, f64) = (
-            __lagrange_x54 + __lagrange_x56,
-            __lagrange_p_i_perp * __lagrange_x65,
-            __lagrange_x23 * __lagrange_x60,
-            __lagrange_p_i_par * __lagrange_x63,
-            __lagrange_p_i_perp * __lagrange_x80,
-            __lagrange_x15 * __lagrange_x23,
-            __lagrange_p_i_par * __lagrange_x54,
-        );
-        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (f64, f64, f64) = (
-            2.0 * __lagrange_x67,
-            __lagrange_x65 + __lagrange_x69,
-            __lagrange_p_i_par * __lagrange_x85,
-        );
-        let (__lagrange_x74, __lagrange_x91): (f64, f64) = (
-            __lagrange_p_i_par * __lagrange_x72,
-            __lagrange_x82 - __lagrange_x89,
-        );
-        let (__lagrange_x95, __lagrange_x96): (f64, f64) = (
-            __lagrange_x91 + __lagrange_x93,
-            __lagrange_x74 - __lagrange_x68,
-        );
-        let __lagrange_fast: ::core::option::Option<[f64; 3]> = '__lagrange_fast: {
-            if !(__lagrange_x57 > 0.0) {
-                break '__lagrange_fast ::core::option::Option::None;
-            }
-            let __lagrange_det_1_2: f64 = __lagrange_x104;
-            if !(__lagrange_det_1_2 > 0.0) {
-                break '__lagrange_fast ::core::option::Option::None;
-            }
-            let __lagrange_y_1: f64 = (__lagrange_p_i_par * __lagrange_x96
-                - __lagrange_x58 * __lagrange_x77)
-                / __lagrange_det_1_2;
-            let __lagrange_y_2: f64 = (__lagrange_x57 * __lagrange_x77
-                - __lagrange_x58 * __lagrange_x96)
-                / __lagrange_det_1_2;
-            let __lagrange_d_0: f64 = __lagrange_p_i_perp;
-            if !(__lagrange_d_0
-                > ::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT * __lagrange_p_i_perp)
-            {
-                break '__lagrange_fast ::core::option::Option::None;
-            }
-            let __lagrange_y_0: f64 = __lagrange_x95;
-            let __lagrange_y_0: f64 = __lagrange_y_0 / __lagrange_d_0;
-            let __lagrange_qddot = [__lagrange_y_0, __lagrange_y_1, __lagrange_y_2];
-            if (__lagrange_y_0 + __lagrange_y_1 + __lagrange_y_2).is_finite() {
-                ::core::option::Option::Some(__lagrange_qddot)
-            } else {
-                ::core::option::Option::None
-            }
-        };
-        match __lagrange_fast {
-            ::core::option::Option::Some(__lagrange_qddot) => {
-                ::core::result::Result::Ok(__lagrange_qddot)
-            }
-            ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
-                &[
-                    [__lagrange_p_i_perp, 0.0, 0.0],
-                    [0.0, __lagrange_x57, __lagrange_x58],
-                    [0.0, 0.0, __lagrange_p_i_par],
-                ],
-                &[__lagrange_x95, __lagrange_x96, __lagrange_x77],
+        let (__lagrange_qddot, __lagrange_ok, __lagrange_m, __lagrange_f) =
+            __lagrange_HeavyTop_67f09420_kernels::accelerations::<f64>(
+                &Self::__lagrange_params(self),
+                __lagrange_q,
+                __lagrange_qdot,
+                __lagrange_t,
+            );
+        if __lagrange_ok {
+            ::core::result::Result::Ok(__lagrange_qddot)
+        } else {
+            ::lagrange::__private::solve_mass_matrix(
+                &__lagrange_m,
+                &__lagrange_f,
                 <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
                 __lagrange_q,
                 __lagrange_qdot,
                 __lagrange_t,
-            ),
+            )
         }
     }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
     #[inline(always)]
     fn pieces(
         &self,
@@ -316,27 +199,11 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             [__lagrange_x95, __lagrange_x96, __lagrange_x77],
         )
     }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
     #[inline]
     fn power(&self, __lagrange_q: &[f64; 3], __lagrange_qdot: &[f64; 3], __lagrange_t: f64) -> f64 {
         let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
         0.0
     }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
     #[inline]
     fn mass_matrix(
         &self,
@@ -370,14 +237,6 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_p_i_par,
         ])
     }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
     #[inline]
     fn momenta(
         &self,
@@ -409,14 +268,6 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         let __lagrange_x49: f64 = __lagrange_x42 + __lagrange_x47;
         [__lagrange_x37, __lagrange_x49, __lagrange_x51]
     }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
     #[inline]
     fn energy(
         &self,
@@ -424,79 +275,14 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         __lagrange_qdot: &[f64; 3],
         __lagrange_t: f64,
     ) -> f64 {
-        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
-        let __lagrange_p_i_perp: f64 = self.i_perp;
-        let __lagrange_p_i_par: f64 = self.i_par;
-        let __lagrange_p_m: f64 = self.m;
-        let __lagrange_p_g: f64 = self.g;
-        let __lagrange_p_l: f64 = self.l;
-        let ((__lagrange_x8, __lagrange_x9), __lagrange_x14, __lagrange_x31, __lagrange_x37): (
-            (f64, f64),
-            f64,
-            f64,
-            f64,
-        ) = (
-            __lagrange_q[0].sin_cos(),
-            __lagrange_qdot[0] * __lagrange_qdot[0],
-            __lagrange_p_m * __lagrange_p_g,
-            __lagrange_qdot[0] * __lagrange_p_i_perp,
-        );
-        let (__lagrange_x15, __lagrange_x22, __lagrange_x33, __lagrange_x98): (f64, f64, f64, f64) = (
-            __lagrange_qdot[1] * __lagrange_x8,
-            __lagrange_qdot[1] * __lagrange_x9,
-            __lagrange_x31 * __lagrange_p_l,
-            __lagrange_qdot[0] * __lagrange_x37,
-        );
-        let (__lagrange_x16, __lagrange_x23, __lagrange_x34, __lagrange_x40): (f64, f64, f64, f64) = (
-            __lagrange_x15 * __lagrange_x15,
-            __lagrange_qdot[2] + __lagrange_x22,
-            __lagrange_x9 * __lagrange_x33,
-            __lagrange_x8 * __lagrange_x15,
-        );
-        let (__lagrange_x17, __lagrange_x24, __lagrange_x42, __lagrange_x45, __lagrange_x51): (
-            f64,
-            f64,
-            f64,
-            f64,
-            f64,
-        ) = (
-            __lagrange_x14 + __lagrange_x16,
-            __lagrange_x23 * __lagrange_x23,
-            __lagrange_p_i_perp * __lagrange_x40,
-            __lagrange_x9 * __lagrange_x23,
-            __lagrange_p_i_par * __lagrange_x23,
-        );
-        let (__lagrange_x18, __lagrange_x25, __lagrange_x47, __lagrange_x102): (
-            f64,
-            f64,
-            f64,
-            f64,
-        ) = (
-            __lagrange_p_i_perp * __lagrange_x17,
-            __lagrange_p_i_par * __lagrange_x24,
-            __lagrange_p_i_par * __lagrange_x45,
-            __lagrange_qdot[2] * __lagrange_x51,
-        );
-        let (__lagrange_x27, __lagrange_x49): (f64, f64) = (
-            __lagrange_x18 + __lagrange_x25,
-            __lagrange_x42 + __lagrange_x47,
-        );
-        let (__lagrange_x28, __lagrange_x100): (f64, f64) =
-            (0.5 * __lagrange_x27, __lagrange_qdot[1] * __lagrange_x49);
-        let __lagrange_x97: f64 = __lagrange_x34 - __lagrange_x28;
-        let __lagrange_x99: f64 = __lagrange_x97 + __lagrange_x98;
-        let __lagrange_x101: f64 = __lagrange_x99 + __lagrange_x100;
-        let __lagrange_x103: f64 = __lagrange_x101 + __lagrange_x102;
-        __lagrange_x103
+        <Self as ::lagrange::__private::Lagrangian<3>>::energy_and_momenta(
+            self,
+            __lagrange_q,
+            __lagrange_qdot,
+            __lagrange_t,
+        )
+        .0
     }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
     #[inline]
     fn energy_and_momenta(
         &self,
@@ -572,82 +358,92 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             [__lagrange_x37, __lagrange_x49, __lagrange_x51],
         )
     }
-    const LANE_PARAMS: usize = 5;
-    const VECTORIZED_LANES: bool = true;
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
-    #[inline]
-    fn lane_params(&self, __lagrange_out: &mut [f64]) {
-        if let ::core::option::Option::Some(__lagrange_out) = __lagrange_out.get_mut(..5) {
-            let __lagrange_p_i_perp: f64 = self.i_perp;
-            let __lagrange_p_i_par: f64 = self.i_par;
-            let __lagrange_p_m: f64 = self.m;
-            let __lagrange_p_g: f64 = self.g;
-            let __lagrange_p_l: f64 = self.l;
-            __lagrange_out[0] = __lagrange_p_i_perp;
-            __lagrange_out[1] = __lagrange_p_i_par;
-            __lagrange_out[2] = __lagrange_p_m;
-            __lagrange_out[3] = __lagrange_p_g;
-            __lagrange_out[4] = __lagrange_p_l;
-        }
-    }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
     #[inline(always)]
-    fn accelerations_lanes<const __LAGRANGE_W: usize>(
-        __lagrange_members: &[&Self; __LAGRANGE_W],
-        __lagrange_params: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>],
-        __lagrange_q: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3],
-        __lagrange_qdot: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3],
-        __lagrange_t: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-    ) -> [::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3]
-    where
-        Self: ::core::marker::Sized,
-    {
-        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
-        let __lagrange_params: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 5] =
-            match <&[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 5]>::try_from(
+    fn accelerations_in<R: ::lagrange::__private::Real>(
+        __lagrange_members: &[&Self],
+        __lagrange_params: &mut ::std::vec::Vec<R>,
+        __lagrange_q: &[R; 3],
+        __lagrange_qdot: &[R; 3],
+        __lagrange_t: R,
+    ) -> ::core::option::Option<([R; 3], <R as ::lagrange::__private::Real>::Mask)> {
+        let (__lagrange_x, __lagrange_ok, _, _) =
+            __lagrange_HeavyTop_67f09420_kernels::accelerations::<R>(
+                ::lagrange::__private::kernel_params(
+                    __lagrange_members,
+                    __lagrange_params,
+                    Self::__lagrange_params,
+                )?,
+                __lagrange_q,
+                __lagrange_qdot,
+                __lagrange_t,
+            );
+        ::core::option::Option::Some((__lagrange_x, __lagrange_ok))
+    }
+    #[inline(always)]
+    fn series_in<R: ::lagrange::__private::eom::SeriesReal>(
+        __lagrange_members: &[&Self],
+        __lagrange_params: &mut ::std::vec::Vec<R>,
+        __lagrange_t: R,
+        __lagrange_out: &mut [[[R; 3]; 2]],
+        __lagrange_buf: &mut ::lagrange::__private::taylor::SeriesBuf<R>,
+    ) -> ::core::option::Option<
+        ::core::result::Result<
+            <R as ::lagrange::__private::Real>::Mask,
+            ::lagrange::__private::DynamicsError,
+        >,
+    > {
+        ::core::option::Option::Some(__lagrange_HeavyTop_67f09420_kernels::series::<R>(
+            ::lagrange::__private::kernel_params(
+                __lagrange_members,
                 __lagrange_params,
-            ) {
-                ::core::result::Result::Ok(__lagrange_params) => __lagrange_params,
-                ::core::result::Result::Err(_) => {
-                    return ::lagrange::__private::lagrangian_lanes_one_by_one(
-                        __lagrange_members,
-                        __lagrange_q,
-                        __lagrange_qdot,
-                        __lagrange_t,
-                    )
-                }
-            };
-        let __lagrange_p_i_perp: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[0];
-        let __lagrange_p_i_par: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[1];
-        let __lagrange_p_m: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[2];
-        let __lagrange_p_g: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[3];
-        let __lagrange_p_l: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[4];
-        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): (
-            (
-                ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-                ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ),
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
+                Self::__lagrange_params,
+            )?,
+            <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
+            __lagrange_t,
+            __lagrange_out,
+            __lagrange_buf,
+        ))
+    }
+    const COMPILED: ::lagrange::__private::Compiled = ::lagrange::__private::Compiled {
+        lanes: true,
+        not_analytic: ::core::option::Option::None,
+    };
+}
+#[doc(hidden)]
+#[allow(
+    unused_parens,
+    unused_braces,
+    non_snake_case,
+    clippy::all,
+    clippy::pedantic,
+    clippy::nursery
+)]
+#[allow(unused_variables)]
+mod __lagrange_HeavyTop_67f09420_kernels {
+    #[doc = r" How many numbers `__lagrange_params` loads (the kernels' parameters)."]
+    pub(super) const PARAMS: usize = 5;
+    #[doc = r" q̈ from M q̈ = f (the straight-line LDLᵀ), the lanes where every pivot test passed"]
+    #[doc = r" and every value is finite, and M (upper triangle) and f for the careful path."]
+    #[inline(always)]
+    pub(super) fn accelerations<R: ::lagrange::__private::Real>(
+        __lagrange_params: &[R; PARAMS],
+        __lagrange_q: &[R; 3],
+        __lagrange_qdot: &[R; 3],
+        __lagrange_t: R,
+    ) -> (
+        [R; 3],
+        <R as ::lagrange::__private::Real>::Mask,
+        [[R; 3]; 3],
+        [R; 3],
+    ) {
+        let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
+        let __lagrange_p_i_perp: R = __lagrange_params[0];
+        let __lagrange_p_i_par: R = __lagrange_params[1];
+        let __lagrange_p_m: R = __lagrange_params[2];
+        let __lagrange_p_g: R = __lagrange_params[3];
+        let __lagrange_p_l: R = __lagrange_params[4];
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): ((R, R), R) =
+            (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
         let (
             __lagrange_x15,
             __lagrange_x22,
@@ -657,16 +453,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x58,
             __lagrange_x59,
             __lagrange_x60,
-        ): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
+        ): (R, R, R, R, R, R, R, R) = (
             __lagrange_qdot[1] * __lagrange_x8,
             __lagrange_qdot[1] * __lagrange_x9,
             __lagrange_x31 * __lagrange_p_l,
@@ -684,15 +471,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x65,
             __lagrange_x80,
             __lagrange_x93,
-        ): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
+        ): (R, R, R, R, R, R, R) = (
             __lagrange_qdot[2] + __lagrange_x22,
             __lagrange_p_i_perp * __lagrange_x53,
             __lagrange_p_i_par * __lagrange_x55,
@@ -709,15 +488,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x82,
             __lagrange_x85,
             __lagrange_x104,
-        ): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
+        ): (R, R, R, R, R, R, R) = (
             __lagrange_x54 + __lagrange_x56,
             __lagrange_p_i_perp * __lagrange_x65,
             __lagrange_x23 * __lagrange_x60,
@@ -726,112 +497,107 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x15 * __lagrange_x23,
             __lagrange_p_i_par * __lagrange_x54,
         );
-        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
-            2.0 * __lagrange_x67,
+        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (R, R, R) = (
+            <R as ::core::convert::From<f64>>::from(2.0) * __lagrange_x67,
             __lagrange_x65 + __lagrange_x69,
             __lagrange_p_i_par * __lagrange_x85,
         );
-        let (__lagrange_x74, __lagrange_x91): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
+        let (__lagrange_x74, __lagrange_x91): (R, R) = (
             __lagrange_p_i_par * __lagrange_x72,
             __lagrange_x82 - __lagrange_x89,
         );
-        let (__lagrange_x95, __lagrange_x96): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
+        let (__lagrange_x95, __lagrange_x96): (R, R) = (
             __lagrange_x91 + __lagrange_x93,
             __lagrange_x74 - __lagrange_x68,
         );
         let (__lagrange_qddot, __lagrange_ok) = {
-            let __lagrange_ok = ::lagrange::__private::lanes::Mask::<__LAGRANGE_W>::splat(true);
+            let __lagrange_ok = <R as ::lagrange::__private::Real>::EVERY_LANE;
             let __lagrange_ok = __lagrange_ok
-                & <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x57).gt(0.0);
-            let __lagrange_det_1_2: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x104);
-            let __lagrange_ok = __lagrange_ok
-                & <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_det_1_2)
-                    .gt(0.0);
-            let __lagrange_y_1: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(
-                    (__lagrange_p_i_par * __lagrange_x96 - __lagrange_x58 * __lagrange_x77)
-                        / __lagrange_det_1_2,
+                & <R as ::lagrange::__private::Real>::greater(
+                    __lagrange_x57,
+                    <R as ::core::convert::From<f64>>::from(0.0),
                 );
-            let __lagrange_y_2: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(
-                    (__lagrange_x57 * __lagrange_x77 - __lagrange_x58 * __lagrange_x96)
-                        / __lagrange_det_1_2,
+            let __lagrange_det_1_2: R = __lagrange_x104;
+            let __lagrange_ok = __lagrange_ok
+                & <R as ::lagrange::__private::Real>::greater(
+                    __lagrange_det_1_2,
+                    <R as ::core::convert::From<f64>>::from(0.0),
                 );
-            let __lagrange_d_0: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_p_i_perp);
+            let __lagrange_y_1: R = (__lagrange_p_i_par * __lagrange_x96
+                - __lagrange_x58 * __lagrange_x77)
+                / __lagrange_det_1_2;
+            let __lagrange_y_2: R = (__lagrange_x57 * __lagrange_x77
+                - __lagrange_x58 * __lagrange_x96)
+                / __lagrange_det_1_2;
+            let __lagrange_d_0: R = __lagrange_p_i_perp;
             let __lagrange_ok = __lagrange_ok
-                & <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_d_0)
-                    .gt(::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT
-                        * __lagrange_p_i_perp);
-            let __lagrange_y_0: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-                <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x95);
-            let __lagrange_y_0: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-                __lagrange_y_0 / __lagrange_d_0;
+                & <R as ::lagrange::__private::Real>::greater(
+                    __lagrange_d_0,
+                    __lagrange_p_i_perp * ::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT,
+                );
+            let __lagrange_y_0: R = __lagrange_x95;
+            let __lagrange_y_0: R = __lagrange_y_0 / __lagrange_d_0;
             let __lagrange_ok = __lagrange_ok
-                & <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(
+                & <R as ::lagrange::__private::Real>::finite(
                     __lagrange_y_0 + __lagrange_y_1 + __lagrange_y_2,
-                )
-                .finite();
+                );
             (
                 [__lagrange_y_0, __lagrange_y_1, __lagrange_y_2],
                 __lagrange_ok,
             )
         };
-        if __lagrange_ok.all() {
-            __lagrange_qddot
-        } else {
-            ::lagrange::__private::lagrangian_lanes_patch(
-                __lagrange_members,
-                __lagrange_q,
-                __lagrange_qdot,
-                __lagrange_t,
-                __lagrange_qddot,
-                __lagrange_ok,
-            )
-        }
+        (
+            __lagrange_qddot,
+            __lagrange_ok,
+            [
+                [
+                    __lagrange_p_i_perp,
+                    <R as ::core::convert::From<f64>>::from(0.0),
+                    <R as ::core::convert::From<f64>>::from(0.0),
+                ],
+                [
+                    <R as ::core::convert::From<f64>>::from(0.0),
+                    __lagrange_x57,
+                    __lagrange_x58,
+                ],
+                [
+                    <R as ::core::convert::From<f64>>::from(0.0),
+                    <R as ::core::convert::From<f64>>::from(0.0),
+                    __lagrange_p_i_par,
+                ],
+            ],
+            [__lagrange_x95, __lagrange_x96, __lagrange_x77],
+        )
     }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
-    fn taylor_series(
-        &self,
-        __lagrange_t: f64,
-        __lagrange_out: &mut [[[f64; 3]; 2]],
-        __lagrange_buf: &mut ::lagrange::__private::taylor::TaylorBuf,
-    ) -> ::core::option::Option<::core::result::Result<(), ::lagrange::__private::DynamicsError>>
-    {
+    #[doc = r" The Taylor coefficients of the motion through `out[0]` at t (see"]
+    #[doc = r" `Lagrangian::series_in`), in the lanes of the mask."]
+    #[inline(always)]
+    pub(super) fn series<R: ::lagrange::__private::eom::SeriesReal>(
+        __lagrange_params: &[R; PARAMS],
+        __lagrange_names: [&'static str; 3],
+        __lagrange_t: R,
+        __lagrange_out: &mut [[[R; 3]; 2]],
+        __lagrange_buf: &mut ::lagrange::__private::taylor::SeriesBuf<R>,
+    ) -> ::core::result::Result<
+        <R as ::lagrange::__private::Real>::Mask,
+        ::lagrange::__private::DynamicsError,
+    > {
         if __lagrange_out.len() < 2 {
-            return ::core::option::Option::Some(::core::result::Result::Ok(()));
+            return ::core::result::Result::Ok(<R as ::lagrange::__private::Real>::EVERY_LANE);
         }
         let __lagrange_order =
             (__lagrange_out.len() - 1).min(::lagrange::__private::taylor::MAX_ORDER);
-        let __lagrange_c: &mut [::lagrange::__private::taylor::Row; 42] =
+        let __lagrange_c: &mut [::lagrange::__private::taylor::RowOf<R>; 42] =
             __lagrange_buf.slots::<42>();
-        let __lagrange_y0: [[f64; 3]; 2] = __lagrange_out[0];
-        let (__lagrange_q, __lagrange_qdot): (&[f64; 3], &[f64; 3]) =
+        let __lagrange_y0: [[R; 3]; 2] = __lagrange_out[0];
+        let (__lagrange_q, __lagrange_qdot): (&[R; 3], &[R; 3]) =
             (&__lagrange_y0[0], &__lagrange_y0[1]);
-        let __lagrange_p_i_perp: f64 = self.i_perp;
-        let __lagrange_p_i_par: f64 = self.i_par;
-        let __lagrange_p_m: f64 = self.m;
-        let __lagrange_p_g: f64 = self.g;
-        let __lagrange_p_l: f64 = self.l;
-        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): ((f64, f64), f64) =
+        let __lagrange_p_i_perp: R = __lagrange_params[0];
+        let __lagrange_p_i_par: R = __lagrange_params[1];
+        let __lagrange_p_m: R = __lagrange_params[2];
+        let __lagrange_p_g: R = __lagrange_params[3];
+        let __lagrange_p_l: R = __lagrange_params[4];
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): ((R, R), R) =
             (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
         let (
             __lagrange_x15,
@@ -843,7 +609,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x59,
             __lagrange_x60,
             __lagrange_x79,
-        ): (f64, f64, f64, f64, f64, f64, f64, f64, f64) = (
+        ): (R, R, R, R, R, R, R, R, R) = (
             __lagrange_qdot[1] * __lagrange_x8,
             __lagrange_qdot[1] * __lagrange_x9,
             __lagrange_x31 * __lagrange_p_l,
@@ -862,7 +628,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x65,
             __lagrange_x80,
             __lagrange_x93,
-        ): (f64, f64, f64, f64, f64, f64, f64) = (
+        ): (R, R, R, R, R, R, R) = (
             __lagrange_qdot[2] + __lagrange_x22,
             __lagrange_p_i_perp * __lagrange_x53,
             __lagrange_p_i_par * __lagrange_x55,
@@ -878,7 +644,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_x77,
             __lagrange_x82,
             __lagrange_x85,
-        ): (f64, f64, f64, f64, f64, f64) = (
+        ): (R, R, R, R, R, R) = (
             __lagrange_x54 + __lagrange_x56,
             __lagrange_p_i_perp * __lagrange_x65,
             __lagrange_x23 * __lagrange_x60,
@@ -886,16 +652,16 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_p_i_perp * __lagrange_x80,
             __lagrange_x15 * __lagrange_x23,
         );
-        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (f64, f64, f64) = (
-            2.0 * __lagrange_x67,
+        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (R, R, R) = (
+            <R as ::core::convert::From<f64>>::from(2.0) * __lagrange_x67,
             __lagrange_x65 + __lagrange_x69,
             __lagrange_p_i_par * __lagrange_x85,
         );
-        let (__lagrange_x74, __lagrange_x91): (f64, f64) = (
+        let (__lagrange_x74, __lagrange_x91): (R, R) = (
             __lagrange_p_i_par * __lagrange_x72,
             __lagrange_x82 - __lagrange_x89,
         );
-        let (__lagrange_x95, __lagrange_x96): (f64, f64) = (
+        let (__lagrange_x95, __lagrange_x96): (R, R) = (
             __lagrange_x91 + __lagrange_x93,
             __lagrange_x74 - __lagrange_x68,
         );
@@ -906,7 +672,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         __lagrange_c[5][0] = __lagrange_x8;
         __lagrange_c[6][0] = __lagrange_x9;
         __lagrange_c[7][0] = __lagrange_p_i_perp;
-        __lagrange_c[8][0] = 2.0;
+        __lagrange_c[8][0] = <R as ::core::convert::From<f64>>::from(2.0);
         __lagrange_c[9][0] = __lagrange_x15;
         __lagrange_c[10][0] = __lagrange_p_i_par;
         __lagrange_c[11][0] = __lagrange_x22;
@@ -937,34 +703,14 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         __lagrange_c[36][0] = __lagrange_x93;
         __lagrange_c[37][0] = __lagrange_x95;
         __lagrange_c[38][0] = __lagrange_x96;
-        __lagrange_c[0][1..=__lagrange_order].fill(0.0);
-        __lagrange_c[7][1..=__lagrange_order].fill(0.0);
-        __lagrange_c[8][1..=__lagrange_order].fill(0.0);
-        __lagrange_c[10][1..=__lagrange_order].fill(0.0);
-        __lagrange_c[13][1..=__lagrange_order].fill(0.0);
-        let __lagrange_factor = match ::lagrange::__private::eom::Factor::<3>::new(
-            &[
-                [__lagrange_c[7][0], 0.0, 0.0],
-                [0.0, __lagrange_c[18][0], __lagrange_c[19][0]],
-                [0.0, 0.0, __lagrange_c[10][0]],
-            ],
-            &[
-                __lagrange_c[37][0],
-                __lagrange_c[38][0],
-                __lagrange_c[29][0],
-            ],
-            <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
-            __lagrange_q,
-            __lagrange_qdot,
-            __lagrange_t,
-        ) {
-            ::core::result::Result::Ok(__lagrange_f) => __lagrange_f,
-            ::core::result::Result::Err(__lagrange_e) => {
-                return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
-            }
-        };
+        __lagrange_c[0][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
+        __lagrange_c[7][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
+        __lagrange_c[8][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
+        __lagrange_c[10][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
+        __lagrange_c[13][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
+        let (__lagrange_factor , __lagrange_ok) = << R as :: lagrange :: __private :: eom :: SeriesReal > :: Factor < 3 > as :: lagrange :: __private :: eom :: SeriesFactor < R , 3 >> :: new (& [[__lagrange_c [7] [0] , < R as :: lagrange :: __private :: Real > :: ZERO , < R as :: lagrange :: __private :: Real > :: ZERO] , [< R as :: lagrange :: __private :: Real > :: ZERO , __lagrange_c [18] [0] , __lagrange_c [19] [0]] , [< R as :: lagrange :: __private :: Real > :: ZERO , < R as :: lagrange :: __private :: Real > :: ZERO , __lagrange_c [10] [0]]] , & [__lagrange_c [37] [0] , __lagrange_c [38] [0] , __lagrange_c [29] [0]] , __lagrange_names , __lagrange_q , __lagrange_qdot , __lagrange_t) ? ;
         for __lagrange_k in 0..__lagrange_order {
-            let __lagrange_b: [f64; 3] = if __lagrange_k == 0 {
+            let __lagrange_b: [R; 3] = if __lagrange_k == 0 {
                 [
                     __lagrange_c[37][0],
                     __lagrange_c[38][0],
@@ -1030,7 +776,8 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
                 );
                 __lagrange_c[24][__lagrange_k] =
                     __lagrange_p_i_perp * __lagrange_c[23][__lagrange_k];
-                __lagrange_c[25][__lagrange_k] = 2.0 * __lagrange_c[24][__lagrange_k];
+                __lagrange_c[25][__lagrange_k] =
+                    <R as ::core::convert::From<f64>>::from(2.0) * __lagrange_c[24][__lagrange_k];
                 __lagrange_c[26][__lagrange_k] = ::lagrange::__private::taylor::mul(
                     &__lagrange_c[12],
                     &__lagrange_c[21],
@@ -1085,18 +832,14 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
                         ),
                 ]
             };
-            let __lagrange_a = match __lagrange_factor.solve(
+            let __lagrange_a = ::lagrange::__private::eom::SeriesFactor::solve(
+                &__lagrange_factor,
                 &__lagrange_b,
-                <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
+                __lagrange_names,
                 __lagrange_q,
                 __lagrange_qdot,
                 __lagrange_t,
-            ) {
-                ::core::result::Result::Ok(__lagrange_a) => __lagrange_a,
-                ::core::result::Result::Err(__lagrange_e) => {
-                    return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
-                }
-            };
+            )?;
             let __lagrange_r = 1.0 / (__lagrange_k + 1) as f64;
             __lagrange_c[39][__lagrange_k] = __lagrange_a[0];
             __lagrange_out[__lagrange_k + 1][0][0] =
@@ -1112,418 +855,9 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
             __lagrange_out[__lagrange_k + 1][1][2] = __lagrange_a[2] * __lagrange_r;
         }
         for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {
-            *__lagrange_x = [[f64::NAN; 3]; 2];
+            *__lagrange_x = [[<R as ::lagrange::__private::Real>::NAN; 3]; 2];
         }
-        ::core::option::Option::Some(::core::result::Result::Ok(()))
-    }
-    #[allow(
-        unused_variables,
-        unused_parens,
-        non_snake_case,
-        clippy::all,
-        clippy::pedantic,
-        clippy::nursery
-    )]
-    #[inline(always)]
-    fn taylor_series_lanes<const __LAGRANGE_W: usize>(
-        __lagrange_members: &[&Self; __LAGRANGE_W],
-        __lagrange_params: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>],
-        __lagrange_t: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        __lagrange_out: &mut [[[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3]; 2]],
-        __lagrange_buf: &mut ::lagrange::__private::taylor::SeriesBuf<
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        >,
-    ) -> ::core::option::Option<::lagrange::__private::lanes::Mask<__LAGRANGE_W>>
-    where
-        Self: ::core::marker::Sized,
-    {
-        if __lagrange_out.len() < 2 {
-            return ::core::option::Option::Some(
-                ::lagrange::__private::lanes::Mask::<__LAGRANGE_W>::splat(true),
-            );
-        }
-        let __lagrange_params: &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 5] =
-            match <&[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 5]>::try_from(
-                __lagrange_params,
-            ) {
-                ::core::result::Result::Ok(__lagrange_params) => __lagrange_params,
-                ::core::result::Result::Err(_) => return ::core::option::Option::None,
-            };
-        let __lagrange_order =
-            (__lagrange_out.len() - 1).min(::lagrange::__private::taylor::MAX_ORDER);
-        let __lagrange_c: &mut [::lagrange::__private::taylor::RowOf<
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        >; 42] = __lagrange_buf.slots::<42>();
-        let __lagrange_y0: [[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3]; 2] =
-            __lagrange_out[0];
-        let (__lagrange_q, __lagrange_qdot): (
-            &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3],
-            &[::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3],
-        ) = (&__lagrange_y0[0], &__lagrange_y0[1]);
-        let __lagrange_p_i_perp: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[0];
-        let __lagrange_p_i_par: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[1];
-        let __lagrange_p_m: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[2];
-        let __lagrange_p_g: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[3];
-        let __lagrange_p_l: ::lagrange::__private::lanes::Lanes<__LAGRANGE_W> =
-            __lagrange_params[4];
-        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): (
-            (
-                ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-                ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ),
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
-        let (
-            __lagrange_x15,
-            __lagrange_x22,
-            __lagrange_x33,
-            __lagrange_x53,
-            __lagrange_x55,
-            __lagrange_x58,
-            __lagrange_x59,
-            __lagrange_x60,
-            __lagrange_x79,
-        ): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
-            __lagrange_qdot[1] * __lagrange_x8,
-            __lagrange_qdot[1] * __lagrange_x9,
-            __lagrange_x31 * __lagrange_p_l,
-            __lagrange_x8 * __lagrange_x8,
-            __lagrange_x9 * __lagrange_x9,
-            __lagrange_x9 * __lagrange_p_i_par,
-            __lagrange_qdot[0] * __lagrange_x9,
-            __lagrange_qdot[0] * __lagrange_x8,
-            -__lagrange_x8,
-        );
-        let (
-            __lagrange_x23,
-            __lagrange_x54,
-            __lagrange_x56,
-            __lagrange_x63,
-            __lagrange_x65,
-            __lagrange_x80,
-            __lagrange_x93,
-        ): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
-            __lagrange_qdot[2] + __lagrange_x22,
-            __lagrange_p_i_perp * __lagrange_x53,
-            __lagrange_p_i_par * __lagrange_x55,
-            __lagrange_qdot[1] * __lagrange_x60,
-            __lagrange_x15 * __lagrange_x59,
-            __lagrange_x15 * __lagrange_x22,
-            __lagrange_x8 * __lagrange_x33,
-        );
-        let (
-            __lagrange_x57,
-            __lagrange_x67,
-            __lagrange_x69,
-            __lagrange_x77,
-            __lagrange_x82,
-            __lagrange_x85,
-        ): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
-            __lagrange_x54 + __lagrange_x56,
-            __lagrange_p_i_perp * __lagrange_x65,
-            __lagrange_x23 * __lagrange_x60,
-            __lagrange_p_i_par * __lagrange_x63,
-            __lagrange_p_i_perp * __lagrange_x80,
-            __lagrange_x15 * __lagrange_x23,
-        );
-        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
-            2.0 * __lagrange_x67,
-            __lagrange_x65 + __lagrange_x69,
-            __lagrange_p_i_par * __lagrange_x85,
-        );
-        let (__lagrange_x74, __lagrange_x91): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
-            __lagrange_p_i_par * __lagrange_x72,
-            __lagrange_x82 - __lagrange_x89,
-        );
-        let (__lagrange_x95, __lagrange_x96): (
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-            ::lagrange::__private::lanes::Lanes<__LAGRANGE_W>,
-        ) = (
-            __lagrange_x91 + __lagrange_x93,
-            __lagrange_x74 - __lagrange_x68,
-        );
-        __lagrange_c[1][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_q[0]);
-        __lagrange_c[2][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_qdot[0]);
-        __lagrange_c[3][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_qdot[1]);
-        __lagrange_c[4][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_qdot[2]);
-        __lagrange_c[5][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x8);
-        __lagrange_c[6][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x9);
-        __lagrange_c[7][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_p_i_perp);
-        __lagrange_c[8][0] = <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(2.0);
-        __lagrange_c[9][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x15);
-        __lagrange_c[10][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_p_i_par);
-        __lagrange_c[11][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x22);
-        __lagrange_c[12][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x23);
-        __lagrange_c[13][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x33);
-        __lagrange_c[14][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x53);
-        __lagrange_c[15][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x54);
-        __lagrange_c[16][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x55);
-        __lagrange_c[17][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x56);
-        __lagrange_c[18][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x57);
-        __lagrange_c[19][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x58);
-        __lagrange_c[20][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x59);
-        __lagrange_c[21][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x60);
-        __lagrange_c[22][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x63);
-        __lagrange_c[23][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x65);
-        __lagrange_c[24][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x67);
-        __lagrange_c[25][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x68);
-        __lagrange_c[26][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x69);
-        __lagrange_c[27][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x72);
-        __lagrange_c[28][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x74);
-        __lagrange_c[29][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x77);
-        __lagrange_c[30][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x79);
-        __lagrange_c[31][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x80);
-        __lagrange_c[32][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x82);
-        __lagrange_c[33][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x85);
-        __lagrange_c[34][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x89);
-        __lagrange_c[35][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x91);
-        __lagrange_c[36][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x93);
-        __lagrange_c[37][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x95);
-        __lagrange_c[38][0] =
-            <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::from(__lagrange_x96);
-        __lagrange_c[0][1..=__lagrange_order]
-            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
-        __lagrange_c[7][1..=__lagrange_order]
-            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
-        __lagrange_c[8][1..=__lagrange_order]
-            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
-        __lagrange_c[10][1..=__lagrange_order]
-            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
-        __lagrange_c[13][1..=__lagrange_order]
-            .fill(<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO);
-        let (__lagrange_factor, __lagrange_ok) =
-            ::lagrange::__private::eom::FactorLanes::<3, __LAGRANGE_W>::new(&[
-                [
-                    __lagrange_c[7][0],
-                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
-                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
-                ],
-                [
-                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
-                    __lagrange_c[18][0],
-                    __lagrange_c[19][0],
-                ],
-                [
-                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
-                    <::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::ZERO,
-                    __lagrange_c[10][0],
-                ],
-            ]);
-        for __lagrange_k in 0..__lagrange_order {
-            let __lagrange_b: [::lagrange::__private::lanes::Lanes<__LAGRANGE_W>; 3] =
-                if __lagrange_k == 0 {
-                    [
-                        __lagrange_c[37][0],
-                        __lagrange_c[38][0],
-                        __lagrange_c[29][0],
-                    ]
-                } else {
-                    __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
-                    __lagrange_c[2][__lagrange_k] = __lagrange_out[__lagrange_k][1][0];
-                    __lagrange_c[3][__lagrange_k] = __lagrange_out[__lagrange_k][1][1];
-                    __lagrange_c[4][__lagrange_k] = __lagrange_out[__lagrange_k][1][2];
-                    __lagrange_c[5][__lagrange_k] = ::lagrange::__private::taylor::deriv(
-                        &__lagrange_c[1],
-                        &__lagrange_c[6],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[6][__lagrange_k] = ::lagrange::__private::taylor::deriv(
-                        &__lagrange_c[1],
-                        &__lagrange_c[30],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[9][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                        &__lagrange_c[3],
-                        &__lagrange_c[5],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[11][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                        &__lagrange_c[3],
-                        &__lagrange_c[6],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[12][__lagrange_k] =
-                        __lagrange_c[4][__lagrange_k] + __lagrange_c[11][__lagrange_k];
-                    __lagrange_c[14][__lagrange_k] =
-                        ::lagrange::__private::taylor::sqr(&__lagrange_c[5], __lagrange_k);
-                    __lagrange_c[15][__lagrange_k] =
-                        __lagrange_p_i_perp * __lagrange_c[14][__lagrange_k];
-                    __lagrange_c[16][__lagrange_k] =
-                        ::lagrange::__private::taylor::sqr(&__lagrange_c[6], __lagrange_k);
-                    __lagrange_c[17][__lagrange_k] =
-                        __lagrange_p_i_par * __lagrange_c[16][__lagrange_k];
-                    __lagrange_c[18][__lagrange_k] =
-                        __lagrange_c[15][__lagrange_k] + __lagrange_c[17][__lagrange_k];
-                    __lagrange_c[19][__lagrange_k] =
-                        __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
-                    __lagrange_c[20][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                        &__lagrange_c[2],
-                        &__lagrange_c[6],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[21][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                        &__lagrange_c[2],
-                        &__lagrange_c[5],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[22][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                        &__lagrange_c[3],
-                        &__lagrange_c[21],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[23][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                        &__lagrange_c[9],
-                        &__lagrange_c[20],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[24][__lagrange_k] =
-                        __lagrange_p_i_perp * __lagrange_c[23][__lagrange_k];
-                    __lagrange_c[25][__lagrange_k] = 2.0 * __lagrange_c[24][__lagrange_k];
-                    __lagrange_c[26][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                        &__lagrange_c[12],
-                        &__lagrange_c[21],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[27][__lagrange_k] =
-                        __lagrange_c[23][__lagrange_k] + __lagrange_c[26][__lagrange_k];
-                    __lagrange_c[28][__lagrange_k] =
-                        __lagrange_p_i_par * __lagrange_c[27][__lagrange_k];
-                    __lagrange_c[29][__lagrange_k] =
-                        __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
-                    __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
-                    __lagrange_c[31][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                        &__lagrange_c[9],
-                        &__lagrange_c[11],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[32][__lagrange_k] =
-                        __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
-                    __lagrange_c[33][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                        &__lagrange_c[9],
-                        &__lagrange_c[12],
-                        __lagrange_k,
-                    );
-                    __lagrange_c[34][__lagrange_k] =
-                        __lagrange_p_i_par * __lagrange_c[33][__lagrange_k];
-                    __lagrange_c[35][__lagrange_k] =
-                        __lagrange_c[32][__lagrange_k] - __lagrange_c[34][__lagrange_k];
-                    __lagrange_c[36][__lagrange_k] = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
-                    __lagrange_c[37][__lagrange_k] =
-                        __lagrange_c[35][__lagrange_k] + __lagrange_c[36][__lagrange_k];
-                    __lagrange_c[38][__lagrange_k] =
-                        __lagrange_c[28][__lagrange_k] - __lagrange_c[25][__lagrange_k];
-                    [
-                        __lagrange_c[37][__lagrange_k],
-                        __lagrange_c[38][__lagrange_k]
-                            - ::lagrange::__private::taylor::mass_tail(
-                                &__lagrange_c[18],
-                                &__lagrange_c[40],
-                                __lagrange_k,
-                            )
-                            - ::lagrange::__private::taylor::mass_tail(
-                                &__lagrange_c[19],
-                                &__lagrange_c[41],
-                                __lagrange_k,
-                            ),
-                        __lagrange_c[29][__lagrange_k]
-                            - ::lagrange::__private::taylor::mass_tail(
-                                &__lagrange_c[19],
-                                &__lagrange_c[40],
-                                __lagrange_k,
-                            ),
-                    ]
-                };
-            let __lagrange_a = __lagrange_factor.solve(&__lagrange_b);
-            let __lagrange_r = 1.0 / (__lagrange_k + 1) as f64;
-            __lagrange_c[39][__lagrange_k] = __lagrange_a[0];
-            __lagrange_out[__lagrange_k + 1][0][0] =
-                __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
-            __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
-            __lagrange_c[40][__lagrange_k] = __lagrange_a[1];
-            __lagrange_out[__lagrange_k + 1][0][1] =
-                __lagrange_out[__lagrange_k][1][1] * __lagrange_r;
-            __lagrange_out[__lagrange_k + 1][1][1] = __lagrange_a[1] * __lagrange_r;
-            __lagrange_c[41][__lagrange_k] = __lagrange_a[2];
-            __lagrange_out[__lagrange_k + 1][0][2] =
-                __lagrange_out[__lagrange_k][1][2] * __lagrange_r;
-            __lagrange_out[__lagrange_k + 1][1][2] = __lagrange_a[2] * __lagrange_r;
-        }
-        for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {
-            *__lagrange_x = [[<::lagrange::__private::lanes::Lanes<__LAGRANGE_W>>::NAN; 3]; 2];
-        }
-        ::core::option::Option::Some(__lagrange_ok)
+        ::core::result::Result::Ok(__lagrange_ok)
     }
 }
 #[doc = "# Equations of motion\n\nDerived at compile time by `#[lagrangian]` (d/dt ∂L/∂q\u{307} = ∂L/∂q, one line per coordinate):\n\n```text\ntheta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)\nphi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)\npsi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)\n```\n"]
@@ -1532,6 +866,23 @@ impl HeavyTop {
     pub const EQUATIONS : & 'static str = "theta: i_perp θ\u{308} = −i_par φ\u{307} ψ\u{307} sin(θ) + (i_perp − i_par) φ\u{307}² sin(θ) cos(θ) + m g l sin(θ)\nphi: i_perp φ\u{308} sin²(θ) + i_par φ\u{308} cos²(θ) + i_par ψ\u{308} cos(θ) = 2 (i_par − i_perp) θ\u{307} φ\u{307} sin(θ) cos(θ) + i_par θ\u{307} ψ\u{307} sin(θ)\npsi: i_par φ\u{308} cos(θ) + i_par ψ\u{308} = i_par θ\u{307} φ\u{307} sin(θ)" ;
     #[doc = "The Euler–Lagrange equations in LaTeX, one line per coordinate (the same equations as `EQUATIONS`)."]
     pub const EQUATIONS_LATEX : & 'static str = "i_{\\mathrm{perp}} \\ddot{\\theta} = -i_{\\mathrm{par}} \\dot{\\phi} \\dot{\\psi} \\sin\\left(\\theta\\right) + \\left(i_{\\mathrm{perp}} - i_{\\mathrm{par}}\\right) \\dot{\\phi}^{2} \\sin\\left(\\theta\\right) \\cos\\left(\\theta\\right) + m g l \\sin\\left(\\theta\\right)\ni_{\\mathrm{perp}} \\ddot{\\phi} \\sin^{2}\\left(\\theta\\right) + i_{\\mathrm{par}} \\ddot{\\phi} \\cos^{2}\\left(\\theta\\right) + i_{\\mathrm{par}} \\ddot{\\psi} \\cos\\left(\\theta\\right) = 2 \\left(i_{\\mathrm{par}} - i_{\\mathrm{perp}}\\right) \\dot{\\theta} \\dot{\\phi} \\sin\\left(\\theta\\right) \\cos\\left(\\theta\\right) + i_{\\mathrm{par}} \\dot{\\theta} \\dot{\\psi} \\sin\\left(\\theta\\right)\ni_{\\mathrm{par}} \\ddot{\\phi} \\cos\\left(\\theta\\right) + i_{\\mathrm{par}} \\ddot{\\psi} = i_{\\mathrm{par}} \\dot{\\theta} \\dot{\\phi} \\sin\\left(\\theta\\right)" ;
+    #[doc = r" The parameters of the generic kernels, loaded from `self`."]
+    #[doc(hidden)]
+    #[inline(always)]
+    fn __lagrange_params(&self) -> [f64; 5] {
+        let __lagrange_p_i_perp: f64 = self.i_perp;
+        let __lagrange_p_i_par: f64 = self.i_par;
+        let __lagrange_p_m: f64 = self.m;
+        let __lagrange_p_g: f64 = self.g;
+        let __lagrange_p_l: f64 = self.l;
+        [
+            __lagrange_p_i_perp,
+            __lagrange_p_i_par,
+            __lagrange_p_m,
+            __lagrange_p_g,
+            __lagrange_p_l,
+        ]
+    }
 }
 // ---- END GENERATED ----
 

@@ -247,9 +247,10 @@ pub mod prelude {
 #[doc(hidden)]
 pub mod __private {
     // What the generated code names, and nothing else (each path is used by `lagrange-macros`).
+    pub use lagrange_runtime::lagrangian::{kernel_params, Compiled};
     pub use lagrange_runtime::mix::*;
-    pub use lagrange_runtime::{eom, lanes, linalg, taylor};
-    pub use lagrange_runtime::{lagrangian_lanes_one_by_one, lagrangian_lanes_patch};
+    pub use lagrange_runtime::real::Real;
+    pub use lagrange_runtime::{eom, linalg, taylor};
     pub use lagrange_runtime::{solve_mass_matrix, DynamicsError, Holonomic, Lagrangian};
     pub use lagrange_runtime::{SMatrix, Scalar, Vector3};
     pub use nalgebra;

@@ -10,6 +10,7 @@ use lagrange::prelude::*;
 use lagrange::Stats;
 
 use crate::support::systems::{HeavyTop, HeavyTopJets};
+use crate::support::Kernels;
 
 fn top(i: usize) -> HeavyTop {
     HeavyTop {
@@ -162,7 +163,7 @@ fn nan_end(sim: Sim<'_, Anharmonic>) -> Sim<'_, Anharmonic> {
 /// runs part empty.
 #[test]
 fn generated_lanes_equal_scalar_runs_bit_for_bit() {
-    const { assert!(Anharmonic::VECTORIZED_LANES && !HeavyTopJets::VECTORIZED_LANES) };
+    const { assert!(Anharmonic::COMPILED.lanes && !HeavyTopJets::COMPILED.lanes) };
     let scalar = sweep(13, 1, None, well, every_step_any);
     assert_eq!(sweep(13, 4, None, well, every_step_any), scalar);
     let steps = scalar[0].as_ref().map(|r| r.1.steps).unwrap_or(0);
@@ -174,7 +175,7 @@ fn generated_lanes_equal_scalar_runs_bit_for_bit() {
 /// (±1) and every final coordinate within 1e-12 relative after 4 s.
 #[test]
 fn heavy_top_lanes_equal_scalar_runs_to_round_off() {
-    const { assert!(HeavyTop::VECTORIZED_LANES) };
+    const { assert!(HeavyTop::COMPILED.lanes) };
     let run = |w: usize| {
         Ensemble::new(13, |i| {
             Member::new(
@@ -463,19 +464,6 @@ fn member(i: usize) -> Mixed {
     }
 }
 
-/// The lane parameters of four members (parameter p of lane l in `params[p].0[l]`).
-fn lane_params(ms: &[Mixed; 4]) -> Vec<Lanes<4>> {
-    let mut params = vec![Lanes::<4>::ZERO; Mixed::LANE_PARAMS];
-    let mut one = vec![0.0; Mixed::LANE_PARAMS];
-    for (l, m) in ms.iter().enumerate() {
-        m.lane_params(&mut one);
-        for (p, x) in one.iter().enumerate() {
-            params[p].0[l] = *x;
-        }
-    }
-    params
-}
-
 /// (q, q̇) of the four lanes of the `Mixed` tests, and their times.
 const MIXED_STATE: [[Lanes<4>; 3]; 2] = [
     [
@@ -491,18 +479,17 @@ const MIXED_STATE: [[Lanes<4>; 3]; 2] = [
 ];
 const MIXED_T: Lanes<4> = Lanes([0.0, 0.5, 1.7, 3.2]);
 
-/// `accelerations_lanes` of the generated code equals `accelerations` of each lane's member to
+/// The generated lanes code's q̈ (as the ensemble engine takes it) equals `accelerations` of each lane's member to
 /// round-off (1e-14 relative: its cos and sin are the vector ones), with members of both `match`
 /// arms in one vector; a lane whose mass matrix is singular (m = 0) is NaN and the other lanes
 /// keep their values.
 #[test]
 fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
-    const { assert!(Mixed::VECTORIZED_LANES) };
+    const { assert!(Mixed::COMPILED.lanes) };
     let check = |ms: [Mixed; 4]| {
         let refs = [&ms[0], &ms[1], &ms[2], &ms[3]];
-        let params = lane_params(&ms);
         let ([q, v], t) = (MIXED_STATE, MIXED_T);
-        let a = Mixed::accelerations_lanes(&refs, &params, &q, &v, t);
+        let a = Mixed::accelerations_lanes(&refs, &q, &v, t);
         for (l, m) in ms.iter().enumerate() {
             let ql = [q[0].0[l], q[1].0[l], q[2].0[l]];
             let vl = [v[0].0[l], v[1].0[l], v[2].0[l]];
@@ -528,7 +515,7 @@ fn generated_lanes_equal_scalar_accelerations_for_every_input_kind() {
     check(singular);
 }
 
-/// `taylor_series_lanes` of the generated code equals `taylor_series` of each lane's member, every
+/// The generated series in lanes equals the width-1 series of each lane's member, every
 /// coefficient to order 12 within 1e-12 of its size (its sin and cos are the vector ones), for
 /// every kind of input (the `Vector3` field, both `match` arms in one vector, time, dissipation,
 /// sqrt, atan2, exp, a power whose exponent differs from lane to lane); a lane whose M₀ is singular (m = 0) is left out of the mask and the others
@@ -538,10 +525,9 @@ fn generated_taylor_lanes_equal_scalar_series_for_every_input_kind() {
     use lagrange::taylor::{SeriesBuf, TaylorBuf};
     let check = |ms: [Mixed; 4], left_out: Option<usize>| {
         let refs = [&ms[0], &ms[1], &ms[2], &ms[3]];
-        let params = lane_params(&ms);
         let (y0, t) = (MIXED_STATE, MIXED_T);
         let mut series = vec![y0; 13];
-        let ok = Mixed::taylor_series_lanes(&refs, &params, t, &mut series, &mut SeriesBuf::new())
+        let ok = Mixed::taylor_series_lanes(&refs, t, &mut series, &mut SeriesBuf::new())
             .expect("generated lanes series");
         for (l, m) in ms.iter().enumerate() {
             if Some(l) == left_out {

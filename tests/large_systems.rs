@@ -187,10 +187,10 @@ fn constrained_runs_with_16_constraints_on_a_2_mib_stack() {
 /// DOP853 stage and took its release build from 11 s to 123 s. Small systems keep theirs.
 #[test]
 fn only_small_systems_get_lanes_code() {
-    const { assert!(!Chain32::VECTORIZED_LANES && !Chain64::VECTORIZED_LANES) };
-    const { assert!(crate::support::systems::HeavyTop::VECTORIZED_LANES) };
-    const { assert!(!crate::support::systems::Chain16::VECTORIZED_LANES) };
-    const { assert!(Chain8Lanes::VECTORIZED_LANES) };
+    const { assert!(!Chain32::COMPILED.lanes && !Chain64::COMPILED.lanes) };
+    const { assert!(crate::support::systems::HeavyTop::COMPILED.lanes) };
+    const { assert!(!crate::support::systems::Chain16::COMPILED.lanes) };
+    const { assert!(Chain8Lanes::COMPILED.lanes) };
 }
 
 /// `#[lagrangian(lanes)]` on a system above the size bound: its ensemble runs in lanes, and each

@@ -9,7 +9,7 @@ use lagrange::{taylor::TaylorBuf, SimulationError};
 
 use crate::heavy_top::regimes;
 use crate::support::systems::{Chain16, Chain8, HeavyTop, HeavyTopJets, Kepler};
-use crate::support::Rng;
+use crate::support::{Kernels, Rng};
 
 /// x'' = −w² x.
 pub struct Oscillator {

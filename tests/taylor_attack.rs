@@ -9,6 +9,8 @@ use lagrange::prelude::*;
 use lagrange::taylor::{SeriesBuf, TaylorBuf};
 use lagrange::SimulationError;
 
+use crate::support::Kernels;
+
 /// A system of one coordinate per expression `f[i]` of x[i]: M_ii = 2 + f and V_i = ½x² + f/10
 /// (so f enters M and its derivative the right-hand side).
 macro_rules! functions {
@@ -31,7 +33,7 @@ macro_rules! functions {
 }
 
 // Every function of the table at a = c + 0.3 x inside its domain (|x| ≤ 0.5 along the motion),
-// five per system: small enough for the lanes code (`VECTORIZED_LANES`).
+// five per system: small enough for the lanes code (`COMPILED.lanes`).
 functions!(FunctionsA, 5, (x, x_dot);
     (1.0 + 0.3 * x[0]).sqrt() * 0.5,
     (0.3 + 0.3 * x[1]).sin(),
@@ -171,7 +173,7 @@ fn taylor_equals_dop853_for_every_power() {
 /// (the vector sin, cos, exp and ln are not the scalar ones bit for bit).
 fn lanes_equal_scalar<L: Lagrangian<N>, const N: usize>(sys: &L, what: &str) {
     const P: usize = 20;
-    assert!(L::VECTORIZED_LANES, "{what}: no lanes code");
+    assert!(L::COMPILED.lanes, "{what}: no lanes code");
     let state = |l: usize, c: usize, i: usize| {
         0.1 + 0.07 * l as f64 + 0.03 * i as f64 - if c == 1 { 0.2 } else { 0.0 }
     };
@@ -179,15 +181,8 @@ fn lanes_equal_scalar<L: Lagrangian<N>, const N: usize>(sys: &L, what: &str) {
     out[0] = core::array::from_fn(|c| {
         core::array::from_fn(|i| Lanes(core::array::from_fn(|l| state(l, c, i))))
     });
-    let mut params = vec![Lanes::<4>::ZERO; L::LANE_PARAMS];
-    let mut one = vec![0.0; L::LANE_PARAMS];
-    sys.lane_params(&mut one);
-    for (p, v) in params.iter_mut().zip(&one) {
-        *p = Lanes([*v; 4]);
-    }
     let done = L::taylor_series_lanes(
         &[sys, sys, sys, sys],
-        &params,
         Lanes::ZERO,
         &mut out,
         &mut SeriesBuf::new(),
@@ -322,14 +317,16 @@ fn taylor_refuses_bodies_that_are_not_analytic() {
     // |x| in a potential enters the equations through its slope, the step H(x).
     refused(&Coulomb, "`signum`");
     assert_eq!(
-        Vee::NOT_ANALYTIC.map(|s| s.starts_with("`abs`")),
+        Vee::COMPILED.not_analytic.map(|s| s.starts_with("`abs`")),
         Some(true)
     );
     assert_eq!(
-        Coulomb::NOT_ANALYTIC.map(|s| s.starts_with("`signum`")),
+        Coulomb::COMPILED
+            .not_analytic
+            .map(|s| s.starts_with("`signum`")),
         Some(true)
     );
-    assert_eq!(Quartic::NOT_ANALYTIC, None);
+    assert_eq!(Quartic::COMPILED.not_analytic, None);
     // The kink itself, by DOP853: x(10) = 0.137085 (the value, from the parabolas
     // x = 1 − t²/2 and their mirror images: period 4√2).
     let tr = Simulation::new(&Vee, [1.0], [0.0])

@@ -143,6 +143,7 @@ pub fn generate(
     };
 
     let n = proc_macro2::Literal::usize_unsuffixed(n);
+    let allow = crate::names::allow_generated();
     // The rest of the user's impl block, unless it was only the Lagrangian.
     let rest = if rest.items.is_empty() && rest.attrs.is_empty() {
         quote!()
@@ -153,6 +154,7 @@ pub fn generate(
         #rest
 
         #[automatically_derived]
+        #allow
         impl ::lagrange::__private::Lagrangian<#n> for #self_ty {
             const COORDINATES: [&'static str; #n] = [#(#names),*];
             const CYCLIC: [bool; #n] = [#(#cyclic),*];
@@ -161,14 +163,6 @@ pub fn generate(
 
             #(#fn_attrs)*
             #[inline]
-            #[allow(
-                clippy::all,
-                clippy::pedantic,
-                clippy::nursery,
-                unused_parens,
-                unused_braces,
-                non_snake_case
-            )]
             fn #fn_ident<Scalar: ::lagrange::__private::Scalar>(
                 &#self_token,
                 #q_pat: &[Scalar; #n],
@@ -195,8 +189,10 @@ fn holonomic_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block)
     let constrained = &analysis.constrained;
     let scleronomic = analysis.scleronomic;
     let method = jets_func(decl, analysis, f, body);
+    let allow = crate::names::allow_generated();
     quote! {
         #[automatically_derived]
+        #allow
         impl ::lagrange::__private::Holonomic<#n, #k> for #self_ty {
             const CONSTRAINED_COORDINATES: [bool; #n] = [#(#constrained),*];
             const SCLERONOMIC: bool = #scleronomic;
@@ -300,14 +296,6 @@ fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> T
     quote! {
         #(#attrs)*
         #[inline]
-        #[allow(
-            clippy::all,
-            clippy::pedantic,
-            clippy::nursery,
-            unused_parens,
-            unused_braces,
-            non_snake_case
-        )]
         fn #ident<Scalar: ::lagrange::__private::Scalar>(
             &#self_token,
             #q_pat: &[Scalar; #n],

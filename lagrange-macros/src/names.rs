@@ -10,7 +10,6 @@
 
 use proc_macro2::{Ident, Span};
 use quote::format_ident;
-use syn::Lifetime;
 
 /// The reserved prefix of every generated local, parameter and label.
 pub const PREFIX: &str = "__lagrange_";
@@ -116,23 +115,13 @@ pub fn solution() -> Ident {
     local(format_args!("qddot"))
 }
 
-/// The result of the fast path (`Option<[f64; N]>`).
-pub fn fast() -> Ident {
-    local(format_args!("fast"))
+/// The number type parameter of the generic kernels (`R: Real`).
+pub fn real() -> Ident {
+    Ident::new("R", Span::call_site())
 }
 
-/// The label of the fast-path block (`'fast`).
-pub fn fast_label() -> Lifetime {
-    Lifetime::new(&format!("'{PREFIX}fast"), Span::call_site())
-}
-
-/// The lane count of the generated `accelerations_lanes` (a const generic parameter).
-pub fn lane_width() -> Ident {
-    Ident::new("__LAGRANGE_W", Span::call_site())
-}
-
-/// The parameters of the lanes methods: the members, their parameters as lanes, and
-/// `lane_params`' output slice.
+/// The parameters of the generic kernels' trait methods: the members, and the kernels'
+/// parameter array.
 pub fn lane_members() -> Ident {
     local(format_args!("members"))
 }
@@ -142,12 +131,23 @@ pub fn lane_params() -> Ident {
     local(format_args!("params"))
 }
 
-/// See [`lane_members`].
-pub fn lane_out() -> Ident {
-    local(format_args!("out"))
-}
-
 /// The lanes whose pivot tests passed so far in the generated lanes solve (a `Mask`).
 pub fn lane_ok() -> Ident {
     local(format_args!("ok"))
+}
+
+/// The one lint attribute of every generated impl (machine-written code, and the user's
+/// functions rewritten for the jets: parentheses and braces the rewrite leaves, the coordinate
+/// names the user chose, whatever clippy would say of generated arithmetic).
+pub fn allow_generated() -> proc_macro2::TokenStream {
+    quote::quote! {
+        #[allow(
+            unused_parens,
+            unused_braces,
+            non_snake_case,
+            clippy::all,
+            clippy::pedantic,
+            clippy::nursery
+        )]
+    }
 }

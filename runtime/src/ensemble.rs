@@ -43,6 +43,8 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use crate::constraints::Holonomic;
+#[doc(hidden)]
+pub use crate::integrate::lanes::accelerations as lane_accelerations;
 use crate::integrate::lanes::{run_lanes, Out};
 use crate::integrate::{Simulation, SimulationError, Trajectory};
 use crate::lagrangian::Lagrangian;
@@ -479,11 +481,11 @@ where
     /// together, one per SIMD lane, each with its own step size (and, for DOP853, accept/reject
     /// decision), a member's lane going to the next member as soon as it ends. The Taylor
     /// method's lanes compute the series of W members in one pass of vector code
-    /// ([`Lagrangian::taylor_series_lanes`]); each member sums its own. Any `w` ≥ 2 (up to
+    /// ([`Lagrangian::series_in`]); each member sums its own. Any `w` ≥ 2 (up to
     /// `usize::MAX`) runs 4 lanes, the fastest width measured (2 and 8 were slower; one width keeps
     /// the build short); 0 and 1 turn lanes off. Without this call: 4
     /// where the system's accelerations are generated lanes code
-    /// ([`Lagrangian::VECTORIZED_LANES`]: `#[lagrangian]` in symbolic mode), else 1. A lane
+    /// ([`Compiled::lanes`](crate::lagrangian::Compiled::lanes): `#[lagrangian]` in symbolic mode), else 1. A lane
     /// equals the member's single run bit for bit where the lanes compute the scalar operations,
     /// and to round-off where the vector sin and cos enter; it never depends on the other lanes.
     /// Members with another method (RK4, Dormand–Prince, variational), or constrained ones, run
@@ -600,7 +602,7 @@ where
         let range = self.members();
         let bar = Bar::new(self.progress, range.len());
         let width = match self.lanes {
-            None if L::VECTORIZED_LANES => LANES,
+            None if L::COMPILED.lanes => LANES,
             None => 1,
             Some(w) => w,
         };

@@ -5,8 +5,8 @@ use nalgebra::SMatrix;
 use crate::eom::{self, Pieces};
 use crate::error::DynamicsError;
 use crate::jet::{ElJet, HessianJet};
-use crate::lanes::{Lanes, Mask};
 use crate::linalg::all_finite;
+use crate::real::Real;
 use crate::scalar::Scalar;
 
 /// A mechanical system given by its Lagrangian L(q, q̇, t) in `N` generalized coordinates.
@@ -158,61 +158,6 @@ pub trait Lagrangian<const N: usize> {
         eom::solve(&self.pieces(q, qdot, t), Self::COORDINATES, q, qdot, t)
     }
 
-    /// How many numbers [`lane_params`](Self::lane_params) writes: the parameters the
-    /// generated [`accelerations_lanes`](Self::accelerations_lanes) reads (0 by default).
-    #[doc(hidden)]
-    const LANE_PARAMS: usize = 0;
-
-    /// Whether [`accelerations_lanes`](Self::accelerations_lanes) is generated straight-line
-    /// code over [`Lanes`] (`#[lagrangian]` in symbolic mode, up to 32 coordinates) rather than
-    /// the default, which calls [`accelerations`](Self::accelerations) once per lane.
-    const VECTORIZED_LANES: bool = false;
-
-    /// Writes the `LANE_PARAMS` parameters the lanes code reads (the generated code's parameter
-    /// loads, run once when a member enters a lane). The default writes nothing.
-    #[doc(hidden)]
-    fn lane_params(&self, _out: &mut [f64]) {}
-
-    /// q̈ of W members at once, lane l for `members[l]` at (q, q̇, t) of lane l; `params` holds
-    /// each member's [`lane_params`](Self::lane_params) (parameter p of all lanes in
-    /// `params[p]`). A lane whose dynamics fail (a singular mass matrix, a non-finite value) is
-    /// NaN: the caller asks [`accelerations`](Self::accelerations) for that member's typed error.
-    ///
-    /// Every lane equals `accelerations` of its member bit for bit. The default calls
-    /// `accelerations` once per lane; `#[lagrangian]` in symbolic mode generates one
-    /// straight-line pass over [`Lanes`] (with the same per-lane fallback where a pivot test
-    /// fails in any lane).
-    ///
-    /// ```
-    /// # use lagrange_runtime::{Lagrangian, Scalar, lanes::Lanes};
-    /// struct Spring { k: f64 }
-    /// impl Lagrangian<1> for Spring {
-    ///     const COORDINATES: [&'static str; 1] = ["x"];
-    ///     const CYCLIC: [bool; 1] = [false];
-    ///     const AUTONOMOUS: bool = true;
-    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
-    ///         (v[0] * v[0] - q[0] * q[0] * self.k) * 0.5
-    ///     }
-    /// }
-    /// let (a, b) = (Spring { k: 1.0 }, Spring { k: 4.0 });
-    /// let x = Lanes([1.0, 0.5]);
-    /// let qdd = Spring::accelerations_lanes(&[&a, &b], &[], &[x], &[Lanes([0.0; 2])], Lanes([0.0; 2]));
-    /// assert_eq!(qdd[0].0, [-1.0, -2.0]);
-    /// ```
-    #[inline]
-    fn accelerations_lanes<const W: usize>(
-        members: &[&Self; W],
-        _params: &[Lanes<W>],
-        q: &[Lanes<W>; N],
-        qdot: &[Lanes<W>; N],
-        t: Lanes<W>,
-    ) -> [Lanes<W>; N]
-    where
-        Self: Sized,
-    {
-        lanes_one_by_one(members, q, qdot, t)
-    }
-
     /// The mass matrix M = ∂²L/∂q̇∂q̇ (from [`pieces`](Self::pieces)).
     fn mass_matrix(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> SMatrix<f64, N, N> {
         let p = self.pieces(q, qdot, t);
@@ -244,14 +189,12 @@ pub trait Lagrangian<const N: usize> {
         jet_energy_and_momenta(self, q, qdot, t)
     }
 
-    /// The construct of the body that is not analytic along the motion (`abs`, `signum`, `max`,
-    /// `min`, `clamp`, the square root of a square), where it has one: the Taylor method, whose
-    /// steps sum a series across any kink, refuses such a system (`Simulation::run` returns
-    /// [`InvalidOptions`](crate::SimulationError::InvalidOptions) naming it). `#[lagrangian]`
-    /// sets it in symbolic mode; `None` (the default) elsewhere.
+    /// What `#[lagrangian]` compiled for this system beyond the methods above: whether its
+    /// q̈ runs W ensemble members per vector, and the construct that keeps the Taylor method
+    /// away. [`Compiled::NONE`] (the default) for jets mode and hand-written impls.
     ///
     /// ```
-    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// use lagrange_runtime::{lagrangian::Compiled, Lagrangian, Scalar};
     /// struct Osc;
     /// impl Lagrangian<1> for Osc {
     ///     const COORDINATES: [&'static str; 1] = ["x"];
@@ -259,19 +202,63 @@ pub trait Lagrangian<const N: usize> {
     ///     const AUTONOMOUS: bool = true;
     ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
     /// }
-    /// assert_eq!(Osc::NOT_ANALYTIC, None);
+    /// assert_eq!(Osc::COMPILED, Compiled::NONE);
+    /// assert!(!Osc::COMPILED.lanes && Osc::COMPILED.not_analytic.is_none());
     /// ```
-    const NOT_ANALYTIC: Option<&'static str> = None;
+    const COMPILED: Compiled = Compiled::NONE;
 
-    /// The Taylor coefficients of the motion through (q, q̇) = `out[0]` at time t, up to order
-    /// `out.len() − 1`: on return `out[k] = [q_k, q̇_k]` with q(t + τ) = Σ q_k τ^k, for the Taylor
-    /// method ([`Method::Taylor`](crate::Method::Taylor)); `buf` is scratch space the caller
-    /// keeps between calls. `None` where the system does not provide them: the default. The
-    /// symbolic mode of `#[lagrangian]` generates them (the Taylor recurrences of every node of
-    /// the expression graph, see [`taylor`](crate::taylor)); jets mode and hand-written impls do not.
+    /// q̈ by the compiled kernel over any [`Real`] width: lane l for `members[l]` at (q, q̇, t)
+    /// of lane l, with the lanes whose pivot tests passed and whose values are finite (a lane
+    /// not in the mask is unspecified: ask [`accelerations`](Self::accelerations) of its member,
+    /// which pivots or explains). `params` is the kernel's copy of the members' parameters:
+    /// empty, the kernel fills it; the caller empties it when a lane's member changes. `None`:
+    /// no compiled kernel (the default; `#[lagrangian]` generates it in symbolic mode where
+    /// [`Compiled::lanes`] holds). Every lane equals `accelerations` of its member bit for bit
+    /// where the arithmetic is the scalar code's, to round-off where the vector sin and cos enter.
     ///
     /// ```
-    /// use lagrange_runtime::{taylor::TaylorBuf, Lagrangian, Scalar};
+    /// # use lagrange_runtime::{Lagrangian, Scalar, lanes::Lanes};
+    /// struct Spring { k: f64 }
+    /// impl Lagrangian<1> for Spring {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+    ///         (v[0] * v[0] - q[0] * q[0] * self.k) * 0.5
+    ///     }
+    /// }
+    /// let z = Lanes([0.0; 2]);
+    /// let none = Spring::accelerations_in(&[&Spring { k: 1.0 }, &Spring { k: 4.0 }], &mut Vec::new(), &[z], &[z], z);
+    /// assert!(none.is_none()); // hand-written: no compiled kernel
+    /// ```
+    #[doc(hidden)]
+    #[inline]
+    fn accelerations_in<R: Real>(
+        members: &[&Self],
+        params: &mut Vec<R>,
+        q: &[R; N],
+        qdot: &[R; N],
+        t: R,
+    ) -> Option<([R; N], R::Mask)>
+    where
+        Self: Sized,
+    {
+        let _ = (members, params, q, qdot, t);
+        None
+    }
+
+    /// The Taylor coefficients of the motion through (q, q̇) = `out[0]` at time t, up to order
+    /// `out.len() − 1`, by the compiled kernel over any [`Real`] width (`members` and `params`
+    /// as for [`accelerations_in`](Self::accelerations_in)): on return `out[k] = [q_k, q̇_k]`
+    /// with q(t + τ) = Σ q_k τ^k, in the lanes of the mask (a lane left out, its M₀ not positive
+    /// definite, has an unspecified series: ask the width-1 kernel of its member, which pivots
+    /// or explains). For the Taylor method ([`Method::Taylor`](crate::Method::Taylor)); `buf` is
+    /// scratch space the caller keeps between calls. `None` where the system does not provide
+    /// them: the default. The symbolic mode of `#[lagrangian]` generates them (the Taylor
+    /// recurrences of every node of the expression graph, see [`taylor`](crate::taylor)).
+    ///
+    /// ```
+    /// use lagrange_runtime::{taylor::SeriesBuf, Lagrangian, Scalar};
     /// struct Osc;
     /// impl Lagrangian<1> for Osc {
     ///     const COORDINATES: [&'static str; 1] = ["x"];
@@ -280,50 +267,18 @@ pub trait Lagrangian<const N: usize> {
     ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
     /// }
     /// let mut out = [[[1.0], [0.0]], [[0.0], [0.0]]];
-    /// assert!(Osc.taylor_series(0.0, &mut out, &mut TaylorBuf::new()).is_none()); // hand-written
+    /// let series = Osc::series_in(&[&Osc], &mut Vec::new(), 0.0, &mut out, &mut SeriesBuf::new());
+    /// assert!(series.is_none()); // hand-written
     /// ```
-    fn taylor_series(
-        &self,
-        t: f64,
-        out: &mut [[[f64; N]; 2]],
-        buf: &mut crate::taylor::TaylorBuf,
-    ) -> Option<Result<(), DynamicsError>> {
-        let _ = (t, out, buf);
-        None
-    }
-
-    /// The Taylor series of W members at once (lane l for `members[l]`, from `out[0]` of lane l at
-    /// time t of lane l, `params` as for [`accelerations_lanes`](Self::accelerations_lanes)), for
-    /// the Taylor method of an [`Ensemble`](crate::ensemble::Ensemble) with lanes. Returns the
-    /// lanes where the series was computed: every such lane equals
-    /// [`taylor_series`](Self::taylor_series) of its member bit for bit where the arithmetic is
-    /// the scalar code's (and to round-off where the vector sin and cos enter). A lane left out
-    /// (its M₀ is not positive definite, say) has an unspecified series there: the caller asks
-    /// `taylor_series` of that member, which pivots or explains. `None` (the default): no lanes
-    /// code; `#[lagrangian]` in symbolic mode generates it wherever it generates `taylor_series`
-    /// and [`VECTORIZED_LANES`](Self::VECTORIZED_LANES) holds.
-    ///
-    /// ```
-    /// use lagrange_runtime::{lanes::Lanes, taylor::SeriesBuf, Lagrangian, Scalar};
-    /// struct Osc;
-    /// impl Lagrangian<1> for Osc {
-    ///     const COORDINATES: [&'static str; 1] = ["x"];
-    ///     const CYCLIC: [bool; 1] = [false];
-    ///     const AUTONOMOUS: bool = true;
-    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
-    /// }
-    /// let mut out = [[[Lanes([1.0, 2.0])], [Lanes::ZERO]]; 3];
-    /// let lanes = Osc::taylor_series_lanes(&[&Osc, &Osc], &[], Lanes::ZERO, &mut out, &mut SeriesBuf::new());
-    /// assert!(lanes.is_none()); // hand-written: no lanes code
-    /// ```
+    #[doc(hidden)]
     #[inline]
-    fn taylor_series_lanes<const W: usize>(
-        members: &[&Self; W],
-        params: &[Lanes<W>],
-        t: Lanes<W>,
-        out: &mut [[[Lanes<W>; N]; 2]],
-        buf: &mut crate::taylor::SeriesBuf<Lanes<W>>,
-    ) -> Option<Mask<W>>
+    fn series_in<R: crate::eom::SeriesReal>(
+        members: &[&Self],
+        params: &mut Vec<R>,
+        t: R,
+        out: &mut [[[R; N]; 2]],
+        buf: &mut crate::taylor::SeriesBuf<R>,
+    ) -> Option<Result<R::Mask, DynamicsError>>
     where
         Self: Sized,
     {
@@ -338,91 +293,71 @@ pub trait Lagrangian<const N: usize> {
     }
 }
 
-/// q̈ of each lane's member by its own [`Lagrangian::accelerations`], NaN where that fails: the
-/// default of [`Lagrangian::accelerations_lanes`] and the generated code's fallback when a pivot
-/// test fails in some lane.
+/// What `#[lagrangian]` compiled for a system beyond the trait's methods:
+/// [`Lagrangian::COMPILED`].
 ///
 /// ```
-/// # use lagrange_runtime::{Lagrangian, Scalar, lanes::Lanes, lagrangian_lanes_one_by_one};
-/// struct Free;
-/// impl Lagrangian<1> for Free {
-///     const COORDINATES: [&'static str; 1] = ["x"];
-///     const CYCLIC: [bool; 1] = [true];
-///     const AUTONOMOUS: bool = true;
-///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
-/// }
-/// let z = Lanes([0.0; 2]);
-/// assert_eq!(lagrangian_lanes_one_by_one(&[&Free, &Free], &[z], &[z], z)[0].0, [0.0, 0.0]);
+/// use lagrange_runtime::lagrangian::Compiled;
+/// assert!(!Compiled::NONE.lanes);
 /// ```
-#[doc(hidden)]
-// Out of line: the lanes engine calls it at every stage, and inlining a jets derivation (or the
-// scalar fallback) there twelve times per instantiation costs build time for nothing.
-#[inline(never)]
-pub fn lanes_one_by_one<L, const N: usize, const W: usize>(
-    members: &[&L; W],
-    q: &[Lanes<W>; N],
-    qdot: &[Lanes<W>; N],
-    t: Lanes<W>,
-) -> [Lanes<W>; N]
-where
-    L: Lagrangian<N> + ?Sized,
-{
-    let mut out = [Lanes::NAN; N];
-    for (l, sys) in members.iter().enumerate() {
-        let ql: [f64; N] = core::array::from_fn(|i| q[i].0[l]);
-        let vl: [f64; N] = core::array::from_fn(|i| qdot[i].0[l]);
-        if let Ok(a) = sys.accelerations(&ql, &vl, t.0[l]) {
-            for i in 0..N {
-                out[i].0[l] = a[i];
-            }
-        }
-    }
-    out
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Compiled {
+    /// Whether q̈ is generated straight-line code over any [`Real`] width
+    /// ([`Lagrangian::accelerations_in`]; `#[lagrangian]` in symbolic mode for a small system, or
+    /// with `#[lagrangian(lanes)]`): an [`Ensemble`](crate::Ensemble) then runs 4 members per
+    /// vector by default.
+    pub lanes: bool,
+    /// The construct of the body that is not analytic along the motion (`abs`, `signum`, `max`,
+    /// `min`, `clamp`, the square root of a square), where it has one: the Taylor method, whose
+    /// steps sum a series across any kink, refuses such a system (`Simulation::run` returns
+    /// [`InvalidOptions`](crate::SimulationError::InvalidOptions) naming it).
+    pub not_analytic: Option<&'static str>,
 }
 
-/// `x`, with every lane not set in `ok` replaced by its member's own
-/// [`Lagrangian::accelerations`] (NaN where that fails): the generated lanes code's per-lane
-/// fallback where a pivot test failed or a value was not finite in that lane.
+impl Compiled {
+    /// Nothing compiled beyond the trait's methods (jets mode, hand-written impls).
+    pub const NONE: Compiled = Compiled {
+        lanes: false,
+        not_analytic: None,
+    };
+}
+
+/// The compiled kernels' parameters for `members` (lane l for `members[l]`): `params` as it is
+/// when it holds `P` values, else filled first with `load` of every member (parameter p of every
+/// lane in `params[p]`; a lane past the members is NaN). What the generated
+/// [`Lagrangian::accelerations_in`] and [`Lagrangian::series_in`] read their parameters with.
 ///
 /// ```
-/// # use lagrange_runtime::{Lagrangian, Scalar, lanes::{Lanes, Mask}, lagrangian_lanes_patch};
-/// struct Free;
-/// impl Lagrangian<1> for Free {
-///     const COORDINATES: [&'static str; 1] = ["x"];
-///     const CYCLIC: [bool; 1] = [true];
-///     const AUTONOMOUS: bool = true;
-///     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
-/// }
-/// let z = Lanes([0.0; 2]);
-/// let x = [Lanes([7.0, f64::NAN])];
-/// assert_eq!(lagrangian_lanes_patch(&[&Free, &Free], &[z], &[z], z, x, Mask([true, false]))[0].0, [7.0, 0.0]);
+/// use lagrange_runtime::{lagrangian::kernel_params, lanes::Lanes};
+/// struct Spring { k: f64 }
+/// let (a, b) = (Spring { k: 1.0 }, Spring { k: 4.0 });
+/// let mut params: Vec<Lanes<2>> = Vec::new();
+/// let p = kernel_params(&[&a, &b], &mut params, |s: &Spring| [s.k]);
+/// assert_eq!(p.map(|p| p[0].0), Some([1.0, 4.0]));
 /// ```
 #[doc(hidden)]
-// Out of line: a cold path (see `lanes_one_by_one`).
-#[inline(never)]
-pub fn lanes_patch<L, const N: usize, const W: usize>(
-    members: &[&L; W],
-    q: &[Lanes<W>; N],
-    qdot: &[Lanes<W>; N],
-    t: Lanes<W>,
-    mut x: [Lanes<W>; N],
-    ok: Mask<W>,
-) -> [Lanes<W>; N]
-where
-    L: Lagrangian<N> + ?Sized,
-{
-    for (l, sys) in members.iter().enumerate() {
-        if ok.0[l] {
-            continue;
-        }
-        let ql: [f64; N] = core::array::from_fn(|i| q[i].0[l]);
-        let vl: [f64; N] = core::array::from_fn(|i| qdot[i].0[l]);
-        let a = sys.accelerations(&ql, &vl, t.0[l]).unwrap_or([f64::NAN; N]);
-        for i in 0..N {
-            x[i].0[l] = a[i];
-        }
+#[inline(always)]
+pub fn kernel_params<'p, R: Real, L, const P: usize>(
+    members: &[&L],
+    params: &'p mut Vec<R>,
+    load: impl Fn(&L) -> [f64; P],
+) -> Option<&'p [R; P]> {
+    if params.len() != P {
+        load_params(members, params, load);
     }
-    x
+    params.first_chunk::<P>()
+}
+
+/// The cold part of [`kernel_params`]: the gather, once per change of the members.
+#[inline(never)]
+fn load_params<R: Real, L, const P: usize>(
+    members: &[&L],
+    params: &mut Vec<R>,
+    load: impl Fn(&L) -> [f64; P],
+) {
+    let each: Vec<[f64; P]> = members.iter().map(|m| load(m)).collect();
+    params.clear();
+    params.extend((0..P).map(|p| R::from_lanes(|l| each.get(l).map_or(f64::NAN, |v| v[p]))));
 }
 
 /// h = q̇·p − L and p from one jet pass: the defaults of `energy` and `energy_and_momenta`.

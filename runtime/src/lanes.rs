@@ -10,7 +10,7 @@
 //! `f64` methods ([`Lanes::sin_cos`]).
 //!
 //! ```
-//! use lagrange_runtime::lanes::Lanes;
+//! use lagrange_runtime::{lanes::Lanes, real::Real};
 //! let x = Lanes::from([1.0, 2.0, 3.0, 4.0]);
 //! let y = 2.0 * x + x * x;
 //! assert_eq!(y.0, [3.0, 8.0, 15.0, 24.0]);
@@ -284,131 +284,11 @@ impl<const W: usize> Lanes<W> {
         (s, c)
     }
 
-    /// sin of every lane (see [`sin_cos`](Self::sin_cos)).
-    ///
-    /// ```
-    /// # use lagrange_runtime::lanes::Lanes;
-    /// assert!((Lanes([1.0, 2.0]).sin().0[1] - 2.0_f64.sin()).abs() <= 2.3e-16);
-    /// ```
-    #[inline(always)]
-    pub fn sin(self) -> Self {
-        self.sin_cos().0
-    }
-
-    /// cos of every lane (see [`sin_cos`](Self::sin_cos)).
-    ///
-    /// ```
-    /// # use lagrange_runtime::lanes::Lanes;
-    /// assert!((Lanes([1.0, 2.0]).cos().0[1] - 2.0_f64.cos()).abs() <= 2.3e-16);
-    /// ```
-    #[inline(always)]
-    pub fn cos(self) -> Self {
-        self.sin_cos().1
-    }
-
     /// Whether |x| ≤ `bound` in every lane (false for NaN).
     #[inline(always)]
     fn all_le_abs(self, bound: f64) -> bool {
         (0..W).fold(true, |ok, l| ok & (self.0[l].abs() <= bound))
     }
-
-    /// `powi(n)` lane by lane.
-    ///
-    /// ```
-    /// # use lagrange_runtime::lanes::Lanes;
-    /// assert_eq!(Lanes([2.0, 3.0]).powi(3).0, [8.0, 27.0]);
-    /// ```
-    #[inline(always)]
-    pub fn powi(self, n: i32) -> Self {
-        self.map(|x| x.powi(n))
-    }
-
-    /// `powf` lane by lane.
-    ///
-    /// ```
-    /// # use lagrange_runtime::lanes::Lanes;
-    /// assert_eq!(Lanes([4.0, 9.0]).powf(0.5).0, [2.0, 3.0]);
-    /// ```
-    #[inline(always)]
-    pub fn powf(self, e: impl Into<Self>) -> Self {
-        self.zip(e.into(), f64::powf)
-    }
-
-    /// `atan2(self, x)` lane by lane (self is y).
-    ///
-    /// ```
-    /// # use lagrange_runtime::lanes::Lanes;
-    /// assert_eq!(Lanes([1.0]).atan2(1.0).0[0], 1.0_f64.atan2(1.0));
-    /// ```
-    #[inline(always)]
-    pub fn atan2(self, x: impl Into<Self>) -> Self {
-        self.zip(x.into(), f64::atan2)
-    }
-}
-
-/// The elementary functions of one argument, lane by lane with the `f64` method.
-macro_rules! unary {
-    ($($(#[$doc:meta])* $name:ident)*) => {
-        impl<const W: usize> Lanes<W> {
-            $(
-                $(#[$doc])*
-                #[inline(always)]
-                pub fn $name(self) -> Self {
-                    self.map(f64::$name)
-                }
-            )*
-        }
-    };
-}
-
-unary! {
-    /// √x lane by lane.
-    ///
-    /// ```
-    /// # use lagrange_runtime::lanes::Lanes;
-    /// assert_eq!(Lanes([4.0, 9.0]).sqrt().0, [2.0, 3.0]);
-    /// ```
-    sqrt
-    /// tan lane by lane.
-    tan
-    /// exp lane by lane.
-    exp
-    /// ln lane by lane.
-    ln
-    /// |x| lane by lane.
-    abs
-    /// asinh lane by lane.
-    asinh
-    /// acosh lane by lane.
-    acosh
-    /// atanh lane by lane.
-    atanh
-    /// ∛x lane by lane.
-    cbrt
-    /// 2ˣ lane by lane.
-    exp2
-    /// ln(1 + x) lane by lane.
-    ln_1p
-    /// eˣ − 1 lane by lane.
-    exp_m1
-    /// log₁₀ lane by lane.
-    log10
-    /// log₂ lane by lane.
-    log2
-    /// signum lane by lane.
-    signum
-    /// asin lane by lane.
-    asin
-    /// acos lane by lane.
-    acos
-    /// atan lane by lane.
-    atan
-    /// sinh lane by lane.
-    sinh
-    /// cosh lane by lane.
-    cosh
-    /// tanh lane by lane.
-    tanh
 }
 
 /// π/2 in three parts: the first two of 33 significant bits (so n·P1 and n·P2 are exact for
@@ -541,6 +421,7 @@ impl<const W: usize> Neg for Lanes<W> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::real::Real;
 
     /// Every operation is the f64 operation per lane, bit for bit.
     #[test]

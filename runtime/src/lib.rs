@@ -34,10 +34,6 @@ pub use integrate::{
     ConstraintResidual, Direction, Drift, Event, EventHit, Invariants, Method, PartialTrajectory,
     Sample, Simulation, SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
 };
-#[doc(hidden)]
-pub use lagrangian::lanes_one_by_one as lagrangian_lanes_one_by_one;
-#[doc(hidden)]
-pub use lagrangian::lanes_patch as lagrangian_lanes_patch;
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
 pub use linearize::{equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability};
 pub use nalgebra::{SMatrix, Vector3};

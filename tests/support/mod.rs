@@ -47,3 +47,41 @@ impl Rng {
         ]
     }
 }
+
+/// The generated kernels as the tests call them: a single run's Taylor series and W members'
+/// series and q̈ in lanes, through `Lagrangian::series_in` / `accelerations_in` (the trait's
+/// generic entries) with the parameters loaded afresh.
+pub trait Kernels<const N: usize>: Lagrangian<N> + Sized {
+    /// The Taylor series of this system (width 1): `None` where it has none.
+    fn taylor_series(
+        &self,
+        t: f64,
+        out: &mut [[[f64; N]; 2]],
+        buf: &mut lagrange::taylor::SeriesBuf<f64>,
+    ) -> Option<Result<(), DynamicsError>> {
+        Self::series_in(&[self], &mut Vec::new(), t, out, buf).map(|r| r.map(|_| ()))
+    }
+
+    /// The Taylor series of W members in lanes, with the lanes computed (`None`: no kernel).
+    fn taylor_series_lanes<const W: usize>(
+        members: &[&Self; W],
+        t: lagrange::lanes::Lanes<W>,
+        out: &mut [[[lagrange::lanes::Lanes<W>; N]; 2]],
+        buf: &mut lagrange::taylor::SeriesBuf<lagrange::lanes::Lanes<W>>,
+    ) -> Option<lagrange::lanes::Mask<W>> {
+        Self::series_in(members, &mut Vec::new(), t, out, buf).and_then(Result::ok)
+    }
+
+    /// q̈ of W members in lanes as the ensemble engine computes it (a lane the kernel leaves
+    /// out by its member's own `accelerations`, NaN where that fails).
+    fn accelerations_lanes<const W: usize>(
+        members: &[&Self; W],
+        q: &[lagrange::lanes::Lanes<W>; N],
+        qdot: &[lagrange::lanes::Lanes<W>; N],
+        t: lagrange::lanes::Lanes<W>,
+    ) -> [lagrange::lanes::Lanes<W>; N] {
+        lagrange::ensemble::lane_accelerations(members, &mut Vec::new(), q, qdot, t)
+    }
+}
+
+impl<L: Lagrangian<N>, const N: usize> Kernels<N> for L {}

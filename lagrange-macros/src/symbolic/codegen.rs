@@ -47,6 +47,20 @@ fn const_tokens(c: f64) -> TokenStream {
     }
 }
 
+/// The tokens of an operand in code over `num` (`None`: `f64`; `Some(R)`: a generic kernel,
+/// where a constant becomes an `R`, so every operand has the kernel's type).
+pub fn operand_as(dag: &Dag, fields: &[Field], id: Id, num: Option<&TokenStream>) -> TokenStream {
+    match (num, dag.as_const(id)) {
+        (Some(r), Some(_)) => real_const(r, &operand(dag, fields, id)),
+        _ => operand(dag, fields, id),
+    }
+}
+
+/// The `f64` constant `c` as an `R` of a generic kernel.
+pub fn real_const(r: &TokenStream, c: &TokenStream) -> TokenStream {
+    quote!(<#r as ::core::convert::From<f64>>::from(#c))
+}
+
 /// The tokens of an operand: a leaf inline, an inner node by its local name.
 pub fn operand(dag: &Dag, fields: &[Field], id: Id) -> TokenStream {
     let names::Params { q, qdot, t } = names::Params::symbolic();
@@ -78,13 +92,10 @@ pub fn operand(dag: &Dag, fields: &[Field], id: Id) -> TokenStream {
 }
 
 /// An operand in method-receiver position (a constant needs its type and, if negative, parens;
-/// in lanes code it is splat to the lane type).
-fn receiver(dag: &Dag, fields: &[Field], id: Id, lanes: Option<&TokenStream>) -> TokenStream {
+/// in a generic kernel it is an `R`).
+fn receiver(dag: &Dag, fields: &[Field], id: Id, num: Option<&TokenStream>) -> TokenStream {
     match dag.as_const(id) {
-        Some(_) if lanes.is_some() => {
-            let c = operand(dag, fields, id);
-            quote!(<#lanes>::splat(#c))
-        }
+        Some(_) if num.is_some() => operand_as(dag, fields, id, num),
         Some(c) if c.is_finite() => {
             let l = Literal::f64_suffixed(c.abs());
             if c < 0.0 {
@@ -111,16 +122,17 @@ pub fn emit(dag: &Dag, fields: &[Field], conds: &[Cond], outputs: &[Id]) -> Code
     emit_as(dag, fields, conds, outputs, None)
 }
 
-/// The lane type of the generated `accelerations_lanes`: `Lanes<__LAGRANGE_W>`.
-pub fn lane_type() -> TokenStream {
-    let w = names::lane_width();
-    quote!(::lagrange::__private::lanes::Lanes<#w>)
+/// The number type of the generic kernels: `R`, bound to `::lagrange::__private::Real`.
+pub fn real_type() -> TokenStream {
+    let r = names::real();
+    quote!(#r)
 }
 
-/// Emits the code computing `outputs` over `lanes` (the lane type; `None`: `f64`): the same
-/// operations in the same order, each lane the scalar code's value bit for bit. In lanes code
-/// the loads are the scalar ones (for `lane_params`); the values read the lanes locals
-/// [`lane_loads`] binds.
+/// Emits the code computing `outputs` over `num` (`None`: `f64`; `Some(R)`: the body of a
+/// kernel generic over `Real`, whose `f64` instance is the scalar code and whose lanes
+/// instance computes each lane's scalar value): the same operations in the same order. In a
+/// generic kernel the loads are the scalar ones (for the parameter array); the values read the
+/// locals [`param_binds`] binds.
 pub fn emit_as(
     dag: &Dag,
     fields: &[Field],
@@ -132,6 +144,7 @@ pub fn emit_as(
         Some(l) => l.clone(),
         None => quote!(f64),
     };
+    let rt = quote!(::lagrange::__private::Real);
     let mut need = vec![false; dag.len()];
     let mut stack: Vec<Id> = outputs.to_vec();
     while let Some(id) = stack.pop() {
@@ -222,7 +235,7 @@ pub fn emit_as(
             }
             _ => None,
         };
-        let o = |i: Id| operand(dag, fields, i);
+        let o = |i: Id| operand_as(dag, fields, i, lanes);
         let receiver = |i: Id| receiver(dag, fields, i, lanes);
         let rhs = match node {
             Node::Un(_, a) if partner.is_some() => {
@@ -266,7 +279,7 @@ pub fn emit_as(
                 let (a, b) = (o(a), o(b));
                 let c = names::cond(c);
                 match lanes {
-                    Some(l) => quote!(<#l>::select(#c, #a, #b)),
+                    Some(l) => quote!(<#l as #rt>::select(#c, #a, #b)),
                     None => quote!(if #c { #a } else { #b }),
                 }
             }
@@ -277,7 +290,7 @@ pub fn emit_as(
             Node::Un(Fun::Step, a) => {
                 let a = o(a);
                 match lanes {
-                    Some(l) => quote!(<#l>::from(#a).step()),
+                    Some(l) => quote!(<#l as #rt>::step(#a)),
                     None => quote!(if #a >= 0.0 { 1.0_f64 } else { 0.0_f64 }),
                 }
             }
@@ -343,48 +356,62 @@ pub fn emit_as(
     }
 }
 
-/// The parameters of lanes code: the statements binding each input of `code` (its scalar loads)
-/// as lanes, read from `params` (parameter p of every lane in `params[p]`), and the body of
-/// `lane_params(&self, out)`, which runs the scalar loads and writes them to `out` in the same
-/// order; with the number of slots.
-pub fn lane_loads(code: &Code, params: &Ident, out: &Ident) -> (TokenStream, TokenStream, usize) {
-    let l = lane_type();
-    let w = names::lane_width();
-    let mut loads = TokenStream::new();
-    let mut writes = TokenStream::new();
+/// The parameters of the generic kernels: every field and condition the body reads, in one
+/// `[f64; P]` per member (a field of type `Vector3<f64>` takes three slots, a condition one: 1
+/// or 0). The statements binding them inside a kernel from `params: &[R; P]`
+/// ([`KernelParams::binds`]) and the body of the inherent `__lagrange_params(&self)` that loads
+/// them from `self` (spanned at the user's fields).
+pub struct KernelParams {
+    /// Binds every input as an `R` (a condition as `R::Mask`, a vector as `Vector3<R>`).
+    pub binds: TokenStream,
+    /// The loads from `self`, then the array of their values.
+    pub load: TokenStream,
+    /// P.
+    pub count: usize,
+}
+
+/// [`KernelParams`] of the derivation's fields and conditions (all of them, whatever a kernel
+/// reads: one array serves q̈ and the Taylor series).
+pub fn kernel_params(dag: &Dag, fields: &[Field], conds: &[Cond], params: &Ident) -> KernelParams {
+    let inputs: Vec<Id> = (0..dag.len() as Id)
+        .filter(|&id| matches!(dag.node(id), Node::Param(..) | Node::Select(..)))
+        .collect();
+    let code = emit(dag, fields, conds, &inputs);
+    let r = real_type();
+    let rt = quote!(::lagrange::__private::Real);
+    let mut binds = TokenStream::new();
+    let mut values = Vec::new();
     let mut k = 0usize;
     for (x, ty) in &code.inputs {
         let ty = ty.to_string();
+        let i = Literal::usize_unsuffixed(k);
         if ty == "bool" {
-            let i = Literal::usize_unsuffixed(k);
-            loads.extend(quote! {
-                let #x: ::lagrange::__private::lanes::Mask<#w> =
-                    ::lagrange::__private::lanes::Mask::from_fn(|__lagrange_l| #params[#i].0[__lagrange_l] != 0.0);
-            });
-            writes.extend(quote!(#out[#i] = if #x { 1.0 } else { 0.0 };));
+            binds.extend(quote!(let #x: <#r as #rt>::Mask = <#r as #rt>::nonzero(#params[#i]);));
+            values.push(quote!(if #x { 1.0 } else { 0.0 }));
             k += 1;
         } else if ty.contains("Vector3") {
-            let (i, j, m) = (
-                Literal::usize_unsuffixed(k),
+            let (j, m) = (
                 Literal::usize_unsuffixed(k + 1),
                 Literal::usize_unsuffixed(k + 2),
             );
-            loads.extend(quote! {
-                let #x: ::lagrange::__private::Vector3<#l> =
+            binds.extend(quote! {
+                let #x: ::lagrange::__private::Vector3<#r> =
                     ::lagrange::__private::Vector3::new(#params[#i], #params[#j], #params[#m]);
             });
-            writes.extend(quote!(#out[#i] = #x.x; #out[#j] = #x.y; #out[#m] = #x.z;));
+            values.extend([quote!(#x.x), quote!(#x.y), quote!(#x.z)]);
             k += 3;
         } else {
-            let i = Literal::usize_unsuffixed(k);
-            loads.extend(quote!(let #x: #l = #params[#i];));
-            writes.extend(quote!(#out[#i] = #x;));
+            binds.extend(quote!(let #x: #r = #params[#i];));
+            values.push(quote!(#x));
             k += 1;
         }
     }
-    let mut body = code.loads.clone();
-    body.extend(writes);
-    (loads, body, k)
+    let loads = &code.loads;
+    KernelParams {
+        binds,
+        load: quote!(#loads [#(#values),*]),
+        count: k,
+    }
 }
 
 impl Code {

@@ -183,9 +183,11 @@ pub struct Equations {
 }
 
 impl Equations {
-    /// The operands of `d.mass` and `d.rhs` (each an inline leaf or the local of its node).
-    pub fn of(d: &Derivation) -> Equations {
-        let op = |id: Id| (id != Dag::ZERO).then(|| codegen::operand(&d.dag, &d.fields, id));
+    /// The operands of `d.mass` and `d.rhs` (each an inline leaf or the local of its node) in
+    /// the generic kernel over `r` (a constant is an `R`).
+    pub fn of(d: &Derivation, r: &TokenStream) -> Equations {
+        let op =
+            |id: Id| (id != Dag::ZERO).then(|| codegen::operand_as(&d.dag, &d.fields, id, Some(r)));
         Equations {
             mass: d
                 .mass

@@ -49,17 +49,17 @@ pub struct SymbolicOutput {
     pub energy: TokenStream,
     /// Body of `fn energy_and_momenta(&self, q, qdot, t) -> (f64, [f64; N])`.
     pub energy_and_momenta: TokenStream,
-    /// Body of `fn taylor_series(&self, t, out, buf)` (the Taylor method's series) and, with
-    /// lanes code, of `fn taylor_series_lanes`, where every node has a Taylor rule and the body
-    /// is analytic; else why not.
-    pub taylor: Result<super::taylor::Series, super::taylor::NoSeries>,
-    /// The lanes code (systems with the unrolled solve): the body of `accelerations_lanes`, the
-    /// body of `lane_params` and how many numbers it writes.
-    pub lanes: Option<(TokenStream, TokenStream, usize)>,
-    /// Items to emit next to the user's impl: the modules of a large system's out-of-line bodies.
+    /// Whether the kernels module has the Taylor series (`series_in`): where every node has a
+    /// Taylor rule and the body is analytic; else why not.
+    pub taylor: Result<(), super::taylor::NoSeries>,
+    /// Whether the lanes run the generic q̈ kernel (`accelerations_in`; a small system).
+    pub lanes: bool,
+    /// The body of the inherent `__lagrange_params(&self) -> [f64; P]` and P, where there are
+    /// generic kernels.
+    pub params: Option<(TokenStream, usize)>,
+    /// Items to emit next to the user's impl: the generic kernels' module and the modules of a
+    /// large system's out-of-line bodies.
     pub items: TokenStream,
-    /// Lint attributes to put on each of the generated methods (machine-written code).
-    pub allow: TokenStream,
     /// Whether the system has `fn dissipation` or `fn forces` (the docs then name Q and D).
     pub has_applied: bool,
     /// The Euler–Lagrange equations, plain Unicode, one line per coordinate.
@@ -98,24 +98,37 @@ struct Gen<'a> {
     large: bool,
     /// `#[lagrangian(lanes)]`: the lanes code above [`LANES_MAX_OPS`] too.
     force_lanes: bool,
+    /// The generic kernels' statements binding their parameters ([`codegen::KernelParams`]).
+    binds: TokenStream,
     /// Items next to the impl (the modules of `out_of_line`).
     items: TokenStream,
     /// `let` statements over all the bodies.
     lets: usize,
 }
 
-/// The body of `accelerations` and its inline attribute; the lanes code and its parameter loads
-/// (the Taylor series over lanes reads them), for a small system.
+/// The body of `accelerations` and its inline attribute; the generic kernel (for a small
+/// system) and whether the lanes run it.
 struct Accelerations {
     body: TokenStream,
     inline: TokenStream,
-    lanes: Option<(TokenStream, TokenStream, usize)>,
-    lane_loads: Option<(TokenStream, usize)>,
+    /// `fn accelerations<R: Real>(params, q, qdot, t) -> (q̈, ok, M, f)` of the kernels module.
+    kernel: Option<TokenStream>,
+    lanes: bool,
 }
 
 impl Gen<'_> {
-    /// `accelerations`: the unrolled solve with the pivot test and the fallback, or for a large
-    /// system the runtime's solve of `pieces`; with the lanes code of a small system.
+    /// The kernels module's path, its parameters' names and the generic `R`.
+    fn kernel_names(&self) -> (Ident, Ident, TokenStream) {
+        (
+            format_ident!("{}_kernels", self.prefix),
+            names::lane_params(),
+            codegen::real_type(),
+        )
+    }
+
+    /// `accelerations`: for a small system the generic kernel (the unrolled solve with its
+    /// per-lane pivot tests) at `f64`, with the runtime's careful solve where a test fails; for a
+    /// large system the runtime's solve of `pieces`.
     fn accelerations(&mut self) -> Accelerations {
         let Gen {
             d,
@@ -129,12 +142,7 @@ impl Gen<'_> {
             large,
             ..
         } = *self;
-        let op = |id: Id| codegen::operand(&d.dag, &d.fields, id);
-        let mut lets = 0;
-        let mut lanes = None;
-        // The lanes code's parameter loads and their count, for the Taylor series over lanes.
-        let mut lane_loads: Option<(TokenStream, usize)> = None;
-        let (accelerations, accelerations_inline) = if large {
+        if large {
             // Large N: M (upper triangle) and the right-hand side from `pieces` (one copy of their
             // code, kept out of line), solved by the runtime's row-oriented LDLᵀ (the same pivot
             // test and fallback): O(N²) code instead of the O(N³) of the unrolled elimination, which
@@ -151,110 +159,98 @@ impl Gen<'_> {
                     #t,
                 )
             };
-            (body, quote!(#[inline]))
+            return Accelerations {
+                body,
+                inline: quote!(#[inline]),
+                kernel: None,
+                lanes: false,
+            };
+        }
+        let (module, params, r) = self.kernel_names();
+        let mut outs: Vec<Id> = Vec::new();
+        for (i, row) in d.mass.iter().enumerate() {
+            outs.extend(&row[i..]);
+        }
+        outs.extend(&d.rhs);
+        outs.extend(d.pairs.iter().map(|p| p.2));
+        let code = codegen::emit_as(&d.dag, &d.fields, &d.conds, &outs, Some(&r));
+        self.lets += code.lets;
+        // A small right-hand side is inlined at every call site (the twelve stages of DOP853
+        // call it from unrolled code; `#[inline]` alone let LLVM keep it out of line and the
+        // whole run was 11 % slower); a large one is left to LLVM so code size stays in bounds.
+        let inline = if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
+            quote!(#[inline(always)])
         } else {
-            let mut outs: Vec<Id> = Vec::new();
-            for (i, row) in d.mass.iter().enumerate() {
-                outs.extend(&row[i..]);
-            }
-            outs.extend(&d.rhs);
-            outs.extend(d.pairs.iter().map(|p| p.2));
-            let code = codegen::emit(&d.dag, &d.fields, &d.conds, &outs);
-            lets += code.lets;
-            // A small right-hand side is inlined at every call site (the twelve stages of DOP853
-            // call it from unrolled code; `#[inline]` alone let LLVM keep it out of line and the
-            // whole run was 11 % slower); a large one is left to LLVM so code size stays in bounds.
-            let inline = if code.lets + n * n <= INLINE_ALWAYS_MAX_OPS {
-                quote!(#[inline(always)])
-            } else {
-                quote!(#[inline])
-            };
-            // M and the right-hand side, formed once: the fast path's solve and the fallback's
-            // arrays read the same operands.
-            let eq = Equations::of(d);
-            let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| quote!(0.0));
-            let rows = eq.mass.iter().map(|row| {
-                let cells = row.iter().map(or_zero);
-                quote!([#(#cells),*])
-            });
-            let f = eq.rhs.iter().map(or_zero);
-            let stmts = code.stmts();
-            let pairs: Vec<(usize, usize, TokenStream, bool)> = d
-                .pairs
-                .iter()
-                .map(|&(i, k, det, exact)| (i, k, op(det), exact))
-                .collect();
-            let (fast, fast_label, x) = (names::fast(), names::fast_label(), names::solution());
-            let solve = solve::ldlt(&eq, &pairs);
-            // The same code over lanes: W members at once, each lane the scalar value bit for bit;
-            // where a pivot test fails in any lane, every lane takes the scalar path. Only for a small
-            // system (see LANES_MAX_OPS): a larger one's ensembles run members one at a time.
-            if code.lets + n * n <= LANES_MAX_OPS || self.force_lanes {
-                let lane = codegen::lane_type();
-                let (members, params, out) = (
-                    names::lane_members(),
-                    names::lane_params(),
-                    names::lane_out(),
-                );
-                let lane_code = codegen::emit_as(&d.dag, &d.fields, &d.conds, &outs, Some(&lane));
-                let (loads, params_body, count) = codegen::lane_loads(&code, &params, &out);
-                let values = &lane_code.values;
-                let lane_solve = solve::ldlt_as(&eq, &pairs, Some(&lane));
-                let pc = Literal::usize_unsuffixed(count);
-                let one_by_one = quote!(::lagrange::__private::lagrangian_lanes_one_by_one(
-                    #members, #q, #qdot, #t
-                ));
-                let ok = names::lane_ok();
-                let body = quote! {
-                    #touch
-                    let #params: &[#lane; #pc] = match <&[#lane; #pc]>::try_from(#params) {
-                        ::core::result::Result::Ok(#params) => #params,
-                        ::core::result::Result::Err(_) => return #one_by_one,
-                    };
-                    #loads
-                    #values
-                    // Every lane runs the whole solve; a lane whose pivot test failed (or whose
-                    // values are not finite) takes its member's scalar path, the others keep theirs.
-                    let (#x, #ok) = { #lane_solve };
-                    if #ok.all() {
-                        #x
-                    } else {
-                        ::lagrange::__private::lagrangian_lanes_patch(#members, #q, #qdot, #t, #x, #ok)
-                    }
-                };
-                let params_body = quote! {
-                    if let ::core::option::Option::Some(#out) = #out.get_mut(..#pc) {
-                        #params_body
-                    }
-                };
-                lanes = Some((body, params_body, count));
-                lane_loads = Some((loads, count));
-            }
-            let body = quote! {
-                #touch
-                #stmts
-                // The fast path; the arrays for the runtime's solve are only built when it fails.
-                let #fast: ::core::option::Option<[f64; #nn]> = #fast_label: { #solve };
-                match #fast {
-                    ::core::option::Option::Some(#x) => ::core::result::Result::Ok(#x),
-                    ::core::option::Option::None => ::lagrange::__private::solve_mass_matrix(
-                        &[#(#rows),*],
-                        &[#(#f),*],
-                        #lagrangian_trait::COORDINATES,
-                        #q,
-                        #qdot,
-                        #t,
-                    ),
-                }
-            };
-            (body, inline)
+            quote!(#[inline])
         };
-        self.lets += lets;
+        // M and the right-hand side, formed once: the solve and the careful path's arrays read
+        // the same operands.
+        let eq = Equations::of(d, &r);
+        let zero = codegen::real_const(&r, &quote!(0.0));
+        let or_zero = |x: &Option<TokenStream>| x.clone().unwrap_or_else(|| zero.clone());
+        let rows = eq.mass.iter().map(|row| {
+            let cells = row.iter().map(or_zero);
+            quote!([#(#cells),*])
+        });
+        let f = eq.rhs.iter().map(or_zero);
+        let pairs: Vec<(usize, usize, TokenStream, bool)> = d
+            .pairs
+            .iter()
+            .map(|&(i, k, det, exact)| {
+                (
+                    i,
+                    k,
+                    codegen::operand_as(&d.dag, &d.fields, det, Some(&r)),
+                    exact,
+                )
+            })
+            .collect();
+        let solve = solve::ldlt(&eq, &pairs, &r);
+        let (x, ok) = (names::solution(), names::lane_ok());
+        let (values, binds) = (&code.values, &self.binds);
+        let rt = quote!(::lagrange::__private::Real);
+        let kernel = quote! {
+            /// q̈ from M q̈ = f (the straight-line LDLᵀ), the lanes where every pivot test passed
+            /// and every value is finite, and M (upper triangle) and f for the careful path.
+            #inline
+            pub(super) fn accelerations<#r: #rt>(
+                #params: &[#r; PARAMS],
+                #q: &[#r; #nn],
+                #qdot: &[#r; #nn],
+                #t: #r,
+            ) -> ([#r; #nn], <#r as #rt>::Mask, [[#r; #nn]; #nn], [#r; #nn]) {
+                let _ = (#q, #qdot, #t);
+                #binds
+                #values
+                let (#x, #ok) = { #solve };
+                (#x, #ok, [#(#rows),*], [#(#f),*])
+            }
+        };
+        // The lanes code: only for a small system (see LANES_MAX_OPS); a larger one's ensembles
+        // run members one at a time.
+        let lanes = code.lets + n * n <= LANES_MAX_OPS || self.force_lanes;
+        let (m, fv) = (format_ident!("__lagrange_m"), format_ident!("__lagrange_f"));
+        let body = quote! {
+            let (#x, #ok, #m, #fv) =
+                #module::accelerations::<f64>(&Self::__lagrange_params(self), #q, #qdot, #t);
+            if #ok {
+                ::core::result::Result::Ok(#x)
+            } else {
+                ::lagrange::__private::solve_mass_matrix(
+                    &#m,
+                    &#fv,
+                    #lagrangian_trait::COORDINATES,
+                    #q,
+                    #qdot,
+                    #t,
+                )
+            }
+        };
         Accelerations {
-            body: accelerations,
-            inline: accelerations_inline,
+            body,
+            inline,
+            kernel: Some(kernel),
             lanes,
-            lane_loads,
         }
     }
 
@@ -437,15 +433,9 @@ impl Gen<'_> {
                 #stmts
                 [#(#p),*]
             };
-            let code = codegen::emit(&d.dag, &d.fields, &d.conds, &[d.energy]);
-            lets += code.lets;
-            let h = op(d.energy);
-            let stmts = code.stmts();
-            let energy = quote! {
-                #touch
-                #stmts
-                #h
-            };
+            // h is the same DAG node in `energy_and_momenta`: the same value bit for bit, and
+            // the momenta it also computes are most of h's cost (h = q̇·p − L).
+            let energy = quote!(#lagrangian_trait::energy_and_momenta(self, #q, #qdot, #t).0);
             (mass_matrix, momenta, energy)
         };
         self.lets += lets;
@@ -502,6 +492,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     let n = decl.n();
     let names::Params { q, qdot, t } = names::Params::symbolic();
     let nn = Literal::usize_unsuffixed(n);
+    let params = codegen::kernel_params(&d.dag, &d.fields, &d.conds, &names::lane_params());
     let mut gen = Gen {
         d,
         n,
@@ -514,19 +505,43 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         prefix: module_prefix(&decl.rest.self_ty),
         large: n > LOOP_SOLVE_ABOVE,
         force_lanes: decl.options.lanes.is_some(),
+        binds: params.binds.clone(),
         items: TokenStream::new(),
         lets: 0,
     };
     let Accelerations {
         body: accelerations,
         inline: accelerations_inline,
+        kernel,
         lanes,
-        lane_loads,
     } = gen.accelerations();
     let (pieces, pieces_inline) = gen.pieces();
     let power = gen.power();
     let (mass_matrix, momenta, energy) = gen.matrix_momenta_energy();
     let energy_and_momenta = gen.energy_and_momenta();
+    let taylor = super::taylor::body(d, n, &params.binds);
+    // The generic kernels (q̈ of a small system, the Taylor series) in a module next to the impl,
+    // with the number of parameters they read.
+    let (module, _, _) = gen.kernel_names();
+    let series = taylor.as_ref().ok();
+    let kernels = (kernel.is_some() || series.is_some()).then(|| {
+        let count = Literal::usize_unsuffixed(params.count);
+        let allow = allow_generated();
+        quote! {
+            #[doc(hidden)]
+            #allow
+            mod #module {
+                /// How many numbers `__lagrange_params` loads (the kernels' parameters).
+                pub(super) const PARAMS: usize = #count;
+                #kernel
+                #series
+            }
+        }
+    });
+    let params_load = kernels
+        .as_ref()
+        .map(|_| (params.load.clone(), params.count));
+    gen.items.extend(kernels);
     let (items, lets) = (gen.items, gen.lets);
 
     let eq = print::equations(d, decl);
@@ -544,6 +559,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     SymbolicOutput {
         items,
         lanes,
+        params: params_load,
         accelerations,
         accelerations_inline,
         pieces,
@@ -553,18 +569,8 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         momenta,
         energy,
         energy_and_momenta,
-        allow: allow_generated(),
         has_applied,
-        taylor: super::taylor::body(
-            d,
-            n,
-            lane_loads
-                .as_ref()
-                .map(|(loads, count)| super::taylor::LaneLoads {
-                    loads,
-                    count: *count,
-                }),
-        ),
+        taylor: taylor.map(|_| ()),
         equations: eq.unicode,
         equations_latex: eq.latex,
         doc,
@@ -574,16 +580,9 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
 
 /// The lint attributes of every generated function (machine-written code).
 fn allow_generated() -> TokenStream {
-    quote! {
-        #[allow(
-            unused_variables,
-            unused_parens,
-            non_snake_case,
-            clippy::all,
-            clippy::pedantic,
-            clippy::nursery
-        )]
-    }
+    let mut allow = names::allow_generated();
+    allow.extend(quote!(#[allow(unused_variables)]));
+    allow
 }
 
 /// The straight-line `code` of a large system as a function `eval` in a module of its own, next to
@@ -659,7 +658,6 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         momenta,
         energy,
         energy_and_momenta,
-        allow,
         equations,
         equations_latex,
         doc,
@@ -667,131 +665,118 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         taylor,
         items,
         lanes,
+        params: params_load,
         ..
     } = out;
     let sig = quote!(&self, #q: &[f64; #nn], #qdot: &[f64; #nn], #t: f64);
     let methods = quote! {
-        #allow
         #accelerations_inline
         fn accelerations(#sig) -> ::core::result::Result<[f64; #nn], ::lagrange::__private::DynamicsError> {
             #accelerations
         }
-        #allow
         #pieces_inline
         fn pieces(#sig) -> ::lagrange::__private::eom::Pieces<#nn> {
             #pieces
         }
-        #allow
         #[inline]
         fn power(#sig) -> f64 {
             #power
         }
-        #allow
         #[inline]
         fn mass_matrix(#sig) -> ::lagrange::__private::SMatrix<f64, #nn, #nn> {
             #mass_matrix
         }
-        #allow
         #[inline]
         fn momenta(#sig) -> [f64; #nn] {
             #momenta
         }
-        #allow
         #[inline]
         fn energy(#sig) -> f64 {
             #energy
         }
-        #allow
         #[inline]
         fn energy_and_momenta(#sig) -> (f64, [f64; #nn]) {
             #energy_and_momenta
         }
     };
-    let methods = match lanes {
-        Some((body, params_body, count)) => {
-            let lane = codegen::lane_type();
-            let w = names::lane_width();
-            let (members, params, out) = (
-                names::lane_members(),
-                names::lane_params(),
-                names::lane_out(),
-            );
-            let count = Literal::usize_unsuffixed(*count);
-            quote! {
-                #methods
-                const LANE_PARAMS: usize = #count;
-                const VECTORIZED_LANES: bool = true;
-                #allow
-                #[inline]
-                fn lane_params(&self, #out: &mut [f64]) {
-                    #params_body
-                }
-                #allow
-                #accelerations_inline
-                fn accelerations_lanes<const #w: usize>(
-                    #members: &[&Self; #w],
-                    #params: &[#lane],
-                    #q: &[#lane; #nn],
-                    #qdot: &[#lane; #nn],
-                    #t: #lane,
-                ) -> [#lane; #nn]
-                where
-                    Self: ::core::marker::Sized,
-                {
-                    #body
-                }
-            }
-        }
-        None => methods,
+    let (members, params) = (names::lane_members(), names::lane_params());
+    let r = codegen::real_type();
+    let rt = quote!(::lagrange::__private::Real);
+    let module = format_ident!("{}_kernels", module_prefix(self_ty));
+    // The kernels' parameters: loaded into the kernel's array where it is empty.
+    let load = quote! {
+        ::lagrange::__private::kernel_params(#members, #params, Self::__lagrange_params)?
     };
-    let methods = match taylor {
-        Ok(series) => {
+    let mut methods = methods;
+    if *lanes {
+        methods.extend(quote! {
+            #[inline(always)]
+            fn accelerations_in<#r: #rt>(
+                #members: &[&Self],
+                #params: &mut ::std::vec::Vec<#r>,
+                #q: &[#r; #nn],
+                #qdot: &[#r; #nn],
+                #t: #r,
+            ) -> ::core::option::Option<([#r; #nn], <#r as #rt>::Mask)> {
+                let (__lagrange_x, __lagrange_ok, _, _) =
+                    #module::accelerations::<#r>(#load, #q, #qdot, #t);
+                ::core::option::Option::Some((__lagrange_x, __lagrange_ok))
+            }
+        });
+    }
+    let not_analytic = match taylor {
+        Ok(()) => {
             let (out, buf) = (names::taylor("out"), names::taylor("buf"));
-            let body = &series.scalar;
-            let lanes = series.lanes.as_ref().map(|body| {
-                let lane = codegen::lane_type();
-                let w = names::lane_width();
-                let (members, params) = (names::lane_members(), names::lane_params());
-                // Inlined into the lanes engine, which is compiled for AVX2 where the CPU has
-                // it: out of line, the series would be SSE2 code.
-                quote! {
-                    #allow
-                    #[inline(always)]
-                    fn taylor_series_lanes<const #w: usize>(
-                        #members: &[&Self; #w],
-                        #params: &[#lane],
-                        #t: #lane,
-                        #out: &mut [[[#lane; #nn]; 2]],
-                        #buf: &mut ::lagrange::__private::taylor::SeriesBuf<#lane>,
-                    ) -> ::core::option::Option<::lagrange::__private::lanes::Mask<#w>>
-                    where
-                        Self: ::core::marker::Sized,
-                    {
-                        #body
-                    }
+            // Inlined into the lanes engine, which is compiled for AVX2 where the CPU has it: out
+            // of line, the lanes series would be SSE2 code.
+            methods.extend(quote! {
+                #[inline(always)]
+                fn series_in<#r: ::lagrange::__private::eom::SeriesReal>(
+                    #members: &[&Self],
+                    #params: &mut ::std::vec::Vec<#r>,
+                    #t: #r,
+                    #out: &mut [[[#r; #nn]; 2]],
+                    #buf: &mut ::lagrange::__private::taylor::SeriesBuf<#r>,
+                ) -> ::core::option::Option<
+                    ::core::result::Result<<#r as #rt>::Mask, ::lagrange::__private::DynamicsError>,
+                > {
+                    ::core::option::Option::Some(#module::series::<#r>(
+                        #load,
+                        <Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES,
+                        #t,
+                        #out,
+                        #buf,
+                    ))
                 }
             });
-            quote! {
-                #methods
-                #allow
-                fn taylor_series(
-                    &self,
-                    #t: f64,
-                    #out: &mut [[[f64; #nn]; 2]],
-                    #buf: &mut ::lagrange::__private::taylor::TaylorBuf,
-                ) -> ::core::option::Option<::core::result::Result<(), ::lagrange::__private::DynamicsError>> {
-                    #body
-                }
-                #lanes
+            None
+        }
+        Err(super::taylor::NoSeries::NotAnalytic(what)) => Some(*what),
+        Err(super::taylor::NoSeries::Unsupported) => None,
+    };
+    if *lanes || not_analytic.is_some() {
+        let not_analytic = match not_analytic {
+            Some(what) => quote!(::core::option::Option::Some(#what)),
+            None => quote!(::core::option::Option::None),
+        };
+        methods.extend(quote! {
+            const COMPILED: ::lagrange::__private::Compiled = ::lagrange::__private::Compiled {
+                lanes: #lanes,
+                not_analytic: #not_analytic,
+            };
+        });
+    }
+    let params_fn = params_load.as_ref().map(|(body, count)| {
+        let count = Literal::usize_unsuffixed(*count);
+        quote! {
+            /// The parameters of the generic kernels, loaded from `self`.
+            #[doc(hidden)]
+            #[inline(always)]
+            fn __lagrange_params(&self) -> [f64; #count] {
+                #body
             }
         }
-        Err(super::taylor::NoSeries::NotAnalytic(what)) => quote! {
-            #methods
-            const NOT_ANALYTIC: ::core::option::Option<&'static str> =
-                ::core::option::Option::Some(#what);
-        },
-        Err(super::taylor::NoSeries::Unsupported) => methods,
-    };
+    });
     let form = if *has_applied {
         "`Σₖ Mᵢₖ q̈ₖ = fᵢ + Qᵢ − ∂D/∂q̇ᵢ` (accelerations on the left; on the right the terms of L, \
          then the generalized forces Q, then the dissipative forces −∂D/∂q̇, each as its own group)"
@@ -812,6 +797,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
             pub const EQUATIONS: &'static str = #equations;
             #[doc = #latex_doc]
             pub const EQUATIONS_LATEX: &'static str = #equations_latex;
+            #params_fn
         }
     };
     (methods, consts)

@@ -6,68 +6,50 @@
 use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
+use super::codegen;
 use super::derive::Equations;
 use crate::names;
 
-/// Straight-line LDLᵀ of the mass matrix (upper triangle, `None` = structural zero) with the
-/// sparsity known at compile time: the same elimination, in the same order, as the runtime's
-/// `solve_symmetric`, with the structurally zero products left out and one reciprocal per pivot
-/// whose row of L has two or more entries; the decoupled 2×2 blocks in `pairs` by Cramer's rule
-/// instead (see [`cramer`]). The tokens are the statements of a block labelled [`names::fast_label`] that
-/// evaluates to `Some(q̈)`, or breaks with `None` whenever a pivot fails the runtime's test
-/// (d_j > √ε·m_jj: more than half the digits kept) or anything is not finite; the caller then
-/// hands over to `solve_mass_matrix`, which decides between LU and a `DynamicsError` exactly as
-/// the jets path.
-pub fn ldlt(eq: &Equations, pairs: &[(usize, usize, TokenStream, bool)]) -> TokenStream {
-    ldlt_as(eq, pairs, None)
-}
-
-/// The numbers a solve is emitted over: `f64`, or a lane type (every lane the scalar solve's
-/// operations; a pivot test passes only if it passes in every lane).
+/// The numbers a solve is emitted over: the type parameter `R: Real` of a generic kernel (its
+/// `f64` instance is the single run, its lanes instance every lane's scalar operations).
 #[derive(Clone, Copy)]
-pub struct Num<'a>(pub Option<&'a TokenStream>);
+pub struct Num<'a>(pub &'a TokenStream);
 
 impl Num<'_> {
     /// The type of a local.
     fn ty(self) -> TokenStream {
-        match self.0 {
-            Some(l) => quote!(#l),
-            None => quote!(f64),
-        }
+        let r = self.0;
+        quote!(#r)
     }
-    /// A value bound to a local: a constant operand becomes a lane value.
-    fn value(self, e: TokenStream) -> TokenStream {
-        match self.0 {
-            Some(l) => quote!(<#l>::from(#e)),
-            None => e,
-        }
+    /// The constant `c` (an `f64` literal) as an `R`.
+    fn konst(self, c: TokenStream) -> TokenStream {
+        codegen::real_const(self.0, &c)
     }
-    /// The test `a > b`: in scalar code, a `break` out of the fast path where it fails; in lanes
-    /// code, the lanes where it fails are cleared from the mask [`names::lane_ok`] (every lane
-    /// runs the whole solve, and the caller hands the cleared lanes to the scalar path).
+    /// The test `a > b` (both `R`): the lanes where it fails are cleared from the mask
+    /// [`names::lane_ok`] (every lane runs the whole solve, and the caller hands the cleared lanes
+    /// to the careful path).
     fn require(self, a: TokenStream, b: TokenStream) -> TokenStream {
-        let fast = names::fast_label();
-        match self.0 {
-            Some(l) => {
-                let ok = names::lane_ok();
-                quote!(let #ok = #ok & <#l>::from(#a).gt(#b);)
-            }
-            None => quote! {
-                if !(#a > #b) {
-                    break #fast ::core::option::Option::None;
-                }
-            },
-        }
+        let ok = names::lane_ok();
+        let r = self.0;
+        quote!(let #ok = #ok & <#r as ::lagrange::__private::Real>::greater(#a, #b);)
     }
 }
 
-/// [`ldlt`] over the numbers `num` (`None`: `f64`).
-pub fn ldlt_as(
+/// Straight-line LDLᵀ of the mass matrix (upper triangle, `None` = structural zero; every entry
+/// an `R`) with the sparsity known at compile time: the same elimination, in the same order, as
+/// the runtime's `solve_symmetric`, with the structurally zero products left out and one
+/// reciprocal per pivot whose row of L has two or more entries; the decoupled 2×2 blocks in
+/// `pairs` by Cramer's rule instead (see [`cramer`]). The tokens are the statements of a block
+/// that evaluates to `([q̈; N], ok)`: `ok` (an `R::Mask`) clears every lane where a pivot failed
+/// the runtime's test (d_j > √ε·m_jj: more than half the digits kept) or anything is not finite;
+/// the caller hands those to `solve_mass_matrix`, which decides between LU and a `DynamicsError`
+/// exactly as the jets path.
+pub fn ldlt(
     eq: &Equations,
     pairs: &[(usize, usize, TokenStream, bool)],
-    num: Option<&TokenStream>,
+    r: &TokenStream,
 ) -> TokenStream {
-    let num = Num(num);
+    let num = Num(r);
     let ty = num.ty();
     let (m, b) = (&eq.mass, &eq.rhs);
     let n = m.len();
@@ -98,7 +80,7 @@ pub fn ldlt_as(
         let dj = d_id(j);
         let mut e = match &m[j][j] {
             Some(x) => quote!(#x),
-            None => quote!(0.0_f64),
+            None => num.konst(quote!(0.0)),
         };
         // l_kj² d_k = l_kj u_kj, with u_kj = l_kj d_k the row before its division.
         for k in 0..j {
@@ -111,10 +93,10 @@ pub fn ldlt_as(
         // so the units of the coordinates do not matter and a pass here is a pass there.
         let mjj = match &m[j][j] {
             Some(x) => quote!(#x),
-            None => quote!(0.0_f64),
+            None => num.konst(quote!(0.0)),
         };
-        let e = num.value(e);
-        let test = num.require(quote!(#dj), quote!(#accurate * #mjj));
+        // m_jj · √ε is √ε · m_jj bit for bit (a product of two numbers commutes).
+        let test = num.require(quote!(#dj), quote!(#mjj * #accurate));
         out.extend(quote! {
             let #dj: #ty = #e;
             #test
@@ -134,12 +116,12 @@ pub fn ldlt_as(
             }
             let mut s = match &m[j][i] {
                 Some(x) => quote!(#x),
-                None => quote!(0.0_f64),
+                None => num.konst(quote!(0.0)),
             };
             for t in terms {
                 s = quote!(#s - #t);
             }
-            row.push((i, u_id(j, i), num.value(s)));
+            row.push((i, u_id(j, i), s));
             l[j][i] = true;
         }
         // A reciprocal adds a multiplication to the (latency-bound) critical path; it pays off
@@ -147,7 +129,8 @@ pub fn ldlt_as(
         let rj = r_id(j);
         if row.len() >= 2 {
             recip[j] = true;
-            out.extend(quote!(let #rj: #ty = 1.0 / #dj;));
+            let one = num.konst(quote!(1.0));
+            out.extend(quote!(let #rj: #ty = #one / #dj;));
         }
         // Two `let`s per row keep the scope nesting shallow (see codegen): the row before its
         // division by the pivot (u), then L's row.
@@ -171,7 +154,7 @@ pub fn ldlt_as(
         let xi = x_id(i);
         let mut e = match &b[i] {
             Some(x) => quote!(#x),
-            None => quote!(0.0_f64),
+            None => num.konst(quote!(0.0)),
         };
         for k in 0..i {
             if l[k][i] {
@@ -179,7 +162,6 @@ pub fn ldlt_as(
                 e = quote!(#e - #lki * #xk);
             }
         }
-        let e = num.value(e);
         out.extend(quote!(let #xi: #ty = #e;));
     }
     for i in (0..n).filter(|&i| !paired[i]) {
@@ -208,34 +190,16 @@ pub fn ldlt_as(
     let xs: Vec<Ident> = (0..n).map(x_id).collect();
     // One test for all: a sum is finite only if every term is (a finite sum that overflows only
     // sends the solve to the runtime's path, which then returns the same finite values).
-    let x = names::solution();
-    match num.0 {
-        // Lanes: (q̈, the lanes whose pivots passed and whose values are finite).
-        Some(l) => {
-            let ok = names::lane_ok();
-            let w = names::lane_width();
-            let mut head = quote! {
-                let #ok = ::lagrange::__private::lanes::Mask::<#w>::splat(true);
-            };
-            head.extend(out);
-            head.extend(quote! {
-                let #ok = #ok & <#l>::from(#(#xs)+*).finite();
-                ([#(#xs),*], #ok)
-            });
-            head
-        }
-        None => {
-            out.extend(quote! {
-                let #x = [#(#xs),*];
-                if (#(#xs)+*).is_finite() {
-                    ::core::option::Option::Some(#x)
-                } else {
-                    ::core::option::Option::None
-                }
-            });
-            out
-        }
-    }
+    let ok = names::lane_ok();
+    let mut head = quote! {
+        let #ok = <#r as ::lagrange::__private::Real>::EVERY_LANE;
+    };
+    head.extend(out);
+    head.extend(quote! {
+        let #ok = #ok & <#r as ::lagrange::__private::Real>::finite(#(#xs)+*);
+        ([#(#xs),*], #ok)
+    });
+    head
 }
 
 /// The decoupled 2×2 block {i, k} of M q̈ = f by Cramer's rule, one division depth, with the
@@ -254,7 +218,7 @@ fn cramer(
     num: Num<'_>,
 ) -> TokenStream {
     let ty = num.ty();
-    let zero = quote!(0.0_f64);
+    let zero = num.konst(quote!(0.0));
     let get = |e: &Option<TokenStream>| e.clone().unwrap_or_else(|| zero.clone());
     let (mii, mkk, mik) = (get(&m[i][i]), get(&m[k][k]), get(&m[i][k]));
     // a·x − m_ik·y with the structurally zero products left out.
@@ -262,25 +226,22 @@ fn cramer(
         (Some(x), Some(y)) => quote!(#a * #x - #mik * #y),
         (Some(x), None) => quote!(#a * #x),
         (None, Some(y)) => quote!(-(#mik * #y)),
-        (None, None) => quote!(0.0_f64),
+        (None, None) => zero.clone(),
     };
     let (ni, nk) = (minus(&mkk, &b[i], &b[k]), minus(&mii, &b[k], &b[i]));
     let det_id = names::det(i, k);
     let (yi, yk) = (names::solve_y(i), names::solve_y(k));
     let det_test = if exact {
-        num.require(quote!(#det_id), quote!(0.0))
+        num.require(quote!(#det_id), zero.clone())
     } else {
+        // (m_ii · √ε) · m_kk is (√ε · m_ii) · m_kk bit for bit.
         num.require(
             quote!(#det_id),
-            quote!(::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT * #mii * #mkk),
+            quote!(#mii * ::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT * #mkk),
         )
     };
-    let mii_test = num.require(mii.clone(), quote!(0.0));
-    let det = num.value(det.clone());
-    let (ni, nk) = (
-        num.value(quote!((#ni) / #det_id)),
-        num.value(quote!((#nk) / #det_id)),
-    );
+    let mii_test = num.require(mii.clone(), zero.clone());
+    let (ni, nk) = (quote!((#ni) / #det_id), quote!((#nk) / #det_id));
     quote! {
         #mii_test
         let #det_id: #ty = #det;

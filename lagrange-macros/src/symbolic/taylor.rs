@@ -233,24 +233,11 @@ pub enum NoSeries {
     NotAnalytic(&'static str),
 }
 
-/// The generated Taylor code: the body of `fn taylor_series` and, where the system has lanes
-/// code, of `fn taylor_series_lanes`.
-pub struct Series {
-    pub scalar: TokenStream,
-    pub lanes: Option<TokenStream>,
-}
-
-/// The parameters of the lanes code: the loads of `accelerations_lanes` (binding every field as
-/// lanes from `params`) and how many numbers `params` holds.
-pub struct LaneLoads<'a> {
-    pub loads: &'a TokenStream,
-    pub count: usize,
-}
-
-/// The bodies of `fn taylor_series(&self, t, out, buf)` and (given the lanes loads) of
-/// `fn taylor_series_lanes(members, params, t, out, buf)`, or why there is none.
-pub fn body(d: &Derivation, n: usize, lanes: Option<LaneLoads<'_>>) -> Result<Series, NoSeries> {
-    series(d, n, lanes)
+/// `fn series<R: Real>(params, names, t, out, buf)` of the kernels module (the Taylor
+/// coefficients of the motion, generic over the width), or why there is none; `binds` binds the
+/// kernels' parameters.
+pub fn body(d: &Derivation, n: usize, binds: &TokenStream) -> Result<TokenStream, NoSeries> {
+    series(d, n, binds)
         .ok_or(NoSeries::Unsupported)?
         .map_err(NoSeries::NotAnalytic)
 }
@@ -260,8 +247,8 @@ pub fn body(d: &Derivation, n: usize, lanes: Option<LaneLoads<'_>>) -> Result<Se
 fn series(
     d: &Derivation,
     n: usize,
-    lanes: Option<LaneLoads<'_>>,
-) -> Option<Result<Series, &'static str>> {
+    binds: &TokenStream,
+) -> Option<Result<TokenStream, &'static str>> {
     let mut dag = d.dag.clone();
     let mut outputs: Vec<Id> = Vec::new();
     for (i, row) in d.mass.iter().enumerate() {
@@ -311,12 +298,7 @@ fn series(
         kernels: &kernels,
         slot: &slot,
     };
-    let scalar = program.emit(None)?;
-    let lanes = match lanes {
-        Some(l) => Some(program.emit(Some(&l))?),
-        None => None,
-    };
-    Some(Ok(Series { scalar, lanes }))
+    Some(Ok(program.emit(binds)?))
 }
 
 /// What the emission reads: the derivation, the extended DAG, every needed node's rule and slot.
@@ -332,9 +314,10 @@ struct Program<'a> {
 }
 
 impl Program<'_> {
-    /// The body over `f64` (`lanes`: `None`) or over the lane type (the lanes loads given): the
-    /// same kernels in the same order, so each lane computes the scalar coefficients.
-    fn emit(&self, lanes: Option<&LaneLoads<'_>>) -> Option<TokenStream> {
+    /// The kernel, generic over `R: Real`: its `f64` instance is the single run's series, its
+    /// lanes instance computes every lane's scalar coefficients (the same kernels in the same
+    /// order).
+    fn emit(&self, binds: &TokenStream) -> Option<TokenStream> {
         let Program {
             d,
             n,
@@ -344,11 +327,9 @@ impl Program<'_> {
             kernels,
             slot,
         } = *self;
-        let lane = codegen::lane_type();
-        let zero = match lanes {
-            Some(_) => quote!(<#lane>::ZERO),
-            None => quote!(0.0),
-        };
+        let num = codegen::real_type();
+        let real = quote!(::lagrange::__private::Real);
+        let zero = quote!(<#num as #real>::ZERO);
         let nslots = Literal::usize_unsuffixed(ids.len() + 1 + n);
         let accel: Vec<Literal> = (0..n)
             .map(|l| Literal::usize_unsuffixed(ids.len() + 1 + l))
@@ -368,27 +349,17 @@ impl Program<'_> {
         );
         let rt = quote!(::lagrange::__private::taylor);
         let sl = |x: Id| Literal::usize_unsuffixed(slot[x as usize]);
+        let op = |x: Id| codegen::operand_as(dag, &d.fields, x, Some(&num));
         // Order 0: the straight-line values of every needed node.
-        let stmts0 = match lanes {
-            // The lanes loads bind every field the accelerations read (a superset of these).
-            Some(l) => {
-                let code0 = codegen::emit_as(dag, &d.fields, &d.conds, ids, Some(&lane));
-                let (loads, values) = (l.loads, &code0.values);
-                quote!(#loads #values)
-            }
-            None => codegen::emit(dag, &d.fields, &d.conds, ids).stmts(),
-        };
+        let stmts0 = codegen::emit_as(dag, &d.fields, &d.conds, ids, Some(&num)).values;
         let mut set0 = TokenStream::new();
         // Slots with no coefficient past order 0 (constants, steps, the zero series): zeroed, since
         // the buffer may have held another layout.
         let mut flat = vec![Literal::usize_unsuffixed(0)];
         for &id in ids {
             let s = sl(id);
-            let v = codegen::operand(dag, &d.fields, id);
-            set0.extend(match lanes {
-                Some(_) => quote!(#c[#s][0] = <#lane>::from(#v);),
-                None => quote!(#c[#s][0] = #v;),
-            });
+            let v = op(id);
+            set0.extend(quote!(#c[#s][0] = #v;));
             if matches!(
                 rules[id as usize],
                 Some(Rule::Constant | Rule::Deriv(_, Dag::ZERO))
@@ -412,10 +383,7 @@ impl Program<'_> {
                         let i = Literal::usize_unsuffixed(i as usize);
                         quote!(#out[#k][1][#i])
                     }
-                    _ => match lanes {
-                        Some(_) => quote!(<#lane>::splat(if #k == 1 { 1.0 } else { 0.0 })),
-                        None => quote!(if #k == 1 { 1.0 } else { 0.0 }),
-                    },
+                    _ => codegen::real_const(&num, &quote!(if #k == 1 { 1.0 } else { 0.0 })),
                 },
                 Rule::Add(x, y) => {
                     let (x, y) = (sl(x), sl(y));
@@ -438,7 +406,7 @@ impl Program<'_> {
                     quote!(#rt::sqr(&#c[#x], #k))
                 }
                 Rule::Scale(x, f) => {
-                    let (x, f) = (sl(x), codegen::operand(dag, &d.fields, f));
+                    let (x, f) = (sl(x), op(f));
                     quote!(#f * #c[#x][#k])
                 }
                 Rule::Div(x, y) => {
@@ -446,7 +414,7 @@ impl Program<'_> {
                     quote!(#rt::div(&#c[#x], &#c[#y], &#c[#s], #k))
                 }
                 Rule::DivConst(x, f) => {
-                    let (x, f) = (sl(x), codegen::operand(dag, &d.fields, f));
+                    let (x, f) = (sl(x), op(f));
                     quote!(#c[#x][#k] / #f)
                 }
                 Rule::Deriv(x, dd) => {
@@ -458,19 +426,13 @@ impl Program<'_> {
                     quote!(#rt::deriv2(&#c[#y], &#c[#p], &#c[#x], &#c[#qq], #k))
                 }
                 Rule::Powf(x, e) => {
-                    let (x, e) = (sl(x), codegen::operand(dag, &d.fields, e));
-                    match lanes {
-                        Some(_) => quote!(#rt::powf(&#c[#x], &#c[#s], <#lane>::from(#e), #k)),
-                        None => quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k)),
-                    }
+                    let (x, e) = (sl(x), op(e));
+                    quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k))
                 }
                 Rule::Select(cond, x, y) => {
                     let (x, y) = (sl(x), sl(y));
                     let cond = names::cond(cond);
-                    match lanes {
-                        Some(_) => quote!(<#lane>::select(#cond, #c[#x][#k], #c[#y][#k])),
-                        None => quote!(if #cond { #c[#x][#k] } else { #c[#y][#k] }),
-                    }
+                    quote!(<#num as #real>::select(#cond, #c[#x][#k], #c[#y][#k]))
                 }
             };
             step.extend(quote!(#c[#s][#k] = #value;));
@@ -519,41 +481,49 @@ impl Program<'_> {
             })
             .collect();
         let nn = Literal::usize_unsuffixed(n);
-        let names_ = quote!(<Self as ::lagrange::__private::Lagrangian<#nn>>::COORDINATES);
+        let names_ = names::taylor("names");
         let ii = (0..n).map(Literal::usize_unsuffixed);
         let ii2 = (0..n).map(Literal::usize_unsuffixed);
         let max = quote!(#rt::MAX_ORDER);
-        if let Some(l) = lanes {
-            let params = names::lane_params();
-            let pc = Literal::usize_unsuffixed(l.count);
-            let w = names::lane_width();
-            let mask = quote!(::lagrange::__private::lanes::Mask::<#w>);
-            let ok = names::lane_ok();
-            return Some(quote! {
+        let params = names::lane_params();
+        let factor_ty = quote!(<<#num as ::lagrange::__private::eom::SeriesReal>::Factor<#nn> as ::lagrange::__private::eom::SeriesFactor<#num, #nn>>);
+        Some(quote! {
+            /// The Taylor coefficients of the motion through `out[0]` at t (see
+            /// `Lagrangian::series_in`), in the lanes of the mask.
+            #[inline(always)]
+            pub(super) fn series<#num: ::lagrange::__private::eom::SeriesReal>(
+                #params: &[#num; PARAMS],
+                #names_: [&'static str; #nn],
+                #t: #num,
+                #out: &mut [[[#num; #nn]; 2]],
+                #buf: &mut #rt::SeriesBuf<#num>,
+            ) -> ::core::result::Result<<#num as #real>::Mask, ::lagrange::__private::DynamicsError> {
                 if #out.len() < 2 {
-                    return ::core::option::Option::Some(#mask::splat(true));
+                    return ::core::result::Result::Ok(<#num as #real>::EVERY_LANE);
                 }
-                let #params: &[#lane; #pc] = match <&[#lane; #pc]>::try_from(#params) {
-                    ::core::result::Result::Ok(#params) => #params,
-                    ::core::result::Result::Err(_) => return ::core::option::Option::None,
-                };
                 let #order = (#out.len() - 1).min(#max);
-                let #c: &mut [#rt::RowOf<#lane>; #nslots] = #buf.slots::<#nslots>();
-                let __lagrange_y0: [[#lane; #nn]; 2] = #out[0];
-                let (#q, #qdot): (&[#lane; #nn], &[#lane; #nn]) = (&__lagrange_y0[0], &__lagrange_y0[1]);
+                let #c: &mut [#rt::RowOf<#num>; #nslots] = #buf.slots::<#nslots>();
+                let __lagrange_y0: [[#num; #nn]; 2] = #out[0];
+                let (#q, #qdot): (&[#num; #nn], &[#num; #nn]) = (&__lagrange_y0[0], &__lagrange_y0[1]);
+                #binds
                 #stmts0
                 #set0
-                #( #c[#flat][1..=#order].fill(<#lane>::ZERO); )*
-                // A lane whose M₀ has no LDLᵀ is left out: the caller takes its scalar series.
-                let (#factor, #ok) = ::lagrange::__private::eom::FactorLanes::<#nn, #w>::new(&[#(#m0_rows),*]);
+                #( #c[#flat][1..=#order].fill(#zero); )*
+                // A single run pivots where M₀ has no LDLᵀ (or returns why it is singular); a
+                // lane where it has none is left out of the mask: the caller takes its member's
+                // single-run series.
+                let (#factor, __lagrange_ok) =
+                    #factor_ty::new(&[#(#m0_rows),*], &[#(#b0),*], #names_, #q, #qdot, #t)?;
                 for #k in 0..#order {
-                    let #b: [#lane; #nn] = if #k == 0 {
+                    let #b: [#num; #nn] = if #k == 0 {
                         [#(#b0),*]
                     } else {
                         #step
                         [#(#rhs),*]
                     };
-                    let #a = #factor.solve(&#b);
+                    let #a = ::lagrange::__private::eom::SeriesFactor::solve(
+                        &#factor, &#b, #names_, #q, #qdot, #t,
+                    )?;
                     let __lagrange_r = 1.0 / (#k + 1) as f64;
                     #(
                         #c[#accel][#k] = #a[#ii];
@@ -561,61 +531,12 @@ impl Program<'_> {
                         #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
                     )*
                 }
+                // Orders past MAX_ORDER are not computed.
                 for __lagrange_x in &mut #out[#order + 1..] {
-                    *__lagrange_x = [[<#lane>::NAN; #nn]; 2];
+                    *__lagrange_x = [[<#num as #real>::NAN; #nn]; 2];
                 }
-                ::core::option::Option::Some(#ok)
-            });
-        }
-        Some(quote! {
-            if #out.len() < 2 {
-                return ::core::option::Option::Some(::core::result::Result::Ok(()));
+                ::core::result::Result::Ok(__lagrange_ok)
             }
-            let #order = (#out.len() - 1).min(#max);
-            let #c: &mut [#rt::Row; #nslots] = #buf.slots::<#nslots>();
-            let __lagrange_y0: [[f64; #nn]; 2] = #out[0];
-            let (#q, #qdot): (&[f64; #nn], &[f64; #nn]) = (&__lagrange_y0[0], &__lagrange_y0[1]);
-            #stmts0
-            #set0
-            #( #c[#flat][1..=#order].fill(0.0); )*
-            let #factor = match ::lagrange::__private::eom::Factor::<#nn>::new(
-                &[#(#m0_rows),*],
-                &[#(#b0),*],
-                #names_,
-                #q,
-                #qdot,
-                #t,
-            ) {
-                ::core::result::Result::Ok(__lagrange_f) => __lagrange_f,
-                ::core::result::Result::Err(__lagrange_e) => {
-                    return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
-                }
-            };
-            for #k in 0..#order {
-                let #b: [f64; #nn] = if #k == 0 {
-                    [#(#b0),*]
-                } else {
-                    #step
-                    [#(#rhs),*]
-                };
-                let #a = match #factor.solve(&#b, #names_, #q, #qdot, #t) {
-                    ::core::result::Result::Ok(__lagrange_a) => __lagrange_a,
-                    ::core::result::Result::Err(__lagrange_e) => {
-                        return ::core::option::Option::Some(::core::result::Result::Err(__lagrange_e));
-                    }
-                };
-                let __lagrange_r = 1.0 / (#k + 1) as f64;
-                #(
-                    #c[#accel][#k] = #a[#ii];
-                    #out[#k + 1][0][#ii2] = #out[#k][1][#ii2] * __lagrange_r;
-                    #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
-                )*
-            }
-            // Orders past MAX_ORDER are not computed.
-            for __lagrange_x in &mut #out[#order + 1..] {
-                *__lagrange_x = [[f64::NAN; #nn]; 2];
-            }
-            ::core::option::Option::Some(::core::result::Result::Ok(()))
         })
     }
 }

@@ -55,7 +55,7 @@
 //! ```
 
 pub mod series;
-pub use series::{Factor, FactorLanes};
+pub use series::{Factor, LdlOf, SeriesFactor, SeriesReal};
 
 use crate::error::DynamicsError;
 use crate::linalg::{all_finite, solve_symmetric, Ldlt, SolveFailure};

@@ -1,55 +1,199 @@
 //! The order-by-order solve of the Taylor method: M₀ a_k = f_k − Σ_{j≥1} M_j a_{k−j} for the
-//! accelerations' coefficients a_k, with one factorization of M₀ per step ([`Factor`]; W members
-//! at once: [`FactorLanes`]) — the equations of motion solved as the other solves of this module
-//! solve them, order by order. The series kernels are in [`taylor`](crate::taylor).
+//! accelerations' coefficients a_k, with one factorization of M₀ per step — the equations of
+//! motion solved as the other solves of this module solve them, order by order. One LDLᵀ
+//! ([`LdlOf`]) for every width; for a single run ([`Factor`]) a failed pivot test takes the shared
+//! pivoting solve (or its typed error), for lanes it clears the lane in a mask. The series kernels
+//! are in [`taylor`](crate::taylor).
 
 use crate::error::DynamicsError;
-use crate::lanes::{Lanes, Mask};
-use crate::linalg::{ldlt_solve, Ldlt, ACCURATE_RELATIVE_PIVOT};
+use crate::linalg::{ldlt_solve, ACCURATE_RELATIVE_PIVOT};
+use crate::real::Real;
 
 use super::solve_mass_matrix;
 
-/// The factorization of M₀ that every order of one step shares.
+/// A [`Real`] with the factorization of the Taylor method's order-by-order solve: for `f64`
+/// [`Factor`], which pivots or explains where LDLᵀ fails; for lanes [`LdlOf`], the failed lanes
+/// in a mask. The numbers the generated series (`Lagrangian::series_in`) runs over.
 ///
 /// ```
-/// use lagrange_runtime::eom::Factor;
-/// let f = Factor::new(&[[2.0]], &[4.0], ["x"], &[0.0], &[0.0], 0.0).unwrap();
+/// use lagrange_runtime::{eom::{SeriesFactor, SeriesReal}, lanes::Lanes};
+/// fn solve<R: SeriesReal>(m: R, b: R) -> R {
+///     match R::Factor::<1>::new(&[[m]], &[b], ["x"], &[m], &[m], m) {
+///         Ok((f, _)) => f.solve(&[b], ["x"], &[m], &[m], m).map_or(R::NAN, |x| x[0]),
+///         Err(_) => R::NAN,
+///     }
+/// }
+/// assert_eq!(solve(2.0, 4.0), 2.0);
+/// assert_eq!(solve(Lanes([2.0, 4.0]), Lanes([4.0; 2])).0, [2.0, 1.0]);
+/// ```
+pub trait SeriesReal: Real {
+    /// The factorization of M₀ at this width.
+    type Factor<const N: usize>: SeriesFactor<Self, N>;
+}
+
+impl SeriesReal for f64 {
+    type Factor<const N: usize> = Factor<N>;
+}
+
+impl<const W: usize> SeriesReal for crate::lanes::Lanes<W> {
+    type Factor<const N: usize> = LdlOf<Self, N>;
+}
+
+/// The factorization of M₀ that every order of one Taylor step shares, over the kernels' number
+/// type `R` (its [`SeriesReal::Factor`]): what the generated series calls.
+pub trait SeriesFactor<R: Real, const N: usize>: Sized {
+    /// Factors M₀ (upper triangle), with the right-hand side of order 0 `b0` and the state
+    /// (`names`, q, q̇, t) for an error. Returns the lanes where the factorization holds; an
+    /// error only for a single run (the error of `solve_mass_matrix` when M₀ is singular).
+    fn new(
+        m0: &[[R; N]; N],
+        b0: &[R; N],
+        names: [&'static str; N],
+        q: &[R; N],
+        qdot: &[R; N],
+        t: R,
+    ) -> Result<(Self, R::Mask), DynamicsError>;
+
+    /// M₀⁻¹ b (meaningful in the lanes where the factorization holds).
+    fn solve(
+        &self,
+        b: &[R; N],
+        names: [&'static str; N],
+        q: &[R; N],
+        qdot: &[R; N],
+        t: R,
+    ) -> Result<[R; N], DynamicsError>;
+}
+
+/// LDLᵀ of M₀ over any [`Real`]: the operations of [`Ldlt`](crate::linalg::Ldlt) (factor and
+/// solve) in the same order, so a lane whose factorization succeeds solves bit for bit as `Ldlt`
+/// does. A lane where `Ldlt` would not give a factorization (a diagonal entry not finite, a pivot
+/// not positive or below [`ACCURATE_RELATIVE_PIVOT`] of its diagonal entry) is cleared in the
+/// mask [`factor`](LdlOf::factor) returns.
+///
+/// ```
+/// use lagrange_runtime::{eom::LdlOf, lanes::Lanes};
+/// let m = [[Lanes([2.0, -1.0])]];
+/// let (f, ok) = LdlOf::<Lanes<2>, 1>::factor(&m);
+/// assert_eq!(ok.0, [true, false]);
+/// assert_eq!(f.solve(&[Lanes([4.0, 4.0])])[0].0[0], 2.0);
+/// let (f, ok) = LdlOf::<f64, 1>::factor(&[[2.0]]);
+/// assert!(ok && f.solve(&[4.0]) == [2.0]);
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct LdlOf<R, const N: usize> {
+    /// L below the diagonal, stored transposed in the upper triangle (as `Ldlt`).
+    a: [[R; N]; N],
+    /// 1/d_j.
+    d_inv: [R; N],
+}
+
+impl<R: Real, const N: usize> LdlOf<R, N> {
+    /// Factors M₀ (upper triangle) in every lane; the mask says where the factorization holds.
+    #[inline(always)]
+    pub fn factor(m: &[[R; N]; N]) -> (Self, R::Mask) {
+        let mut ok = R::EVERY_LANE;
+        for (i, row) in m.iter().enumerate() {
+            ok = ok & row[i].finite();
+        }
+        let (mut a, mut u) = (*m, *m);
+        let mut d_inv = [R::ZERO; N];
+        for j in 0..N {
+            let (done, rest) = u.split_at_mut(j);
+            let Some(row_j) = rest.first_mut() else {
+                break;
+            };
+            for (k, row_k) in done.iter().enumerate() {
+                let lkj = a[k][j];
+                for (x, &y) in row_j[j..].iter_mut().zip(&row_k[j..]) {
+                    *x -= lkj * y;
+                }
+            }
+            let dj = row_j[j];
+            ok = ok & dj.greater(R::ZERO) & dj.greater(m[j][j] * ACCURATE_RELATIVE_PIVOT);
+            let r = R::from(1.0) / dj;
+            d_inv[j] = r;
+            for (l, &x) in a[j][j + 1..].iter_mut().zip(&row_j[j + 1..]) {
+                *l = x * r;
+            }
+        }
+        (LdlOf { a, d_inv }, ok)
+    }
+
+    /// M₀⁻¹ b in every lane (meaningful where the factorization holds).
+    #[inline(always)]
+    pub fn solve(&self, b: &[R; N]) -> [R; N] {
+        ldlt_solve(&self.a, &self.d_inv, b)
+    }
+}
+
+impl<R: Real, const N: usize> SeriesFactor<R, N> for LdlOf<R, N> {
+    #[inline(always)]
+    fn new(
+        m0: &[[R; N]; N],
+        _b0: &[R; N],
+        _names: [&'static str; N],
+        _q: &[R; N],
+        _qdot: &[R; N],
+        _t: R,
+    ) -> Result<(Self, R::Mask), DynamicsError> {
+        Ok(Self::factor(m0))
+    }
+
+    #[inline(always)]
+    fn solve(
+        &self,
+        b: &[R; N],
+        _names: [&'static str; N],
+        _q: &[R; N],
+        _qdot: &[R; N],
+        _t: R,
+    ) -> Result<[R; N], DynamicsError> {
+        Ok(LdlOf::solve(self, b))
+    }
+}
+
+/// The factorization of M₀ of a single run: [`LdlOf`], or where its pivot test fails the shared
+/// pivoting solve at every order (or that solve's error where M₀ is singular).
+///
+/// ```
+/// use lagrange_runtime::eom::{Factor, SeriesFactor};
+/// let (f, ok) = Factor::new(&[[2.0]], &[4.0], ["x"], &[0.0], &[0.0], 0.0).unwrap();
+/// assert!(ok);
 /// assert_eq!(f.solve(&[4.0], ["x"], &[0.0], &[0.0], 0.0).unwrap(), [2.0]);
+/// assert!(Factor::new(&[[0.0]], &[4.0], ["x"], &[0.0], &[0.0], 0.0).is_err());
 /// ```
 #[derive(Clone, Copy, Debug)]
 pub enum Factor<const N: usize> {
     /// LDLᵀ of M₀ (its upper triangle).
-    Ldlt(Ldlt<N>),
+    Ldlt(LdlOf<f64, N>),
     /// M₀ is not positive definite but regular: each order solves it with pivoting.
     Pivoting([[f64; N]; N]),
 }
 
-impl<const N: usize> Factor<N> {
-    /// Factors M₀ (upper triangle), with the right-hand side of order 0 `b0` and the state
-    /// (`names`, q, q̇, t) for an error: the error of `solve_mass_matrix` when M₀ is singular.
+impl<const N: usize> SeriesFactor<f64, N> for Factor<N> {
     #[inline]
-    pub fn new(
+    fn new(
         m0: &[[f64; N]; N],
         b0: &[f64; N],
         names: [&'static str; N],
         q: &[f64; N],
         qdot: &[f64; N],
         t: f64,
-    ) -> Result<Self, DynamicsError> {
-        match Ldlt::factor(m0) {
-            Ok(f) => Ok(Factor::Ldlt(f)),
-            Err(_) => {
+    ) -> Result<(Self, bool), DynamicsError> {
+        match LdlOf::factor(m0) {
+            (f, true) => Ok((Factor::Ldlt(f), true)),
+            (_, false) => {
                 // The shared solve either explains why M₀ is singular or solves an indefinite
                 // M₀ with pivoting.
                 solve_mass_matrix(m0, b0, names, q, qdot, t)?;
-                Ok(Factor::Pivoting(*m0))
+                Ok((Factor::Pivoting(*m0), true))
             }
         }
     }
 
-    /// M₀⁻¹ b.
     #[inline]
-    pub fn solve(
+    fn solve(
         &self,
         b: &[f64; N],
         names: [&'static str; N],
@@ -64,70 +208,11 @@ impl<const N: usize> Factor<N> {
     }
 }
 
-/// The factorization of M₀ for W members at once: the operations of [`Ldlt`] (factor and solve)
-/// lane by lane, in the same order, so a lane whose factorization succeeds solves bit for bit as
-/// the scalar [`Factor`] does. A lane where [`Ldlt`] would not give a factorization (a diagonal
-/// entry not finite, a pivot not positive or below [`ACCURATE_RELATIVE_PIVOT`] of its diagonal
-/// entry) is cleared in the mask [`new`](FactorLanes::new) returns: the caller computes that
-/// member's series with the scalar code, which explains or pivots.
-///
-/// ```
-/// use lagrange_runtime::{eom::FactorLanes, lanes::Lanes};
-/// let m = [[Lanes([2.0, -1.0])]];
-/// let (f, ok) = FactorLanes::<1, 2>::new(&m);
-/// assert_eq!(ok.0, [true, false]);
-/// assert_eq!(f.solve(&[Lanes([4.0, 4.0])])[0].0[0], 2.0);
-/// ```
-#[derive(Clone, Copy, Debug)]
-pub struct FactorLanes<const N: usize, const W: usize> {
-    /// L below the diagonal, stored transposed in the upper triangle (as `Ldlt`).
-    a: [[Lanes<W>; N]; N],
-    /// 1/d_j.
-    d_inv: [Lanes<W>; N],
-}
-
-impl<const N: usize, const W: usize> FactorLanes<N, W> {
-    /// Factors M₀ (upper triangle) in every lane; the mask says where the factorization holds.
-    #[inline(always)]
-    pub fn new(m: &[[Lanes<W>; N]; N]) -> (Self, Mask<W>) {
-        let mut ok = Mask::splat(true);
-        for (i, row) in m.iter().enumerate() {
-            ok = ok & row[i].finite();
-        }
-        let (mut a, mut u) = (*m, *m);
-        let mut d_inv = [Lanes::ZERO; N];
-        for j in 0..N {
-            let (done, rest) = u.split_at_mut(j);
-            let Some(row_j) = rest.first_mut() else {
-                break;
-            };
-            for (k, row_k) in done.iter().enumerate() {
-                let lkj = a[k][j];
-                for (x, &y) in row_j[j..].iter_mut().zip(&row_k[j..]) {
-                    *x -= lkj * y;
-                }
-            }
-            let dj = row_j[j];
-            ok = ok & dj.gt(0.0) & dj.gt(ACCURATE_RELATIVE_PIVOT * m[j][j]);
-            let r = 1.0 / dj;
-            d_inv[j] = r;
-            for (l, &x) in a[j][j + 1..].iter_mut().zip(&row_j[j + 1..]) {
-                *l = x * r;
-            }
-        }
-        (FactorLanes { a, d_inv }, ok)
-    }
-
-    /// M₀⁻¹ b in every lane (meaningful where the factorization holds).
-    #[inline(always)]
-    pub fn solve(&self, b: &[Lanes<W>; N]) -> [Lanes<W>; N] {
-        ldlt_solve(&self.a, &self.d_inv, b)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lanes::Lanes;
+    use crate::linalg::Ldlt;
 
     /// The lanes factorization solves as `Ldlt` does, bit for bit, and flags the lanes `Ldlt`
     /// refuses (indefinite, tiny pivot, not finite).
@@ -147,7 +232,7 @@ mod tests {
             Lanes([-1.7, 0.0, 1.0, 0.0]),
             Lanes([0.9; 4]),
         ];
-        let (f, ok) = FactorLanes::<3, 4>::new(&m);
+        let (f, ok) = LdlOf::<Lanes<4>, 3>::factor(&m);
         let x = f.solve(&b);
         for l in 0..4 {
             let scalar = Ldlt::factor(&ms[l]);

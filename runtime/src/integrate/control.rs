@@ -76,7 +76,7 @@ const FALLBACK_STEP: f64 = 1e-6;
 /// not an overflow to a zero step; a step that still comes out zero or non-finite is
 /// [`FALLBACK_STEP`] (at most `hmax`).
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn initial_step<L: Lagrangian<N> + ?Sized, const N: usize>(
+pub(crate) fn initial_step<L: Lagrangian<N>, const N: usize>(
     sys: &L,
     t: f64,
     y: &Y<N>,

@@ -15,7 +15,7 @@ use super::stepper::Stepper;
 /// norm (Hairer's blend of the 5th- and 3rd-order estimates). Stage 12 (f at y₁) is not yet evaluated.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
+pub(crate) fn step<L: Lagrangian<N>, const N: usize>(
     sys: &L,
     t: f64,
     y: &Y<N>,
@@ -47,7 +47,7 @@ pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
 
 /// The 7th-order dense-output coefficients on [t, t + h]; `k[12]` must hold f(t + h, y₁).
 /// Evaluates the three extra stages into `k[13..16]`.
-pub(crate) fn dense<L: Lagrangian<N> + ?Sized, const N: usize>(
+pub(crate) fn dense<L: Lagrangian<N>, const N: usize>(
     sys: &L,
     t: f64,
     y: &Y<N>,
@@ -94,7 +94,7 @@ pub(crate) fn eval_dense<const N: usize>(r: &[Y<N>; 8], s: f64) -> Y<N> {
 }
 
 /// The adaptive DOP853 stepper.
-pub(crate) struct Dop853<'a, L: ?Sized, const N: usize> {
+pub(crate) struct Dop853<'a, L, const N: usize> {
     sys: &'a L,
     rtol: f64,
     atol: f64,
@@ -111,7 +111,7 @@ pub(crate) struct Dop853<'a, L: ?Sized, const N: usize> {
     sc: StepControl,
 }
 
-impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
+impl<'a, L: Lagrangian<N>, const N: usize> Dop853<'a, L, N> {
     /// Starts at (t0, y0); evaluates f there and picks the first step.
     pub(crate) fn new(
         sys: &'a L,
@@ -155,7 +155,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
 /// fault of a stage.
 pub(crate) type Attempt<const N: usize> = Result<(Y<N>, f64, Option<Y<N>>), Fault>;
 
-impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
+impl<'a, L: Lagrangian<N>, const N: usize> Dop853<'a, L, N> {
     /// Starts the next step from the current node: its first stage is f there (FSAL).
     #[inline(always)]
     pub(crate) fn begin_step(&mut self) {
@@ -254,7 +254,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dop853<'a, L, N> {
     }
 }
 
-impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Dop853<'_, L, N> {
     fn t(&self) -> f64 {
         self.t
     }

@@ -64,7 +64,7 @@ const D: [f64; 7] = [
 /// One Dormand–Prince step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages
 /// into `k` in place (k₆ = f(t+h, y₁)), y₁ and the error estimate h Σ eⱼkⱼ.
 #[inline(always)]
-pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
+pub(crate) fn step<L: Lagrangian<N>, const N: usize>(
     sys: &L,
     t: f64,
     y: &Y<N>,
@@ -119,7 +119,7 @@ pub(crate) fn eval_dense<const N: usize>(r: &[Y<N>; 5], theta: f64) -> Y<N> {
 }
 
 /// The adaptive Dormand–Prince 5(4) stepper.
-pub(crate) struct Dopri5<'a, L: ?Sized, const N: usize> {
+pub(crate) struct Dopri5<'a, L, const N: usize> {
     sys: &'a L,
     rtol: f64,
     atol: f64,
@@ -133,7 +133,7 @@ pub(crate) struct Dopri5<'a, L: ?Sized, const N: usize> {
     sc: StepControl,
 }
 
-impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dopri5<'a, L, N> {
+impl<'a, L: Lagrangian<N>, const N: usize> Dopri5<'a, L, N> {
     /// Starts at (t0, y0); evaluates f there and picks the first step.
     pub(crate) fn new(
         sys: &'a L,
@@ -163,7 +163,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Dopri5<'a, L, N> {
     }
 }
 
-impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Dopri5<'_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Dopri5<'_, L, N> {
     fn t(&self) -> f64 {
         self.t
     }

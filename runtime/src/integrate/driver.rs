@@ -24,7 +24,7 @@ use super::variational::VariationalMidpoint;
 /// (the explicit methods are projected onto them after every step, the variational method takes
 /// the constrained RATTLE step).
 #[allow(clippy::too_many_arguments)]
-pub(super) fn run<L: Lagrangian<N> + ?Sized, const N: usize>(
+pub(super) fn run<L: Lagrangian<N>, const N: usize>(
     sys: &L,
     manifold: Option<&dyn Manifold<N>>,
     events: &[Event<'_, N>],
@@ -142,7 +142,7 @@ impl Sampling<'_> {
     }
 }
 
-pub(super) struct Driver<'s, 'a, 'o, L: ?Sized, const N: usize> {
+pub(super) struct Driver<'s, 'a, 'o, L, const N: usize> {
     sys: &'s L,
     /// The constraints of a constrained run.
     manifold: Option<&'s dyn Manifold<N>>,
@@ -208,7 +208,7 @@ pub(super) fn gauss_legendre(m: usize) -> Vec<(f64, f64)> {
     out
 }
 
-impl<'s, 'a, 'o, L: Lagrangian<N> + ?Sized, const N: usize> Driver<'s, 'a, 'o, L, N> {
+impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     /// The driver of a run of `method` on `sys` under the options `o`.
     pub(super) fn new(
         sys: &'s L,

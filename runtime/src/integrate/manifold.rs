@@ -71,9 +71,7 @@ fn least_norm<const N: usize, const K: usize>(
     Ok(d)
 }
 
-impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
-    for Constrained<'_, H, N, K>
-{
+impl<H: Holonomic<N, K>, const N: usize, const K: usize> Manifold<N> for Constrained<'_, H, N, K> {
     fn count(&self) -> usize {
         K
     }

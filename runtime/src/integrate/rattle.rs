@@ -32,7 +32,7 @@ use super::stepper::{FixedGrid, Stepper};
 use super::variational::{between_nodes, Midpoint, SINGULAR_STEP};
 
 /// The RATTLE stepper; its state is (t_k, q_k, p_k, q̇_k), every node on the constraints.
-pub(crate) struct Rattle<'a, L: ?Sized, const N: usize> {
+pub(crate) struct Rattle<'a, L, const N: usize> {
     sys: &'a L,
     m: &'a dyn Manifold<N>,
     grid: FixedGrid,
@@ -84,7 +84,7 @@ fn solve_bordered<const N: usize>(
     Ok((dx, x[N..].to_vec()))
 }
 
-impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Rattle<'a, L, N> {
+impl<'a, L: Lagrangian<N>, const N: usize> Rattle<'a, L, N> {
     /// Starts at (t0, q0, q̇0), a state on the constraints, with p0 = ∂L/∂q̇(q0, q̇0, t0).
     pub(crate) fn new(
         sys: &'a L,
@@ -284,7 +284,7 @@ fn inf_norm_slice(x: &[f64]) -> f64 {
     x.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
 }
 
-impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Rattle<'_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Rattle<'_, L, N> {
     fn t(&self) -> f64 {
         self.t
     }

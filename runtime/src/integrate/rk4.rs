@@ -8,7 +8,7 @@ use super::state::{combine, finite, rhs, Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
 
 /// One classical RK4 step of size h from (t, y) with k₁ = f(t, y).
-pub(crate) fn step<L: Lagrangian<N> + ?Sized, const N: usize>(
+pub(crate) fn step<L: Lagrangian<N>, const N: usize>(
     sys: &L,
     t: f64,
     y: &Y<N>,
@@ -71,7 +71,7 @@ pub(crate) fn hermite<const N: usize>(
 }
 
 /// The fixed-step RK4 stepper.
-pub(crate) struct Rk4<'a, L: ?Sized, const N: usize> {
+pub(crate) struct Rk4<'a, L, const N: usize> {
     sys: &'a L,
     grid: FixedGrid,
     k: u64,
@@ -83,7 +83,7 @@ pub(crate) struct Rk4<'a, L: ?Sized, const N: usize> {
     f_old: Y<N>,
 }
 
-impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Rk4<'a, L, N> {
+impl<'a, L: Lagrangian<N>, const N: usize> Rk4<'a, L, N> {
     /// Starts at (t0, y0) on the given step grid.
     pub(crate) fn new(
         sys: &'a L,
@@ -106,7 +106,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Rk4<'a, L, N> {
     }
 }
 
-impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Rk4<'_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Rk4<'_, L, N> {
     fn t(&self) -> f64 {
         self.t
     }

@@ -44,7 +44,7 @@ type Observer<'a, const N: usize> = Box<dyn FnMut(&Sample<N>) + 'a>;
 /// assert_eq!(tr.t, vec![1.0, 1.25, 1.5, 1.75, 2.0]);
 /// assert!((tr.q[4][0] - 1.0_f64.sin()).abs() < 1e-8);
 /// ```
-pub struct Simulation<'a, L: ?Sized, const N: usize> {
+pub struct Simulation<'a, L, const N: usize> {
     pub(super) sys: Sys<'a, L>,
     /// The constraints of a run made by [`Simulation::constrained`].
     pub(super) manifold: Option<Box<dyn Manifold<N> + 'a>>,
@@ -66,7 +66,7 @@ pub struct Simulation<'a, L: ?Sized, const N: usize> {
     pub(super) keep_samples: bool,
 }
 
-impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
+impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// A run of `system` from q0, q̇0 at t0 = 0 with DOP853 (rtol 1e-10, atol 1e-12); set the end
     /// time with [`until`](Simulation::until).
     ///
@@ -463,7 +463,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
 
 /// A checked run, ready for the driver: the system, its constraints and events, the method, the
 /// initial state, the largest step and the run options.
-pub(super) struct Prepared<'p, 'a, L: ?Sized, const N: usize> {
+pub(super) struct Prepared<'p, 'a, L, const N: usize> {
     pub(super) sys: &'p L,
     pub(super) manifold: Option<&'p (dyn Manifold<N> + 'a)>,
     pub(super) events: &'p [Event<'a, N>],
@@ -476,12 +476,12 @@ pub(super) struct Prepared<'p, 'a, L: ?Sized, const N: usize> {
 
 /// The system of a run: borrowed from the caller ([`Simulation::new`]) or a view made for the
 /// run ([`Simulation::constrained`]).
-pub(super) enum Sys<'a, L: ?Sized> {
+pub(super) enum Sys<'a, L> {
     Borrowed(&'a L),
     Owned(Box<L>),
 }
 
-impl<L: ?Sized> core::ops::Deref for Sys<'_, L> {
+impl<L> core::ops::Deref for Sys<'_, L> {
     type Target = L;
     fn deref(&self) -> &L {
         match self {
@@ -491,7 +491,7 @@ impl<L: ?Sized> core::ops::Deref for Sys<'_, L> {
     }
 }
 
-impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'a, L, N> {
+impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// y0 = (q0, q̇0), on the constraints of a constrained run: checked, or projected there when
     /// asked.
     fn initial_state(&self) -> Result<[[f64; N]; 2], SimulationError> {
@@ -550,7 +550,7 @@ const INITIAL_TOLERANCE: f64 = 1e-10;
 
 impl<'a, H, const N: usize, const K: usize> Simulation<'a, Constrained<'a, H, N, K>, N>
 where
-    H: Holonomic<N, K> + ?Sized,
+    H: Holonomic<N, K>,
 {
     /// A run of a system with holonomic constraints from (q0, q̇0): the same builder and methods
     /// as [`Simulation::new`].
@@ -600,7 +600,7 @@ where
     /// This constrained run with every option of `plain` (method, end time, samples, events,
     /// observer, limits): how an ensemble gives its members' constrained runs the options it was
     /// configured with on the plain builder.
-    pub(crate) fn options_from<M: ?Sized>(mut self, plain: Simulation<'a, M, N>) -> Self {
+    pub(crate) fn options_from<M>(mut self, plain: Simulation<'a, M, N>) -> Self {
         self.t0 = plain.t0;
         self.until = plain.until;
         self.method = plain.method;

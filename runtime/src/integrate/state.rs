@@ -68,7 +68,7 @@ impl From<DynamicsError> for Fault {
 
 /// f(t, y) = (q̇, q̈(q, q̇, t)), counted in `stats`.
 #[inline(always)]
-pub(crate) fn rhs<L: Lagrangian<N> + ?Sized, const N: usize>(
+pub(crate) fn rhs<L: Lagrangian<N>, const N: usize>(
     sys: &L,
     t: f64,
     y: &Y<N>,
@@ -102,11 +102,7 @@ pub(crate) use stages;
 /// heavy-top DOP853 run, where 2 of 3 coordinates are cyclic). y₁ and the error estimate still
 /// integrate every position. `Simulation::run` checks the declaration before the first step.
 #[inline(always)]
-pub(crate) fn hold_cyclic<L: Lagrangian<N> + ?Sized, const N: usize>(
-    _sys: &L,
-    y: &Y<N>,
-    ys: &mut Y<N>,
-) {
+pub(crate) fn hold_cyclic<L: Lagrangian<N>, const N: usize>(_sys: &L, y: &Y<N>, ys: &mut Y<N>) {
     let cyclic: [bool; N] = const { L::CYCLIC };
     let held: [f64; N] = core::array::from_fn(|i| if cyclic[i] { y[0][i] } else { ys[0][i] });
     ys[0] = held;

@@ -31,7 +31,7 @@ pub(crate) fn order(tol: f64) -> usize {
 }
 
 /// The Taylor stepper.
-pub(crate) struct Taylor<'a, L: ?Sized, const N: usize> {
+pub(crate) struct Taylor<'a, L, const N: usize> {
     sys: &'a L,
     /// The order from the tolerance (the series may be wider for one step, see the module docs).
     p: usize,
@@ -45,9 +45,11 @@ pub(crate) struct Taylor<'a, L: ?Sized, const N: usize> {
     /// The series of the last step (from its start), for the dense output.
     old: Vec<Y<N>>,
     buf: TaylorBuf,
+    /// The series kernel's copy of the system's parameters (loaded at the first call).
+    params: Vec<f64>,
 }
 
-impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
+impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
     /// Starts at (t0, y0).
     pub(crate) fn new(sys: &'a L, t0: f64, y0: Y<N>, tol: f64, hmax: f64) -> Self {
         let p = order(tol);
@@ -62,6 +64,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
             t_old: t0,
             old: vec![y0; p + 1],
             buf: TaylorBuf::new(),
+            params: Vec::new(),
         }
     }
 
@@ -80,11 +83,15 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> Taylor<'a, L, N> {
         self.series.resize(p + 1, [[0.0; N]; 2]);
         self.series[0] = self.y;
         stats.rhs_evals += 1;
-        match self
-            .sys
-            .taylor_series(self.t, &mut self.series, &mut self.buf)
-        {
-            Some(Ok(())) => {}
+        match L::series_in(
+            &[self.sys],
+            &mut self.params,
+            self.t,
+            &mut self.series,
+            &mut self.buf,
+        ) {
+            // A single run's factorization pivots where LDLᵀ fails: its mask is always set.
+            Some(Ok(_)) => {}
             Some(Err(e)) => return Err(Fault::Dynamics(e)),
             // `Simulation::run` checks this before the first step.
             None => return Err(Fault::NonFinite),
@@ -193,7 +200,7 @@ fn horner<const N: usize>(series: &[Y<N>], tau: f64) -> Y<N> {
     y
 }
 
-impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for Taylor<'_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Taylor<'_, L, N> {
     fn t(&self) -> f64 {
         self.t
     }

@@ -269,7 +269,7 @@ pub struct Trajectory<const N: usize> {
 
 impl<const N: usize> Trajectory<N> {
     /// An empty trajectory of the system `L`, with its names and flags.
-    pub(crate) fn empty<L: crate::Lagrangian<N> + ?Sized>(constraint_count: usize) -> Self {
+    pub(crate) fn empty<L: crate::Lagrangian<N>>(constraint_count: usize) -> Self {
         Trajectory {
             t: Vec::new(),
             q: Vec::new(),

@@ -7,7 +7,7 @@ use crate::lagrangian::Lagrangian;
 use super::method::Method;
 use super::simulation::Simulation;
 
-impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
     /// Checks the options: the end time, or the message of the error.
     pub(super) fn validate(&self) -> Result<f64, String> {
         let until = self
@@ -104,7 +104,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                          Method::VariationalMidpoint (RATTLE) for a constrained run"
                         .to_string());
                 }
-                if let Some(what) = L::NOT_ANALYTIC {
+                if let Some(what) = L::COMPILED.not_analytic {
                     return Err(format!(
                         "the Taylor method needs a body that is analytic along the motion (each \
                          step sums one series, which runs straight across a kink or a jump \
@@ -115,9 +115,7 @@ impl<L: Lagrangian<N> + ?Sized, const N: usize> Simulation<'_, L, N> {
                 }
                 let mut out = [[self.q0, self.qdot0], [[0.0; N]; 2]];
                 let mut buf = crate::taylor::TaylorBuf::new();
-                if self
-                    .sys
-                    .taylor_series(self.t0, &mut out, &mut buf)
+                if L::series_in(&[&*self.sys], &mut Vec::new(), self.t0, &mut out, &mut buf)
                     .is_none()
                 {
                     return Err("the Taylor method needs the system's Taylor series, which \

@@ -33,7 +33,7 @@ use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
 
 /// The variational midpoint stepper; its own state is (t_k, q_k, p_k).
-pub(crate) struct VariationalMidpoint<'a, L: ?Sized, const N: usize> {
+pub(crate) struct VariationalMidpoint<'a, L, const N: usize> {
     sys: &'a L,
     grid: FixedGrid,
     k: u64,
@@ -49,7 +49,7 @@ pub(crate) struct VariationalMidpoint<'a, L: ?Sized, const N: usize> {
     v_old: [f64; N],
 }
 
-impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> VariationalMidpoint<'a, L, N> {
+impl<'a, L: Lagrangian<N>, const N: usize> VariationalMidpoint<'a, L, N> {
     /// Starts at (t0, q0, q̇0) with p0 = ∂L/∂q̇(q0, q̇0, t0).
     pub(crate) fn new(sys: &'a L, grid: FixedGrid, q0: [f64; N], v0: [f64; N]) -> Self {
         let p = sys.momenta(&q0, &v0, grid.t0);
@@ -104,7 +104,7 @@ impl<'a, L: Lagrangian<N> + ?Sized, const N: usize> VariationalMidpoint<'a, L, N
     }
 }
 
-impl<L: Lagrangian<N> + ?Sized, const N: usize> Stepper<N> for VariationalMidpoint<'_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VariationalMidpoint<'_, L, N> {
     fn t(&self) -> f64 {
         self.t
     }
@@ -249,7 +249,7 @@ pub(super) struct Midpoint<const N: usize> {
 
 impl<const N: usize> Midpoint<N> {
     /// Evaluates R at q1 (one Hessian-jet evaluation of L, counted in `stats`).
-    pub(super) fn at<L: Lagrangian<N> + ?Sized>(
+    pub(super) fn at<L: Lagrangian<N>>(
         sys: &L,
         q0: &[f64; N],
         q1: &[f64; N],

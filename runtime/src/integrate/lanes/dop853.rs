@@ -3,7 +3,7 @@
 //! batch mode does).
 //!
 //! The stages, the new state and the error sums of all lanes are one pass of vector code (the
-//! system's [`Lagrangian::accelerations_lanes`]); everything that is per member stays the scalar
+//! system's [`Lagrangian::accelerations_in`]); everything that is per member stays the scalar
 //! code of [`Dop853`] and the driver, run on that member's own stepper: the step-size controller,
 //! the decision, the samples, events, dense output and errors. So a lane's trajectory is the
 //! scalar run's bit for bit (tests/ensemble_lanes.rs), and a member that ends (or fails) frees
@@ -22,8 +22,9 @@ use crate::integrate::state::{combine, weighted, Fault, Stats, YOf, Y};
 use crate::integrate::stepper::Stepper;
 use crate::lagrangian::Lagrangian;
 use crate::lanes::Lanes;
+use crate::real::Real;
 
-use super::members::{enter, fill, lanes_of, load_params, retire, End, Out, Slot};
+use super::members::{accelerations, enter, fill, lanes_of, retire, End, Out, Slot};
 
 /// What the DOP853 engine keeps per member.
 struct Attempting {
@@ -53,7 +54,7 @@ pub(super) fn run_dop853_lanes<
 ) {
     let mut queue = queue;
     let mut slots: [Option<DopSlot<'_, '_, L, N>>; W] = core::array::from_fn(|_| None);
-    let mut params = vec![Lanes::<W>::ZERO; L::LANE_PARAMS];
+    let mut params: Vec<Lanes<W>> = Vec::new();
     let mut k = [[[Lanes::<W>::ZERO; N]; 2]; 16];
     loop {
         let refreshed = fill(&mut slots, &mut queue, out, start, pending);
@@ -61,7 +62,7 @@ pub(super) fn run_dop853_lanes<
             return;
         };
         if refreshed {
-            load_params(&mut params, &lane);
+            params.clear();
         }
         let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.sys());
         // Gather: t, h, tolerances, y and f at the node (k₀) of every lane.
@@ -82,14 +83,14 @@ pub(super) fn run_dop853_lanes<
                 }
             }
         }
-        let v = vector_step(&members, &params, t, &y, &mut k, h, rtol, atol);
+        let v = vector_step(&members, &mut params, t, &y, &mut k, h, rtol, atol);
         // f at y₁ for the lanes that accept (the others' values are not read).
         let f1 = v
             .ln_err
             .0
             .iter()
             .any(|&e| e <= 0.0)
-            .then(|| L::accelerations_lanes(&members, &params, &v.y1[0], &v.y1[1], t + h));
+            .then(|| accelerations(&members, &mut params, &v.y1[0], &v.y1[1], t + h));
         // Scatter: each busy lane settles its attempt on its own stepper.
         for l in 0..W {
             let Some(s) = slots[l].as_mut() else { continue };
@@ -211,7 +212,7 @@ struct VectorStep<const N: usize, const W: usize> {
 #[inline(always)]
 fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize>(
     members: &[&L; W],
-    params: &[Lanes<W>],
+    params: &mut Vec<Lanes<W>>,
     t: Lanes<W>,
     y: &YOf<Lanes<W>, N>,
     k: &mut [YOf<Lanes<W>, N>; 16],
@@ -231,7 +232,7 @@ fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize>(
                     ys[0][i] = y[0][i];
                 }
             }
-            let a = L::accelerations_lanes(members, params, &ys[0], &ys[1], t + C[$s] * h);
+            let a = accelerations(members, params, &ys[0], &ys[1], t + C[$s] * h);
             for ai in &a {
                 finite += *ai * 0.0;
             }
@@ -246,7 +247,7 @@ fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize>(
     let mut err5 = Lanes::<W>::ZERO;
     let mut err3 = Lanes::<W>::ZERO;
     for i in 0..N {
-        let sk = |c: usize| atol + rtol * y[c][i].abs().zip(y1[c][i].abs(), f64::max);
+        let sk = |c: usize| atol + rtol * Real::abs(y[c][i]).zip(Real::abs(y1[c][i]), f64::max);
         let (s0, s1) = (sk(0), sk(1));
         let (a, b) = (e5[0][i] / s0, e5[1][i] / s1);
         err5 += a * a + b * b;

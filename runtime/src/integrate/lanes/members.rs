@@ -1,7 +1,7 @@
 //! The member plumbing every lanes engine shares: a member taken into a lane ([`enter`], its
 //! [`Slot`]), the refill of free lanes from the queue ([`fill`]), the lane-by-lane view of the
-//! busy slots ([`lanes_of`]), the parameters of the lanes code ([`load_params`]) and the end of a
-//! run ([`retire`]); and the scalar driver for the runs the engines do not take ([`scalar`]).
+//! busy slots ([`lanes_of`]), q̈ of the lanes with the per-lane fallback ([`accelerations`]) and the
+//! end of a run ([`retire`]); and the scalar driver for the runs the engines do not take ([`scalar`]).
 
 use crate::integrate::driver::{self, Driver, Progress, RunOptions};
 use crate::integrate::error::SimulationError;
@@ -11,11 +11,10 @@ use crate::integrate::state::{Fault, Stats, Y};
 use crate::integrate::stepper::Stepper;
 use crate::integrate::trajectory::Trajectory;
 use crate::lagrangian::Lagrangian;
-use crate::lanes::Lanes;
+use crate::lanes::{Lanes, Mask};
 
-/// One member in a lane: its position in the input, its run (driver, stepper, options,
-/// parameters) and what the engine keeps per member besides (`X`).
-pub(super) struct Slot<'p, 'a, L: ?Sized, S, X, const N: usize> {
+/// One member in a lane: its position in the input, its run (driver, stepper, options) and what the engine keeps per member besides (`X`).
+pub(super) struct Slot<'p, 'a, L, S, X, const N: usize> {
     pub(super) pos: usize,
     pub(super) run: Entered<'p, 'a, L, S, N>,
     pub(super) own: X,
@@ -85,14 +84,68 @@ pub(super) fn lanes_of<T, const W: usize>(slots: &[Option<T>; W]) -> Option<[&T;
     }))
 }
 
-/// Loads the lane parameters of the members in `lane` (parameter p of every lane in `params[p]`).
-pub(super) fn load_params<L: ?Sized, S, X, const N: usize, const W: usize>(
-    params: &mut [Lanes<W>],
-    lane: &[&Slot<'_, '_, L, S, X, N>; W],
-) {
-    for (p, v) in params.iter_mut().enumerate() {
-        *v = Lanes::from_fn(|l| lane[l].run.params[p]);
+/// q̈ of every lane's member: the system's compiled kernel ([`Lagrangian::accelerations_in`]),
+/// a lane it leaves out (a failed pivot test, a value not finite) by that member's own
+/// [`Lagrangian::accelerations`], NaN where that fails too; every lane by its member where the
+/// system has no compiled kernel. `params`: the kernel's copy of the members' parameters
+/// (emptied by the engine when a lane's member changes).
+///
+/// ```
+/// # use lagrange_runtime::{ensemble::lane_accelerations, lanes::Lanes, Lagrangian, Scalar};
+/// struct Spring { k: f64 }
+/// impl Lagrangian<1> for Spring {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+///         (v[0] * v[0] - q[0] * q[0] * self.k) * 0.5
+///     }
+/// }
+/// let (a, b) = (Spring { k: 1.0 }, Spring { k: 4.0 });
+/// let x = Lanes([1.0, 0.5]);
+/// let qdd = lane_accelerations(&[&a, &b], &mut Vec::new(), &[x], &[Lanes([0.0; 2])], Lanes([0.0; 2]));
+/// assert_eq!(qdd[0].0, [-1.0, -2.0]);
+/// ```
+#[inline(always)]
+pub fn accelerations<L: Lagrangian<N>, const N: usize, const W: usize>(
+    members: &[&L; W],
+    params: &mut Vec<Lanes<W>>,
+    q: &[Lanes<W>; N],
+    qdot: &[Lanes<W>; N],
+    t: Lanes<W>,
+) -> [Lanes<W>; N] {
+    match L::accelerations_in(members, params, q, qdot, t) {
+        Some((x, ok)) if ok.all() => x,
+        Some((x, ok)) => one_by_one(members, q, qdot, t, x, ok),
+        None => one_by_one(members, q, qdot, t, [Lanes::NAN; N], Mask::splat(false)),
     }
+}
+
+/// `x`, with every lane not set in `ok` replaced by its member's own
+/// [`Lagrangian::accelerations`] (NaN where that fails).
+// Out of line: a cold path for generated systems, and inlining a jets derivation at each of the
+// twelve stages of every instantiation costs build time for nothing.
+#[inline(never)]
+fn one_by_one<L: Lagrangian<N>, const N: usize, const W: usize>(
+    members: &[&L; W],
+    q: &[Lanes<W>; N],
+    qdot: &[Lanes<W>; N],
+    t: Lanes<W>,
+    mut x: [Lanes<W>; N],
+    ok: Mask<W>,
+) -> [Lanes<W>; N] {
+    for (l, sys) in members.iter().enumerate() {
+        if ok.0[l] {
+            continue;
+        }
+        let ql: [f64; N] = core::array::from_fn(|i| q[i].0[l]);
+        let vl: [f64; N] = core::array::from_fn(|i| qdot[i].0[l]);
+        let a = sys.accelerations(&ql, &vl, t.0[l]).unwrap_or([f64::NAN; N]);
+        for i in 0..N {
+            x[i].0[l] = a[i];
+        }
+    }
+    x
 }
 
 /// How a member's run ended.
@@ -124,13 +177,12 @@ fn unreachable_free_lane() -> ! {
 }
 
 /// A member taken into a lane, whatever its method: its driver (samples, events, trajectory),
-/// its place between steps, its scalar stepper, its options and its parameters for the lanes code.
-pub(super) struct Entered<'p, 'a, L: ?Sized, S, const N: usize> {
+/// its place between steps, its scalar stepper and its options.
+pub(super) struct Entered<'p, 'a, L, S, const N: usize> {
     pub(super) driver: Driver<'p, 'a, 'p, L, N>,
     pub(super) progress: Progress,
     pub(super) stepper: S,
     pub(super) opts: RunOptions<'p>,
-    pub(super) params: Vec<f64>,
 }
 
 /// Starts the run of `sim` for a lanes engine, where `takes` finds the engine's method (and
@@ -183,14 +235,11 @@ pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
             return None;
         }
     };
-    let mut params = vec![0.0; L::LANE_PARAMS];
-    sys.lane_params(&mut params);
     Some(Entered {
         driver,
         progress,
         stepper,
         opts,
-        params,
     })
 }
 

@@ -9,6 +9,7 @@ mod dop853;
 mod members;
 mod taylor;
 
+pub use members::accelerations;
 pub(crate) use members::Out;
 
 use crate::integrate::method::Method;

@@ -1,6 +1,6 @@
 //! The Taylor method over SIMD lanes: W members of an ensemble have their Taylor series computed
 //! together, one member per lane of [`Lanes`] (the system's generated
-//! [`Lagrangian::taylor_series_lanes`]: the recurrences of every node, order by order, as one pass
+//! [`Lagrangian::series_in`]: the recurrences of every node, order by order, as one pass
 //! of vector code); each member then takes its own step from its series with its own scalar
 //! [`Taylor`] stepper and driver (the Jorba–Zou step size, the sum, samples, events, dense output,
 //! errors). Taylor steps are never rejected, so a lane's step is the scalar run's step whenever its
@@ -21,7 +21,7 @@ use crate::integrate::state::{Fault, YOf};
 use crate::integrate::stepper::Stepper;
 use crate::integrate::taylor::Taylor;
 
-use super::members::{enter, fill, lanes_of, load_params, retire, End, Out, Slot};
+use super::members::{enter, fill, lanes_of, retire, End, Out, Slot};
 
 /// A Taylor member in a lane (nothing kept besides its run).
 type TaylorSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, L, Taylor<'p, L, N>, (), N>;
@@ -64,7 +64,7 @@ pub(super) fn run_taylor_lanes<
 ) {
     let mut queue = queue;
     let mut slots: [Option<TaylorSlot<'p, 'a, L, N>>; W] = core::array::from_fn(|_| None);
-    let mut params = vec![Lanes::<W>::ZERO; L::LANE_PARAMS];
+    let mut params: Vec<Lanes<W>> = Vec::new();
     let mut series: Vec<YOf<Lanes<W>, N>> = Vec::new();
     let mut buf = SeriesBuf::<Lanes<W>>::new();
     loop {
@@ -73,7 +73,7 @@ pub(super) fn run_taylor_lanes<
             return;
         };
         if refreshed {
-            load_params(&mut params, &lane);
+            params.clear();
         }
         let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.sys());
         let orders = lane.map(|s| s.run.stepper.order());
@@ -91,7 +91,8 @@ pub(super) fn run_taylor_lanes<
                 }
             }
         }
-        let done = L::taylor_series_lanes(&members, &params, t, &mut series, &mut buf);
+        let done =
+            L::series_in(&members, &mut params, t, &mut series, &mut buf).and_then(Result::ok);
         // 0 · x is 0 for finite x and NaN otherwise: a lane's sum is 0 only where its series
         // is finite (the orders past the lowest member's apart: a member does not read them).
         let mut finite = [Lanes::<W>::ZERO; 2];
