@@ -91,25 +91,25 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         __lagrange_qdot: &[f64; 3],
         __lagrange_t: f64,
     ) -> ::core::result::Result<[f64; 3], ::lagrange::__private::DynamicsError> {
-        let (__lagrange_qddot, __lagrange_ok, __lagrange_m, __lagrange_f) =
-            __lagrange_HeavyTop_67f09420_kernels::accelerations::<f64>(
-                &Self::__lagrange_params(self),
-                __lagrange_q,
-                __lagrange_qdot,
-                __lagrange_t,
-            );
-        if __lagrange_ok {
-            ::core::result::Result::Ok(__lagrange_qddot)
-        } else {
-            ::lagrange::__private::solve_mass_matrix(
-                &__lagrange_m,
-                &__lagrange_f,
-                <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
-                __lagrange_q,
-                __lagrange_qdot,
-                __lagrange_t,
-            )
-        }
+        __lagrange_HeavyTop_67f09420_kernels::accelerations::<f64, _>(
+            &Self::__lagrange_params(self),
+            __lagrange_q,
+            __lagrange_qdot,
+            __lagrange_t,
+            |__lagrange_qddot, __lagrange_ok| {
+                __lagrange_ok.then_some(::core::result::Result::Ok(__lagrange_qddot))
+            },
+            |__lagrange_m, __lagrange_f| {
+                ::lagrange::__private::solve_mass_matrix(
+                    __lagrange_m,
+                    __lagrange_f,
+                    <Self as ::lagrange::__private::Lagrangian<3>>::COORDINATES,
+                    __lagrange_q,
+                    __lagrange_qdot,
+                    __lagrange_t,
+                )
+            },
+        )
     }
     #[inline(always)]
     fn pieces(
@@ -366,18 +366,27 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         __lagrange_qdot: &[R; 3],
         __lagrange_t: R,
     ) -> ::core::option::Option<([R; 3], <R as ::lagrange::__private::Real>::Mask)> {
-        let (__lagrange_x, __lagrange_ok, _, _) =
-            __lagrange_HeavyTop_67f09420_kernels::accelerations::<R>(
-                ::lagrange::__private::kernel_params(
-                    __lagrange_members,
-                    __lagrange_params,
-                    Self::__lagrange_params,
-                )?,
-                __lagrange_q,
-                __lagrange_qdot,
-                __lagrange_t,
-            );
-        ::core::option::Option::Some((__lagrange_x, __lagrange_ok))
+        ::core::option::Option::Some(__lagrange_HeavyTop_67f09420_kernels::accelerations::<R, _>(
+            ::lagrange::__private::kernel_params(
+                __lagrange_members,
+                __lagrange_params,
+                Self::__lagrange_params,
+            )?,
+            __lagrange_q,
+            __lagrange_qdot,
+            __lagrange_t,
+            |__lagrange_x, __lagrange_ok| {
+                ::core::option::Option::Some((__lagrange_x, __lagrange_ok))
+            },
+            |_, _| {
+                (
+                    [<R as ::lagrange::__private::Real>::NAN; 3],
+                    <R as ::lagrange::__private::Real>::finite(
+                        <R as ::lagrange::__private::Real>::NAN,
+                    ),
+                )
+            },
+        ))
     }
     #[inline(always)]
     fn series_in<R: ::lagrange::__private::eom::SeriesReal>(
@@ -422,20 +431,18 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
 mod __lagrange_HeavyTop_67f09420_kernels {
     #[doc = r" How many numbers `__lagrange_params` loads (the kernels' parameters)."]
     pub(super) const PARAMS: usize = 5;
-    #[doc = r" q̈ from M q̈ = f (the straight-line LDLᵀ), the lanes where every pivot test passed"]
-    #[doc = r" and every value is finite, and M (upper triangle) and f for the careful path."]
+    #[doc = r" q̈ from M q̈ = f (the straight-line LDLᵀ) and the lanes where every pivot test"]
+    #[doc = r" passed and every value is finite, handed to `done`; where that declines, M (upper"]
+    #[doc = r" triangle) and f to `careful` (formed only on that path)."]
     #[inline(always)]
-    pub(super) fn accelerations<R: ::lagrange::__private::Real>(
+    pub(super) fn accelerations<R: ::lagrange::__private::Real, O>(
         __lagrange_params: &[R; PARAMS],
         __lagrange_q: &[R; 3],
         __lagrange_qdot: &[R; 3],
         __lagrange_t: R,
-    ) -> (
-        [R; 3],
-        <R as ::lagrange::__private::Real>::Mask,
-        [[R; 3]; 3],
-        [R; 3],
-    ) {
+        done: impl FnOnce([R; 3], <R as ::lagrange::__private::Real>::Mask) -> ::core::option::Option<O>,
+        careful: impl FnOnce(&[[R; 3]; 3], &[R; 3]) -> O,
+    ) -> O {
         let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
         let __lagrange_p_i_perp: R = __lagrange_params[0];
         let __lagrange_p_i_par: R = __lagrange_params[1];
@@ -510,19 +517,35 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             __lagrange_x91 + __lagrange_x93,
             __lagrange_x74 - __lagrange_x68,
         );
-        let (__lagrange_qddot, __lagrange_ok) = {
+        let (__lagrange_qddot, __lagrange_ok) = '__lagrange_fast: {
             let __lagrange_ok = <R as ::lagrange::__private::Real>::EVERY_LANE;
             let __lagrange_ok = __lagrange_ok
                 & <R as ::lagrange::__private::Real>::greater(
                     __lagrange_x57,
                     <R as ::core::convert::From<f64>>::from(0.0),
                 );
+            if <R as ::lagrange::__private::Real>::WIDTH == 1
+                && !<R as ::lagrange::__private::Real>::all(__lagrange_ok)
+            {
+                break '__lagrange_fast (
+                    [<R as ::lagrange::__private::Real>::NAN; 3],
+                    __lagrange_ok,
+                );
+            }
             let __lagrange_det_1_2: R = __lagrange_x104;
             let __lagrange_ok = __lagrange_ok
                 & <R as ::lagrange::__private::Real>::greater(
                     __lagrange_det_1_2,
                     <R as ::core::convert::From<f64>>::from(0.0),
                 );
+            if <R as ::lagrange::__private::Real>::WIDTH == 1
+                && !<R as ::lagrange::__private::Real>::all(__lagrange_ok)
+            {
+                break '__lagrange_fast (
+                    [<R as ::lagrange::__private::Real>::NAN; 3],
+                    __lagrange_ok,
+                );
+            }
             let __lagrange_y_1: R = (__lagrange_p_i_par * __lagrange_x96
                 - __lagrange_x58 * __lagrange_x77)
                 / __lagrange_det_1_2;
@@ -535,6 +558,14 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                     __lagrange_d_0,
                     __lagrange_p_i_perp * ::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT,
                 );
+            if <R as ::lagrange::__private::Real>::WIDTH == 1
+                && !<R as ::lagrange::__private::Real>::all(__lagrange_ok)
+            {
+                break '__lagrange_fast (
+                    [<R as ::lagrange::__private::Real>::NAN; 3],
+                    __lagrange_ok,
+                );
+            }
             let __lagrange_y_0: R = __lagrange_x95;
             let __lagrange_y_0: R = __lagrange_y_0 / __lagrange_d_0;
             let __lagrange_ok = __lagrange_ok
@@ -546,28 +577,29 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_ok,
             )
         };
-        (
-            __lagrange_qddot,
-            __lagrange_ok,
-            [
-                [
-                    __lagrange_p_i_perp,
-                    <R as ::core::convert::From<f64>>::from(0.0),
-                    <R as ::core::convert::From<f64>>::from(0.0),
+        match done(__lagrange_qddot, __lagrange_ok) {
+            ::core::option::Option::Some(o) => o,
+            ::core::option::Option::None => careful(
+                &[
+                    [
+                        __lagrange_p_i_perp,
+                        <R as ::core::convert::From<f64>>::from(0.0),
+                        <R as ::core::convert::From<f64>>::from(0.0),
+                    ],
+                    [
+                        <R as ::core::convert::From<f64>>::from(0.0),
+                        __lagrange_x57,
+                        __lagrange_x58,
+                    ],
+                    [
+                        <R as ::core::convert::From<f64>>::from(0.0),
+                        <R as ::core::convert::From<f64>>::from(0.0),
+                        __lagrange_p_i_par,
+                    ],
                 ],
-                [
-                    <R as ::core::convert::From<f64>>::from(0.0),
-                    __lagrange_x57,
-                    __lagrange_x58,
-                ],
-                [
-                    <R as ::core::convert::From<f64>>::from(0.0),
-                    <R as ::core::convert::From<f64>>::from(0.0),
-                    __lagrange_p_i_par,
-                ],
-            ],
-            [__lagrange_x95, __lagrange_x96, __lagrange_x77],
-        )
+                &[__lagrange_x95, __lagrange_x96, __lagrange_x77],
+            ),
+        }
     }
     #[doc = r" The Taylor coefficients of the motion through `out[0]` at t (see"]
     #[doc = r" `Lagrangian::series_in`), in the lanes of the mask."]
@@ -708,7 +740,19 @@ mod __lagrange_HeavyTop_67f09420_kernels {
         __lagrange_c[8][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         __lagrange_c[10][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         __lagrange_c[13][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        let (__lagrange_factor , __lagrange_ok) = << R as :: lagrange :: __private :: eom :: SeriesReal > :: Factor < 3 > as :: lagrange :: __private :: eom :: SeriesFactor < R , 3 >> :: new (& [[__lagrange_c [7] [0] , < R as :: lagrange :: __private :: Real > :: ZERO , < R as :: lagrange :: __private :: Real > :: ZERO] , [< R as :: lagrange :: __private :: Real > :: ZERO , __lagrange_c [18] [0] , __lagrange_c [19] [0]] , [< R as :: lagrange :: __private :: Real > :: ZERO , < R as :: lagrange :: __private :: Real > :: ZERO , __lagrange_c [10] [0]]] , & [__lagrange_c [37] [0] , __lagrange_c [38] [0] , __lagrange_c [29] [0]] , __lagrange_names , __lagrange_q , __lagrange_qdot , __lagrange_t) ? ;
+        let (__lagrange_factor , __lagrange_ok) = << R as :: lagrange :: __private :: eom :: SeriesReal > :: Factor < 3 > as :: lagrange :: __private :: eom :: SeriesFactor < R , 3 >> :: new (& [[__lagrange_c [7] [0] , < R as :: lagrange :: __private :: Real > :: ZERO , < R as :: lagrange :: __private :: Real > :: ZERO] , [< R as :: lagrange :: __private :: Real > :: ZERO , __lagrange_c [18] [0] , __lagrange_c [19] [0]] , [< R as :: lagrange :: __private :: Real > :: ZERO , < R as :: lagrange :: __private :: Real > :: ZERO , __lagrange_c [10] [0]]] , & [__lagrange_c [37] [0] , __lagrange_c [38] [0] , __lagrange_c [29] [0]] , __lagrange_names , __lagrange_q , __lagrange_qdot , __lagrange_t) ;
+        if let ::core::option::Option::Some(__lagrange_e) =
+            ::lagrange::__private::eom::SeriesFactor::error(
+                &__lagrange_factor,
+                __lagrange_names,
+                __lagrange_q,
+                __lagrange_qdot,
+                __lagrange_t,
+            )
+        {
+            return ::core::result::Result::Err(__lagrange_e);
+        }
+        let mut __lagrange_a = [<R as ::lagrange::__private::Real>::ZERO; 3];
         for __lagrange_k in 0..__lagrange_order {
             let __lagrange_b: [R; 3] = if __lagrange_k == 0 {
                 [
@@ -832,9 +876,10 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                         ),
                 ]
             };
-            let __lagrange_a = ::lagrange::__private::eom::SeriesFactor::solve(
+            ::lagrange::__private::eom::SeriesFactor::solve(
                 &__lagrange_factor,
                 &__lagrange_b,
+                &mut __lagrange_a,
                 __lagrange_names,
                 __lagrange_q,
                 __lagrange_qdot,

@@ -70,25 +70,25 @@ impl ::lagrange::__private::Lagrangian<1> for Pendulum {
         __lagrange_qdot: &[f64; 1],
         __lagrange_t: f64,
     ) -> ::core::result::Result<[f64; 1], ::lagrange::__private::DynamicsError> {
-        let (__lagrange_qddot, __lagrange_ok, __lagrange_m, __lagrange_f) =
-            __lagrange_Pendulum_2105f53a_kernels::accelerations::<f64>(
-                &Self::__lagrange_params(self),
-                __lagrange_q,
-                __lagrange_qdot,
-                __lagrange_t,
-            );
-        if __lagrange_ok {
-            ::core::result::Result::Ok(__lagrange_qddot)
-        } else {
-            ::lagrange::__private::solve_mass_matrix(
-                &__lagrange_m,
-                &__lagrange_f,
-                <Self as ::lagrange::__private::Lagrangian<1>>::COORDINATES,
-                __lagrange_q,
-                __lagrange_qdot,
-                __lagrange_t,
-            )
-        }
+        __lagrange_Pendulum_2105f53a_kernels::accelerations::<f64, _>(
+            &Self::__lagrange_params(self),
+            __lagrange_q,
+            __lagrange_qdot,
+            __lagrange_t,
+            |__lagrange_qddot, __lagrange_ok| {
+                __lagrange_ok.then_some(::core::result::Result::Ok(__lagrange_qddot))
+            },
+            |__lagrange_m, __lagrange_f| {
+                ::lagrange::__private::solve_mass_matrix(
+                    __lagrange_m,
+                    __lagrange_f,
+                    <Self as ::lagrange::__private::Lagrangian<1>>::COORDINATES,
+                    __lagrange_q,
+                    __lagrange_qdot,
+                    __lagrange_t,
+                )
+            },
+        )
     }
     #[inline(always)]
     fn pieces(
@@ -201,18 +201,27 @@ impl ::lagrange::__private::Lagrangian<1> for Pendulum {
         __lagrange_qdot: &[R; 1],
         __lagrange_t: R,
     ) -> ::core::option::Option<([R; 1], <R as ::lagrange::__private::Real>::Mask)> {
-        let (__lagrange_x, __lagrange_ok, _, _) =
-            __lagrange_Pendulum_2105f53a_kernels::accelerations::<R>(
-                ::lagrange::__private::kernel_params(
-                    __lagrange_members,
-                    __lagrange_params,
-                    Self::__lagrange_params,
-                )?,
-                __lagrange_q,
-                __lagrange_qdot,
-                __lagrange_t,
-            );
-        ::core::option::Option::Some((__lagrange_x, __lagrange_ok))
+        ::core::option::Option::Some(__lagrange_Pendulum_2105f53a_kernels::accelerations::<R, _>(
+            ::lagrange::__private::kernel_params(
+                __lagrange_members,
+                __lagrange_params,
+                Self::__lagrange_params,
+            )?,
+            __lagrange_q,
+            __lagrange_qdot,
+            __lagrange_t,
+            |__lagrange_x, __lagrange_ok| {
+                ::core::option::Option::Some((__lagrange_x, __lagrange_ok))
+            },
+            |_, _| {
+                (
+                    [<R as ::lagrange::__private::Real>::NAN; 1],
+                    <R as ::lagrange::__private::Real>::finite(
+                        <R as ::lagrange::__private::Real>::NAN,
+                    ),
+                )
+            },
+        ))
     }
     #[inline(always)]
     fn series_in<R: ::lagrange::__private::eom::SeriesReal>(
@@ -257,20 +266,18 @@ impl ::lagrange::__private::Lagrangian<1> for Pendulum {
 mod __lagrange_Pendulum_2105f53a_kernels {
     #[doc = r" How many numbers `__lagrange_params` loads (the kernels' parameters)."]
     pub(super) const PARAMS: usize = 3;
-    #[doc = r" q̈ from M q̈ = f (the straight-line LDLᵀ), the lanes where every pivot test passed"]
-    #[doc = r" and every value is finite, and M (upper triangle) and f for the careful path."]
+    #[doc = r" q̈ from M q̈ = f (the straight-line LDLᵀ) and the lanes where every pivot test"]
+    #[doc = r" passed and every value is finite, handed to `done`; where that declines, M (upper"]
+    #[doc = r" triangle) and f to `careful` (formed only on that path)."]
     #[inline(always)]
-    pub(super) fn accelerations<R: ::lagrange::__private::Real>(
+    pub(super) fn accelerations<R: ::lagrange::__private::Real, O>(
         __lagrange_params: &[R; PARAMS],
         __lagrange_q: &[R; 1],
         __lagrange_qdot: &[R; 1],
         __lagrange_t: R,
-    ) -> (
-        [R; 1],
-        <R as ::lagrange::__private::Real>::Mask,
-        [[R; 1]; 1],
-        [R; 1],
-    ) {
+        done: impl FnOnce([R; 1], <R as ::lagrange::__private::Real>::Mask) -> ::core::option::Option<O>,
+        careful: impl FnOnce(&[[R; 1]; 1], &[R; 1]) -> O,
+    ) -> O {
         let _ = (__lagrange_q, __lagrange_qdot, __lagrange_t);
         let __lagrange_p_m: R = __lagrange_params[0];
         let __lagrange_p_l: R = __lagrange_params[1];
@@ -286,7 +293,7 @@ mod __lagrange_Pendulum_2105f53a_kernels {
         );
         let __lagrange_x26: R = __lagrange_x18 * __lagrange_x24;
         let __lagrange_x27: R = -__lagrange_x26;
-        let (__lagrange_qddot, __lagrange_ok) = {
+        let (__lagrange_qddot, __lagrange_ok) = '__lagrange_fast: {
             let __lagrange_ok = <R as ::lagrange::__private::Real>::EVERY_LANE;
             let __lagrange_d_0: R = __lagrange_x10;
             let __lagrange_ok = __lagrange_ok
@@ -294,18 +301,24 @@ mod __lagrange_Pendulum_2105f53a_kernels {
                     __lagrange_d_0,
                     __lagrange_x10 * ::lagrange::__private::linalg::ACCURATE_RELATIVE_PIVOT,
                 );
+            if <R as ::lagrange::__private::Real>::WIDTH == 1
+                && !<R as ::lagrange::__private::Real>::all(__lagrange_ok)
+            {
+                break '__lagrange_fast (
+                    [<R as ::lagrange::__private::Real>::NAN; 1],
+                    __lagrange_ok,
+                );
+            }
             let __lagrange_y_0: R = __lagrange_x27;
             let __lagrange_y_0: R = __lagrange_y_0 / __lagrange_d_0;
             let __lagrange_ok =
                 __lagrange_ok & <R as ::lagrange::__private::Real>::finite(__lagrange_y_0);
             ([__lagrange_y_0], __lagrange_ok)
         };
-        (
-            __lagrange_qddot,
-            __lagrange_ok,
-            [[__lagrange_x10]],
-            [__lagrange_x27],
-        )
+        match done(__lagrange_qddot, __lagrange_ok) {
+            ::core::option::Option::Some(o) => o,
+            ::core::option::Option::None => careful(&[[__lagrange_x10]], &[__lagrange_x27]),
+        }
     }
     #[doc = r" The Taylor coefficients of the motion through `out[0]` at t (see"]
     #[doc = r" `Lagrangian::series_in`), in the lanes of the mask."]
@@ -356,7 +369,19 @@ mod __lagrange_Pendulum_2105f53a_kernels {
         __lagrange_c[0][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         __lagrange_c[2][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         __lagrange_c[3][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        let (__lagrange_factor , __lagrange_ok) = << R as :: lagrange :: __private :: eom :: SeriesReal > :: Factor < 1 > as :: lagrange :: __private :: eom :: SeriesFactor < R , 1 >> :: new (& [[__lagrange_c [2] [0]]] , & [__lagrange_c [8] [0]] , __lagrange_names , __lagrange_q , __lagrange_qdot , __lagrange_t) ? ;
+        let (__lagrange_factor , __lagrange_ok) = << R as :: lagrange :: __private :: eom :: SeriesReal > :: Factor < 1 > as :: lagrange :: __private :: eom :: SeriesFactor < R , 1 >> :: new (& [[__lagrange_c [2] [0]]] , & [__lagrange_c [8] [0]] , __lagrange_names , __lagrange_q , __lagrange_qdot , __lagrange_t) ;
+        if let ::core::option::Option::Some(__lagrange_e) =
+            ::lagrange::__private::eom::SeriesFactor::error(
+                &__lagrange_factor,
+                __lagrange_names,
+                __lagrange_q,
+                __lagrange_qdot,
+                __lagrange_t,
+            )
+        {
+            return ::core::result::Result::Err(__lagrange_e);
+        }
+        let mut __lagrange_a = [<R as ::lagrange::__private::Real>::ZERO; 1];
         for __lagrange_k in 0..__lagrange_order {
             let __lagrange_b: [R; 1] = if __lagrange_k == 0 {
                 [__lagrange_c[8][0]]
@@ -377,9 +402,10 @@ mod __lagrange_Pendulum_2105f53a_kernels {
                 __lagrange_c[8][__lagrange_k] = -__lagrange_c[7][__lagrange_k];
                 [__lagrange_c[8][__lagrange_k]]
             };
-            let __lagrange_a = ::lagrange::__private::eom::SeriesFactor::solve(
+            ::lagrange::__private::eom::SeriesFactor::solve(
                 &__lagrange_factor,
                 &__lagrange_b,
+                &mut __lagrange_a,
                 __lagrange_names,
                 __lagrange_q,
                 __lagrange_qdot,

@@ -115,6 +115,11 @@ pub fn solution() -> Ident {
     local(format_args!("qddot"))
 }
 
+/// The label of the solve's block (`'fast`): left early where a pivot test fails in every lane.
+pub fn fast_label() -> syn::Lifetime {
+    syn::Lifetime::new(&format!("'{PREFIX}fast"), Span::call_site())
+}
+
 /// The number type parameter of the generic kernels (`R: Real`).
 pub fn real() -> Ident {
     Ident::new("R", Span::call_site())

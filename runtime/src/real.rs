@@ -114,6 +114,7 @@ pub trait Real:
     fn nonzero(self) -> Self::Mask;
     /// Whether every lane of `m` is set.
     fn all(m: Self::Mask) -> bool;
+
     /// Lane by lane, `a` where `m` is set, else `b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
     /// The Heaviside step: 1 where `self ≥ 0`, else 0.
@@ -164,6 +165,7 @@ impl Real for f64 {
     fn all(m: bool) -> bool {
         m
     }
+
     #[inline(always)]
     fn select(m: bool, a: Self, b: Self) -> Self {
         if m {
@@ -238,6 +240,7 @@ impl<const W: usize> Real for Lanes<W> {
     fn all(m: Mask<W>) -> bool {
         m.all()
     }
+
     #[inline(always)]
     fn select(m: Mask<W>, a: Self, b: Self) -> Self {
         Lanes::select(m, a, b)

@@ -206,24 +206,30 @@ impl Gen<'_> {
             })
             .collect();
         let solve = solve::ldlt(&eq, &pairs, &r);
-        let (x, ok) = (names::solution(), names::lane_ok());
+        let (x, ok, fast_label) = (names::solution(), names::lane_ok(), names::fast_label());
         let (values, binds) = (&code.values, &self.binds);
         let rt = quote!(::lagrange::__private::Real);
         let kernel = quote! {
-            /// q̈ from M q̈ = f (the straight-line LDLᵀ), the lanes where every pivot test passed
-            /// and every value is finite, and M (upper triangle) and f for the careful path.
+            /// q̈ from M q̈ = f (the straight-line LDLᵀ) and the lanes where every pivot test
+            /// passed and every value is finite, handed to `done`; where that declines, M (upper
+            /// triangle) and f to `careful` (formed only on that path).
             #inline
-            pub(super) fn accelerations<#r: #rt>(
+            pub(super) fn accelerations<#r: #rt, O>(
                 #params: &[#r; PARAMS],
                 #q: &[#r; #nn],
                 #qdot: &[#r; #nn],
                 #t: #r,
-            ) -> ([#r; #nn], <#r as #rt>::Mask, [[#r; #nn]; #nn], [#r; #nn]) {
+                done: impl FnOnce([#r; #nn], <#r as #rt>::Mask) -> ::core::option::Option<O>,
+                careful: impl FnOnce(&[[#r; #nn]; #nn], &[#r; #nn]) -> O,
+            ) -> O {
                 let _ = (#q, #qdot, #t);
                 #binds
                 #values
-                let (#x, #ok) = { #solve };
-                (#x, #ok, [#(#rows),*], [#(#f),*])
+                let (#x, #ok) = #fast_label: { #solve };
+                match done(#x, #ok) {
+                    ::core::option::Option::Some(o) => o,
+                    ::core::option::Option::None => careful(&[#(#rows),*], &[#(#f),*]),
+                }
             }
         };
         // The lanes code: only for a small system (see LANES_MAX_OPS); a larger one's ensembles
@@ -231,20 +237,23 @@ impl Gen<'_> {
         let lanes = code.lets + n * n <= LANES_MAX_OPS || self.force_lanes;
         let (m, fv) = (format_ident!("__lagrange_m"), format_ident!("__lagrange_f"));
         let body = quote! {
-            let (#x, #ok, #m, #fv) =
-                #module::accelerations::<f64>(&Self::__lagrange_params(self), #q, #qdot, #t);
-            if #ok {
-                ::core::result::Result::Ok(#x)
-            } else {
-                ::lagrange::__private::solve_mass_matrix(
-                    &#m,
-                    &#fv,
-                    #lagrangian_trait::COORDINATES,
-                    #q,
-                    #qdot,
-                    #t,
-                )
-            }
+            #module::accelerations::<f64, _>(
+                &Self::__lagrange_params(self),
+                #q,
+                #qdot,
+                #t,
+                |#x, #ok| #ok.then_some(::core::result::Result::Ok(#x)),
+                |#m, #fv| {
+                    ::lagrange::__private::solve_mass_matrix(
+                        #m,
+                        #fv,
+                        #lagrangian_trait::COORDINATES,
+                        #q,
+                        #qdot,
+                        #t,
+                    )
+                },
+            )
         };
         Accelerations {
             body,
@@ -718,9 +727,14 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
                 #qdot: &[#r; #nn],
                 #t: #r,
             ) -> ::core::option::Option<([#r; #nn], <#r as #rt>::Mask)> {
-                let (__lagrange_x, __lagrange_ok, _, _) =
-                    #module::accelerations::<#r>(#load, #q, #qdot, #t);
-                ::core::option::Option::Some((__lagrange_x, __lagrange_ok))
+                ::core::option::Option::Some(#module::accelerations::<#r, _>(
+                    #load,
+                    #q,
+                    #qdot,
+                    #t,
+                    |__lagrange_x, __lagrange_ok| ::core::option::Option::Some((__lagrange_x, __lagrange_ok)),
+                    |_, _| ([<#r as #rt>::NAN; #nn], <#r as #rt>::finite(<#r as #rt>::NAN)),
+                ))
             }
         });
     }

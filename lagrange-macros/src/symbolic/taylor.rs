@@ -513,7 +513,13 @@ impl Program<'_> {
                 // lane where it has none is left out of the mask: the caller takes its member's
                 // single-run series.
                 let (#factor, __lagrange_ok) =
-                    #factor_ty::new(&[#(#m0_rows),*], &[#(#b0),*], #names_, #q, #qdot, #t)?;
+                    #factor_ty::new(&[#(#m0_rows),*], &[#(#b0),*], #names_, #q, #qdot, #t);
+                if let ::core::option::Option::Some(__lagrange_e) =
+                    ::lagrange::__private::eom::SeriesFactor::error(&#factor, #names_, #q, #qdot, #t)
+                {
+                    return ::core::result::Result::Err(__lagrange_e);
+                }
+                let mut #a = [<#num as #real>::ZERO; #nn];
                 for #k in 0..#order {
                     let #b: [#num; #nn] = if #k == 0 {
                         [#(#b0),*]
@@ -521,8 +527,8 @@ impl Program<'_> {
                         #step
                         [#(#rhs),*]
                     };
-                    let #a = ::lagrange::__private::eom::SeriesFactor::solve(
-                        &#factor, &#b, #names_, #q, #qdot, #t,
+                    ::lagrange::__private::eom::SeriesFactor::solve(
+                        &#factor, &#b, &mut #a, #names_, #q, #qdot, #t,
                     )?;
                     let __lagrange_r = 1.0 / (#k + 1) as f64;
                     #(
