@@ -108,6 +108,10 @@ pub trait Real:
     fn lane(self, l: usize) -> f64;
     /// The lanes where `self > x` (not where either is NaN).
     fn greater(self, x: Self) -> Self::Mask;
+    /// The lanes where `self ≤ x` (not where either is NaN).
+    fn at_most(self, x: Self) -> Self::Mask;
+    /// The larger of `self` and `x` in every lane (`f64::max`: a NaN loses).
+    fn max(self, x: Self) -> Self;
     /// The finite lanes.
     fn finite(self) -> Self::Mask;
     /// The lanes that are not zero (a condition carried as 0 or 1).
@@ -152,6 +156,14 @@ impl Real for f64 {
     #[inline(always)]
     fn greater(self, x: Self) -> bool {
         self > x
+    }
+    #[inline(always)]
+    fn at_most(self, x: Self) -> bool {
+        self <= x
+    }
+    #[inline(always)]
+    fn max(self, x: Self) -> Self {
+        f64::max(self, x)
     }
     #[inline(always)]
     fn finite(self) -> bool {
@@ -227,6 +239,14 @@ impl<const W: usize> Real for Lanes<W> {
     #[inline(always)]
     fn greater(self, x: Self) -> Mask<W> {
         self.gt(x)
+    }
+    #[inline(always)]
+    fn at_most(self, x: Self) -> Mask<W> {
+        Mask::from_fn(|l| self.0[l] <= x.0[l])
+    }
+    #[inline(always)]
+    fn max(self, x: Self) -> Self {
+        self.zip(x, f64::max)
     }
     #[inline(always)]
     fn finite(self) -> Mask<W> {

@@ -14,15 +14,13 @@
 //! The member plumbing (`enter`, `Slot`, `fill`, `retire`) is `members`, shared with the Taylor
 //! engine; members of another method, and constrained ones, run the scalar driver.
 
-use crate::integrate::dop853::{Attempt, Dop853};
-use crate::integrate::dop853_coefficients::{A, C, E3, E5};
+use crate::integrate::dop853::{step_of, Accelerations, Attempt, Dop853};
 use crate::integrate::method::Method;
 use crate::integrate::simulation::Simulation;
-use crate::integrate::state::{combine, weighted, Fault, Stats, YOf, Y};
+use crate::integrate::state::{Fault, Stats, YOf, Y};
 use crate::integrate::stepper::Stepper;
 use crate::lagrangian::Lagrangian;
 use crate::lanes::Lanes;
-use crate::real::Real;
 
 use super::members::{accelerations, enter, fill, lanes_of, retire, End, Out, Slot};
 
@@ -206,8 +204,24 @@ struct VectorStep<const N: usize, const W: usize> {
     finite: Lanes<W>,
 }
 
-/// The stages 1..=11 and y₁ of DOP853 for every lane, and each lane's ln err: the arithmetic of
-/// the scalar `dop853::step`, operation for operation, on W members at once.
+/// The accelerations of W members (see [`accelerations`]).
+struct Members<'a, L, const W: usize> {
+    members: &'a [&'a L; W],
+    params: &'a mut Vec<Lanes<W>>,
+}
+
+impl<L: Lagrangian<N>, const N: usize, const W: usize> Accelerations<Lanes<W>, N>
+    for Members<'_, L, W>
+{
+    type Error = core::convert::Infallible;
+    #[inline(always)]
+    fn at(&mut self, t: Lanes<W>, y: &YOf<Lanes<W>, N>) -> Result<[Lanes<W>; N], Self::Error> {
+        Ok(accelerations(self.members, self.params, &y[0], &y[1], t))
+    }
+}
+
+/// The stages 1..=11 and y₁ of DOP853 for every lane, and each lane's ln err: the single run's
+/// [`step_of`] at width W.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize>(
@@ -220,49 +234,11 @@ fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize>(
     rtol: Lanes<W>,
     atol: Lanes<W>,
 ) -> VectorStep<N, W> {
-    let cyclic: [bool; N] = const { L::CYCLIC };
-    // 0 · x is 0 for finite x and NaN otherwise: the sum is 0 only if every stage was finite.
-    let mut finite = Lanes::<W>::ZERO;
-    macro_rules! stages {
-        ($($s:literal)*) => {$(
-            let mut ys = combine::<$s, _, _, _, _>(y, h, &A[$s], k);
-            // The cyclic coordinates' stage positions are not read (see `state::hold_cyclic`).
-            for i in 0..N {
-                if cyclic[i] {
-                    ys[0][i] = y[0][i];
-                }
-            }
-            let a = accelerations(members, params, &ys[0], &ys[1], t + C[$s] * h);
-            for ai in &a {
-                finite += *ai * 0.0;
-            }
-            k[$s] = [ys[1], a];
-        )*};
+    let f = Members { members, params };
+    let Ok(out) = step_of(L::CYCLIC, f, t, y, k, h, rtol, atol);
+    VectorStep {
+        y1: out.y1,
+        ln_err: out.ln_err,
+        finite: out.finite,
     }
-    stages!(1 2 3 4 5 6 7 8 9 10 11);
-    let y1 = combine::<12, _, _, _, _>(y, h, &A[12], k);
-    let e5 = weighted::<12, _, _, _, _>(&E5, k);
-    let e3 = weighted::<12, _, _, _, _>(&E3, k);
-    // The error weights and sums of `control::scales` and `control::sum_sq`, lane by lane.
-    let mut err5 = Lanes::<W>::ZERO;
-    let mut err3 = Lanes::<W>::ZERO;
-    for i in 0..N {
-        let sk = |c: usize| atol + rtol * Real::abs(y[c][i]).zip(Real::abs(y1[c][i]), f64::max);
-        let (s0, s1) = (sk(0), sk(1));
-        let (a, b) = (e5[0][i] / s0, e5[1][i] / s1);
-        err5 += a * a + b * b;
-        let (a, b) = (e3[0][i] / s0, e3[1][i] / s1);
-        err3 += a * a + b * b;
-    }
-    for c in 0..2 {
-        for i in 0..N {
-            finite += y1[c][i] * 0.0;
-        }
-    }
-    let deno = err5 + 0.01 * err3;
-    let ln_err = Lanes::from_fn(|l| {
-        let deno = if deno.0[l] <= 0.0 { 1.0 } else { deno.0[l] };
-        (h.0[l] * err5.0[l]).ln() - 0.5 * ((2 * N) as f64 * deno).ln()
-    });
-    VectorStep { y1, ln_err, finite }
 }
