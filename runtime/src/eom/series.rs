@@ -202,7 +202,7 @@ pub enum Factor<const N: usize> {
 }
 
 impl<const N: usize> SeriesFactor<f64, N> for Factor<N> {
-    #[inline]
+    #[inline(always)]
     fn new(
         m0: &[[f64; N]; N],
         b0: &[f64; N],
@@ -222,7 +222,7 @@ impl<const N: usize> SeriesFactor<f64, N> for Factor<N> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn error(
         &self,
         names: [&'static str; N],
@@ -236,7 +236,7 @@ impl<const N: usize> SeriesFactor<f64, N> for Factor<N> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn solve(
         &self,
         b: &[f64; N],
