@@ -21,6 +21,58 @@
 //! assert!((a[0] + 9.81 / 2.0 * 0.3_f64.sin()).abs() < 1e-14);
 //! ```
 //!
+//! ## Running it
+//!
+//! A [`Simulation`] integrates one motion (DOP853, Dormand–Prince, RK4, the Taylor method or a
+//! variational integrator; samples, events, the drift of every conserved quantity); an
+//! [`Ensemble`] runs many members in parallel (and several per SIMD vector); [`Linearize`] gives
+//! M, C, K about an equilibrium or a steady motion, with eigenvalues, stability and modes.
+//!
+//! ```
+//! use lagrange::prelude::*;
+//!
+//! /// A plane pendulum of length l.
+//! pub struct Pendulum { pub g: f64, pub l: f64 }
+//!
+//! #[lagrangian]
+//! impl Pendulum {
+//!     fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
+//!         0.5 * self.l * self.l * theta_dot.powi(2) + self.g * self.l * theta.cos()
+//!     }
+//! }
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let p = Pendulum { g: 9.81, l: 1.0 };
+//! // One run: a swing of 0.01 rad keeps its energy; its period is 2π √(l/g) (1 + θ₀²/16 + …).
+//! let tr = Simulation::new(&p, [0.01], [0.0])
+//!     .method(Method::Dop853 { rtol: 1e-12, atol: 1e-12 })
+//!     .until(10.0)
+//!     .sample_every(0.01)
+//!     .event(Event::zero_crossing("swing back", |_t, _q, v: &[f64; 1]| v[0]).falling())
+//!     .run()?;
+//! assert!(tr.invariants().max_rel() < 1e-10);
+//! let period = tr.events[1].t - tr.events[0].t;
+//! let t0 = 2.0 * std::f64::consts::PI / 9.81_f64.sqrt();
+//! assert!((period - t0 * (1.0 + 1e-4 / 16.0 + 11.0 * 1e-8 / 3072.0)).abs() < 1e-9);
+//! println!("{}\n{}", tr.stats, tr.invariants().named(&tr.coordinates));
+//!
+//! // Many runs: the swing's amplitude grows the period (members in parallel, in member order).
+//! let swings = Ensemble::new(4, |i| Member::new(Pendulum { g: 9.81, l: 1.0 }, [0.5 * (i + 1) as f64], [0.0]))
+//!     .configure(|sim| sim.until(4.0).sample_at([4.0]))
+//!     .run();
+//! let last: Vec<f64> = swings.results.iter().map(|r| r.as_ref().map_or(f64::NAN, |t| t.q[t.len() - 1][0])).collect();
+//! assert!(last.iter().all(|x| x.is_finite()));
+//!
+//! // The linearization about the bottom: K/M = g/l, stable; about the top, unstable.
+//! let bottom = p.linearize(&[0.0], &[0.0], 0.0)?;
+//! assert!((bottom.k[(0, 0)] / bottom.m[(0, 0)] - 9.81).abs() < 1e-12);
+//! assert_eq!(bottom.stability()?.to_string(), "marginally stable");
+//! let top = p.linearize(&[std::f64::consts::PI], &[0.0], 0.0)?;
+//! assert!(!top.stability()?.is_stable());
+//! # Ok(())
+//! # }
+//! ```
+//!
 //! ## Dissipation and generalized forces
 //!
 //! Forces that L does not describe go into two optional functions in the same impl block, in
@@ -207,7 +259,27 @@
 #![warn(missing_docs)]
 
 pub use lagrange_macros::lagrangian;
-pub use lagrange_runtime::*;
+
+// What users build with, in the index.
+pub use lagrange_runtime::{ensemble, linearize, rigid, theory};
+pub use lagrange_runtime::{
+    equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability,
+};
+pub use lagrange_runtime::{
+    ConstraintResidual, Direction, Drift, Event, EventHit, Invariants, Method, NamedInvariants,
+    PartialTrajectory, Sample, Simulation, SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
+};
+pub use lagrange_runtime::{DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Scalar};
+pub use lagrange_runtime::{SMatrix, Vector3};
+
+// The machinery under them: reachable (tests, benches and curious readers use it), not in the
+// index.
+#[doc(hidden)]
+pub use lagrange_runtime::{
+    constraints, eom, error, integrate, jet, lagrangian, lanes, linalg, real, taylor,
+};
+#[doc(hidden)]
+pub use lagrange_runtime::{el_jet, hessian_jet, solve_mass_matrix};
 
 /// Marker for one generalized coordinate in a `#[lagrangian]` signature: `(x, x_dot): Coord`.
 ///

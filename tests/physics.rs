@@ -18,6 +18,7 @@ mod large_systems;
 mod linearize;
 mod non_inertial;
 mod quaternion_top;
+mod readable;
 mod rigid_body;
 mod taylor;
 mod taylor_attack;

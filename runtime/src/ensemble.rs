@@ -917,6 +917,12 @@ fn csv_field(s: &str) -> String {
     }
 }
 
+/// The progress bar's line: members done of all, the bar, the time elapsed and the estimated time
+/// left (`[00:00:12] ████████░░░░  512/1024 members, 00:00:12 left`).
+#[cfg(feature = "progress")]
+const PROGRESS_TEMPLATE: &str =
+    "[{elapsed_precise}] {wide_bar} {pos}/{len} members, {eta_precise} left";
+
 /// The progress bar (a no-op without the `progress` feature or when not asked for).
 struct Bar {
     #[cfg(feature = "progress")]
@@ -928,7 +934,12 @@ impl Bar {
         #[cfg(feature = "progress")]
         {
             Bar {
-                bar: show.then(|| indicatif::ProgressBar::new(len as u64)),
+                bar: show.then(|| {
+                    indicatif::ProgressBar::new(len as u64).with_style(
+                        indicatif::ProgressStyle::with_template(PROGRESS_TEMPLATE)
+                            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+                    )
+                }),
             }
         }
         #[cfg(not(feature = "progress"))]
@@ -954,6 +965,15 @@ impl Bar {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The progress line shows the time elapsed and the time left, and indicatif takes it.
+    #[cfg(feature = "progress")]
+    #[test]
+    fn progress_shows_elapsed_and_eta() {
+        assert!(PROGRESS_TEMPLATE.contains("{elapsed_precise}"));
+        assert!(PROGRESS_TEMPLATE.contains("{eta_precise}"));
+        assert!(indicatif::ProgressStyle::with_template(PROGRESS_TEMPLATE).is_ok());
+    }
 
     fn results(
         params: Vec<Params>,

@@ -12,7 +12,7 @@ use core::fmt;
 /// let e = DynamicsError::NonFinite { t: 1.0, q: vec![0.0], qdot: vec![f64::NAN], message: "q̇ is NaN".into() };
 /// assert!(e.to_string().contains("t = 1"));
 /// ```
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, PartialEq)]
 #[non_exhaustive]
 pub enum DynamicsError {
     /// The mass matrix ∂²L/∂q̇∂q̇ is singular (or numerically so) at this state.
@@ -139,5 +139,13 @@ impl fmt::Display for Short<&[f64]> {
             write!(f, "{}", Short(*x))?;
         }
         write!(f, "]")
+    }
+}
+
+impl core::fmt::Debug for DynamicsError {
+    /// The sentence of `Display` (what happened, where, what to try), without the escapes a
+    /// derived `Debug` puts on every combining dot of q̇: what `fn main() -> Result<..>` prints.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(self, f)
     }
 }

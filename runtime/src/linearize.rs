@@ -167,7 +167,7 @@ impl Stability {
 /// let e = LinearizationError::NotUndamped { message: "C ≠ 0".into() };
 /// assert!(e.to_string().contains("C ≠ 0"));
 /// ```
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, PartialEq)]
 #[non_exhaustive]
 pub enum LinearizationError {
     /// The equations of motion could not be evaluated or solved (singular mass matrix, non-finite
@@ -202,6 +202,56 @@ pub enum LinearizationError {
         /// What happened and what to try.
         message: String,
     },
+}
+
+impl fmt::Display for Stability {
+    /// `asymptotically stable`, `marginally stable`, or `unstable (growth rate 0.5)`.
+    ///
+    /// ```
+    /// use lagrange_runtime::linearize::Stability;
+    /// assert_eq!(Stability::Unstable { growth_rate: 0.5 }.to_string(), "unstable (growth rate 0.5)");
+    /// assert_eq!(Stability::MarginallyStable.to_string(), "marginally stable");
+    /// ```
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Stability::AsymptoticallyStable => f.write_str("asymptotically stable"),
+            Stability::MarginallyStable => f.write_str("marginally stable"),
+            Stability::Unstable { growth_rate } => {
+                write!(f, "unstable (growth rate {growth_rate})")
+            }
+        }
+    }
+}
+
+impl<const N: usize> fmt::Display for Linearization<N> {
+    /// M δq̈ + C δq̇ + K δq = 0 with the three matrices, one row per line (`{:.3}` and the like
+    /// apply to every entry).
+    ///
+    /// ```
+    /// use lagrange_runtime::{linearize::Linearization, SMatrix};
+    /// let lin = Linearization::<1> { m: SMatrix::from([[2.0]]), c: SMatrix::from([[0.4]]), k: SMatrix::from([[8.0]]) };
+    /// assert_eq!(lin.to_string(), "M δq̈ + C δq̇ + K δq = 0 with\nM = [2]\nC = [0.4]\nK = [8]");
+    /// ```
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("M δq̈ + C δq̇ + K δq = 0 with")?;
+        for (name, a) in [("M", &self.m), ("C", &self.c), ("K", &self.k)] {
+            write!(f, "\n{name} = ")?;
+            for i in 0..N {
+                if i > 0 {
+                    f.write_str("\n    ")?;
+                }
+                f.write_str("[")?;
+                for j in 0..N {
+                    if j > 0 {
+                        f.write_str(", ")?;
+                    }
+                    fmt::Display::fmt(&a[(i, j)], f)?;
+                }
+                f.write_str("]")?;
+            }
+        }
+        Ok(())
+    }
 }
 
 impl fmt::Display for LinearizationError {
@@ -646,6 +696,34 @@ fn fmt_matrix<const N: usize>(m: &SMatrix<f64, N, N>) -> String {
 /// ```
 pub const EQUILIBRIUM_MAX_ITERATIONS: usize = 50;
 
+/// The coordinates along which K is singular, by name: the components of the null direction
+/// (the right singular vector of the smallest singular value) above a tenth of its largest, e.g.
+/// `x`, or `the combination of x and theta`.
+fn neutral_coordinates<const N: usize>(k: &SMatrix<f64, N, N>, names: [&'static str; N]) -> String {
+    let svd = dense(k).svd(false, true);
+    let Some(v_t) = svd.v_t.as_ref() else {
+        return "some coordinate".to_string();
+    };
+    let i = svd.singular_values.iamin();
+    let row: Vec<f64> = (0..N).map(|j| v_t[(i, j)]).collect();
+    let max = row.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let named: Vec<&str> = (0..N)
+        .filter(|&j| max > 0.0 && row[j].abs() > 0.1 * max)
+        .map(|j| names[j])
+        .collect();
+    match named.as_slice() {
+        [] => "some coordinate".to_string(),
+        [one] => format!("`{one}`"),
+        many => format!(
+            "the combination of {}",
+            many.iter()
+                .map(|n| format!("`{n}`"))
+                .collect::<Vec<_>>()
+                .join(" and ")
+        ),
+    }
+}
+
 /// An equilibrium q* (q̈(q*, 0, t) = 0) near `q_guess`, by Newton's method at time t.
 ///
 /// Each step solves K δq = M q̈ with M and K from [`Linearize::linearize`] at (q, 0, t): the
@@ -706,15 +784,17 @@ where
             .solve(&DMatrix::from_fn(N, 1, |i, _| rhs[i]))
             .filter(|s| s.iter().all(|x: &f64| x.is_finite()));
         let Some(step) = step else {
+            let neutral = neutral_coordinates(&lin.k, L::COORDINATES);
             return Err(fail(
                 &q,
                 &a,
                 it,
-                "the stiffness K is singular here, so Newton has no direction: along some \
-                 coordinate the forces do not change (a cyclic coordinate, a uniform force, or a \
-                 continuum of equilibria). Fix the neutral coordinates (remove them from the \
-                 system), or start from another guess."
-                    .into(),
+                format!(
+                    "the stiffness K is singular here, so Newton has no direction: along {neutral} \
+                     the forces do not change (a cyclic coordinate, a uniform force, or a \
+                     continuum of equilibria). Fix the neutral coordinates (remove them from the \
+                     system, or hold them with a constraint), or start from another guess."
+                ),
             ));
         };
         let qmax = q.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
@@ -765,4 +845,12 @@ where
              none at all). Try a guess closer to the equilibrium."
         ),
     ))
+}
+
+impl core::fmt::Debug for LinearizationError {
+    /// The sentence of `Display` (what happened, where, what to try), without the escapes a
+    /// derived `Debug` puts on every combining dot of q̇: what `fn main() -> Result<..>` prints.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(self, f)
+    }
 }

@@ -71,7 +71,6 @@ impl fmt::Debug for PartialTrajectory {
 /// assert!(matches!(err, SimulationError::MaxSteps { .. }));
 /// assert_eq!(err.partial_trajectory::<1>().unwrap().t.len(), 6);
 /// ```
-#[derive(Debug)]
 #[non_exhaustive]
 pub enum SimulationError {
     /// The options were rejected by `run()` before any step.
@@ -413,5 +412,13 @@ impl std::error::Error for SimulationError {
             SimulationError::Dynamics { source, .. } => Some(source.as_ref()),
             _ => None,
         }
+    }
+}
+
+impl core::fmt::Debug for SimulationError {
+    /// The sentence of `Display` (what happened, where, what to try), without the escapes a
+    /// derived `Debug` puts on every combining dot of q̇: what `fn main() -> Result<..>` prints.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        core::fmt::Display::fmt(self, f)
     }
 }
