@@ -12,17 +12,15 @@
 //! [--shard k/n]` (`--shard` runs block k of n of the members and writes only the CSV: a job
 //! array's task; see the README's "Ensembles").
 
-#[path = "support/cli.rs"]
-mod cli;
+use lagrange_examples::cli;
 
 use lagrange::prelude::*;
 use plotters::prelude::*;
 use std::f64::consts::PI;
 use std::time::Instant;
 
-#[path = "support/driven_pendulum_system.rs"]
-mod driven_pendulum_system;
 use driven_pendulum_system::DrivenPendulum;
+use lagrange_examples::driven_pendulum_system;
 
 const USAGE: &str = "usage: cargo run --release --example bifurcation -- [options]
   --members N    drive amplitudes (members), at least 2 (1000)

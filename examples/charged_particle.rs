@@ -5,10 +5,9 @@
 //!
 //! Run: `cargo run --release --example charged_particle [lambda]` (gauge strength, default 0.7).
 
-#[allow(dead_code)] // each example uses a part of the shared command-line helpers
-#[path = "support/cli.rs"]
-mod cli;
 use lagrange::prelude::*;
+#[allow(dead_code)] // each example uses a part of the shared command-line helpers
+use lagrange_examples::cli;
 
 /// L = m|ṙ|²/2 + q ṙ·(B×r)/2 + q E·r + λ ∇(xyz)·ṙ.
 pub struct ChargedParticle {

@@ -14,11 +14,10 @@
 //!
 //! Run: `cargo run --release --example coriolis_drop -- [--height M] [--lat DEG] [--out PATH]`
 
-#[allow(dead_code)] // each example uses a part of the shared command-line helpers
-#[path = "support/cli.rs"]
-mod cli;
 use lagrange::prelude::*;
 use lagrange::{Event, Method, Simulation};
+#[allow(dead_code)] // each example uses a part of the shared command-line helpers
+use lagrange_examples::cli;
 use plotters::prelude::*;
 
 /// Earth's sidereal rotation rate, rad/s.

@@ -8,14 +8,12 @@
 //!
 //! Run: `cargo run --release --example double_pendulum [amplitude_rad]` (default 0.01).
 
-#[allow(dead_code)] // each example uses a part of the shared command-line helpers
-#[path = "support/cli.rs"]
-mod cli;
 use lagrange::prelude::*;
+#[allow(dead_code)] // each example uses a part of the shared command-line helpers
+use lagrange_examples::cli;
 
-#[path = "support/double_pendulum_system.rs"]
-mod double_pendulum_system;
 use double_pendulum_system::DoublePendulum;
+use lagrange_examples::double_pendulum_system;
 
 fn usage() -> ! {
     eprintln!("usage: double_pendulum [amplitude_rad]   (a small angle, default 0.01)");

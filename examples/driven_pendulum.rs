@@ -10,16 +10,14 @@
 //!
 //! Run: `cargo run --release --example driven_pendulum -- [--periods 3000] [--out out/driven_pendulum.svg]`
 
-#[path = "support/cli.rs"]
-mod cli;
+use lagrange_examples::cli;
 
 use lagrange::prelude::*;
 use plotters::prelude::*;
 use std::f64::consts::PI;
 
-#[path = "support/driven_pendulum_system.rs"]
-mod driven_pendulum_system;
 use driven_pendulum_system::DrivenPendulum;
+use lagrange_examples::driven_pendulum_system;
 
 const USAGE: &str =
     "usage: cargo run --release --example driven_pendulum -- [--periods N] [--out PATH.svg]

@@ -19,11 +19,9 @@ use plotters::prelude::*;
 
 // The top of eq. 92, declared with `#[lagrangian]` exactly as the equation reads; shared by the
 // heavy-top examples.
-#[path = "support/cli.rs"]
-mod cli;
-#[path = "support/heavy_top_system.rs"]
-mod heavy_top_system;
 use heavy_top_system::HeavyTop;
+use lagrange_examples::cli;
+use lagrange_examples::heavy_top_system;
 
 const USAGE: &str = "\
 usage: cargo run --release --example fast_top -- [options]

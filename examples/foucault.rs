@@ -15,8 +15,7 @@
 //!       [--amplitude M] [--turns N] [--out PATH]`
 
 #[allow(dead_code)] // each example uses a part of the shared command-line helpers
-#[path = "support/cli.rs"]
-mod cli;
+use lagrange_examples::cli;
 use std::f64::consts::PI;
 
 use lagrange::prelude::*;

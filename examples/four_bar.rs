@@ -13,10 +13,8 @@
 //! Run: `cargo run --release --example four_bar -- [--turns 10] [--out out/four_bar.svg]`
 
 #[allow(dead_code)] // each example uses a part of the shared command-line helpers
-#[path = "support/cli.rs"]
-mod cli;
-#[path = "support/four_bar_system.rs"]
-mod four_bar_system;
+use lagrange_examples::cli;
+use lagrange_examples::four_bar_system;
 
 use std::f64::consts::TAU;
 

@@ -11,16 +11,14 @@
 //! Run: `cargo run --release --example modes -- [--from 0] [--to 4] [--points 161]
 //!       [--modes-svg out/modes_double_pendulum.svg] [--locus-svg out/modes_sleeping_top.svg]`
 
-#[path = "support/cli.rs"]
-mod cli;
+use lagrange_examples::cli;
 
 use lagrange::linearize::Stability;
 use lagrange::prelude::*;
 use plotters::prelude::*;
 
-#[path = "support/double_pendulum_system.rs"]
-mod double_pendulum_system;
 use double_pendulum_system::DoublePendulum;
+use lagrange_examples::double_pendulum_system;
 
 /// The heavy symmetric top in Tait–Bryan angles, R = Rx(α) Ry(β) Rz(γ), regular at the upright
 /// (β = 0); body angular velocity ω = (α̇ cos β cos γ + β̇ sin γ, −α̇ cos β sin γ + β̇ cos γ,

@@ -24,10 +24,8 @@ use plotters::prelude::*;
 
 // The top of eq. 92 in unit quaternions, declared with `#[lagrangian]` and `fn constraints`;
 // shared with the tests and the benches.
-#[path = "support/cli.rs"]
-mod cli;
-#[path = "support/quaternion_top_system.rs"]
-mod quaternion_top_system;
+use lagrange_examples::cli;
+use lagrange_examples::quaternion_top_system;
 use quaternion_top_system::{axis_z_rate, tilt, QuaternionTop};
 
 const USAGE: &str = "\
