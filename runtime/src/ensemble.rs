@@ -841,6 +841,31 @@ impl Results<Vec<f64>> {
 
     /// The CSV of [`Results::write_csv`] as text, checked before any of it is written.
     fn csv_text(&self, header: bool) -> std::io::Result<String> {
+        let mut out = String::new();
+        for (r, row) in self.cells(header)?.iter().enumerate() {
+            let last = row.len() - 1;
+            let cells: Vec<String> = row
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    // A data row's error is always quoted (a sentence); every other field as RFC
+                    // 4180 needs.
+                    if k == last && !c.is_empty() && (r > 0 || !header) {
+                        format!("\"{}\"", c.replace('"', "\"\""))
+                    } else {
+                        csv_field(c)
+                    }
+                })
+                .collect();
+            out.push_str(&cells.join(","));
+            out.push('\n');
+        }
+        Ok(out)
+    }
+
+    /// The table of [`Results::write_csv`], unquoted: the header (with `header`), then a row per
+    /// member; checked (a parameter named twice, a reduction of the wrong length) first.
+    fn cells(&self, header: bool) -> std::io::Result<Vec<Vec<String>>> {
         let invalid = |msg: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, msg);
         // One column per distinct parameter name, in first-seen order.
         let mut names: Vec<&str> = Vec::new();
@@ -870,17 +895,13 @@ impl Results<Vec<f64>> {
                 }
             }
         }
-        let mut out = String::new();
-        let mut line = |cells: Vec<String>| {
-            out.push_str(&cells.join(","));
-            out.push('\n');
-        };
+        let mut rows = Vec::new();
         if header {
             let mut cols = vec!["member".to_string()];
-            cols.extend(names.iter().map(|n| csv_field(n)));
-            cols.extend(self.columns.iter().map(|c| csv_field(c)));
+            cols.extend(names.iter().map(|n| n.to_string()));
+            cols.extend(self.columns.iter().cloned());
             cols.push("error".to_string());
-            line(cols);
+            rows.push(cols);
         }
         for ((i, p), r) in self.index.iter().zip(&self.params).zip(&self.results) {
             let mut row = vec![i.to_string()];
@@ -897,13 +918,53 @@ impl Results<Vec<f64>> {
                 Err(e) => {
                     row.extend(self.columns.iter().map(|_| String::new()));
                     // One line per member: a line break in the message becomes a space.
-                    let msg = e.to_string().replace(['\r', '\n'], " ");
-                    row.push(format!("\"{}\"", msg.replace('"', "\"\"")));
+                    row.push(e.to_string().replace(['\r', '\n'], " "));
                 }
             }
-            line(row);
+            rows.push(row);
         }
-        Ok(out)
+        Ok(rows)
+    }
+}
+
+impl core::fmt::Display for Results<Vec<f64>> {
+    /// The table of [`Results::write_csv`] in aligned columns, for a terminal (a row per member;
+    /// the reason in place of the values of a member that failed).
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let r = Ensemble::new(2, |i| Member::new(Free, [0.0], [i as f64]).param("v", i as f64))
+    ///     .configure(|s| s.until(1.0))
+    ///     .reduce(&["v0"], |tr| vec![tr.qdot[0][0]]);
+    /// assert_eq!(r.to_string(), "member  v    v0   error\n0       0e0  0e0  \n1       1e0  1e0  \n");
+    /// ```
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let rows = self.cells(true).map_err(|_| core::fmt::Error)?;
+        let mut width = vec![0usize; rows.first().map_or(0, Vec::len)];
+        for row in &rows {
+            for (w, c) in width.iter_mut().zip(row) {
+                *w = (*w).max(c.chars().count());
+            }
+        }
+        for row in &rows {
+            for (k, c) in row.iter().enumerate() {
+                if k + 1 == row.len() {
+                    f.write_str(c)?;
+                } else {
+                    write!(f, "{c:<w$}  ", w = width[k])?;
+                }
+            }
+            f.write_str("\n")?;
+        }
+        Ok(())
     }
 }
 
