@@ -11,11 +11,9 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 
-#[path = "../examples/support/heavy_top_system.rs"]
-mod heavy_top_system;
-#[path = "../examples/support/quaternion_top_system.rs"]
-mod quaternion_top_system;
 use heavy_top_system::HeavyTop;
+use lagrange_examples::heavy_top_system;
+use lagrange_examples::quaternion_top_system;
 use quaternion_top_system::{from_euler, QuaternionTop};
 
 /// The heavy-top benchmark of the integrator benches: I⊥ = 1, I∥ = 0.5, mgl = 4.905,

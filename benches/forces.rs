@@ -9,9 +9,8 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 
-#[path = "../examples/support/driven_pendulum_system.rs"]
-mod driven_pendulum_system;
 use driven_pendulum_system::DrivenPendulum;
+use lagrange_examples::driven_pendulum_system;
 
 /// The same pendulum in run-time jets.
 pub struct DrivenPendulumJets {

@@ -7,13 +7,15 @@
 
 #[macro_use]
 pub mod systems;
-#[path = "../../examples/support/double_pendulum_system.rs"]
-pub mod double_pendulum;
-#[path = "../../examples/support/four_bar_system.rs"]
-pub mod four_bar;
 pub mod hand;
-#[path = "../../examples/support/quaternion_top_system.rs"]
-pub mod quaternion_top;
+// The systems the examples share, from the examples' package (declared once, in examples/support/;
+// each test crate uses some of them).
+#[allow(unused_imports)]
+pub use lagrange_examples::double_pendulum_system as double_pendulum;
+#[allow(unused_imports)]
+pub use lagrange_examples::four_bar_system as four_bar;
+#[allow(unused_imports)]
+pub use lagrange_examples::quaternion_top_system as quaternion_top;
 
 use lagrange::prelude::*;
 
