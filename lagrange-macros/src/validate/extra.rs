@@ -1,0 +1,423 @@
+//! The functions next to `fn lagrangian`: `fn dissipation`, `fn forces` and `fn constraints`,
+//! their parameters (lagrangian's coordinates) and return types.
+
+#[allow(unused_imports)]
+use super::*;
+
+/// The rule for the parameters of `fn dissipation` and `fn forces`, quoted by every error about
+/// them.
+pub(super) const EXTRA_RULE: &str = "the coordinate parameters of `dissipation` and `forces` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` (`(x, _)`, `(_, _)`) and names may differ; `t: Time` is optional in each";
+
+/// The rule for the parameters of `fn constraints`, quoted by every error about them.
+pub(super) const CONSTRAINTS_RULE: &str = "the coordinate parameters of `constraints` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` and names may differ; the constraints g(q, t) = 0 depend on the positions only, so bind each velocity as `_` (`(x, _): Coord`); `t: Time` is optional, for a moving constraint";
+
+/// The parameter rule quoted for `kind`.
+pub(super) fn extra_rule(kind: FuncKind) -> &'static str {
+    match kind {
+        FuncKind::Dissipation | FuncKind::Forces => EXTRA_RULE,
+        FuncKind::Constraints => CONSTRAINTS_RULE,
+    }
+}
+
+/// The signature `fn dissipation`, `fn forces` or `fn constraints` should have, from
+/// `lagrangian`'s coordinates (`k`: the number of constraints, if known).
+pub(super) fn extra_hint(
+    kind: FuncKind,
+    coords: &[CoordParam],
+    time: bool,
+    k: Option<usize>,
+) -> String {
+    let mut params: Vec<String> = coords
+        .iter()
+        .map(|c| {
+            let ty = c.kind.type_name();
+            if kind == FuncKind::Constraints {
+                format!("({}, _): {ty}", c.name)
+            } else {
+                format!("({}, {}): {ty}", c.name, c.dot)
+            }
+        })
+        .collect();
+    if time {
+        params.push("t: Time".to_owned());
+    }
+    let n: usize = coords.iter().map(CoordParam::width).sum();
+    let ret = match kind {
+        FuncKind::Dissipation => "Scalar".to_owned(),
+        FuncKind::Forces => format!("[Scalar; {n}]"),
+        FuncKind::Constraints => match k {
+            Some(k) => format!("[Scalar; {k}]"),
+            None => "[Scalar; K]".to_owned(),
+        },
+    };
+    format!(
+        "fn {}(&self, {}) -> {ret}",
+        kind.user_name(),
+        params.join(", ")
+    )
+}
+
+/// How many coordinate slots the coordinates declare, spelled out for an error message.
+pub(super) fn slots_text(coords: &[CoordParam]) -> String {
+    let n: usize = coords.iter().map(CoordParam::width).sum();
+    let names: Vec<String> = coords.iter().flat_map(CoordParam::slot_names).collect();
+    let vector = if coords.iter().any(|c| c.kind == CoordKind::Vector3) {
+        "; a `Coord3` counts 3 slots: x, y, z"
+    } else {
+        ""
+    };
+    format!(
+        "`lagrangian` declares {n} coordinate slot{} ({}{vector})",
+        if n == 1 { "" } else { "s" },
+        names.join(", ")
+    )
+}
+
+/// Checks `fn dissipation`, `fn forces` or `fn constraints` against the validated
+/// `fn lagrangian` (its coordinates) and builds it; `None` if any rule is broken (the errors say
+/// which).
+pub(super) fn check_extra(
+    func: ImplItemFn,
+    kind: FuncKind,
+    lag_coords: &[CoordParam],
+    lag_time: Option<&proc_macro2::Ident>,
+    sink: &mut Errors,
+) -> Option<Func> {
+    // This function's errors, collected apart so it knows whether it found any.
+    let errors = &mut Errors::default();
+    let fail = |errors: &mut Errors, tokens: &dyn quote::ToTokens, msg: String| {
+        errors.at(tokens, msg);
+    };
+    let sig = &func.sig;
+    let name = kind.user_name();
+    let declared_k = constraint_count(&sig.output)
+        .and_then(|k| k.ok())
+        .filter(|k| *k >= 1);
+    let hint = extra_hint(kind, lag_coords, false, declared_k);
+    let rule = extra_rule(kind);
+    let n: usize = lag_coords.iter().map(CoordParam::width).sum();
+    check_qualifiers(sig, name, errors);
+    let ret_span = match (&sig.output, kind) {
+        (ReturnType::Type(_, ty), FuncKind::Dissipation) => {
+            if !is_ident_type(ty, "Scalar") {
+                fail(
+                    errors,
+                    ty,
+                    format!("`fn dissipation` returns one `Scalar`: the Rayleigh dissipation function D is a single number at each state (its −∂D/∂q̇ gives one force per coordinate); write `-> Scalar`: `{hint}`"),
+                );
+            }
+            ty.span()
+        }
+        (ReturnType::Type(_, ty), FuncKind::Forces) => {
+            match &**ty {
+                Type::Array(a) if is_ident_type(&a.elem, "Scalar") => match &a.len {
+                    syn::Expr::Lit(syn::ExprLit { lit: syn::Lit::Int(len), .. }) => {
+                        if len.base10_parse::<usize>().ok() != Some(n) {
+                            fail(
+                                errors,
+                                &a.len,
+                                format!("`fn forces` returns one generalized force per coordinate slot, and {}: write `[Scalar; {n}]`", slots_text(lag_coords)),
+                            );
+                        }
+                    }
+                    other => fail(
+                        errors,
+                        other,
+                        format!("the length of the array `fn forces` returns is written as a number: {}, so write `[Scalar; {n}]`", slots_text(lag_coords)),
+                    ),
+                },
+                other => fail(
+                    errors,
+                    other,
+                    format!("`fn forces` returns an array of generalized forces, one per coordinate slot: {}, so write `-> [Scalar; {n}]`: `{hint}`", slots_text(lag_coords)),
+                ),
+            }
+            ty.span()
+        }
+        (ReturnType::Type(_, ty), FuncKind::Constraints) => {
+            match constraint_count(&sig.output) {
+                Some(Ok(k)) if k >= 1 => {}
+                Some(Ok(_)) => fail(
+                    errors,
+                    ty,
+                    format!("`fn constraints` returns at least one constraint: write `[Scalar; 1]` or more, one entry g(q, t) per constraint: `{hint}`"),
+                ),
+                Some(Err(len)) => fail(
+                    errors,
+                    len,
+                    format!("the length of the array `fn constraints` returns, K, is written as a number (how many constraints g(q, t) = 0 there are): `{hint}`"),
+                ),
+                None => fail(
+                    errors,
+                    ty,
+                    format!("`fn constraints` returns an array of constraints g(q, t), one entry per constraint, each zero on the constrained motion: write `-> [Scalar; K]` with K the number of constraints: `{hint}`"),
+                ),
+            }
+            ty.span()
+        }
+        (ReturnType::Default, _) => {
+            fail(
+                errors,
+                &sig.ident,
+                format!("`fn {name}` must say what it returns: `{hint}`"),
+            );
+            sig.ident.span()
+        }
+    };
+    let mut inputs = sig.inputs.iter().peekable();
+    let self_token = receiver(
+        &mut inputs,
+        sig,
+        [
+            format!("`fn {name}` takes `&self` (a shared reference): `{hint}`"),
+            format!("`fn {name}` takes `&self` first: `{hint}`"),
+            format!("`fn {name}` takes `&self` and the coordinates of `lagrangian`: `{hint}`"),
+        ],
+        errors,
+    );
+    let mut bindings = Vec::new();
+    let mut time: Option<proc_macro2::Ident> = None;
+    let mut seen = Names::default();
+    let mut check_name =
+        |ident: &proc_macro2::Ident, errors: &mut Errors| seen.bind(ident, name, errors);
+    for arg in inputs {
+        let pt = match arg {
+            FnArg::Typed(pt) => pt,
+            FnArg::Receiver(r) => {
+                fail(errors, r, "`self` may only come first".to_owned());
+                continue;
+            }
+        };
+        let kind_here = if let Some(kind) = coord_type(&pt.ty) {
+            match kind {
+                Ok(kind) => Some(kind),
+                Err(e) => {
+                    errors.push(e);
+                    bindings.push((None, None));
+                    continue;
+                }
+            }
+        } else if is_ident_type(&pt.ty, "Time") {
+            None
+        } else {
+            fail(
+                errors,
+                &pt.ty,
+                format!("unknown parameter type: {rule}: `{hint}`"),
+            );
+            continue;
+        };
+        let Some(kind_here) = kind_here else {
+            match &*pt.pat {
+                Pat::Ident(pi)
+                    if pi.by_ref.is_none() && pi.mutability.is_none() && pi.subpat.is_none() =>
+                {
+                    if time.is_some() {
+                        fail(errors, &pt.pat, format!("a second `Time` parameter: `fn {name}` takes at most one `t: Time`"));
+                    } else if check_name(&pi.ident, errors) {
+                        time = Some(pi.ident.clone());
+                    }
+                }
+                Pat::Wild(_) => {}
+                other => fail(
+                    errors,
+                    other,
+                    "time is bound to a plain name: `t: Time`".to_owned(),
+                ),
+            }
+            continue;
+        };
+        let k = bindings.len();
+        let ty_name = CoordKind::type_name;
+        match lag_coords.get(k) {
+            None => {
+                fail(
+                    errors,
+                    pt,
+                    format!(
+                        "`lagrangian` declares no such coordinate: it has {} coordinate parameter{}, and this is one more; {rule}: `{hint}`",
+                        lag_coords.len(),
+                        if lag_coords.len() == 1 { "" } else { "s" },
+                    ),
+                );
+                bindings.push((None, None));
+            }
+            Some(c) if c.kind != kind_here => {
+                fail(
+                    errors,
+                    &pt.ty,
+                    format!(
+                        "coordinate {} of `lagrangian`, `({}, {}): {}`, is a `{}`, and this is a `{}`; {rule}: `{hint}`",
+                        k + 1,
+                        c.name,
+                        c.dot,
+                        ty_name(c.kind),
+                        ty_name(c.kind),
+                        ty_name(kind_here),
+                    ),
+                );
+                bindings.push((None, None));
+            }
+            Some(_) => match binding_pattern(&pt.pat) {
+                Some((a, b)) => {
+                    for ident in a.iter().chain(&b) {
+                        check_name(ident, errors);
+                    }
+                    bindings.push((a, b));
+                }
+                None => {
+                    fail(
+                        errors,
+                        &pt.pat,
+                        format!("a coordinate is bound as a pair, the coordinate and its velocity, each a name or `_`: `(x, x_dot): Coord`, `(x, _): Coord`; {rule}"),
+                    );
+                    bindings.push((None, None));
+                }
+            },
+        }
+    }
+    if bindings.len() < lag_coords.len() {
+        let missing: Vec<String> = lag_coords[bindings.len()..]
+            .iter()
+            .map(|c| format!("`{}`", c.name))
+            .collect();
+        fail(
+            errors,
+            &sig.ident,
+            format!(
+                "`fn {name}` lacks coordinate{} {} of `lagrangian`; {rule}: `{hint}`",
+                if missing.len() == 1 { "" } else { "s" },
+                missing.join(", ")
+            ),
+        );
+    }
+    if time.is_none() {
+        let mut candidates = vec!["t".to_owned()];
+        if let Some(lt) = lag_time {
+            candidates.push(crate::model::unraw(lt));
+        }
+        let bound: Vec<String> = bindings
+            .iter()
+            .flat_map(|(a, b)| a.iter().chain(b))
+            .map(crate::model::unraw)
+            .collect();
+        for cand in candidates {
+            if bound.contains(&cand) {
+                continue;
+            }
+            if let Some(at) = free_use(&func.block, &cand) {
+                let with_time = extra_hint(kind, lag_coords, true, declared_k)
+                    .replace("t: Time", &format!("{cand}: Time"));
+                let msg = if kind == FuncKind::Constraints {
+                    format!("`{cand}` is used in `fn constraints`, which has no `{cand}: Time` parameter: a moving (rheonomic) constraint g(q, t) declares the time, so add `{cand}: Time` to its parameters: `{with_time}`")
+                } else {
+                    format!("`{cand}` is used in `fn {name}`, which has no `{cand}: Time` parameter: add `{cand}: Time` to its parameters (`t: Time` is optional in each of `lagrangian`, `dissipation` and `forces`, and each one whose body uses the time declares it): `{with_time}`")
+                };
+                fail(errors, &at, msg);
+                break;
+            }
+        }
+    }
+    if kind == FuncKind::Constraints {
+        // The tail is checked against an array return type only (for another, the error at the
+        // return type says it all).
+        let array = constraint_count(&sig.output).is_some();
+        check_constraints_body(&func.block, &bindings, declared_k, array, &hint, errors);
+    }
+    let ok = errors.is_empty();
+    sink.push_all(std::mem::take(errors));
+    if !ok {
+        return None;
+    }
+    Some(Func {
+        kind,
+        fn_attrs: func.attrs,
+        fn_ident: func.sig.ident,
+        ret_span,
+        bindings,
+        time,
+        body: func.block,
+        self_token,
+        k: declared_k.unwrap_or(0),
+    })
+}
+
+/// K of a return type `[Scalar; K]`: `Some(Ok(K))` for an integer literal, `Some(Err(len))` for
+/// any other length expression, `None` when it is not an array of `Scalar`.
+pub fn constraint_count(output: &ReturnType) -> Option<Result<usize, &syn::Expr>> {
+    let ReturnType::Type(_, ty) = output else {
+        return None;
+    };
+    let mut ty = &**ty;
+    while let Type::Group(g) = ty {
+        ty = &g.elem;
+    }
+    match ty {
+        Type::Array(a) if is_ident_type(&a.elem, "Scalar") => match &a.len {
+            syn::Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Int(len),
+                ..
+            }) => Some(len.base10_parse::<usize>().map_err(|_| &a.len)),
+            other => Some(Err(other)),
+        },
+        _ => None,
+    }
+}
+
+/// The rules of the body of `fn constraints`: no velocity it binds is used (the constraints
+/// depend on the positions and the time only), and it ends in an array literal of K entries.
+pub(super) fn check_constraints_body(
+    body: &syn::Block,
+    bindings: &[(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)],
+    k: Option<usize>,
+    array: bool,
+    hint: &str,
+    errors: &mut Errors,
+) {
+    for (coordinate, velocity) in bindings {
+        let Some(velocity) = velocity else { continue };
+        let name = crate::model::unraw(velocity);
+        // A use as a value is reported there; a mention inside a macro, at the binding.
+        let at = free_use(body, &name)
+            .or_else(|| mentioned_in_macro(body, &name).then(|| velocity.clone()));
+        if let Some(at) = at {
+            let x = coordinate
+                .as_ref()
+                .map_or_else(|| "x".to_owned(), crate::model::unraw);
+            errors.at(
+                &at,
+                format!("`{velocity}` is a velocity, and the constraints g(q, t) = 0 depend on the positions (and, for a moving constraint, on `t: Time`) only: bind the velocity as `_`, `({x}, _)`, and leave it out of the body: `{hint}`"),
+            );
+        }
+    }
+    if !array {
+        return;
+    }
+    match body.stmts.last() {
+        Some(syn::Stmt::Expr(e, None)) => match paren_less(e) {
+            syn::Expr::Array(a) => {
+                if let Some(k) = k {
+                    if a.elems.len() != k {
+                        errors.at(
+                            a,
+                            format!(
+                                "`fn constraints` returns {k} constraint{} (`[Scalar; {k}]`), and this array has {} entr{}: one entry g(q, t) per constraint",
+                                if k == 1 { "" } else { "s" },
+                                a.elems.len(),
+                                if a.elems.len() == 1 { "y" } else { "ies" },
+                            ),
+                        );
+                    }
+                }
+            }
+            other => errors.at(
+                other,
+                format!("the body of `fn constraints` ends in an array literal, one entry g(q, t) per constraint (`[x * x + y * y - self.l * self.l]`): `{hint}`"),
+            ),
+        },
+        _ => errors.push(syn::Error::new(
+            body.brace_token.span.close(),
+            format!("the body of `fn constraints` ends in an array literal, one entry g(q, t) per constraint, without a semicolon (`[x * x + y * y - self.l * self.l]`): `{hint}`"),
+        )),
+    }
+}
