@@ -297,17 +297,25 @@ where
     /// defaults until [`configure`](Ensemble::configure) says otherwise.
     ///
     /// ```
-    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
-    /// # use lagrange_runtime::{Lagrangian, Scalar};
-    /// # struct Free;
-    /// # impl Lagrangian<1> for Free {
-    /// #     const COORDINATES: [&'static str; 1] = ["x"];
-    /// #     const CYCLIC: [bool; 1] = [true];
-    /// #     const AUTONOMOUS: bool = true;
-    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
-    /// # }
-    /// let e = Ensemble::new(5, |i| Member::new(Free, [0.0], [i as f64]));
-    /// assert_eq!(e.members(), 0..5);
+    /// use lagrange::prelude::*;
+    ///
+    /// /// A free particle of mass m.
+    /// pub struct Free { pub m: f64 }
+    ///
+    /// #[lagrangian]
+    /// impl Free {
+    ///     fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+    ///         0.5 * self.m * x_dot * x_dot
+    ///     }
+    /// }
+    ///
+    /// // Five particles launched at 0, 1, …, 4: after t = 2 each is at 2 v.
+    /// let runs = Ensemble::new(5, |i| Member::new(Free { m: 1.0 }, [0.0], [i as f64]).param("v", i as f64))
+    ///     .configure(|sim| sim.until(2.0))
+    ///     .reduce(&["x"], |tr| vec![tr.q[tr.len() - 1][0]]);
+    /// for (i, r) in runs.results.iter().enumerate() {
+    ///     assert!((r.as_ref().unwrap()[0] - 2.0 * i as f64).abs() < 1e-12);
+    /// }
     /// ```
     pub fn new(len: usize, member: F) -> Self {
         Ensemble {

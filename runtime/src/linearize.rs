@@ -310,16 +310,19 @@ pub trait Linearize<const N: usize>: Lagrangian<N> {
     /// the unconstrained L (a linearization on the constraint manifold is not there yet).
     ///
     /// ```
-    /// use lagrange_runtime::{Lagrangian, Linearize, Scalar};
-    /// /// A pendulum, L = θ̇²/2 + 4 cos θ: ω² = 4 about the bottom.
-    /// struct P;
-    /// impl Lagrangian<1> for P {
-    ///     const COORDINATES: [&'static str; 1] = ["theta"];
-    ///     const CYCLIC: [bool; 1] = [false];
-    ///     const AUTONOMOUS: bool = true;
-    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() * 4.0 }
+    /// use lagrange::prelude::*;
+    ///
+    /// /// A pendulum: ω² = g/l about the bottom.
+    /// pub struct Pendulum { pub g: f64, pub l: f64 }
+    ///
+    /// #[lagrangian]
+    /// impl Pendulum {
+    ///     fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
+    ///         0.5 * self.l * self.l * theta_dot * theta_dot + self.g * self.l * theta.cos()
+    ///     }
     /// }
-    /// let lin = P.linearize(&[0.0], &[0.0], 0.0).unwrap();
+    ///
+    /// let lin = Pendulum { g: 4.0, l: 1.0 }.linearize(&[0.0], &[0.0], 0.0).unwrap();
     /// assert_eq!(lin.modes().unwrap()[0].omega(), Some(2.0));
     /// assert!(lin.is_stable());
     /// ```

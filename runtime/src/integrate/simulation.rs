@@ -71,15 +71,19 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// time with [`until`](Simulation::until).
     ///
     /// ```
-    /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation};
-    /// # struct Free;
-    /// # impl Lagrangian<1> for Free {
-    /// #     const COORDINATES: [&'static str; 1] = ["x"];
-    /// #     const CYCLIC: [bool; 1] = [true];
-    /// #     const AUTONOMOUS: bool = true;
-    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
-    /// # }
-    /// let tr = Simulation::new(&Free, [1.0], [2.0]).until(1.0).run().unwrap();
+    /// use lagrange::prelude::*;
+    ///
+    /// /// A free particle of mass m.
+    /// pub struct Free { pub m: f64 }
+    ///
+    /// #[lagrangian]
+    /// impl Free {
+    ///     fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+    ///         0.5 * self.m * x_dot * x_dot
+    ///     }
+    /// }
+    ///
+    /// let tr = Simulation::new(&Free { m: 2.0 }, [1.0], [2.0]).until(1.0).run().unwrap();
     /// assert!((tr.q.last().unwrap()[0] - 3.0).abs() < 1e-12);
     /// ```
     pub fn new(system: &'a L, q0: [f64; N], qdot0: [f64; N]) -> Self {
