@@ -732,6 +732,63 @@ fn join_signed(parts: &[(bool, String)], latex: bool) -> String {
     s
 }
 
+/// `p` with every pair of terms `k r sinᵃ⁺²(x) cosᵇ(x) + k r sinᵃ(x) cosᵇ⁺²(x)` (the same k and
+/// r) merged into `k r sinᵃ(x) cosᵇ(x)` (sin² + cos² = 1), repeatedly: a 10-link chain's mass
+/// entry `10 l² m sin²(q[0]) + 10 l² m cos²(q[0])` prints as `10 l² m`. Only pairs merge, so an
+/// equation never gets longer (`cos²` alone is not rewritten as `1 − sin²`).
+fn pythagoras(p: &Poly) -> Poly {
+    // The monomial `m` with the exponent of `atom` changed by `delta` (dropped at 0).
+    fn shifted(m: &Mono, atom: Atom, delta: i32) -> Mono {
+        let mut out: Mono = m.clone();
+        match out.iter().position(|(a, _)| *a == atom) {
+            Some(i) => {
+                out[i].1 += delta;
+                if out[i].1 == 0 {
+                    out.remove(i);
+                }
+            }
+            None => {
+                let at = out.partition_point(|(a, _)| *a < atom);
+                out.insert(at, (atom, delta));
+            }
+        }
+        out
+    }
+    let mut p = p.clone();
+    'merge: loop {
+        for (m, &c) in &p.0 {
+            for &(atom, e) in m {
+                let Atom::Fun(Fun::Sin, x) = atom else {
+                    continue;
+                };
+                if e < 2 {
+                    continue;
+                }
+                let cos = Atom::Fun(Fun::Cos, x);
+                let partner = shifted(&shifted(m, atom, -2), cos, 2);
+                let Some(&c2) = p.0.get(&partner) else {
+                    continue;
+                };
+                if (c - c2).abs() > 1e-14 * c.abs().max(c2.abs()) {
+                    continue;
+                }
+                let merged = shifted(m, atom, -2);
+                let (m, partner) = (m.clone(), partner);
+                p.0.remove(&m);
+                p.0.remove(&partner);
+                let sum = p.0.get(&merged).copied().unwrap_or(0.0) + c;
+                if sum == 0.0 {
+                    p.0.remove(&merged);
+                } else {
+                    p.0.insert(merged, sum);
+                }
+                continue 'merge;
+            }
+        }
+        return p;
+    }
+}
+
 /// The longest equation printed in full (left and right sides together, in bytes).
 const MAX_EQUATION_CHARS: usize = 64 * 1024;
 
@@ -839,10 +896,10 @@ pub(super) fn equations(d: &Derivation, decl: &Decl) -> Equations {
                     .unwrap_or_else(|| Poly::atom(Atom::Paren(m), 1));
                 lhs = plus(&lhs, &term, 1.0);
             }
-            let l = pr.grouped(&lhs);
+            let l = pr.grouped(&pythagoras(&lhs));
             let mut parts = Vec::new();
             for id in [d.force[i], d.generalized[i], d.dissipative[i]] {
-                let p = pr.ex.poly(id);
+                let p = pythagoras(&pr.ex.poly(id));
                 parts.extend(pr.grouped_parts(&p));
             }
             let mut r = join_signed(&parts, latex);
