@@ -32,6 +32,9 @@ enum Atom {
     Select(Id),
     /// A sum that could not be expanded (a denominator, a negative power, a too-large product).
     Paren(Id),
+    /// `sin(a − b)` or `cos(a − b)` (`Fun::Sin`, `Fun::Cos`), merged by [`pythagoras`] from
+    /// products of the sines and cosines of a and b.
+    Diff(Fun, Id, Id),
 }
 
 impl Atom {
@@ -404,7 +407,7 @@ fn flat_deps(dag: &Dag, p: &Poly, out: &mut Vec<Id>) {
         for &(a, _) in m {
             match a {
                 Atom::Fun(_, x) | Atom::Paren(x) => out.push(x),
-                Atom::Atan2(x, y) | Atom::Powf(x, y) => out.extend([x, y]),
+                Atom::Atan2(x, y) | Atom::Powf(x, y) | Atom::Diff(_, x, y) => out.extend([x, y]),
                 Atom::Select(x) => {
                     if let Node::Select(_, a, b) = dag.node(x) {
                         out.extend([a, b]);
@@ -549,6 +552,19 @@ impl Printer<'_> {
                             format!("{name}{}{arg}", superscript(e))
                         }
                     }
+                }
+            }
+            Atom::Diff(f, a, b) => {
+                let (a, b) = (self.flat(a), self.flat(b));
+                let name = self.fun_name(f);
+                let minus = if latex { "-" } else { "−" };
+                let arg = self.paren(format!("{a} {minus} {b}"));
+                if e == 1 {
+                    format!("{name}{arg}")
+                } else if latex {
+                    format!("{name}^{{{e}}}{arg}")
+                } else {
+                    format!("{name}{}{arg}", superscript(e))
                 }
             }
             Atom::Atan2(y, x) => {
@@ -783,6 +799,53 @@ fn pythagoras(p: &Poly) -> Poly {
                     p.0.insert(merged, sum);
                 }
                 continue 'merge;
+            }
+            // k r sin a sin b + k r cos a cos b = k r cos(a − b);
+            // k r sin a cos b − k r cos a sin b = k r sin(a − b) (a, b in the atoms' order).
+            for &(sa, e1) in m {
+                let Atom::Fun(Fun::Sin, a) = sa else { continue };
+                for &(other, e2) in m {
+                    let (b, kind) = match other {
+                        Atom::Fun(Fun::Sin, b) if b > a => (b, Fun::Cos),
+                        Atom::Fun(Fun::Cos, b) if b != a => (b, Fun::Sin),
+                        _ => continue,
+                    };
+                    if e1 != 1 || e2 != 1 {
+                        continue;
+                    }
+                    let (ca, sb, cb) = (
+                        Atom::Fun(Fun::Cos, a),
+                        Atom::Fun(Fun::Sin, b),
+                        Atom::Fun(Fun::Cos, b),
+                    );
+                    // The partner: cos a cos b (for sin a sin b), cos a sin b (for sin a cos b).
+                    let rest = shifted(&shifted(m, sa, -1), other, -1);
+                    let partner = match kind {
+                        Fun::Cos => shifted(&shifted(&rest, ca, 1), cb, 1),
+                        _ => shifted(&shifted(&rest, ca, 1), sb, 1),
+                    };
+                    let Some(&c2) = p.0.get(&partner) else {
+                        continue;
+                    };
+                    let want = if kind == Fun::Cos { c } else { -c };
+                    if (want - c2).abs() > 1e-14 * c.abs().max(c2.abs()) {
+                        continue;
+                    }
+                    let (lo, hi, sign) = if a < b { (a, b, 1.0) } else { (b, a, -1.0) };
+                    // sin(b − a) = −sin(a − b); cos is even.
+                    let k = if kind == Fun::Sin { c * sign } else { c };
+                    let merged = shifted(&rest, Atom::Diff(kind, lo, hi), 1);
+                    let m = m.clone();
+                    p.0.remove(&m);
+                    p.0.remove(&partner);
+                    let sum = p.0.get(&merged).copied().unwrap_or(0.0) + k;
+                    if sum == 0.0 {
+                        p.0.remove(&merged);
+                    } else {
+                        p.0.insert(merged, sum);
+                    }
+                    continue 'merge;
+                }
             }
         }
         return p;

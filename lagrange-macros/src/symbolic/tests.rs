@@ -1021,15 +1021,22 @@ fn forces_not_ending_in_an_array_literal_say_use_jets() {
     );
 }
 
-/// The printed equations merge sin² + cos² = 1 pairs: the chain's first mass entry is
-/// Σ m l² (sin² θ₁ + cos² θ₁) = 3 m l², printed as such (the trig pairs gone), while a lone
-/// cos² (the heavy top's I∥ cos²θ) stays as written.
+/// The printed equations merge sin² + cos² = 1 pairs and the products that are a sine or cosine
+/// of a difference: the chain's first mass entry is Σ m l² (sin² θ₁ + cos² θ₁) = 3 m l², its
+/// couplings cos(θ₁ − θ₂), while a lone cos² (the heavy top's I∥ cos²θ) stays as written.
 #[test]
 fn printed_equations_merge_sin_squared_plus_cos_squared() {
     let out = expand(&chain_decl(3)).unwrap_or_else(|_| panic!("expands"));
     let first = out.equations.lines().next().unwrap_or_default();
     assert!(first.starts_with("th1: 3 l² m d²(th₁)/dt² + "), "{first}");
     assert!(!first.contains("sin²(th₁)"), "{first}");
+    // …and sin a sin b + cos a cos b = cos(a − b), sin a cos b − cos a sin b = sin(a − b): the
+    // textbook form of the chain (checked against the hand derivation of a triple pendulum).
+    assert_eq!(
+        first,
+        "th1: 3 l² m d²(th₁)/dt² + 2 l² m d²(th₂)/dt² cos(th₁ − th₂) + l² m d²(th₃)/dt² cos(th₁ − th₃) \
+         = −2 l² m (d(th₂)/dt)² sin(th₁ − th₂) − l² m (d(th₃)/dt)² sin(th₁ − th₃) − 3 l m g sin(th₁)"
+    );
     let top = expand(&heavy_top()).unwrap_or_else(|_| panic!("expands"));
     assert!(
         top.equations.contains("i_par φ\u{308} cos²(θ)"),
