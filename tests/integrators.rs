@@ -437,6 +437,39 @@ fn samples_at_chosen_times_for_the_adaptive_methods() {
 
 /// Fixed-step methods record the nodes the sample times land on: the same states as a run that
 /// records every step, at the requested times only.
+/// A finished run evaluated at new times (`Trajectory::at`, with `keep_dense_output`) gives
+/// what `sample_at` would have recorded there, bit for bit: the heavy top with DOP853 and
+/// Dormand–Prince (the steps do not depend on the samples).
+#[test]
+fn at_new_times_is_what_sample_at_records() {
+    let times: Vec<f64> = (1..400).map(|k| 0.025 * k as f64 + 1e-3).collect();
+    for method in [
+        Method::Dop853 {
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+        Method::DormandPrince {
+            rtol: 1e-8,
+            atol: 1e-10,
+        },
+    ] {
+        let sim = || {
+            Simulation::new(&TOP, TOP_Q0, TOP_V0)
+                .method(method)
+                .until(10.0)
+        };
+        let kept = sim().keep_dense_output(true).run().unwrap();
+        let sampled = sim().sample_at(times.iter().copied()).run().unwrap();
+        assert_eq!(sampled.len(), times.len() + 2);
+        for k in 0..sampled.len() {
+            let (q, qdot) = kept.at(sampled.t[k]).unwrap();
+            assert_eq!((q, qdot), (sampled.q[k], sampled.qdot[k]), "{method:?}");
+        }
+        let err = kept.at(10.5).unwrap_err();
+        assert!(err.to_string().contains("[0, 10]"), "{err}");
+    }
+}
+
 #[test]
 fn samples_at_grid_times_for_the_fixed_step_methods() {
     for method in [

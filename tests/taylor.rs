@@ -407,6 +407,80 @@ fn dense_output_and_events_against_dop853() {
     }
 }
 
+/// `Trajectory::at` on a Taylor run is the step's series: the exact motion to the tolerance at
+/// random times (the error follows the tolerance), the recorded samples bit for bit at the
+/// nodes and between them, and the same in an ensemble's lanes as in a single run.
+#[test]
+fn dense_output_kept_is_the_series_of_each_step() {
+    let osc = Oscillator { w: 1.0 };
+    let run = |tol: f64| {
+        Simulation::new(&osc, [1.0], [0.0])
+            .method(Method::Taylor { tol })
+            .until(20.0)
+            .keep_dense_output(true)
+    };
+    let mut rng = Rng(11);
+    let times: Vec<f64> = (0..1000).map(|_| rng.uniform(0.0, 20.0)).collect();
+    let worst = |tr: &Trajectory<1>| {
+        times.iter().fold(0.0_f64, |m, &t| {
+            let (q, v) = tr.at(t).unwrap();
+            m.max((q[0] - t.cos()).abs()).max((v[0] + t.sin()).abs())
+        })
+    };
+    let (loose, tight) = (run(1e-8).run().unwrap(), run(1e-14).run().unwrap());
+    let (e8, e14) = (worst(&loose), worst(&tight));
+    assert!(
+        e8 < 1e-6 && e14 < 1e-11 && e14 < 1e-4 * e8,
+        "{e8:e} {e14:e}"
+    );
+    for k in 0..tight.len() {
+        assert_eq!(tight.at(tight.t[k]).unwrap(), (tight.q[k], tight.qdot[k]));
+    }
+    let mut inside: Vec<f64> = times.iter().copied().filter(|&t| t > 0.0).collect();
+    inside.sort_by(f64::total_cmp);
+    let sampled = run(1e-14).sample_at(inside).run().unwrap();
+    for k in 0..sampled.len() {
+        assert_eq!(
+            sampled.at(sampled.t[k]).unwrap(),
+            (sampled.q[k], sampled.qdot[k])
+        );
+    }
+    // Members in lanes keep the single run's dense output.
+    let members = Ensemble::new(5, |i| {
+        Member::new(
+            Oscillator {
+                w: 1.0 + 0.2 * i as f64,
+            },
+            [1.0],
+            [0.0],
+        )
+    })
+    .configure(|sim| {
+        sim.method(Method::Taylor { tol: 1e-14 })
+            .until(20.0)
+            .keep_dense_output(true)
+    })
+    .lanes(4)
+    .progress(false)
+    .run();
+    for (i, tr) in members.results.iter().enumerate() {
+        let o = Oscillator {
+            w: 1.0 + 0.2 * i as f64,
+        };
+        let single = Simulation::new(&o, [1.0], [0.0])
+            .method(Method::Taylor { tol: 1e-14 })
+            .until(20.0)
+            .keep_dense_output(true)
+            .run()
+            .unwrap();
+        let tr = tr.as_ref().unwrap();
+        assert_eq!(tr, &single, "member {i}");
+        for &t in &times[..50] {
+            assert_eq!(tr.at(t).unwrap(), single.at(t).unwrap());
+        }
+    }
+}
+
 /// Forces with explicit time and dissipation are part of the series: the driven pendulum agrees
 /// with DOP853, and its work balance closes.
 #[test]

@@ -417,22 +417,34 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Dop853<'_, L, N> {
         if t >= self.t {
             return Ok(self.y);
         }
-        let r = match self.r {
-            Some(r) => r,
-            None => {
-                let r = dense(
-                    self.sys,
-                    self.t_old,
-                    &self.y_old,
-                    &self.y,
-                    &mut self.k,
-                    self.h_old,
-                    stats,
-                )?;
-                self.r = Some(r);
-                r
-            }
-        };
+        let r = self.dense_output(stats)?;
         Ok(eval_dense(&r, (t - self.t_old) / self.h_old))
+    }
+    /// The 8 rows of the 7th-order dense output (`eval_dense`'s), scaled by h.
+    fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, stats: &mut Stats) -> Result<f64, Fault> {
+        let r = self.dense_output(stats)?;
+        rows.extend_from_slice(&r);
+        Ok(self.h_old)
+    }
+}
+
+impl<L: Lagrangian<N>, const N: usize> Dop853<'_, L, N> {
+    /// The dense-output coefficients of the last step, evaluated on first use (three more
+    /// stages) and kept until the next step.
+    fn dense_output(&mut self, stats: &mut Stats) -> Result<[Y<N>; 8], Fault> {
+        if let Some(r) = self.r {
+            return Ok(r);
+        }
+        let r = dense(
+            self.sys,
+            self.t_old,
+            &self.y_old,
+            &self.y,
+            &mut self.k,
+            self.h_old,
+            stats,
+        )?;
+        self.r = Some(r);
+        Ok(r)
     }
 }

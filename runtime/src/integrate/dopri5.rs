@@ -223,4 +223,9 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Dopri5<'_, L, N> {
         let theta = (t - self.t_old) / self.h_old;
         Ok(eval_dense(&self.r, theta))
     }
+    /// The 5 rows of the continuous extension (`eval_dense`'s), scaled by h.
+    fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, _stats: &mut Stats) -> Result<f64, Fault> {
+        rows.extend_from_slice(&self.r);
+        Ok(self.h_old)
+    }
 }

@@ -4,6 +4,7 @@
 
 use crate::lagrangian::Lagrangian;
 
+use super::dense::{Dense, Kind};
 use super::dop853::Dop853;
 use super::dopri5::Dopri5;
 use super::error::{PartialTrajectory, SimulationError};
@@ -89,6 +90,8 @@ pub(super) struct RunOptions<'s> {
     pub(super) max_samples: usize,
     /// Whether `max_samples` is the default (a memory budget), not the user's.
     pub(super) max_samples_default: bool,
+    /// When the run keeps its dense output: the most bytes it may take.
+    pub(super) dense_budget: Option<usize>,
 }
 
 /// Which states the trajectory records.
@@ -153,6 +156,9 @@ pub(super) struct Driver<'s, 'a, 'o, L, const N: usize> {
     keep: bool,
     max_samples: usize,
     max_samples_default: bool,
+    /// When the run keeps its dense output: the method's interpolant and the most bytes it may
+    /// take.
+    dense: Option<(Kind, usize)>,
     traj: Trajectory<N>,
     stats: Stats,
     work: Work,
@@ -225,6 +231,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             keep: o.keep_samples,
             max_samples: o.max_samples,
             max_samples_default: o.max_samples_default,
+            dense: o.dense_budget.map(|b| (Kind::of(method), b)),
             traj: Trajectory::empty::<L>(manifold.map_or(0, |m| m.count())),
             work: Work::default(),
             gauss: Vec::new(),
@@ -236,9 +243,20 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     }
 
     /// Whether the run reads the method's interpolant between nodes (samples off the nodes,
-    /// events, the work integral): a lane run then keeps each member's stages.
+    /// events, the work integral, the dense output kept): a lane run then keeps each member's
+    /// stages.
     pub(super) fn needs_interpolant(&self, o: &RunOptions) -> bool {
-        Self::RECORDS_WORK || !self.events.is_empty() || o.sampling.inside(o.t0, o.until)
+        Self::RECORDS_WORK
+            || !self.events.is_empty()
+            || o.sampling.inside(o.t0, o.until)
+            || self.dense.is_some()
+    }
+
+    /// Starts the dense output at (t0, y0) if the run keeps it (and it has not started).
+    fn start_dense(&mut self, t0: f64, y0: Y<N>) {
+        if let Some((kind, budget)) = self.dense {
+            self.traj.start_dense(|| Dense::new(kind, t0, y0, budget));
+        }
     }
 
     /// The statistics so far (the lanes engine counts a member's work here).
@@ -332,6 +350,8 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             other => other,
         };
         if y.iter().flatten().all(|x| x.is_finite()) {
+            // A run that fails before its first step has its dense output start here.
+            self.start_dense(t, y);
             let w = self.work.at_node;
             // Past max_samples (or where the constraints fail there) the partial trajectory ends
             // at its last stored sample.
@@ -430,6 +450,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         o: &RunOptions,
     ) -> Result<Progress, Fault> {
         let y0 = s.node(&mut self.stats)?;
+        self.start_dense(o.t0, y0);
         self.push(o.t0, &y0, 0.0)?;
         let g_old: Vec<f64> = self
             .events
@@ -437,12 +458,14 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             .map(|e| e.value(o.t0, &y0[0], &y0[1]))
             .collect();
         // A step needs nothing here but the samples (no projection, no work, no events, not
-        // every step recorded): `after_step` then looks at the next sample time alone.
+        // every step recorded, no dense output kept): `after_step` then looks at the next
+        // sample time alone.
         let projects = self.project_steps && self.manifold.is_some();
         let quiet = !(projects
             || Self::RECORDS_WORK
             || !self.events.is_empty()
-            || matches!(o.sampling, Sampling::Steps));
+            || matches!(o.sampling, Sampling::Steps)
+            || self.dense.is_some());
         Ok(Progress {
             g_new: g_old.clone(),
             g_old,
@@ -490,6 +513,10 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
                 self.traj.note_projection(moved);
                 s.set_node(y, &mut self.stats)?;
             }
+        }
+        // The step's interpolant, on the settled node.
+        if let Some(d) = self.traj.dense_mut() {
+            d.keep(s, &mut self.stats)?;
         }
         if Self::RECORDS_WORK {
             self.work.at_prev = self.work.at_node;
@@ -576,6 +603,9 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         }
         if let Some(tz) = stop {
             let y = s.interp(tz, &mut self.stats)?;
+            if let Some(d) = self.traj.dense_mut() {
+                d.stop_at(tz, y);
+            }
             let w = self.work_at(s, tz)?;
             self.push(tz, &y, w)?;
             if let Some(h) = self.traj.events.last() {

@@ -32,9 +32,11 @@
 // The layers, each importing only those above it: what every method shares (`state`: the state
 // y, faults, the right-hand side and stage combination; `stepper`: the `Stepper` trait and the
 // fixed step grid; `control`: error norms and step-size control; `newton`: the Newton solver of
-// the implicit methods), the methods (`rk4`, `dopri5`, `dop853`, `variational`), the `driver`
-// loop that runs any of them, and the public builder (`method`, `simulation`, `validate`).
+// the implicit methods), the methods (`rk4`, `dopri5`, `dop853`, `variational`), the dense
+// output a run keeps of them (`dense`), the `driver` loop that runs any of them, and the public
+// builder (`method`, `simulation`, `validate`).
 mod control;
+mod dense;
 mod dop853;
 mod dop853_coefficients;
 mod dopri5;
@@ -56,6 +58,7 @@ mod trajectory;
 mod validate;
 mod variational;
 
+pub use dense::DenseOutputError;
 pub use error::{PartialTrajectory, SimulationError};
 pub use events::{Direction, Event, EventHit};
 pub use method::Method;

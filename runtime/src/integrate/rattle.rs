@@ -326,4 +326,9 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Rattle<'_, L, N> {
             t,
         ))
     }
+    /// (q, q̇) at both nodes (`between_nodes`').
+    fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, _stats: &mut Stats) -> Result<f64, Fault> {
+        rows.extend_from_slice(&[[self.q_old, self.v_old], [self.q, self.v]]);
+        Ok(self.t - self.t_old)
+    }
 }

@@ -146,4 +146,9 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Rk4<'_, L, N> {
         let s = (t - self.t_old) / h;
         Ok(hermite(&self.y_old, &self.f_old, &self.y, &self.f, h, s))
     }
+    /// The cubic Hermite interpolant's rows: y and f = ẏ at both nodes (`hermite`'s order).
+    fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, _stats: &mut Stats) -> Result<f64, Fault> {
+        rows.extend_from_slice(&[self.y_old, self.f_old, self.y, self.f]);
+        Ok(self.t - self.t_old)
+    }
 }

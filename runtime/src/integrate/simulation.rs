@@ -64,6 +64,8 @@ pub struct Simulation<'a, L, const N: usize> {
     pub(super) max_samples: Option<usize>,
     pub(super) observer: Option<Observer<'a, N>>,
     pub(super) keep_samples: bool,
+    /// Whether the trajectory keeps the dense output ([`Simulation::keep_dense_output`]).
+    pub(super) keep_dense: bool,
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
@@ -111,6 +113,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
             max_samples: None,
             observer: None,
             keep_samples: true,
+            keep_dense: false,
             max_step: None,
         }
     }
@@ -355,6 +358,52 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
         self
     }
 
+    /// Whether the trajectory keeps the method's dense output over the whole run (default
+    /// `false`), so that [`Trajectory::at`] gives (q, q̇) at any time of the finished run from
+    /// the method's own interpolant, the one its samples and events use.
+    ///
+    /// Every accepted step keeps what that interpolant needs: DOP853 its 7th-order dense output
+    /// (8 rows of (q, q̇), built with 3 more evaluations of the accelerations per step: 16
+    /// instead of 13), Dormand–Prince its 4th-order extension (5 rows), RK4 y and ẏ at both
+    /// nodes (4 rows, cubic Hermite), the variational method and RATTLE (q, q̇) at both nodes
+    /// (2 rows; q cubic Hermite, q̇ linear; q̇ at every node from the inverse Legendre map), the
+    /// Taylor method the step's series (p + 1 rows). Samples, events and the other results are
+    /// those of the same run without it ([`Stats`](crate::Stats) counts the extra evaluations;
+    /// where one of them fails, the run fails there, as for an event located in that step).
+    ///
+    /// Memory is bounded like the samples': the dense output takes at most as many bytes as
+    /// [`max_samples`](Simulation::max_samples) samples would (256 MiB by default; the `Vec`s'
+    /// growth may take up to twice that), whether or not the samples are kept. A run that
+    /// reaches the bound goes on to its end without keeping more steps; [`Trajectory::at`]
+    /// then refuses the times after the last step kept
+    /// ([`DenseOutputError::Truncated`](crate::DenseOutputError::Truncated)) and
+    /// [`Trajectory::dense_span`] shows how far it serves.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
+    /// # struct Osc;
+    /// # impl Lagrangian<1> for Osc {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// # }
+    /// let tr = Simulation::new(&Osc, [1.0], [0.0])
+    ///     .method(Method::Rk4 { dt: 0.01 })
+    ///     .until(1.0)
+    ///     .sample_every(0.5)
+    ///     .keep_dense_output(true)
+    ///     .run()
+    ///     .unwrap();
+    /// assert_eq!(tr.t.len(), 3);
+    /// let (q, _) = tr.at(0.123).unwrap();
+    /// assert!((q[0] - 0.123_f64.cos()).abs() < 1e-9);
+    /// ```
+    pub fn keep_dense_output(mut self, keep: bool) -> Self {
+        self.keep_dense = keep;
+        self
+    }
+
     /// The largest step the adaptive methods may take (default: the whole interval). Events
     /// whose g changes sign twice within one step are missed; cap the step to resolve them.
     ///
@@ -420,6 +469,12 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
         })
     }
 
+    /// The most bytes the dense output may take: as many as `max_samples` samples
+    /// ([`Simulation::keep_dense_output`]).
+    pub(super) fn dense_budget(&self) -> usize {
+        self.max_samples_bound().saturating_mul(self.sample_bytes())
+    }
+
     pub(super) fn prepare(&mut self) -> Result<Prepared<'_, 'a, L, N>, SimulationError> {
         let until = self
             .validate()
@@ -448,6 +503,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
             keep_samples: self.keep_samples,
             max_samples: self.max_samples_bound(),
             max_samples_default: self.max_samples.is_none(),
+            dense_budget: self.keep_dense.then(|| self.dense_budget()),
         };
         Ok(Prepared {
             sys: &*self.sys,
@@ -616,6 +672,7 @@ where
         self.max_samples = plain.max_samples;
         self.observer = plain.observer;
         self.keep_samples = plain.keep_samples;
+        self.keep_dense = plain.keep_dense;
         self.project_initial |= plain.project_initial;
         self
     }

@@ -60,6 +60,11 @@ pub(crate) trait Stepper<const N: usize> {
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault>;
     /// (q, q̇) at t in [t_prev, t] from the method's interpolant.
     fn interp(&mut self, t: f64, stats: &mut Stats) -> Result<Y<N>, Fault>;
+    /// The last step's interpolant for a run that keeps its dense output: appends the rows
+    /// `interp` evaluates it from (the method's own, see `dense::Kind`) to `rows` and returns the
+    /// step size h its variable is scaled by, the one `interp` divides by. Appends nothing on a
+    /// fault.
+    fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, stats: &mut Stats) -> Result<f64, Fault>;
     /// How many Gauss–Legendre points the work integral takes over a step of this method: 4
     /// (exact for degree 7, below the error of the explicit methods' interpolants) unless the
     /// method's own order is higher (the Taylor method's series).

@@ -202,7 +202,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
 }
 
 /// Σ x_k τ^k by Horner's rule.
-fn horner<const N: usize>(series: &[Y<N>], tau: f64) -> Y<N> {
+pub(super) fn horner<const N: usize>(series: &[Y<N>], tau: f64) -> Y<N> {
     let mut y = series[series.len() - 1];
     for x in series.iter().rev().skip(1) {
         for c in 0..2 {
@@ -263,6 +263,11 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Taylor<'_, L, N> {
             return Ok(self.y);
         }
         Ok(horner(&self.old, t - self.t_old))
+    }
+    /// The series of the last step (p + 1 rows, more where it was widened), in t − t_prev.
+    fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, _stats: &mut Stats) -> Result<f64, Fault> {
+        rows.extend_from_slice(&self.old);
+        Ok(self.t - self.t_old)
     }
 }
 

@@ -4,6 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
+use super::dense::{Dense, DenseOutputError};
 use super::events::EventHit;
 use super::state::{Fault, Stats};
 
@@ -265,6 +266,8 @@ pub struct Trajectory<const N: usize> {
     running: Running<N>,
     /// Whether every sample was stored (`keep_samples(true)`, the default).
     complete: bool,
+    /// The dense output of the whole run, when kept (`keep_dense_output(true)`).
+    dense: Option<Box<Dense<N>>>,
 }
 
 impl<const N: usize> Trajectory<N> {
@@ -290,6 +293,19 @@ impl<const N: usize> Trajectory<N> {
             residual: ConstraintResidual::default(),
             running: Running::EMPTY,
             complete: true,
+            dense: None,
+        }
+    }
+
+    /// The dense output being kept, if the run keeps it and it has started.
+    pub(crate) fn dense_mut(&mut self) -> Option<&mut Dense<N>> {
+        self.dense.as_deref_mut()
+    }
+
+    /// Starts keeping the dense output (at the run's initial state), unless it has started.
+    pub(crate) fn start_dense(&mut self, dense: impl FnOnce() -> Dense<N>) {
+        if self.dense.is_none() {
+            self.dense = Some(Box::new(dense()));
         }
     }
 
@@ -376,6 +392,64 @@ impl<const N: usize> Trajectory<N> {
     /// ```
     pub fn is_empty(&self) -> bool {
         self.t.is_empty()
+    }
+
+    /// The state (q, q̇) at any time t of the run, from the method's own interpolant: needs
+    /// [`Simulation::keep_dense_output`](crate::Simulation::keep_dense_output).
+    ///
+    /// Between the steps' nodes it is the interpolant the run's samples and events use (DOP853's
+    /// 7th-order dense output, Dormand–Prince's 4th-order extension, RK4's cubic Hermite, the
+    /// variational method's q cubic Hermite and q̇ linear, the Taylor method's series), so a
+    /// sample recorded between nodes is `at` its time bit for bit, and so is a sample on a node
+    /// (it is the node's state) — in a constrained run up to the samples' own projection onto
+    /// the constraints, which `at` does not repeat. Errors ([`DenseOutputError`]): the dense
+    /// output was not kept, t is NaN, t is outside [`dense_span`](Trajectory::dense_span), or t
+    /// lies past the part kept within the memory bound.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method, DenseOutputError};
+    /// struct Osc;
+    /// impl Lagrangian<1> for Osc {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// }
+    /// let tr = Simulation::new(&Osc, [1.0], [0.0])
+    ///     .method(Method::Dop853 { rtol: 1e-10, atol: 1e-12 })
+    ///     .until(10.0)
+    ///     .keep_dense_output(true)
+    ///     .run()
+    ///     .unwrap();
+    /// let (q, qdot) = tr.at(2.345).unwrap();
+    /// assert!((q[0] - 2.345_f64.cos()).abs() < 1e-9 && (qdot[0] + 2.345_f64.sin()).abs() < 1e-9);
+    /// assert!(matches!(tr.at(11.0), Err(DenseOutputError::OutOfRange { .. })));
+    /// ```
+    pub fn at(&self, t: f64) -> Result<([f64; N], [f64; N]), DenseOutputError> {
+        let dense = self.dense.as_deref().ok_or(DenseOutputError::NotKept)?;
+        let [q, qdot] = dense.at(t)?;
+        Ok((q, qdot))
+    }
+
+    /// The times [`at`](Trajectory::at) serves, (start, end): the whole run (up to a terminal
+    /// event; for a failed run's partial trajectory, up to its last accepted step) unless the
+    /// dense output reached its memory bound first. `None` when it was not kept.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, Simulation};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let run = |keep| Simulation::new(&Free, [0.0], [1.0]).start_time(1.0).until(3.0).keep_dense_output(keep).run().unwrap();
+    /// assert_eq!(run(true).dense_span(), Some((1.0, 3.0)));
+    /// assert_eq!(run(false).dense_span(), None);
+    /// ```
+    pub fn dense_span(&self) -> Option<(f64, f64)> {
+        self.dense.as_deref().map(Dense::span)
     }
 
     /// Max drift of the energy (when conserved) and of each conserved momentum over the samples,

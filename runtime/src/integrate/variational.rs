@@ -199,6 +199,12 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VariationalMidpoint<'_, L,
             t,
         ))
     }
+    /// (q, q̇) at both nodes (`between_nodes`'), the right one's q̇ from the Legendre map.
+    fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, stats: &mut Stats) -> Result<f64, Fault> {
+        let y1 = self.node(stats)?;
+        rows.extend_from_slice(&[[self.q_old, self.v_old], y1]);
+        Ok(self.t - self.t_old)
+    }
 }
 
 /// (q, q̇) at t between two nodes (t₀, q₀, q̇₀) and (t₁, q₁, q̇₁) of a variational method: cubic
@@ -208,7 +214,13 @@ pub(super) fn between_nodes<const N: usize>(
     (t1, q1, v1): (f64, &[f64; N], &[f64; N]),
     t: f64,
 ) -> Y<N> {
-    let h = t1 - t0;
+    across_step(t0, t1 - t0, &[*q0, *v0], &[*q1, *v1], t)
+}
+
+/// [`between_nodes`] on the step [t₀, t₀ + h] from the states y₀ = (q₀, q̇₀) and y₁ at its nodes
+/// (h as the step computed it: t₁ − t₀).
+pub(super) fn across_step<const N: usize>(t0: f64, h: f64, y0: &Y<N>, y1: &Y<N>, t: f64) -> Y<N> {
+    let ([q0, v0], [q1, v1]) = (y0, y1);
     let s = (t - t0) / h;
     let h00 = (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s);
     let h10 = s * (1.0 - s) * (1.0 - s);
