@@ -266,8 +266,9 @@ pub use lagrange_runtime::{
     equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability,
 };
 pub use lagrange_runtime::{
-    ConstraintResidual, Direction, Drift, Event, EventHit, Invariants, Method, NamedInvariants,
-    PartialTrajectory, Sample, Simulation, SimulationError, Stats, Trajectory, INVARIANT_FLOOR,
+    ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, Invariants, Method,
+    NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats, Trajectory,
+    INVARIANT_FLOOR,
 };
 pub use lagrange_runtime::{DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Scalar};
 pub use lagrange_runtime::{SMatrix, Vector3};

@@ -44,7 +44,7 @@ pub enum Method {
     },
     /// The Taylor method: each step sums the Taylor series of the motion, whose coefficients
     /// the symbolic mode of `#[lagrangian]` generates at compile time
-    /// ([`Lagrangian::taylor_series`](crate::Lagrangian::taylor_series)). Order and step size
+    /// (`Lagrangian::series_in` (hidden: what `#[lagrangian]` generates)). Order and step size
     /// follow Jorba & Zou (2005): order p = ⌈−ln(tol)/2 + 1⌉, step
     /// h = min(ρ_{p−1}, ρ_p) e^{−2−0.7/(p−1)} with ρ_k = (s/‖x_k‖∞)^{1/k}, x_k the k-th
     /// coefficients of (q, q̇) and s = max(1, ‖(q, q̇)‖∞): `tol` is an absolute tolerance for

@@ -451,8 +451,6 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
         )
     }
 
-    /// Checks the options and gathers what the driver needs (the lanes engine of an ensemble
-    /// takes the same).
     /// The bytes one stored sample of this run takes (with its constraints' λ).
     pub(super) fn sample_bytes(&self) -> usize {
         super::trajectory::sample_bytes(N, self.manifold.as_ref().map_or(0, |m| m.count()))
@@ -475,6 +473,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
         self.max_samples_bound().saturating_mul(self.sample_bytes())
     }
 
+    /// Checks the options and gathers what the driver needs (the lanes engine of an ensemble
+    /// takes the same).
     pub(super) fn prepare(&mut self) -> Result<Prepared<'_, 'a, L, N>, SimulationError> {
         let until = self
             .validate()

@@ -1,5 +1,5 @@
 //! The Taylor method: at each node the system's Taylor series of the motion
-//! ([`Lagrangian::taylor_series`], generated at compile time by the symbolic mode), summed over
+//! (`Lagrangian::series_in`, generated at compile time by the symbolic mode), summed over
 //! a step chosen from its last two coefficients (Jorba & Zou 2005); the series is the dense
 //! output.
 //!
