@@ -7,7 +7,7 @@
 use proc_macro2::TokenStream;
 
 use super::codegen;
-use super::dag::{Dag, Id, Node, VarSet};
+use super::dag::{Dag, Fun, Id, Node, VarSet};
 use super::{lower, poly};
 use crate::errors::Errors;
 use crate::model::Decl;
@@ -70,6 +70,27 @@ fn decoupled_pairs(mass: &[Vec<Id>]) -> Vec<(usize, usize)> {
     pairs
 }
 
+/// `id` with its sin² + cos² pairs merged (see [`poly::merge_pythagorean`]) where it expands
+/// within the determinant's caps and something merges; as it is otherwise.
+fn pythagorean(dag: &mut Dag, id: Id) -> Id {
+    let Some(mut p) = poly::expand(dag, id) else {
+        return id;
+    };
+    let cos_of = |a: Id| match dag.node(a) {
+        Node::Un(Fun::Sin, x) => dag.find(Node::Un(Fun::Cos, x)),
+        _ => None,
+    };
+    let mut merged = false;
+    while poly::merge_pythagorean(&mut p, &cos_of) {
+        merged = true;
+    }
+    if merged {
+        poly::build(dag, &p)
+    } else {
+        id
+    }
+}
+
 /// Lowers the body of `decl` and differentiates it; `None` (with the reasons pushed to
 /// `errors`) when the body cannot be lowered.
 pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
@@ -97,6 +118,15 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
         });
         for (i, m) in col.into_iter().enumerate() {
             mass[i][k] = m;
+        }
+    }
+    // sin² + cos² = 1 in the entries of M (an N-link chain's Σ m l² (sin² θ + cos² θ)): the
+    // code computes fewer operations, and a pair that only cancelled through the identity is a
+    // structural zero or a constant.
+    for i in 0..n {
+        for k in i..n {
+            mass[i][k] = pythagorean(&mut dag, mass[i][k]);
+            mass[k][i] = mass[i][k];
         }
     }
     // The total time derivative of the momenta at fixed q̇: Σₖ q̇ₖ ∂/∂qₖ + ∂/∂t.

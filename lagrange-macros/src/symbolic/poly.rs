@@ -181,6 +181,67 @@ fn expand_within(dag: &Dag, id: Id, depth: usize) -> Option<Poly<Id>> {
     }
 }
 
+/// The monomial `m` with the exponent of `atom` changed by `delta` (dropped at 0, inserted in
+/// order where absent).
+pub fn shifted<A: Ord + Copy>(m: &Mono<A>, atom: A, delta: i32) -> Mono<A> {
+    let mut out: Mono<A> = m.clone();
+    match out.iter().position(|(a, _)| *a == atom) {
+        Some(i) => {
+            out[i].1 += delta;
+            if out[i].1 == 0 {
+                out.remove(i);
+            }
+        }
+        None => {
+            let at = out.partition_point(|(a, _)| *a < atom);
+            out.insert(at, (atom, delta));
+        }
+    }
+    out
+}
+
+/// Adds `c` to the coefficient of `m` (dropping it at exactly 0).
+pub fn accumulate<A: Ord>(p: &mut Poly<A>, m: Mono<A>, c: f64) {
+    let sum = p.0.get(&m).copied().unwrap_or(0.0) + c;
+    if sum == 0.0 {
+        p.0.remove(&m);
+    } else {
+        p.0.insert(m, sum);
+    }
+}
+
+/// One merge of a pair k·r·sinᵃ⁺²(x)·cosᵇ(x) + k·r·sinᵃ(x)·cosᵇ⁺²(x) → k·r·sinᵃ(x)·cosᵇ(x)
+/// (sin² + cos² = 1; the same k to 1e-14 and the same r), `cos_of(s)` the cosine atom of the
+/// same argument where `s` is a sine atom; whether one was made. Only pairs merge, so a
+/// polynomial never gets longer.
+pub fn merge_pythagorean<A: Ord + Copy>(p: &mut Poly<A>, cos_of: &dyn Fn(A) -> Option<A>) -> bool {
+    let mut found = None;
+    'search: for (m, &c) in &p.0 {
+        for &(atom, e) in m {
+            let Some(cos) = cos_of(atom) else { continue };
+            if e < 2 {
+                continue;
+            }
+            let partner = shifted(&shifted(m, atom, -2), cos, 2);
+            let Some(&c2) = p.0.get(&partner) else {
+                continue;
+            };
+            if (c - c2).abs() > 1e-14 * c.abs().max(c2.abs()) {
+                continue;
+            }
+            found = Some((m.clone(), partner, shifted(m, atom, -2), c));
+            break 'search;
+        }
+    }
+    let Some((m, partner, merged, c)) = found else {
+        return false;
+    };
+    p.0.remove(&m);
+    p.0.remove(&partner);
+    accumulate(p, merged, c);
+    true
+}
+
 /// Builds the polynomial back as DAG nodes (sum of coefficient × product of atoms), the terms
 /// in the order of their atoms written out with repetitions (a²b as a, a, b).
 pub fn build(dag: &mut Dag, p: &Poly<Id>) -> Id {

@@ -753,103 +753,71 @@ fn join_signed(parts: &[(bool, String)], latex: bool) -> String {
 /// entry `10 l² m sin²(q[0]) + 10 l² m cos²(q[0])` prints as `10 l² m`. Only pairs merge, so an
 /// equation never gets longer (`cos²` alone is not rewritten as `1 − sin²`).
 fn pythagoras(p: &Poly) -> Poly {
-    // The monomial `m` with the exponent of `atom` changed by `delta` (dropped at 0).
-    fn shifted(m: &Mono, atom: Atom, delta: i32) -> Mono {
-        let mut out: Mono = m.clone();
-        match out.iter().position(|(a, _)| *a == atom) {
-            Some(i) => {
-                out[i].1 += delta;
-                if out[i].1 == 0 {
-                    out.remove(i);
-                }
-            }
-            None => {
-                let at = out.partition_point(|(a, _)| *a < atom);
-                out.insert(at, (atom, delta));
-            }
-        }
-        out
-    }
+    let cos_of = |a: Atom| match a {
+        Atom::Fun(Fun::Sin, x) => Some(Atom::Fun(Fun::Cos, x)),
+        _ => None,
+    };
     let mut p = p.clone();
-    'merge: loop {
-        for (m, &c) in &p.0 {
-            for &(atom, e) in m {
-                let Atom::Fun(Fun::Sin, x) = atom else {
-                    continue;
+    while poly::merge_pythagorean(&mut p, &cos_of) {}
+    while merge_difference(&mut p) {
+        while poly::merge_pythagorean(&mut p, &cos_of) {}
+    }
+    p
+}
+
+/// One merge of k r sin a sin b + k r cos a cos b into k r cos(a − b), or of
+/// k r sin a cos b − k r cos a sin b into k r sin(a − b) (a, b in the atoms' order); whether one
+/// was made. Printing only: in code the products of sines and cosines already computed are
+/// cheaper than another cos.
+fn merge_difference(p: &mut Poly) -> bool {
+    use poly::shifted;
+    let mut found = None;
+    'search: for (m, &c) in &p.0 {
+        for &(sa, e1) in m {
+            let Atom::Fun(Fun::Sin, a) = sa else { continue };
+            for &(other, e2) in m {
+                let (b, kind) = match other {
+                    Atom::Fun(Fun::Sin, b) if b > a => (b, Fun::Cos),
+                    Atom::Fun(Fun::Cos, b) if b != a => (b, Fun::Sin),
+                    _ => continue,
                 };
-                if e < 2 {
+                if e1 != 1 || e2 != 1 {
                     continue;
                 }
-                let cos = Atom::Fun(Fun::Cos, x);
-                let partner = shifted(&shifted(m, atom, -2), cos, 2);
+                let (ca, sb, cb) = (
+                    Atom::Fun(Fun::Cos, a),
+                    Atom::Fun(Fun::Sin, b),
+                    Atom::Fun(Fun::Cos, b),
+                );
+                // The partner: cos a cos b (for sin a sin b), cos a sin b (for sin a cos b).
+                let rest = shifted(&shifted(m, sa, -1), other, -1);
+                let partner = match kind {
+                    Fun::Cos => shifted(&shifted(&rest, ca, 1), cb, 1),
+                    _ => shifted(&shifted(&rest, ca, 1), sb, 1),
+                };
                 let Some(&c2) = p.0.get(&partner) else {
                     continue;
                 };
-                if (c - c2).abs() > 1e-14 * c.abs().max(c2.abs()) {
+                let want = if kind == Fun::Cos { c } else { -c };
+                if (want - c2).abs() > 1e-14 * c.abs().max(c2.abs()) {
                     continue;
                 }
-                let merged = shifted(m, atom, -2);
-                let (m, partner) = (m.clone(), partner);
-                p.0.remove(&m);
-                p.0.remove(&partner);
-                let sum = p.0.get(&merged).copied().unwrap_or(0.0) + c;
-                if sum == 0.0 {
-                    p.0.remove(&merged);
-                } else {
-                    p.0.insert(merged, sum);
-                }
-                continue 'merge;
-            }
-            // k r sin a sin b + k r cos a cos b = k r cos(a − b);
-            // k r sin a cos b − k r cos a sin b = k r sin(a − b) (a, b in the atoms' order).
-            for &(sa, e1) in m {
-                let Atom::Fun(Fun::Sin, a) = sa else { continue };
-                for &(other, e2) in m {
-                    let (b, kind) = match other {
-                        Atom::Fun(Fun::Sin, b) if b > a => (b, Fun::Cos),
-                        Atom::Fun(Fun::Cos, b) if b != a => (b, Fun::Sin),
-                        _ => continue,
-                    };
-                    if e1 != 1 || e2 != 1 {
-                        continue;
-                    }
-                    let (ca, sb, cb) = (
-                        Atom::Fun(Fun::Cos, a),
-                        Atom::Fun(Fun::Sin, b),
-                        Atom::Fun(Fun::Cos, b),
-                    );
-                    // The partner: cos a cos b (for sin a sin b), cos a sin b (for sin a cos b).
-                    let rest = shifted(&shifted(m, sa, -1), other, -1);
-                    let partner = match kind {
-                        Fun::Cos => shifted(&shifted(&rest, ca, 1), cb, 1),
-                        _ => shifted(&shifted(&rest, ca, 1), sb, 1),
-                    };
-                    let Some(&c2) = p.0.get(&partner) else {
-                        continue;
-                    };
-                    let want = if kind == Fun::Cos { c } else { -c };
-                    if (want - c2).abs() > 1e-14 * c.abs().max(c2.abs()) {
-                        continue;
-                    }
-                    let (lo, hi, sign) = if a < b { (a, b, 1.0) } else { (b, a, -1.0) };
-                    // sin(b − a) = −sin(a − b); cos is even.
-                    let k = if kind == Fun::Sin { c * sign } else { c };
-                    let merged = shifted(&rest, Atom::Diff(kind, lo, hi), 1);
-                    let m = m.clone();
-                    p.0.remove(&m);
-                    p.0.remove(&partner);
-                    let sum = p.0.get(&merged).copied().unwrap_or(0.0) + k;
-                    if sum == 0.0 {
-                        p.0.remove(&merged);
-                    } else {
-                        p.0.insert(merged, sum);
-                    }
-                    continue 'merge;
-                }
+                let (lo, hi, sign) = if a < b { (a, b, 1.0) } else { (b, a, -1.0) };
+                // sin(b − a) = −sin(a − b); cos is even.
+                let k = if kind == Fun::Sin { c * sign } else { c };
+                let merged = shifted(&rest, Atom::Diff(kind, lo, hi), 1);
+                found = Some((m.clone(), partner, merged, k));
+                break 'search;
             }
         }
-        return p;
     }
+    let Some((m, partner, merged, k)) = found else {
+        return false;
+    };
+    p.0.remove(&m);
+    p.0.remove(&partner);
+    poly::accumulate(p, merged, k);
+    true
 }
 
 /// The longest equation printed in full (left and right sides together, in bytes).

@@ -1044,3 +1044,30 @@ fn printed_equations_merge_sin_squared_plus_cos_squared() {
         top.equations
     );
 }
+
+/// The generated code uses sin² + cos² = 1 too: the chain's M₀₀ = Σ m l² (sin² θ₁ + cos² θ₁) is
+/// one term, 3 m l², in the DAG the code is emitted from (its value that to round-off).
+#[test]
+fn mass_entries_merge_sin_squared_plus_cos_squared() {
+    let d = derive(&chain_decl(3)).unwrap_or_else(|_| panic!("derives"));
+    let p = super::poly::expand(&d.dag, d.mass[0][0]).expect("small");
+    assert_eq!(p.len(), 1, "{p:?}");
+    let mut flat = Vec::new();
+    let mut layout = Vec::new();
+    for (k, f) in d.fields.iter().enumerate() {
+        layout.push((k, false));
+        flat.push(match f.name.as_str() {
+            "l" => 0.7,
+            "m" => 1.3,
+            _ => 9.81,
+        });
+    }
+    let v = d
+        .dag
+        .eval_all(&flat, &layout, &[], &[0.3, -0.4, 1.1], &[0.0; 3], 0.0);
+    assert!(close(
+        v[d.mass[0][0] as usize],
+        3.0 * 1.3 * 0.7 * 0.7,
+        1e-15
+    ));
+}
