@@ -104,8 +104,6 @@ pub trait Real:
 
     /// The value with lane l = `f(l)`.
     fn from_lanes(f: impl FnMut(usize) -> f64) -> Self;
-    /// Lane l.
-    fn lane(self, l: usize) -> f64;
     /// The lanes where `self > x` (not where either is NaN).
     fn greater(self, x: Self) -> Self::Mask;
     /// The lanes where `self ≤ x` (not where either is NaN).
@@ -148,10 +146,6 @@ impl Real for f64 {
     #[inline(always)]
     fn from_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
         f(0)
-    }
-    #[inline(always)]
-    fn lane(self, _l: usize) -> f64 {
-        self
     }
     #[inline(always)]
     fn greater(self, x: Self) -> bool {
@@ -231,10 +225,6 @@ impl<const W: usize> Real for Lanes<W> {
     #[inline(always)]
     fn from_lanes(f: impl FnMut(usize) -> f64) -> Self {
         Lanes::from_fn(f)
-    }
-    #[inline(always)]
-    fn lane(self, l: usize) -> f64 {
-        self.0[l]
     }
     #[inline(always)]
     fn greater(self, x: Self) -> Mask<W> {

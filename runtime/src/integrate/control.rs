@@ -5,8 +5,7 @@ use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 
 use super::state::Stats;
-use super::state::{combine, rhs, Fault, YOf, Y};
-use crate::real::Real;
+use super::state::{combine, rhs, Fault, Y};
 
 /// The absolute tolerance the error weights use: `atol`, or for `atol = 0` (pure relative
 /// control) the smallest normal number, so that a component that is exactly zero with an exactly
@@ -21,15 +20,10 @@ pub(crate) fn effective_atol(atol: f64) -> f64 {
     }
 }
 
-/// The error weights sk = atol + rtol · max(|y|, |y_new|), per component (any width).
+/// The error weights sk = atol + rtol · max(|y|, |y_new|), per component.
 #[inline(always)]
-pub(crate) fn scales<R: Real, const N: usize>(
-    rtol: R,
-    atol: R,
-    y: &YOf<R, N>,
-    y_new: &YOf<R, N>,
-) -> YOf<R, N> {
-    let mut s = [[R::ZERO; N]; 2];
+pub(crate) fn scales<const N: usize>(rtol: f64, atol: f64, y: &Y<N>, y_new: &Y<N>) -> Y<N> {
+    let mut s = [[0.0; N]; 2];
     for r in 0..2 {
         for i in 0..N {
             s[r][i] = atol + rtol * y[r][i].abs().max(y_new[r][i].abs());
@@ -41,8 +35,8 @@ pub(crate) fn scales<R: Real, const N: usize>(
 /// Σ (e_i / sk_i)² over all 2N components (the q and q̇ halves added pairwise first, so the
 /// serial chain of additions is N long, not 2N: the sum is on the critical path between steps).
 #[inline(always)]
-pub(crate) fn sum_sq<R: Real, const N: usize>(e: &YOf<R, N>, sk: &YOf<R, N>) -> R {
-    let mut s = R::ZERO;
+pub(crate) fn sum_sq<const N: usize>(e: &Y<N>, sk: &Y<N>) -> f64 {
+    let mut s = 0.0;
     for i in 0..N {
         let (a, b) = (e[0][i] / sk[0][i], e[1][i] / sk[1][i]);
         s += a * a + b * b;

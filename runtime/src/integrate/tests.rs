@@ -6,8 +6,8 @@ use super::{dop853, dopri5, rk4};
 use crate::lagrangian::Lagrangian;
 use crate::scalar::Scalar;
 
-/// x'' = −x.
-struct Osc;
+/// x'' = −x: x = cos t from (1, 0) (also the dense output's tests' oscillator).
+pub(super) struct Osc;
 impl Lagrangian<1> for Osc {
     const COORDINATES: [&'static str; 1] = ["x"];
     const CYCLIC: [bool; 1] = [false];
@@ -33,7 +33,8 @@ fn kepler_start() -> Y<2> {
     [[0.5, 0.0], [0.0, 3.0_f64.sqrt()]]
 }
 
-fn slope(points: &[(f64, f64)]) -> f64 {
+/// Least-squares slope of ln e against ln h (an order of convergence).
+pub(super) fn slope(points: &[(f64, f64)]) -> f64 {
     let n = points.len() as f64;
     let (mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
     for &(h, e) in points {

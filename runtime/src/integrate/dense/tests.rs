@@ -4,20 +4,10 @@
 
 use crate::constraints::Holonomic;
 use crate::ensemble::{Ensemble, Member};
+use crate::integrate::tests::{slope, Osc};
 use crate::integrate::{DenseOutputError, Event, Method, Simulation, SimulationError, Trajectory};
 use crate::lagrangian::Lagrangian;
 use crate::scalar::Scalar;
-
-/// x'' = −x: x = cos t from (1, 0).
-struct Osc;
-impl Lagrangian<1> for Osc {
-    const COORDINATES: [&'static str; 1] = ["x"];
-    const CYCLIC: [bool; 1] = [false];
-    const AUTONOMOUS: bool = true;
-    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
-        (v[0] * v[0] - q[0] * q[0]) * 0.5
-    }
-}
 
 /// x'' = −w² x (ensemble members).
 struct Spring {
@@ -165,20 +155,6 @@ fn keeping_the_dense_output_changes_no_sample() {
         );
         assert_eq!(with.events, without.events, "{method:?}");
     }
-}
-
-/// Least-squares slope of ln e against ln h.
-fn slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let (mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
-    for &(h, e) in points {
-        let (x, y) = (h.ln(), e.ln());
-        sx += x;
-        sy += y;
-        sxx += x * x;
-        sxy += x * y;
-    }
-    (n * sxy - sx * sy) / (n * sxx - sx * sx)
 }
 
 /// The largest error of `at` at the middle of every step of a run to t = 2 in steps of h

@@ -14,7 +14,7 @@
 //! The member plumbing (`enter`, `Slot`, `fill`, `retire`) is `members`, shared with the Taylor
 //! engine; members of another method, and constrained ones, run the scalar driver.
 
-use crate::integrate::dop853::{step_of, Accelerations, Attempt, Dop853};
+use crate::integrate::dop853::{step_of, Accelerations, Attempt, Attempted, Dop853};
 use crate::integrate::method::Method;
 use crate::integrate::simulation::Simulation;
 use crate::integrate::state::{Fault, Stats, YOf, Y};
@@ -196,14 +196,6 @@ fn pending<L: Lagrangian<N>, const N: usize>(s: &mut DopSlot<'_, '_, L, N>) -> R
     Ok(true)
 }
 
-/// What one vector attempt gives: y₁ and ln err per lane, and a lane sum that is 0 where every
-/// stage was finite (NaN otherwise).
-struct VectorStep<const N: usize, const W: usize> {
-    y1: YOf<Lanes<W>, N>,
-    ln_err: Lanes<W>,
-    finite: Lanes<W>,
-}
-
 /// The accelerations of W members (see [`accelerations`]).
 struct Members<'a, L, const W: usize> {
     members: &'a [&'a L; W],
@@ -233,12 +225,8 @@ fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize>(
     h: Lanes<W>,
     rtol: Lanes<W>,
     atol: Lanes<W>,
-) -> VectorStep<N, W> {
+) -> Attempted<Lanes<W>, N> {
     let f = Members { members, params };
     let Ok(out) = step_of(L::CYCLIC, f, t, y, k, h, rtol, atol);
-    VectorStep {
-        y1: out.y1,
-        ln_err: out.ln_err,
-        finite: out.finite,
-    }
+    out
 }
