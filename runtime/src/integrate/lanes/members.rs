@@ -13,7 +13,8 @@ use crate::integrate::trajectory::Trajectory;
 use crate::lagrangian::Lagrangian;
 use crate::lanes::{Lanes, Mask};
 
-/// One member in a lane: its position in the input, its run (driver, stepper, options) and what the engine keeps per member besides (`X`).
+/// One member in a lane: its position in the input, its run (driver, stepper, options) and what
+/// the engine keeps per member besides (`X`).
 pub(super) struct Slot<'p, 'a, L, S, X, const N: usize> {
     pub(super) pos: usize,
     pub(super) run: Entered<'p, 'a, L, S, N>,
