@@ -21,15 +21,10 @@ use std::io::Write;
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-#[path = "support/macro_top.rs"]
-mod macro_top;
-use macro_top::MacroTop as Top;
+use lagrange_examples::bench_top::MacroTop as Top;
 
 // DOP853's tableau, for the floor measured with DOP853-shaped steps.
-#[path = "../runtime/src/integrate/dop853_coefficients.rs"]
-#[allow(dead_code)]
-mod dop853_coefficients;
-use dop853_coefficients::{A, C};
+use lagrange::integrate::dop853_coefficients::{A, C};
 use lagrange::lanes::Lanes;
 
 const T_END: f64 = 114.3;

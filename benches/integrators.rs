@@ -85,9 +85,7 @@ impl Lagrangian<3> for HeavyTopClosedForm {
     }
 }
 
-#[path = "support/macro_top.rs"]
-mod macro_top;
-use macro_top::MacroTop;
+use lagrange_examples::bench_top::MacroTop;
 
 const TOP: HeavyTop = HeavyTop {
     i_perp: 1.0,

@@ -1,6 +1,6 @@
 //! Symbolic-mode benchmarks (derivatives taken at compile time): generated accelerations against
 //! hand-written closed forms and run-time jets, in the same run. The systems (each a symbolic/jets
-//! twin from one body) are shared with the integration tests: tests/support/systems.rs.
+//! twin from one body) are shared with the integration tests: examples/support/systems.rs.
 //!
 //! `cargo bench --bench symbolic`
 use std::hint::black_box;
@@ -9,9 +9,7 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 
-#[path = "../tests/support/systems.rs"]
-mod systems;
-use systems::{Chain16, Chain2, Chain4, Chain8, HeavyTop};
+use lagrange_examples::systems::{Chain16, Chain2, Chain4, Chain8, HeavyTop};
 
 /// The heavy top's accelerations in closed form, written by hand (θ̈ directly, the φ–ψ block by
 /// Cramer's rule with det = I∥ I⊥ sin²θ).

@@ -20,9 +20,7 @@ use lagrange::prelude::*;
 use std::process::Command;
 use std::time::Instant;
 
-#[path = "support/macro_top.rs"]
-mod macro_top;
-use macro_top::MacroTop as Top;
+use lagrange_examples::bench_top::MacroTop as Top;
 
 const TOP: Top = Top {
     i_perp: 1.0,

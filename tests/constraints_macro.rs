@@ -7,6 +7,7 @@
 use std::marker::PhantomData;
 
 use lagrange::prelude::*;
+use lagrange_examples::twins;
 
 use crate::support::Rng;
 

@@ -6,7 +6,6 @@
 //!
 //! Run one module with `cargo test --test ensembles ensemble_lanes::`.
 
-#[macro_use]
 mod support;
 
 mod ensemble;

@@ -8,7 +8,6 @@
 //! Run one module with `cargo test --test equations symbolic::`.
 
 // First: `twins!` (tests/support/systems.rs) is in scope for the modules declared after it.
-#[macro_use]
 mod support;
 
 mod constraints_macro;

@@ -3,6 +3,7 @@
 //! power, D, Q), the conservation flags, and the printed equations.
 
 use lagrange::prelude::*;
+use lagrange_examples::twins;
 
 use crate::support::Rng;
 

@@ -9,7 +9,7 @@
 //!
 //! So these declarations are variants on purpose: plain bodies of the same systems are declared
 //! once as symbolic/jets twins in tests/symbolic.rs, and Kepler, whose body here exercises
-//! nothing special, is the shared declaration of tests/support/systems.rs.
+//! nothing special, is the shared declaration of examples/support/systems.rs.
 
 use lagrange::prelude::*;
 
@@ -206,7 +206,7 @@ fn spherical_pendulum_matches_closed_form() {
 // ---------------------------------------------------------------------------------------------
 
 // `Kepler`, a body of mass `m` in the potential −k/r, is the shared declaration of
-// tests/support/systems.rs (the same system tests/symbolic.rs checks against its jets twin).
+// examples/support/systems.rs (the same system tests/symbolic.rs checks against its jets twin).
 
 #[test]
 fn kepler_constants() {

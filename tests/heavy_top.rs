@@ -1,5 +1,5 @@
 //! The heavy symmetric top of the reference text (section D, eqs. 92–102), end to end: the top is
-//! declared with `#[lagrangian]` as eq. 92 reads (once, in tests/support/systems.rs), integrated
+//! declared with `#[lagrangian]` as eq. 92 reads (once, in examples/support/systems.rs), integrated
 //! with DOP853, and every equation is checked against the simulation and against
 //! `lagrange::theory::heavy_top`.
 //!
@@ -12,26 +12,13 @@
 use lagrange::prelude::*;
 use lagrange::theory::heavy_top::{
     fast_top_cos_theta, fast_top_precession_rate, sleeping_top_lowest_cos, sleeping_top_max_angle,
-    Constants, Motion, Nutation, Top,
+    Constants, Motion, Nutation,
 };
 use lagrange::Direction;
 
 // The symmetric heavy top, eq. 92: the shared `#[lagrangian]` declaration.
 use crate::support::systems::HeavyTop;
 use crate::support::Rng;
-
-impl HeavyTop {
-    pub(crate) fn mgl(&self) -> f64 {
-        self.m * self.g * self.l
-    }
-    pub(crate) fn theory(&self) -> Top {
-        Top {
-            i_perp: self.i_perp,
-            i_par: self.i_par,
-            mgl: self.mgl(),
-        }
-    }
-}
 
 /// A top and an initial state.
 #[derive(Clone, Copy, Debug)]

@@ -6,6 +6,7 @@
 //! system is declared in both modes from one body and compared at random states to 1e-12.
 
 use lagrange::prelude::*;
+use lagrange_examples::twins;
 
 use crate::support::Rng;
 

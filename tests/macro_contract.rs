@@ -6,7 +6,7 @@
 use lagrange::prelude::*;
 
 // The first declaration, the symmetric heavy top of eq. (92), is the shared one in
-// tests/support/systems.rs, written exactly as the contract text writes it.
+// examples/support/systems.rs, written exactly as the contract text writes it.
 use crate::support::systems::HeavyTop;
 use crate::support::Rng;
 

@@ -5,7 +5,6 @@
 //!
 //! Run one module with `cargo test --test physics heavy_top::`.
 
-#[macro_use]
 mod support;
 
 mod constraints;

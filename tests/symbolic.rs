@@ -3,13 +3,14 @@
 //! compile-time derived accelerations, mass matrix, momenta and energy agree with the jets twin
 //! (`mode = "jets"`, same body) to 1e-12 relative at random states; the printed equations of the
 //! heavy top have the hand-derived structure. Each system is declared once by `twins!`
-//! (tests/support/systems.rs), which writes the symbolic and the jets declaration from the same
+//! (examples/support/systems.rs), which writes the symbolic and the jets declaration from the same
 //! body; the heavy top, Kepler and the chains live in that file, shared with the other tests and
 //! benches/symbolic.rs. The compile errors of the symbolic mode ("use jets") are UI cases,
 //! tests/ui/symbolic/, run by tests/ui.rs.
 #![deny(warnings)]
 
 use lagrange::prelude::*;
+use lagrange_examples::twins;
 
 use crate::support::systems::{Chain16, Chain4, HeavyTop, Kepler};
 

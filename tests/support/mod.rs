@@ -1,13 +1,12 @@
 //! What the modules of the integration test crates (tests/equations.rs, tests/physics.rs,
-//! tests/ensembles.rs) share: the systems declared once ([`systems`], also included by
-//! benches/symbolic.rs), the hand-written heavy top ([`hand`]) and a small deterministic random
+//! tests/ensembles.rs) share: the systems declared once ([`systems`], from the examples' package: benches/symbolic.rs uses
+//! them too), the hand-written heavy top ([`hand`]) and a small deterministic random
 //! generator ([`Rng`]).
 // Each test crate uses a subset.
 #![allow(dead_code)]
 
-#[macro_use]
-pub mod systems;
 pub mod hand;
+pub use lagrange_examples::systems;
 // The systems the examples share, from the examples' package (declared once, in examples/support/;
 // each test crate uses some of them).
 #[allow(unused_imports)]

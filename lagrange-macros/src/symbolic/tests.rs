@@ -578,7 +578,7 @@ fn accelerations_code(out: &SymbolicOutput) -> String {
     format!("{} {load} {kernel}", out.accelerations)
 }
 
-/// The N-link chain of `chain!` in tests/support/systems.rs, built as source text.
+/// The N-link chain of `chain!` in examples/support/systems.rs, built as source text.
 fn chain_decl(n: usize) -> Decl {
     let mut body = String::from("{");
     for k in 1..=n {

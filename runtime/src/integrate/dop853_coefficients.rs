@@ -4,7 +4,7 @@
 #![allow(clippy::excessive_precision, clippy::unreadable_literal)]
 
 /// Nodes c.
-pub(crate) const C: [f64; 16] = [
+pub const C: [f64; 16] = [
     0.0,
     0.05260015195876773,
     0.0789002279381516,
@@ -23,7 +23,7 @@ pub(crate) const C: [f64; 16] = [
     0.7777777777777778,
 ];
 /// Stage matrix a (row 12 = the 8th-order weights b).
-pub(crate) const A: [[f64; 16]; 16] = [
+pub const A: [[f64; 16]; 16] = [
     [
         0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
     ],
@@ -299,7 +299,7 @@ pub(crate) const A: [[f64; 16]; 16] = [
     ],
 ];
 /// Weights of the 3rd-order error estimator: b − b̂₃.
-pub(crate) const E3: [f64; 13] = [
+pub const E3: [f64; 13] = [
     -0.18980075407240762,
     0.0,
     0.0,
@@ -315,7 +315,7 @@ pub(crate) const E3: [f64; 13] = [
     0.0,
 ];
 /// Weights of the 5th-order error estimator.
-pub(crate) const E5: [f64; 13] = [
+pub const E5: [f64; 13] = [
     0.01312004499419488,
     0.0,
     0.0,
@@ -331,7 +331,7 @@ pub(crate) const E5: [f64; 13] = [
     0.0,
 ];
 /// Dense-output coefficients d₄…d₇ (rcont5…rcont8 of `dop853.f`).
-pub(crate) const D: [[f64; 16]; 4] = [
+pub const D: [[f64; 16]; 4] = [
     [
         -8.428938276109013,
         0.0,

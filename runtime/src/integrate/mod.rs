@@ -38,7 +38,10 @@
 mod control;
 mod dense;
 mod dop853;
-mod dop853_coefficients;
+/// DOP853's tableau (Hairer's published coefficients): benches/ensemble.rs measures the floor of
+/// DOP853-shaped steps with it.
+#[doc(hidden)]
+pub mod dop853_coefficients;
 mod dopri5;
 mod driver;
 mod error;

@@ -1,14 +1,13 @@
-//! `#[lagrangian]` systems shared by the integration tests (tests/symbolic.rs, tests/heavy_top.rs,
-//! tests/macro_contract.rs, tests/gallery.rs) and benches/symbolic.rs: each declared ONCE as a twin
-//! pair (the default symbolic mode and `mode = "jets"`) from one body, by `twins!`; the pendulum
-//! chains N = 2, 4, 8, 16 by `chain!`. The tests reach it as `crate::support::systems` (with
-//! `twins!` in scope for later modules); the bench includes it with `#[path = ...] mod systems;`.
-// Each includer uses a subset of the systems.
-#![allow(dead_code)]
+//! Twin systems for the tests (tests/symbolic.rs, tests/heavy_top.rs, tests/macro_contract.rs,
+//! tests/gallery.rs, …) and benches/symbolic.rs: each declared ONCE as a pair (the default
+//! symbolic mode and `mode = "jets"`) from one body, by [`twins!`](crate::twins); the pendulum
+//! chains N = 2, 4, 8, 16 by `chain!`. The test crates reach it as `crate::support::systems` and
+//! call `twins!` for twins of their own.
 
 /// Declares `$sym` (symbolic mode) and `$jet` (`mode = "jets"`) with the same public `f64`-like
 /// fields and the same `fn lagrangian`, plus `$sym::jets()` copying the fields into the twin.
 /// `#[lagrangian]` sees the caller's plain tokens for the `fn` item.
+#[macro_export]
 macro_rules! twins {
     (
         $(#[$meta:meta])*
@@ -57,7 +56,7 @@ macro_rules! chain {
         ($th1:ident, $v1:ident, $s1:ident, $c1:ident)
         $(($th:ident, $v:ident, $s:ident, $c:ident))*
     ) => {
-        twins! {
+        $crate::twins! {
             #[doc = concat!("A ", stringify!($n), "-link pendulum chain (equal masses and lengths), L written out.")]
             $sym, $jet { m: f64, l: f64, g: f64 }
             #[allow(clippy::too_many_arguments)]
@@ -93,6 +92,22 @@ twins! {
         self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
             + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
             - self.m * self.g * self.l * c
+    }
+}
+
+impl HeavyTop {
+    /// m g l, the product the motion depends on.
+    pub fn mgl(&self) -> f64 {
+        self.m * self.g * self.l
+    }
+
+    /// The same top for the closed forms of `lagrange::theory::heavy_top`.
+    pub fn theory(&self) -> lagrange::theory::heavy_top::Top {
+        lagrange::theory::heavy_top::Top {
+            i_perp: self.i_perp,
+            i_par: self.i_par,
+            mgl: self.mgl(),
+        }
     }
 }
 

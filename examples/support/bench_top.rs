@@ -1,6 +1,6 @@
 //! The heavy top of the benchmarks as a user writes it: `#[lagrangian]` in the default (symbolic)
 //! mode, m g l as one parameter. Shared by benches/integrators.rs, benches/taylor.rs and
-//! benches/ensemble.rs (`#[path = "support/macro_top.rs"] mod macro_top;`).
+//! benches/ensemble.rs.
 
 use lagrange::prelude::*;
 
