@@ -168,7 +168,7 @@
 //! bindings (also `let mut` with `+=`), tuples, `Vector3` algebra (`dot`, `cross`, `norm`,
 //! `norm_squared`, `normalize`, `scale`, `component_mul`) and `if` on parameters, it takes:
 //!
-//! - every function of the jets: `sin cos tan asin acos atan sinh cosh tanh asinh acosh atanh
+//! - every function of the jets (the elementary ones are the rows of `functions/src/lib.rs`): `sin cos tan asin acos atan sinh cosh tanh asinh acosh atanh
 //!   exp exp2 exp_m1 ln ln_1p log10 log2 sqrt cbrt abs signum powi powf atan2 hypot recip
 //!   mul_add sin_cos`, and `max`, `min`, `clamp` (exact, with the jets' one-sided derivative at a
 //!   tie: the receiver wins, and |x| has slope +1 at ±0);

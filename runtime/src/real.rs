@@ -3,7 +3,8 @@
 //! round-off where the vector sin and cos enter). `#[lagrangian]` emits every body (q̈, the
 //! Taylor series) once, generic over this; the Taylor kernels, the factorization of the series
 //! solve and the integrators' vector arithmetic are written once over it too. The elementary
-//! functions are the one table [`functions!`](crate::real) below: a function is a row there.
+//! functions come from the one table of `lagrange_functions` (see `functions!` below): a function is a
+//! row there.
 
 use core::ops::{Add, AddAssign, BitAnd, Div, Mul, Neg, Sub, SubAssign};
 
@@ -27,34 +28,36 @@ impl<R> LeftOps<R> for f64 where
 {
 }
 
-/// The elementary functions of one argument: each row is one `f64` method, a trait method of
-/// [`Real`], its `f64` instance and its lanes instance (the `f64` method lane by lane).
+/// The elementary functions of one argument, from the one table
+/// ([`lagrange_functions::with_functions!`]): each row marked `real = yes` is a trait method of
+/// [`Real`] (`functions!(decl)`), its `f64` instance (`functions!(f64)`) and its lanes instance
+/// (`functions!(lanes)`: the `f64` method lane by lane). A new row needs nothing here.
 macro_rules! functions {
-    (@rows $m:ident $($args:tt)*) => {
-        $m! { $($args)*
-            sqrt tan exp ln abs asinh acosh atanh cbrt exp2 ln_1p exp_m1 log10 log2 signum asin
-            acos atan sinh cosh tanh
-        }
+    ($part:ident) => {
+        lagrange_functions::with_functions!(functions @rows $part);
     };
-    (@decl) => { functions!(@rows functions @decl_rows); };
-    (@decl_rows $($f:ident)*) => {$(
+    (@rows $part:ident $($variant:ident $method:ident $unicode:literal $latex:literal
+        real = $real:ident jets = $jets:ident
+        tangent $targs:tt = $tangent:expr; jets $jargs:tt = $jet:expr;)*) => {
+        $(functions!(@one $part $real $method);)*
+    };
+    (@one $part:ident no $f:ident) => {};
+    (@one decl yes $f:ident) => {
         #[doc = concat!("`f64::", stringify!($f), "` (lane by lane).")]
         fn $f(self) -> Self;
-    )*};
-    (@f64) => { functions!(@rows functions @f64_rows); };
-    (@f64_rows $($f:ident)*) => {$(
+    };
+    (@one f64 yes $f:ident) => {
         #[inline(always)]
         fn $f(self) -> Self {
             f64::$f(self)
         }
-    )*};
-    (@lanes) => { functions!(@rows functions @lanes_rows); };
-    (@lanes_rows $($f:ident)*) => {$(
+    };
+    (@one lanes yes $f:ident) => {
         #[inline(always)]
         fn $f(self) -> Self {
             self.map(f64::$f)
         }
-    )*};
+    };
 }
 
 /// The numbers of the compiled kernels: `f64`, and [`Lanes`] for ensembles (W members at once,
@@ -133,7 +136,7 @@ pub trait Real:
     fn powf(self, e: Self) -> Self;
     /// `atan2(self, x)` (self is y).
     fn atan2(self, x: Self) -> Self;
-    functions!(@decl);
+    functions!(decl);
 }
 
 impl Real for f64 {
@@ -212,7 +215,7 @@ impl Real for f64 {
     fn atan2(self, x: Self) -> Self {
         f64::atan2(self, x)
     }
-    functions!(@f64);
+    functions!(f64);
 }
 
 impl<const W: usize> Real for Lanes<W> {
@@ -283,7 +286,7 @@ impl<const W: usize> Real for Lanes<W> {
     fn atan2(self, x: Self) -> Self {
         self.zip(x, f64::atan2)
     }
-    functions!(@lanes);
+    functions!(lanes);
 }
 
 #[cfg(test)]
@@ -295,16 +298,21 @@ mod tests {
     fn lanes_functions_are_the_f64_methods() {
         let x = Lanes([0.3, 0.7, 0.05, 0.9]);
         macro_rules! check {
-            ($($f:ident)*) => {$(
+            ($($variant:ident $f:ident $unicode:literal $latex:literal real = $real:ident
+                jets = $jets:ident tangent $targs:tt = $tangent:expr; jets $jargs:tt = $jet:expr;)*) => {
+                $(check!(@one $real $f);)*
+            };
+            (@one no $f:ident) => {};
+            (@one yes $f:ident) => {
                 let v = Real::$f(x);
                 for l in 0..4 {
                     let want = f64::$f(x.0[l]);
                     assert!(v.0[l].to_bits() == want.to_bits() || (want.is_nan() && v.0[l].is_nan()), stringify!($f));
                     assert_eq!(Real::$f(x.0[l]).to_bits(), want.to_bits());
                 }
-            )*};
+            };
         }
-        functions!(@rows check);
+        lagrange_functions::with_functions!(check);
         assert_eq!(Real::powf(x, Lanes([2.0; 4])).0[1], 0.7_f64.powf(2.0));
         assert_eq!(Real::atan2(x, Lanes([1.0; 4])).0[2], 0.05_f64.atan2(1.0));
         assert_eq!(Real::powi(x, 3).0[3], 0.9_f64.powi(3));

@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use super::functions::Build;
+use super::functions::{Build, Rule};
 pub use super::functions::{Fun, Id};
 
 /// One node of the DAG.

@@ -1,7 +1,16 @@
-//! The elementary functions of one argument, one row each: the method name the body calls (and
-//! the generated code calls), its value (constant folding), its derivative rule, and its names
-//! for people (Unicode and LaTeX). Lowering, differentiation, code generation, evaluation and
-//! printing all read this table; adding a function is adding a row.
+//! The elementary functions of one argument, from the one table of `lagrange_functions` (one row
+//! each: the method a body calls and the generated code calls, its value for constant folding,
+//! its tangent rule, its names for people). Lowering, differentiation, code generation,
+//! evaluation and printing read it through here; adding a function is adding a row there.
+//!
+//! This file holds what the graph needs to apply a rule: [`Build`], the operations a rule builds
+//! its result with, and [`Rule::derivative`], the rule applied to graph nodes.
+
+use std::cell::RefCell;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+pub use lagrange_functions::Fun;
+use lagrange_functions::{tangent, Calc};
 
 /// A node id of the expression graph.
 pub type Id = u32;
@@ -32,195 +41,79 @@ pub trait Build {
     fn un(&mut self, f: Fun, a: Id) -> Id;
 }
 
-/// One elementary function.
-pub struct Row {
-    /// The function.
-    pub fun: Fun,
-    /// The `f64` method (`x.sin()`): what lowering recognizes and code generation emits.
-    pub method: &'static str,
-    /// Its value on an `f64` (constant folding, and the tests' evaluation).
-    pub eval: fn(f64) -> f64,
-    /// d f(a) = `derivative(dag, f(a), a, da)`: the node of f(a), its argument and the
-    /// argument's tangent.
-    pub derivative: fn(&mut dyn Build, Id, Id, Id) -> Id,
-    /// The name in the printed equations (Unicode).
-    pub unicode: &'static str,
-    /// The name in the printed equations (LaTeX).
-    pub latex: &'static str,
+/// The tangent rule of a function applied to graph nodes.
+pub trait Rule {
+    /// The tangent of `y = f(a)` given the tangent `da` of `a`: the node of f(a), its argument
+    /// and the argument's tangent.
+    fn derivative(self, dag: &mut dyn Build, y: Id, a: Id, da: Id) -> Id;
 }
 
-macro_rules! functions {
-    ($( $variant:ident: $method:literal, $unicode:literal, $latex:literal, $eval:expr,
-        $derivative:expr; )*) => {
-        /// A smooth elementary function of one argument (see [`TABLE`]).
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-        pub enum Fun {
-            $(
-                #[doc = concat!("`", $method, "`")]
-                $variant,
-            )*
+impl Rule for Fun {
+    fn derivative(self, dag: &mut dyn Build, y: Id, a: Id, da: Id) -> Id {
+        let g = RefCell::new(dag);
+        let node = |id| Node { g: &g, id };
+        let k = |c| node(g.borrow_mut().constant(c));
+        tangent(self, node(a), node(y), node(da), &k).id
+    }
+}
+
+/// A node of the graph being built, with the arithmetic of [`Calc`] (each operation adds a node).
+#[derive(Clone, Copy)]
+struct Node<'g, 'b> {
+    g: &'g RefCell<&'b mut dyn Build>,
+    id: Id,
+}
+
+impl Node<'_, '_> {
+    fn with(self, f: impl FnOnce(&mut dyn Build) -> Id) -> Self {
+        let id = f(&mut **self.g.borrow_mut());
+        Node { g: self.g, id }
+    }
+}
+
+macro_rules! binary {
+    ($($Trait:ident $method:ident),*) => {$(
+        impl $Trait for Node<'_, '_> {
+            type Output = Self;
+            fn $method(self, o: Self) -> Self {
+                self.with(|b| b.$method(self.id, o.id))
+            }
         }
-
-        /// Every function, in the order of [`Fun`].
-        pub const TABLE: &[Row] = &[$(Row {
-            fun: Fun::$variant,
-            method: $method,
-            eval: $eval,
-            derivative: $derivative,
-            unicode: $unicode,
-            latex: $latex,
-        },)*];
-    };
+    )*};
 }
 
-functions! {
-    Sqrt: "sqrt", "√", "\\sqrt", f64::sqrt, |d, y, _, da| {
-        let two = d.constant(2.0);
-        let den = d.mul(two, y);
-        d.div(da, den)
-    };
-    Sin: "sin", "sin", "\\sin", f64::sin, |d, _, a, da| {
-        let c = d.un(Fun::Cos, a);
-        d.mul(c, da)
-    };
-    Cos: "cos", "cos", "\\cos", f64::cos, |d, _, a, da| {
-        let s = d.un(Fun::Sin, a);
-        let m = d.mul(s, da);
-        d.neg(m)
-    };
-    Tan: "tan", "tan", "\\tan", f64::tan, |d, y, _, da| {
-        let r2 = d.powi(y, 2);
-        let k = d.add(ONE, r2);
-        d.mul(k, da)
-    };
-    Exp: "exp", "exp", "\\exp", f64::exp, |d, y, _, da| d.mul(y, da);
-    Ln: "ln", "ln", "\\ln", f64::ln, |d, _, a, da| d.div(da, a);
-    Abs: "abs", "abs", "abs", f64::abs, |d, _, a, da| {
-        // The jets' one-sided rule: slope +1 at ±0 (2 H(a) − 1, with H(−0) = 1).
-        let h = d.un(Fun::Step, a);
-        let two = d.constant(2.0);
-        let h2 = d.mul(two, h);
-        let s = d.sub(h2, ONE);
-        d.mul(s, da)
-    };
-    Asinh: "asinh", "asinh", "\\operatorname{arsinh}", f64::asinh, |d, _, a, da| {
-        let a2 = d.powi(a, 2);
-        let w = d.add(ONE, a2);
-        let r = d.un(Fun::Sqrt, w);
-        d.div(da, r)
-    };
-    Acosh: "acosh", "acosh", "\\operatorname{arcosh}", f64::acosh, |d, _, a, da| {
-        let a2 = d.powi(a, 2);
-        let w = d.sub(a2, ONE);
-        let r = d.un(Fun::Sqrt, w);
-        d.div(da, r)
-    };
-    Atanh: "atanh", "atanh", "\\operatorname{artanh}", f64::atanh, |d, _, a, da| {
-        let a2 = d.powi(a, 2);
-        let w = d.sub(ONE, a2);
-        d.div(da, w)
-    };
-    Exp2: "exp2", "exp2", "2^", f64::exp2, |d, y, _, da| {
-        let k = d.constant(std::f64::consts::LN_2);
-        let ky = d.mul(k, y);
-        d.mul(ky, da)
-    };
-    // H(u) = 1 for u ≥ 0 (also −0), else 0: the switch of `max`, `min`, `clamp` and of |u|'s slope.
-    // Not a method a body can call (the empty name matches no identifier); emitted as an `if`.
-    Step: "", "H", "H", step, |_, _, _, _| ZERO;
-    Cbrt: "cbrt", "∛", "\\sqrt[3]", f64::cbrt, |d, y, a, da| {
-        let three = d.constant(3.0);
-        let den = d.mul(three, a);
-        let k = d.div(y, den);
-        d.mul(k, da)
-    };
-    Ln1p: "ln_1p", "ln1p", "\\operatorname{ln1p}", f64::ln_1p, |d, _, a, da| {
-        let w = d.add(ONE, a);
-        d.div(da, w)
-    };
-    ExpM1: "exp_m1", "expm1", "\\operatorname{expm1}", f64::exp_m1, |d, _, a, da| {
-        let e = d.un(Fun::Exp, a);
-        d.mul(e, da)
-    };
-    Log10: "log10", "log₁₀", "\\log_{10}", f64::log10, |d, _, a, da| {
-        let k = d.constant(std::f64::consts::LOG10_E);
-        let r = d.div(da, a);
-        d.mul(k, r)
-    };
-    Log2: "log2", "log₂", "\\log_2", f64::log2, |d, _, a, da| {
-        let k = d.constant(std::f64::consts::LOG2_E);
-        let r = d.div(da, a);
-        d.mul(k, r)
-    };
-    Signum: "signum", "sgn", "\\operatorname{sgn}", f64::signum, |_, _, _, _| ZERO;
-    Asin: "asin", "asin", "\\arcsin", f64::asin, |d, _, a, da| {
-        let a2 = d.powi(a, 2);
-        let w = d.sub(ONE, a2);
-        let r = d.un(Fun::Sqrt, w);
-        d.div(da, r)
-    };
-    Acos: "acos", "acos", "\\arccos", f64::acos, |d, _, a, da| {
-        let a2 = d.powi(a, 2);
-        let w = d.sub(ONE, a2);
-        let r = d.un(Fun::Sqrt, w);
-        let k = d.div(da, r);
-        d.neg(k)
-    };
-    Atan: "atan", "atan", "\\arctan", f64::atan, |d, _, a, da| {
-        let a2 = d.powi(a, 2);
-        let w = d.add(ONE, a2);
-        d.div(da, w)
-    };
-    Sinh: "sinh", "sinh", "\\sinh", f64::sinh, |d, _, a, da| {
-        let c = d.un(Fun::Cosh, a);
-        d.mul(c, da)
-    };
-    Cosh: "cosh", "cosh", "\\cosh", f64::cosh, |d, _, a, da| {
-        let s = d.un(Fun::Sinh, a);
-        d.mul(s, da)
-    };
-    Tanh: "tanh", "tanh", "\\tanh", f64::tanh, |d, y, _, da| {
-        let r2 = d.powi(y, 2);
-        let k = d.sub(ONE, r2);
-        d.mul(k, da)
-    };
-}
+binary!(Add add, Sub sub, Mul mul, Div div);
 
-/// The unit step H(u): 1 for u ≥ 0 (−0 included), 0 below (and for NaN).
-fn step(u: f64) -> f64 {
-    if u >= 0.0 {
-        1.0
-    } else {
-        0.0
+impl Neg for Node<'_, '_> {
+    type Output = Self;
+    fn neg(self) -> Self {
+        self.with(|b| b.neg(self.id))
     }
 }
 
-impl Fun {
-    /// This function's row of [`TABLE`].
-    pub fn row(self) -> &'static Row {
-        &TABLE[self as usize]
+impl Calc for Node<'_, '_> {
+    fn sqrt(self) -> Self {
+        self.with(|b| b.un(Fun::Sqrt, self.id))
     }
-
-    /// The function a method name calls (`"sin"` → `Sin`), if it is in the table.
-    pub fn from_method(name: &str) -> Option<Fun> {
-        TABLE
-            .iter()
-            .find(|r| !r.method.is_empty() && r.method == name)
-            .map(|r| r.fun)
+    fn sin(self) -> Self {
+        self.with(|b| b.un(Fun::Sin, self.id))
     }
-
-    /// The Rust method name.
-    pub fn method(self) -> &'static str {
-        self.row().method
+    fn cos(self) -> Self {
+        self.with(|b| b.un(Fun::Cos, self.id))
     }
-
-    /// Evaluates the function on an `f64`.
-    pub fn eval(self, x: f64) -> f64 {
-        (self.row().eval)(x)
+    fn sinh(self) -> Self {
+        self.with(|b| b.un(Fun::Sinh, self.id))
     }
-
-    /// The tangent of `y = f(a)` given the tangent `da` of `a`.
-    pub fn derivative(self, dag: &mut dyn Build, y: Id, a: Id, da: Id) -> Id {
-        (self.row().derivative)(dag, y, a, da)
+    fn cosh(self) -> Self {
+        self.with(|b| b.un(Fun::Cosh, self.id))
+    }
+    fn exp(self) -> Self {
+        self.with(|b| b.un(Fun::Exp, self.id))
+    }
+    fn powi(self, n: i32) -> Self {
+        self.with(|b| b.powi(self.id, n))
+    }
+    fn step(self) -> Self {
+        self.with(|b| b.un(Fun::Step, self.id))
     }
 }

@@ -24,6 +24,7 @@ use quote::quote;
 use super::codegen;
 use super::dag::{Dag, Id, Node};
 use super::derive::Derivation;
+use super::functions::Rule as _;
 use crate::names;
 
 /// Systems whose series need more slots than this get no Taylor series: the code grows with the

@@ -898,21 +898,6 @@ fn polynomial_expansion_is_bounded() {
     assert!(super::poly::expand(&dag, chain).is_none());
 }
 
-/// Every row of the function table is found by its method name, in the enum's order.
-#[test]
-fn function_table_is_indexed_by_fun() {
-    for (i, row) in super::functions::TABLE.iter().enumerate() {
-        assert_eq!(row.fun as usize, i);
-        if row.method.is_empty() {
-            // Internal (the step of max/min/clamp): no body can call it.
-            assert_eq!(Fun::from_method(row.method), None);
-            continue;
-        }
-        assert_eq!(Fun::from_method(row.method), Some(row.fun));
-        assert_eq!(row.fun.row().method, row.method);
-    }
-}
-
 /// `fn dissipation` or `fn forces` with bindings `(coordinate, velocity)` (`None`: `_`).
 fn func(
     kind: crate::model::FuncKind,

@@ -1,8 +1,27 @@
 //! Operator and trait boilerplate for jet types, generated from [`super::JetCalculus`].
 //!
 //! Nothing here does calculus of its own: every derivative comes from `chain3` (with the
-//! elementary function's first, second and third derivative; the second-order jets ignore the
-//! third) or from `mul`/`add`.
+//! elementary function's first, second and third derivative, from its row of the one function
+//! table, `lagrange_functions`; the second-order jets ignore the third) or from `mul`/`add`.
+
+/// The `ComplexField` methods of a jet type for the rows of the function table marked `jets = yes`:
+/// the value and the row's f′, f″, f‴ into the chain rule. A new row needs nothing here.
+macro_rules! jet_functions {
+    ($($variant:ident $method:ident $unicode:literal $latex:literal real = $real:ident
+        jets = $jets:ident tangent $targs:tt = $tangent:expr; jets $jargs:tt = $jet:expr;)*) => {
+        $(jet_functions!(@one $jets $method);)*
+    };
+    (@one no $f:ident) => {};
+    (@one yes $f:ident) => {
+        #[inline(always)]
+        fn $f(self) -> Self {
+            let x = $crate::jet::JetCalculus::value(&self);
+            let y = f64::$f(x);
+            let [f1, f2, f3] = lagrange_functions::jets::$f(x, y);
+            $crate::jet::JetCalculus::chain3(self, y, f1, f2, f3)
+        }
+    };
+}
 
 /// Implements the operators, `num_traits`, `approx`, `simba` (`RealField`) and `Scalar` traits for
 /// a jet type `$T<const N: usize>` that implements `JetCalculus`.
@@ -445,163 +464,18 @@ macro_rules! impl_jet_scalar {
                 fn conjugate(self) -> Self {
                     self
                 }
-                #[inline(always)]
-                fn sin(self) -> Self {
-                    let (s, c) = J::value(&self).sin_cos();
-                    J::chain3(self, s, c, -s, -c)
-                }
-                #[inline(always)]
-                fn cos(self) -> Self {
-                    let (s, c) = J::value(&self).sin_cos();
-                    J::chain3(self, c, -s, -c, s)
-                }
+                // The smooth functions of the table (`lagrange_functions`), one chain rule each.
+                lagrange_functions::with_functions!(jet_functions);
                 #[inline(always)]
                 fn sin_cos(self) -> (Self, Self) {
                     let (s, c) = J::value(&self).sin_cos();
                     (J::chain3(self, s, c, -s, -c), J::chain3(self, c, -s, -c, s))
-                }
-                fn tan(self) -> Self {
-                    let t = J::value(&self).tan();
-                    let d = 1.0 + t * t;
-                    J::chain3(self, t, d, 2.0 * t * d, 2.0 * d * d + 4.0 * t * t * d)
-                }
-                fn asin(self) -> Self {
-                    let x = J::value(&self);
-                    let w = (1.0 - x) * (1.0 + x);
-                    let d = 1.0 / w.sqrt();
-                    J::chain3(
-                        self,
-                        x.asin(),
-                        d,
-                        x * d / w,
-                        d * (1.0 + 2.0 * x * x) / (w * w),
-                    )
-                }
-                fn acos(self) -> Self {
-                    let x = J::value(&self);
-                    let w = (1.0 - x) * (1.0 + x);
-                    let d = 1.0 / w.sqrt();
-                    J::chain3(
-                        self,
-                        x.acos(),
-                        -d,
-                        -x * d / w,
-                        -d * (1.0 + 2.0 * x * x) / (w * w),
-                    )
-                }
-                fn atan(self) -> Self {
-                    let x = J::value(&self);
-                    let d = 1.0 / (1.0 + x * x);
-                    J::chain3(
-                        self,
-                        x.atan(),
-                        d,
-                        -2.0 * x * d * d,
-                        (6.0 * x * x - 2.0) * d * d * d,
-                    )
-                }
-                fn sinh(self) -> Self {
-                    let x = J::value(&self);
-                    let (s, c) = (x.sinh(), x.cosh());
-                    J::chain3(self, s, c, s, c)
-                }
-                fn cosh(self) -> Self {
-                    let x = J::value(&self);
-                    let (s, c) = (x.sinh(), x.cosh());
-                    J::chain3(self, c, s, c, s)
-                }
-                fn tanh(self) -> Self {
-                    // sech² = 1/cosh², not 1 − tanh² (which cancels for large |x|)
-                    let x = J::value(&self);
-                    let (t, c) = (x.tanh(), x.cosh());
-                    let d = 1.0 / (c * c);
-                    J::chain3(self, t, d, -2.0 * t * d, 4.0 * t * t * d - 2.0 * d * d)
-                }
-                fn asinh(self) -> Self {
-                    let x = J::value(&self);
-                    let w = x * x + 1.0;
-                    let d = 1.0 / w.sqrt();
-                    J::chain3(
-                        self,
-                        x.asinh(),
-                        d,
-                        -x * d / w,
-                        d * (2.0 * x * x - 1.0) / (w * w),
-                    )
-                }
-                fn acosh(self) -> Self {
-                    let x = J::value(&self);
-                    let w = (x - 1.0) * (x + 1.0);
-                    let d = 1.0 / w.sqrt();
-                    J::chain3(
-                        self,
-                        x.acosh(),
-                        d,
-                        -x * d / w,
-                        d * (2.0 * x * x + 1.0) / (w * w),
-                    )
-                }
-                fn atanh(self) -> Self {
-                    let x = J::value(&self);
-                    let d = 1.0 / ((1.0 - x) * (1.0 + x));
-                    J::chain3(
-                        self,
-                        x.atanh(),
-                        d,
-                        2.0 * x * d * d,
-                        (2.0 + 6.0 * x * x) * d * d * d,
-                    )
                 }
                 fn log(self, base: Self) -> Self {
                     J::div(
                         simba::scalar::ComplexField::ln(self),
                         simba::scalar::ComplexField::ln(base),
                     )
-                }
-                fn log2(self) -> Self {
-                    J::scale(
-                        simba::scalar::ComplexField::ln(self),
-                        core::f64::consts::LOG2_E,
-                    )
-                }
-                fn log10(self) -> Self {
-                    J::scale(
-                        simba::scalar::ComplexField::ln(self),
-                        core::f64::consts::LOG10_E,
-                    )
-                }
-                #[inline(always)]
-                fn ln(self) -> Self {
-                    let x = J::value(&self);
-                    let r = 1.0 / x;
-                    J::chain3(self, x.ln(), r, -r * r, 2.0 * r * r * r)
-                }
-                fn ln_1p(self) -> Self {
-                    let x = J::value(&self);
-                    let r = 1.0 / (1.0 + x);
-                    J::chain3(self, x.ln_1p(), r, -r * r, 2.0 * r * r * r)
-                }
-                #[inline(always)]
-                fn sqrt(self) -> Self {
-                    let x = J::value(&self);
-                    let r = x.sqrt();
-                    let d = 0.5 / r;
-                    J::chain3(self, r, d, -0.5 * d / x, 0.75 * d / (x * x))
-                }
-                #[inline(always)]
-                fn exp(self) -> Self {
-                    let e = J::value(&self).exp();
-                    J::chain3(self, e, e, e, e)
-                }
-                fn exp2(self) -> Self {
-                    let e = J::value(&self).exp2();
-                    let l = core::f64::consts::LN_2;
-                    J::chain3(self, e, l * e, l * l * e, l * l * l * e)
-                }
-                fn exp_m1(self) -> Self {
-                    let x = J::value(&self);
-                    let e = x.exp();
-                    J::chain3(self, x.exp_m1(), e, e, e)
                 }
                 #[inline(always)]
                 fn powi(self, n: i32) -> Self {
@@ -660,12 +534,6 @@ macro_rules! impl_jet_scalar {
                 }
                 fn powc(self, n: Self) -> Self {
                     simba::scalar::ComplexField::powf(self, n)
-                }
-                fn cbrt(self) -> Self {
-                    let x = J::value(&self);
-                    let c = x.cbrt();
-                    let d = c / (3.0 * x);
-                    J::chain3(self, c, d, -2.0 * d / (3.0 * x), 10.0 * d / (9.0 * x * x))
                 }
                 fn is_finite(&self) -> bool {
                     J::all_finite(self)
