@@ -116,12 +116,18 @@
 //! assert!(!<DrivenPendulum as Lagrangian<1>>::ENERGY_CONSERVED);
 //! ```
 //!
-//! The conservation flags follow one syntactic rule in both modes: `CYCLIC[i]` when qᵢ appears
+//! The conservation flags follow a syntactic rule in both modes: `CYCLIC[i]` when qᵢ appears
 //! in none of L, D and Q; `MOMENTUM_CONSERVED[i]` when qᵢ is cyclic, q̇ᵢ does not appear in D and
 //! the i-th entry of the array `fn forces` ends with is a literal zero (`0.0`); `ENERGY_CONSERVED`
 //! when L has no explicit t, there is no D, and Q is absent or every entry a literal zero.
-//! `AUTONOMOUS` still means that L has no explicit t. In symbolic mode `fn forces` must end in an
-//! array literal.
+//! `AUTONOMOUS` still means that L has no explicit t. The symbolic mode also reads them from the
+//! derived expressions: `CYCLIC[i]` when ∂L/∂qᵢ, ∂D/∂qᵢ and every ∂Qⱼ/∂qᵢ vanish identically
+//! (expanded, and reduced modulo sin²x + cos²x = 1), so a coordinate that leaves L only through an
+//! identity is cyclic (ψ in a heavy top written from its rotation matrix); `AUTONOMOUS` when
+//! ∂L/∂t vanishes; `MOMENTUM_CONSERVED[i]` and `ENERGY_CONSERVED` when, besides, Qᵢ − ∂D/∂q̇ᵢ
+//! (every i for the energy) vanishes. A flag is true when either rule says so; neither says true
+//! where it does not hold (an expression too large to expand is not simplified, and its flag
+//! keeps the syntactic answer). In symbolic mode `fn forces` must end in an array literal.
 //!
 //! ## Holonomic constraints
 //!

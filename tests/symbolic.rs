@@ -554,3 +554,83 @@ fn off_the_fast_path_the_symbolic_code_agrees_with_the_runtime_solve() {
         [k, k]
     );
 }
+
+/// An oscillator x written with a second coordinate ψ that enters L only through identities: the
+/// velocity is rotated by ψ and the potential carries sin²ψ + cos²ψ. L is ½ m ẋ² + ½ ψ̇² − ½ k x²
+/// in disguise, so ψ is cyclic (its momentum ψ̇ conserved) although the body names it.
+#[derive(Debug, Clone, Copy)]
+pub struct HiddenAngle {
+    m: f64,
+    k: f64,
+}
+
+#[lagrangian]
+impl HiddenAngle {
+    fn lagrangian(&self, (x, x_dot): Coord, (psi, psi_dot): Coord) -> Scalar {
+        let (s, c) = psi.sin_cos();
+        0.5 * self.m * ((c * x_dot).powi(2) + (s * x_dot).powi(2)) + 0.5 * psi_dot.powi(2)
+            - 0.5 * self.k * x * x * (s * s + c * c)
+    }
+}
+
+/// The same body with run-time jets: the flags come from the names there (no simplification at
+/// run time), so ψ is not flagged; the motion is the same.
+#[derive(Debug, Clone, Copy)]
+pub struct HiddenAngleJets {
+    m: f64,
+    k: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl HiddenAngleJets {
+    fn lagrangian(&self, (x, x_dot): Coord, (psi, psi_dot): Coord) -> Scalar {
+        let (s, c) = psi.sin_cos();
+        0.5 * self.m * ((c * x_dot).powi(2) + (s * x_dot).powi(2)) + 0.5 * psi_dot.powi(2)
+            - 0.5 * self.k * x * x * (s * s + c * c)
+    }
+}
+
+#[test]
+fn a_coordinate_that_cancels_through_an_identity_is_cyclic() {
+    assert_eq!(<HiddenAngle as Lagrangian<2>>::CYCLIC, [false, true]);
+    assert_eq!(
+        <HiddenAngle as Lagrangian<2>>::MOMENTUM_CONSERVED,
+        [false, true]
+    );
+    const { assert!(<HiddenAngle as Lagrangian<2>>::AUTONOMOUS) };
+    assert_eq!(<HiddenAngleJets as Lagrangian<2>>::CYCLIC, [false, false]);
+    let (m, k) = (2.0, 8.0);
+    let sys = HiddenAngle { m, k };
+    let jets = HiddenAngleJets { m, k };
+    let mut rng = Rng(7);
+    for _ in 0..100 {
+        let (q, v) = (rng.array::<2>(-3.0, 3.0), rng.array::<2>(-3.0, 3.0));
+        let a = sys.accelerations(&q, &v, 0.0).unwrap();
+        let want = [-k / m * q[0], 0.0];
+        let aj = jets.accelerations(&q, &v, 0.0).unwrap();
+        for i in 0..2 {
+            assert!(
+                (a[i] - want[i]).abs() <= 1e-12 * (1.0 + want[i].abs()),
+                "{a:?} vs {want:?}"
+            );
+            assert!((aj[i] - want[i]).abs() <= 1e-12 * (1.0 + want[i].abs()));
+        }
+    }
+    // A run accepts the declaration (its check shifts ψ and compares q̈) and reports p_ψ as
+    // conserved; the oscillator's phase after t = π/2 (ω = 2) is exact to the tolerance.
+    let tr = Simulation::new(&sys, [1.0, 0.3], [0.0, 0.7])
+        .method(Method::Dop853 {
+            rtol: 1e-12,
+            atol: 1e-14,
+        })
+        .until(std::f64::consts::FRAC_PI_2)
+        .run()
+        .unwrap();
+    let inv = tr.invariants();
+    let p_psi = inv.momenta[1].expect("ψ's momentum is reported conserved");
+    assert!(p_psi.max_abs <= 1e-13, "{p_psi:?}");
+    assert!(inv.momenta[0].is_none());
+    let last = tr.q.last().unwrap();
+    assert!((last[0] - (-1.0)).abs() <= 1e-9, "x(π/2) = {}", last[0]);
+    assert!((last[1] - (0.3 + 0.7 * std::f64::consts::FRAC_PI_2)).abs() <= 1e-9);
+}

@@ -167,6 +167,24 @@ fn is_literal_zero(e: &Expr) -> bool {
 }
 
 impl Analysis {
+    /// The flags ORed with those the symbolic mode read from the derived expressions (a
+    /// coordinate that leaves L only through an identity is cyclic there): both rules only say
+    /// true where it holds.
+    pub fn refine(&mut self, s: &crate::symbolic::Symmetry) {
+        for (c, &e) in self.cyclic.iter_mut().zip(&s.cyclic) {
+            *c |= e;
+        }
+        for (m, &e) in self
+            .momentum_conserved
+            .iter_mut()
+            .zip(&s.momentum_conserved)
+        {
+            *m |= e;
+        }
+        self.autonomous |= s.autonomous;
+        self.energy_conserved |= s.energy_conserved;
+    }
+
     /// The user's coordinate, velocity and time names the body mentions, in declaration order:
     /// the names the generated `fn lagrangian` binds (and the jets lowering treats as variables).
     pub fn bound(&self, decl: &Decl) -> Vec<String> {

@@ -23,7 +23,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
         Some(decl) if errors.is_empty() => decl,
         _ => return emit::stub(&errors, &fallback),
     };
-    let analysis = analyze::analyze(&decl);
+    let mut analysis = analyze::analyze(&decl);
     let helpers = analyze::helpers(&decl.rest);
     let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl), &helpers, &mut errors);
     let rest = analyze::lower_helpers_for_jets(&decl.rest, &helpers, &mut errors);
@@ -59,6 +59,9 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     // With errors from the symbolic stage the impl is still emitted (with the jets `fn
     // lagrangian` and without the symbolic methods), next to the errors: see `emit::generate`.
     let symbolic = symbolic.filter(|_| errors.is_empty());
+    if let Some(s) = &symbolic {
+        analysis.refine(&s.symmetry);
+    }
     let jets = emit::JetsBodies {
         rest,
         body,

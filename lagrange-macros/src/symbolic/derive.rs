@@ -46,6 +46,45 @@ pub struct Derivation {
     /// Cramer's rule with the determinant expanded and cancelled (see `poly::det2`).
     /// The flag: the determinant cancelled to one monomial (accurate however small).
     pub pairs: Vec<(usize, usize, Id, bool)>,
+    /// The conservation flags read from the derived expressions.
+    pub symmetry: Symmetry,
+}
+
+/// The flags of the `Lagrangian` trait decided from the expressions (∂L/∂qᵢ ≡ 0 after expansion
+/// and sin² + cos² = 1), not from the names a body mentions: a coordinate that cancels only
+/// through an identity (a heavy top written from its rotation matrix, where ψ leaves through
+/// sin²ψ + cos²ψ) is cyclic. Each is true only when the expression it rests on vanishes
+/// identically (see [`vanishes`]); the macro ORs them with the rule by names, which never says
+/// true where these say false.
+#[derive(Clone, Debug)]
+pub struct Symmetry {
+    /// ∂L/∂qᵢ, ∂D/∂qᵢ and every ∂Qⱼ/∂qᵢ vanish: q̈ does not depend on qᵢ.
+    pub cyclic: Vec<bool>,
+    /// ∂L/∂t vanishes.
+    pub autonomous: bool,
+    /// Cyclic, and Qᵢ − ∂D/∂q̇ᵢ vanishes: pᵢ is conserved.
+    pub momentum_conserved: Vec<bool>,
+    /// Autonomous, and every Qᵢ − ∂D/∂q̇ᵢ vanishes: the energy h = q̇·p − L is conserved.
+    pub energy_conserved: bool,
+}
+
+/// Whether `id` is identically zero: structurally, or its polynomial expansion over the DAG's
+/// atoms (under [`poly::SYMMETRY`]'s caps) reduces to no term modulo sin²x + cos²x = 1
+/// ([`poly::reduce_pythagorean`], exact: coefficients cancel only when they are equal). An
+/// expansion past the caps does not vanish: the answer is never "zero" for an expression that
+/// is not.
+pub fn vanishes(dag: &Dag, id: Id) -> bool {
+    if id == Dag::ZERO {
+        return true;
+    }
+    let Some(mut p) = poly::expand_under(dag, id, &poly::SYMMETRY) else {
+        return false;
+    };
+    let sin_of = |a: Id| match dag.node(a) {
+        Node::Un(Fun::Cos, x) => dag.find(Node::Un(Fun::Sin, x)),
+        _ => None,
+    };
+    poly::reduce_pythagorean(&mut p, &sin_of, &poly::SYMMETRY) && p.0.is_empty()
 }
 
 /// The 2×2 blocks {i, k} of M (upper triangle) that no other coordinate couples to.
@@ -141,10 +180,12 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
         _ => None,
     });
     let mut force = Vec::with_capacity(n);
+    let mut dl_dq = Vec::with_capacity(n);
     for (i, dpi) in dp.into_iter().enumerate() {
         let g = dag.tangents(&[l], &unit(vars.q(i)), &|_, node| {
             (node == Node::Q(i as u32)).then_some(Dag::ONE)
         });
+        dl_dq.push(g[0]);
         let f = dag.sub(g[0], dpi);
         force.push(dag.collect_terms(f));
     }
@@ -155,6 +196,7 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
         energy = dag.add(energy, vp);
     }
     // Applied forces and the right-hand side (formed once), then the power.
+    let has_forces = lowered.forces.is_some();
     let generalized = lowered.forces.unwrap_or_else(|| vec![Dag::ZERO; n]);
     let mut dissipative = vec![Dag::ZERO; n];
     if let Some(dd) = lowered.dissipation {
@@ -185,7 +227,16 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
         let av = dag.mul(a, v);
         power = dag.add(power, av);
     }
+    let symmetry = symmetry(
+        &mut dag,
+        &dl_dq,
+        lowered.dissipation,
+        has_forces.then_some(&generalized[..]),
+        &applied,
+        dldt,
+    );
     Some(Derivation {
+        symmetry,
         pairs,
         generalized,
         dissipative,
@@ -201,6 +252,48 @@ pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
         force,
         energy,
     })
+}
+
+/// The flags from the expressions: ∂L/∂qᵢ (`dl_dq`), D and Q (if declared) differentiated by
+/// each qᵢ, the applied forces Qᵢ − ∂D/∂q̇ᵢ and ∂L/∂t.
+fn symmetry(
+    dag: &mut Dag,
+    dl_dq: &[Id],
+    dissipation: Option<Id>,
+    forces: Option<&[Id]>,
+    applied: &[Id],
+    dldt: Id,
+) -> Symmetry {
+    let vars = dag.vars;
+    let n = dl_dq.len();
+    let mut cyclic = Vec::with_capacity(n);
+    for (i, &g) in dl_dq.iter().enumerate() {
+        let mut along = VarSet::new(vars);
+        along.insert(vars.q(i));
+        let seed = |_: &mut Dag, node: Node| (node == Node::Q(i as u32)).then_some(Dag::ONE);
+        let mut absent = vanishes(dag, g);
+        if absent {
+            if let Some(d) = dissipation {
+                let dd = dag.tangents(&[d], &along, &seed)[0];
+                absent = vanishes(dag, dd);
+            }
+        }
+        if absent {
+            if let Some(q) = forces {
+                let dq = dag.tangents(q, &along, &seed);
+                absent = dq.iter().all(|&x| vanishes(dag, x));
+            }
+        }
+        cyclic.push(absent);
+    }
+    let still: Vec<bool> = applied.iter().map(|&a| vanishes(dag, a)).collect();
+    let autonomous = vanishes(dag, dldt);
+    Symmetry {
+        momentum_conserved: (0..n).map(|i| cyclic[i] && still[i]).collect(),
+        energy_conserved: autonomous && still.iter().all(|s| *s),
+        cyclic,
+        autonomous,
+    }
 }
 
 /// M q̈ = rhs as operands of the generated code (`None`: a structural zero), formed once from a

@@ -28,6 +28,9 @@ const LANES_MAX_OPS: usize = 300;
 
 /// What the symbolic path contributes to the generated impl.
 pub struct SymbolicOutput {
+    /// The conservation flags read from the derived expressions (the macro ORs them with the
+    /// rule by names).
+    pub symmetry: super::derive::Symmetry,
     /// Body of `fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64)
     /// -> Result<[f64; N], ::lagrange::__private::DynamicsError>`.
     pub accelerations: TokenStream,
@@ -566,6 +569,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
         eq.unicode
     );
     SymbolicOutput {
+        symmetry: d.symmetry.clone(),
         items,
         lanes,
         params: params_load,

@@ -37,6 +37,7 @@ mod tests;
 
 use crate::errors::Errors;
 use crate::model::Decl;
+pub use derive::Symmetry;
 pub use methods::{methods, SymbolicOutput};
 
 /// Lowers, differentiates and emits the symbolic implementation of `decl`; `None` (with every

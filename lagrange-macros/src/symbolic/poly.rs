@@ -40,6 +40,15 @@ pub const PRINTING: Rules = Rules {
     cancel: 1e-14,
 };
 
+/// Whether a derivative vanishes identically (`derive::vanishes`, the flags CYCLIC and
+/// AUTONOMOUS): larger than the determinant's caps (a heavy top written from its rotation
+/// matrix needs ~40 terms), exact.
+pub const SYMMETRY: Rules = Rules {
+    max_terms: 256,
+    max_product: 256 * 32,
+    cancel: 0.0,
+};
+
 /// Expression depth beyond which the determinant expansion gives up (bounds the recursion).
 pub const MAX_DEPTH: usize = 64;
 
@@ -153,16 +162,20 @@ impl<A: Ord + Copy> Poly<A> {
 /// when it has more than its `max_terms` terms (at any step) or is nested deeper than
 /// [`MAX_DEPTH`].
 pub fn expand(dag: &Dag, id: Id) -> Option<Poly<Id>> {
-    expand_within(dag, id, MAX_DEPTH)
+    expand_within(dag, id, MAX_DEPTH, &DETERMINANT)
 }
 
-fn expand_within(dag: &Dag, id: Id, depth: usize) -> Option<Poly<Id>> {
-    let rules = &DETERMINANT;
+/// [`expand`] under other caps.
+pub fn expand_under(dag: &Dag, id: Id, rules: &Rules) -> Option<Poly<Id>> {
+    expand_within(dag, id, MAX_DEPTH, rules)
+}
+
+fn expand_within(dag: &Dag, id: Id, depth: usize, rules: &Rules) -> Option<Poly<Id>> {
     if let Some(c) = dag.as_const(id) {
         return Some(Poly::constant(c));
     }
     let depth = depth.checked_sub(1)?;
-    let ex = |x: Id| expand_within(dag, x, depth);
+    let ex = |x: Id| expand_within(dag, x, depth, rules);
     let sum = |a: Poly<Id>, b: Poly<Id>, sign: f64| a.add(&b, sign, rules).0.capped(rules);
     match dag.node(id) {
         Node::Add(a, b) => sum(ex(a)?, ex(b)?, 1.0),
@@ -240,6 +253,36 @@ pub fn merge_pythagorean<A: Ord + Copy>(p: &mut Poly<A>, cos_of: &dyn Fn(A) -> O
     p.0.remove(&partner);
     accumulate(p, merged, c);
     true
+}
+
+/// Reduces `p` modulo sin²x + cos²x − 1 for every angle x whose sine and cosine are both
+/// atoms (`sin_of(c)`: the sine atom of the argument of a cosine atom `c`): each cosᵉ with
+/// e ≥ 2 becomes cosᵉ⁻²(1 − sin²) until every cosine has exponent 0 or 1. That is a normal form
+/// of the quotient ring (basis sinᵏ·cos^{0,1}), so a polynomial that vanishes through the
+/// identity reduces to no terms at all: exact, unlike the pairwise merge. `false` when the
+/// reduction grows past `rules.max_terms` (`p` is then partly reduced).
+pub fn reduce_pythagorean<A: Ord + Copy>(
+    p: &mut Poly<A>,
+    sin_of: &dyn Fn(A) -> Option<A>,
+    rules: &Rules,
+) -> bool {
+    loop {
+        let found = p.0.iter().find_map(|(m, &c)| {
+            m.iter()
+                .find_map(|&(atom, e)| (e >= 2).then(|| sin_of(atom).map(|s| (atom, s))).flatten())
+                .map(|(cos, sin)| (m.clone(), c, cos, sin))
+        });
+        let Some((m, c, cos, sin)) = found else {
+            return true;
+        };
+        p.0.remove(&m);
+        let lower = shifted(&m, cos, -2);
+        accumulate(p, shifted(&lower, sin, 2), -c);
+        accumulate(p, lower, c);
+        if p.len() > rules.max_terms {
+            return false;
+        }
+    }
 }
 
 /// Builds the polynomial back as DAG nodes (sum of coefficient × product of atoms), the terms

@@ -1056,3 +1056,133 @@ fn mass_entries_merge_sin_squared_plus_cos_squared() {
         1e-15
     ));
 }
+
+/// A small deterministic generator (xorshift) for the random bodies below.
+struct Rng(u64);
+
+impl Rng {
+    fn below(&mut self, n: u64) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0 % n
+    }
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * (self.below(1 << 53) as f64 / (1u64 << 53) as f64)
+    }
+}
+
+/// A random expression over `a`, `a_dot`, `b_dot`, constants and, if `free_b`, `b` itself; `b`
+/// also enters through identities that hide it (sin² b + cos² b, a rotation by b of a pair).
+fn random_expr(rng: &mut Rng, depth: u32, free_b: bool) -> String {
+    let atoms: &[&str] = if free_b {
+        &["a", "b", "a_dot", "b_dot", "1.3", "0.5"]
+    } else {
+        &["a", "a_dot", "b_dot", "1.3", "0.5"]
+    };
+    if depth == 0 {
+        return atoms[rng.below(atoms.len() as u64) as usize].to_string();
+    }
+    let sub = |rng: &mut Rng| random_expr(rng, depth - 1, free_b);
+    match rng.below(9) {
+        0 => format!("({} + {})", sub(rng), sub(rng)),
+        1 => format!("({} - {})", sub(rng), sub(rng)),
+        2 | 3 => format!("({} * {})", sub(rng), sub(rng)),
+        4 => format!("({}).sin()", sub(rng)),
+        5 => format!("({}).cos()", sub(rng)),
+        6 => format!("((b.sin().powi(2) + b.cos().powi(2)) * {})", sub(rng)),
+        7 => {
+            let x = sub(rng);
+            format!("((b.sin() * {x}).powi(2) + (b.cos() * {x}).powi(2))")
+        }
+        _ => {
+            let (x, y) = (sub(rng), sub(rng));
+            format!(
+                "((b.cos() * {x} - b.sin() * {y}).powi(2) + (b.sin() * {x} + b.cos() * {y}).powi(2))"
+            )
+        }
+    }
+}
+
+/// ∂L/∂b by central differences of the DAG's value of L.
+fn dl_db(d: &Derivation, q: [f64; 2], v: [f64; 2]) -> (f64, f64) {
+    let h = 1e-6;
+    let at = |b: f64| eval(d, &[], &[q[0], b], &v, 0.0)[d.lagrangian as usize];
+    ((at(q[1] + h) - at(q[1] - h)) / (2.0 * h), at(q[1]))
+}
+
+/// `CYCLIC` from the expression: a coordinate that leaves L only through an identity is found
+/// cyclic, and one that does not cancel is never flagged (random bodies, checked against finite
+/// differences at random states).
+#[test]
+fn cyclic_from_the_expression_never_flags_a_coordinate_l_depends_on() {
+    let coords = [("a", "a_dot", false), ("b", "b_dot", false)];
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let (mut flagged, mut kept) = (0, 0);
+    for round in 0..400 {
+        let free_b = round % 2 == 1;
+        // Depth 2 where b hides in identities keeps the expansions within the caps; depth 3
+        // for the bodies that depend on b.
+        let depth = if free_b { 3 } else { 2 };
+        let body = format!("{{ {} }}", random_expr(&mut rng, depth, free_b));
+        let d = derive(&decl(&coords, None, &body)).unwrap_or_else(|e| panic!("{body}: {e:?}"));
+        let cyclic = d.symmetry.cyclic[1];
+        if !free_b {
+            // b only inside identities: always found (the bodies are well within the caps).
+            assert!(
+                cyclic,
+                "b leaves L only through identities, not flagged: {body}"
+            );
+        }
+        if cyclic {
+            flagged += 1;
+            for _ in 0..5 {
+                let q = [rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5)];
+                let v = [rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5)];
+                let (g, l) = dl_db(&d, q, v);
+                // The derivative is 0; the differences carry rounding ~1e-16 |L| / 1e-6.
+                assert!(
+                    g.abs() <= 1e-7 * (1.0 + l.abs()),
+                    "b flagged cyclic, but ∂L/∂b = {g} at q = {q:?}, q̇ = {v:?}: {body}"
+                );
+            }
+        } else {
+            kept += 1;
+        }
+        assert_eq!(
+            d.symmetry.momentum_conserved[1], cyclic,
+            "without forces the momentum is conserved exactly when the coordinate is cyclic"
+        );
+    }
+    // Both answers occur (the test is not vacuous).
+    assert!(
+        flagged >= 200 && kept >= 50,
+        "flagged {flagged}, kept {kept}"
+    );
+}
+
+/// The heavy top written from its body angular velocity under R = R_z(φ) R_x(θ) R_z(ψ): ψ and φ
+/// appear in L but leave it through sin² + cos² = 1, so both are cyclic, θ is not, and L is
+/// autonomous.
+#[test]
+fn heavy_top_from_its_rotation_has_cyclic_phi_and_psi() {
+    let body = "{
+        let (st, ct) = theta.sin_cos();
+        let (sp, cp) = psi.sin_cos();
+        let wx = phi_dot * st * sp + theta_dot * cp;
+        let wy = phi_dot * st * cp - theta_dot * sp;
+        let wz = phi_dot * ct + psi_dot;
+        let (s1, c1) = phi.sin_cos();
+        let up = (s1 * s1 + c1 * c1) * ct;
+        0.5 * (1.3 * (wx * wx + wy * wy) + 0.7 * wz * wz) - 3.5 * up
+    }";
+    let coords = [
+        ("theta", "theta_dot", false),
+        ("phi", "phi_dot", false),
+        ("psi", "psi_dot", false),
+    ];
+    let d = derive(&decl(&coords, None, body)).expect("derives");
+    assert_eq!(d.symmetry.cyclic, [false, true, true]);
+    assert_eq!(d.symmetry.momentum_conserved, [false, true, true]);
+    assert!(d.symmetry.autonomous && d.symmetry.energy_conserved);
+}
