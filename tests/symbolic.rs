@@ -12,7 +12,7 @@
 use lagrange::prelude::*;
 use lagrange_examples::twins;
 
-use crate::support::systems::{Chain16, Chain4, HeavyTop, Kepler};
+use crate::support::systems::{Chain16, Chain4, HeavyTop, Kepler, RotationTop};
 
 struct Rng(u64);
 impl Rng {
@@ -633,4 +633,41 @@ fn a_coordinate_that_cancels_through_an_identity_is_cyclic() {
     let last = tr.q.last().unwrap();
     assert!((last[0] - (-1.0)).abs() <= 1e-9, "x(π/2) = {}", last[0]);
     assert!((last[1] - (0.3 + 0.7 * std::f64::consts::FRAC_PI_2)).abs() <= 1e-9);
+}
+
+#[test]
+fn heavy_top_from_its_angular_velocity_is_the_heavy_top() {
+    assert_eq!(<RotationTop as Lagrangian<3>>::CYCLIC, [false, true, true]);
+    // The printed equations are those of eq. 92 written by hand (the same parameters): no ψ, no
+    // sin² + cos² pair.
+    let eq = RotationTop::EQUATIONS;
+    assert_eq!(eq, lagrange_examples::bench_top::MacroTop::EQUATIONS);
+    assert!(!eq.contains("(ψ)"), "{eq}");
+    let (i_perp, i_par, m, g, l) = (1.3, 0.7, 0.9, 9.81, 0.4);
+    let top = RotationTop {
+        i_perp,
+        i_par,
+        mgl: m * g * l,
+    };
+    let hand = HeavyTop {
+        i_perp,
+        i_par,
+        m,
+        g,
+        l,
+    };
+    let mut rng = Rng(11);
+    for _ in 0..1000 {
+        let mut q = rng.array::<3>(-3.0, 3.0);
+        q[0] = rng.uniform(0.2, 2.9); // away from sin θ = 0
+        let v = rng.array::<3>(-3.0, 3.0);
+        let a = top.accelerations(&q, &v, 0.0).unwrap();
+        let want = hand.accelerations(&q, &v, 0.0).unwrap();
+        for i in 0..3 {
+            assert!(
+                (a[i] - want[i]).abs() <= 1e-12 * (1.0 + want[i].abs()),
+                "q = {q:?}, q̇ = {v:?}: {a:?} vs {want:?}"
+            );
+        }
+    }
 }

@@ -134,3 +134,33 @@ chain!(16, Chain16, Chain16Jets;
     (th9, th9_dot, s9, c9) (th10, th10_dot, s10, c10) (th11, th11_dot, s11, c11)
     (th12, th12_dot, s12, c12) (th13, th13_dot, s13, c13) (th14, th14_dot, s14, c14)
     (th15, th15_dot, s15, c15) (th16, th16_dot, s16, c16));
+
+/// The heavy top as a user who starts from geometry writes it: the body angular velocity under
+/// R = R_z(φ) R_x(θ) R_z(ψ) worked out component by component, not the hand-simplified L of
+/// eq. 92. ψ (and φ) enter L, but ψ leaves it through sin²ψ + cos²ψ = 1.
+#[derive(Debug, Clone, Copy)]
+pub struct RotationTop {
+    /// Moment of inertia about a transverse axis through the fixed point.
+    pub i_perp: f64,
+    /// Moment of inertia about the symmetry axis.
+    pub i_par: f64,
+    /// Mass × gravity × distance from the fixed point to the centre of mass.
+    pub mgl: f64,
+}
+
+#[::lagrange::lagrangian]
+impl RotationTop {
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let (st, ct) = theta.sin_cos();
+        let (sp, cp) = psi.sin_cos();
+        let wx = phi_dot * st * sp + theta_dot * cp;
+        let wy = phi_dot * st * cp - theta_dot * sp;
+        let wz = phi_dot * ct + psi_dot;
+        0.5 * (self.i_perp * (wx * wx + wy * wy) + self.i_par * wz * wz) - self.mgl * ct
+    }
+}
