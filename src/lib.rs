@@ -119,7 +119,8 @@
 //! The conservation flags follow a syntactic rule in both modes: `CYCLIC[i]` when qᵢ appears
 //! in none of L, D and Q; `MOMENTUM_CONSERVED[i]` when qᵢ is cyclic, q̇ᵢ does not appear in D and
 //! the i-th entry of the array `fn forces` ends with is a literal zero (`0.0`); `ENERGY_CONSERVED`
-//! when L has no explicit t, there is no D, and Q is absent or every entry a literal zero.
+//! when L has no explicit t, there is no D, Q is absent or every entry a literal zero, and no
+//! constraint of `fn constraints` moves (one that reads `t: Time` does work on the system).
 //! `AUTONOMOUS` still means that L has no explicit t. The symbolic mode also reads them from the
 //! derived expressions: `CYCLIC[i]` when ∂L/∂qᵢ, ∂D/∂qᵢ and every ∂Qⱼ/∂qᵢ vanish identically
 //! (expanded, and reduced modulo sin²x + cos²x = 1), so a coordinate that leaves L only through an

@@ -367,6 +367,15 @@ fn a_moving_constraint_uses_the_time_and_is_rheonomic() {
         assert!(!<DrivenXJets as Holonomic<2, 1>>::SCLERONOMIC);
         assert!(!<HoopBead as Holonomic<3, 2>>::SCLERONOMIC);
         assert!(!<HoopBeadJets as Holonomic<3, 2>>::SCLERONOMIC);
+        // A moving constraint does work: the energy is not conserved, in both modes (L itself is
+        // autonomous), while a fixed one leaves it conserved.
+        assert!(<DrivenX as Lagrangian<2>>::AUTONOMOUS);
+        assert!(!<DrivenX as Lagrangian<2>>::ENERGY_CONSERVED);
+        assert!(!<DrivenXJets as Lagrangian<2>>::ENERGY_CONSERVED);
+        assert!(!<HoopBead as Lagrangian<3>>::ENERGY_CONSERVED);
+        assert!(!<HoopBeadJets as Lagrangian<3>>::ENERGY_CONSERVED);
+        assert!(<PlanePendulumXy as Lagrangian<2>>::ENERGY_CONSERVED);
+        assert!(<PlanePendulumXyJets as Lagrangian<2>>::ENERGY_CONSERVED);
     };
 }
 

@@ -118,8 +118,9 @@ pub fn analyze(decl: &Decl) -> Analysis {
         }
     }
     let autonomous = decl.time.as_ref().is_none_or(|t| !used.contains(&unraw(t)));
+    // A moving constraint (g depends on t) does work on the system.
     let energy_conserved =
-        autonomous && decl.dissipation.is_none() && zero_force.iter().all(|z| *z);
+        autonomous && decl.dissipation.is_none() && zero_force.iter().all(|z| *z) && scleronomic;
     Analysis {
         used,
         dissipation_used,
@@ -182,7 +183,8 @@ impl Analysis {
             *m |= e;
         }
         self.autonomous |= s.autonomous;
-        self.energy_conserved |= s.energy_conserved;
+        // A moving constraint does work: the expressions of L, D and Q do not see it.
+        self.energy_conserved |= s.energy_conserved && self.scleronomic;
     }
 
     /// The user's coordinate, velocity and time names the body mentions, in declaration order:

@@ -125,8 +125,10 @@ pub fn generate(
         .zip(funcs)
         .map(|(f, body)| jets_func(decl, analysis, f, body))
         .collect();
-    // The flags that differ from their defaults only with forces or dissipation.
-    let conserved = if decl.dissipation.is_some() || decl.forces.is_some() {
+    // The flags that differ from their defaults only with forces, dissipation or a moving
+    // constraint.
+    let conserved = if decl.dissipation.is_some() || decl.forces.is_some() || !analysis.scleronomic
+    {
         let m = &analysis.momentum_conserved;
         let e = analysis.energy_conserved;
         quote! {

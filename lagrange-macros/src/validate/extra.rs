@@ -386,7 +386,7 @@ pub(super) fn check_constraints_body(
                 .map_or_else(|| "x".to_owned(), crate::model::unraw);
             errors.at(
                 &at,
-                format!("`{velocity}` is a velocity, and the constraints g(q, t) = 0 depend on the positions (and, for a moving constraint, on `t: Time`) only: bind the velocity as `_`, `({x}, _)`, and leave it out of the body: `{hint}`"),
+                format!("`{velocity}` is a velocity, and `fn constraints` declares holonomic constraints g(q, t) = 0, which depend on the positions (and, for a moving constraint, on `t: Time`) only. A constraint on the velocities (rolling without slipping, a knife edge: A(q) q̇ + b = 0) is nonholonomic: this macro does not take those yet, and leaving the velocity out would change the physics; write the system in coordinates that satisfy it, or integrate the constraint if it is a time derivative of g(q, t) = 0. If `{velocity}` is here by mistake, bind it as `_`, `({x}, _)`: `{hint}`"),
             );
         }
     }
