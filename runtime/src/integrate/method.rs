@@ -73,3 +73,16 @@ impl Method {
         )
     }
 }
+
+/// The methods that run in SIMD lanes in an ensemble, each with its engine's file under
+/// `integrate/lanes/` (a `pub(super) fn run` over that method's members): calls `$callback!` with
+/// the list. Making a method run in lanes is its engine's file and its line here.
+macro_rules! lanes_engines {
+    ($callback:ident) => {
+        $callback! {
+            Taylor => taylor,
+            Dop853 => dop853,
+        }
+    };
+}
+pub(crate) use lanes_engines;

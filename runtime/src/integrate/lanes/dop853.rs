@@ -40,7 +40,7 @@ type DopSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, L, Dop853<'p, L, N>, Atte
 
 /// The DOP853 engine over the members of `queue` (see the module docs).
 #[inline(always)]
-pub(super) fn run_dop853_lanes<
+pub(super) fn run<
     'p,
     'a: 'p,
     L: Lagrangian<N> + 'a,

@@ -1,13 +1,13 @@
 //! The lanes engines: W members of an ensemble step together, one member per lane of
 //! [`Lanes`](crate::lanes::Lanes) ([`run_lanes`] dispatches to the instruction set the CPU has).
-//! One file per method: [`dop853`] (each lane its own step size, error norm and decision) and
-//! [`taylor`] (the series of W members in one pass); [`members`] is what they share (a member's
-//! entry, its slot, the refill of free lanes, its end). Members of another method, and
-//! constrained ones, run the scalar driver.
+//! One file per method, named by the list of `method.rs` (`lanes_engines!`), each with a
+//! `pub(super) fn run` over its members: `dop853` (each lane its own step size, error norm and
+//! decision) and `taylor` (the series of W members in one pass); [`members`] is what they share
+//! (a member's entry, its slot, the refill of free lanes, its end). Members of another method,
+//! and constrained ones, run the scalar driver. Making a method run in lanes is its engine's
+//! file and its line in that list: nothing here changes.
 
-mod dop853;
 mod members;
-mod taylor;
 
 pub use members::accelerations;
 pub(crate) use members::Out;
@@ -16,9 +16,7 @@ use crate::integrate::method::Method;
 use crate::integrate::simulation::Simulation;
 use crate::lagrangian::Lagrangian;
 
-use dop853::run_dop853_lanes;
 use members::scalar;
-use taylor::run_taylor_lanes;
 
 /// Runs `sims` (in order) with W members per vector, calling `out(position, result)` as each
 /// member ends (not in order): DOP853 and Taylor members without constraints in lanes, any other
@@ -72,22 +70,36 @@ fn run_lanes_avx2<L: Lagrangian<N>, const N: usize, const W: usize>(
     run_lanes_here::<L, N, W>(sims, out)
 }
 
-/// The engines, for the instruction set of their caller: the Taylor members on the Taylor
-/// engine ([`run_taylor_lanes`]), every other member on this DOP853 engine (which hands what is
-/// not DOP853 to the scalar driver).
-#[inline(always)]
-fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
-    sims: &mut [Simulation<'_, L, N>],
-    out: &mut Out<'_, N>,
-) {
-    let taylor = |s: &Simulation<'_, L, N>| matches!(s.method, Method::Taylor { .. });
-    if sims.iter().any(taylor) {
-        let queue = sims.iter_mut().enumerate().filter(|(_, s)| taylor(s));
-        run_taylor_lanes::<L, N, W>(queue, out);
-    }
-    let queue = sims.iter_mut().enumerate().filter(|(_, s)| !taylor(s));
-    run_dop853_lanes::<L, N, W>(queue, out);
+/// Declares the engines' files and [`run_lanes_here`] from the list of `method.rs`.
+macro_rules! engines {
+    ($($variant:ident => $file:ident),* $(,)?) => {
+        $(mod $file;)*
+
+        /// The engines, for the instruction set of their caller: each method's members on its
+        /// engine, in the order of the list; every other member (a method without an engine) on
+        /// the scalar driver, in order. A constrained member's engine hands it to the scalar
+        /// driver too.
+        #[inline(always)]
+        fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
+            sims: &mut [Simulation<'_, L, N>],
+            out: &mut Out<'_, N>,
+        ) {
+            $(
+                let ours = |s: &Simulation<'_, L, N>| matches!(s.method, Method::$variant { .. });
+                if sims.iter().any(ours) {
+                    let queue = sims.iter_mut().enumerate().filter(|(_, s)| ours(s));
+                    $file::run::<L, N, W>(queue, out);
+                }
+            )*
+            let engine = |s: &Simulation<'_, L, N>| false $(|| matches!(s.method, Method::$variant { .. }))*;
+            for (pos, sim) in sims.iter_mut().enumerate().filter(|(_, s)| !engine(s)) {
+                out(pos, sim.prepare().and_then(scalar));
+            }
+        }
+    };
 }
+
+crate::integrate::method::lanes_engines!(engines);
 
 #[cfg(test)]
 mod tests {

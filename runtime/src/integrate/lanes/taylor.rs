@@ -52,7 +52,7 @@ fn step<L: Lagrangian<N>, const N: usize>(s: &mut TaylorSlot<'_, '_, L, N>) -> R
 /// Runs the Taylor members of `queue` with W per vector, calling `out(position, result)` as
 /// each ends; other members (another method, constraints) run the scalar driver.
 #[inline(always)]
-pub(super) fn run_taylor_lanes<
+pub(super) fn run<
     'p,
     'a: 'p,
     L: Lagrangian<N> + 'a,
