@@ -1022,6 +1022,15 @@ fn printed_equations_merge_sin_squared_plus_cos_squared() {
         "th1: 3 l² m d²(th₁)/dt² + 2 l² m d²(th₂)/dt² cos(th₁ − th₂) + l² m d²(th₃)/dt² cos(th₁ − th₃) \
          = −2 l² m (d(th₂)/dt)² sin(th₁ − th₂) − l² m (d(th₃)/dt)² sin(th₁ − th₃) − 3 l m g sin(th₁)"
     );
+    // The 10-link chain of the issue (its first equation started `10 l² m q̈[0] sin²(q[0]) +
+    // 10 l² m q̈[0] cos²(q[0]) + …`): no pair is left anywhere in it.
+    let ten = expand(&chain_decl(10)).unwrap_or_else(|_| panic!("expands"));
+    let first = ten.equations.lines().next().unwrap_or_default();
+    assert!(first.starts_with("th1: 10 l² m d²(th₁)/dt² + "), "{first}");
+    assert!(
+        !first.contains("sin²") && !first.contains("cos²"),
+        "{first}"
+    );
     let top = expand(&heavy_top()).unwrap_or_else(|_| panic!("expands"));
     assert!(
         top.equations.contains("i_par φ\u{308} cos²(θ)"),
