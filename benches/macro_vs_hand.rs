@@ -9,29 +9,8 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 
-/// The heavy top of the macro contract, declared with the macro.
-pub struct MacroTop {
-    pub i_perp: f64,
-    pub i_par: f64,
-    pub m: f64,
-    pub g: f64,
-    pub l: f64,
-}
-
-#[lagrangian]
-impl MacroTop {
-    fn lagrangian(
-        &self,
-        (theta, theta_dot): Coord,
-        (phi, phi_dot): Coord,
-        (psi, psi_dot): Coord,
-    ) -> Scalar {
-        let (s, c) = theta.sin_cos();
-        self.i_perp / 2.0 * (theta_dot.powi(2) + (phi_dot * s).powi(2))
-            + self.i_par / 2.0 * (psi_dot + phi_dot * c).powi(2)
-            - self.m * self.g * self.l * c
-    }
-}
+// The heavy top of the macro contract, declared with the macro (the tests' declaration).
+use lagrange_examples::systems::HeavyTop as MacroTop;
 
 /// The same L, hand-written generic code, operation for operation what the macro should emit
 /// (constants on the right of Scalar ops, `powi(2)` as written).
