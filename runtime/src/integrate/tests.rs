@@ -421,6 +421,13 @@ fn taylor_checks_the_time_resolution() {
             .until(until);
         sim.validate()
     };
+    // A long run from t = 0 (10⁵ periods of a top at tol 1e-16) is told to cut itself into
+    // segments short enough for its tol, not to shift an origin that is already 0.
+    let m = check(0.0, 1.143e5, 1e-16).unwrap_err();
+    assert!(
+        m.contains("time resolution") && m.contains("Cut the run into segments of at most 9.0e2"),
+        "{m}"
+    );
     for (t0, until, tol) in [(1e9, 1e9 + 1e-5, 1e-6), (1e9, 1e9 + 10.0, 1e-12)] {
         let m = check(t0, until, tol).unwrap_err();
         assert!(

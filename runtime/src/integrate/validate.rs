@@ -88,12 +88,25 @@ impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
                     ));
                 }
                 if 0.5 * spacing > 1e3 * tol {
+                    // A run far from t = 0 moves its origin; a long run from near 0 is cut into
+                    // segments short enough for this tol (spacing(len) / 2 ≤ 1000 tol).
+                    let fix = if self.t0.abs() >= 0.5 * until.abs() {
+                        "Shift the time origin (start at t0 = 0 and add the offset inside your \
+                         forces or L)"
+                            .to_string()
+                    } else {
+                        format!(
+                            "Cut the run into segments of at most {:.1e} in time, each started at \
+                             t0 = 0 from the previous segment's end state (with the elapsed time \
+                             added inside your forces or L if they read t)",
+                            2e3 * tol / f64::EPSILON
+                        )
+                    };
                     return Err(format!(
                         "the Taylor method's tol = {tol:e} is far below the time resolution of the \
                          run: near t = {far:e} adjacent f64 times differ by about {spacing:.1e}, so \
                          rounding each step's end time moves the state by more than 1000 × tol \
-                         per step (a wrong answer that looks accurate). Shift the time origin \
-                         (start at t0 = 0 and add the offset inside your forces or L), or take \
+                         per step (a wrong answer that looks accurate). {fix}, or take \
                          tol ≥ {:.1e}",
                         spacing / 2e3
                     ));
