@@ -274,8 +274,8 @@ pub use lagrange_runtime::{
 };
 pub use lagrange_runtime::{
     ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, Invariants, Method,
-    NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats, Trajectory,
-    INVARIANT_FLOOR,
+    NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats, Stiffness,
+    Trajectory, INVARIANT_FLOOR,
 };
 pub use lagrange_runtime::{DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Scalar};
 pub use lagrange_runtime::{SMatrix, Vector3};

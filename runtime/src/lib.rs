@@ -32,8 +32,8 @@ pub use eom::solve_mass_matrix;
 pub use error::DynamicsError;
 pub use integrate::{
     ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, Invariants, Method,
-    NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats, Trajectory,
-    INVARIANT_FLOOR,
+    NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats, Stiffness,
+    Trajectory, INVARIANT_FLOOR,
 };
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
 pub use linearize::{equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability};

@@ -147,6 +147,10 @@ impl Sampling<'_> {
 
 pub(super) struct Driver<'s, 'a, 'o, L, const N: usize> {
     sys: &'s L,
+    /// The method (a failure's stiffness diagnosis reads it).
+    method: Method,
+    /// The start time.
+    t0: f64,
     /// The constraints of a constrained run.
     manifold: Option<&'s dyn Manifold<N>>,
     /// Whether every accepted step is projected onto the constraints (explicit methods).
@@ -226,6 +230,8 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     ) -> Self {
         Driver {
             sys,
+            method,
+            t0: o.t0,
             events,
             observer,
             keep: o.keep_samples,
@@ -360,7 +366,42 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         self.traj.stats = self.stats;
         let (self_k, self_default) = (self.traj.constraint_count, self.max_samples_default);
         let (q, qdot) = (y[0].to_vec(), y[1].to_vec());
-        let partial = PartialTrajectory::new(self.traj);
+        // A fast mode explains a run out of steps (diagnosed where it stopped) or one blown up
+        // (diagnosed at its first state: where it stopped the state may be 1e300).
+        let first = match (
+            self.traj.t.first(),
+            self.traj.q.first(),
+            self.traj.qdot.first(),
+        ) {
+            (Some(&t0), Some(q0), Some(v0)) => Some((t0, [*q0, *v0])),
+            _ => None,
+        };
+        let stiffness = match (&fault, first) {
+            (Fault::MaxSteps(_), _) => super::stiffness::diagnose(
+                self.sys,
+                self.method,
+                self.manifold.is_some(),
+                self.t0,
+                t,
+                &y,
+                self.stats.steps,
+                false,
+            ),
+            (Fault::NonFinite | Fault::Dynamics(_), Some((t_first, y_first))) => {
+                super::stiffness::diagnose(
+                    self.sys,
+                    self.method,
+                    self.manifold.is_some(),
+                    self.t0,
+                    t_first,
+                    &y_first,
+                    self.stats.steps,
+                    true,
+                )
+            }
+            _ => None,
+        };
+        let partial = PartialTrajectory::new(self.traj).with_stiffness(stiffness);
         match fault {
             Fault::Dynamics(source) => SimulationError::Dynamics {
                 source: Box::new(source),

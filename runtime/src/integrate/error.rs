@@ -6,6 +6,7 @@ use core::fmt;
 
 use crate::error::{DynamicsError, Short};
 
+use super::stiffness::Stiffness;
 use super::trajectory::Trajectory;
 
 /// The trajectory computed before a run failed (type-erased so that [`SimulationError`] does not
@@ -17,11 +18,23 @@ use super::trajectory::Trajectory;
 /// let p = PartialTrajectory::none();
 /// assert!(p.get::<2>().is_none());
 /// ```
-pub struct PartialTrajectory(Option<Box<dyn Any + Send + Sync>>);
+pub struct PartialTrajectory {
+    traj: Option<Box<dyn Any + Send + Sync>>,
+    /// What the run learned about its fastest motion where that is why it stopped (boxed: the
+    /// error stays small).
+    stiffness: Option<Box<Stiffness>>,
+}
 
 impl PartialTrajectory {
     pub(crate) fn new<const N: usize>(t: Trajectory<N>) -> Self {
-        PartialTrajectory(Some(Box::new(t)))
+        PartialTrajectory {
+            traj: Some(Box::new(t)),
+            stiffness: None,
+        }
+    }
+    pub(crate) fn with_stiffness(mut self, s: Option<Stiffness>) -> Self {
+        self.stiffness = s.map(Box::new);
+        self
     }
     /// No trajectory (the run was rejected before the first step).
     ///
@@ -29,7 +42,10 @@ impl PartialTrajectory {
     /// assert!(lagrange_runtime::PartialTrajectory::none().get::<1>().is_none());
     /// ```
     pub fn none() -> Self {
-        PartialTrajectory(None)
+        PartialTrajectory {
+            traj: None,
+            stiffness: None,
+        }
     }
     /// The trajectory, if there is one and it has `N` coordinates.
     ///
@@ -37,16 +53,16 @@ impl PartialTrajectory {
     /// assert!(lagrange_runtime::PartialTrajectory::none().get::<3>().is_none());
     /// ```
     pub fn get<const N: usize>(&self) -> Option<&Trajectory<N>> {
-        self.0.as_ref()?.downcast_ref::<Trajectory<N>>()
+        self.traj.as_ref()?.downcast_ref::<Trajectory<N>>()
     }
     fn take<const N: usize>(self) -> Option<Trajectory<N>> {
-        self.0?.downcast::<Trajectory<N>>().ok().map(|b| *b)
+        self.traj?.downcast::<Trajectory<N>>().ok().map(|b| *b)
     }
 }
 
 impl fmt::Debug for PartialTrajectory {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.0 {
+        match self.traj {
             Some(_) => f.write_str("PartialTrajectory(..)"),
             None => f.write_str("PartialTrajectory(none)"),
         }
@@ -239,6 +255,23 @@ impl SimulationError {
         self.partial()?.get::<N>()
     }
 
+    /// Where a run ran out of steps or blew up because of a fast mode of the system (a stiff
+    /// spring, a stiff joint): what that mode is and the step it forced (see [`Stiffness`]);
+    /// `None` otherwise.
+    ///
+    /// ```
+    /// use lagrange_runtime::SimulationError;
+    /// assert!(SimulationError::InvalidOptions { message: String::new() }.stiffness().is_none());
+    /// ```
+    pub fn stiffness(&self) -> Option<&Stiffness> {
+        match self {
+            SimulationError::MaxSteps { partial, .. }
+            | SimulationError::NonFinite { partial, .. }
+            | SimulationError::Dynamics { partial, .. } => partial.stiffness.as_deref(),
+            _ => None,
+        }
+    }
+
     /// Takes the partial trajectory out of the error.
     ///
     /// ```
@@ -313,16 +346,26 @@ impl fmt::Display for SimulationError {
                 q,
                 qdot,
                 max_steps,
-                ..
-            } => write!(
-                f,
-                "maximum number of steps ({max_steps}) reached at t = {t}, q = {q}, q̇ = {qdot}. \
-                 Try: raise .max_steps(), loosen the tolerances or enlarge dt, or shorten the run. The \
-                 trajectory up to t is kept (partial_trajectory()).",
-                t = Short(*t),
-                q = Short(&q[..]),
-                qdot = Short(&qdot[..])
-            ),
+                partial,
+            } => match &partial.stiffness {
+                Some(stiff) => write!(
+                    f,
+                    "maximum number of steps ({max_steps}) reached at t = {t}, q = {q}, q̇ = \
+                     {qdot}. {stiff} The trajectory up to t is kept (partial_trajectory()).",
+                    t = Short(*t),
+                    q = Short(&q[..]),
+                    qdot = Short(&qdot[..])
+                ),
+                None => write!(
+                    f,
+                    "maximum number of steps ({max_steps}) reached at t = {t}, q = {q}, q̇ = \
+                     {qdot}. Try: raise .max_steps(), loosen the tolerances or enlarge dt, or \
+                     shorten the run. The trajectory up to t is kept (partial_trajectory()).",
+                    t = Short(*t),
+                    q = Short(&q[..]),
+                    qdot = Short(&qdot[..])
+                ),
+            },
             SimulationError::MaxSamples {
                 t,
                 q,
@@ -346,25 +389,52 @@ impl fmt::Display for SimulationError {
                 q = Short(&q[..]),
                 qdot = Short(&qdot[..])
             ),
-            SimulationError::NonFinite { t, q, qdot, .. } => write!(
-                f,
-                "the state became NaN or infinite in the step after t = {t} (last finite state q = \
-                 {q}, q̇ = {qdot}). Try: a smaller dt or tighter tolerances, and check that L is \
-                 defined along the motion. The trajectory up to t is kept (partial_trajectory()).",
-                t = Short(*t),
-                q = Short(&q[..]),
-                qdot = Short(&qdot[..])
-            ),
+            SimulationError::NonFinite {
+                t,
+                q,
+                qdot,
+                partial,
+            } => match &partial.stiffness {
+                Some(stiff) => write!(
+                    f,
+                    "the state became NaN or infinite in the step after t = {t} (last finite state \
+                     q = {q}, q̇ = {qdot}). {stiff} The trajectory up to t is kept \
+                     (partial_trajectory()).",
+                    t = Short(*t),
+                    q = Short(&q[..]),
+                    qdot = Short(&qdot[..])
+                ),
+                None => write!(
+                    f,
+                    "the state became NaN or infinite in the step after t = {t} (last finite state \
+                     q = {q}, q̇ = {qdot}). Try: a smaller dt or tighter tolerances, and check that \
+                     L is defined along the motion. The trajectory up to t is kept \
+                     (partial_trajectory()).",
+                    t = Short(*t),
+                    q = Short(&q[..]),
+                    qdot = Short(&qdot[..])
+                ),
+            },
             SimulationError::Dynamics {
-                source, t, q, qdot, ..
-            } => write!(
-                f,
-                "the equations of motion failed in the step after t = {t} (last accepted q = {q}, \
-                 q̇ = {qdot}): {source} The trajectory up to t is kept (partial_trajectory()).",
-                t = Short(*t),
-                q = Short(&q[..]),
-                qdot = Short(&qdot[..])
-            ),
+                source,
+                t,
+                q,
+                qdot,
+                partial,
+            } => {
+                write!(
+                    f,
+                    "the equations of motion failed in the step after t = {t} (last accepted q = \
+                     {q}, q̇ = {qdot}): {source}",
+                    t = Short(*t),
+                    q = Short(&q[..]),
+                    qdot = Short(&qdot[..])
+                )?;
+                if let Some(stiff) = &partial.stiffness {
+                    write!(f, " Why: {stiff}")?;
+                }
+                f.write_str(" The trajectory up to t is kept (partial_trajectory()).")
+            }
             SimulationError::NewtonFailed {
                 t,
                 q,

@@ -56,6 +56,7 @@ mod rk4;
 mod simulation;
 mod state;
 mod stepper;
+mod stiffness;
 mod taylor;
 mod trajectory;
 mod validate;
@@ -68,6 +69,7 @@ pub use method::Method;
 pub use report::NamedInvariants;
 pub use simulation::Simulation;
 pub use state::Stats;
+pub use stiffness::Stiffness;
 pub use trajectory::{ConstraintResidual, Drift, Invariants, Sample, Trajectory, INVARIANT_FLOOR};
 
 #[cfg(test)]

@@ -455,3 +455,93 @@ fn taylor_checks_the_time_resolution() {
         }
     }
 }
+
+/// Two unit masses on a line: a soft spring k₁ = 1 to the wall and a stiff one k₂ = 1e8 between
+/// them (ω² ≈ 2·10⁸ and ≈ 1/2: a stiffness ratio of 2·10⁴).
+struct StiffPair;
+
+impl Lagrangian<2> for StiffPair {
+    const COORDINATES: [&'static str; 2] = ["x1", "x2"];
+    const CYCLIC: [bool; 2] = [false, false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+        let d = q[1] - q[0];
+        (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[0] * q[0] * 0.5 - d * d * 0.5e8
+    }
+}
+
+#[test]
+fn stiffness_is_diagnosed_where_it_stops_a_run() {
+    use crate::integrate::{Method, Simulation, SimulationError, Stiffness};
+    let fast = (2e8_f64 + 0.5).sqrt();
+    // DOP853 out of steps on the stiff pair: the error names the fast mode and the implicit
+    // method, and does not advise looser tolerances.
+    let err = Simulation::new(&StiffPair, [1.0, 1.0], [0.0, 0.0])
+        .method(Method::Dop853 {
+            rtol: 1e-8,
+            atol: 1e-10,
+        })
+        .until(10.0)
+        .max_steps(2000)
+        .run()
+        .unwrap_err();
+    assert!(matches!(err, SimulationError::MaxSteps { .. }));
+    let s: &Stiffness = err
+        .stiffness()
+        .expect("a stiff run out of steps is diagnosed");
+    assert!((s.omega_max - fast).abs() < 1e-3 * fast, "{s:?}");
+    assert!(
+        s.omega_min
+            .is_some_and(|m| (m - 0.5_f64.sqrt()).abs() < 1e-3),
+        "{s:?}"
+    );
+    assert_eq!(s.limit, None);
+    let m = err.to_string();
+    assert!(
+        m.contains("The system is stiff")
+            && m.contains("VariationalMidpoint")
+            && !m.contains("loosen the tolerances or"),
+        "{m}"
+    );
+    // The same budget on a non-stiff oscillator: no diagnosis, the old advice.
+    let err = Simulation::new(&Osc, [1.0], [0.0])
+        .method(Method::Dop853 {
+            rtol: 1e-10,
+            atol: 1e-12,
+        })
+        .until(100.0)
+        .max_steps(5)
+        .run()
+        .unwrap_err();
+    assert!(err.stiffness().is_none());
+    assert!(err.to_string().contains("loosen the tolerances"));
+    // RK4 with dt·ω_max = 14 > 2√2 blows the fast mode up: the error states the limit.
+    let err = Simulation::new(&StiffPair, [1.0, 1.0], [0.0, 1e-3])
+        .method(Method::Rk4 { dt: 1e-3 })
+        .until(10.0)
+        .run()
+        .unwrap_err();
+    // (It grows to ~1e300 and the dynamics report the overflow first: non-finite derivatives.)
+    assert!(
+        matches!(
+            err,
+            SimulationError::NonFinite { .. } | SimulationError::Dynamics { .. }
+        ),
+        "{err}"
+    );
+    let s = err
+        .stiffness()
+        .expect("a fixed step above the limit is diagnosed");
+    assert_eq!(s.limit, Some(super::stiffness::RK4_LIMIT));
+    let m = err.to_string();
+    assert!(
+        m.contains("dt < 2.000e-4") && m.contains("VariationalMidpoint"),
+        "{m}"
+    );
+    // …and a step below the limit runs.
+    assert!(Simulation::new(&StiffPair, [1.0, 1.0], [0.0, 1e-3])
+        .method(Method::Rk4 { dt: 1.5e-4 })
+        .until(0.1)
+        .run()
+        .is_ok());
+}
