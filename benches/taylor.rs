@@ -218,9 +218,8 @@ fn main() {
         let (mut done, mut steps, mut segments) = (0.0, 0usize, 0usize);
         let mut worst = [0.0_f64; 3];
         let mut refused = None;
-        let until = total;
-        while done < until && refused.is_none() {
-            let len = segment.min(until - done);
+        while done < total && refused.is_none() {
+            let len = segment.min(total - done);
             let run = Simulation::new(&TOP, q, v)
                 .method(Method::Taylor { tol })
                 .until(len)
@@ -262,11 +261,11 @@ fn main() {
         };
         match refused {
             Some(e) if segments == 0 => {
-                println!("{:.0e} nutation periods at tol {tol:.0e} {what}: refused: {e}", until / period)
+                println!("{:.0e} nutation periods at tol {tol:.0e} {what}: refused: {e}", total / period)
             }
             _ => println!(
                 "{:.0e} nutation periods at tol {tol:.0e} {what}: {:.2} s, {steps} steps; max rel drift over every step: energy {:.1e}, p_phi {:.1e}, p_psi {:.1e}",
-                until / period,
+                total / period,
                 t0.elapsed().as_secs_f64(),
                 worst[0],
                 worst[1],

@@ -149,8 +149,6 @@ pub(super) struct Driver<'s, 'a, 'o, L, const N: usize> {
     sys: &'s L,
     /// The method (a failure's stiffness diagnosis reads it).
     method: Method,
-    /// The start time.
-    t0: f64,
     /// The constraints of a constrained run.
     manifold: Option<&'s dyn Manifold<N>>,
     /// Whether every accepted step is projected onto the constraints (explicit methods).
@@ -231,7 +229,6 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         Driver {
             sys,
             method,
-            t0: o.t0,
             events,
             observer,
             keep: o.keep_samples,
@@ -376,31 +373,25 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             (Some(&t0), Some(q0), Some(v0)) => Some((t0, [*q0, *v0])),
             _ => None,
         };
-        let stiffness = match (&fault, first) {
-            (Fault::MaxSteps(_), _) => super::stiffness::diagnose(
+        let stiffness = first.and_then(|(t0, y0)| {
+            let (at, state, blew_up) = match fault {
+                Fault::MaxSteps(_) => (t, y, false),
+                Fault::NonFinite | Fault::Dynamics(_) => (t0, y0, true),
+                _ => return None,
+            };
+            let constrained = self.manifold.is_some();
+            let steps = self.stats.steps;
+            super::stiffness::diagnose(
                 self.sys,
                 self.method,
-                self.manifold.is_some(),
-                self.t0,
-                t,
-                &y,
-                self.stats.steps,
-                false,
-            ),
-            (Fault::NonFinite | Fault::Dynamics(_), Some((t_first, y_first))) => {
-                super::stiffness::diagnose(
-                    self.sys,
-                    self.method,
-                    self.manifold.is_some(),
-                    self.t0,
-                    t_first,
-                    &y_first,
-                    self.stats.steps,
-                    true,
-                )
-            }
-            _ => None,
-        };
+                constrained,
+                t0,
+                at,
+                &state,
+                steps,
+                blew_up,
+            )
+        });
         let partial = PartialTrajectory::new(self.traj).with_stiffness(stiffness);
         match fault {
             Fault::Dynamics(source) => SimulationError::Dynamics {
