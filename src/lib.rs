@@ -268,7 +268,7 @@
 pub use lagrange_macros::lagrangian;
 
 // What users build with, in the index.
-pub use lagrange_runtime::{ensemble, linearize, rigid, theory};
+pub use lagrange_runtime::{ensemble, geometry, linearize, rigid, theory};
 pub use lagrange_runtime::{
     equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability,
 };
@@ -277,7 +277,9 @@ pub use lagrange_runtime::{
     NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats, Stiffness,
     Trajectory, INVARIANT_FLOOR,
 };
-pub use lagrange_runtime::{DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Scalar};
+pub use lagrange_runtime::{
+    DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Scalar, Velocity,
+};
 pub use lagrange_runtime::{SMatrix, Vector3};
 
 // The machinery under them: reachable (tests, benches and curious readers use it), not in the
@@ -314,11 +316,14 @@ pub enum Time {}
 /// Everything a user of `#[lagrangian]` needs: `use lagrange::prelude::*;`.
 pub mod prelude {
     pub use crate::{lagrangian, Coord, Coord3, Coords, Time};
+    pub use lagrange_runtime::geometry::{
+        angular_velocity, body_angular_velocity, velocity, Rotation,
+    };
     pub use lagrange_runtime::{
         equilibrium, Linearization, LinearizationError, Linearize, Stability,
     };
     pub use lagrange_runtime::{DynamicsError, Holonomic, Lagrangian, SMatrix, Scalar, Vector3};
-    pub use lagrange_runtime::{Ensemble, Member};
+    pub use lagrange_runtime::{Ensemble, Member, Velocity};
     pub use lagrange_runtime::{Event, EventHit, Method, Simulation, SimulationError, Trajectory};
 }
 
@@ -327,6 +332,7 @@ pub mod prelude {
 #[doc(hidden)]
 pub mod __private {
     // What the generated code names, and nothing else (each path is used by `lagrange-macros`).
+    pub use lagrange_runtime::jet::{timed_state, Timed};
     pub use lagrange_runtime::lagrangian::{kernel_params, Compiled};
     pub use lagrange_runtime::mix::*;
     pub use lagrange_runtime::real::Real;

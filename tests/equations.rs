@@ -13,6 +13,7 @@ mod support;
 mod constraints_macro;
 mod deep_bodies;
 mod gallery;
+mod geometry;
 mod hand_written;
 mod hygiene;
 mod language;

@@ -120,10 +120,44 @@ pub fn generate(
         None => (quote!(), errors.to_compile_errors()),
     };
 
+    // A body that reads rates (`velocity`, angular velocities) is evaluated in `Timed` numbers:
+    // the trait method lifts the state and calls a hidden inherent method holding the body.
+    let mut timed_methods: Vec<TokenStream> = Vec::new();
+    let lagrangian_method = {
+        let generics = quote!(<Scalar: ::lagrange::__private::Scalar>);
+        let params = quote! {
+            #q_pat: &[Scalar; #n],
+            #qdot_pat: &[Scalar; #n],
+            #t_pat: Scalar,
+        };
+        let body = quote! {
+            #(#bindings)*
+            #(#stmts)*
+        };
+        if crate::timed::reads_rates(&decl.body, &decl.rest).is_some() {
+            let hidden = crate::names::timed(fn_ident);
+            timed_methods.push(quote! {
+                #[doc(hidden)]
+                #[inline]
+                fn #hidden #generics(&#self_token, #params) -> #ret { #body }
+            });
+            let wrapper = timed_wrapper(fn_ident, &ret, &hidden, n, quote!(.untimed()));
+            quote! {
+                #(#fn_attrs)*
+                #wrapper
+            }
+        } else {
+            quote! {
+                #(#fn_attrs)*
+                #[inline]
+                fn #fn_ident #generics(&#self_token, #params) -> #ret { #body }
+            }
+        }
+    };
     let extras: Vec<TokenStream> = decl
         .funcs()
         .zip(funcs)
-        .map(|(f, body)| jets_func(decl, analysis, f, body))
+        .map(|(f, body)| jets_func(decl, analysis, f, body, &mut timed_methods))
         .collect();
     // The flags that differ from their defaults only with forces, dissipation or a moving
     // constraint.
@@ -146,6 +180,18 @@ pub fn generate(
 
     let n = proc_macro2::Literal::usize_unsuffixed(n);
     let allow = crate::names::allow_generated();
+    let timed_impl = if timed_methods.is_empty() {
+        quote!()
+    } else {
+        let (impl_generics, _, where_clause) = decl.rest.generics.split_for_impl();
+        quote! {
+            #[automatically_derived]
+            #allow
+            impl #impl_generics #self_ty #where_clause {
+                #(#timed_methods)*
+            }
+        }
+    };
     // The rest of the user's impl block, unless it was only the Lagrangian.
     let rest = if rest.items.is_empty() && rest.attrs.is_empty() {
         quote!()
@@ -163,22 +209,39 @@ pub fn generate(
             const AUTONOMOUS: bool = #autonomous;
             #conserved
 
-            #(#fn_attrs)*
-            #[inline]
-            fn #fn_ident<Scalar: ::lagrange::__private::Scalar>(
-                &#self_token,
-                #q_pat: &[Scalar; #n],
-                #qdot_pat: &[Scalar; #n],
-                #t_pat: Scalar,
-            ) -> #ret {
-                #(#bindings)*
-                #(#stmts)*
-            }
+            #lagrangian_method
             #(#extras)*
             #symbolic_methods
         }
+        #timed_impl
         #holonomic
         #symbolic_consts
+    }
+}
+
+/// The trait method `ident` (returning `ret`) that evaluates the hidden method `hidden`, which
+/// holds the user's body, in `Timed` numbers: the state lifted (q moving at q̇, t at rate 1), the
+/// call, and `finish` turning the result back into the number type.
+fn timed_wrapper(
+    ident: &Ident,
+    ret: &TokenStream,
+    hidden: &Ident,
+    n: usize,
+    finish: TokenStream,
+) -> TokenStream {
+    let crate::names::Params { q, qdot, t } = crate::names::Params::jets();
+    let n = proc_macro2::Literal::usize_unsuffixed(n);
+    quote! {
+        #[inline]
+        fn #ident<Scalar: ::lagrange::__private::Scalar>(
+            &self,
+            #q: &[Scalar; #n],
+            #qdot: &[Scalar; #n],
+            #t: Scalar,
+        ) -> #ret {
+            let (#q, #qdot, #t) = ::lagrange::__private::timed_state(#q, #qdot, #t);
+            Self::#hidden::<::lagrange::__private::Timed<Scalar>>(self, &#q, &#qdot, #t) #finish
+        }
     }
 }
 
@@ -190,7 +253,7 @@ fn holonomic_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block)
     let k = proc_macro2::Literal::usize_unsuffixed(f.k);
     let constrained = &analysis.constrained;
     let scleronomic = analysis.scleronomic;
-    let method = jets_func(decl, analysis, f, body);
+    let method = jets_func(decl, analysis, f, body, &mut Vec::new());
     let allow = crate::names::allow_generated();
     quote! {
         #[automatically_derived]
@@ -255,7 +318,13 @@ fn bind_slots(
 /// The generic trait method of `fn dissipation`, `fn forces` or `fn constraints`
 /// (`dissipation<Scalar>`, `generalized_forces<Scalar>`, `constraints<Scalar>`) with the user's
 /// body `body`, lowered for jets.
-fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
+fn jets_func(
+    decl: &Decl,
+    analysis: &Analysis,
+    f: &Func,
+    body: &syn::Block,
+    timed_methods: &mut Vec<TokenStream>,
+) -> TokenStream {
     let params = crate::names::Params::jets();
     // `fn constraints` has no velocity parameter: its velocity bindings (unused, or a local of
     // the same name shadowing them) are never bound.
@@ -295,6 +364,33 @@ fn jets_func(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> T
     let attrs = &f.fn_attrs;
     let self_token = &f.self_token;
     let stmts = &body.stmts;
+    // D or Q read rates: evaluated in `Timed` numbers, like L (`fn constraints` never is: a
+    // rate there is a velocity constraint, refused in `expand`).
+    if f.kind != FuncKind::Constraints && crate::timed::reads_rates(&f.body, &decl.rest).is_some() {
+        let hidden = crate::names::timed(&ident);
+        timed_methods.push(quote! {
+            #[doc(hidden)]
+            #[inline]
+            fn #hidden<Scalar: ::lagrange::__private::Scalar>(
+                &#self_token,
+                #q_pat: &[Scalar; #n],
+                #qdot_param
+                #t_pat: Scalar,
+            ) -> #ret {
+                #(#bindings)*
+                #(#stmts)*
+            }
+        });
+        let finish = match f.kind {
+            FuncKind::Dissipation => quote!(.untimed()),
+            _ => quote!(.map(|__lagrange_x| __lagrange_x.untimed())),
+        };
+        let wrapper = timed_wrapper(&ident, &ret, &hidden, decl.n(), finish);
+        return quote! {
+            #(#attrs)*
+            #wrapper
+        };
+    }
     quote! {
         #(#attrs)*
         #[inline]

@@ -23,6 +23,20 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
         Some(decl) if errors.is_empty() => decl,
         _ => return emit::stub(&errors, &fallback),
     };
+    // A rate in `fn constraints` would be a velocity constraint (nonholonomic).
+    if let Some(f) = &decl.constraints {
+        if let Some(at) = crate::timed::reads_rates(&f.body, &decl.rest) {
+            errors.push(syn::Error::new(
+                at,
+                "a velocity in `fn constraints`: `fn constraints` declares holonomic constraints \
+                 g(q, t) = 0, written from the positions (and `t: Time`) only; a constraint on \
+                 velocities (rolling without slipping, a knife edge: A(q) q̇ + b = 0) is \
+                 nonholonomic, which this macro does not take yet. Write g from the positions \
+                 (here without `velocity` or an angular velocity)",
+            ));
+            return emit::stub(&errors, &fallback);
+        }
+    }
     let mut analysis = analyze::analyze(&decl);
     let helpers = analyze::helpers(&decl.rest);
     let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl), &helpers, &mut errors);

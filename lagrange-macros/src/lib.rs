@@ -33,6 +33,7 @@ mod model;
 mod names;
 mod parse;
 mod symbolic;
+mod timed;
 mod validate;
 
 use proc_macro::TokenStream;

@@ -50,6 +50,20 @@ impl Params {
     }
 }
 
+/// The hidden inherent method that holds the body of trait method `method` when the body reads
+/// rates (`__lagrange_timed_lagrangian`): the trait method evaluates it in `Timed` numbers.
+pub fn timed(method: &Ident) -> Ident {
+    Ident::new(
+        &format!("{PREFIX}timed_{}", unraw_str(method)),
+        method.span(),
+    )
+}
+
+fn unraw_str(i: &Ident) -> String {
+    let s = i.to_string();
+    s.strip_prefix("r#").map(str::to_owned).unwrap_or(s)
+}
+
 /// A local or parameter of the generated `taylor_series` (`__lagrange_<name>`).
 pub fn taylor(name: &str) -> Ident {
     local(format_args!("{name}"))

@@ -12,6 +12,7 @@ pub mod constraints;
 pub mod ensemble;
 pub mod eom;
 pub mod error;
+pub mod geometry;
 pub mod integrate;
 pub mod jet;
 pub mod lagrangian;
@@ -38,4 +39,4 @@ pub use integrate::{
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
 pub use linearize::{equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability};
 pub use nalgebra::{SMatrix, Vector3};
-pub use scalar::Scalar;
+pub use scalar::{Scalar, Velocity};

@@ -37,6 +37,7 @@ pub trait Scalar:
     + for<'a> core::iter::Sum<&'a Self>
     + core::iter::Product
     + for<'a> core::iter::Product<&'a Self>
+    + Velocity
 {
     /// The constant `x` in this number type (all derivative parts zero).
     ///
@@ -53,6 +54,51 @@ pub trait Scalar:
     /// assert_eq!(Scalar::value(&2.5_f64), 2.5);
     /// ```
     fn value(&self) -> f64;
+
+    /// The chain rule with f(x), f′(x), f″(x), f‴(x), f⁗(x) at the value of `self` (what
+    /// [`Timed`](crate::jet::Timed) builds its rate from; the jets use up to f‴, `f64` only f).
+    #[doc(hidden)]
+    fn chain_rule(self, f: [f64; 5]) -> Self;
+
+    /// Whether every derivative part is zero (a constant in this number type).
+    #[doc(hidden)]
+    fn is_constant_number(&self) -> bool;
+}
+
+/// The total time derivative d/dt x(q, t) = Σ ∂x/∂qᵢ q̇ᵢ + ∂x/∂t of a value computed from the
+/// coordinates and time: what [`velocity`](crate::geometry::velocity) returns.
+///
+/// Inside a `#[lagrangian]` body that names `velocity` or an angular velocity, the macro
+/// evaluates the body in numbers that carry their rate ([`Timed`](crate::jet::Timed)); elsewhere
+/// (an `f64`, a jet) there is no rate to read and the result is NaN.
+///
+/// ```
+/// use lagrange_runtime::{jet::Timed, Velocity};
+/// let x = Timed::new(2.0_f64, 0.5); // x = 2 moving at 0.5
+/// assert_eq!((x * x).velocity().value(), 2.0); // d(x²)/dt = 2 x ẋ
+/// assert!(1.0_f64.velocity().is_nan());
+/// ```
+#[diagnostic::on_unimplemented(
+    message = "`velocity` takes a `Scalar` or a `Vector3<Scalar>`, not `{Self}`",
+    label = "for a `Rotation`, use `angular_velocity(&r)` or `body_angular_velocity(&r)`"
+)]
+pub trait Velocity: Sized {
+    /// d/dt of `self` along the motion (NaN where the number carries no rate).
+    fn velocity(&self) -> Self;
+}
+
+impl Velocity for f64 {
+    #[inline(always)]
+    fn velocity(&self) -> Self {
+        f64::NAN
+    }
+}
+
+impl<S: Scalar> Velocity for Vector3<S> {
+    #[inline(always)]
+    fn velocity(&self) -> Self {
+        self.map(|x| x.velocity())
+    }
 }
 
 impl Scalar for f64 {
@@ -63,5 +109,13 @@ impl Scalar for f64 {
     #[inline(always)]
     fn value(&self) -> f64 {
         *self
+    }
+    #[inline(always)]
+    fn chain_rule(self, f: [f64; 5]) -> Self {
+        f[0]
+    }
+    #[inline(always)]
+    fn is_constant_number(&self) -> bool {
+        true
     }
 }

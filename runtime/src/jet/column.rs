@@ -230,7 +230,7 @@ impl<const N: usize> JetCalculus for ColumnJet<N> {
     }
 }
 
-impl_jet_scalar!(ColumnJet);
+impl_jet_scalar!([const N: usize] ColumnJet<N>);
 
 impl<const N: usize> super::HessianJet<N> {
     /// The gradient and Hessian of `f(q, q̇)` assembled column by column from 2N evaluations in

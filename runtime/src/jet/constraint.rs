@@ -191,7 +191,7 @@ impl<const N: usize> JetCalculus for ConstraintJet<N> {
     }
 }
 
-impl_jet_scalar!(ConstraintJet);
+impl_jet_scalar!([const N: usize] ConstraintJet<N>);
 
 #[cfg(test)]
 mod tests {

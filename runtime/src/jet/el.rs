@@ -349,4 +349,4 @@ impl<const N: usize> JetCalculus for ElJet<N> {
     }
 }
 
-impl_jet_scalar!(ElJet);
+impl_jet_scalar!([const N: usize] ElJet<N>);

@@ -228,4 +228,4 @@ impl<const N: usize> JetCalculus for HessianJet<N> {
     }
 }
 
-impl_jet_scalar!(HessianJet);
+impl_jet_scalar!([const N: usize] HessianJet<N>);

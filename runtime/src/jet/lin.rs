@@ -193,4 +193,4 @@ impl<const N: usize> JetCalculus for LinJet<N> {
     }
 }
 
-impl_jet_scalar!(LinJet);
+impl_jet_scalar!([const N: usize] LinJet<N>);

@@ -22,12 +22,28 @@ mod constraint;
 mod el;
 mod hessian;
 mod lin;
+mod timed;
 
 pub use column::{ColumnJet, HESSIAN_BY_COLUMNS_ABOVE};
 pub use constraint::ConstraintJet;
 pub use el::ElJet;
 pub use hessian::HessianJet;
 pub use lin::LinJet;
+pub use timed::{timed_state, Timed};
+
+/// The jets carry derivatives in (q, q̇), not a rate along the motion: their `velocity` is NaN
+/// (a body that reads rates is evaluated in [`Timed`] jets).
+macro_rules! no_rate {
+    ($($T:ident),*) => {$(
+        impl<const N: usize> crate::scalar::Velocity for $T<N> {
+            #[inline(always)]
+            fn velocity(&self) -> Self {
+                JetCalculus::constant(f64::NAN)
+            }
+        }
+    )*};
+}
+no_rate!(ColumnJet, ConstraintJet, ElJet, HessianJet, LinJet);
 
 /// The calculus primitives a jet type provides; everything else is generated from them.
 ///
@@ -61,6 +77,30 @@ pub trait JetCalculus: Copy {
         let _ = f3;
         self.chain(f0, f1, f2)
     }
+    /// Chain rule with the fourth derivative `f⁗` as well: a number that carries a time
+    /// derivative ([`Timed`]) needs the jet of f′(x), which takes f′…f⁗; the jets themselves
+    /// ignore `f4` (the default is [`chain3`](Self::chain3)).
+    ///
+    /// ```
+    /// use lagrange_runtime::jet::{JetCalculus, Timed};
+    /// // sin along a rate: d/dt sin(x) = cos(x) ẋ
+    /// let x = Timed::new(0.0_f64, 2.0);
+    /// let y = x.chain4(0.0, 1.0, 0.0, -1.0, 0.0);
+    /// assert_eq!((y.value(), y.rate()), (0.0, 2.0));
+    /// ```
+    #[inline(always)]
+    fn chain4(self, f0: f64, f1: f64, f2: f64, f3: f64, f4: f64) -> Self {
+        let _ = f4;
+        self.chain3(f0, f1, f2, f3)
+    }
+    /// The elementary function `f` of the function table at `self`, given its value `y` and
+    /// f′, f″, f‴ there (the table's `jets` row): the chain rule for the jets (the default);
+    /// [`Timed`] takes the rate from the table's exact tangent rule instead.
+    #[inline(always)]
+    fn function(self, f: lagrange_functions::Fun, y: f64, d: [f64; 3]) -> Self {
+        let _ = f;
+        self.chain3(y, d[0], d[1], d[2])
+    }
     /// Sum rule.
     fn add(self, other: Self) -> Self;
     /// Difference.
@@ -81,7 +121,8 @@ pub trait JetCalculus: Copy {
     fn recip_jet(self) -> Self {
         let x = self.value();
         let r = 1.0 / x;
-        self.chain3(r, -r * r, 2.0 * r * r * r, -6.0 * r * r * r * r)
+        let r2 = r * r;
+        self.chain4(r, -r2, 2.0 * r2 * r, -6.0 * r2 * r2, 24.0 * r2 * r2 * r)
     }
     /// Quotient, as product with the reciprocal.
     #[inline(always)]

@@ -1,6 +1,6 @@
 //! Operator and trait boilerplate for jet types, generated from [`super::JetCalculus`].
 //!
-//! Nothing here does calculus of its own: every derivative comes from `chain3` (with the
+//! Nothing here does calculus of its own: every derivative comes from `chain4` (with the
 //! elementary function's first, second and third derivative, from its row of the one function
 //! table, `lagrange_functions`; the second-order jets ignore the third) or from `mul`/`add`.
 
@@ -9,75 +9,76 @@
 macro_rules! jet_functions {
     ($($variant:ident $method:ident $unicode:literal $latex:literal real = $real:ident
         jets = $jets:ident tangent $targs:tt = $tangent:expr; jets $jargs:tt = $jet:expr;)*) => {
-        $(jet_functions!(@one $jets $method);)*
+        $(jet_functions!(@one $jets $variant $method);)*
     };
-    (@one no $f:ident) => {};
-    (@one yes $f:ident) => {
+    (@one no $variant:ident $f:ident) => {};
+    (@one yes $variant:ident $f:ident) => {
         #[inline(always)]
         fn $f(self) -> Self {
             let x = $crate::jet::JetCalculus::value(&self);
             let y = f64::$f(x);
-            let [f1, f2, f3] = lagrange_functions::jets::$f(x, y);
-            $crate::jet::JetCalculus::chain3(self, y, f1, f2, f3)
+            let d = lagrange_functions::jets::$f(x, y);
+            $crate::jet::JetCalculus::function(self, lagrange_functions::Fun::$variant, y, d)
         }
     };
 }
 
 /// Implements the operators, `num_traits`, `approx`, `simba` (`RealField`) and `Scalar` traits for
-/// a jet type `$T<const N: usize>` that implements `JetCalculus`.
+/// a jet type that implements `JetCalculus`: `impl_jet_scalar!([<generics>] Type<..>)`, e.g.
+/// `impl_jet_scalar!([const N: usize] ElJet<N>)`.
 macro_rules! impl_jet_scalar {
-    ($T:ident) => {
+    ([$($g:tt)*] $T:ty) => {
         const _: () = {
             use core::ops::{
                 Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Rem, RemAssign, Sub, SubAssign,
             };
             use $crate::jet::JetCalculus as J;
 
-            impl<const N: usize> From<f64> for $T<N> {
+            impl<$($g)*> From<f64> for $T {
                 #[inline(always)]
                 fn from(x: f64) -> Self {
                     J::constant(x)
                 }
             }
-            impl<const N: usize> PartialEq for $T<N> {
+            impl<$($g)*> PartialEq for $T {
                 fn eq(&self, o: &Self) -> bool {
                     J::value(self) == J::value(o)
                 }
             }
-            impl<const N: usize> PartialOrd for $T<N> {
+            impl<$($g)*> PartialOrd for $T {
                 fn partial_cmp(&self, o: &Self) -> Option<core::cmp::Ordering> {
                     J::value(self).partial_cmp(&J::value(o))
                 }
             }
-            impl<const N: usize> core::fmt::Display for $T<N> {
+            impl<$($g)*> core::fmt::Display for $T {
                 fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
                     write!(f, "{} + ε", J::value(self))
                 }
             }
 
             // ---- arithmetic with Self ----
-            impl<const N: usize> Add for $T<N> {
+            impl<$($g)*> Add for $T {
                 type Output = Self;
                 #[inline(always)]
                 fn add(self, o: Self) -> Self {
                     J::add(self, o)
                 }
             }
-            impl<const N: usize> Sub for $T<N> {
+            impl<$($g)*> Sub for $T {
                 type Output = Self;
                 #[inline(always)]
                 fn sub(self, o: Self) -> Self {
                     J::sub(self, o)
                 }
             }
-            impl<const N: usize> Mul for $T<N> {
+            impl<$($g)*> Mul for $T {
                 type Output = Self;
                 #[inline(always)]
                 fn mul(self, o: Self) -> Self {
                     J::mul(self, o)
                 }
             }
-            impl<const N: usize> Div for $T<N> {
+            impl<$($g)*> Div for $T {
                 type Output = Self;
                 #[inline(always)]
                 fn div(self, o: Self) -> Self {
@@ -85,7 +86,7 @@ macro_rules! impl_jet_scalar {
                 }
             }
             #[allow(clippy::suspicious_arithmetic_impl)]
-            impl<const N: usize> Rem for $T<N> {
+            impl<$($g)*> Rem for $T {
                 type Output = Self;
                 #[allow(clippy::suspicious_arithmetic_impl)] // the quotient picks the branch
                 fn rem(self, o: Self) -> Self {
@@ -94,154 +95,154 @@ macro_rules! impl_jet_scalar {
                     J::sub(self, J::scale(o, k))
                 }
             }
-            impl<const N: usize> Neg for $T<N> {
+            impl<$($g)*> Neg for $T {
                 type Output = Self;
                 #[inline(always)]
                 fn neg(self) -> Self {
                     J::scale(self, -1.0)
                 }
             }
-            impl<const N: usize> AddAssign for $T<N> {
+            impl<$($g)*> AddAssign for $T {
                 #[inline(always)]
                 fn add_assign(&mut self, o: Self) {
                     *self = J::add(*self, o)
                 }
             }
-            impl<const N: usize> SubAssign for $T<N> {
+            impl<$($g)*> SubAssign for $T {
                 #[inline(always)]
                 fn sub_assign(&mut self, o: Self) {
                     *self = J::sub(*self, o)
                 }
             }
-            impl<const N: usize> MulAssign for $T<N> {
+            impl<$($g)*> MulAssign for $T {
                 #[inline(always)]
                 fn mul_assign(&mut self, o: Self) {
                     *self = J::mul(*self, o)
                 }
             }
-            impl<const N: usize> DivAssign for $T<N> {
+            impl<$($g)*> DivAssign for $T {
                 #[inline(always)]
                 fn div_assign(&mut self, o: Self) {
                     *self = J::div(*self, o)
                 }
             }
-            impl<const N: usize> RemAssign for $T<N> {
+            impl<$($g)*> RemAssign for $T {
                 fn rem_assign(&mut self, o: Self) {
                     *self = *self % o
                 }
             }
 
             // ---- arithmetic with f64, either side ----
-            impl<const N: usize> Add<f64> for $T<N> {
+            impl<$($g)*> Add<f64> for $T {
                 type Output = Self;
                 #[inline(always)]
                 fn add(self, c: f64) -> Self {
                     J::add_f64(self, c)
                 }
             }
-            impl<const N: usize> Sub<f64> for $T<N> {
+            impl<$($g)*> Sub<f64> for $T {
                 type Output = Self;
                 #[inline(always)]
                 fn sub(self, c: f64) -> Self {
                     J::add_f64(self, -c)
                 }
             }
-            impl<const N: usize> Mul<f64> for $T<N> {
+            impl<$($g)*> Mul<f64> for $T {
                 type Output = Self;
                 #[inline(always)]
                 fn mul(self, c: f64) -> Self {
                     J::scale(self, c)
                 }
             }
-            impl<const N: usize> Div<f64> for $T<N> {
+            impl<$($g)*> Div<f64> for $T {
                 type Output = Self;
                 #[inline(always)]
                 fn div(self, c: f64) -> Self {
                     J::scale(self, 1.0 / c)
                 }
             }
-            impl<const N: usize> AddAssign<f64> for $T<N> {
+            impl<$($g)*> AddAssign<f64> for $T {
                 #[inline(always)]
                 fn add_assign(&mut self, c: f64) {
                     *self = J::add_f64(*self, c)
                 }
             }
-            impl<const N: usize> SubAssign<f64> for $T<N> {
+            impl<$($g)*> SubAssign<f64> for $T {
                 #[inline(always)]
                 fn sub_assign(&mut self, c: f64) {
                     *self = J::add_f64(*self, -c)
                 }
             }
-            impl<const N: usize> MulAssign<f64> for $T<N> {
+            impl<$($g)*> MulAssign<f64> for $T {
                 #[inline(always)]
                 fn mul_assign(&mut self, c: f64) {
                     *self = J::scale(*self, c)
                 }
             }
-            impl<const N: usize> DivAssign<f64> for $T<N> {
+            impl<$($g)*> DivAssign<f64> for $T {
                 #[inline(always)]
                 fn div_assign(&mut self, c: f64) {
                     *self = J::scale(*self, 1.0 / c)
                 }
             }
-            impl<const N: usize> Add<$T<N>> for f64 {
-                type Output = $T<N>;
+            impl<$($g)*> Add<$T> for f64 {
+                type Output = $T;
                 #[inline(always)]
-                fn add(self, x: $T<N>) -> $T<N> {
+                fn add(self, x: $T) -> $T {
                     J::add_f64(x, self)
                 }
             }
-            impl<const N: usize> Sub<$T<N>> for f64 {
-                type Output = $T<N>;
+            impl<$($g)*> Sub<$T> for f64 {
+                type Output = $T;
                 #[inline(always)]
-                fn sub(self, x: $T<N>) -> $T<N> {
+                fn sub(self, x: $T) -> $T {
                     J::add_f64(J::scale(x, -1.0), self)
                 }
             }
-            impl<const N: usize> Mul<$T<N>> for f64 {
-                type Output = $T<N>;
+            impl<$($g)*> Mul<$T> for f64 {
+                type Output = $T;
                 #[inline(always)]
-                fn mul(self, x: $T<N>) -> $T<N> {
+                fn mul(self, x: $T) -> $T {
                     J::scale(x, self)
                 }
             }
-            impl<const N: usize> Div<$T<N>> for f64 {
-                type Output = $T<N>;
+            impl<$($g)*> Div<$T> for f64 {
+                type Output = $T;
                 #[inline(always)]
-                fn div(self, x: $T<N>) -> $T<N> {
+                fn div(self, x: $T) -> $T {
                     J::scale(J::recip_jet(x), self)
                 }
             }
-            impl<const N: usize> Mul<nalgebra::Vector3<$T<N>>> for $T<N> {
-                type Output = nalgebra::Vector3<$T<N>>;
+            impl<$($g)*> Mul<nalgebra::Vector3<$T>> for $T {
+                type Output = nalgebra::Vector3<$T>;
                 #[inline(always)]
-                fn mul(self, v: nalgebra::Vector3<$T<N>>) -> nalgebra::Vector3<$T<N>> {
+                fn mul(self, v: nalgebra::Vector3<$T>) -> nalgebra::Vector3<$T> {
                     v * self
                 }
             }
-            impl<const N: usize> core::iter::Sum for $T<N> {
+            impl<$($g)*> core::iter::Sum for $T {
                 fn sum<I: Iterator<Item = Self>>(it: I) -> Self {
                     it.fold(J::constant(0.0), J::add)
                 }
             }
-            impl<const N: usize> core::iter::Product for $T<N> {
+            impl<$($g)*> core::iter::Product for $T {
                 fn product<I: Iterator<Item = Self>>(it: I) -> Self {
                     it.fold(J::constant(1.0), J::mul)
                 }
             }
-            impl<'a, const N: usize> core::iter::Sum<&'a $T<N>> for $T<N> {
+            impl<'a, $($g)*> core::iter::Sum<&'a $T> for $T {
                 fn sum<I: Iterator<Item = &'a Self>>(it: I) -> Self {
                     it.fold(J::constant(0.0), |a, b| J::add(a, *b))
                 }
             }
-            impl<'a, const N: usize> core::iter::Product<&'a $T<N>> for $T<N> {
+            impl<'a, $($g)*> core::iter::Product<&'a $T> for $T {
                 fn product<I: Iterator<Item = &'a Self>>(it: I) -> Self {
                     it.fold(J::constant(1.0), |a, b| J::mul(a, *b))
                 }
             }
 
             // ---- num-traits ----
-            impl<const N: usize> num_traits::Zero for $T<N> {
+            impl<$($g)*> num_traits::Zero for $T {
                 fn zero() -> Self {
                     J::constant(0.0)
                 }
@@ -249,21 +250,21 @@ macro_rules! impl_jet_scalar {
                     J::value(self) == 0.0
                 }
             }
-            impl<const N: usize> num_traits::One for $T<N> {
+            impl<$($g)*> num_traits::One for $T {
                 fn one() -> Self {
                     J::constant(1.0)
                 }
             }
-            impl<const N: usize> num_traits::Num for $T<N> {
+            impl<$($g)*> num_traits::Num for $T {
                 type FromStrRadixErr = num_traits::ParseFloatError;
                 fn from_str_radix(s: &str, radix: u32) -> Result<Self, Self::FromStrRadixErr> {
                     <f64 as num_traits::Num>::from_str_radix(s, radix).map(J::constant)
                 }
             }
-            impl<const N: usize> num_traits::Signed for $T<N> {
+            impl<$($g)*> num_traits::Signed for $T {
                 fn abs(&self) -> Self {
                     let x = J::value(self);
-                    J::chain3(*self, x.abs(), if x < 0.0 { -1.0 } else { 1.0 }, 0.0, 0.0)
+                    J::chain4(*self, x.abs(), if x < 0.0 { -1.0 } else { 1.0 }, 0.0, 0.0, 0.0)
                 }
                 fn abs_sub(&self, o: &Self) -> Self {
                     if J::value(self) <= J::value(o) {
@@ -282,7 +283,7 @@ macro_rules! impl_jet_scalar {
                     J::value(self) < 0.0
                 }
             }
-            impl<const N: usize> num_traits::Bounded for $T<N> {
+            impl<$($g)*> num_traits::Bounded for $T {
                 fn min_value() -> Self {
                     J::constant(f64::MIN)
                 }
@@ -290,7 +291,7 @@ macro_rules! impl_jet_scalar {
                     J::constant(f64::MAX)
                 }
             }
-            impl<const N: usize> num_traits::FromPrimitive for $T<N> {
+            impl<$($g)*> num_traits::FromPrimitive for $T {
                 fn from_i64(n: i64) -> Option<Self> {
                     Some(J::constant(n as f64))
                 }
@@ -303,7 +304,7 @@ macro_rules! impl_jet_scalar {
             }
 
             // ---- approx (compares values) ----
-            impl<const N: usize> approx::AbsDiffEq for $T<N> {
+            impl<$($g)*> approx::AbsDiffEq for $T {
                 type Epsilon = Self;
                 fn default_epsilon() -> Self {
                     J::constant(f64::EPSILON)
@@ -312,7 +313,7 @@ macro_rules! impl_jet_scalar {
                     J::value(self).abs_diff_eq(&J::value(o), J::value(&eps))
                 }
             }
-            impl<const N: usize> approx::RelativeEq for $T<N> {
+            impl<$($g)*> approx::RelativeEq for $T {
                 fn default_max_relative() -> Self {
                     J::constant(f64::EPSILON)
                 }
@@ -320,7 +321,7 @@ macro_rules! impl_jet_scalar {
                     J::value(self).relative_eq(&J::value(o), J::value(&eps), J::value(&rel))
                 }
             }
-            impl<const N: usize> approx::UlpsEq for $T<N> {
+            impl<$($g)*> approx::UlpsEq for $T {
                 fn default_max_ulps() -> u32 {
                     4
                 }
@@ -333,7 +334,7 @@ macro_rules! impl_jet_scalar {
             // SimdValue declares two `unsafe fn`s without default bodies; a one-lane type
             // implements them with safe code, but the declaration itself needs the allow.
             #[allow(unsafe_code)]
-            impl<const N: usize> simba::simd::SimdValue for $T<N> {
+            impl<$($g)*> simba::simd::SimdValue for $T {
                 const LANES: usize = 1;
                 type Element = Self;
                 type SimdBool = bool;
@@ -366,8 +367,8 @@ macro_rules! impl_jet_scalar {
                     }
                 }
             }
-            impl<const N: usize> simba::scalar::Field for $T<N> {}
-            impl<const N: usize> simba::scalar::SubsetOf<$T<N>> for $T<N> {
+            impl<$($g)*> simba::scalar::Field for $T {}
+            impl<$($g)*> simba::scalar::SubsetOf<$T> for $T {
                 fn to_superset(&self) -> Self {
                     *self
                 }
@@ -378,30 +379,30 @@ macro_rules! impl_jet_scalar {
                     true
                 }
             }
-            impl<const N: usize> simba::scalar::SubsetOf<$T<N>> for f64 {
-                fn to_superset(&self) -> $T<N> {
+            impl<$($g)*> simba::scalar::SubsetOf<$T> for f64 {
+                fn to_superset(&self) -> $T {
                     J::constant(*self)
                 }
-                fn from_superset_unchecked(e: &$T<N>) -> f64 {
+                fn from_superset_unchecked(e: &$T) -> f64 {
                     J::value(e)
                 }
-                fn is_in_subset(_: &$T<N>) -> bool {
+                fn is_in_subset(_: &$T) -> bool {
                     true
                 }
             }
-            impl<const N: usize> simba::scalar::SubsetOf<$T<N>> for f32 {
-                fn to_superset(&self) -> $T<N> {
+            impl<$($g)*> simba::scalar::SubsetOf<$T> for f32 {
+                fn to_superset(&self) -> $T {
                     J::constant(f64::from(*self))
                 }
-                fn from_superset_unchecked(e: &$T<N>) -> f32 {
+                fn from_superset_unchecked(e: &$T) -> f32 {
                     J::value(e) as f32
                 }
-                fn is_in_subset(_: &$T<N>) -> bool {
+                fn is_in_subset(_: &$T) -> bool {
                     true
                 }
             }
 
-            impl<const N: usize> simba::scalar::ComplexField for $T<N> {
+            impl<$($g)*> simba::scalar::ComplexField for $T {
                 type RealField = Self;
                 fn from_real(re: Self) -> Self {
                     re
@@ -447,7 +448,7 @@ macro_rules! impl_jet_scalar {
                     J::constant(J::value(&self).trunc())
                 }
                 fn fract(self) -> Self {
-                    J::chain3(self, J::value(&self).fract(), 1.0, 0.0, 0.0)
+                    J::chain4(self, J::value(&self).fract(), 1.0, 0.0, 0.0, 0.0)
                 }
                 fn mul_add(self, a: Self, b: Self) -> Self {
                     J::add(J::mul(self, a), b)
@@ -469,7 +470,7 @@ macro_rules! impl_jet_scalar {
                 #[inline(always)]
                 fn sin_cos(self) -> (Self, Self) {
                     let (s, c) = J::value(&self).sin_cos();
-                    (J::chain3(self, s, c, -s, -c), J::chain3(self, c, -s, -c, s))
+                    (J::chain4(self, s, c, -s, -c, s), J::chain4(self, c, -s, -c, s, c))
                 }
                 fn log(self, base: Self) -> Self {
                     J::div(
@@ -483,7 +484,7 @@ macro_rules! impl_jet_scalar {
                     match n {
                         0 => J::constant(1.0),
                         1 => self,
-                        2 => J::chain3(self, x * x, 2.0 * x, 2.0, 0.0),
+                        2 => J::chain4(self, x * x, 2.0 * x, 2.0, 0.0, 0.0),
                         _ => {
                             let nf = f64::from(n);
                             // x^(n−2), x^(n−3); near i32::MIN the exponent is an f64 (exact),
@@ -494,7 +495,8 @@ macro_rules! impl_jet_scalar {
                             };
                             let p2 = pow(2);
                             let f3 = nf * (nf - 1.0) * (nf - 2.0) * pow(3);
-                            J::chain3(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2, f3)
+                            let f4 = nf * (nf - 1.0) * (nf - 2.0) * (nf - 3.0) * pow(4);
+                            J::chain4(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2, f3, f4)
                         }
                     }
                 }
@@ -510,6 +512,11 @@ macro_rules! impl_jet_scalar {
                         } else {
                             nf * (nf - 1.0) * (nf - 2.0) * x.powf(nf - 3.0)
                         };
+                        let f4 = if nf == 1.0 || nf == 2.0 || nf == 3.0 {
+                            0.0
+                        } else {
+                            nf * (nf - 1.0) * (nf - 2.0) * (nf - 3.0) * x.powf(nf - 4.0)
+                        };
                         if x == 0.0 {
                             // x^n, n x^(n−1), n(n−1) x^(n−2) one by one: the shared x^(n−2)·x·x
                             // below is ∞·0 = NaN here for 0 < n < 2 (|x|^1.5 at 0 is 0, with
@@ -519,10 +526,10 @@ macro_rules! impl_jet_scalar {
                             } else {
                                 nf * (nf - 1.0) * x.powf(nf - 2.0)
                             };
-                            return J::chain3(self, x.powf(nf), nf * x.powf(nf - 1.0), f2, f3);
+                            return J::chain4(self, x.powf(nf), nf * x.powf(nf - 1.0), f2, f3, f4);
                         }
                         let p2 = x.powf(nf - 2.0);
-                        J::chain3(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2, f3)
+                        J::chain4(self, p2 * x * x, nf * p2 * x, nf * (nf - 1.0) * p2, f3, f4)
                     } else {
                         let v = J::value(&self).powf(J::value(&n));
                         simba::scalar::ComplexField::exp(J::mul(
@@ -547,7 +554,7 @@ macro_rules! impl_jet_scalar {
                 }
             }
 
-            impl<const N: usize> simba::scalar::RealField for $T<N> {
+            impl<$($g)*> simba::scalar::RealField for $T {
                 fn is_sign_positive(&self) -> bool {
                     J::value(self).is_sign_positive()
                 }
@@ -642,7 +649,7 @@ macro_rules! impl_jet_scalar {
                 }
             }
 
-            impl<const N: usize> $crate::Scalar for $T<N> {
+            impl<$($g)*> $crate::Scalar for $T {
                 #[inline(always)]
                 fn constant(x: f64) -> Self {
                     J::constant(x)
@@ -650,6 +657,14 @@ macro_rules! impl_jet_scalar {
                 #[inline(always)]
                 fn value(&self) -> f64 {
                     J::value(self)
+                }
+                #[inline(always)]
+                fn chain_rule(self, f: [f64; 5]) -> Self {
+                    J::chain4(self, f[0], f[1], f[2], f[3], f[4])
+                }
+                #[inline(always)]
+                fn is_constant_number(&self) -> bool {
+                    J::is_constant(self)
                 }
             }
         };

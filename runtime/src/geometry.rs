@@ -1,0 +1,296 @@
+//! Geometry in a Lagrangian body: velocities of positions, rotations, angular velocities.
+//!
+//! In a `#[lagrangian]` body (both modes) a position written from the coordinates gives its
+//! velocity with [`velocity`], and a rigid body's orientation is a [`Rotation`] built from
+//! elementary rotations (or a unit quaternion), whose angular velocity in space axes
+//! ([`angular_velocity`], Ṙ Rᵀ = ω̂) or body axes ([`body_angular_velocity`], Rᵀ Ṙ = ω̂) follows
+//! from the rotation itself (the facade crate's docs show a heavy top written this way).
+//!
+//! Outside such a body (plain `f64`s, the jets) a number carries no rate and [`velocity`] is
+//! NaN; the macro evaluates a body that names these functions in [`Timed`](crate::jet::Timed)
+//! numbers, which do.
+
+use core::ops::Mul;
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::mix::{ConstMul, Lift, MulConst};
+use crate::scalar::{Scalar, Velocity};
+
+/// The total time derivative d/dt x(q, t) = Σ ∂x/∂qᵢ q̇ᵢ + ∂x/∂t of a `Scalar` or a
+/// `Vector3<Scalar>` computed from the coordinates (and time), of the same type.
+///
+/// ```
+/// use lagrange_runtime::{geometry::velocity, jet::Timed};
+/// use nalgebra::ComplexField;
+/// let th = Timed::new(0.3_f64, 2.0); // θ = 0.3, θ̇ = 2
+/// let x = th.sin() * 1.5; // x = l sin θ
+/// assert!((velocity(x).value() - 1.5 * 0.3_f64.cos() * 2.0).abs() < 1e-15);
+/// ```
+#[inline(always)]
+pub fn velocity<V: Velocity>(x: V) -> V {
+    x.velocity()
+}
+
+/// A rotation matrix R (a proper orthogonal 3×3 matrix) whose entries are numbers of the body:
+/// `R v` turns body components into space components.
+///
+/// ```
+/// use lagrange_runtime::geometry::Rotation;
+/// use nalgebra::Vector3;
+/// let r = Rotation::about_z(core::f64::consts::FRAC_PI_2);
+/// let v = r * Vector3::new(1.0, 0.0, 0.0);
+/// assert!((v - Vector3::new(0.0, 1.0, 0.0)).norm() < 1e-15);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rotation<S> {
+    m: [[S; 3]; 3],
+}
+
+impl<S: Scalar> Rotation<S> {
+    /// The rotation by angle `a` about the x axis.
+    ///
+    /// ```
+    /// let r = lagrange_runtime::geometry::Rotation::about_x(0.5_f64);
+    /// assert_eq!(r.matrix()[(2, 1)], 0.5_f64.sin());
+    /// ```
+    pub fn about_x(a: S) -> Self {
+        let (s, c) = a.sin_cos();
+        let (o, z) = (S::constant(1.0), S::constant(0.0));
+        Rotation {
+            m: [[o, z, z], [z, c, -s], [z, s, c]],
+        }
+    }
+
+    /// The rotation by angle `a` about the y axis.
+    ///
+    /// ```
+    /// let r = lagrange_runtime::geometry::Rotation::about_y(0.5_f64);
+    /// assert_eq!(r.matrix()[(0, 2)], 0.5_f64.sin());
+    /// ```
+    pub fn about_y(a: S) -> Self {
+        let (s, c) = a.sin_cos();
+        let (o, z) = (S::constant(1.0), S::constant(0.0));
+        Rotation {
+            m: [[c, z, s], [z, o, z], [-s, z, c]],
+        }
+    }
+
+    /// The rotation by angle `a` about the z axis.
+    ///
+    /// ```
+    /// let r = lagrange_runtime::geometry::Rotation::about_z(0.5_f64);
+    /// assert_eq!(r.matrix()[(1, 0)], 0.5_f64.sin());
+    /// ```
+    pub fn about_z(a: S) -> Self {
+        let (s, c) = a.sin_cos();
+        let (o, z) = (S::constant(1.0), S::constant(0.0));
+        Rotation {
+            m: [[c, -s, z], [s, c, z], [z, z, o]],
+        }
+    }
+
+    /// The rotation of the unit quaternion w + x i + y j + z k, in the homogeneous form
+    /// (diagonal w² + x² − y² − z², …), which is |q|² times a rotation for any quaternion.
+    ///
+    /// ```
+    /// use lagrange_runtime::geometry::Rotation;
+    /// // (cos h, 0, 0, sin h) turns by 2h about z
+    /// let h = core::f64::consts::FRAC_PI_8;
+    /// let q = Rotation::from_quaternion(h.cos(), 0.0, 0.0, h.sin());
+    /// let z = Rotation::about_z(2.0 * h);
+    /// assert!((q.matrix() - z.matrix()).norm() < 1e-15);
+    /// ```
+    pub fn from_quaternion(w: S, x: S, y: S, z: S) -> Self {
+        let (ww, xx, yy, zz) = (w * w, x * x, y * y, z * z);
+        let (xy, zw, xz, yw, yz, xw) = (x * y, z * w, x * z, y * w, y * z, x * w);
+        let two = 2.0;
+        Rotation {
+            m: [
+                [ww + xx - yy - zz, (xy - zw) * two, (xz + yw) * two],
+                [(xy + zw) * two, ww - xx + yy - zz, (yz - xw) * two],
+                [(xz - yw) * two, (yz + xw) * two, ww - xx - yy + zz],
+            ],
+        }
+    }
+
+    /// The identity rotation.
+    ///
+    /// ```
+    /// let r = lagrange_runtime::geometry::Rotation::<f64>::identity();
+    /// assert_eq!(r.matrix(), nalgebra::Matrix3::identity());
+    /// ```
+    pub fn identity() -> Self {
+        let (o, z) = (S::constant(1.0), S::constant(0.0));
+        Rotation {
+            m: [[o, z, z], [z, o, z], [z, z, o]],
+        }
+    }
+
+    /// Rᵀ, the inverse rotation.
+    ///
+    /// ```
+    /// let r = lagrange_runtime::geometry::Rotation::about_x(0.5_f64);
+    /// assert_eq!(r.transpose().matrix(), r.matrix().transpose());
+    /// ```
+    pub fn transpose(&self) -> Self {
+        let m = &self.m;
+        Rotation {
+            m: core::array::from_fn(|i| core::array::from_fn(|j| m[j][i])),
+        }
+    }
+
+    /// The matrix, as an nalgebra `Matrix3`.
+    ///
+    /// ```
+    /// let r = lagrange_runtime::geometry::Rotation::about_y(0.0_f64);
+    /// assert_eq!(r.matrix(), nalgebra::Matrix3::identity());
+    /// ```
+    pub fn matrix(&self) -> Matrix3<S> {
+        Matrix3::from_fn(|i, j| self.m[i][j])
+    }
+
+    /// The entry in row `i`, column `j`.
+    ///
+    /// ```
+    /// let r = lagrange_runtime::geometry::Rotation::about_z(0.5_f64);
+    /// assert_eq!(r.entry(0, 0), 0.5_f64.cos());
+    /// ```
+    pub fn entry(&self, i: usize, j: usize) -> S {
+        self.m[i][j]
+    }
+}
+
+/// R₁ R₂ of rotations with entries of two number types (a constant rotation and a moving one).
+fn compose<A: Copy, B: Copy, S: Scalar>(
+    a: &[[A; 3]; 3],
+    b: &[[B; 3]; 3],
+    mul: impl Fn(A, B) -> S,
+) -> Rotation<S> {
+    Rotation {
+        m: core::array::from_fn(|i| {
+            core::array::from_fn(|j| {
+                mul(a[i][0], b[0][j]) + mul(a[i][1], b[1][j]) + mul(a[i][2], b[2][j])
+            })
+        }),
+    }
+}
+
+/// R v with entries of two number types.
+fn apply<A: Copy, B: nalgebra::Scalar + Copy, S: Scalar>(
+    a: &[[A; 3]; 3],
+    v: &Vector3<B>,
+    mul: impl Fn(A, B) -> S,
+) -> Vector3<S> {
+    Vector3::from_fn(|i, _| mul(a[i][0], v[0]) + mul(a[i][1], v[1]) + mul(a[i][2], v[2]))
+}
+
+impl<S: Scalar> Mul for Rotation<S> {
+    type Output = Rotation<S>;
+    #[inline]
+    fn mul(self, o: Rotation<S>) -> Rotation<S> {
+        compose(&self.m, &o.m, |a, b| a * b)
+    }
+}
+
+impl<S: Scalar> Mul<Vector3<S>> for Rotation<S> {
+    type Output = Vector3<S>;
+    #[inline]
+    fn mul(self, v: Vector3<S>) -> Vector3<S> {
+        apply(&self.m, &v, |a, b| a * b)
+    }
+}
+
+impl<S: Scalar> Mul<&Vector3<S>> for &Rotation<S> {
+    type Output = Vector3<S>;
+    #[inline]
+    fn mul(self, v: &Vector3<S>) -> Vector3<S> {
+        apply(&self.m, v, |a, b| a * b)
+    }
+}
+
+impl<S: Scalar> Lift<S> for Rotation<f64> {
+    type Output = Rotation<S>;
+    #[inline]
+    fn lift(self) -> Rotation<S> {
+        Rotation {
+            m: self.m.map(|row| row.map(S::constant)),
+        }
+    }
+}
+
+impl<S: Scalar> ConstMul<Rotation<S>> for Rotation<f64> {
+    type Output = Rotation<S>;
+    #[inline]
+    fn const_mul(self, r: Rotation<S>) -> Rotation<S> {
+        compose(&self.m, &r.m, |c, x: S| x * c)
+    }
+}
+
+impl<S: Scalar> MulConst<Rotation<f64>> for Rotation<S> {
+    type Output = Rotation<S>;
+    #[inline]
+    fn mul_const(self, r: Rotation<f64>) -> Rotation<S> {
+        compose(&self.m, &r.m, |x: S, c| x * c)
+    }
+}
+
+impl<S: Scalar> ConstMul<Vector3<S>> for Rotation<f64> {
+    type Output = Vector3<S>;
+    #[inline]
+    fn const_mul(self, v: Vector3<S>) -> Vector3<S> {
+        apply(&self.m, &v, |c, x: S| x * c)
+    }
+}
+
+impl<S: Scalar> MulConst<Vector3<f64>> for Rotation<S> {
+    type Output = Vector3<S>;
+    #[inline]
+    fn mul_const(self, v: Vector3<f64>) -> Vector3<S> {
+        apply(&self.m, &v, |x: S, c| x * c)
+    }
+}
+
+/// Σₖ a(k) b(k) over k = 0, 1, 2.
+#[inline(always)]
+fn dot3<S: Scalar>(a: impl Fn(usize) -> S, b: impl Fn(usize) -> S) -> S {
+    a(0) * b(0) + a(1) * b(1) + a(2) * b(2)
+}
+
+/// The angular velocity ω of a rotation R(q, t) in space axes: Ṙ Rᵀ = ω̂.
+///
+/// ```
+/// use lagrange_runtime::{geometry::{angular_velocity, Rotation}, jet::Timed};
+/// // about z at rate 3: ω = (0, 0, 3) whatever the angle
+/// let r = Rotation::about_z(Timed::new(0.7_f64, 3.0));
+/// let w = angular_velocity(&r);
+/// assert!((w.z.value() - 3.0).abs() < 1e-15 && w.x.value().abs() < 1e-15);
+/// ```
+pub fn angular_velocity<S: Scalar>(r: &Rotation<S>) -> Vector3<S> {
+    let m = &r.m;
+    let rate = |i: usize, k: usize| m[i][k].velocity();
+    Vector3::new(
+        dot3(|k| rate(2, k), |k| m[1][k]),
+        dot3(|k| rate(0, k), |k| m[2][k]),
+        dot3(|k| rate(1, k), |k| m[0][k]),
+    )
+}
+
+/// The angular velocity ω of a rotation R(q, t) in body axes: Rᵀ Ṙ = ω̂.
+///
+/// ```
+/// use lagrange_runtime::{geometry::{body_angular_velocity, Rotation}, jet::Timed};
+/// // tilted by 0.4 about x, spinning about the body's z at rate 2: ω_body = (0, 0, 2)
+/// let r = Rotation::about_x(Timed::new(0.4_f64, 0.0)) * Rotation::about_z(Timed::new(1.0, 2.0));
+/// let w = body_angular_velocity(&r);
+/// assert!((w.z.value() - 2.0).abs() < 1e-15 && w.y.value().abs() < 1e-15);
+/// ```
+pub fn body_angular_velocity<S: Scalar>(r: &Rotation<S>) -> Vector3<S> {
+    let m = &r.m;
+    let rate = |k: usize, j: usize| m[k][j].velocity();
+    Vector3::new(
+        dot3(|k| m[k][2], |k| rate(k, 1)),
+        dot3(|k| m[k][0], |k| rate(k, 2)),
+        dot3(|k| m[k][1], |k| rate(k, 0)),
+    )
+}
