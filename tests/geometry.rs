@@ -12,7 +12,7 @@ pub struct GeoTop {
     pub mgl: f64,
 }
 
-#[lagrangian(mode = "jets")]
+#[lagrangian]
 impl GeoTop {
     fn lagrangian(
         &self,
@@ -93,4 +93,16 @@ fn heavy_top_from_its_rotation_symbolic() {
         mgl: 0.9 * 9.81 * 0.4,
     };
     check_against_rotation_top(&top, 1e-12);
+}
+
+#[test]
+fn heavy_top_from_its_rotation_prints_eq_92() {
+    assert_eq!(<GeoTop as Lagrangian<3>>::CYCLIC, [false, true, true]);
+    let eq = GeoTop::EQUATIONS;
+    assert_eq!(eq, lagrange_examples::bench_top::MacroTop::EQUATIONS);
+    assert_eq!(
+        GeoTop::EQUATIONS_LATEX,
+        lagrange_examples::bench_top::MacroTop::EQUATIONS_LATEX
+    );
+    assert!(!eq.contains("(ψ)"), "{eq}");
 }

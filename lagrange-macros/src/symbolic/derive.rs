@@ -111,7 +111,7 @@ fn decoupled_pairs(mass: &[Vec<Id>]) -> Vec<(usize, usize)> {
 
 /// `id` with its sin² + cos² pairs merged (see [`poly::merge_pythagorean`]) where it expands
 /// within `rules`' caps and something merges; as it is otherwise (merging only removes terms).
-fn pythagorean(dag: &mut Dag, id: Id, rules: &poly::Rules) -> Id {
+pub(crate) fn pythagorean(dag: &mut Dag, id: Id, rules: &poly::Rules) -> Id {
     let Some(mut p) = poly::expand_under(dag, id, rules) else {
         return id;
     };

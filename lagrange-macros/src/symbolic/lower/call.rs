@@ -114,6 +114,12 @@ impl Lower {
             }
             return Ok(Val::S(id));
         }
+        if let Some(v) = self.geometry_call(&segs[n.saturating_sub(2)..], c)? {
+            return Ok(v);
+        }
+        if let Some(v) = self.geometry_call(&segs[n.saturating_sub(1)..], c)? {
+            return Ok(v);
+        }
         if n >= 2 && segs[n - 2] == "Vector3" {
             match segs[n - 1].as_str() {
                 "new" if c.args.len() == 3 => {

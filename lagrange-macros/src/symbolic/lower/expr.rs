@@ -398,6 +398,8 @@ impl Lower {
                 Val::V(v.map(|x| d.mul(s, x)))
             }
             ('/', Val::V(v), Val::S(s)) => Val::V(v.map(|x| d.div(x, s))),
+            ('*', Val::R(a), Val::R(b)) => Val::R(geometry::compose(d, &a, &b)),
+            ('*', Val::R(a), Val::V(v)) => Val::V(geometry::apply(d, &a, &v)),
             ('+' | '-', Val::S(s), Val::V(_)) => {
                 let _ = self.vector(Val::S(s), le, "the left operand")?;
                 Val::Poison

@@ -413,6 +413,17 @@ impl Lower {
         if matches!(recv, Val::Poison) {
             return Ok(Val::Poison);
         }
+        if let Val::R(r) = &recv {
+            return Ok(match (name.as_str(), nargs) {
+                ("transpose", 0) => Val::R(super::geometry::transpose(r)),
+                ("clone", 0) => recv,
+                ("transpose", _) => bad_arity(self, 0),
+                _ => self.unsupported(
+                    whole.at(),
+                    &format!("`.{name}()` on a `Rotation` (the symbolic mode takes `transpose`, `r * r`, `r * v`)"),
+                ),
+            });
+        }
         let fun = Fun::from_method(&name);
         if let Some(f) = fun {
             if nargs != 0 {

@@ -15,6 +15,7 @@
 mod call;
 mod cond;
 mod expr;
+mod geometry;
 mod iter;
 mod stmt;
 
@@ -68,6 +69,8 @@ pub struct Cond {
 enum Val {
     S(Id),
     V([Id; 3]),
+    /// A rotation matrix (`Rotation::about_z(a)`, …): its nine entries, row by row.
+    R([Id; 9]),
     Tuple(Vec<Val>),
     /// An array (`Coords<K>` bindings, `[a, b]`, `[0.0; K]`) or a materialized iterator
     /// (`q.iter().zip(..)`, `0..K`): one value per element.
@@ -146,6 +149,7 @@ impl Val {
         match self {
             Val::S(_) => "a scalar",
             Val::V(_) => "a Vector3",
+            Val::R(_) => "a Rotation",
             Val::Tuple(_) => "a tuple",
             Val::A(_) => "an array",
             Val::I(_) => "an integer",
