@@ -228,3 +228,77 @@ impl<S: Scalar> Velocity for Timed<S> {
         Timed::new(self.dx, S::constant(f64::NAN))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::jet::HessianJet;
+    use nalgebra::{ComplexField, RealField};
+
+    /// An expression through every kind of rule: the table's functions (tangent rules), powi,
+    /// powf, sin_cos, recip, division, atan2, abs.
+    fn f<S: Scalar>(a: S, b: S) -> S {
+        let (s, c) = (a * b).sin_cos();
+        let e = (a * 0.3).exp() + b.powi(3) * 0.1;
+        let r = (a * a + b * b + 1.0).sqrt().ln() + (b * 0.4).tanh();
+        let p = (a * a + 2.0).powf(S::constant(1.7)) / (b * b + 3.0);
+        s * c
+            + e * r
+            + p
+            + ComplexField::recip(a * a + 1.5)
+            + RealField::atan2(a, b + 5.0)
+            + (a - b * 0.2).abs()
+    }
+
+    /// The rate of `f` along the motion (q, q̇) equals the central difference of f along (q̇)
+    /// in time, at random points (tolerance 1e-8 relative: the difference's own error).
+    #[test]
+    fn rate_is_the_time_derivative() {
+        let mut seed = 7_u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
+        };
+        for _ in 0..200 {
+            let (a, b, va, vb) = (rnd(), rnd(), rnd(), rnd());
+            let y = f(Timed::new(a, va), Timed::new(b, vb));
+            let h = 1e-5;
+            let fd = (f(a + h * va, b + h * vb) - f(a - h * va, b - h * vb)) / (2.0 * h);
+            assert!(
+                (y.rate() - fd).abs() <= 1e-8 * (1.0 + fd.abs()),
+                "{} vs {fd}",
+                y.rate()
+            );
+            // powf's value is x^(n−2)·x·x in the chain rule: within an ulp or two of f64's.
+            assert!((y.value() - f(a, b)).abs() <= 1e-15 * (1.0 + f(a, b).abs()));
+        }
+    }
+
+    /// Over a jet, the rate carries its own derivatives: the Hessian in (q, q̇) of the rate of
+    /// `f` equals central differences of the rate's gradient (tolerance 1e-6 relative).
+    #[test]
+    fn rate_of_a_jet_carries_its_hessian() {
+        let rate_jet = |q: [f64; 2], v: [f64; 2]| {
+            let (qj, vj) = HessianJet::<2>::seed(&q, &v);
+            let y = f(Timed::new(qj[0], vj[0]), Timed::new(qj[1], vj[1]));
+            y.dx
+        };
+        let (q, v) = ([0.4, -0.9], [1.3, 0.6]);
+        let r = rate_jet(q, v);
+        let h = 1e-6;
+        for k in 0..2 {
+            let (mut qp, mut qm) = (q, q);
+            qp[k] += h;
+            qm[k] -= h;
+            let (gp, gm) = (rate_jet(qp, v), rate_jet(qm, v));
+            for i in 0..2 {
+                let fd_qq = (gp.grad_q()[i] - gm.grad_q()[i]) / (2.0 * h);
+                let fd_vq = (gp.grad_qdot()[i] - gm.grad_qdot()[i]) / (2.0 * h);
+                assert!((r.hess_qq()[k][i] - fd_qq).abs() <= 1e-6 * (1.0 + fd_qq.abs()));
+                assert!((r.hess_qqdot()[k][i] - fd_vq).abs() <= 1e-6 * (1.0 + fd_vq.abs()));
+            }
+        }
+    }
+}
