@@ -169,6 +169,68 @@
 //! assert!(<Pendulum as lagrange::Holonomic<2, 1>>::SCLERONOMIC);
 //! ```
 //!
+//! ## Geometry: velocities and rotations
+//!
+//! [`geometry::velocity`] gives the time derivative of a position written from the coordinates,
+//! and [`geometry::Rotation`] (elementary rotations, a unit quaternion, products, `r * v`,
+//! `transpose`) with [`geometry::angular_velocity`] (space axes, Ṙ Rᵀ = ω̂) and
+//! [`geometry::body_angular_velocity`] (body axes, Rᵀ Ṙ = ω̂) give a rigid body's kinetic energy
+//! from its orientation. Both modes; the symbolic mode simplifies sin² + cos² = 1, so the heavy
+//! top written from its rotation prints eq. 92's equations:
+//!
+//! ```
+//! use lagrange::prelude::*;
+//!
+//! /// The symmetric heavy top from its rotation R = R_z(φ) R_x(θ) R_z(ψ).
+//! pub struct Top { pub i_perp: f64, pub i_par: f64, pub mgl: f64 }
+//!
+//! #[lagrangian]
+//! impl Top {
+//!     fn lagrangian(&self, (theta, theta_dot): Coord, (phi, phi_dot): Coord, (psi, psi_dot): Coord) -> Scalar {
+//!         let r = Rotation::about_z(phi) * Rotation::about_x(theta) * Rotation::about_z(psi);
+//!         let w = body_angular_velocity(&r);
+//!         0.5 * (self.i_perp * (w.x * w.x + w.y * w.y) + self.i_par * w.z * w.z)
+//!             - self.mgl * (r * Vector3::z()).z
+//!     }
+//! }
+//!
+//! assert_eq!(<Top as Lagrangian<3>>::CYCLIC, [false, true, true]);
+//! let top = Top { i_perp: 1.3, i_par: 0.7, mgl: 2.0 };
+//! let (q, v) = ([0.8, 0.1, 0.2], [0.3, 1.1, 4.0]);
+//! let a = top.accelerations(&q, &v, 0.0).unwrap();
+//! // eq. 92's θ equation: I⊥ θ̈ = I⊥ φ̇² sin θ cos θ − I∥ ω₃ φ̇ sin θ + m g l sin θ, ω₃ = φ̇ cos θ + ψ̇
+//! let (s, c) = q[0].sin_cos();
+//! let w3 = v[1] * c + v[2];
+//! let want = (1.3 * v[1] * v[1] * s * c - 0.7 * w3 * v[1] * s + 2.0 * s) / 1.3;
+//! assert!((a[0] - want).abs() < 1e-12);
+//! ```
+//!
+//! And the double pendulum from the positions of its bobs (here in the jets mode):
+//!
+//! ```
+//! use lagrange::prelude::*;
+//!
+//! pub struct Double { pub m: f64, pub l: f64, pub g: f64 }
+//!
+//! #[lagrangian(mode = "jets")]
+//! impl Double {
+//!     fn lagrangian(&self, (a, a_dot): Coord, (b, b_dot): Coord) -> Scalar {
+//!         let p1 = Vector3::new(self.l * a.sin(), -self.l * a.cos(), 0.0 * a);
+//!         let p2 = p1 + Vector3::new(self.l * b.sin(), -self.l * b.cos(), 0.0 * b);
+//!         let (v1, v2) = (velocity(p1), velocity(p2));
+//!         0.5 * self.m * (v1.norm_squared() + v2.norm_squared()) - self.m * self.g * (p1.y + p2.y)
+//!     }
+//! }
+//!
+//! let d = Double { m: 1.0, l: 1.0, g: 9.81 };
+//! // released from rest at (a, b) = (0.5, 0): the closed form of the first instant,
+//! // 2 ä + b̈ cos a = −2 g sin a and ä cos a + b̈ = 0.
+//! let acc = d.accelerations(&[0.5, 0.0], &[0.0, 0.0], 0.0).unwrap();
+//! let c = 0.5_f64.cos();
+//! let a_dd = -2.0 * 9.81 * 0.5_f64.sin() / (2.0 - c * c);
+//! assert!((acc[0] - a_dd).abs() < 1e-12 && (acc[1] + a_dd * c).abs() < 1e-12);
+//! ```
+//!
 //! ## What the default (symbolic) mode accepts
 //!
 //! The body is lowered to an expression graph at compile time. Besides arithmetic, `let`

@@ -149,16 +149,6 @@ impl<S: Scalar> Rotation<S> {
     pub fn matrix(&self) -> Matrix3<S> {
         Matrix3::from_fn(|i, j| self.m[i][j])
     }
-
-    /// The entry in row `i`, column `j`.
-    ///
-    /// ```
-    /// let r = lagrange_runtime::geometry::Rotation::about_z(0.5_f64);
-    /// assert_eq!(r.entry(0, 0), 0.5_f64.cos());
-    /// ```
-    pub fn entry(&self, i: usize, j: usize) -> S {
-        self.m[i][j]
-    }
 }
 
 /// R₁ R₂ of rotations with entries of two number types (a constant rotation and a moving one).
