@@ -9,7 +9,9 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 
-use lagrange_examples::systems::{Chain16, Chain2, Chain4, Chain8, HeavyTop, RotationTop};
+use lagrange_examples::systems::{
+    Chain16, Chain2, Chain4, Chain8, GeometryTop, HeavyTop, RotationTop,
+};
 
 /// The heavy top's accelerations in closed form, written by hand (θ̈ directly, the φ–ψ block by
 /// Cramer's rule with det = I∥ I⊥ sin²θ).
@@ -104,6 +106,20 @@ fn heavy_top(c: &mut Criterion) {
     };
     group.bench_function("symbolic_from_rotation", |b| {
         b.iter(|| black_box(&rotation).accelerations(black_box(&q), black_box(&v), 0.0))
+    });
+    // Written from the rotation matrix itself (`Rotation`, `body_angular_velocity`): the macro
+    // derives ω (issue 36's contract; target: within 1.1× of `symbolic`).
+    let geometry = GeometryTop {
+        i_perp: top.i_perp,
+        i_par: top.i_par,
+        mgl: top.m * top.g * top.l,
+    };
+    let geometry_jets = geometry.jets();
+    group.bench_function("symbolic_from_rotation_matrix", |b| {
+        b.iter(|| black_box(&geometry).accelerations(black_box(&q), black_box(&v), 0.0))
+    });
+    group.bench_function("jets_from_rotation_matrix", |b| {
+        b.iter(|| black_box(&geometry_jets).accelerations(black_box(&q), black_box(&v), 0.0))
     });
     group.finish();
 }

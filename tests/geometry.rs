@@ -1,54 +1,10 @@
 //! Geometry in a body (`velocity`, `Rotation`, angular velocities), in both modes, against the
 //! systems written with their velocities worked out by hand.
 
-use crate::support::systems::RotationTop;
+use crate::support::systems::{GeometryTop as GeoTop, GeometryTopJets as GeoTopJets, RotationTop};
 use crate::support::Rng;
 use lagrange::prelude::*;
 use lagrange_examples::twins;
-
-/// The heavy top of eq. 92 from its rotation R = R_z(φ) R_x(θ) R_z(ψ) (symbolic mode).
-pub struct GeoTop {
-    pub i_perp: f64,
-    pub i_par: f64,
-    pub mgl: f64,
-}
-
-#[lagrangian]
-impl GeoTop {
-    fn lagrangian(
-        &self,
-        (theta, theta_dot): Coord,
-        (phi, phi_dot): Coord,
-        (psi, psi_dot): Coord,
-    ) -> Scalar {
-        let r = Rotation::about_z(phi) * Rotation::about_x(theta) * Rotation::about_z(psi);
-        let w = body_angular_velocity(&r);
-        0.5 * (self.i_perp * (w.x * w.x + w.y * w.y) + self.i_par * w.z * w.z)
-            - self.mgl * (r * Vector3::z()).z
-    }
-}
-
-/// The same top in jets mode.
-pub struct GeoTopJets {
-    pub i_perp: f64,
-    pub i_par: f64,
-    pub mgl: f64,
-}
-
-#[lagrangian(mode = "jets")]
-impl GeoTopJets {
-    fn lagrangian(
-        &self,
-        (theta, theta_dot): Coord,
-        (phi, phi_dot): Coord,
-        (psi, psi_dot): Coord,
-    ) -> Scalar {
-        let r = Rotation::about_z(phi) * Rotation::about_x(theta) * Rotation::about_z(psi);
-        let w = body_angular_velocity(&r);
-        0.5 * (self.i_perp * (w.x * w.x + w.y * w.y) + self.i_par * w.z * w.z)
-            - self.mgl * (r * Vector3::z()).z
-    }
-}
 
 fn check_against_rotation_top<L: Lagrangian<3>>(sys: &L, tol: f64) {
     let (i_perp, i_par, mgl) = (1.3, 0.7, 0.9 * 9.81 * 0.4);

@@ -164,3 +164,24 @@ impl RotationTop {
         0.5 * (self.i_perp * (wx * wx + wy * wy) + self.i_par * wz * wz) - self.mgl * ct
     }
 }
+
+use lagrange::geometry::{body_angular_velocity, Rotation};
+use lagrange::Vector3;
+
+twins! {
+    /// The heavy top written from its rotation R = R_z(φ) R_x(θ) R_z(ψ) and
+    /// `body_angular_velocity` (issue 36's contract): the macro derives ω, and the symbolic mode
+    /// simplifies it to eq. 92.
+    GeometryTop, GeometryTopJets { i_perp: f64, i_par: f64, mgl: f64 }
+    fn lagrangian(
+        &self,
+        (theta, theta_dot): Coord,
+        (phi, phi_dot): Coord,
+        (psi, psi_dot): Coord,
+    ) -> Scalar {
+        let r = Rotation::about_z(phi) * Rotation::about_x(theta) * Rotation::about_z(psi);
+        let w = body_angular_velocity(&r);
+        0.5 * (self.i_perp * (w.x * w.x + w.y * w.y) + self.i_par * w.z * w.z)
+            - self.mgl * (r * Vector3::z()).z
+    }
+}
