@@ -45,6 +45,42 @@ pub fn velocity<V: Velocity>(x: V) -> V {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rotation<S> {
     m: [[S; 3]; 3],
+    /// The entries that are structurally 0 (bit 3i + j) and 1: an elementary rotation has five
+    /// of them, and products skip them (in the jets mode each skipped product is a jet product).
+    zero: u16,
+    one: u16,
+}
+
+/// The bit of entry (i, j).
+const fn bit(i: usize, j: usize) -> u16 {
+    1 << (3 * i + j)
+}
+
+/// The structural 0s and 1s of an elementary rotation about axis `k` (the axis's row and column
+/// are 0 but for a 1 on the diagonal).
+const fn axis_flags(k: usize) -> (u16, u16) {
+    let mut zero = 0;
+    let mut i = 0;
+    while i < 3 {
+        if i != k {
+            zero |= bit(i, k) | bit(k, i);
+        }
+        i += 1;
+    }
+    (zero, bit(k, k))
+}
+
+impl<S> Rotation<S> {
+    /// A rotation with no structural entries known.
+    fn dense(m: [[S; 3]; 3]) -> Self {
+        Rotation { m, zero: 0, one: 0 }
+    }
+
+    /// An elementary rotation about axis `k`.
+    fn elementary(m: [[S; 3]; 3], k: usize) -> Self {
+        let (zero, one) = axis_flags(k);
+        Rotation { m, zero, one }
+    }
 }
 
 impl<S: Scalar> Rotation<S> {
@@ -57,9 +93,7 @@ impl<S: Scalar> Rotation<S> {
     pub fn about_x(a: S) -> Self {
         let (s, c) = a.sin_cos();
         let (o, z) = (S::constant(1.0), S::constant(0.0));
-        Rotation {
-            m: [[o, z, z], [z, c, -s], [z, s, c]],
-        }
+        Rotation::elementary([[o, z, z], [z, c, -s], [z, s, c]], 0)
     }
 
     /// The rotation by angle `a` about the y axis.
@@ -71,9 +105,7 @@ impl<S: Scalar> Rotation<S> {
     pub fn about_y(a: S) -> Self {
         let (s, c) = a.sin_cos();
         let (o, z) = (S::constant(1.0), S::constant(0.0));
-        Rotation {
-            m: [[c, z, s], [z, o, z], [-s, z, c]],
-        }
+        Rotation::elementary([[c, z, s], [z, o, z], [-s, z, c]], 1)
     }
 
     /// The rotation by angle `a` about the z axis.
@@ -85,9 +117,7 @@ impl<S: Scalar> Rotation<S> {
     pub fn about_z(a: S) -> Self {
         let (s, c) = a.sin_cos();
         let (o, z) = (S::constant(1.0), S::constant(0.0));
-        Rotation {
-            m: [[c, -s, z], [s, c, z], [z, z, o]],
-        }
+        Rotation::elementary([[c, -s, z], [s, c, z], [z, z, o]], 2)
     }
 
     /// The rotation of the unit quaternion w + x i + y j + z k, in the homogeneous form
@@ -105,13 +135,11 @@ impl<S: Scalar> Rotation<S> {
         let (ww, xx, yy, zz) = (w * w, x * x, y * y, z * z);
         let (xy, zw, xz, yw, yz, xw) = (x * y, z * w, x * z, y * w, y * z, x * w);
         let two = 2.0;
-        Rotation {
-            m: [
-                [ww + xx - yy - zz, (xy - zw) * two, (xz + yw) * two],
-                [(xy + zw) * two, ww - xx + yy - zz, (yz - xw) * two],
-                [(xz - yw) * two, (yz + xw) * two, ww - xx - yy + zz],
-            ],
-        }
+        Rotation::dense([
+            [ww + xx - yy - zz, (xy - zw) * two, (xz + yw) * two],
+            [(xy + zw) * two, ww - xx + yy - zz, (yz - xw) * two],
+            [(xz - yw) * two, (yz + xw) * two, ww - xx - yy + zz],
+        ])
     }
 
     /// The identity rotation.
@@ -124,6 +152,8 @@ impl<S: Scalar> Rotation<S> {
         let (o, z) = (S::constant(1.0), S::constant(0.0));
         Rotation {
             m: [[o, z, z], [z, o, z], [z, z, o]],
+            zero: 0x1ff & !(bit(0, 0) | bit(1, 1) | bit(2, 2)),
+            one: bit(0, 0) | bit(1, 1) | bit(2, 2),
         }
     }
 
@@ -135,8 +165,20 @@ impl<S: Scalar> Rotation<S> {
     /// ```
     pub fn transpose(&self) -> Self {
         let m = &self.m;
+        let flip = |f: u16| {
+            (0..9).fold(0, |acc, ij| {
+                let (i, j) = (ij / 3, ij % 3);
+                if f & bit(j, i) != 0 {
+                    acc | bit(i, j)
+                } else {
+                    acc
+                }
+            })
+        };
         Rotation {
             m: core::array::from_fn(|i| core::array::from_fn(|j| m[j][i])),
+            zero: flip(self.zero),
+            one: flip(self.one),
         }
     }
 
@@ -151,35 +193,116 @@ impl<S: Scalar> Rotation<S> {
     }
 }
 
-/// R₁ R₂ of rotations with entries of two number types (a constant rotation and a moving one).
-fn compose<A: Copy, B: Copy, S: Scalar>(
-    a: &[[A; 3]; 3],
-    b: &[[B; 3]; 3],
-    mul: impl Fn(A, B) -> S,
-) -> Rotation<S> {
-    Rotation {
-        m: core::array::from_fn(|i| {
-            core::array::from_fn(|j| {
-                mul(a[i][0], b[0][j]) + mul(a[i][1], b[1][j]) + mul(a[i][2], b[2][j])
-            })
-        }),
+/// How one entry of a product is formed: the two factors' entries, and the product of two,
+/// or one factor alone where the other is a structural 1.
+struct Products<A, B, S, M: Fn(A, B) -> S, FA: Fn(A) -> S, FB: Fn(B) -> S> {
+    mul: M,
+    from_a: FA,
+    from_b: FB,
+    _types: core::marker::PhantomData<(A, B, S)>,
+}
+
+impl<A: Copy, B: Copy, S: Scalar, M: Fn(A, B) -> S, FA: Fn(A) -> S, FB: Fn(B) -> S>
+    Products<A, B, S, M, FA, FB>
+{
+    /// R₁ R₂, skipping the structural 0s and 1s of both.
+    fn compose(&self, a: &Rotation<A>, b: &Rotation<B>) -> Rotation<S> {
+        let mut m = [[S::constant(0.0); 3]; 3];
+        let (mut zero, mut one) = (0, 0);
+        for i in 0..3 {
+            for j in 0..3 {
+                let mut acc: Option<S> = None;
+                let mut unit = false;
+                for k in 0..3 {
+                    if a.zero & bit(i, k) != 0 || b.zero & bit(k, j) != 0 {
+                        continue;
+                    }
+                    let (ao, bo) = (a.one & bit(i, k) != 0, b.one & bit(k, j) != 0);
+                    let term = match (ao, bo) {
+                        (true, _) => (self.from_b)(b.m[k][j]),
+                        (false, true) => (self.from_a)(a.m[i][k]),
+                        _ => (self.mul)(a.m[i][k], b.m[k][j]),
+                    };
+                    unit = acc.is_none() && ao && bo;
+                    acc = Some(match acc {
+                        Some(x) => x + term,
+                        None => term,
+                    });
+                }
+                match acc {
+                    None => zero |= bit(i, j),
+                    Some(x) => {
+                        m[i][j] = x;
+                        if unit {
+                            one |= bit(i, j);
+                        }
+                    }
+                }
+            }
+        }
+        Rotation { m, zero, one }
+    }
+
+    /// R v, skipping R's structural 0s and 1s (and, through `mul`, nothing else).
+    fn apply(&self, a: &Rotation<A>, v: [B; 3]) -> Vector3<S> {
+        Vector3::from_fn(|i, _| {
+            let mut acc: Option<S> = None;
+            for (k, &vk) in v.iter().enumerate() {
+                if a.zero & bit(i, k) != 0 {
+                    continue;
+                }
+                let term = if a.one & bit(i, k) != 0 {
+                    (self.from_b)(vk)
+                } else {
+                    (self.mul)(a.m[i][k], vk)
+                };
+                acc = Some(match acc {
+                    Some(x) => x + term,
+                    None => term,
+                });
+            }
+            acc.unwrap_or_else(|| S::constant(0.0))
+        })
     }
 }
 
-/// R v with entries of two number types.
-fn apply<A: Copy, B: nalgebra::Scalar + Copy, S: Scalar>(
-    a: &[[A; 3]; 3],
-    v: &Vector3<B>,
-    mul: impl Fn(A, B) -> S,
-) -> Vector3<S> {
-    Vector3::from_fn(|i, _| mul(a[i][0], v[0]) + mul(a[i][1], v[1]) + mul(a[i][2], v[2]))
+/// Products of two factors of the same number type.
+fn same<S: Scalar>() -> Products<S, S, S, impl Fn(S, S) -> S, impl Fn(S) -> S, impl Fn(S) -> S> {
+    Products {
+        mul: |a: S, b: S| a * b,
+        from_a: |a| a,
+        from_b: |b| b,
+        _types: core::marker::PhantomData,
+    }
+}
+
+/// Products of a constant (left) and a variable (right).
+fn const_var<S: Scalar>(
+) -> Products<f64, S, S, impl Fn(f64, S) -> S, impl Fn(f64) -> S, impl Fn(S) -> S> {
+    Products {
+        mul: |c: f64, x: S| x * c,
+        from_a: S::constant,
+        from_b: |x| x,
+        _types: core::marker::PhantomData,
+    }
+}
+
+/// Products of a variable (left) and a constant (right).
+fn var_const<S: Scalar>(
+) -> Products<S, f64, S, impl Fn(S, f64) -> S, impl Fn(S) -> S, impl Fn(f64) -> S> {
+    Products {
+        mul: |x: S, c: f64| x * c,
+        from_a: |x| x,
+        from_b: S::constant,
+        _types: core::marker::PhantomData,
+    }
 }
 
 impl<S: Scalar> Mul for Rotation<S> {
     type Output = Rotation<S>;
     #[inline]
     fn mul(self, o: Rotation<S>) -> Rotation<S> {
-        compose(&self.m, &o.m, |a, b| a * b)
+        same().compose(&self, &o)
     }
 }
 
@@ -187,7 +310,7 @@ impl<S: Scalar> Mul<Vector3<S>> for Rotation<S> {
     type Output = Vector3<S>;
     #[inline]
     fn mul(self, v: Vector3<S>) -> Vector3<S> {
-        apply(&self.m, &v, |a, b| a * b)
+        same().apply(&self, [v.x, v.y, v.z])
     }
 }
 
@@ -195,7 +318,7 @@ impl<S: Scalar> Mul<&Vector3<S>> for &Rotation<S> {
     type Output = Vector3<S>;
     #[inline]
     fn mul(self, v: &Vector3<S>) -> Vector3<S> {
-        apply(&self.m, v, |a, b| a * b)
+        same().apply(self, [v.x, v.y, v.z])
     }
 }
 
@@ -205,6 +328,8 @@ impl<S: Scalar> Lift<S> for Rotation<f64> {
     fn lift(self) -> Rotation<S> {
         Rotation {
             m: self.m.map(|row| row.map(S::constant)),
+            zero: self.zero,
+            one: self.one,
         }
     }
 }
@@ -213,7 +338,7 @@ impl<S: Scalar> ConstMul<Rotation<S>> for Rotation<f64> {
     type Output = Rotation<S>;
     #[inline]
     fn const_mul(self, r: Rotation<S>) -> Rotation<S> {
-        compose(&self.m, &r.m, |c, x: S| x * c)
+        const_var().compose(&self, &r)
     }
 }
 
@@ -221,7 +346,7 @@ impl<S: Scalar> MulConst<Rotation<f64>> for Rotation<S> {
     type Output = Rotation<S>;
     #[inline]
     fn mul_const(self, r: Rotation<f64>) -> Rotation<S> {
-        compose(&self.m, &r.m, |x: S, c| x * c)
+        var_const().compose(&self, &r)
     }
 }
 
@@ -229,7 +354,7 @@ impl<S: Scalar> ConstMul<Vector3<S>> for Rotation<f64> {
     type Output = Vector3<S>;
     #[inline]
     fn const_mul(self, v: Vector3<S>) -> Vector3<S> {
-        apply(&self.m, &v, |c, x: S| x * c)
+        const_var().apply(&self, [v.x, v.y, v.z])
     }
 }
 
@@ -237,7 +362,20 @@ impl<S: Scalar> MulConst<Vector3<f64>> for Rotation<S> {
     type Output = Vector3<S>;
     #[inline]
     fn mul_const(self, v: Vector3<f64>) -> Vector3<S> {
-        apply(&self.m, &v, |x: S, c| x * c)
+        // A constant vector's exact zeros (`Vector3::z()`) cost nothing either.
+        let r = Rotation {
+            m: self.m,
+            zero: self.zero
+                | (0..9).fold(0, |acc, ij| {
+                    if v[ij % 3] == 0.0 {
+                        acc | bit(ij / 3, ij % 3)
+                    } else {
+                        acc
+                    }
+                }),
+            one: self.one,
+        };
+        var_const().apply(&r, [v.x, v.y, v.z])
     }
 }
 
