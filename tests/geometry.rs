@@ -282,3 +282,32 @@ fn every_construct_jets_equal_symbolic() {
         assert!((ms * d).norm() <= 1e-11 * scale, "q̈ {a_s:?} vs {a_j:?}");
     }
 }
+
+/// A rigid body with a full inertia tensor (a `Matrix3<f64>` field) in jets mode: ½ ωᵀ I ω with
+/// ω from the rotation, against the same body with I's principal moments along the axes.
+pub struct TensorBody {
+    pub inertia: nalgebra::Matrix3<f64>,
+}
+
+#[lagrangian(mode = "jets")]
+impl TensorBody {
+    fn lagrangian(&self, (a, a_dot): Coord, (b, b_dot): Coord) -> Scalar {
+        let r = Rotation::about_z(a) * Rotation::about_x(b);
+        let w = body_angular_velocity(&r);
+        0.5 * w.dot(&(self.inertia * w))
+    }
+}
+
+#[test]
+fn inertia_tensor_field_in_jets_mode() {
+    let (i1, i2, i3) = (1.0, 2.0, 3.5);
+    let body = TensorBody {
+        inertia: nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(i1, i2, i3)),
+    };
+    let (q, v): ([f64; 2], [f64; 2]) = ([0.3, 0.8], [1.2, -0.7]);
+    // ω_body of R_z(a) R_x(b) = (ḃ, ȧ sin b, ȧ cos b)
+    let w = [v[1], v[0] * q[1].sin(), v[0] * q[1].cos()];
+    let want = 0.5 * (i1 * w[0] * w[0] + i2 * w[1] * w[1] + i3 * w[2] * w[2]);
+    let l = body.lagrangian(&q, &v, 0.0);
+    assert!((l - want).abs() <= 1e-14 * want, "{l} vs {want}");
+}

@@ -228,6 +228,15 @@ impl<S: Scalar> MulConst<Vector3<f64>> for S {
     }
 }
 
+// A constant matrix (an inertia tensor) times a vector of the coordinates.
+impl<S: Scalar> ConstMul<Vector3<S>> for nalgebra::Matrix3<f64> {
+    type Output = Vector3<S>;
+    #[inline(always)]
+    fn const_mul(self, v: Vector3<S>) -> Vector3<S> {
+        Vector3::from_fn(|i, _| v.x * self[(i, 0)] + v.y * self[(i, 1)] + v.z * self[(i, 2)])
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
