@@ -335,9 +335,9 @@ pub use lagrange_runtime::{
     equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability,
 };
 pub use lagrange_runtime::{
-    ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, Invariants, Method,
-    NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats, Stiffness,
-    Trajectory, INVARIANT_FLOOR,
+    ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, Invariants, Jump,
+    Method, NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats,
+    Stiffness, Trajectory, Zeno, INVARIANT_FLOOR,
 };
 pub use lagrange_runtime::{
     DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Scalar, Velocity,

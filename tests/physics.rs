@@ -12,6 +12,7 @@ mod forces;
 mod forces_macro;
 mod hardening;
 mod heavy_top;
+mod impacts;
 mod integrators;
 mod large_systems;
 mod linearize;

@@ -32,9 +32,9 @@ pub use ensemble::{Ensemble, Member};
 pub use eom::solve_mass_matrix;
 pub use error::DynamicsError;
 pub use integrate::{
-    ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, Invariants, Method,
-    NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats, Stiffness,
-    Trajectory, INVARIANT_FLOOR,
+    ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, Invariants, Jump,
+    Method, NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats,
+    Stiffness, Trajectory, Zeno, INVARIANT_FLOOR,
 };
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
 pub use linearize::{equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability};

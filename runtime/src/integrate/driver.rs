@@ -8,7 +8,7 @@ use super::dense::{Dense, Kind};
 use super::dop853::Dop853;
 use super::dopri5::Dopri5;
 use super::error::{PartialTrajectory, SimulationError};
-use super::events::{brent, Direction, Event, EventHit};
+use super::events::{brent, zeno, Direction, Event, EventHit, Jump, Zeno};
 use super::manifold::Manifold;
 use super::method::Method;
 use super::rattle::Rattle;
@@ -35,46 +35,42 @@ pub(super) fn run<L: Lagrangian<N>, const N: usize>(
     o: &RunOptions,
     observer: Option<&mut dyn FnMut(&Sample<N>)>,
 ) -> Result<Trajectory<N>, SimulationError> {
-    let mut driver = Driver::new(sys, manifold, events, method, o, observer);
+    let driver = Driver::new(sys, manifold, events, method, o, observer);
     let (t0, until) = (o.t0, o.until);
+    // Each method's stepper from a state (t, y): at the start, and again after each jump of a
+    // resetting event.
     match method {
-        Method::Rk4 { dt } => {
-            let grid = FixedGrid::new(t0, dt, until);
-            match Rk4::new(sys, grid, y0, &mut driver.stats) {
-                Ok(s) => driver.run(s, o),
-                Err(f) => Err(driver.fail(f, t0, y0)),
-            }
-        }
+        Method::Rk4 { dt } => driver.run(o, t0, y0, |t, y, stats| {
+            Rk4::new(sys, FixedGrid::new(t, dt, until), y, stats)
+        }),
         Method::VariationalMidpoint { dt } => {
-            let grid = FixedGrid::new(t0, dt, until);
             // Check the dynamics at the start (a singular mass matrix is reported up front).
-            match sys.accelerations(&y0[0], &y0[1], t0) {
-                Ok(_) => match manifold {
-                    Some(m) => match Rattle::new(sys, m, grid, y0[0], y0[1]) {
-                        Ok(s) => driver.run(s, o),
-                        Err(f) => Err(driver.fail(f, t0, y0)),
-                    },
-                    None => {
-                        let s = VariationalMidpoint::new(sys, grid, y0[0], y0[1]);
-                        driver.run(s, o)
-                    }
-                },
-                Err(e) => Err(driver.fail(Fault::Dynamics(e), t0, y0)),
+            if let Err(e) = sys.accelerations(&y0[0], &y0[1], t0) {
+                return Err(driver.fail(Fault::Dynamics(e), t0, y0));
+            }
+            match manifold {
+                Some(m) => driver.run(o, t0, y0, |t, y, _| {
+                    Rattle::new(sys, m, FixedGrid::new(t, dt, until), y[0], y[1])
+                }),
+                None => driver.run(o, t0, y0, |t, y, _| {
+                    Ok(VariationalMidpoint::new(
+                        sys,
+                        FixedGrid::new(t, dt, until),
+                        y[0],
+                        y[1],
+                    ))
+                }),
             }
         }
-        Method::DormandPrince { rtol, atol } => {
-            match Dopri5::new(sys, t0, y0, rtol, atol, hmax, &mut driver.stats) {
-                Ok(s) => driver.run(s, o),
-                Err(f) => Err(driver.fail(f, t0, y0)),
-            }
+        Method::DormandPrince { rtol, atol } => driver.run(o, t0, y0, |t, y, stats| {
+            Dopri5::new(sys, t, y, rtol, atol, hmax, stats)
+        }),
+        Method::Dop853 { rtol, atol } => driver.run(o, t0, y0, |t, y, stats| {
+            Dop853::new(sys, t, y, rtol, atol, hmax, stats)
+        }),
+        Method::Taylor { tol } => {
+            driver.run(o, t0, y0, |t, y, _| Ok(Taylor::new(sys, t, y, tol, hmax)))
         }
-        Method::Dop853 { rtol, atol } => {
-            match Dop853::new(sys, t0, y0, rtol, atol, hmax, &mut driver.stats) {
-                Ok(s) => driver.run(s, o),
-                Err(f) => Err(driver.fail(f, t0, y0)),
-            }
-        }
-        Method::Taylor { tol } => driver.run(Taylor::new(sys, t0, y0, tol, hmax), o),
     }
 }
 
@@ -166,6 +162,12 @@ pub(super) struct Driver<'s, 'a, 'o, L, const N: usize> {
     work: Work,
     /// The Gauss–Legendre rule of the work integral where the method wants more than 4 points.
     gauss: Vec<(f64, f64)>,
+    /// The energy the jumps of resetting events added (the work column carries it).
+    jump_work: f64,
+    /// Each resetting event's hit times (for the Zeno test).
+    reset_hits: Vec<Vec<f64>>,
+    /// A jump just taken: the method restarts from this (t, y).
+    pending: Option<(f64, Y<N>)>,
 }
 
 /// The work W done on the system since t0 (the integral of [`Lagrangian::power`]), known at the
@@ -226,6 +228,12 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         o: &RunOptions,
         observer: Option<&'o mut dyn FnMut(&Sample<N>)>,
     ) -> Self {
+        let mut traj = Trajectory::empty::<L>(manifold.map_or(0, |m| m.count()));
+        if events.iter().any(|e| e.is_reset()) {
+            // A jump changes the energy and the momenta: the work column carries its energy.
+            traj.energy_conserved = false;
+            traj.momentum_conserved = [false; N];
+        }
         Driver {
             sys,
             method,
@@ -235,9 +243,12 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             max_samples: o.max_samples,
             max_samples_default: o.max_samples_default,
             dense: o.dense_budget.map(|b| (Kind::of(method), b)),
-            traj: Trajectory::empty::<L>(manifold.map_or(0, |m| m.count())),
+            traj,
             work: Work::default(),
             gauss: Vec::new(),
+            jump_work: 0.0,
+            reset_hits: vec![Vec::new(); events.len()],
+            pending: None,
             stats: Stats::default(),
             manifold,
             project_steps: manifold.is_some()
@@ -294,7 +305,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             qdot: y[1],
             energy,
             momenta,
-            work,
+            work: work + self.jump_work,
         };
         if let Some(f) = self.observer.as_mut() {
             f(&sample);
@@ -446,25 +457,72 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         }
     }
 
+    /// Runs from (t0, y0) on the stepper `make` builds, built again from the state after each
+    /// jump of a resetting event.
     fn run<S: Stepper<N>>(
         mut self,
-        mut s: S,
         o: &RunOptions,
+        t0: f64,
+        y0: Y<N>,
+        mut make: impl FnMut(f64, Y<N>, &mut Stats) -> Result<S, Fault>,
     ) -> Result<Trajectory<N>, SimulationError> {
-        let r = self.drive(&mut s, o);
+        let mut s = match make(t0, y0, &mut self.stats) {
+            Ok(s) => s,
+            Err(f) => return Err(self.fail(f, t0, y0)),
+        };
+        let r = self.drive(&mut s, o, &mut make);
         self.conclude(r, &s)
     }
 
-    fn drive<S: Stepper<N>>(&mut self, s: &mut S, o: &RunOptions) -> Result<(), Fault> {
+    fn drive<S: Stepper<N>>(
+        &mut self,
+        s: &mut S,
+        o: &RunOptions,
+        make: &mut impl FnMut(f64, Y<N>, &mut Stats) -> Result<S, Fault>,
+    ) -> Result<(), Fault> {
         let mut p = self.begin(s, o)?;
+        // After a jump, an adaptive method's steps are capped, from a small first step growing
+        // 8× a step: the event that fired sits at g = 0, and a first step long enough to go up
+        // and come back down past it (a polynomial motion, whose error estimate is nil) would
+        // cross it unseen.
+        let mut cap: Option<f64> = None;
         while s.t() < o.until {
             self.check_budget(o)?;
-            s.advance(o.until, &mut self.stats)?;
+            let t_end = cap.map_or(o.until, |h| o.until.min(s.t() + h));
+            s.advance(t_end, &mut self.stats)?;
+            cap = cap.map(|h| 8.0 * h).filter(|&h| s.t() + h < o.until);
             if self.after_step(s, o, &mut p)? {
-                return Ok(());
+                let Some((t, y)) = self.pending.take() else {
+                    return Ok(());
+                };
+                *s = make(t, y, &mut self.stats)?;
+                // The events' values start afresh from the state after the jump; the event that
+                // fired is on its zero (exactly 0: neither direction's crossing starts there).
+                for (g, e) in p.g_old.iter_mut().zip(self.events) {
+                    *g = e.value(t, &y[0], &y[1]);
+                }
+                if let Some(&(_, i, _)) = p.hits.iter().find(|h| h.0 == t) {
+                    p.g_old[i] = 0.0;
+                }
+                cap = self.first_step_after_jump(t, &y);
             }
         }
         self.finish(s)
+    }
+
+    /// The cap on the first step after a jump to (t, y): a hundredth of the time the state
+    /// takes to change by its own size, ‖y‖∞/‖ẏ‖∞ (none for the fixed-step methods, whose grid
+    /// restarts at the jump, or where it is not finite).
+    fn first_step_after_jump(&self, t: f64, y: &Y<N>) -> Option<f64> {
+        if self.method.is_fixed_step() {
+            return None;
+        }
+        let a = self.sys.accelerations(&y[0], &y[1], t).ok()?;
+        let norm = |xs: &mut dyn Iterator<Item = &f64>| xs.fold(0.0_f64, |m, x| m.max(x.abs()));
+        let size = norm(&mut y.iter().flatten()).max(1e-6);
+        let rate = norm(&mut y[1].iter().chain(a.iter()));
+        let h = 0.01 * size / rate;
+        (h.is_finite() && h > 0.0).then_some(h)
     }
 
     /// The step budget, checked before every step.
@@ -556,36 +614,54 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             let dw = self.power_integral(s, t_a, t_b)?;
             self.work.at_node = self.work.at_prev + dw;
         }
-        // Events: sign changes of g over the step, located on the interpolant.
+        // Events: sign changes of g over the step, located on the interpolant. g is read at
+        // three interior points too, so a g that turns around inside one step (a ball up and
+        // back down within one long polynomial step) is found.
         hits.clear();
         if !self.events.is_empty() {
             let yb = s.node(&mut self.stats)?;
+            let h = t_b - t_a;
+            let mut inner = [(0.0, [[0.0; N]; 2]); 3];
+            for (k, slot) in inner.iter_mut().enumerate() {
+                let t = t_a + h * (k + 1) as f64 / 4.0;
+                *slot = (t, s.interp(t, &mut self.stats)?);
+            }
             for (i, ev) in self.events.iter().enumerate() {
                 g_new[i] = ev.value(t_b, &yb[0], &yb[1]);
-                if let Some(dir) = ev.crosses(g_old[i], g_new[i]) {
-                    let tol = 1e-12_f64.max(4.0 * f64::EPSILON * t_b.abs());
-                    let stats = &mut self.stats;
-                    let tz = brent(
-                        |t| {
-                            let y = s.interp(t, stats)?;
-                            Ok::<f64, Fault>(ev.value(t, &y[0], &y[1]))
-                        },
-                        t_a,
-                        t_b,
-                        g_old[i],
-                        g_new[i],
-                        tol,
-                    )?;
-                    hits.push((tz, i, dir));
+                let mut prev = (t_a, g_old[i]);
+                for k in 0..4 {
+                    let next = match inner.get(k) {
+                        Some((t, y)) => (*t, ev.value(*t, &y[0], &y[1])),
+                        None => (t_b, g_new[i]),
+                    };
+                    if let Some(dir) = ev.crosses(prev.1, next.1) {
+                        let tol = 1e-12_f64.max(4.0 * f64::EPSILON * t_b.abs());
+                        let stats = &mut self.stats;
+                        let tz = brent(
+                            |t| {
+                                let y = s.interp(t, stats)?;
+                                Ok::<f64, Fault>(ev.value(t, &y[0], &y[1]))
+                            },
+                            prev.0,
+                            next.0,
+                            prev.1,
+                            next.1,
+                            tol,
+                        )?;
+                        hits.push((tz, i, dir));
+                    }
+                    prev = next;
                 }
             }
             g_old.copy_from_slice(g_new);
             hits.sort_by(|a, b| a.0.total_cmp(&b.0));
         }
-        let stop = hits
+        // The run stops at its first terminal hit; the stepper stops at the first jump.
+        let stopping = hits
             .iter()
-            .position(|h| self.events[h.1].is_terminal())
-            .map(|k| hits[k].0);
+            .position(|h| self.events[h.1].is_terminal() || self.events[h.1].is_reset())
+            .map(|k| (hits[k].0, hits[k].1));
+        let stop = stopping.map(|(t, _)| t);
         let t_stop = stop.unwrap_or(t_b);
         // Samples in (t_a, t_stop], then the events up to t_stop.
         match o.sampling {
@@ -633,19 +709,58 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
                 direction: dir,
             });
         }
-        if let Some(tz) = stop {
+        if let Some((tz, i)) = stopping {
             let y = s.interp(tz, &mut self.stats)?;
             if let Some(d) = self.traj.dense_mut() {
                 d.stop_at(tz, y);
             }
             let w = self.work_at(s, tz)?;
             self.push(tz, &y, w)?;
-            if let Some(h) = self.traj.events.last() {
-                self.traj.terminated_by = Some(h.name.clone());
+            let ev = &self.events[i];
+            match ev.apply_reset(tz, &y[0], &y[1]) {
+                Some((q, qdot)) if !ev.is_terminal() => self.jump(i, tz, y, [q, qdot], w)?,
+                _ => self.traj.terminated_by = Some(ev.name().to_string()),
             }
             return Ok(true);
         }
         Ok(false)
+    }
+
+    /// The jump of resetting event `i` at tz from `before` to `after`, W(tz) being `w`: recorded,
+    /// its energy into the work column, and the method restarted from `after` — unless the
+    /// event's hits accumulate (Zeno), which ends the run here, before the jump.
+    fn jump(&mut self, i: usize, tz: f64, before: Y<N>, after: Y<N>, w: f64) -> Result<(), Fault> {
+        if after.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(Fault::NonFinite);
+        }
+        let name = self.events[i].name().to_string();
+        let hits = &mut self.reset_hits[i];
+        hits.push(tz);
+        // The hits accumulate: the run ends at this one, before its jump.
+        if let Some((ratio, t_accumulation)) = zeno(hits) {
+            self.traj.zeno = Some(Zeno {
+                event: name.clone(),
+                ratio,
+                t_last: tz,
+                t_accumulation,
+                hits: hits.len(),
+            });
+            self.traj.terminated_by = Some(format!("{name} (Zeno)"));
+            return Ok(());
+        }
+        let e0 = self.sys.energy(&before[0], &before[1], tz);
+        let e1 = self.sys.energy(&after[0], &after[1], tz);
+        self.traj.jumps.push(Jump {
+            event: name,
+            t: tz,
+            before: (before[0], before[1]),
+            after: (after[0], after[1]),
+            energy_change: e1 - e0,
+        });
+        self.jump_work += e1 - e0;
+        self.work.at_node = w;
+        self.pending = Some((tz, after));
+        Ok(())
     }
 
     /// The run's outcome: its trajectory, or the error with the trajectory up to the stepper's

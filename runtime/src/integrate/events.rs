@@ -23,6 +23,10 @@ pub enum Direction {
 /// The event function's type: g(t, q, q̇).
 type EventFn<'a, const N: usize> = Box<dyn Fn(f64, &[f64; N], &[f64; N]) -> f64 + 'a>;
 
+/// A reset map's type: (q⁺, q̇⁺) from (t, q⁻, q̇⁻).
+type ResetFn<'a, const N: usize> =
+    Box<dyn Fn(f64, &[f64; N], &[f64; N]) -> ([f64; N], [f64; N]) + 'a>;
+
 /// A zero crossing to detect during a run: g(t, q, q̇) = 0, with a direction filter and an
 /// optional terminal flag (the run stops at the first terminal hit).
 ///
@@ -36,6 +40,7 @@ pub struct Event<'a, const N: usize> {
     g: EventFn<'a, N>,
     direction: Direction,
     terminal: bool,
+    reset: Option<ResetFn<'a, N>>,
 }
 
 impl<'a, const N: usize> Event<'a, N> {
@@ -55,6 +60,7 @@ impl<'a, const N: usize> Event<'a, N> {
             g: Box::new(g),
             direction: Direction::Any,
             terminal: false,
+            reset: None,
         }
     }
 
@@ -99,6 +105,57 @@ impl<'a, const N: usize> Event<'a, N> {
     pub fn terminal(mut self) -> Self {
         self.terminal = true;
         self
+    }
+
+    /// At each hit the state jumps to `reset(t, q⁻, q̇⁻) = (q⁺, q̇⁺)` and the run goes on from it,
+    /// the method started afresh (an impact, a switch): the jump is recorded in
+    /// [`Trajectory::jumps`](crate::Trajectory::jumps), its energy change enters the work column
+    /// (so the energy balance h − h₀ − W holds across it), and an accumulation of hits (impact
+    /// times converging geometrically: a Zeno run) ends the run at the last one with
+    /// [`Trajectory::zeno`](crate::Trajectory::zeno) saying when the hits would accumulate.
+    /// The trajectory's sample at the hit is the state before the jump.
+    ///
+    /// ```
+    /// use lagrange_runtime::Event;
+    /// // a ball on the floor x = 0 with restitution 0.8
+    /// let e = Event::zero_crossing("floor", |_t, q: &[f64; 1], _v| q[0])
+    ///     .falling()
+    ///     .reset(|_t, q, v| (*q, [-0.8 * v[0]]));
+    /// assert!(e.is_reset());
+    /// assert_eq!(e.apply_reset(0.0, &[0.0], &[-5.0]), Some(([0.0], [4.0])));
+    /// ```
+    pub fn reset<F>(mut self, reset: F) -> Self
+    where
+        F: Fn(f64, &[f64; N], &[f64; N]) -> ([f64; N], [f64; N]) + 'a,
+    {
+        self.reset = Some(Box::new(reset));
+        self
+    }
+
+    /// Whether the state jumps at this event.
+    ///
+    /// ```
+    /// use lagrange_runtime::Event;
+    /// assert!(!Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).is_reset());
+    /// ```
+    pub fn is_reset(&self) -> bool {
+        self.reset.is_some()
+    }
+
+    /// The state after the jump at (t, q, q̇), for an event that resets.
+    ///
+    /// ```
+    /// use lagrange_runtime::Event;
+    /// let e = Event::zero_crossing("x", |_t, q: &[f64; 1], _v| q[0]).reset(|_t, q, v| (*q, [-v[0]]));
+    /// assert_eq!(e.apply_reset(1.0, &[0.0], &[2.0]), Some(([0.0], [-2.0])));
+    /// ```
+    pub fn apply_reset(
+        &self,
+        t: f64,
+        q: &[f64; N],
+        qdot: &[f64; N],
+    ) -> Option<([f64; N], [f64; N])> {
+        self.reset.as_ref().map(|r| r(t, q, qdot))
     }
 
     /// The event's name.
@@ -162,6 +219,7 @@ impl<const N: usize> fmt::Debug for Event<'_, N> {
             .field("name", &self.name)
             .field("direction", &self.direction)
             .field("terminal", &self.terminal)
+            .field("reset", &self.reset.is_some())
             .finish_non_exhaustive()
     }
 }
@@ -185,6 +243,85 @@ pub struct EventHit<const N: usize> {
     pub qdot: [f64; N],
     /// Whether g was rising or falling through zero.
     pub direction: Direction,
+}
+
+/// A jump of the state at a resetting event ([`Event::reset`]).
+///
+/// ```
+/// use lagrange_runtime::Jump;
+/// let j = Jump { event: "floor".into(), t: 0.45, before: ([0.0], [-4.4]), after: ([0.0], [3.5]), energy_change: -3.5 };
+/// assert!(j.energy_change < 0.0);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Jump<const N: usize> {
+    /// The event's name.
+    pub event: String,
+    /// When.
+    pub t: f64,
+    /// (q, q̇) before the jump.
+    pub before: ([f64; N], [f64; N]),
+    /// (q, q̇) after the jump.
+    pub after: ([f64; N], [f64; N]),
+    /// The energy after minus the energy before (the Jacobi integral h; negative for an impact
+    /// that dissipates): the work column carries it.
+    pub energy_change: f64,
+}
+
+/// An accumulation of a resetting event's hits (a Zeno run: a ball bouncing ever lower): the
+/// hit intervals shrank by one ratio, so the hits accumulate at a finite time, where the run
+/// stopped instead of integrating them one by one.
+///
+/// ```
+/// use lagrange_runtime::Zeno;
+/// let z = Zeno { event: "floor".into(), ratio: 0.8, t_last: 4.0, t_accumulation: 4.1, hits: 12 };
+/// assert!(z.to_string().contains("4.1"));
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Zeno {
+    /// The event's name.
+    pub event: String,
+    /// The ratio of successive intervals between hits.
+    pub ratio: f64,
+    /// The last hit integrated (where the run stopped).
+    pub t_last: f64,
+    /// Where the hits accumulate: t_last + Δ r/(1 − r), Δ the last interval.
+    pub t_accumulation: f64,
+    /// The event's hits integrated.
+    pub hits: usize,
+}
+
+impl fmt::Display for Zeno {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "the hits of event \"{}\" accumulate (Zeno): {} hits, intervals shrinking by {:.6} \
+             each, accumulating at t = {} (the run stopped at the last hit, t = {}); past it the \
+             motion rests in contact, which a reset map cannot express: model the contact as a \
+             constraint from there, or stop the run with a terminal event",
+            self.event, self.hits, self.ratio, self.t_accumulation, self.t_last
+        )
+    }
+}
+
+/// How many intervals between hits, shrinking by one ratio, make a Zeno run.
+pub(crate) const ZENO_INTERVALS: usize = 6;
+
+/// The accumulation of the hit times `ts` (oldest first), if the last [`ZENO_INTERVALS`]
+/// intervals shrink by one ratio r < 0.999 (to 1e-6): (r, the accumulation time).
+pub(crate) fn zeno(ts: &[f64]) -> Option<(f64, f64)> {
+    if ts.len() < ZENO_INTERVALS + 1 {
+        return None;
+    }
+    let tail = &ts[ts.len() - ZENO_INTERVALS - 1..];
+    let d: Vec<f64> = tail.windows(2).map(|w| w[1] - w[0]).collect();
+    let ratios: Vec<f64> = d.windows(2).map(|w| w[1] / w[0]).collect();
+    let r = ratios[ratios.len() - 1];
+    let agree = ratios.iter().all(|&x| (x - r).abs() <= 1e-6 * r);
+    if !(agree && r > 0.0 && r < 0.999) {
+        return None;
+    }
+    let (last, dl) = (tail[tail.len() - 1], d[d.len() - 1]);
+    Some((r, last + dl * r / (1.0 - r)))
 }
 
 /// Brent's method (Numerical Recipes `zbrent`) for a root of f in [a, b] where f(a), f(b) have
@@ -275,6 +412,19 @@ mod tests {
     fn brent_finds_cos_root_to_1e_12() {
         let r: Result<f64, ()> = brent(|x| Ok(x.cos()), 1.0, 2.0, 1f64.cos(), 2f64.cos(), 1e-12);
         assert!((r.unwrap() - core::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn zeno_needs_one_shrinking_ratio() {
+        let geometric: Vec<f64> = (0..8).map(|k| 1.0 - 0.5_f64.powi(k)).collect();
+        let (r, t) = zeno(&geometric).unwrap();
+        assert!((r - 0.5).abs() < 1e-15 && (t - 1.0).abs() < 1e-15);
+        let periodic: Vec<f64> = (0..8).map(f64::from).collect();
+        assert_eq!(zeno(&periodic), None);
+        assert_eq!(zeno(&geometric[..6]), None);
+        let mut broken = geometric.clone();
+        broken[4] += 1e-3;
+        assert_eq!(zeno(&broken), None);
     }
 
     #[test]

@@ -64,7 +64,7 @@ mod variational;
 
 pub use dense::DenseOutputError;
 pub use error::{PartialTrajectory, SimulationError};
-pub use events::{Direction, Event, EventHit};
+pub use events::{Direction, Event, EventHit, Jump, Zeno};
 pub use method::Method;
 pub use report::NamedInvariants;
 pub use simulation::Simulation;

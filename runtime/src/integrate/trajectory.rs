@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::dense::{Dense, DenseOutputError};
-use super::events::EventHit;
+use super::events::{EventHit, Jump, Zeno};
 use super::state::{Fault, Stats};
 
 /// The memory the stored samples of a run may take when [`Simulation::max_samples`](crate::Simulation::max_samples)
@@ -241,6 +241,11 @@ pub struct Trajectory<const N: usize> {
     pub work: Vec<f64>,
     /// Located events, in time order.
     pub events: Vec<EventHit<N>>,
+    /// The jumps of the state at resetting events ([`Event::reset`](crate::Event::reset)), in
+    /// time order.
+    pub jumps: Vec<Jump<N>>,
+    /// The accumulation of a resetting event's hits that ended the run, if one did.
+    pub zeno: Option<Zeno>,
     /// Counters.
     pub stats: Stats,
     /// The coordinate names.
@@ -281,6 +286,8 @@ impl<const N: usize> Trajectory<N> {
             momenta: Vec::new(),
             work: Vec::new(),
             events: Vec::new(),
+            jumps: Vec::new(),
+            zeno: None,
             stats: Stats::default(),
             coordinates: L::COORDINATES,
             cyclic: L::CYCLIC,

@@ -37,6 +37,20 @@ impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
                 self.q0, self.qdot0
             ));
         }
+        if self.manifold.is_some() && self.events.iter().any(|e| e.is_reset()) {
+            let name = self
+                .events
+                .iter()
+                .find(|e| e.is_reset())
+                .map_or("", |e| e.name());
+            return Err(format!(
+                "event \"{name}\" resets the state, and this run has constraints: a jump must \
+                 land on the constraints (q on g = 0, q̇ with G q̇ + ∂g/∂t = 0), which a reset map \
+                 does not know, so constrained runs take no resetting events yet; run the system \
+                 without constraints (in coordinates that satisfy them), or end the run with a \
+                 terminal event and start a new one from the state you want"
+            ));
+        }
         let positive = |name: &str, x: f64| {
             if x > 0.0 && x.is_finite() {
                 Ok(())

@@ -203,8 +203,10 @@ pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
             return None;
         }
     };
+    // Members whose events reset the state run on the scalar driver (its restarts).
+    let resets = p.events.iter().any(|e| e.is_reset());
     let settings = match (takes(p.method), &p.manifold) {
-        (Some(settings), None) => settings,
+        (Some(settings), None) if !resets => settings,
         _ => {
             out(pos, scalar(p));
             return None;
