@@ -118,7 +118,7 @@ macro_rules! mixed_op {
         /// Constant on the left, coordinate-dependent value on the right.
         #[diagnostic::on_unimplemented(
             message = "cannot combine constant `{Self}` with `{Rhs}` in a Lagrangian body",
-            label = "constants must be `f64` or `Vector3<f64>`; values of the coordinates `Scalar` or `Vector3<Scalar>`"
+            label = "constants must be `f64` or `Vector3<f64>` (or a `Rotation<f64>`, a `Matrix3<f64>`); values of the coordinates `Scalar` or `Vector3<Scalar>`"
         )]
         pub trait $ConstOp<Rhs> {
             type Output;
@@ -127,7 +127,7 @@ macro_rules! mixed_op {
         /// Coordinate-dependent value on the left, constant on the right.
         #[diagnostic::on_unimplemented(
             message = "cannot combine `{Self}` with constant `{C}` in a Lagrangian body",
-            label = "constants must be `f64` or `Vector3<f64>`; values of the coordinates `Scalar` or `Vector3<Scalar>`"
+            label = "constants must be `f64` or `Vector3<f64>` (or a `Rotation<f64>`, a `Matrix3<f64>`); values of the coordinates `Scalar` or `Vector3<Scalar>`"
         )]
         pub trait $OpConst<C> {
             type Output;
