@@ -9,7 +9,7 @@ use core::fmt;
 use super::method::Method;
 use super::state::{Fault, Stats, Y};
 use super::stepper::Stepper;
-use super::{dop853, dopri5, rk4, taylor, variational};
+use super::{dop853, dopri5, radau5, rk4, taylor, variational};
 
 /// Which interpolant the rows of a step hold: the method's own (one per run).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -24,6 +24,8 @@ pub(crate) enum Kind {
     Variational,
     /// The Taylor method's series of the step, in t − t₀ (p + 1 rows, more where widened).
     Taylor,
+    /// Radau IIA's collocation polynomial (degree 3): 4 rows, in (t − t₀)/h.
+    Radau5,
 }
 
 impl Kind {
@@ -35,6 +37,7 @@ impl Kind {
             Method::Rk4 { .. } => Kind::Hermite,
             Method::VariationalMidpoint { .. } => Kind::Variational,
             Method::Taylor { .. } => Kind::Taylor,
+            Method::Radau5 { .. } => Kind::Radau5,
         }
     }
 }
@@ -176,6 +179,7 @@ impl<const N: usize> Dense<N> {
             Kind::Hermite => rk4::hermite(&r[0], &r[1], &r[2], &r[3], h, (t - t0) / h),
             Kind::Variational => variational::across_step(t0, h, &r[0], &r[1], t),
             Kind::Taylor => taylor::horner(r, t - t0),
+            Kind::Radau5 => radau5::eval_dense(&core::array::from_fn(|j| r[j]), (t - t0) / h),
         })
     }
 }

@@ -11,6 +11,7 @@ use super::error::{PartialTrajectory, SimulationError};
 use super::events::{brent, zeno, Direction, Event, EventHit, Jump, Zeno};
 use super::manifold::Manifold;
 use super::method::Method;
+use super::radau5::Radau5;
 use super::rattle::Rattle;
 use super::rk4::Rk4;
 use super::state::Stats;
@@ -71,6 +72,9 @@ pub(super) fn run<L: Lagrangian<N>, const N: usize>(
         Method::Taylor { tol } => {
             driver.run(o, t0, y0, |t, y, _| Ok(Taylor::new(sys, t, y, tol, hmax)))
         }
+        Method::Radau5 { rtol, atol } => driver.run(o, t0, y0, |t, y, stats| {
+            Radau5::new(sys, t, y, rtol, atol, hmax, stats)
+        }),
     }
 }
 

@@ -1,5 +1,5 @@
-//! Time integration of any [`Lagrangian`](crate::Lagrangian): RK4, Dormand–Prince 5(4), DOP853
-//! and a variational midpoint integrator, with dense output, events and invariant reports.
+//! Time integration of any [`Lagrangian`](crate::Lagrangian): RK4, Dormand–Prince 5(4), DOP853,
+//! Radau IIA (stiff systems), the Taylor method and a variational midpoint integrator, with dense output, events and invariant reports.
 //!
 //! Build a run with [`Simulation`], pick a [`Method`], add [`Event`]s, and [`Simulation::run`] it to
 //! get a [`Trajectory`] (or a [`SimulationError`] that still holds the trajectory up to the
@@ -50,6 +50,7 @@ pub(crate) mod lanes;
 mod manifold;
 mod method;
 mod newton;
+mod radau5;
 mod rattle;
 mod report;
 mod rk4;

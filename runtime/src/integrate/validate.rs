@@ -154,7 +154,9 @@ impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
                         .to_string());
                 }
             }
-            Method::DormandPrince { rtol, atol } | Method::Dop853 { rtol, atol } => {
+            Method::DormandPrince { rtol, atol }
+            | Method::Dop853 { rtol, atol }
+            | Method::Radau5 { rtol, atol } => {
                 positive("rtol", rtol)?;
                 if !(atol >= 0.0 && atol.is_finite()) {
                     return Err(format!("atol = {atol} must be non-negative and finite"));
@@ -164,6 +166,13 @@ impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
                         "rtol = {rtol:e} is below what double precision can deliver; use rtol ≥ 1e-15 \
                          (1e-13 is a practical floor)"
                     ));
+                }
+                if matches!(self.method, Method::Radau5 { .. }) && self.manifold.is_some() {
+                    return Err("Method::Radau5 does not take holonomic constraints (its \
+                         Newton matrix is that of the unconstrained accelerations): use \
+                         Method::VariationalMidpoint (RATTLE) or Method::Dop853 (projected after \
+                         every step) for a constrained run"
+                        .to_string());
                 }
             }
         }
