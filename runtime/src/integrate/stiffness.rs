@@ -1,7 +1,7 @@
 //! Stiffness diagnosis: when an explicit method runs out of steps or blows up, whether a fast
 //! mode of the system is the reason, from the eigenvalues of the linearization at the last good
 //! state. The error then says so, with the mode's frequency, the step it forced, and what helps
-//! (an implicit method), instead of advising looser tolerances, which do not move a step that
+//! (an implicit method: Radau5 first), instead of advising looser tolerances, which do not move a step that
 //! stability bounds.
 
 use core::fmt;
@@ -26,7 +26,10 @@ pub const STIFF_RATIO: f64 = 100.0;
 /// ```
 /// use lagrange_runtime::integrate::Stiffness;
 /// let s = Stiffness { omega_max: 1.0e4, omega_min: Some(0.7), h: 7.0e-5, limit: None };
-/// assert!(s.to_string().contains("VariationalMidpoint"));
+/// let m = s.to_string();
+/// // The adaptive implicit method first, the variational one second.
+/// let (radau, variational) = (m.find("Method::Radau5").unwrap(), m.find("VariationalMidpoint").unwrap());
+/// assert!(radau < variational);
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stiffness {
@@ -43,8 +46,11 @@ pub struct Stiffness {
 impl fmt::Display for Stiffness {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let w = self.omega_max;
-        let implicit = "Method::VariationalMidpoint { dt } (implicit and A-stable: stable at any \
-                        dt, with dt chosen for the slow motion; the fast mode is then not resolved)";
+        let implicit = "Method::Radau5 { rtol, atol } (implicit, L-stable and adaptive: its \
+                        steps follow the slow motion while the fast mode is damped out, not \
+                        resolved), or Method::VariationalMidpoint { dt } (implicit and A-stable: \
+                        stable at any dt, with dt chosen for the slow motion; the fast mode is then \
+                        not resolved)";
         match self.limit {
             Some(limit) => write!(
                 f,

@@ -499,7 +499,9 @@ fn stiffness_is_diagnosed_where_it_stops_a_run() {
     let m = err.to_string();
     assert!(
         m.contains("The system is stiff")
+            && m.contains("Method::Radau5 { rtol, atol }")
             && m.contains("VariationalMidpoint")
+            && m.find("Method::Radau5") < m.find("VariationalMidpoint")
             && !m.contains("loosen the tolerances or"),
         "{m}"
     );
@@ -535,7 +537,9 @@ fn stiffness_is_diagnosed_where_it_stops_a_run() {
     assert_eq!(s.limit, Some(super::stiffness::RK4_LIMIT));
     let m = err.to_string();
     assert!(
-        m.contains("dt < 2.000e-4") && m.contains("VariationalMidpoint"),
+        m.contains("dt < 2.000e-4")
+            && m.contains("Method::Radau5 { rtol, atol }")
+            && m.find("Method::Radau5") < m.find("VariationalMidpoint"),
         "{m}"
     );
     // …and a step below the limit runs.

@@ -1,0 +1,341 @@
+//! Stiff mechanics (issue 39): `Method::Radau5` against closed forms and against the explicit
+//! methods on stiff systems (two masses joined by a stiff spring, the stiff spring pendulum, a
+//! heavily damped driven oscillator), its accuracy on a non-stiff one (the heavy top), its dense
+//! output under events and samples, its refusal of constraints, and the stiffness diagnosis that
+//! points to it.
+//!
+//! The systems are those of the `stiff` example and benchmark (examples/support/stiff_system.rs).
+
+use lagrange::prelude::*;
+use lagrange_examples::stiff_system::{DampedDriven, RigidPendulumXy, SpringPendulum, TwoMasses};
+
+use crate::support::hand::HeavyTop;
+
+/// Radau5 at rtol 1e-8 on the stiff problems.
+const RADAU: Method = Method::Radau5 {
+    rtol: 1e-8,
+    atol: 1e-10,
+};
+
+/// The largest difference between two states.
+fn max_diff(a: ([f64; 2], [f64; 2]), b: ([f64; 2], [f64; 2])) -> f64 {
+    (0..2).fold(0.0_f64, |m, i| {
+        m.max((a.0[i] - b.0[i]).abs()).max((a.1[i] - b.1[i]).abs())
+    })
+}
+
+/// The two-mass run of `method` to t = 10 from the slow manifold: its steps and its error
+/// against the modal solution at the end, or `None` past `max_steps`.
+fn two_masses(method: Method, max_steps: usize) -> Option<(usize, f64)> {
+    let sys = TwoMasses::STIFF;
+    let (q0, v0) = sys.slow_start();
+    let tr = Simulation::new(&sys, q0, v0)
+        .method(method)
+        .until(10.0)
+        .max_steps(max_steps)
+        .keep_samples(false)
+        .run()
+        .ok()?;
+    let end = (*tr.q.last()?, *tr.qdot.last()?);
+    Some((tr.stats.steps, max_diff(end, sys.exact(q0, v0, 10.0))))
+}
+
+/// Two masses, k₁ = 1 and k₂ = 10⁸, from the slow manifold: Radau5 reaches t = 10 within 1e-7
+/// of the exact solution in at most 1,000 steps; DOP853 needs over 100 times as many (measured
+/// 2026-11-27: Radau5 91 steps, error 2.4e-9; DOP853 ~49,000 steps).
+#[test]
+fn radau5_crosses_the_two_masses_in_few_steps() {
+    let (steps, err) = two_masses(RADAU, 1_000_000).expect("Radau5 reaches t = 10");
+    eprintln!("two masses: Radau5 {steps} steps, error {err:.2e}");
+    assert!(err <= 1e-7, "error {err:e}");
+    assert!(steps <= 1000, "{steps} steps");
+    let (dop, dop_err) = two_masses(
+        Method::Dop853 {
+            rtol: 1e-8,
+            atol: 1e-10,
+        },
+        1_000_000,
+    )
+    .expect("DOP853 reaches t = 10");
+    eprintln!("two masses: DOP853 {dop} steps, error {dop_err:.2e}");
+    assert!(dop > 100 * steps, "DOP853 {dop} vs Radau5 {steps}");
+    assert!(dop > 10_000, "DOP853 {dop}");
+}
+
+/// The stiff spring pendulum (k = 1/ε², ε = 10⁻⁴, g = l = m = 1, θ₀ = 1, from the slow
+/// manifold) follows the rigid pendulum (DOP853 on the constrained system at rtol 1e-12) to 1e-6
+/// in θ up to t = 10, in at most 2,000 steps.
+#[test]
+fn radau5_stiff_spring_pendulum_follows_the_rigid_one() {
+    let sys = SpringPendulum::STIFF;
+    let (q0, v0) = sys.slow_start(1.0, 0.0);
+    let times: Vec<f64> = (1..=100).map(|k| 0.1 * k as f64).collect();
+    let tr = Simulation::new(&sys, q0, v0)
+        .method(RADAU)
+        .until(10.0)
+        .sample_at(times.iter().copied())
+        .run()
+        .expect("Radau5 runs the spring pendulum");
+    let rigid = RigidPendulumXy {
+        m: 1.0,
+        g: 1.0,
+        l: 1.0,
+    };
+    let (p0, u0) = rigid.state(1.0, 0.0);
+    let rt = Simulation::constrained(&rigid, p0, u0)
+        .method(Method::Dop853 {
+            rtol: 1e-12,
+            atol: 1e-12,
+        })
+        .until(10.0)
+        .sample_at(times.iter().copied())
+        .run()
+        .expect("DOP853 runs the rigid pendulum");
+    assert_eq!(tr.t.len(), rt.t.len());
+    let mut worst = 0.0_f64;
+    for (k, (q, p)) in tr.q.iter().zip(&rt.q).enumerate() {
+        assert_eq!(tr.t[k], rt.t[k]);
+        worst = worst.max((q[1] - RigidPendulumXy::theta(p)).abs());
+    }
+    eprintln!(
+        "spring pendulum: Radau5 {} steps ({} rejected), max |θ − θ_rigid| {worst:.2e}",
+        tr.stats.steps, tr.stats.rejected
+    );
+    assert!(worst <= 1e-6, "θ off the rigid pendulum by {worst:e}");
+    assert!(tr.stats.steps <= 2000, "{:?}", tr.stats);
+}
+
+/// The heavy top of tests/integrators.rs.
+const TOP: HeavyTop = HeavyTop {
+    i_perp: 1.0,
+    i_par: 0.6,
+    mgl: 1.0,
+};
+const TOP_Q0: [f64; 3] = [1.0, 0.0, 0.0];
+const TOP_V0: [f64; 3] = [0.0, -0.5, 8.0];
+
+/// Least-squares slope of ln y against ln x.
+fn slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
+    for &(x, y) in points {
+        let (lx, ly) = (x.ln(), y.ln());
+        sx += lx;
+        sy += ly;
+        sxx += lx * lx;
+        sxy += lx * ly;
+    }
+    (n * sxy - sx * sy) / (n * sxx - sx * sx)
+}
+
+/// On the (non-stiff) heavy top Radau5 is correct: its error at t = 10 against DOP853 at rtol
+/// 1e-13 is proportional to rtol (slope of ln error against ln rtol measured 2026-11-27: about
+/// 1, asserted in [0.8, 1.2]), and the energy drifts by at most 100 rtol.
+#[test]
+fn radau5_on_the_heavy_top_error_follows_the_tolerance() {
+    let reference = Simulation::new(&TOP, TOP_Q0, TOP_V0)
+        .method(Method::Dop853 {
+            rtol: 1e-13,
+            atol: 1e-13,
+        })
+        .until(10.0)
+        .keep_samples(false)
+        .run()
+        .unwrap();
+    let (qr, vr) = (reference.q[1], reference.qdot[1]);
+    let mut points = Vec::new();
+    for rtol in [1e-6, 1e-7, 1e-8, 1e-9, 1e-10] {
+        let tr = Simulation::new(&TOP, TOP_Q0, TOP_V0)
+            .method(Method::Radau5 { rtol, atol: rtol })
+            .until(10.0)
+            .sample_every(0.01)
+            .run()
+            .unwrap();
+        let (q, v) = (tr.q.last().unwrap(), tr.qdot.last().unwrap());
+        let err = (0..3).fold(0.0_f64, |m, i| {
+            m.max((q[i] - qr[i]).abs()).max((v[i] - vr[i]).abs())
+        });
+        let energy = tr.invariants().energy.unwrap().max_rel;
+        eprintln!(
+            "heavy top: rtol {rtol:.0e}: {} steps, error {err:.2e}, energy drift {energy:.2e}",
+            tr.stats.steps
+        );
+        assert!(energy <= 100.0 * rtol, "rtol {rtol:e}: energy drift {energy:e}");
+        points.push((rtol, err));
+    }
+    let p = slope(&points);
+    eprintln!("heavy top: error ∝ rtol^{p:.3}");
+    assert!((0.8..1.2).contains(&p), "slope {p}: {points:?}");
+}
+
+/// A heavily damped driven oscillator (k = 10⁶, c = 10⁴, written with `fn dissipation`,
+/// `fn forces` and `t: Time`) follows its closed form, transient and steady state, to 1e-8 at
+/// every step up to t = 10, in far fewer steps than DOP853 needs at the same tolerance.
+#[test]
+fn radau5_damped_driven_oscillator_follows_its_closed_form() {
+    let sys = DampedDriven::STIFF;
+    let run = |method: Method| {
+        Simulation::new(&sys, [0.0], [0.0])
+            .method(method)
+            .until(10.0)
+            .run()
+            .unwrap()
+    };
+    let tr = run(Method::Radau5 {
+        rtol: 1e-11,
+        atol: 1e-13,
+    });
+    let (mut worst, mut worst_x, mut at) = (0.0_f64, 0.0_f64, 0.0);
+    for (k, &t) in tr.t.iter().enumerate() {
+        let (x, v) = sys.exact(0.0, 0.0, t);
+        // x is O(1), ẋ too after the transient; ẋ peaks near 100 in it.
+        let e = (tr.q[k][0] - x)
+            .abs()
+            .max((tr.qdot[k][0] - v).abs() / v.abs().max(1.0));
+        worst_x = worst_x.max((tr.q[k][0] - x).abs());
+        if e > worst {
+            (worst, at) = (e, t);
+        }
+    }
+    let dop = run(Method::Dop853 {
+        rtol: 1e-11,
+        atol: 1e-13,
+    });
+    eprintln!(
+        "damped driven: Radau5 {} steps, error {worst:.2e} (at t = {at}; in x {worst_x:.2e}); \
+         DOP853 {} steps",
+        tr.stats.steps, dop.stats.steps
+    );
+    assert!(worst <= 1e-8, "error {worst:e}");
+    assert!(
+        10 * tr.stats.steps < dop.stats.steps,
+        "Radau5 {} vs DOP853 {}",
+        tr.stats.steps,
+        dop.stats.steps
+    );
+}
+
+/// The stiffness diagnosis of a DOP853 run out of steps (`.max_steps(1000)`) names Radau5 on the
+/// stiff pair, and no diagnosis comes on the heavy top with the same budget.
+#[test]
+fn the_diagnosis_names_radau5_on_the_stiff_pair_only() {
+    let dop = Method::Dop853 {
+        rtol: 1e-8,
+        atol: 1e-10,
+    };
+    let sys = TwoMasses::STIFF;
+    let (q0, v0) = sys.slow_start();
+    let err = Simulation::new(&sys, q0, v0)
+        .method(dop)
+        .until(10.0)
+        .max_steps(1000)
+        .run()
+        .unwrap_err();
+    assert!(err.stiffness().is_some(), "{err}");
+    let m = err.to_string();
+    assert!(
+        m.contains("Method::Radau5 { rtol, atol }")
+            && m.find("Method::Radau5") < m.find("Method::VariationalMidpoint"),
+        "{m}"
+    );
+    let err = Simulation::new(&TOP, TOP_Q0, TOP_V0)
+        .method(dop)
+        .until(1e5)
+        .max_steps(1000)
+        .run()
+        .unwrap_err();
+    assert!(matches!(err, SimulationError::MaxSteps { .. }), "{err}");
+    assert!(err.stiffness().is_none(), "{err}");
+    assert!(!err.to_string().contains("Radau5"), "{err}");
+}
+
+/// Events and samples on Radau5's dense output: on the two masses from the slow manifold,
+/// x₁ = cos(ω t) crosses zero at t = (k + ½)π/ω, located against that closed form, and the samples
+/// every 0.25 match the modal solution.
+#[test]
+fn radau5_events_and_samples_on_its_dense_output() {
+    let sys = TwoMasses::STIFF;
+    let (q0, v0) = sys.slow_start();
+    let w = sys.modes()[0].0.sqrt();
+    let tr = Simulation::new(&sys, q0, v0)
+        .method(Method::Radau5 {
+            rtol: 1e-10,
+            atol: 1e-12,
+        })
+        .until(10.0)
+        .sample_every(0.25)
+        .keep_dense_output(true)
+        .event(Event::zero_crossing("x1 = 0", |_t, q: &[f64; 2], _v| q[0]))
+        .run()
+        .unwrap();
+    let zeros: Vec<f64> = (0..)
+        .map(|k| (k as f64 + 0.5) * core::f64::consts::PI / w)
+        .take_while(|&t| t < 10.0)
+        .collect();
+    assert_eq!(tr.events.len(), zeros.len(), "{:?}", tr.events);
+    let mut worst_event = 0.0_f64;
+    for (hit, t) in tr.events.iter().zip(&zeros) {
+        worst_event = worst_event.max((hit.t - t).abs());
+    }
+    let mut worst_sample = 0.0_f64;
+    assert_eq!(tr.t.len(), 41);
+    for (k, &t) in tr.t.iter().enumerate() {
+        let s = (tr.q[k], tr.qdot[k]);
+        worst_sample = worst_sample.max(max_diff(s, sys.exact(q0, v0, t)));
+    }
+    // The kept dense output between the samples too.
+    let mut worst_dense = 0.0_f64;
+    for k in 0..200 {
+        let t = 0.0498 * k as f64 + 0.013;
+        let (q, v) = tr.at(t).unwrap();
+        worst_dense = worst_dense.max(max_diff((q, v), sys.exact(q0, v0, t)));
+    }
+    eprintln!(
+        "two masses, Radau5 1e-10: {} steps, events within {worst_event:.2e}, samples within \
+         {worst_sample:.2e}, dense output within {worst_dense:.2e}",
+        tr.stats.steps
+    );
+    assert!(worst_event <= 1e-7, "{worst_event:e}");
+    assert!(worst_sample <= 1e-7, "{worst_sample:e}");
+    assert!(worst_dense <= 1e-7, "{worst_dense:e}");
+}
+
+/// A constrained run with Radau5 is refused at `run()`, naming the methods that take
+/// constraints.
+#[test]
+fn radau5_refuses_constraints_naming_the_methods_that_take_them() {
+    let rigid = RigidPendulumXy {
+        m: 1.0,
+        g: 1.0,
+        l: 1.0,
+    };
+    let (p0, u0) = rigid.state(1.0, 0.0);
+    let err = Simulation::constrained(&rigid, p0, u0)
+        .method(RADAU)
+        .until(1.0)
+        .run()
+        .unwrap_err();
+    assert!(matches!(err, SimulationError::InvalidOptions { .. }), "{err}");
+    let m = err.to_string();
+    assert!(
+        m.contains("Method::VariationalMidpoint") && m.contains("Method::Dop853"),
+        "{m}"
+    );
+}
+
+/// Bad tolerances are refused before any step, as for the other adaptive methods.
+#[test]
+fn radau5_checks_its_tolerances() {
+    let sys = TwoMasses::STIFF;
+    for (rtol, atol) in [(0.0, 1e-10), (-1e-8, 1e-10), (1e-8, -1.0), (1e-17, 0.0)] {
+        let err = Simulation::new(&sys, [1.0, 1.0], [0.0, 0.0])
+            .method(Method::Radau5 { rtol, atol })
+            .until(1.0)
+            .run()
+            .unwrap_err();
+        assert!(
+            matches!(err, SimulationError::InvalidOptions { .. }),
+            "{rtol} {atol}: {err}"
+        );
+    }
+}
