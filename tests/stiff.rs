@@ -160,7 +160,10 @@ fn radau5_on_the_heavy_top_error_follows_the_tolerance() {
             "heavy top: rtol {rtol:.0e}: {} steps, error {err:.2e}, energy drift {energy:.2e}",
             tr.stats.steps
         );
-        assert!(energy <= 100.0 * rtol, "rtol {rtol:e}: energy drift {energy:e}");
+        assert!(
+            energy <= 100.0 * rtol,
+            "rtol {rtol:e}: energy drift {energy:e}"
+        );
         points.push((rtol, err));
     }
     let p = slope(&points);
@@ -315,7 +318,10 @@ fn radau5_refuses_constraints_naming_the_methods_that_take_them() {
         .until(1.0)
         .run()
         .unwrap_err();
-    assert!(matches!(err, SimulationError::InvalidOptions { .. }), "{err}");
+    assert!(
+        matches!(err, SimulationError::InvalidOptions { .. }),
+        "{err}"
+    );
     let m = err.to_string();
     assert!(
         m.contains("Method::VariationalMidpoint") && m.contains("Method::Dop853"),
