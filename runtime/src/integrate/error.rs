@@ -163,7 +163,8 @@ pub enum SimulationError {
         /// The trajectory up to t.
         partial: PartialTrajectory,
     },
-    /// Newton's method of the variational integrator did not converge in the step after t.
+    /// Newton's method of an implicit step (the variational integrator's, Radau5's stage
+    /// equations) or of the projection onto the constraints did not converge in the step after t.
     NewtonFailed {
         /// Time of the last accepted state.
         t: f64,
@@ -173,7 +174,8 @@ pub enum SimulationError {
         qdot: Vec<f64>,
         /// Newton iterations made.
         iterations: usize,
-        /// The residual (∞-norm, in momentum units) when it gave up.
+        /// The residual when it gave up: the ∞-norm in momentum units (variational integrator),
+        /// the weighted RMS of the last Newton increment (Radau5).
         residual: f64,
         /// Which solve failed and why.
         reason: &'static str,
@@ -297,6 +299,10 @@ impl SimulationError {
 /// `manifold::project`) begin, so that the message names the projection rather than the
 /// variational integrator's Newton solve.
 pub(crate) const PROJECTION: &str = "projecting";
+
+/// The start of every `NewtonFailed` reason that comes from Radau5's stage equations (or its
+/// Jacobian), not from the variational integrator: the message then names Radau5.
+pub(crate) const RADAU: &str = "Radau5";
 
 impl fmt::Display for SimulationError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -449,6 +455,26 @@ impl fmt::Display for SimulationError {
                  q̇ = {qdot}): {reason}; {iterations} iterations, residual {residual:e}. Try: a \
                  tighter tolerance or a smaller max_step (the step left the constraints too far), \
                  or Method::VariationalMidpoint (RATTLE). The trajectory up to t is kept \
+                 (partial_trajectory()).",
+                t = Short(*t),
+                q = Short(&q[..]),
+                qdot = Short(&qdot[..])
+            ),
+            SimulationError::NewtonFailed {
+                t,
+                q,
+                qdot,
+                iterations,
+                residual,
+                reason,
+                ..
+            } if reason.starts_with(RADAU) => write!(
+                f,
+                "the implicit step after t = {t} (q = {q}, q̇ = {qdot}) failed: {reason}; \
+                 {iterations} iterations, last scaled Newton increment {residual:e}, after the \
+                 step was halved down to the round-off limit. Try: Method::Dop853 to see whether \
+                 the motion itself is singular here (a state where the mass matrix degenerates, \
+                 a force that blows up), or a smaller max_step. The trajectory up to t is kept \
                  (partial_trajectory()).",
                 t = Short(*t),
                 q = Short(&q[..]),

@@ -32,7 +32,7 @@
 // The layers, each importing only those above it: what every method shares (`state`: the state
 // y, faults, the right-hand side and stage combination; `stepper`: the `Stepper` trait and the
 // fixed step grid; `control`: error norms and step-size control; `newton`: the Newton solver of
-// the implicit methods), the methods (`rk4`, `dopri5`, `dop853`, `variational`), the dense
+// the implicit methods), the methods (`rk4`, `dopri5`, `dop853`, `radau5`, `taylor`, `variational`), the dense
 // output a run keeps of them (`dense`), the `driver` loop that runs any of them, and the public
 // builder (`method`, `simulation`, `validate`).
 mod control;

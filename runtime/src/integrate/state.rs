@@ -21,7 +21,8 @@ pub(crate) use crate::real::Real;
 ///
 /// For the explicit methods `rhs_evals` counts evaluations of the accelerations; for the
 /// variational midpoint it counts evaluations of L in the Hessian jet (Newton residual and
-/// Jacobian, and the inverse Legendre map at reported nodes).
+/// Jacobian, and the inverse Legendre map at reported nodes); Radau5 counts the accelerations (3
+/// per Newton iteration, 1 per accepted step, 1 more for a filtered error estimate).
 ///
 /// ```
 /// let s = lagrange_runtime::Stats::default();
@@ -35,7 +36,7 @@ pub struct Stats {
     pub rejected: usize,
     /// Right-hand-side evaluations (see the type's documentation).
     pub rhs_evals: usize,
-    /// Newton iterations (variational midpoint).
+    /// Newton iterations (the implicit methods: variational midpoint, Radau5).
     pub newton_iterations: usize,
 }
 
