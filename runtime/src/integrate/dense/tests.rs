@@ -44,12 +44,16 @@ const DOP853: Method = Method::Dop853 {
     atol: 1e-12,
 };
 
-/// The explicit and variational methods (the Taylor method needs a generated series: it is
-/// tested in tests/taylor.rs).
-fn methods() -> [Method; 4] {
+/// The explicit, Radau and variational methods, the adaptive ones first (the Taylor method
+/// needs a generated series: it is tested in tests/taylor.rs).
+fn methods() -> [Method; 5] {
     [
         DOP853,
         Method::DormandPrince {
+            rtol: 1e-9,
+            atol: 1e-12,
+        },
+        Method::Radau5 {
             rtol: 1e-9,
             atol: 1e-12,
         },
@@ -122,7 +126,7 @@ fn at_the_nodes_and_at_interpolated_samples_is_the_recorded_sample_bit_for_bit()
     let times: Vec<f64> = uniform(200).iter().map(|u| 0.01 + 2.98 * u).collect();
     let mut times = times;
     times.sort_by(f64::total_cmp);
-    for method in &methods()[..2] {
+    for method in &methods()[..3] {
         let tr = osc(*method, 3.0).sample_at(times.clone()).run().unwrap();
         for k in 0..tr.len() {
             assert_eq!(
