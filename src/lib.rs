@@ -23,8 +23,9 @@
 //!
 //! ## Running it
 //!
-//! A [`Simulation`] integrates one motion (DOP853, Dormand–Prince, RK4, the Taylor method or a
-//! variational integrator; samples, events, the drift of every conserved quantity); an
+//! A [`Simulation`] integrates one motion (DOP853, Dormand–Prince, RK4, the Taylor method, Radau
+//! IIA for stiff systems or a variational integrator; samples, events, the drift of every
+//! conserved quantity); an
 //! [`Ensemble`] runs many members in parallel (and several per SIMD vector); [`Linearize`] gives
 //! M, C, K about an equilibrium or a steady motion, with eigenvalues, stability and modes.
 //!
