@@ -85,6 +85,32 @@ fn threads_keep_member_order_and_results() {
     }
 }
 
+/// Radau5 members (not a lanes method: each runs on the scalar driver, whatever `lanes` says)
+/// equal their own `Simulation` bit for bit, on two threads.
+#[test]
+fn radau5_members_equal_their_runs() {
+    let radau = Method::Radau5 {
+        rtol: 1e-8,
+        atol: 1e-10,
+    };
+    let r = ensemble(6, None)
+        .configure(move |sim| sim.method(radau).until(3.0))
+        .threads(2)
+        .reduce(&["th", "ph", "ps", "thd", "phd", "psd"], last_state);
+    for i in 0..6 {
+        let tr = Simulation::new(&top(i), [0.3 + 0.02 * i as f64, 0.0, 0.0], [0.0, 1.0, 20.0])
+            .method(radau)
+            .until(3.0)
+            .run()
+            .unwrap();
+        assert_eq!(
+            r.results[i].as_ref().unwrap(),
+            &last_state(&tr),
+            "member {i}"
+        );
+    }
+}
+
 /// A member that fails has its typed error in its slot; every other member runs to the end.
 #[test]
 fn a_failing_member_does_not_stop_the_others() {
