@@ -64,7 +64,7 @@ fn radau5_crosses_the_two_masses_in_few_steps() {
 
 /// The stiff spring pendulum (k = 1/ε², ε = 10⁻⁴, g = l = m = 1, θ₀ = 1, from the slow
 /// manifold) follows the rigid pendulum (DOP853 on the constrained system at rtol 1e-12) to 1e-6
-/// in θ up to t = 10, in at most 2,000 steps.
+/// in θ up to t = 10, in at most 2,000 steps (measured 2026-11-27: 119 steps, θ within 1.2e-7).
 #[test]
 fn radau5_stiff_spring_pendulum_follows_the_rigid_one() {
     let sys = SpringPendulum::STIFF;
@@ -173,7 +173,10 @@ fn radau5_on_the_heavy_top_error_follows_the_tolerance() {
 
 /// A heavily damped driven oscillator (k = 10⁶, c = 10⁴, written with `fn dissipation`,
 /// `fn forces` and `t: Time`) follows its closed form, transient and steady state, to 1e-8 at
-/// every step up to t = 10, in far fewer steps than DOP853 needs at the same tolerance.
+/// every step up to t = 10 (x absolutely, ẋ relative to max(|ẋ|, 1)), in far fewer steps than
+/// DOP853 needs at the same tolerance (measured 2026-11-27 at rtol 1e-11: 1,628 steps, error
+/// 1.3e-9, against DOP853's 120,154; at rtol 1e-10 ẋ was off by 1.3e-8, as the tolerance
+/// transform 0.1 rtol^(2/3) allows).
 #[test]
 fn radau5_damped_driven_oscillator_follows_its_closed_form() {
     let sys = DampedDriven::STIFF;
@@ -254,7 +257,8 @@ fn the_diagnosis_names_radau5_on_the_stiff_pair_only() {
 
 /// Events and samples on Radau5's dense output: on the two masses from the slow manifold,
 /// x₁ = cos(ω t) crosses zero at t = (k + ½)π/ω, located against that closed form, and the samples
-/// every 0.25 match the modal solution.
+/// every 0.25 match the modal solution (measured 2026-11-27 at rtol 1e-10: 188 steps, events
+/// within 6.6e-11, samples within 2.0e-9, `Trajectory::at` within 3.3e-9).
 #[test]
 fn radau5_events_and_samples_on_its_dense_output() {
     let sys = TwoMasses::STIFF;
