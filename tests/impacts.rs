@@ -157,7 +157,10 @@ fn every_method_finds_the_impacts_and_their_accumulation() {
             atol: 1e-14,
         },
         Method::Taylor { tol: 1e-16 },
-        Method::Radau5 { rtol: 1e-12, atol: 1e-14 },
+        Method::Radau5 {
+            rtol: 1e-12,
+            atol: 1e-14,
+        },
         Method::Rk4 { dt: 1e-2 },
         Method::VariationalMidpoint { dt: 1e-2 },
     ] {

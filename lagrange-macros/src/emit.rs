@@ -125,6 +125,7 @@ pub fn generate(
     let mut timed_methods: Vec<TokenStream> = Vec::new();
     let lagrangian_method = {
         let generics = quote!(<Scalar: ::lagrange::__private::Scalar>);
+        let n = proc_macro2::Literal::usize_unsuffixed(n);
         let params = quote! {
             #q_pat: &[Scalar; #n],
             #qdot_pat: &[Scalar; #n],
@@ -141,7 +142,7 @@ pub fn generate(
                 #[inline]
                 fn #hidden #generics(&#self_token, #params) -> #ret { #body }
             });
-            let wrapper = timed_wrapper(fn_ident, &ret, &hidden, n, quote!(.untimed()));
+            let wrapper = timed_wrapper(fn_ident, &ret, &hidden, decl.n(), quote!(.untimed()));
             quote! {
                 #(#fn_attrs)*
                 #wrapper
