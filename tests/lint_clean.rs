@@ -377,12 +377,22 @@ impl GeometryBeadJets {
 #[test]
 fn lint_clean_geometry() {
     // L = ½ r² (ȧ² + w² sin² a), D = c L: r² ä = r² w² sin a cos a − c r² ȧ.
-    let (r, w, c) = (1.5, 2.0, 0.3);
-    let (a, ad) = (0.7_f64, 1.1);
-    let want = w * w * a.sin() * a.cos() - c * ad;
-    let s = GeometryBead { r, w, c }.accelerations(&[a], &[ad], 0.4);
-    let j = GeometryBeadJets { r, w, c }.accelerations(&[a], &[ad], 0.4);
-    for got in [s, j] {
+    let (radius, rate, drag) = (1.5, 2.0, 0.3);
+    let (angle, angle_dot) = (0.7_f64, 1.1);
+    let want = rate * rate * angle.sin() * angle.cos() - drag * angle_dot;
+    let bead = GeometryBead {
+        r: radius,
+        w: rate,
+        c: drag,
+    };
+    let jets = GeometryBeadJets {
+        r: radius,
+        w: rate,
+        c: drag,
+    };
+    let symbolic = bead.accelerations(&[angle], &[angle_dot], 0.4);
+    let jets = jets.accelerations(&[angle], &[angle_dot], 0.4);
+    for got in [symbolic, jets] {
         let got = got.unwrap_or([f64::NAN]);
         assert!((got[0] - want).abs() < 1e-13, "{got:?} vs {want}");
     }

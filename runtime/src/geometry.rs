@@ -193,116 +193,128 @@ impl<S: Scalar> Rotation<S> {
     }
 }
 
-/// How one entry of a product is formed: the two factors' entries, and the product of two,
-/// or one factor alone where the other is a structural 1.
-struct Products<A, B, S, M: Fn(A, B) -> S, FA: Fn(A) -> S, FB: Fn(B) -> S> {
-    mul: M,
-    from_a: FA,
-    from_b: FB,
-    _types: core::marker::PhantomData<(A, B, S)>,
+/// How one entry of a product is formed from the two factors' entries (of types `A` and `B`):
+/// their product, or one factor alone where the other is a structural 1.
+trait Factors<A, B, S> {
+    fn mul(a: A, b: B) -> S;
+    fn from_a(a: A) -> S;
+    fn from_b(b: B) -> S;
 }
 
-impl<A: Copy, B: Copy, S: Scalar, M: Fn(A, B) -> S, FA: Fn(A) -> S, FB: Fn(B) -> S>
-    Products<A, B, S, M, FA, FB>
-{
-    /// R₁ R₂, skipping the structural 0s and 1s of both.
-    fn compose(&self, a: &Rotation<A>, b: &Rotation<B>) -> Rotation<S> {
-        let mut m = [[S::constant(0.0); 3]; 3];
-        let (mut zero, mut one) = (0, 0);
-        for i in 0..3 {
-            for j in 0..3 {
-                let mut acc: Option<S> = None;
-                let mut unit = false;
-                for k in 0..3 {
-                    if a.zero & bit(i, k) != 0 || b.zero & bit(k, j) != 0 {
-                        continue;
-                    }
-                    let (ao, bo) = (a.one & bit(i, k) != 0, b.one & bit(k, j) != 0);
-                    let term = match (ao, bo) {
-                        (true, _) => (self.from_b)(b.m[k][j]),
-                        (false, true) => (self.from_a)(a.m[i][k]),
-                        _ => (self.mul)(a.m[i][k], b.m[k][j]),
-                    };
-                    unit = acc.is_none() && ao && bo;
-                    acc = Some(match acc {
-                        Some(x) => x + term,
-                        None => term,
-                    });
-                }
-                match acc {
-                    None => zero |= bit(i, j),
-                    Some(x) => {
-                        m[i][j] = x;
-                        if unit {
-                            one |= bit(i, j);
-                        }
-                    }
-                }
-            }
-        }
-        Rotation { m, zero, one }
-    }
+/// Both factors of the number type.
+struct Same;
+/// A constant (left) and a variable (right).
+struct ConstVar;
+/// A variable (left) and a constant (right).
+struct VarConst;
 
-    /// R v, skipping R's structural 0s and 1s (and, through `mul`, nothing else).
-    fn apply(&self, a: &Rotation<A>, v: [B; 3]) -> Vector3<S> {
-        Vector3::from_fn(|i, _| {
+impl<S: Scalar> Factors<S, S, S> for Same {
+    fn mul(a: S, b: S) -> S {
+        a * b
+    }
+    fn from_a(a: S) -> S {
+        a
+    }
+    fn from_b(b: S) -> S {
+        b
+    }
+}
+
+impl<S: Scalar> Factors<f64, S, S> for ConstVar {
+    fn mul(c: f64, x: S) -> S {
+        x * c
+    }
+    fn from_a(c: f64) -> S {
+        S::constant(c)
+    }
+    fn from_b(x: S) -> S {
+        x
+    }
+}
+
+impl<S: Scalar> Factors<S, f64, S> for VarConst {
+    fn mul(x: S, c: f64) -> S {
+        x * c
+    }
+    fn from_a(x: S) -> S {
+        x
+    }
+    fn from_b(c: f64) -> S {
+        S::constant(c)
+    }
+}
+
+/// R₁ R₂, skipping the structural 0s and 1s of both.
+fn compose<A: Copy, B: Copy, S: Scalar, F: Factors<A, B, S>>(
+    a: &Rotation<A>,
+    b: &Rotation<B>,
+) -> Rotation<S> {
+    let mut m = [[S::constant(0.0); 3]; 3];
+    let (mut zero, mut one) = (0, 0);
+    for i in 0..3 {
+        for j in 0..3 {
             let mut acc: Option<S> = None;
-            for (k, &vk) in v.iter().enumerate() {
-                if a.zero & bit(i, k) != 0 {
+            let mut unit = false;
+            for k in 0..3 {
+                if a.zero & bit(i, k) != 0 || b.zero & bit(k, j) != 0 {
                     continue;
                 }
-                let term = if a.one & bit(i, k) != 0 {
-                    (self.from_b)(vk)
-                } else {
-                    (self.mul)(a.m[i][k], vk)
+                let (ao, bo) = (a.one & bit(i, k) != 0, b.one & bit(k, j) != 0);
+                let term = match (ao, bo) {
+                    (true, _) => F::from_b(b.m[k][j]),
+                    (false, true) => F::from_a(a.m[i][k]),
+                    _ => F::mul(a.m[i][k], b.m[k][j]),
                 };
+                unit = acc.is_none() && ao && bo;
                 acc = Some(match acc {
                     Some(x) => x + term,
                     None => term,
                 });
             }
-            acc.unwrap_or_else(|| S::constant(0.0))
-        })
+            match acc {
+                None => zero |= bit(i, j),
+                Some(x) => {
+                    m[i][j] = x;
+                    if unit {
+                        one |= bit(i, j);
+                    }
+                }
+            }
+        }
     }
+    Rotation { m, zero, one }
 }
 
-/// Products of two factors of the same number type.
-fn same<S: Scalar>() -> Products<S, S, S, impl Fn(S, S) -> S, impl Fn(S) -> S, impl Fn(S) -> S> {
-    Products {
-        mul: |a: S, b: S| a * b,
-        from_a: |a| a,
-        from_b: |b| b,
-        _types: core::marker::PhantomData,
-    }
-}
-
-/// Products of a constant (left) and a variable (right).
-fn const_var<S: Scalar>(
-) -> Products<f64, S, S, impl Fn(f64, S) -> S, impl Fn(f64) -> S, impl Fn(S) -> S> {
-    Products {
-        mul: |c: f64, x: S| x * c,
-        from_a: S::constant,
-        from_b: |x| x,
-        _types: core::marker::PhantomData,
-    }
-}
-
-/// Products of a variable (left) and a constant (right).
-fn var_const<S: Scalar>(
-) -> Products<S, f64, S, impl Fn(S, f64) -> S, impl Fn(S) -> S, impl Fn(f64) -> S> {
-    Products {
-        mul: |x: S, c: f64| x * c,
-        from_a: |x| x,
-        from_b: S::constant,
-        _types: core::marker::PhantomData,
-    }
+/// R v, skipping R's structural 0s and 1s.
+fn apply<A: Copy, B: Copy, S: Scalar, F: Factors<A, B, S>>(
+    a: &Rotation<A>,
+    v: [B; 3],
+) -> Vector3<S> {
+    Vector3::from_fn(|i, _| {
+        let mut acc: Option<S> = None;
+        for (k, &vk) in v.iter().enumerate() {
+            if a.zero & bit(i, k) != 0 {
+                continue;
+            }
+            let term = if a.one & bit(i, k) != 0 {
+                F::from_b(vk)
+            } else {
+                F::mul(a.m[i][k], vk)
+            };
+            acc = Some(match acc {
+                Some(x) => x + term,
+                None => term,
+            });
+        }
+        acc.unwrap_or_else(|| S::constant(0.0))
+    })
 }
 
 impl<S: Scalar> Mul for Rotation<S> {
     type Output = Rotation<S>;
     #[inline]
     fn mul(self, o: Rotation<S>) -> Rotation<S> {
-        same().compose(&self, &o)
+        compose::<_, _, _, Same>(&self, &o)
     }
 }
 
@@ -310,7 +322,7 @@ impl<S: Scalar> Mul<Vector3<S>> for Rotation<S> {
     type Output = Vector3<S>;
     #[inline]
     fn mul(self, v: Vector3<S>) -> Vector3<S> {
-        same().apply(&self, [v.x, v.y, v.z])
+        apply::<_, _, _, Same>(&self, [v.x, v.y, v.z])
     }
 }
 
@@ -318,7 +330,7 @@ impl<S: Scalar> Mul<&Vector3<S>> for &Rotation<S> {
     type Output = Vector3<S>;
     #[inline]
     fn mul(self, v: &Vector3<S>) -> Vector3<S> {
-        same().apply(self, [v.x, v.y, v.z])
+        apply::<_, _, _, Same>(self, [v.x, v.y, v.z])
     }
 }
 
@@ -338,7 +350,7 @@ impl<S: Scalar> ConstMul<Rotation<S>> for Rotation<f64> {
     type Output = Rotation<S>;
     #[inline]
     fn const_mul(self, r: Rotation<S>) -> Rotation<S> {
-        const_var().compose(&self, &r)
+        compose::<_, _, _, ConstVar>(&self, &r)
     }
 }
 
@@ -346,7 +358,7 @@ impl<S: Scalar> MulConst<Rotation<f64>> for Rotation<S> {
     type Output = Rotation<S>;
     #[inline]
     fn mul_const(self, r: Rotation<f64>) -> Rotation<S> {
-        var_const().compose(&self, &r)
+        compose::<_, _, _, VarConst>(&self, &r)
     }
 }
 
@@ -354,7 +366,7 @@ impl<S: Scalar> ConstMul<Vector3<S>> for Rotation<f64> {
     type Output = Vector3<S>;
     #[inline]
     fn const_mul(self, v: Vector3<S>) -> Vector3<S> {
-        const_var().apply(&self, [v.x, v.y, v.z])
+        apply::<_, _, _, ConstVar>(&self, [v.x, v.y, v.z])
     }
 }
 
@@ -375,7 +387,7 @@ impl<S: Scalar> MulConst<Vector3<f64>> for Rotation<S> {
                 }),
             one: self.one,
         };
-        var_const().apply(&r, [v.x, v.y, v.z])
+        apply::<_, _, _, VarConst>(&r, [v.x, v.y, v.z])
     }
 }
 
