@@ -7,7 +7,7 @@
 use lagrange::prelude::*;
 use lagrange::Direction;
 
-use crate::support::hand::HeavyTop;
+use crate::support::{slope, TOP, TOP_Q0, TOP_V0};
 
 /// x'' = −x (unit mass and frequency).
 struct Oscillator;
@@ -29,28 +29,6 @@ impl Lagrangian<2> for Kepler {
     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
         (v[0] * v[0] + q[0] * q[0] * v[1] * v[1]) * 0.5 + S::constant(1.0) / q[0]
     }
-}
-
-const TOP: HeavyTop = HeavyTop {
-    i_perp: 1.0,
-    i_par: 0.6,
-    mgl: 1.0,
-};
-const TOP_Q0: [f64; 3] = [1.0, 0.0, 0.0];
-const TOP_V0: [f64; 3] = [0.0, -0.5, 8.0];
-
-/// Least-squares slope of log(err) against log(x).
-fn slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let (mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
-    for &(x, e) in points {
-        let (x, y) = (x.ln(), e.ln());
-        sx += x;
-        sy += y;
-        sxx += x * x;
-        sxy += x * y;
-    }
-    (n * sxy - sx * sy) / (n * sxx - sx * sx)
 }
 
 /// Kepler ellipse e = 0.5, a = 1 from perihelion; after one period (2π) the state returns.

@@ -1,7 +1,8 @@
 //! Integration tests, part 2 of 3 (one test crate whose modules are files of tests/): the
 //! reference text's physics simulated end to end (the heavy top, rigid bodies, a particle in a
-//! non-inertial frame), the integrators and stiff mechanics (Radau5). Part 1 is tests/equations.rs, part 3 (ensembles)
-//! tests/ensembles.rs; the parts build in parallel, which on two cores is faster than one crate.
+//! non-inertial frame) and the integrators. Part 1 is tests/equations.rs, part 3 (ensembles, stiff
+//! mechanics with Radau5, resetting events) tests/ensembles.rs; the parts build in parallel, which
+//! on two cores is faster than one crate.
 //!
 //! Run one module with `cargo test --test physics heavy_top::`.
 
@@ -12,7 +13,6 @@ mod forces;
 mod forces_macro;
 mod hardening;
 mod heavy_top;
-mod impacts;
 mod integrators;
 mod large_systems;
 mod linearize;
@@ -20,6 +20,5 @@ mod non_inertial;
 mod quaternion_top;
 mod readable;
 mod rigid_body;
-mod stiff;
 mod taylor;
 mod taylor_attack;

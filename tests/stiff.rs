@@ -9,7 +9,7 @@
 use lagrange::prelude::*;
 use lagrange_examples::stiff_system::{DampedDriven, RigidPendulumXy, SpringPendulum, TwoMasses};
 
-use crate::support::hand::HeavyTop;
+use crate::support::{slope, TOP, TOP_Q0, TOP_V0};
 
 /// Radau5 at rtol 1e-8 on the stiff problems.
 const RADAU: Method = Method::Radau5 {
@@ -103,29 +103,6 @@ fn radau5_stiff_spring_pendulum_follows_the_rigid_one() {
     );
     assert!(worst <= 1e-6, "θ off the rigid pendulum by {worst:e}");
     assert!(tr.stats.steps <= 2000, "{:?}", tr.stats);
-}
-
-/// The heavy top of tests/integrators.rs.
-const TOP: HeavyTop = HeavyTop {
-    i_perp: 1.0,
-    i_par: 0.6,
-    mgl: 1.0,
-};
-const TOP_Q0: [f64; 3] = [1.0, 0.0, 0.0];
-const TOP_V0: [f64; 3] = [0.0, -0.5, 8.0];
-
-/// Least-squares slope of ln y against ln x.
-fn slope(points: &[(f64, f64)]) -> f64 {
-    let n = points.len() as f64;
-    let (mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
-    for &(x, y) in points {
-        let (lx, ly) = (x.ln(), y.ln());
-        sx += lx;
-        sy += ly;
-        sxx += lx * lx;
-        sxy += lx * ly;
-    }
-    (n * sxy - sx * sy) / (n * sxx - sx * sx)
 }
 
 /// On the (non-stiff) heavy top Radau5 is correct: its error at t = 10 against DOP853 at rtol

@@ -86,3 +86,30 @@ pub trait Kernels<const N: usize>: Lagrangian<N> + Sized {
 }
 
 impl<L: Lagrangian<N>, const N: usize> Kernels<N> for L {}
+
+/// The heavy top the integrator tests run (tests/integrators.rs, tests/stiff.rs).
+#[allow(dead_code)]
+pub const TOP: hand::HeavyTop = hand::HeavyTop {
+    i_perp: 1.0,
+    i_par: 0.6,
+    mgl: 1.0,
+};
+#[allow(dead_code)]
+pub const TOP_Q0: [f64; 3] = [1.0, 0.0, 0.0];
+#[allow(dead_code)]
+pub const TOP_V0: [f64; 3] = [0.0, -0.5, 8.0];
+
+/// Least-squares slope of log(err) against log(x).
+#[allow(dead_code)]
+pub fn slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (mut sx, mut sy, mut sxx, mut sxy) = (0.0, 0.0, 0.0, 0.0);
+    for &(x, e) in points {
+        let (x, y) = (x.ln(), e.ln());
+        sx += x;
+        sy += y;
+        sxx += x * x;
+        sxy += x * y;
+    }
+    (n * sxy - sx * sy) / (n * sxx - sx * sx)
+}

@@ -20,6 +20,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 use crate::linearize::jet_linearize;
 
@@ -140,9 +141,63 @@ enum Attempt {
     Retry(f64, Fault),
 }
 
+/// What Radau5 asks of the system: f, its exact Jacobian and the first step. Object-safe, so
+/// the stepper is compiled once per number of coordinates rather than once per system (every
+/// system a crate runs instantiates every method of the driver; this one is large).
+pub(crate) trait Dynamics<const N: usize> {
+    /// f(t, y) = (q̇, q̈).
+    fn rhs(&self, t: f64, y: &Y<N>, stats: &mut Stats) -> Result<Y<N>, DynamicsError>;
+    /// J = ∂f/∂y at (t, y), from the jets.
+    fn jacobian(&self, t: f64, y: &Y<N>) -> Result<DMatrix<f64>, Fault>;
+    /// The first step (Hairer's estimate, as the explicit methods take it).
+    #[allow(clippy::too_many_arguments)]
+    fn initial_step(
+        &self,
+        t: f64,
+        y: &Y<N>,
+        f0: &Y<N>,
+        order: i32,
+        rtol: f64,
+        atol: f64,
+        hmax: f64,
+        stats: &mut Stats,
+    ) -> Result<f64, DynamicsError>;
+}
+
+impl<L: Lagrangian<N>, const N: usize> Dynamics<N> for L {
+    fn rhs(&self, t: f64, y: &Y<N>, stats: &mut Stats) -> Result<Y<N>, DynamicsError> {
+        rhs(self, t, y, stats)
+    }
+    fn jacobian(&self, t: f64, y: &Y<N>) -> Result<DMatrix<f64>, Fault> {
+        let lin = jet_linearize(self, &y[0], &y[1], t)?;
+        lin.state_matrix().map_err(|e| match e {
+            crate::linearize::LinearizationError::Dynamics(d) => Fault::Dynamics(d),
+            _ => Fault::Newton {
+                iterations: 0,
+                residual: f64::NAN,
+                reason: "Radau5: the mass matrix is singular at the step's start, so the Jacobian of the \
+                         accelerations does not exist",
+            },
+        })
+    }
+    fn initial_step(
+        &self,
+        t: f64,
+        y: &Y<N>,
+        f0: &Y<N>,
+        order: i32,
+        rtol: f64,
+        atol: f64,
+        hmax: f64,
+        stats: &mut Stats,
+    ) -> Result<f64, DynamicsError> {
+        initial_step(self, t, y, f0, order, rtol, atol, hmax, stats)
+    }
+}
+
 /// The adaptive Radau IIA stepper (see the module documentation).
-pub(crate) struct Radau5<'a, L, const N: usize> {
-    sys: &'a L,
+pub(crate) struct Radau5<'a, const N: usize> {
+    sys: &'a dyn Dynamics<N>,
     /// The transformed tolerances (rtol′, atol′).
     rtol: f64,
     atol: f64,
@@ -181,10 +236,10 @@ pub(crate) struct Radau5<'a, L, const N: usize> {
     last_failure: Option<Fault>,
 }
 
-impl<'a, L: Lagrangian<N>, const N: usize> Radau5<'a, L, N> {
+impl<'a, const N: usize> Radau5<'a, N> {
     /// Starts at (t0, y0); evaluates f there and picks the first step.
     pub(crate) fn new(
-        sys: &'a L,
+        sys: &'a dyn Dynamics<N>,
         t0: f64,
         y0: Y<N>,
         rtol: f64,
@@ -192,18 +247,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Radau5<'a, L, N> {
         hmax: f64,
         stats: &mut Stats,
     ) -> Result<Self, Fault> {
-        let f0 = rhs(sys, t0, &y0, stats)?;
-        let h = initial_step(
-            sys,
-            t0,
-            &y0,
-            &f0,
-            5,
-            rtol,
-            effective_atol(atol),
-            hmax,
-            stats,
-        )?;
+        let f0 = sys.rhs(t0, &y0, stats)?;
+        let h = sys.initial_step(t0, &y0, &f0, 5, rtol, effective_atol(atol), hmax, stats)?;
         let rt = 0.1 * rtol.powf(2.0 / 3.0);
         let at = effective_atol(rt * (atol / rtol));
         Ok(Radau5 {
@@ -236,16 +281,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Radau5<'a, L, N> {
 
     /// J = ∂f/∂y at the current node, from the jets.
     fn jacobian(&self) -> Result<DMatrix<f64>, Fault> {
-        let lin = jet_linearize(self.sys, &self.y[0], &self.y[1], self.t)?;
-        lin.state_matrix().map_err(|e| match e {
-            crate::linearize::LinearizationError::Dynamics(d) => Fault::Dynamics(d),
-            _ => Fault::Newton {
-                iterations: 0,
-                residual: f64::NAN,
-                reason: "Radau5: the mass matrix is singular at the step's start, so the Jacobian of the \
-                         accelerations does not exist",
-            },
-        })
+        self.sys.jacobian(self.t, &self.y)
     }
 
     /// Factorizes I − h A ⊗ J and I − γ h J for the step h; `None` where either is singular.
@@ -365,7 +401,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Radau5<'a, L, N> {
                         yi[c][k] += z[i][c][k];
                     }
                 }
-                match rhs(self.sys, self.t + C[i] * h, &yi, stats) {
+                match self.sys.rhs(self.t + C[i] * h, &yi, stats) {
                     Ok(fi) => f[i] = fi,
                     Err(e) => return Err(Attempt::Retry(0.5, Fault::Dynamics(e))),
                 }
@@ -457,7 +493,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Radau5<'a, L, N> {
     }
 }
 
-impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Radau5<'_, L, N> {
+impl<const N: usize> Stepper<N> for Radau5<'_, N> {
     fn t(&self) -> f64 {
         self.t
     }
@@ -475,7 +511,7 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Radau5<'_, L, N> {
             }
         }
         self.y = y;
-        self.f0 = rhs(self.sys, self.t, &y, stats)?;
+        self.f0 = self.sys.rhs(self.t, &y, stats)?;
         self.jac_current = false;
         Ok(())
     }
@@ -537,7 +573,7 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Radau5<'_, L, N> {
                                 ye[c][i] += e[c][i];
                             }
                         }
-                        err = match rhs(self.sys, self.t, &ye, stats) {
+                        err = match self.sys.rhs(self.t, &ye, stats) {
                             Ok(f1) => Self::estimate(fac, &f1, &z)
                                 .map_or(f64::INFINITY, |e2| Self::norm(&e2, &sk)),
                             Err(_) => f64::INFINITY,
@@ -568,7 +604,7 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Radau5<'_, L, N> {
                     continue;
                 }
                 let t1 = if last { t_end } else { self.t + h };
-                let f1 = match rhs(self.sys, t1, &y1, stats) {
+                let f1 = match self.sys.rhs(t1, &y1, stats) {
                     Ok(f) => f,
                     Err(e) => {
                         self.retry(h, 0.25, Fault::Dynamics(e), stats);
