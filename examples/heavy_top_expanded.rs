@@ -416,6 +416,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
     const COMPILED: ::lagrange::__private::Compiled = ::lagrange::__private::Compiled {
         lanes: true,
         not_analytic: ::core::option::Option::None,
+        constrained: false,
     };
 }
 #[doc(hidden)]

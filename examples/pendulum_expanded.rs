@@ -251,6 +251,7 @@ impl ::lagrange::__private::Lagrangian<1> for Pendulum {
     const COMPILED: ::lagrange::__private::Compiled = ::lagrange::__private::Compiled {
         lanes: true,
         not_analytic: ::core::option::Option::None,
+        constrained: false,
     };
 }
 #[doc(hidden)]

@@ -418,3 +418,38 @@ fn without_fn_constraints_there_is_no_holonomic_impl() {
     assert_close(&a, &[0.0, -9.81], REL, "free fall");
     assert_eq!(<FreeXy as Lagrangian<2>>::CYCLIC, [true, false]);
 }
+
+/// `linearize` of a system whose `#[lagrangian]` declares constraints refuses (both modes): the
+/// unconstrained L's linearization has modes the rod forbids (here a free fall along the rod),
+/// which it used to return as `Ok`. The hand-written twin, which does not say it is constrained,
+/// still linearizes its unconstrained L.
+#[test]
+fn linearize_refuses_a_constrained_system() {
+    let sym = SphericalPendulumXyz {
+        m: 1.0,
+        g: 9.81,
+        l: 2.0,
+    };
+    let (q, v) = ([0.0, 0.0, -2.0], [0.0; 3]);
+    for r in [
+        sym.linearize(&q, &v, 0.0),
+        sym.jets().linearize(&q, &v, 0.0),
+    ] {
+        match r {
+            Err(DynamicsError::Constrained { message, .. }) => {
+                assert!(message.contains("Simulation::constrained"), "{message}");
+            }
+            other => panic!(
+                "expected a refusal, got {:?}",
+                other.map(|l| l.eigenvalues())
+            ),
+        }
+    }
+    const { assert!(<SphericalPendulumXyz as Lagrangian<3>>::COMPILED.constrained) };
+    let hand = SphericalHand {
+        m: 1.0,
+        g: 9.81,
+        l: 2.0,
+    };
+    assert!(hand.linearize(&q, &v, 0.0).is_ok());
+}

@@ -115,8 +115,20 @@ pub fn generate(
     let ret = quote_spanned!(decl.ret_span=> Scalar);
     let fn_ident = &decl.fn_ident;
     let self_token = &decl.self_token;
+    let constrained = decl.constraints.is_some();
     let (symbolic_methods, symbolic_consts) = match symbolic {
-        Some(out) => crate::symbolic::methods(out, n, self_ty),
+        Some(out) => crate::symbolic::methods(out, n, self_ty, constrained),
+        // The jets mode compiles nothing of its own; a constrained system says so (its
+        // `linearize` refuses).
+        None if constrained => (
+            quote! {
+                const COMPILED: ::lagrange::__private::Compiled = ::lagrange::__private::Compiled {
+                    constrained: true,
+                    ..::lagrange::__private::Compiled::NONE
+                };
+            },
+            errors.to_compile_errors(),
+        ),
         None => (quote!(), errors.to_compile_errors()),
     };
 

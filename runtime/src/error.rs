@@ -50,6 +50,19 @@ pub enum DynamicsError {
         /// Which constraints, and what to try.
         message: String,
     },
+    /// `linearize` was asked of a system with holonomic constraints declared by
+    /// `#[lagrangian]`: the linearization of the unconstrained L would describe motions the
+    /// constraints forbid (spurious modes), so it is refused.
+    Constrained {
+        /// Time.
+        t: f64,
+        /// Coordinates.
+        q: Vec<f64>,
+        /// Velocities.
+        qdot: Vec<f64>,
+        /// What to do instead.
+        message: String,
+    },
 }
 
 impl DynamicsError {
@@ -64,7 +77,8 @@ impl DynamicsError {
         match self {
             DynamicsError::SingularMassMatrix { t, .. }
             | DynamicsError::NonFinite { t, .. }
-            | DynamicsError::DependentConstraints { t, .. } => *t,
+            | DynamicsError::DependentConstraints { t, .. }
+            | DynamicsError::Constrained { t, .. } => *t,
         }
     }
 }
@@ -90,6 +104,12 @@ impl fmt::Display for DynamicsError {
                 qdot,
                 message,
             } => ("dependent constraints", t, q, qdot, message),
+            DynamicsError::Constrained {
+                t,
+                q,
+                qdot,
+                message,
+            } => ("a constrained system", t, q, qdot, message),
         };
         write!(
             f,

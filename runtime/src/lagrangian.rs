@@ -312,6 +312,12 @@ pub struct Compiled {
     /// steps sum a series across any kink, refuses such a system (`Simulation::run` returns
     /// [`InvalidOptions`](crate::SimulationError::InvalidOptions) naming it).
     pub not_analytic: Option<&'static str>,
+    /// Whether the system declares holonomic constraints (`fn constraints` under
+    /// `#[lagrangian]`): [`Linearize::linearize`](crate::Linearize::linearize), which linearizes
+    /// the unconstrained L, then refuses with
+    /// [`DynamicsError::Constrained`](crate::DynamicsError::Constrained). A hand-written
+    /// `impl Holonomic` should set it too.
+    pub constrained: bool,
 }
 
 impl Compiled {
@@ -319,6 +325,7 @@ impl Compiled {
     pub const NONE: Compiled = Compiled {
         lanes: false,
         not_analytic: None,
+        constrained: false,
     };
 }
 

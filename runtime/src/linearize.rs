@@ -305,9 +305,10 @@ pub trait Linearize<const N: usize>: Lagrangian<N> {
     /// jets (third derivatives of L along the reference motion; no finite differences). See
     /// [`linearize`](crate::linearize) for the formulas, the eigenvalues, modes and stability.
     ///
-    /// Fails where the accelerations cannot be solved (singular M, non-finite values). Holonomic
-    /// constraints ([`Holonomic`](crate::Holonomic)) are not taken into account: this linearizes
-    /// the unconstrained L (a linearization on the constraint manifold is not there yet).
+    /// Fails where the accelerations cannot be solved (singular M, non-finite values). A system
+    /// whose `#[lagrangian]` declares holonomic constraints is refused
+    /// ([`DynamicsError::Constrained`]): this linearizes the unconstrained L, and a linearization
+    /// on the constraint manifold is not there yet.
     ///
     /// ```
     /// use lagrange::prelude::*;
@@ -332,6 +333,20 @@ pub trait Linearize<const N: usize>: Lagrangian<N> {
         qdot0: &[f64; N],
         t: f64,
     ) -> Result<Linearization<N>, DynamicsError> {
+        if Self::COMPILED.constrained {
+            return Err(DynamicsError::Constrained {
+                t,
+                q: q0.to_vec(),
+                qdot: qdot0.to_vec(),
+                message: "`linearize` linearizes the unconstrained L, whose modes include motions \
+                          the constraints of `fn constraints` forbid (its answer would be wrong, \
+                          not approximate); a linearization on the constraint manifold is not \
+                          there yet. Write the system in independent coordinates (coordinates \
+                          that satisfy the constraints) and linearize that, or study the \
+                          constrained motion with `Simulation::constrained`"
+                    .to_string(),
+            });
+        }
         jet_linearize(self, q0, qdot0, t)
     }
 

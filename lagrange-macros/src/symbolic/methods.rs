@@ -658,7 +658,12 @@ fn module_prefix(self_ty: &syn::Type) -> String {
 
 /// The generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
 /// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
-pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStream, TokenStream) {
+pub fn methods(
+    out: &SymbolicOutput,
+    n: usize,
+    self_ty: &syn::Type,
+    constrained: bool,
+) -> (TokenStream, TokenStream) {
     let names::Params { q, qdot, t } = names::Params::symbolic();
     let nn = Literal::usize_unsuffixed(n);
     let SymbolicOutput {
@@ -772,7 +777,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
         Err(super::taylor::NoSeries::NotAnalytic(what)) => Some(*what),
         Err(super::taylor::NoSeries::Unsupported) => None,
     };
-    if *lanes || not_analytic.is_some() {
+    if *lanes || not_analytic.is_some() || constrained {
         let not_analytic = match not_analytic {
             Some(what) => quote!(::core::option::Option::Some(#what)),
             None => quote!(::core::option::Option::None),
@@ -781,6 +786,7 @@ pub fn methods(out: &SymbolicOutput, n: usize, self_ty: &syn::Type) -> (TokenStr
             const COMPILED: ::lagrange::__private::Compiled = ::lagrange::__private::Compiled {
                 lanes: #lanes,
                 not_analytic: #not_analytic,
+                constrained: #constrained,
             };
         });
     }
