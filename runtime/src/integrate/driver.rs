@@ -8,7 +8,7 @@ use super::dense::{Dense, Kind};
 use super::dop853::Dop853;
 use super::dopri5::Dopri5;
 use super::error::{PartialTrajectory, SimulationError};
-use super::events::{brent, zeno, Direction, Event, EventHit, Jump, Zeno};
+use super::events::{brent, zeno, Direction, Event, EventHit, Jump, Zeno, ZENO_INTERVALS};
 use super::manifold::Manifold;
 use super::method::Method;
 use super::radau5::Radau5;
@@ -168,8 +168,9 @@ pub(super) struct Driver<'s, 'a, 'o, L, const N: usize> {
     gauss: Vec<(f64, f64)>,
     /// The energy the jumps of resetting events added (the work column carries it).
     jump_work: f64,
-    /// Each resetting event's hit times (for the Zeno test).
-    reset_hits: Vec<Vec<f64>>,
+    /// Each resetting event's hit count and its latest hit times, as many as the Zeno test reads
+    /// (a long run of a periodic impact keeps no growing list).
+    reset_hits: Vec<(usize, Vec<f64>)>,
     /// A jump just taken: the method restarts from this (t, y).
     pending: Option<(f64, Y<N>)>,
 }
@@ -251,7 +252,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             work: Work::default(),
             gauss: Vec::new(),
             jump_work: 0.0,
-            reset_hits: vec![Vec::new(); events.len()],
+            reset_hits: vec![(0, Vec::new()); events.len()],
             pending: None,
             stats: Stats::default(),
             manifold,
@@ -738,7 +739,11 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             return Err(Fault::NonFinite);
         }
         let name = self.events[i].name().to_string();
-        let hits = &mut self.reset_hits[i];
+        let (count, hits) = &mut self.reset_hits[i];
+        *count += 1;
+        if hits.len() > ZENO_INTERVALS {
+            hits.remove(0);
+        }
         hits.push(tz);
         // The hits accumulate: the run ends at this one, before its jump.
         if let Some((ratio, t_accumulation)) = zeno(hits) {
@@ -747,7 +752,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
                 ratio,
                 t_last: tz,
                 t_accumulation,
-                hits: hits.len(),
+                hits: *count,
             });
             self.traj.terminated_by = Some(format!("{name} (Zeno)"));
             return Ok(());
