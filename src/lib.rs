@@ -341,7 +341,7 @@ pub use lagrange_runtime::{
     Stiffness, Trajectory, Zeno, INVARIANT_FLOOR,
 };
 pub use lagrange_runtime::{
-    DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Scalar, Velocity,
+    Contact, DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Scalar, Unilateral, Velocity,
 };
 pub use lagrange_runtime::{SMatrix, Vector3};
 
@@ -349,7 +349,8 @@ pub use lagrange_runtime::{SMatrix, Vector3};
 // index.
 #[doc(hidden)]
 pub use lagrange_runtime::{
-    constraints, eom, error, integrate, jet, lagrangian, lanes, linalg, real, taylor,
+    constraints, contact, eom, error, impact, integrate, jet, lagrangian, lanes, linalg, real,
+    taylor,
 };
 #[doc(hidden)]
 pub use lagrange_runtime::{el_jet, hessian_jet, solve_mass_matrix};
@@ -385,8 +386,8 @@ pub mod prelude {
     pub use lagrange_runtime::{
         equilibrium, Linearization, LinearizationError, Linearize, Stability,
     };
+    pub use lagrange_runtime::{Contact, Ensemble, Member, Unilateral, Velocity};
     pub use lagrange_runtime::{DynamicsError, Holonomic, Lagrangian, SMatrix, Scalar, Vector3};
-    pub use lagrange_runtime::{Ensemble, Member, Velocity};
     pub use lagrange_runtime::{Event, EventHit, Method, Simulation, SimulationError, Trajectory};
 }
 
@@ -401,6 +402,6 @@ pub mod __private {
     pub use lagrange_runtime::real::Real;
     pub use lagrange_runtime::{eom, linalg, taylor};
     pub use lagrange_runtime::{solve_mass_matrix, DynamicsError, Holonomic, Lagrangian};
-    pub use lagrange_runtime::{SMatrix, Scalar, Vector3};
+    pub use lagrange_runtime::{Contact, SMatrix, Scalar, Unilateral, Vector3};
     pub use nalgebra;
 }

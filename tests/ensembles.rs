@@ -10,6 +10,7 @@
 
 mod support;
 
+mod contacts;
 mod ensemble;
 mod ensemble_lanes;
 mod impacts;

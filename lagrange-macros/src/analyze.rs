@@ -37,6 +37,10 @@ pub struct Analysis {
     pub constrained: Vec<bool>,
     /// SCLERONOMIC: `fn constraints` has no `t: Time`, or does not use it.
     pub scleronomic: bool,
+    /// Names mentioned anywhere in the body of `fn contacts` (empty without one).
+    pub contacts_used: HashSet<String>,
+    /// `Unilateral::SCLERONOMIC`: `fn contacts` has no `t: Time`, or does not use it.
+    pub contacts_scleronomic: bool,
     /// CYCLIC, one per slot: q_i appears in none of L, D and Q.
     pub cyclic: Vec<bool>,
     /// AUTONOMOUS: L has no explicit t.
@@ -105,6 +109,16 @@ pub fn analyze(decl: &Decl) -> Analysis {
         .as_ref()
         .and_then(|f| f.time.as_ref())
         .is_none_or(|t| !constraints_used.contains(&unraw(t)));
+    let contacts_used = decl
+        .contacts
+        .as_ref()
+        .map(|f| mentions(&f.body))
+        .unwrap_or_default();
+    let contacts_scleronomic = decl
+        .contacts
+        .as_ref()
+        .and_then(|f| f.time.as_ref())
+        .is_none_or(|t| !contacts_used.contains(&unraw(t)));
     let mut cyclic = Vec::with_capacity(n);
     let mut momentum_conserved = Vec::with_capacity(n);
     for (p, c) in decl.coords.iter().enumerate() {
@@ -128,6 +142,8 @@ pub fn analyze(decl: &Decl) -> Analysis {
         constraints_used,
         constrained,
         scleronomic,
+        contacts_used,
+        contacts_scleronomic,
         cyclic,
         autonomous,
         momentum_conserved,
@@ -220,6 +236,7 @@ impl Analysis {
             FuncKind::Dissipation => &self.dissipation_used,
             FuncKind::Forces => &self.forces_used,
             FuncKind::Constraints => &self.constraints_used,
+            FuncKind::Contacts => &self.contacts_used,
         }
     }
 }
@@ -967,10 +984,14 @@ impl Rewriter {
         } else {
             None
         };
+        // A contact's restitution coefficient and name (`Contact::gap(y).restitution(self.e)`)
+        // are an `f64` and a `&str`, not numbers of the motion.
+        let as_written = matches!(name.as_str(), "restitution" | "named");
         for (i, (a, k)) in m.args.iter_mut().zip(&kargs).enumerate() {
-            let wants_scalar = declared
-                .as_ref()
-                .is_none_or(|d| d.get(i).copied().unwrap_or(true));
+            let wants_scalar = !as_written
+                && declared
+                    .as_ref()
+                    .is_none_or(|d| d.get(i).copied().unwrap_or(true));
             if *k == Kind::Const && wants_scalar {
                 lift_in_place(a);
             }

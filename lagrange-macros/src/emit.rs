@@ -28,6 +28,9 @@ pub struct Fallback {
     /// K of the (first) `fn constraints`, when its return type says it (`[Scalar; K]`, K ≥ 1):
     /// the stub then implements `Holonomic<N, K>` too.
     k_hint: Option<usize>,
+    /// K of the (first) `fn contacts`, when its return type says it (`[Contact; K]`, K ≥ 1):
+    /// the stub then implements `Unilateral<N, K>` too.
+    contacts_hint: Option<usize>,
 }
 
 impl Fallback {
@@ -47,10 +50,17 @@ impl Fallback {
             .and_then(|f| validate::constraint_count(&f.sig.output))
             .and_then(Result::ok)
             .filter(|k| *k >= 1);
+        let contacts_hint = split
+            .contacts
+            .first()
+            .and_then(|f| validate::contact_count(&f.sig.output))
+            .and_then(Result::ok)
+            .filter(|k| *k >= 1);
         Fallback {
             rest,
             n_hint,
             k_hint,
+            contacts_hint,
         }
     }
 }
@@ -59,7 +69,12 @@ impl Fallback {
 pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
     let errs = errors.to_compile_errors();
     let rest = &fallback.rest;
-    let stub = stub_impl(rest, fallback.n_hint, fallback.k_hint);
+    let stub = stub_impl(
+        rest,
+        fallback.n_hint,
+        fallback.k_hint,
+        fallback.contacts_hint,
+    );
     quote!(#errs #rest #stub)
 }
 
@@ -71,6 +86,7 @@ pub struct JetsBodies {
     pub body: syn::Block,
     pub funcs: Vec<syn::Block>,
     pub constraints: Option<syn::Block>,
+    pub contacts: Option<syn::Block>,
 }
 
 /// The `impl Lagrangian<N>`: the jets `fn lagrangian` (its body `body`, lowered for jets), the
@@ -92,6 +108,7 @@ pub fn generate(
         body,
         funcs,
         constraints,
+        contacts,
     } = jets;
     let constraints = constraints.as_ref();
     let n = decl.n();
@@ -190,6 +207,10 @@ pub fn generate(
         (Some(f), Some(body)) => holonomic_impl(decl, analysis, f, body),
         _ => quote!(),
     };
+    let unilateral = match (&decl.contacts, contacts) {
+        (Some(f), Some(body)) => unilateral_impl(decl, analysis, f, body),
+        _ => quote!(),
+    };
 
     let n = proc_macro2::Literal::usize_unsuffixed(n);
     let allow = crate::names::allow_generated();
@@ -228,6 +249,7 @@ pub fn generate(
         }
         #timed_impl
         #holonomic
+        #unilateral
         #symbolic_consts
     }
 }
@@ -273,6 +295,25 @@ fn holonomic_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block)
         #allow
         impl ::lagrange::__private::Holonomic<#n, #k> for #self_ty {
             const CONSTRAINED_COORDINATES: [bool; #n] = [#(#constrained),*];
+            const SCLERONOMIC: bool = #scleronomic;
+            #method
+        }
+    }
+}
+
+/// `impl Unilateral<N, K>` from `fn contacts` (its body `body`, lowered for jets): SCLERONOMIC
+/// from the analysis, and the generic `fn contacts`.
+fn unilateral_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
+    let self_ty = &decl.rest.self_ty;
+    let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
+    let k = proc_macro2::Literal::usize_unsuffixed(f.k);
+    let scleronomic = analysis.contacts_scleronomic;
+    let method = jets_func(decl, analysis, f, body, &mut Vec::new());
+    let allow = crate::names::allow_generated();
+    quote! {
+        #[automatically_derived]
+        #allow
+        impl ::lagrange::__private::Unilateral<#n, #k> for #self_ty {
             const SCLERONOMIC: bool = #scleronomic;
             #method
         }
@@ -344,12 +385,7 @@ fn jets_func(
     let coords: Vec<(Option<&Ident>, Option<&Ident>)> = f
         .bindings
         .iter()
-        .map(|(c, v)| {
-            (
-                c.as_ref(),
-                v.as_ref().filter(|_| f.kind != FuncKind::Constraints),
-            )
-        })
+        .map(|(c, v)| (c.as_ref(), v.as_ref().filter(|_| !f.kind.positions_only())))
         .collect();
     let (bindings, [q_pat, qdot_pat, t_pat]) = bind_slots(
         decl,
@@ -366,9 +402,13 @@ fn jets_func(
             let k = proc_macro2::Literal::usize_unsuffixed(f.k);
             quote_spanned!(f.ret_span=> [Scalar; #k])
         }
+        FuncKind::Contacts => {
+            let k = proc_macro2::Literal::usize_unsuffixed(f.k);
+            quote_spanned!(f.ret_span=> [::lagrange::__private::Contact<Scalar>; #k])
+        }
     };
-    // `fn constraints(&self, q, t)` has no velocities.
-    let qdot_param = if f.kind == FuncKind::Constraints {
+    // `fn constraints(&self, q, t)` and `fn contacts(&self, q, t)` have no velocities.
+    let qdot_param = if f.kind.positions_only() {
         quote!()
     } else {
         quote!(#qdot_pat: &[Scalar; #n],)
@@ -379,7 +419,7 @@ fn jets_func(
     let stmts = &body.stmts;
     // D or Q read rates: evaluated in `Timed` numbers, like L (`fn constraints` never is: a
     // rate there is a velocity constraint, refused in `expand`).
-    if f.kind != FuncKind::Constraints && crate::timed::reads_rates(&f.body, &decl.rest).is_some() {
+    if !f.kind.positions_only() && crate::timed::reads_rates(&f.body, &decl.rest).is_some() {
         let hidden = crate::names::timed(&ident);
         timed_methods.push(quote! {
             #[doc(hidden)]
@@ -421,7 +461,12 @@ fn jets_func(
 
 /// A stub impl emitted next to the errors (and a stub `impl Holonomic<N, K>` given `k`), so uses
 /// of the type elsewhere do not cascade into "trait not implemented" errors.
-fn stub_impl(rest: &syn::ItemImpl, n: usize, k: Option<usize>) -> TokenStream {
+fn stub_impl(
+    rest: &syn::ItemImpl,
+    n: usize,
+    k: Option<usize>,
+    contacts: Option<usize>,
+) -> TokenStream {
     if rest.trait_.is_some() || !rest.generics.params.is_empty() {
         return quote!();
     }
@@ -432,6 +477,17 @@ fn stub_impl(rest: &syn::ItemImpl, n: usize, k: Option<usize>) -> TokenStream {
             #[automatically_derived]
             impl ::lagrange::__private::Holonomic<#n, #k> for #self_ty {
                 fn constraints<S: ::lagrange::__private::Scalar>(&self, _: &[S; #n], _: S) -> [S; #k] {
+                    ::core::unreachable!("`#[lagrangian]` reported errors for this impl")
+                }
+            }
+        },
+        None => quote!(),
+    };
+    let unilateral = match contacts {
+        Some(k) => quote! {
+            #[automatically_derived]
+            impl ::lagrange::__private::Unilateral<#n, #k> for #self_ty {
+                fn contacts<S: ::lagrange::__private::Scalar>(&self, _: &[S; #n], _: S) -> [::lagrange::__private::Contact<S>; #k] {
                     ::core::unreachable!("`#[lagrangian]` reported errors for this impl")
                 }
             }
@@ -449,6 +505,7 @@ fn stub_impl(rest: &syn::ItemImpl, n: usize, k: Option<usize>) -> TokenStream {
             }
         }
         #holonomic
+        #unilateral
     }
 }
 

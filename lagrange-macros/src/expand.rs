@@ -37,6 +37,19 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
             return emit::stub(&errors, &fallback);
         }
     }
+    // A rate in `fn contacts`: gaps are functions of the positions.
+    if let Some(f) = &decl.contacts {
+        if let Some(at) = crate::timed::reads_rates(&f.body, &decl.rest) {
+            errors.push(syn::Error::new(
+                at,
+                "a velocity in `fn contacts`: a contact's gap g(q, t) ≥ 0 (and a sticking \
+                 contact's tangential coordinate) is written from the positions (and `t: Time`) \
+                 only; the impact law takes the velocities from the motion. Write the gap without \
+                 `velocity` or an angular velocity",
+            ));
+            return emit::stub(&errors, &fallback);
+        }
+    }
     let mut analysis = analyze::analyze(&decl);
     let helpers = analyze::helpers(&decl.rest);
     let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl), &helpers, &mut errors);
@@ -49,7 +62,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
                 FuncKind::Dissipation => {
                     analyze::lower_for_jets(&f.body, &vars, &helpers, &mut errors)
                 }
-                FuncKind::Forces | FuncKind::Constraints => {
+                FuncKind::Forces | FuncKind::Constraints | FuncKind::Contacts => {
                     analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
                 }
             }
@@ -58,6 +71,10 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     // `fn constraints`, in both modes the body rewritten generically over the scalar type (the
     // runtime's jets give G and the second derivatives along the motion).
     let constraints = decl.constraints.as_ref().map(|f| {
+        let vars = analysis.bound_func(f);
+        analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
+    });
+    let contacts = decl.contacts.as_ref().map(|f| {
         let vars = analysis.bound_func(f);
         analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
     });
@@ -81,6 +98,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
         body,
         funcs,
         constraints,
+        contacts,
     };
     emit::generate(&decl, &analysis, &jets, symbolic.as_ref(), &errors)
 }

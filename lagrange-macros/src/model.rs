@@ -91,6 +91,8 @@ pub enum FuncKind {
     Forces,
     /// `fn constraints(&self, ...) -> [Scalar; K]`: the holonomic constraints g(q, t) = 0.
     Constraints,
+    /// `fn contacts(&self, ...) -> [Contact; K]`: the unilateral contacts g(q, t) ≥ 0.
+    Contacts,
 }
 
 impl FuncKind {
@@ -100,6 +102,7 @@ impl FuncKind {
             FuncKind::Dissipation => "dissipation",
             FuncKind::Forces => "forces",
             FuncKind::Constraints => "constraints",
+            FuncKind::Contacts => "contacts",
         }
     }
     /// The trait method it becomes (of `Lagrangian`, or of `Holonomic` for constraints).
@@ -108,7 +111,13 @@ impl FuncKind {
             FuncKind::Dissipation => "dissipation",
             FuncKind::Forces => "generalized_forces",
             FuncKind::Constraints => "constraints",
+            FuncKind::Contacts => "contacts",
         }
+    }
+    /// Whether its body depends on the positions (and the time) only: `fn constraints` and
+    /// `fn contacts`.
+    pub fn positions_only(self) -> bool {
+        matches!(self, FuncKind::Constraints | FuncKind::Contacts)
     }
 }
 
@@ -168,6 +177,8 @@ pub struct Decl {
     /// `fn constraints`, if the impl block has one (emitted as `impl Holonomic<N, K>`; not part
     /// of the equations of `Lagrangian`, so not among [`Decl::funcs`]).
     pub constraints: Option<Func>,
+    /// `fn contacts`, if the impl block has one (emitted as `impl Unilateral<N, K>`).
+    pub contacts: Option<Func>,
 }
 
 impl Decl {

@@ -85,6 +85,8 @@ pub struct Split {
     pub forces: Vec<ImplItemFn>,
     /// Every `fn constraints` found.
     pub constraints: Vec<ImplItemFn>,
+    /// Every `fn contacts` found.
+    pub contacts: Vec<ImplItemFn>,
 }
 
 /// Parses the annotated item as an impl block and takes out `fn lagrangian`, `fn dissipation`,
@@ -96,8 +98,8 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
             format!("`#[lagrangian]` goes on an inherent impl block (`impl MySystem {{ fn lagrangian(...) }}`): {e}"),
         )
     })?;
-    let (mut funcs, mut dissipation, mut forces, mut constraints) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut funcs, mut dissipation, mut forces, mut constraints, mut contacts) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let items = std::mem::take(&mut rest.items);
     for item in items {
         match item {
@@ -105,6 +107,7 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
             ImplItem::Fn(f) if f.sig.ident == "dissipation" => dissipation.push(f),
             ImplItem::Fn(f) if f.sig.ident == "forces" => forces.push(f),
             ImplItem::Fn(f) if f.sig.ident == "constraints" => constraints.push(f),
+            ImplItem::Fn(f) if f.sig.ident == "contacts" => contacts.push(f),
             other => rest.items.push(other),
         }
     }
@@ -114,5 +117,6 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
         dissipation,
         forces,
         constraints,
+        contacts,
     })
 }

@@ -50,6 +50,18 @@ pub enum DynamicsError {
         /// Which constraints, and what to try.
         message: String,
     },
+    /// An impact of unilateral contacts has no solution at this state (see
+    /// [`impact`](crate::impact)), or its outcome could not be put on the closed contacts.
+    Impact {
+        /// Time.
+        t: f64,
+        /// Coordinates.
+        q: Vec<f64>,
+        /// Velocities before the impact.
+        qdot: Vec<f64>,
+        /// Which contacts, and what to try.
+        message: String,
+    },
     /// `linearize` was asked of a system with holonomic constraints declared by
     /// `#[lagrangian]`: the linearization of the unconstrained L would describe motions the
     /// constraints forbid (spurious modes), so it is refused.
@@ -78,6 +90,7 @@ impl DynamicsError {
             DynamicsError::SingularMassMatrix { t, .. }
             | DynamicsError::NonFinite { t, .. }
             | DynamicsError::DependentConstraints { t, .. }
+            | DynamicsError::Impact { t, .. }
             | DynamicsError::Constrained { t, .. } => *t,
         }
     }
@@ -110,6 +123,12 @@ impl fmt::Display for DynamicsError {
                 qdot,
                 message,
             } => ("a constrained system", t, q, qdot, message),
+            DynamicsError::Impact {
+                t,
+                q,
+                qdot,
+                message,
+            } => ("an impact without a solution", t, q, qdot, message),
         };
         write!(
             f,

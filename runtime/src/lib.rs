@@ -9,10 +9,12 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod constraints;
+pub mod contact;
 pub mod ensemble;
 pub mod eom;
 pub mod error;
 pub mod geometry;
+pub mod impact;
 pub mod integrate;
 pub mod jet;
 pub mod lagrangian;
@@ -28,6 +30,7 @@ pub mod taylor;
 pub mod theory;
 
 pub use constraints::Holonomic;
+pub use contact::{Contact, Unilateral};
 pub use ensemble::{Ensemble, Member};
 pub use eom::solve_mass_matrix;
 pub use error::DynamicsError;

@@ -68,6 +68,7 @@ fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
         dissipation: None,
         forces: None,
         constraints: None,
+        contacts: None,
     }
 }
 

@@ -11,11 +11,15 @@ pub(super) const EXTRA_RULE: &str = "the coordinate parameters of `dissipation` 
 /// The rule for the parameters of `fn constraints`, quoted by every error about them.
 pub(super) const CONSTRAINTS_RULE: &str = "the coordinate parameters of `constraints` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` and names may differ; the constraints g(q, t) = 0 depend on the positions only, so bind each velocity as `_` (`(x, _): Coord`); `t: Time` is optional, for a moving constraint";
 
+/// The rule for the parameters of `fn contacts`, quoted by every error about them.
+pub(super) const CONTACTS_RULE: &str = "the coordinate parameters of `contacts` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` and names may differ; a contact's gap g(q, t) ≥ 0 (and a sticking contact's tangential coordinate) depend on the positions only, so bind each velocity as `_` (`(x, _): Coord`); `t: Time` is optional, for a moving surface";
+
 /// The parameter rule quoted for `kind`.
 pub(super) fn extra_rule(kind: FuncKind) -> &'static str {
     match kind {
         FuncKind::Dissipation | FuncKind::Forces => EXTRA_RULE,
         FuncKind::Constraints => CONSTRAINTS_RULE,
+        FuncKind::Contacts => CONTACTS_RULE,
     }
 }
 
@@ -31,7 +35,7 @@ pub(super) fn extra_hint(
         .iter()
         .map(|c| {
             let ty = c.kind.type_name();
-            if kind == FuncKind::Constraints {
+            if kind.positions_only() {
                 format!("({}, _): {ty}", c.name)
             } else {
                 format!("({}, {}): {ty}", c.name, c.dot)
@@ -48,6 +52,10 @@ pub(super) fn extra_hint(
         FuncKind::Constraints => match k {
             Some(k) => format!("[Scalar; {k}]"),
             None => "[Scalar; K]".to_owned(),
+        },
+        FuncKind::Contacts => match k {
+            Some(k) => format!("[Contact; {k}]"),
+            None => "[Contact; K]".to_owned(),
         },
     };
     format!(
@@ -90,7 +98,7 @@ pub(super) fn check_extra(
     };
     let sig = &func.sig;
     let name = kind.user_name();
-    let declared_k = constraint_count(&sig.output)
+    let declared_k = declared_count(kind, &sig.output)
         .and_then(|k| k.ok())
         .filter(|k| *k >= 1);
     let hint = extra_hint(kind, lag_coords, false, declared_k);
@@ -151,6 +159,27 @@ pub(super) fn check_extra(
                     errors,
                     ty,
                     format!("`fn constraints` returns an array of constraints g(q, t), one entry per constraint, each zero on the constrained motion: write `-> [Scalar; K]` with K the number of constraints: `{hint}`"),
+                ),
+            }
+            ty.span()
+        }
+        (ReturnType::Type(_, ty), FuncKind::Contacts) => {
+            match contact_count(&sig.output) {
+                Some(Ok(k)) if k >= 1 => {}
+                Some(Ok(_)) => fail(
+                    errors,
+                    ty,
+                    format!("`fn contacts` returns at least one contact: write `[Contact; 1]` or more, one entry per contact (`Contact::gap(y).restitution(self.e)`): `{hint}`"),
+                ),
+                Some(Err(len)) => fail(
+                    errors,
+                    len,
+                    format!("the length of the array `fn contacts` returns, K, is written as a number (how many contacts there are): `{hint}`"),
+                ),
+                None => fail(
+                    errors,
+                    ty,
+                    format!("`fn contacts` returns an array of contacts, one entry per contact, each made from its gap g(q, t) ≥ 0 (`Contact::gap(y).restitution(self.e)`, `.sticking(x)` for a contact point that does not slide): write `-> [Contact; K]` with K the number of contacts: `{hint}`"),
                 ),
             }
             ty.span()
@@ -308,8 +337,8 @@ pub(super) fn check_extra(
             if let Some(at) = free_use(&func.block, &cand) {
                 let with_time = extra_hint(kind, lag_coords, true, declared_k)
                     .replace("t: Time", &format!("{cand}: Time"));
-                let msg = if kind == FuncKind::Constraints {
-                    format!("`{cand}` is used in `fn constraints`, which has no `{cand}: Time` parameter: a moving (rheonomic) constraint g(q, t) declares the time, so add `{cand}: Time` to its parameters: `{with_time}`")
+                let msg = if kind.positions_only() {
+                    format!("`{cand}` is used in `fn {name}`, which has no `{cand}: Time` parameter: a moving (rheonomic) {} g(q, t) declares the time, so add `{cand}: Time` to its parameters: `{with_time}`", if kind == FuncKind::Contacts { "contact" } else { "constraint" })
                 } else {
                     format!("`{cand}` is used in `fn {name}`, which has no `{cand}: Time` parameter: add `{cand}: Time` to its parameters (`t: Time` is optional in each of `lagrangian`, `dissipation` and `forces`, and each one whose body uses the time declares it): `{with_time}`")
                 };
@@ -318,11 +347,19 @@ pub(super) fn check_extra(
             }
         }
     }
-    if kind == FuncKind::Constraints {
+    if kind.positions_only() {
         // The tail is checked against an array return type only (for another, the error at the
         // return type says it all).
-        let array = constraint_count(&sig.output).is_some();
-        check_constraints_body(&func.block, &bindings, declared_k, array, &hint, errors);
+        let array = declared_count(kind, &sig.output).is_some();
+        check_constraints_body(
+            kind,
+            &func.block,
+            &bindings,
+            declared_k,
+            array,
+            &hint,
+            errors,
+        );
     }
     let ok = errors.is_empty();
     sink.push_all(std::mem::take(errors));
@@ -345,6 +382,24 @@ pub(super) fn check_extra(
 /// K of a return type `[Scalar; K]`: `Some(Ok(K))` for an integer literal, `Some(Err(len))` for
 /// any other length expression, `None` when it is not an array of `Scalar`.
 pub fn constraint_count(output: &ReturnType) -> Option<Result<usize, &syn::Expr>> {
+    array_count(output, "Scalar")
+}
+
+/// K of a return type `[Contact; K]`, as [`constraint_count`] reads `[Scalar; K]`.
+pub fn contact_count(output: &ReturnType) -> Option<Result<usize, &syn::Expr>> {
+    array_count(output, "Contact")
+}
+
+/// K of the array `kind` returns (`fn constraints` or `fn contacts`).
+fn declared_count(kind: FuncKind, output: &ReturnType) -> Option<Result<usize, &syn::Expr>> {
+    match kind {
+        FuncKind::Contacts => contact_count(output),
+        _ => constraint_count(output),
+    }
+}
+
+/// K of a return type `[elem; K]`.
+fn array_count<'a>(output: &'a ReturnType, elem: &str) -> Option<Result<usize, &'a syn::Expr>> {
     let ReturnType::Type(_, ty) = output else {
         return None;
     };
@@ -353,7 +408,7 @@ pub fn constraint_count(output: &ReturnType) -> Option<Result<usize, &syn::Expr>
         ty = &g.elem;
     }
     match ty {
-        Type::Array(a) if is_ident_type(&a.elem, "Scalar") => match &a.len {
+        Type::Array(a) if is_ident_type(&a.elem, elem) => match &a.len {
             syn::Expr::Lit(syn::ExprLit {
                 lit: syn::Lit::Int(len),
                 ..
@@ -364,9 +419,11 @@ pub fn constraint_count(output: &ReturnType) -> Option<Result<usize, &syn::Expr>
     }
 }
 
-/// The rules of the body of `fn constraints`: no velocity it binds is used (the constraints
-/// depend on the positions and the time only), and it ends in an array literal of K entries.
+/// The rules of the body of `fn constraints` (and `fn contacts`): no velocity it binds is used
+/// (the constraints depend on the positions and the time only), and it ends in an array literal
+/// of K entries.
 pub(super) fn check_constraints_body(
+    kind: FuncKind,
     body: &syn::Block,
     bindings: &[(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)],
     k: Option<usize>,
@@ -384,6 +441,13 @@ pub(super) fn check_constraints_body(
             let x = coordinate
                 .as_ref()
                 .map_or_else(|| "x".to_owned(), crate::model::unraw);
+            if kind == FuncKind::Contacts {
+                errors.at(
+                    &at,
+                    format!("`{velocity}` is a velocity, and `fn contacts` declares gaps g(q, t) ≥ 0 (and the tangential coordinates of sticking contacts), which depend on the positions (and, for a moving surface, on `t: Time`) only; the impact law takes the velocities from the motion. If `{velocity}` is here by mistake, bind it as `_`, `({x}, _)`: `{hint}`"),
+                );
+                continue;
+            }
             errors.at(
                 &at,
                 format!("`{velocity}` is a velocity, and `fn constraints` declares holonomic constraints g(q, t) = 0, which depend on the positions (and, for a moving constraint, on `t: Time`) only. A constraint on the velocities (rolling without slipping, a knife edge: A(q) q̇ + b = 0) is nonholonomic: this macro does not take those yet, and leaving the velocity out would change the physics; write the system in coordinates that satisfy it, or integrate the constraint if it is a time derivative of g(q, t) = 0. If `{velocity}` is here by mistake, bind it as `_`, `({x}, _)`: `{hint}`"),
@@ -393,6 +457,23 @@ pub(super) fn check_constraints_body(
     if !array {
         return;
     }
+    let (what, ty, example) = match kind {
+        FuncKind::Contacts => (
+            "contact",
+            "Contact",
+            "`[Contact::gap(y).restitution(self.e)]`",
+        ),
+        _ => (
+            "constraint",
+            "Scalar",
+            "`[x * x + y * y - self.l * self.l]`",
+        ),
+    };
+    let entry = if kind == FuncKind::Contacts {
+        "contact"
+    } else {
+        "g(q, t)"
+    };
     match body.stmts.last() {
         Some(syn::Stmt::Expr(e, None)) => match paren_less(e) {
             syn::Expr::Array(a) => {
@@ -401,7 +482,8 @@ pub(super) fn check_constraints_body(
                         errors.at(
                             a,
                             format!(
-                                "`fn constraints` returns {k} constraint{} (`[Scalar; {k}]`), and this array has {} entr{}: one entry g(q, t) per constraint",
+                                "`fn {}` returns {k} {what}{} (`[{ty}; {k}]`), and this array has {} entr{}: one entry {entry} per {what}",
+                                kind.user_name(),
                                 if k == 1 { "" } else { "s" },
                                 a.elems.len(),
                                 if a.elems.len() == 1 { "y" } else { "ies" },
@@ -412,12 +494,12 @@ pub(super) fn check_constraints_body(
             }
             other => errors.at(
                 other,
-                format!("the body of `fn constraints` ends in an array literal, one entry g(q, t) per constraint (`[x * x + y * y - self.l * self.l]`): `{hint}`"),
+                format!("the body of `fn {}` ends in an array literal, one entry {entry} per {what} ({example}): `{hint}`", kind.user_name()),
             ),
         },
         _ => errors.push(syn::Error::new(
             body.brace_token.span.close(),
-            format!("the body of `fn constraints` ends in an array literal, one entry g(q, t) per constraint, without a semicolon (`[x * x + y * y - self.l * self.l]`): `{hint}`"),
+            format!("the body of `fn {}` ends in an array literal, one entry {entry} per {what}, without a semicolon ({example}): `{hint}`", kind.user_name()),
         )),
     }
 }

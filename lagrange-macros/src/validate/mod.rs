@@ -22,8 +22,8 @@ mod extra;
 use body::*;
 use coords::*;
 pub use coords::{coord_type, is_coordinate_param};
-pub use extra::constraint_count;
 use extra::*;
+pub use extra::{constraint_count, contact_count};
 
 const SIGNATURE_HINT: &str =
     "fn lagrangian(&self, (x, x_dot): Coord, (r, r_dot): Coord3, t: Time) -> Scalar";
@@ -37,6 +37,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         dissipation,
         forces,
         constraints,
+        contacts,
     } = split;
     if let Some((_, for_token)) = &rest.trait_ {
         errors.at(
@@ -84,12 +85,14 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         (&dissipation, FuncKind::Dissipation),
         (&forces, FuncKind::Forces),
         (&constraints, FuncKind::Constraints),
+        (&contacts, FuncKind::Contacts),
     ] {
         for extra in list.iter().skip(1) {
             let what = match kind {
                 FuncKind::Dissipation => "a system has one Rayleigh dissipation function D: put every dissipative term into the one `fn dissipation` (they add)",
                 FuncKind::Forces => "a system has one `fn forces`: add the forces on each coordinate into its one entry of the array",
                 FuncKind::Constraints => "a system has one `fn constraints`: put every constraint g(q, t) = 0 into its own entry of the one array it returns",
+                FuncKind::Contacts => "a system has one `fn contacts`: put every contact into its own entry of the one array it returns",
             };
             errors.at(
                 &extra.sig.ident,
@@ -100,12 +103,19 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
             );
         }
     }
+    if let (Some(c), Some(_)) = (contacts.first(), constraints.first()) {
+        errors.at(
+            &c.sig.ident,
+            "`fn contacts` next to `fn constraints`: a run with contacts does not take holonomic constraints yet (Simulation::contacts would leave them out); write the system in coordinates that satisfy the constraints, or model them as contacts that stay closed",
+        );
+    }
     let func = funcs.swap_remove(0);
     let mut decl = check_fn(func, rest, options, errors)?;
     for (list, kind) in [
         (dissipation, FuncKind::Dissipation),
         (forces, FuncKind::Forces),
         (constraints, FuncKind::Constraints),
+        (contacts, FuncKind::Contacts),
     ] {
         let Some(f) = list.into_iter().next() else {
             continue;
@@ -115,6 +125,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
             FuncKind::Dissipation => decl.dissipation = checked,
             FuncKind::Forces => decl.forces = checked,
             FuncKind::Constraints => decl.constraints = checked,
+            FuncKind::Contacts => decl.contacts = checked,
         }
     }
     if errors.is_empty() {
@@ -322,6 +333,7 @@ fn check_fn(
         dissipation: None,
         forces: None,
         constraints: None,
+        contacts: None,
     })
 }
 

@@ -722,8 +722,8 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             let w = self.work_at(s, tz)?;
             self.push(tz, &y, w)?;
             let ev = &self.events[i];
-            match ev.apply_reset(tz, &y[0], &y[1]) {
-                Some((q, qdot)) if !ev.is_terminal() => self.jump(i, tz, y, [q, qdot], w)?,
+            match ev.try_reset(tz, &y[0], &y[1]) {
+                Some(after) if !ev.is_terminal() => self.jump(i, tz, y, after?, w)?,
                 _ => self.traj.terminated_by = Some(ev.name().to_string()),
             }
             return Ok(true);
@@ -733,11 +733,16 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
 
     /// The jump of resetting event `i` at tz from `before` to `after`, W(tz) being `w`: recorded,
     /// its energy into the work column, and the method restarted from `after` — unless the
-    /// event's hits accumulate (Zeno), which ends the run here, before the jump.
-    fn jump(&mut self, i: usize, tz: f64, before: Y<N>, after: Y<N>, w: f64) -> Result<(), Fault> {
-        if after.iter().flatten().any(|x| !x.is_finite()) {
-            return Err(Fault::NonFinite);
-        }
+    /// event's hits accumulate (Zeno), which ends the run here, before the jump, or, for an
+    /// event with a resting state (a contact), jumps to that state instead.
+    fn jump(
+        &mut self,
+        i: usize,
+        tz: f64,
+        before: Y<N>,
+        mut after: Y<N>,
+        w: f64,
+    ) -> Result<(), Fault> {
         let name = self.events[i].name().to_string();
         let (count, hits) = &mut self.reset_hits[i];
         *count += 1;
@@ -745,17 +750,30 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             hits.remove(0);
         }
         hits.push(tz);
-        // The hits accumulate: the run ends at this one, before its jump.
+        // The hits accumulate: the run ends at this one, before its jump, or rests from it.
         if let Some((ratio, t_accumulation)) = zeno(hits) {
+            let rest = self.events[i].try_rest(tz, &before[0], &before[1]);
             self.traj.zeno = Some(Zeno {
                 event: name.clone(),
                 ratio,
                 t_last: tz,
                 t_accumulation,
                 hits: *count,
+                resting: rest.is_some(),
             });
-            self.traj.terminated_by = Some(format!("{name} (Zeno)"));
-            return Ok(());
+            match rest {
+                Some(r) => {
+                    after = r?;
+                    hits.clear();
+                }
+                None => {
+                    self.traj.terminated_by = Some(format!("{name} (Zeno)"));
+                    return Ok(());
+                }
+            }
+        }
+        if after.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(Fault::NonFinite);
         }
         let e0 = self.sys.energy(&before[0], &before[1], tz);
         let e1 = self.sys.energy(&after[0], &after[1], tz);

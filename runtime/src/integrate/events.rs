@@ -3,6 +3,8 @@
 
 use core::fmt;
 
+use crate::error::DynamicsError;
+
 /// Which sign changes of g count as an event.
 ///
 /// ```
@@ -23,9 +25,10 @@ pub enum Direction {
 /// The event function's type: g(t, q, q̇).
 type EventFn<'a, const N: usize> = Box<dyn Fn(f64, &[f64; N], &[f64; N]) -> f64 + 'a>;
 
-/// A reset map's type: (q⁺, q̇⁺) from (t, q⁻, q̇⁻).
+/// A reset map's type: (q⁺, q̇⁺) from (t, q⁻, q̇⁻), or why there is none (an impact law
+/// without a solution).
 type ResetFn<'a, const N: usize> =
-    Box<dyn Fn(f64, &[f64; N], &[f64; N]) -> ([f64; N], [f64; N]) + 'a>;
+    Box<dyn Fn(f64, &[f64; N], &[f64; N]) -> Result<[[f64; N]; 2], DynamicsError> + 'a>;
 
 /// A zero crossing to detect during a run: g(t, q, q̇) = 0, with a direction filter and an
 /// optional terminal flag (the run stops at the first terminal hit).
@@ -41,6 +44,9 @@ pub struct Event<'a, const N: usize> {
     direction: Direction,
     terminal: bool,
     reset: Option<ResetFn<'a, N>>,
+    /// Where the hits accumulate (Zeno), the state the run goes on from (a contact closed at
+    /// rest); without it a Zeno run ends there.
+    rest: Option<ResetFn<'a, N>>,
 }
 
 impl<'a, const N: usize> Event<'a, N> {
@@ -61,6 +67,7 @@ impl<'a, const N: usize> Event<'a, N> {
             direction: Direction::Any,
             terminal: false,
             reset: None,
+            rest: None,
         }
     }
 
@@ -128,8 +135,50 @@ impl<'a, const N: usize> Event<'a, N> {
     where
         F: Fn(f64, &[f64; N], &[f64; N]) -> ([f64; N], [f64; N]) + 'a,
     {
+        self.reset = Some(Box::new(move |t, q, v| {
+            let (q, v) = reset(t, q, v);
+            Ok([q, v])
+        }));
+        self
+    }
+
+    /// A reset map that may fail (a contact's impact law).
+    pub(crate) fn reset_fallible<F>(mut self, reset: F) -> Self
+    where
+        F: Fn(f64, &[f64; N], &[f64; N]) -> Result<[[f64; N]; 2], DynamicsError> + 'a,
+    {
         self.reset = Some(Box::new(reset));
         self
+    }
+
+    /// The state a Zeno accumulation of this event's hits resolves to (the run goes on from it
+    /// instead of ending).
+    pub(crate) fn rest_at_accumulation<F>(mut self, rest: F) -> Self
+    where
+        F: Fn(f64, &[f64; N], &[f64; N]) -> Result<[[f64; N]; 2], DynamicsError> + 'a,
+    {
+        self.rest = Some(Box::new(rest));
+        self
+    }
+
+    /// The reset map at (t, q, q̇), for an event that resets.
+    pub(crate) fn try_reset(
+        &self,
+        t: f64,
+        q: &[f64; N],
+        qdot: &[f64; N],
+    ) -> Option<Result<[[f64; N]; 2], DynamicsError>> {
+        self.reset.as_ref().map(|r| r(t, q, qdot))
+    }
+
+    /// The resting state at an accumulation of hits, for an event that has one.
+    pub(crate) fn try_rest(
+        &self,
+        t: f64,
+        q: &[f64; N],
+        qdot: &[f64; N],
+    ) -> Option<Result<[[f64; N]; 2], DynamicsError>> {
+        self.rest.as_ref().map(|r| r(t, q, qdot))
     }
 
     /// Whether the state jumps at this event.
@@ -142,7 +191,8 @@ impl<'a, const N: usize> Event<'a, N> {
         self.reset.is_some()
     }
 
-    /// The state after the jump at (t, q, q̇), for an event that resets.
+    /// The state after the jump at (t, q, q̇), for an event that resets (`None` also where its
+    /// map fails there).
     ///
     /// ```
     /// use lagrange_runtime::Event;
@@ -155,7 +205,10 @@ impl<'a, const N: usize> Event<'a, N> {
         q: &[f64; N],
         qdot: &[f64; N],
     ) -> Option<([f64; N], [f64; N])> {
-        self.reset.as_ref().map(|r| r(t, q, qdot))
+        self.reset
+            .as_ref()
+            .and_then(|r| r(t, q, qdot).ok())
+            .map(|[q, v]| (q, v))
     }
 
     /// The event's name.
@@ -273,7 +326,7 @@ pub struct Jump<const N: usize> {
 ///
 /// ```
 /// use lagrange_runtime::Zeno;
-/// let z = Zeno { event: "floor".into(), ratio: 0.8, t_last: 4.0, t_accumulation: 4.1, hits: 12 };
+/// let z = Zeno { event: "floor".into(), ratio: 0.8, t_last: 4.0, t_accumulation: 4.1, hits: 12, resting: false };
 /// assert!(z.to_string().contains("4.1"));
 /// ```
 #[derive(Clone, Debug, PartialEq)]
@@ -288,16 +341,29 @@ pub struct Zeno {
     pub t_accumulation: f64,
     /// The event's hits integrated.
     pub hits: usize,
+    /// Whether the run went on in resting contact from the last hit (a contact of
+    /// [`Simulation::contacts`](crate::Simulation::contacts) closed there, plastically) rather
+    /// than stopping there (a plain resetting event).
+    pub resting: bool,
 }
 
 impl fmt::Display for Zeno {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.resting {
+            return write!(
+                f,
+                "the impacts of contact \"{}\" accumulate (Zeno): {} impacts, intervals \
+                 shrinking by {:.6} each, accumulating at t = {}; the contact closed at the last \
+                 one, t = {}, and the run went on in resting contact",
+                self.event, self.hits, self.ratio, self.t_accumulation, self.t_last
+            );
+        }
         write!(
             f,
             "the hits of event \"{}\" accumulate (Zeno): {} hits, intervals shrinking by {:.6} \
              each, accumulating at t = {} (the run stopped at the last hit, t = {}); past it the \
-             motion rests in contact, which a reset map cannot express: model the contact as a \
-             constraint from there, or stop the run with a terminal event",
+             motion rests in contact, which a reset map cannot express: declare the contact \
+             (`fn contacts`, run with Simulation::contacts), or stop the run with a terminal event",
             self.event, self.hits, self.ratio, self.t_accumulation, self.t_last
         )
     }

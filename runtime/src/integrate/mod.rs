@@ -35,6 +35,7 @@
 // the implicit methods), the methods (`rk4`, `dopri5`, `dop853`, `radau5`, `taylor`, `variational`), the dense
 // output a run keeps of them (`dense`), the `driver` loop that runs any of them, and the public
 // builder (`method`, `simulation`, `validate`).
+mod contacts;
 mod control;
 mod dense;
 mod dop853;
@@ -63,6 +64,7 @@ mod trajectory;
 mod validate;
 mod variational;
 
+pub use contacts::ContactView;
 pub use dense::DenseOutputError;
 pub use error::{PartialTrajectory, SimulationError};
 pub use events::{Direction, Event, EventHit, Jump, Zeno};

@@ -66,6 +66,8 @@ pub struct Simulation<'a, L, const N: usize> {
     pub(super) keep_samples: bool,
     /// Whether the trajectory keeps the dense output ([`Simulation::keep_dense_output`]).
     pub(super) keep_dense: bool,
+    /// A run of [`Simulation::contacts`]: `Err` says why its initial state was refused.
+    pub(super) contact_run: Option<Result<(), String>>,
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
@@ -93,7 +95,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     }
 
     /// The builder's defaults around a system held either way.
-    fn with(sys: Sys<'a, L>, q0: [f64; N], qdot0: [f64; N]) -> Self {
+    pub(super) fn with(sys: Sys<'a, L>, q0: [f64; N], qdot0: [f64; N]) -> Self {
         Simulation {
             sys,
             manifold: None,
@@ -115,6 +117,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
             keep_samples: true,
             keep_dense: false,
             max_step: None,
+            contact_run: None,
         }
     }
 

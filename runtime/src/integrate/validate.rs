@@ -37,7 +37,22 @@ impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
                 self.q0, self.qdot0
             ));
         }
-        if self.manifold.is_some() && self.events.iter().any(|e| e.is_reset()) {
+        if let Some(Err(message)) = &self.contact_run {
+            return Err(message.clone());
+        }
+        if self.contact_run.is_some() {
+            if let Method::VariationalMidpoint { .. }
+            | Method::Taylor { .. }
+            | Method::Radau5 { .. } = self.method
+            {
+                return Err(format!(
+                    "{:?} does not run contacts (their closed set changes at every impact and \
+                     lift-off): use Method::Dop853, Method::DormandPrince or Method::Rk4 with \
+                     Simulation::contacts",
+                    self.method
+                ));
+            }
+        } else if self.manifold.is_some() && self.events.iter().any(|e| e.is_reset()) {
             let name = self
                 .events
                 .iter()

@@ -1,0 +1,705 @@
+//! Runs with unilateral contacts ([`Simulation::contacts`]): the contact view the integrators
+//! step (its accelerations those of the closed contacts acting as constraints), one event per
+//! contact (its gap while open, its normal multiplier while closed), and the transitions at
+//! those events: impacts through the derived impact map ([`crate::impact`]), lift-off, and the
+//! resting contact a Zeno accumulation of bounces resolves to.
+
+use std::cell::Cell;
+use std::rc::Rc;
+
+use nalgebra::SMatrix;
+
+use crate::contact::{ContactRows, Unilateral};
+use crate::eom::Pieces;
+use crate::error::{DynamicsError, Short};
+use crate::impact::{self, Candidate};
+use crate::lagrangian::Lagrangian;
+use crate::linalg::lu_solve_dyn;
+use crate::scalar::Scalar;
+
+use super::events::Event;
+use super::manifold::{Manifold, Rows};
+use super::newton::inf_norm;
+use super::simulation::{Simulation, Sys};
+use super::state::{Fault, Y};
+
+/// At most this many Newton iterations when projecting positions onto the closed contacts.
+const MAX_PROJECTION: usize = 10;
+
+/// Which contacts are closed, and where each closed sticking contact's tangential coordinate is
+/// held: shared by the view, its events and the run's projection.
+#[derive(Debug)]
+struct ContactState<const K: usize> {
+    closed: Cell<[bool; K]>,
+    anchor: Cell<[f64; K]>,
+}
+
+/// A system with unilateral contacts seen as the [`Lagrangian`] the integrators step: its
+/// accelerations are those with the closed contacts as constraints (M q̈ = f + Gᵀλ over their
+/// rows), everything else is the system's own. What [`Simulation::contacts`] runs.
+///
+/// ```
+/// use lagrange_runtime::{integrate::ContactView, Contact, Lagrangian, Scalar, Unilateral};
+/// struct Ball;
+/// impl Lagrangian<1> for Ball {
+///     const COORDINATES: [&'static str; 1] = ["y"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 - q[0] * 9.81 }
+/// }
+/// impl Unilateral<1, 1> for Ball {
+///     fn contacts<S: Scalar>(&self, q: &[S; 1], _t: S) -> [Contact<S>; 1] { [Contact::gap(q[0])] }
+/// }
+/// // On the floor at rest, the contact starts closed: no acceleration, λ = m g.
+/// let view = ContactView::new(&Ball, &[0.0], &[0.0], 0.0).unwrap();
+/// assert_eq!(view.closed(), [true]);
+/// assert_eq!(view.accelerations(&[0.0], &[0.0], 0.0).unwrap(), [0.0]);
+/// assert_eq!(view.normal_forces(&[0.0], &[0.0], 0.0).unwrap(), [9.81]);
+/// ```
+pub struct ContactView<'a, U: ?Sized, const N: usize, const K: usize> {
+    sys: &'a U,
+    state: Rc<ContactState<K>>,
+}
+
+impl<U: ?Sized, const N: usize, const K: usize> Clone for ContactView<'_, U, N, K> {
+    fn clone(&self) -> Self {
+        ContactView {
+            sys: self.sys,
+            state: Rc::clone(&self.state),
+        }
+    }
+}
+
+impl<U: ?Sized, const N: usize, const K: usize> core::fmt::Debug for ContactView<'_, U, N, K> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("ContactView")
+            .field("closed", &self.state.closed.get())
+            .finish_non_exhaustive()
+    }
+}
+
+/// One row of a closed contact: its gradient, value (the gap, or the tangential coordinate
+/// minus its anchor), rate and curvature, and its λ slot (2j normal, 2j + 1 tangential).
+struct Row<const N: usize> {
+    grad: [f64; N],
+    value: f64,
+    rate: f64,
+    curvature: f64,
+    slot: usize,
+}
+
+impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactView<'a, U, N, K> {
+    /// The view of `sys` starting at (q0, q̇0, t0): a contact is closed where its gap and its
+    /// rate vanish (to 1e-9 of their scales) and the closed contacts press (λ ≥ 0); the state
+    /// must not penetrate (a gap below −1e-9 of its scale is an error that names the contact).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{integrate::ContactView, Contact, Lagrangian, Scalar, Unilateral};
+    /// # struct Ball;
+    /// # impl Lagrangian<1> for Ball {
+    /// #     const COORDINATES: [&'static str; 1] = ["y"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 - q[0] * 9.81 }
+    /// # }
+    /// # impl Unilateral<1, 1> for Ball {
+    /// #     fn contacts<S: Scalar>(&self, q: &[S; 1], _t: S) -> [Contact<S>; 1] { [Contact::gap(q[0])] }
+    /// # }
+    /// assert!(ContactView::new(&Ball, &[-0.5], &[0.0], 0.0).unwrap_err().contains("penetrates"));
+    /// assert_eq!(ContactView::new(&Ball, &[1.0], &[0.0], 0.0).unwrap().closed(), [false]);
+    /// ```
+    pub fn new(sys: &'a U, q0: &[f64; N], qdot0: &[f64; N], t0: f64) -> Result<Self, String> {
+        let view = ContactView {
+            sys,
+            state: Rc::new(ContactState {
+                closed: Cell::new([false; K]),
+                anchor: Cell::new([0.0; K]),
+            }),
+        };
+        let rows = sys.contact_rows(q0, qdot0, t0);
+        let mut closed = [false; K];
+        for j in 0..K {
+            let (gs, vs) = scales(&rows, j, q0, qdot0);
+            if !(rows.gap[j].is_finite() && rows.normal_rate[j].is_finite()) {
+                return Err(format!(
+                    "contact {} is not finite at the start (gap {}, rate {})",
+                    view.name(&rows, j),
+                    rows.gap[j],
+                    rows.normal_rate[j]
+                ));
+            }
+            if rows.gap[j] < -1e-9 * gs {
+                return Err(format!(
+                    "contact {} penetrates at the start: its gap is {} at q0 = {}; start with \
+                     every gap g ≥ 0",
+                    view.name(&rows, j),
+                    Short(rows.gap[j]),
+                    Short(&q0[..])
+                ));
+            }
+            closed[j] = rows.gap[j].abs() <= 1e-9 * gs && rows.normal_rate[j].abs() <= 1e-9 * vs;
+        }
+        view.close(closed, &rows);
+        view.anchor_at(q0, t0);
+        view.release(q0, qdot0, t0).map_err(|e| e.to_string())?;
+        Ok(view)
+    }
+
+    /// Which contacts are closed now.
+    pub fn closed(&self) -> [bool; K] {
+        self.state.closed.get()
+    }
+
+    /// The system itself.
+    pub fn system(&self) -> &'a U {
+        self.sys
+    }
+
+    /// The normal forces λ_j of the closed contacts at a state (zero for the open ones).
+    pub fn normal_forces(
+        &self,
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> Result<[f64; K], DynamicsError> {
+        let (_, lambda) = self.solve(q, qdot, t)?;
+        Ok(core::array::from_fn(|j| lambda[2 * j]))
+    }
+
+    /// A contact's name for messages and events.
+    fn name(&self, rows: &ContactRows<N, K>, j: usize) -> String {
+        if rows.names[j].is_empty() {
+            format!("contact {j}")
+        } else {
+            rows.names[j].to_string()
+        }
+    }
+
+    /// Sets the closed contacts, anchoring each newly closed sticking one where it is.
+    fn close(&self, closed: [bool; K], rows: &ContactRows<N, K>) {
+        let was = self.state.closed.get();
+        let mut anchor = self.state.anchor.get();
+        for j in 0..K {
+            if closed[j] && !was[j] && rows.sticking[j] {
+                anchor[j] = f64::NAN;
+            }
+        }
+        self.state.anchor.set(anchor);
+        self.state.closed.set(closed);
+    }
+
+    /// Anchors every closed sticking contact not yet anchored at its tangential coordinate at q.
+    fn anchor_at(&self, q: &[f64; N], t: f64) {
+        let mut anchor = self.state.anchor.get();
+        if anchor.iter().all(|a| !a.is_nan()) {
+            return;
+        }
+        let values = self.sys.contacts(q, t);
+        for j in 0..K {
+            if anchor[j].is_nan() {
+                anchor[j] = values[j].tangent().unwrap_or(0.0);
+            }
+        }
+        self.state.anchor.set(anchor);
+    }
+
+    /// The rows of the closed contacts at (q, q̇, t).
+    fn active_rows(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Vec<Row<N>> {
+        let closed = self.state.closed.get();
+        let anchor = self.state.anchor.get();
+        let mut out = Vec::new();
+        if !closed.iter().any(|&c| c) {
+            return out;
+        }
+        let rows = self.sys.contact_rows(q, qdot, t);
+        for j in 0..K {
+            if !closed[j] {
+                continue;
+            }
+            out.push(Row {
+                grad: rows.normal[j],
+                value: rows.gap[j],
+                rate: rows.normal_rate[j],
+                curvature: rows.normal_curvature[j],
+                slot: 2 * j,
+            });
+            if rows.sticking[j] {
+                // The tangent's value against its anchor (the anchor is the value at closure).
+                let a = if anchor[j].is_nan() { 0.0 } else { anchor[j] };
+                let s = self.sys.contacts(q, t)[j].tangent().unwrap_or(0.0);
+                out.push(Row {
+                    grad: rows.tangent[j],
+                    value: s - a,
+                    rate: rows.tangent_rate[j],
+                    curvature: rows.tangent_curvature[j],
+                    slot: 2 * j + 1,
+                });
+            }
+        }
+        out
+    }
+
+    /// q̈ and the multipliers (2K slots, zero for open contacts) with the closed contacts as
+    /// constraints: [M −Gᵀ; G 0] (q̈, λ) = (f, −c), each row of G scaled to unit largest entry.
+    fn solve(
+        &self,
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> Result<([f64; N], Vec<f64>), DynamicsError> {
+        let rows = self.active_rows(q, qdot, t);
+        let mut lambda = vec![0.0; 2 * K];
+        if rows.is_empty() {
+            return Ok((self.sys.accelerations(q, qdot, t)?, lambda));
+        }
+        let pieces: Pieces<N> = self.sys.pieces(q, qdot, t);
+        let f = pieces.rhs();
+        let ms = (0..N)
+            .map(|i| pieces.mass_entry(i, i).abs())
+            .fold(f64::MIN_POSITIVE, f64::max);
+        let r = rows.len();
+        let n = N + r;
+        let mut a = vec![0.0; n * n];
+        let mut x = vec![0.0; n];
+        let mut s = vec![1.0; r];
+        for i in 0..N {
+            for c in 0..N {
+                a[i * n + c] = pieces.mass_entry(i, c) / ms;
+            }
+            x[i] = f[i] / ms;
+        }
+        for (m, row) in rows.iter().enumerate() {
+            let big = row.grad.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            s[m] = if big > 0.0 { 1.0 / big } else { 1.0 };
+            for i in 0..N {
+                a[i * n + N + m] = -row.grad[i] * s[m];
+                a[(N + m) * n + i] = row.grad[i] * s[m];
+            }
+            x[N + m] = -row.curvature * s[m];
+        }
+        let state = || (t, q.to_vec(), qdot.to_vec());
+        lu_solve_dyn(&mut a, &mut x, 1.0).map_err(|_| {
+            let (t, q, qdot) = state();
+            let names = self.sys.contact_rows(&q_arr(&q), &q_arr(&qdot), t).names;
+            let closed: Vec<String> = (0..K)
+                .filter(|&j| self.closed()[j])
+                .map(|j| {
+                    if names[j].is_empty() {
+                        format!("contact {j}")
+                    } else {
+                        names[j].to_string()
+                    }
+                })
+                .collect();
+            DynamicsError::DependentConstraints {
+                t,
+                q,
+                qdot,
+                message: format!(
+                    "the closed contacts [{}] (normal rows, and tangential rows of sticking \
+                     ones) are dependent or leave a direction without inertia: the contact \
+                     forces are not determined (a body resting on more points than it has \
+                     freedoms, e.g. a block on both sticking corners); make one of them \
+                     frictionless (no .sticking), or end the run before it settles",
+                    closed.join(", ")
+                ),
+            }
+        })?;
+        if !x.iter().all(|v| v.is_finite()) {
+            let (t, q, qdot) = state();
+            return Err(DynamicsError::NonFinite {
+                t,
+                q,
+                qdot,
+                message: "the accelerations with the closed contacts are not finite".into(),
+            });
+        }
+        for (m, row) in rows.iter().enumerate() {
+            lambda[row.slot] = x[N + m] * ms * s[m];
+        }
+        Ok((core::array::from_fn(|i| x[i]), lambda))
+    }
+
+    /// Opens closed contacts that pull (λ < 0) at (q, q̇, t), the most negative first, until
+    /// every closed one presses.
+    fn release(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Result<(), DynamicsError> {
+        for _ in 0..K {
+            let (_, lambda) = self.solve(q, qdot, t)?;
+            let scale = lambda.iter().fold(0.0_f64, |m, l| m.max(l.abs()));
+            let closed = self.closed();
+            let worst = (0..K)
+                .filter(|&j| closed[j] && lambda[2 * j] < -1e-12 * scale)
+                .min_by(|&a, &b| lambda[2 * a].total_cmp(&lambda[2 * b]));
+            let Some(j) = worst else {
+                return Ok(());
+            };
+            let mut c = closed;
+            c[j] = false;
+            self.state.closed.set(c);
+        }
+        Ok(())
+    }
+
+    /// The transition at contact `j`'s event at (t, q, q̇): an impact where `j` is open (with
+    /// restitution 0 when `plastic`, the Zeno resolution), a lift-off where it is closed.
+    /// Returns the state after it, on the closed contacts.
+    fn transition(
+        &self,
+        j: usize,
+        plastic: bool,
+        t: f64,
+        q: &[f64; N],
+        qdot: &[f64; N],
+    ) -> Result<Y<N>, DynamicsError> {
+        let closed = self.closed();
+        let mut y = [*q, *qdot];
+        if closed[j] && !plastic {
+            // Lift-off: λ_j reached zero.
+            let mut c = closed;
+            c[j] = false;
+            self.state.closed.set(c);
+            self.release(q, qdot, t)?;
+            return Ok(y);
+        }
+        let rows = self.sys.contact_rows(q, qdot, t);
+        // The candidates: this contact, the closed ones, and the open ones at zero gap
+        // approaching or resting.
+        let mut idx = Vec::new();
+        for i in 0..K {
+            let (gs, vs) = scales(&rows, i, q, qdot);
+            let touching = rows.gap[i].abs() <= 1e-9 * gs && rows.normal_rate[i] <= 1e-9 * vs;
+            if i == j || closed[i] || touching {
+                idx.push(i);
+            }
+        }
+        let cands: Vec<Candidate<N>> = idx
+            .iter()
+            .map(|&i| Candidate {
+                normal: rows.normal[i],
+                rate: rows.normal_rate[i],
+                restitution: if plastic && i == j {
+                    0.0
+                } else {
+                    rows.restitution[i]
+                },
+                tangent: rows.sticking[i].then_some((rows.tangent[i], rows.tangent_rate[i])),
+            })
+            .collect();
+        let m: SMatrix<f64, N, N> = self.sys.mass_matrix(q, qdot, t);
+        let mass: [[f64; N]; N] = core::array::from_fn(|i| core::array::from_fn(|k| m[(i, k)]));
+        let out = impact::resolve(&mass, qdot, &cands).map_err(|f| DynamicsError::Impact {
+            t,
+            q: q.to_vec(),
+            qdot: qdot.to_vec(),
+            message: format!(
+                "the impact of {} (with {} contact(s) touching) has no solution ({f:?}): the \
+                 impact law M Δq̇ = Gᵀ Λ, ġ⁺ = −e ġ⁻ on the rows that take an impulse and \
+                 ġ⁺ ≥ −e ġ⁻ on the others cannot be met; check that the contacts' gradients \
+                 are independent where they touch together",
+                self.name(&rows, j),
+                idx.len()
+            ),
+        })?;
+        y[1] = out.qdot;
+        // Contacts left at rest on their surface (ġ⁺ ≈ 0) close; the ones still moving apart
+        // (a bounce, a separation) are open.
+        let mut next = [false; K];
+        for (c, &i) in cands.iter().zip(&idx) {
+            let vs = scales(&rows, i, q, qdot).1.max(c.rate.abs());
+            let after: f64 = c.rate
+                + (0..N)
+                    .map(|k| c.normal[k] * (out.qdot[k] - qdot[k]))
+                    .sum::<f64>();
+            next[i] = after.abs() <= 1e-9 * vs;
+        }
+        self.close(next, &rows);
+        self.anchor_at(q, t);
+        self.release(&y[0], &y[1], t)?;
+        self.project(t, &mut y).map_err(|f| DynamicsError::Impact {
+            t,
+            q: q.to_vec(),
+            qdot: qdot.to_vec(),
+            message: format!(
+                "after the impact the state could not be put on the closed contacts ({f:?})"
+            ),
+        })?;
+        Ok(y)
+    }
+
+    /// The run's events, one per contact: its gap while open, its normal force while closed,
+    /// both falling through zero; the transition resets the state.
+    fn events(&self, q0: &[f64; N], t0: f64) -> Vec<Event<'a, N>>
+    where
+        U: Sized,
+    {
+        let names = self.sys.contacts(q0, t0);
+        (0..K)
+            .map(|j| {
+                let name = names[j]
+                    .name()
+                    .map_or_else(|| format!("contact {j}"), str::to_string);
+                let (v, r, z) = (self.clone(), self.clone(), self.clone());
+                Event::zero_crossing(name, move |t, q, qdot| {
+                    if v.closed()[j] {
+                        v.solve(q, qdot, t).map_or(f64::NAN, |(_, l)| l[2 * j])
+                    } else {
+                        v.sys.contacts(q, t)[j].gap_value()
+                    }
+                })
+                .falling()
+                .reset_fallible(move |t, q, qdot| r.transition(j, false, t, q, qdot))
+                .rest_at_accumulation(move |t, q, qdot| z.transition(j, true, t, q, qdot))
+            })
+            .collect()
+    }
+}
+
+/// A slice of length N as an array (for messages).
+fn q_arr<const N: usize>(v: &[f64]) -> [f64; N] {
+    core::array::from_fn(|i| v.get(i).copied().unwrap_or(f64::NAN))
+}
+
+/// The scales contact j's gap and rate are measured against: Σ|∂g/∂q_i q_i| and
+/// Σ|∂g/∂q_i q̇_i| + |∂g/∂t|, each plus the gradient's largest entry (a floor for a contact at
+/// q = 0 or at rest).
+fn scales<const N: usize, const K: usize>(
+    rows: &ContactRows<N, K>,
+    j: usize,
+    q: &[f64; N],
+    qdot: &[f64; N],
+) -> (f64, f64) {
+    let n = &rows.normal[j];
+    let size: f64 = n.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let gs: f64 = (0..N).map(|i| (n[i] * q[i]).abs()).sum::<f64>() + size;
+    let gv: f64 = (0..N).map(|i| n[i] * qdot[i]).sum::<f64>();
+    let vs: f64 = (0..N).map(|i| (n[i] * qdot[i]).abs()).sum::<f64>()
+        + (rows.normal_rate[j] - gv).abs()
+        + size;
+    (gs, vs)
+}
+
+impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
+    for ContactView<'_, U, N, K>
+{
+    fn count(&self) -> usize {
+        2 * K
+    }
+    fn rows(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Rows<N> {
+        let mut out = Rows {
+            value: vec![0.0; 2 * K],
+            jacobian: vec![[0.0; N]; 2 * K],
+            rate: vec![0.0; 2 * K],
+        };
+        for r in self.active_rows(q, qdot, t) {
+            out.value[r.slot] = r.value;
+            out.jacobian[r.slot] = r.grad;
+            out.rate[r.slot] = r.rate;
+        }
+        out
+    }
+    fn multipliers(&self, t: f64, y: &Y<N>) -> Result<Vec<f64>, Fault> {
+        Ok(self.solve(&y[0], &y[1], t)?.1)
+    }
+    fn project(&self, t: f64, y: &mut Y<N>) -> Result<f64, Fault> {
+        let zero = [0.0; N];
+        let mut moved = 0.0_f64;
+        let mut rows = self.active_rows(&y[0], &zero, t);
+        if rows.is_empty() {
+            return Ok(0.0);
+        }
+        for _ in 0..MAX_PROJECTION {
+            if rows.iter().all(|r| r.value == 0.0) {
+                break;
+            }
+            let r: Vec<f64> = rows.iter().map(|r| r.value).collect();
+            let dq = least_norm(&rows, &r)?;
+            for i in 0..N {
+                y[0][i] -= dq[i];
+                moved = moved.max(dq[i].abs());
+            }
+            if !y[0].iter().all(|x| x.is_finite()) {
+                return Err(Fault::NonFinite);
+            }
+            rows = self.active_rows(&y[0], &zero, t);
+            if inf_norm(&dq) <= 4.0 * f64::EPSILON * inf_norm(&y[0]) {
+                break;
+            }
+        }
+        // Velocities: the nearest q̇ with G q̇ + ∂g/∂t = 0.
+        let vrows = self.active_rows(&y[0], &y[1], t);
+        let r: Vec<f64> = vrows.iter().map(|r| r.rate).collect();
+        let dv = least_norm(&vrows, &r)?;
+        for i in 0..N {
+            y[1][i] -= dv[i];
+        }
+        Ok(moved)
+    }
+    fn residual(&self, t: f64, y: &Y<N>) -> (f64, f64) {
+        self.active_rows(&y[0], &y[1], t)
+            .iter()
+            .fold((0.0_f64, 0.0_f64), |(p, v), r| {
+                (p.max(r.value.abs()), v.max(r.rate.abs()))
+            })
+    }
+}
+
+/// The least-norm Δ = Gᵀ(GGᵀ)⁻¹ r of G Δ = r over `rows`.
+fn least_norm<const N: usize>(rows: &[Row<N>], r: &[f64]) -> Result<[f64; N], Fault> {
+    let k = rows.len();
+    let mut ggt = vec![0.0; k * k];
+    let mut big = 0.0_f64;
+    for a in 0..k {
+        for b in 0..k {
+            ggt[a * k + b] = (0..N).map(|i| rows[a].grad[i] * rows[b].grad[i]).sum();
+            big = big.max(ggt[a * k + b].abs());
+        }
+    }
+    let mut mu = r.to_vec();
+    lu_solve_dyn(&mut ggt, &mut mu, big).map_err(|_| Fault::Newton {
+        iterations: 0,
+        residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
+        reason: "projecting onto the closed contacts: their gradients are dependent here",
+    })?;
+    let mut d = [0.0; N];
+    for a in 0..k {
+        for i in 0..N {
+            d[i] += rows[a].grad[i] * mu[a];
+        }
+    }
+    Ok(d)
+}
+
+impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
+    for ContactView<'_, U, N, K>
+{
+    const COORDINATES: [&'static str; N] = U::COORDINATES;
+    // A contact may touch any coordinate: none is cyclic, no momentum is conserved.
+    const CYCLIC: [bool; N] = [false; N];
+    const AUTONOMOUS: bool = U::AUTONOMOUS;
+    const MOMENTUM_CONSERVED: [bool; N] = [false; N];
+    // Between impacts, closed contacts that do not move in time do no work.
+    const ENERGY_CONSERVED: bool = U::ENERGY_CONSERVED && U::SCLERONOMIC;
+
+    #[inline(always)]
+    fn lagrangian<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S {
+        self.sys.lagrangian(q, qdot, t)
+    }
+    #[inline(always)]
+    fn dissipation<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S {
+        self.sys.dissipation(q, qdot, t)
+    }
+    #[inline(always)]
+    fn generalized_forces<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> [S; N] {
+        self.sys.generalized_forces(q, qdot, t)
+    }
+    /// The system's power plus that of the closed contacts' forces, λ·(G q̇) (non-zero only for
+    /// contacts that move in time); NaN where the accelerations fail.
+    fn power(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
+        let mut p = self.sys.power(q, qdot, t);
+        if !U::SCLERONOMIC {
+            let Ok((_, lambda)) = self.solve(q, qdot, t) else {
+                return f64::NAN;
+            };
+            for r in self.active_rows(q, qdot, t) {
+                let gv: f64 = (0..N).map(|i| r.grad[i] * qdot[i]).sum();
+                p += lambda[r.slot] * gv;
+            }
+        }
+        p
+    }
+    #[inline(always)]
+    fn pieces(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Pieces<N> {
+        self.sys.pieces(q, qdot, t)
+    }
+    fn accelerations(
+        &self,
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> Result<[f64; N], DynamicsError> {
+        self.solve(q, qdot, t).map(|(a, _)| a)
+    }
+    fn mass_matrix(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> SMatrix<f64, N, N> {
+        self.sys.mass_matrix(q, qdot, t)
+    }
+    fn momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> [f64; N] {
+        self.sys.momenta(q, qdot, t)
+    }
+    fn energy_and_momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> (f64, [f64; N]) {
+        self.sys.energy_and_momenta(q, qdot, t)
+    }
+    fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
+        self.sys.energy(q, qdot, t)
+    }
+}
+
+impl<'a, U, const N: usize, const K: usize> Simulation<'a, ContactView<'a, U, N, K>, N>
+where
+    U: Unilateral<N, K>,
+{
+    /// A run of a system with unilateral contacts from (q0, q̇0): the same builder as
+    /// [`Simulation::new`], with the explicit methods (DOP853, Dormand–Prince, RK4).
+    ///
+    /// Each contact is an event: while open, its gap falling through zero is an impact, and the
+    /// state jumps by the impact map derived from M and the contacts' gradients
+    /// ([`crate::impact`]: Newton's law ġ⁺ = −e ġ⁻ on the rows that take an impulse, several
+    /// simultaneous contacts solved exactly); a contact that comes to rest closes and acts as a
+    /// constraint with a multiplier λ ≥ 0 ([`Trajectory::lambda`](crate::Trajectory::lambda):
+    /// contact j's normal force in column 2j, a sticking contact's tangential force in 2j + 1),
+    /// until λ falls to zero (lift-off). Impacts that accumulate (a Zeno run: a ball bouncing
+    /// ever lower) are resolved: the contact closes plastically at the last one and the run goes
+    /// on in resting contact, reported in [`Trajectory::zeno`](crate::Trajectory::zeno). The
+    /// jumps are in [`Trajectory::jumps`](crate::Trajectory::jumps) and the work column carries
+    /// the energy they remove.
+    ///
+    /// A contact is closed at the start where its gap and rate are zero and it presses; a state
+    /// that penetrates a contact is refused ([`SimulationError::InvalidOptions`](crate::SimulationError::InvalidOptions)).
+    ///
+    /// ```
+    /// use lagrange_runtime::{Contact, Lagrangian, Scalar, Simulation, Unilateral};
+    /// struct Ball;
+    /// impl Lagrangian<1> for Ball {
+    ///     const COORDINATES: [&'static str; 1] = ["y"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 - q[0] * 9.81 }
+    /// }
+    /// impl Unilateral<1, 1> for Ball {
+    ///     const SCLERONOMIC: bool = true;
+    ///     fn contacts<S: Scalar>(&self, q: &[S; 1], _t: S) -> [Contact<S>; 1] {
+    ///         [Contact::gap(q[0]).restitution(0.5).named("floor")]
+    ///     }
+    /// }
+    /// let tr = Simulation::contacts(&Ball, [1.0], [0.0]).until(3.0).run().unwrap();
+    /// let t1 = (2.0 / 9.81_f64).sqrt();
+    /// assert!((tr.jumps[0].t - t1).abs() < 1e-10);
+    /// let z = tr.zeno.as_ref().unwrap(); // resting from t∞ = t₁ (1 + e)/(1 − e) = 3 t₁ on
+    /// assert!((z.t_accumulation - 3.0 * t1).abs() < 1e-9 && z.resting);
+    /// assert!((tr.lambda.last().unwrap()[0] - 9.81).abs() < 1e-9); // λ = m g
+    /// ```
+    pub fn contacts(system: &'a U, q0: [f64; N], qdot0: [f64; N]) -> Self {
+        match ContactView::new(system, &q0, &qdot0, 0.0) {
+            Ok(view) => {
+                let events = view.events(&q0, 0.0);
+                let mut sim = Self::with(Sys::Owned(Box::new(view.clone())), q0, qdot0);
+                sim.manifold = Some(Box::new(view));
+                sim.events = events;
+                sim.contact_run = Some(Ok(()));
+                sim
+            }
+            Err(message) => {
+                // The builder keeps the message; `run` reports it.
+                let view = ContactView {
+                    sys: system,
+                    state: Rc::new(ContactState {
+                        closed: Cell::new([false; K]),
+                        anchor: Cell::new([0.0; K]),
+                    }),
+                };
+                let mut sim = Self::with(Sys::Owned(Box::new(view)), q0, qdot0);
+                sim.contact_run = Some(Err(message));
+                sim
+            }
+        }
+    }
+}
