@@ -6,25 +6,9 @@
 //! each impact removes, and the refusals.
 
 use lagrange::prelude::*;
+use lagrange_examples::contact_systems::{omega_star, Ball, Block, RimlessWheel, SPOKES};
 
-/// A ball in a vertical plane above the floor y = 0: x horizontal, y up (symbolic mode).
-pub struct Ball {
-    pub m: f64,
-    pub g: f64,
-    pub e: f64,
-}
-
-#[lagrangian]
-impl Ball {
-    fn lagrangian(&self, (_x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
-        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) - self.m * self.g * y
-    }
-    fn contacts(&self, (_, _): Coord, (y, _): Coord) -> [Contact; 1] {
-        [Contact::gap(y).restitution(self.e).named("floor")]
-    }
-}
-
-/// The same ball in jets mode.
+/// The ball of the `impacts` example ([`Ball`]) in jets mode.
 pub struct JetsBall {
     pub m: f64,
     pub g: f64,
@@ -132,40 +116,6 @@ fn bouncing_ball_from_fn_contacts_rests_at_its_accumulation_time() {
     }
 }
 
-/// A rectangular block of half-width b and half-height h rocking on its bottom corners,
-/// sticking and plastic (e = 0): coordinates the centre (x, y) and the tilt θ.
-pub struct Block {
-    pub m: f64,
-    pub g: f64,
-    pub b: f64,
-    pub h: f64,
-}
-
-#[lagrangian]
-impl Block {
-    fn lagrangian(
-        &self,
-        (_x, x_dot): Coord,
-        (y, y_dot): Coord,
-        (_theta, theta_dot): Coord,
-    ) -> Scalar {
-        // A uniform rectangle: I = m (b² + h²)/3 about its centre.
-        let inertia = self.m * (self.b * self.b + self.h * self.h) / 3.0;
-        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) + 0.5 * inertia * theta_dot * theta_dot
-            - self.m * self.g * y
-    }
-    fn contacts(&self, (x, _): Coord, (y, _): Coord, (theta, _): Coord) -> [Contact; 2] {
-        let (s, c) = (theta.sin(), theta.cos());
-        // The bottom corners (±b, −h) of the body frame, in the world.
-        let (xr, yr) = (x + self.b * c + self.h * s, y + self.b * s - self.h * c);
-        let (xl, yl) = (x - self.b * c + self.h * s, y - self.b * s - self.h * c);
-        [
-            Contact::gap(yr).sticking(xr).named("right corner"),
-            Contact::gap(yl).sticking(xl).named("left corner"),
-        ]
-    }
-}
-
 #[test]
 fn rocking_block_loses_housners_ratio_at_each_impact() {
     let (b, h) = (0.2, 0.6);
@@ -208,59 +158,17 @@ fn rocking_block_loses_housners_ratio_at_each_impact() {
     assert!(tr.lambda.iter().all(|l| l[0] >= 0.0 && l[2] >= 0.0));
 }
 
-/// A rimless wheel: a point mass m at the hub of `SPOKES` massless spokes of length l, 2α apart,
-/// on a slope γ; (x, y) in the slope's frame (x downhill, y normal to it), θ the wheel's angle
-/// (no inertia of its own). The spokes' tips stick where they land (plastic impacts).
-pub struct RimlessWheel {
-    pub m: f64,
-    pub g: f64,
-    pub l: f64,
-    pub slope: f64,
-}
-
-const SPOKES: usize = 8;
-
-#[lagrangian]
-impl RimlessWheel {
-    fn lagrangian(
-        &self,
-        (x, x_dot): Coord,
-        (y, y_dot): Coord,
-        (_theta, _theta_dot): Coord,
-    ) -> Scalar {
-        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot)
-            + self.m * self.g * (x * self.slope.sin() - y * self.slope.cos())
-    }
-    fn contacts(&self, (x, _): Coord, (y, _): Coord, (theta, _): Coord) -> [Contact; 8] {
-        let spoke = |k: f64| {
-            let phi = theta + k * std::f64::consts::PI / 4.0;
-            let (tx, ty) = (x + self.l * phi.sin(), y - self.l * phi.cos());
-            Contact::gap(ty).sticking(tx)
-        };
-        [
-            spoke(0.0),
-            spoke(1.0),
-            spoke(2.0),
-            spoke(3.0),
-            spoke(4.0),
-            spoke(5.0),
-            spoke(6.0),
-            spoke(7.0),
-        ]
-    }
-}
-
 #[test]
 fn rimless_wheel_walks_to_its_limit_cycle() {
     let (g, l, gamma): (f64, f64, f64) = (G, 1.0, 0.08);
     let alpha = std::f64::consts::PI / SPOKES as f64;
-    let omega_star = (4.0 * (g / l) * alpha.sin() * gamma.sin()).sqrt() / (2.0 * alpha).tan();
     let wheel = RimlessWheel {
         m: 2.0,
         g,
         l,
         slope: gamma,
     };
+    let omega_star = omega_star(&wheel);
     // Just after an impact: spoke 0 at φ = α, its tip at the origin, the hub swinging forward
     // at 1.2 ω*, perpendicular to the spoke.
     let w0 = 1.2 * omega_star;
@@ -314,5 +222,69 @@ fn contact_runs_refuse_what_they_cannot_do() {
             .run()
             .unwrap_err();
         assert!(err.to_string().contains("does not run contacts"), "{err}");
+    }
+}
+
+/// A particle of mass m on the outside of a smooth sphere (a circle of radius r in the
+/// vertical plane): the contact is closed while the sphere pushes.
+pub struct OnSphere {
+    pub m: f64,
+    pub g: f64,
+    pub r: f64,
+}
+
+#[lagrangian]
+impl OnSphere {
+    fn lagrangian(&self, (_x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) - self.m * self.g * y
+    }
+    fn contacts(&self, (x, _): Coord, (y, _): Coord) -> [Contact; 1] {
+        [Contact::gap((x * x + y * y).sqrt() - self.r).named("sphere")]
+    }
+}
+
+#[test]
+fn particle_leaves_the_sphere_where_its_normal_force_vanishes() {
+    // From the top at speed v₀ along the surface, it leaves at cos θ = (2 + v₀²/(g r))/3,
+    // where m v²/r = m g cos θ and v² = v₀² + 2 g r (1 − cos θ).
+    let (m, g, r, v0) = (1.5, G, 2.0, 0.8);
+    let sphere = OnSphere { m, g, r };
+    let cos_leave = (2.0 + v0 * v0 / (g * r)) / 3.0;
+    let tr = Simulation::contacts(&sphere, [0.0, r], [v0, 0.0])
+        .method(Method::Dop853 {
+            rtol: 1e-12,
+            atol: 1e-14,
+        })
+        .until(1.5)
+        .sample_every(0.01)
+        .run()
+        .unwrap();
+    let leave = &tr.jumps[0];
+    assert_eq!(leave.event, "sphere");
+    // Lift-off changes no state and no energy.
+    assert_eq!(leave.before, leave.after);
+    assert_eq!(leave.energy_change, 0.0);
+    let (x, y) = (leave.before.0[0], leave.before.0[1]);
+    assert!(((x * x + y * y).sqrt() - r).abs() < 1e-12);
+    assert!((y / r - cos_leave).abs() < 1e-9, "{} vs {cos_leave}", y / r);
+    // Before it the sphere pushes with λ ≥ 0 (the gap's gradient has unit length: λ is the
+    // normal force), m g cos θ − m v²/r; after it, free flight.
+    for (i, &t) in tr.t.iter().enumerate() {
+        let (x, y) = (tr.q[i][0], tr.q[i][1]);
+        if t < leave.t {
+            let v2 = tr.qdot[i][0].powi(2) + tr.qdot[i][1].powi(2);
+            let expected = m * g * y / r - m * v2 / r;
+            assert!((tr.lambda[i][0] - expected).abs() < 1e-9, "t = {t}");
+            assert!(((x * x + y * y).sqrt() - r).abs() < 1e-12);
+        } else if t > leave.t {
+            assert_eq!(tr.lambda[i][0], 0.0);
+            assert!((x * x + y * y).sqrt() > r);
+        }
+    }
+    // No contact force does work: the energy is conserved throughout (and the work column,
+    // which carries the jumps' energy, stays zero).
+    for i in 0..tr.t.len() {
+        assert!((tr.energy[i] - tr.energy[0]).abs() < 1e-10 * m * g * r);
+        assert_eq!(tr.work[i], 0.0);
     }
 }

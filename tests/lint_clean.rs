@@ -397,3 +397,66 @@ fn lint_clean_geometry() {
         assert!((got[0] - want).abs() < 1e-13, "{got:?} vs {want}");
     }
 }
+
+/// A ball over a moving floor with a sticking contact, in both modes: a velocity bound and not
+/// used, a doc comment on `fn contacts`, a name and a restitution from a field.
+pub struct FloorBall {
+    /// Mass.
+    pub m: f64,
+    /// Gravity.
+    pub g: f64,
+    /// Restitution.
+    pub e: f64,
+}
+
+#[lagrangian]
+impl FloorBall {
+    fn lagrangian(&self, (_x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) - self.m * self.g * y
+    }
+    /// The floor y = 0.1 t, where the ball sticks.
+    fn contacts(&self, (x, x_dot): Coord, (y, _): Coord, t: Time) -> [Contact; 1] {
+        [Contact::gap(y - 0.1 * t)
+            .restitution(self.e)
+            .sticking(x)
+            .named("floor")]
+    }
+}
+
+/// The same in jets mode, on a `Coord3`, two contacts.
+pub struct FloorBallJets {
+    /// Mass.
+    pub m: f64,
+    /// Gravity.
+    pub g: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl FloorBallJets {
+    fn lagrangian(&self, (r, r_dot): Coord3) -> Scalar {
+        0.5 * self.m * r_dot.norm_squared() - self.m * self.g * r.z
+    }
+    fn contacts(&self, (r, r_dot): Coord3) -> [Contact; 2] {
+        [Contact::gap(r.z), Contact::gap(1.0 - r.x).restitution(0.5)]
+    }
+}
+
+#[test]
+fn lint_clean_contacts() {
+    let s = FloorBall {
+        m: 2.0,
+        g: 9.81,
+        e: 0.5,
+    };
+    let rows = s.contact_rows(&[1.0, 0.5], &[0.0, -1.0], 2.0);
+    assert!((rows.gap[0] - 0.3).abs() < 1e-15 && (rows.normal_rate[0] + 1.1).abs() < 1e-15);
+    assert_eq!(
+        (rows.sticking[0], rows.names[0], rows.restitution[0]),
+        (true, "floor", 0.5)
+    );
+    const { assert!(!<FloorBall as Unilateral<2, 1>>::SCLERONOMIC) };
+    let j = FloorBallJets { m: 1.0, g: 9.81 };
+    let rows = j.contact_rows(&[0.25, 0.0, 2.0], &[0.0; 3], 0.0);
+    assert_eq!((rows.gap, rows.restitution), ([2.0, 0.75], [0.0, 0.5]));
+    const { assert!(<FloorBallJets as Unilateral<3, 2>>::SCLERONOMIC) };
+}

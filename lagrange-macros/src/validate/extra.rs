@@ -470,9 +470,9 @@ pub(super) fn check_constraints_body(
         ),
     };
     let entry = if kind == FuncKind::Contacts {
-        "contact"
+        ""
     } else {
-        "g(q, t)"
+        "g(q, t) "
     };
     match body.stmts.last() {
         Some(syn::Stmt::Expr(e, None)) => match paren_less(e) {
@@ -482,7 +482,7 @@ pub(super) fn check_constraints_body(
                         errors.at(
                             a,
                             format!(
-                                "`fn {}` returns {k} {what}{} (`[{ty}; {k}]`), and this array has {} entr{}: one entry {entry} per {what}",
+                                "`fn {}` returns {k} {what}{} (`[{ty}; {k}]`), and this array has {} entr{}: one entry {entry}per {what}",
                                 kind.user_name(),
                                 if k == 1 { "" } else { "s" },
                                 a.elems.len(),
@@ -494,12 +494,12 @@ pub(super) fn check_constraints_body(
             }
             other => errors.at(
                 other,
-                format!("the body of `fn {}` ends in an array literal, one entry {entry} per {what} ({example}): `{hint}`", kind.user_name()),
+                format!("the body of `fn {}` ends in an array literal, one entry {entry}per {what} ({example}): `{hint}`", kind.user_name()),
             ),
         },
         _ => errors.push(syn::Error::new(
             body.brace_token.span.close(),
-            format!("the body of `fn {}` ends in an array literal, one entry {entry} per {what}, without a semicolon ({example}): `{hint}`", kind.user_name()),
+            format!("the body of `fn {}` ends in an array literal, one entry {entry}per {what}, without a semicolon ({example}): `{hint}`", kind.user_name()),
         )),
     }
 }
