@@ -232,6 +232,44 @@
 //! assert!((acc[0] - a_dd).abs() < 1e-12 && (acc[1] + a_dd * c).abs() < 1e-12);
 //! ```
 //!
+//! ## Contacts and impacts
+//!
+//! An optional `fn contacts(&self, (x, _): Coord, ..., t: Time) -> [Contact; K]` declares K
+//! unilateral contacts, each from its gap g(q, t) ≥ 0 written from the positions
+//! ([`Contact::gap`], with `.restitution(e)`, `.sticking(s)` for a contact point that does not
+//! slide, `.named(..)`), and makes the macro also emit `impl Unilateral<N, K>`.
+//! [`Simulation::contacts`] runs it: impacts by the impact law derived from M and the gaps'
+//! gradients, contacts at rest acting as constraints with a normal force λ ≥ 0 until it
+//! vanishes, a Zeno accumulation of impacts resolved to resting contact (README "Impacts").
+//!
+//! ```
+//! use lagrange::prelude::*;
+//!
+//! /// A ball above the floor y = 0, restitution e.
+//! pub struct Ball { pub m: f64, pub g: f64, pub e: f64 }
+//!
+//! #[lagrangian]
+//! impl Ball {
+//!     fn lagrangian(&self, (y, y_dot): Coord) -> Scalar {
+//!         0.5 * self.m * y_dot * y_dot - self.m * self.g * y
+//!     }
+//!     fn contacts(&self, (y, _): Coord) -> [Contact; 1] {
+//!         [Contact::gap(y).restitution(self.e).named("floor")]
+//!     }
+//! }
+//!
+//! let ball = Ball { m: 1.0, g: 9.81, e: 0.5 };
+//! let tr = Simulation::contacts(&ball, [1.0], [0.0]).until(2.0).run().unwrap();
+//! // First impact at t₁ = √(2h/g), leaving at e times the speed it arrived with.
+//! let t1 = (2.0 / 9.81_f64).sqrt();
+//! assert!((tr.jumps[0].t - t1).abs() < 1e-10);
+//! assert!((tr.jumps[0].after.1[0] + 0.5 * tr.jumps[0].before.1[0]).abs() < 1e-12);
+//! // The bounces accumulate at t₁ (1 + e)/(1 − e) = 3 t₁; from there it rests, λ = m g.
+//! let z = tr.zeno.as_ref().unwrap();
+//! assert!((z.t_accumulation - 3.0 * t1).abs() < 1e-9);
+//! assert!((tr.lambda.last().unwrap()[0] - 9.81).abs() < 1e-9);
+//! ```
+//!
 //! ## What the default (symbolic) mode accepts
 //!
 //! The body is lowered to an expression graph at compile time. Besides arithmetic, `let`
