@@ -617,6 +617,10 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
         qdot: &[f64; N],
         t: f64,
     ) -> Result<[f64; N], DynamicsError> {
+        // With every contact open: the system's own accelerations, nothing allocated.
+        if !self.state.closed.get().iter().any(|&c| c) {
+            return self.sys.accelerations(q, qdot, t);
+        }
         self.solve(q, qdot, t).map(|(a, _)| a)
     }
     fn mass_matrix(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> SMatrix<f64, N, N> {
