@@ -379,7 +379,8 @@ pub use lagrange_runtime::{
     Stiffness, Trajectory, Zeno, INVARIANT_FLOOR,
 };
 pub use lagrange_runtime::{
-    Contact, DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Scalar, Unilateral, Velocity,
+    Contact, DynamicsError, Ensemble, Holonomic, Lagrangian, Member, Nonholonomic, Scalar,
+    Unilateral, Velocity,
 };
 pub use lagrange_runtime::{SMatrix, Vector3};
 
@@ -424,7 +425,7 @@ pub mod prelude {
     pub use lagrange_runtime::{
         equilibrium, Linearization, LinearizationError, Linearize, Stability,
     };
-    pub use lagrange_runtime::{Contact, Ensemble, Member, Unilateral, Velocity};
+    pub use lagrange_runtime::{Contact, Ensemble, Member, Nonholonomic, Unilateral, Velocity};
     pub use lagrange_runtime::{DynamicsError, Holonomic, Lagrangian, SMatrix, Scalar, Vector3};
     pub use lagrange_runtime::{Event, EventHit, Method, Simulation, SimulationError, Trajectory};
 }
@@ -434,10 +435,12 @@ pub mod prelude {
 #[doc(hidden)]
 pub mod __private {
     // What the generated code names, and nothing else (each path is used by `lagrange-macros`).
+    pub use lagrange_runtime::constraints::{jet_constraint_rows, splice_velocity_rows};
     pub use lagrange_runtime::jet::{timed_state, Timed};
     pub use lagrange_runtime::lagrangian::{kernel_params, Compiled};
     pub use lagrange_runtime::mix::*;
     pub use lagrange_runtime::real::Real;
+    pub use lagrange_runtime::Nonholonomic;
     pub use lagrange_runtime::{eom, linalg, taylor};
     pub use lagrange_runtime::{solve_mass_matrix, DynamicsError, Holonomic, Lagrangian};
     pub use lagrange_runtime::{Contact, SMatrix, Scalar, Unilateral, Vector3};

@@ -81,8 +81,15 @@ fn bouncing_ball_from_fn_contacts_rests_at_its_accumulation_time() {
             );
             // The apex after impact k (k ≥ 0), from the run's velocity after it: h e^{2(k+1)}.
             let apex = jump.after.1[1].powi(2) / (2.0 * G);
-            let want = if k == resting { 0.0 } else { H * E.powi(2 * (k as i32 + 1)) };
-            assert!((apex - want).abs() < 1e-12 * H, "apex {k}: {apex} vs {want}");
+            let want = if k == resting {
+                0.0
+            } else {
+                H * E.powi(2 * (k as i32 + 1))
+            };
+            assert!(
+                (apex - want).abs() < 1e-12 * H,
+                "apex {k}: {apex} vs {want}"
+            );
             tk += 2.0 * E * arrive / G;
         }
         // The Zeno resolution: found within a few dozen impacts, t∞ to 1e-9.

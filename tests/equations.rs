@@ -20,4 +20,5 @@ mod language;
 mod lint_clean;
 mod macro_contract;
 mod pieces;
+mod rolling;
 mod symbolic;

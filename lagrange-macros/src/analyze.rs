@@ -39,6 +39,8 @@ pub struct Analysis {
     pub scleronomic: bool,
     /// Names mentioned anywhere in the body of `fn contacts` (empty without one).
     pub contacts_used: HashSet<String>,
+    /// Names mentioned anywhere in the body of `fn velocity_constraints` (empty without one).
+    pub velocity_used: HashSet<String>,
     /// `Unilateral::SCLERONOMIC`: `fn contacts` has no `t: Time`, or does not use it.
     pub contacts_scleronomic: bool,
     /// CYCLIC, one per slot: q_i appears in none of L, D and Q.
@@ -92,23 +94,36 @@ pub fn analyze(decl: &Decl) -> Analysis {
         .as_ref()
         .map(|f| mentions(&f.body))
         .unwrap_or_default();
-    let constrained: Vec<bool> = match &decl.constraints {
-        None => Vec::new(),
-        Some(f) => decl
-            .coords
-            .iter()
-            .enumerate()
-            .flat_map(|(p, c)| {
-                let used = in_func(Some(f), &constraints_used, p, false);
-                std::iter::repeat_n(used, c.width())
-            })
-            .collect(),
-    };
+    let velocity_used = decl
+        .velocity_constraints
+        .as_ref()
+        .map(|f| mentions(&f.body))
+        .unwrap_or_default();
+    // A coordinate is constrained when g mentions it, or a velocity constraint mentions it or
+    // its velocity.
+    let constrained: Vec<bool> =
+        if decl.constraints.is_none() && decl.velocity_constraints.is_none() {
+            Vec::new()
+        } else {
+            decl.coords
+                .iter()
+                .enumerate()
+                .flat_map(|(p, c)| {
+                    let used = in_func(decl.constraints.as_ref(), &constraints_used, p, false)
+                        || in_func(decl.velocity_constraints.as_ref(), &velocity_used, p, false)
+                        || in_func(decl.velocity_constraints.as_ref(), &velocity_used, p, true);
+                    std::iter::repeat_n(used, c.width())
+                })
+                .collect()
+        };
+    // Velocity constraints with a velocity-free term b(q, t) do work on the motion, as moving
+    // constraints do.
     let scleronomic = decl
         .constraints
         .as_ref()
         .and_then(|f| f.time.as_ref())
-        .is_none_or(|t| !constraints_used.contains(&unraw(t)));
+        .is_none_or(|t| !constraints_used.contains(&unraw(t)))
+        && decl.velocity_constraints.as_ref().is_none_or(|f| !f.affine);
     let contacts_used = decl
         .contacts
         .as_ref()
@@ -144,6 +159,7 @@ pub fn analyze(decl: &Decl) -> Analysis {
         scleronomic,
         contacts_used,
         contacts_scleronomic,
+        velocity_used,
         cyclic,
         autonomous,
         momentum_conserved,
@@ -237,6 +253,7 @@ impl Analysis {
             FuncKind::Forces => &self.forces_used,
             FuncKind::Constraints => &self.constraints_used,
             FuncKind::Contacts => &self.contacts_used,
+            FuncKind::VelocityConstraints => &self.velocity_used,
         }
     }
 }

@@ -31,6 +31,9 @@ pub struct Fallback {
     /// K of the (first) `fn contacts`, when its return type says it (`[Contact; K]`, K ≥ 1):
     /// the stub then implements `Unilateral<N, K>` too.
     contacts_hint: Option<usize>,
+    /// K of the (first) `fn velocity_constraints`, when its return type says it: the stub then
+    /// implements `Nonholonomic<N, K>`, and `Holonomic` with these rows added.
+    velocity_hint: Option<usize>,
 }
 
 impl Fallback {
@@ -56,11 +59,18 @@ impl Fallback {
             .and_then(|f| validate::contact_count(&f.sig.output))
             .and_then(Result::ok)
             .filter(|k| *k >= 1);
+        let velocity_hint = split
+            .velocity_constraints
+            .first()
+            .and_then(|f| validate::constraint_count(&f.sig.output))
+            .and_then(Result::ok)
+            .filter(|k| *k >= 1);
         Fallback {
             rest,
             n_hint,
             k_hint,
             contacts_hint,
+            velocity_hint,
         }
     }
 }
@@ -69,12 +79,7 @@ impl Fallback {
 pub fn stub(errors: &Errors, fallback: &Fallback) -> TokenStream {
     let errs = errors.to_compile_errors();
     let rest = &fallback.rest;
-    let stub = stub_impl(
-        rest,
-        fallback.n_hint,
-        fallback.k_hint,
-        fallback.contacts_hint,
-    );
+    let stub = stub_impl(rest, fallback);
     quote!(#errs #rest #stub)
 }
 
@@ -87,6 +92,7 @@ pub struct JetsBodies {
     pub funcs: Vec<syn::Block>,
     pub constraints: Option<syn::Block>,
     pub contacts: Option<syn::Block>,
+    pub velocity: Option<syn::Block>,
 }
 
 /// The `impl Lagrangian<N>`: the jets `fn lagrangian` (its body `body`, lowered for jets), the
@@ -109,6 +115,7 @@ pub fn generate(
         funcs,
         constraints,
         contacts,
+        velocity,
     } = jets;
     let constraints = constraints.as_ref();
     let n = decl.n();
@@ -132,7 +139,7 @@ pub fn generate(
     let ret = quote_spanned!(decl.ret_span=> Scalar);
     let fn_ident = &decl.fn_ident;
     let self_token = &decl.self_token;
-    let constrained = decl.constraints.is_some();
+    let constrained = decl.constraints.is_some() || decl.velocity_constraints.is_some();
     let (symbolic_methods, symbolic_consts) = match symbolic {
         Some(out) => crate::symbolic::methods(out, n, self_ty, constrained),
         // The jets mode compiles nothing of its own; a constrained system says so (its
@@ -187,7 +194,7 @@ pub fn generate(
     let extras: Vec<TokenStream> = decl
         .funcs()
         .zip(funcs)
-        .map(|(f, body)| jets_func(decl, analysis, f, body, &mut timed_methods))
+        .map(|(f, body)| jets_func(decl, analysis, f, body, &mut timed_methods, None))
         .collect();
     // The flags that differ from their defaults only with forces, dissipation or a moving
     // constraint.
@@ -203,8 +210,18 @@ pub fn generate(
         quote!()
     };
 
-    let holonomic = match (&decl.constraints, constraints) {
-        (Some(f), Some(body)) => holonomic_impl(decl, analysis, f, body),
+    let holonomic = match (&decl.velocity_constraints, velocity, &decl.constraints) {
+        (Some(fv), Some(vbody), holo) => constrained_impl(
+            decl,
+            analysis,
+            holo.as_ref().zip(constraints),
+            (fv, vbody),
+            &mut timed_methods,
+        ),
+        (_, _, Some(f)) => match constraints {
+            Some(body) => holonomic_impl(decl, analysis, f, body),
+            None => quote!(),
+        },
         _ => quote!(),
     };
     let unilateral = match (&decl.contacts, contacts) {
@@ -288,7 +305,7 @@ fn holonomic_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block)
     let k = proc_macro2::Literal::usize_unsuffixed(f.k);
     let constrained = &analysis.constrained;
     let scleronomic = analysis.scleronomic;
-    let method = jets_func(decl, analysis, f, body, &mut Vec::new());
+    let method = jets_func(decl, analysis, f, body, &mut Vec::new(), None);
     let allow = crate::names::allow_generated();
     quote! {
         #[automatically_derived]
@@ -301,6 +318,99 @@ fn holonomic_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block)
     }
 }
 
+/// `impl Nonholonomic<N, KV>` from `fn velocity_constraints`, and `impl Holonomic<N, KH + KV>`
+/// holding the holonomic constraints of `fn constraints` (if any, KH of them) followed by the
+/// velocity constraints' rows (`VELOCITY_ROWS = KV`), so `Simulation::constrained` runs both.
+fn constrained_impl(
+    decl: &Decl,
+    analysis: &Analysis,
+    holonomic: Option<(&Func, &syn::Block)>,
+    (fv, vbody): (&Func, &syn::Block),
+    timed_methods: &mut Vec<TokenStream>,
+) -> TokenStream {
+    let self_ty = &decl.rest.self_ty;
+    let lit = proc_macro2::Literal::usize_unsuffixed;
+    let (kh, kv) = (holonomic.map_or(0, |(f, _)| f.k), fv.k);
+    let (n, k, kv_lit) = (lit(decl.n()), lit(kh + kv), lit(kv));
+    let constrained = &analysis.constrained;
+    let scleronomic = analysis.scleronomic;
+    let velocity_method = jets_func(decl, analysis, fv, vbody, timed_methods, None);
+    let scalar = quote!(::lagrange::__private::Scalar);
+    let allow = crate::names::allow_generated();
+    let (hidden, constraints_body, rows_body) = match holonomic {
+        Some((f, body)) => {
+            let name = crate::names::holonomic();
+            let method = jets_func(decl, analysis, f, body, &mut Vec::new(), Some(&name));
+            let ident = Ident::new(&name, proc_macro2::Span::call_site());
+            let held = (0..kh).map(|i| {
+                let i = lit(i);
+                quote!(__lagrange_g[#i])
+            });
+            let zeros = (0..kv).map(|_| quote!(<S as #scalar>::constant(0.0)));
+            (
+                quote! {
+                    #[automatically_derived]
+                    #allow
+                    impl #self_ty {
+                        #[doc(hidden)]
+                        #method
+                    }
+                },
+                quote! {
+                    let __lagrange_g = self.#ident(q, t);
+                    [#(#held,)* #(#zeros),*]
+                },
+                quote! {
+                    let mut rows = ::lagrange::__private::jet_constraint_rows(self, q, qdot, t);
+                    ::lagrange::__private::splice_velocity_rows(
+                        &mut rows,
+                        &<Self as ::lagrange::__private::Nonholonomic<#n, #kv_lit>>::velocity_constraint_rows(self, q, qdot, t),
+                    );
+                    rows
+                },
+            )
+        }
+        None => (
+            quote!(),
+            quote! {
+                let _ = (q, t);
+                [<S as #scalar>::constant(0.0); #k]
+            },
+            quote! {
+                <Self as ::lagrange::__private::Nonholonomic<#n, #kv_lit>>::velocity_constraint_rows(self, q, qdot, t)
+            },
+        ),
+    };
+    quote! {
+        #hidden
+        #[automatically_derived]
+        #allow
+        impl ::lagrange::__private::Nonholonomic<#n, #kv_lit> for #self_ty {
+            #velocity_method
+        }
+        #[automatically_derived]
+        #allow
+        impl ::lagrange::__private::Holonomic<#n, #k> for #self_ty {
+            const CONSTRAINED_COORDINATES: [bool; #n] = [#(#constrained),*];
+            const SCLERONOMIC: bool = #scleronomic;
+            const VELOCITY_ROWS: usize = #kv_lit;
+            #[inline]
+            fn constraints<S: #scalar>(&self, q: &[S; #n], t: S) -> [S; #k] {
+                #constraints_body
+            }
+            #[inline]
+            fn constraint_rows(
+                &self,
+                q: &[f64; #n],
+                qdot: &[f64; #n],
+                t: f64,
+            ) -> ::lagrange::__private::eom::ConstraintRows<#n, #k> {
+                #rows_body
+            }
+        }
+    }
+}
+
 /// `impl Unilateral<N, K>` from `fn contacts` (its body `body`, lowered for jets): SCLERONOMIC
 /// from the analysis, and the generic `fn contacts`.
 fn unilateral_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
@@ -308,7 +418,7 @@ fn unilateral_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block
     let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
     let k = proc_macro2::Literal::usize_unsuffixed(f.k);
     let scleronomic = analysis.contacts_scleronomic;
-    let method = jets_func(decl, analysis, f, body, &mut Vec::new());
+    let method = jets_func(decl, analysis, f, body, &mut Vec::new(), None);
     let allow = crate::names::allow_generated();
     quote! {
         #[automatically_derived]
@@ -378,6 +488,7 @@ fn jets_func(
     f: &Func,
     body: &syn::Block,
     timed_methods: &mut Vec<TokenStream>,
+    name: Option<&str>,
 ) -> TokenStream {
     let params = crate::names::Params::jets();
     // `fn constraints` has no velocity parameter: its velocity bindings (unused, or a local of
@@ -406,6 +517,10 @@ fn jets_func(
             let k = proc_macro2::Literal::usize_unsuffixed(f.k);
             quote_spanned!(f.ret_span=> [::lagrange::__private::Contact<Scalar>; #k])
         }
+        FuncKind::VelocityConstraints => {
+            let k = proc_macro2::Literal::usize_unsuffixed(f.k);
+            quote_spanned!(f.ret_span=> [Scalar; #k])
+        }
     };
     // `fn constraints(&self, q, t)` and `fn contacts(&self, q, t)` have no velocities.
     let qdot_param = if f.kind.positions_only() {
@@ -413,7 +528,7 @@ fn jets_func(
     } else {
         quote!(#qdot_pat: &[Scalar; #n],)
     };
-    let ident = Ident::new(f.kind.trait_method(), f.fn_ident.span());
+    let ident = Ident::new(name.unwrap_or(f.kind.trait_method()), f.fn_ident.span());
     let attrs = &f.fn_attrs;
     let self_token = &f.self_token;
     let stmts = &body.stmts;
@@ -461,12 +576,13 @@ fn jets_func(
 
 /// A stub impl emitted next to the errors (and a stub `impl Holonomic<N, K>` given `k`), so uses
 /// of the type elsewhere do not cascade into "trait not implemented" errors.
-fn stub_impl(
-    rest: &syn::ItemImpl,
-    n: usize,
-    k: Option<usize>,
-    contacts: Option<usize>,
-) -> TokenStream {
+fn stub_impl(rest: &syn::ItemImpl, fallback: &Fallback) -> TokenStream {
+    let n = fallback.n_hint;
+    let contacts = fallback.contacts_hint;
+    let k = match (fallback.k_hint, fallback.velocity_hint) {
+        (None, None) => None,
+        (a, b) => Some(a.unwrap_or(0) + b.unwrap_or(0)),
+    };
     if rest.trait_.is_some() || !rest.generics.params.is_empty() {
         return quote!();
     }
@@ -477,6 +593,17 @@ fn stub_impl(
             #[automatically_derived]
             impl ::lagrange::__private::Holonomic<#n, #k> for #self_ty {
                 fn constraints<S: ::lagrange::__private::Scalar>(&self, _: &[S; #n], _: S) -> [S; #k] {
+                    ::core::unreachable!("`#[lagrangian]` reported errors for this impl")
+                }
+            }
+        },
+        None => quote!(),
+    };
+    let nonholonomic = match fallback.velocity_hint {
+        Some(k) => quote! {
+            #[automatically_derived]
+            impl ::lagrange::__private::Nonholonomic<#n, #k> for #self_ty {
+                fn velocity_constraints<S: ::lagrange::__private::Scalar>(&self, _: &[S; #n], _: &[S; #n], _: S) -> [S; #k] {
                     ::core::unreachable!("`#[lagrangian]` reported errors for this impl")
                 }
             }
@@ -505,6 +632,7 @@ fn stub_impl(
             }
         }
         #holonomic
+        #nonholonomic
         #unilateral
     }
 }

@@ -31,8 +31,8 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
                 "a velocity in `fn constraints`: `fn constraints` declares holonomic constraints \
                  g(q, t) = 0, written from the positions (and `t: Time`) only; a constraint on \
                  velocities (rolling without slipping, a knife edge: A(q) q̇ + b = 0) is \
-                 nonholonomic, which this macro does not take yet. Write g from the positions \
-                 (here without `velocity` or an angular velocity)",
+                 nonholonomic: declare it in `fn velocity_constraints`, which may use `velocity` \
+                 and the angular velocities",
             ));
             return emit::stub(&errors, &fallback);
         }
@@ -62,7 +62,10 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
                 FuncKind::Dissipation => {
                     analyze::lower_for_jets(&f.body, &vars, &helpers, &mut errors)
                 }
-                FuncKind::Forces | FuncKind::Constraints | FuncKind::Contacts => {
+                FuncKind::Forces
+                | FuncKind::Constraints
+                | FuncKind::Contacts
+                | FuncKind::VelocityConstraints => {
                     analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
                 }
             }
@@ -71,6 +74,10 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     // `fn constraints`, in both modes the body rewritten generically over the scalar type (the
     // runtime's jets give G and the second derivatives along the motion).
     let constraints = decl.constraints.as_ref().map(|f| {
+        let vars = analysis.bound_func(f);
+        analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
+    });
+    let velocity = decl.velocity_constraints.as_ref().map(|f| {
         let vars = analysis.bound_func(f);
         analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
     });
@@ -99,6 +106,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
         funcs,
         constraints,
         contacts,
+        velocity,
     };
     emit::generate(&decl, &analysis, &jets, symbolic.as_ref(), &errors)
 }

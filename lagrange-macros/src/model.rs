@@ -93,6 +93,9 @@ pub enum FuncKind {
     Constraints,
     /// `fn contacts(&self, ...) -> [Contact; K]`: the unilateral contacts g(q, t) ≥ 0.
     Contacts,
+    /// `fn velocity_constraints(&self, ...) -> [Scalar; K]`: the nonholonomic constraints
+    /// A(q, t) q̇ + b(q, t) = 0.
+    VelocityConstraints,
 }
 
 impl FuncKind {
@@ -103,6 +106,7 @@ impl FuncKind {
             FuncKind::Forces => "forces",
             FuncKind::Constraints => "constraints",
             FuncKind::Contacts => "contacts",
+            FuncKind::VelocityConstraints => "velocity_constraints",
         }
     }
     /// The trait method it becomes (of `Lagrangian`, or of `Holonomic` for constraints).
@@ -112,6 +116,7 @@ impl FuncKind {
             FuncKind::Forces => "generalized_forces",
             FuncKind::Constraints => "constraints",
             FuncKind::Contacts => "contacts",
+            FuncKind::VelocityConstraints => "velocity_constraints",
         }
     }
     /// Whether its body depends on the positions (and the time) only: `fn constraints` and
@@ -144,6 +149,9 @@ pub struct Func {
     pub self_token: syn::Token![self],
     /// K, the number of constraints (`fn constraints` only; 0 for the others).
     pub k: usize,
+    /// `fn velocity_constraints`: some entry has a velocity-free term b(q, t) (then the
+    /// constraint forces can do work, as a moving constraint's do).
+    pub affine: bool,
 }
 
 /// `fn lagrangian` after parsing and validation.
@@ -179,6 +187,9 @@ pub struct Decl {
     pub constraints: Option<Func>,
     /// `fn contacts`, if the impl block has one (emitted as `impl Unilateral<N, K>`).
     pub contacts: Option<Func>,
+    /// `fn velocity_constraints`, if the impl block has one (emitted as
+    /// `impl Nonholonomic<N, K>`, its rows folded into `impl Holonomic`).
+    pub velocity_constraints: Option<Func>,
 }
 
 impl Decl {

@@ -59,6 +59,12 @@ pub fn timed(method: &Ident) -> Ident {
     )
 }
 
+/// The hidden inherent method holding the body of `fn constraints` in a system that also has
+/// `fn velocity_constraints` (its `Holonomic::constraints` pads it with the velocity rows).
+pub fn holonomic() -> String {
+    format!("{PREFIX}holonomic")
+}
+
 fn unraw_str(i: &Ident) -> String {
     let s = i.to_string();
     s.strip_prefix("r#").map(str::to_owned).unwrap_or(s)

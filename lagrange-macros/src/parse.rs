@@ -87,6 +87,8 @@ pub struct Split {
     pub constraints: Vec<ImplItemFn>,
     /// Every `fn contacts` found.
     pub contacts: Vec<ImplItemFn>,
+    /// Every `fn velocity_constraints` found.
+    pub velocity_constraints: Vec<ImplItemFn>,
 }
 
 /// Parses the annotated item as an impl block and takes out `fn lagrangian`, `fn dissipation`,
@@ -100,6 +102,7 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
     })?;
     let (mut funcs, mut dissipation, mut forces, mut constraints, mut contacts) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut velocity_constraints = Vec::new();
     let items = std::mem::take(&mut rest.items);
     for item in items {
         match item {
@@ -108,6 +111,9 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
             ImplItem::Fn(f) if f.sig.ident == "forces" => forces.push(f),
             ImplItem::Fn(f) if f.sig.ident == "constraints" => constraints.push(f),
             ImplItem::Fn(f) if f.sig.ident == "contacts" => contacts.push(f),
+            ImplItem::Fn(f) if f.sig.ident == "velocity_constraints" => {
+                velocity_constraints.push(f)
+            }
             other => rest.items.push(other),
         }
     }
@@ -118,5 +124,6 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
         forces,
         constraints,
         contacts,
+        velocity_constraints,
     })
 }

@@ -66,6 +66,12 @@ pub trait Holonomic<const N: usize, const K: usize>: Lagrangian<N> {
     /// `true` when the constraints do not depend on time (then, with a conserved energy of L,
     /// the constrained motion conserves it too). The default, `false`, is always correct.
     const SCLERONOMIC: bool = false;
+    /// How many of the K rows, the last ones, are velocity constraints A(q, t) q̇ + b(q, t) = 0
+    /// ([`Nonholonomic`]) rather than g(q, t) = 0: their rows come from
+    /// [`constraint_rows`](Holonomic::constraint_rows) (`value` 0, `jacobian` A, `rate` the
+    /// residual A q̇ + b, `curvature` its rate at q̈ = 0), and a run projects positions onto the
+    /// holonomic rows only. `#[lagrangian]` sets it for `fn velocity_constraints`; 0 by default.
+    const VELOCITY_ROWS: usize = 0;
 
     /// g(q, t), one entry per constraint: zero on the constraints.
     fn constraints<S: Scalar>(&self, q: &[S; N], t: S) -> [S; K];
@@ -174,6 +180,90 @@ where
         jacobian: core::array::from_fn(|j| g[j].grad_q()),
         rate: core::array::from_fn(|j| g[j].rate()),
         curvature: core::array::from_fn(|j| g[j].curvature()),
+    }
+}
+
+/// A [`Lagrangian`] system with `K` velocity (nonholonomic) constraints
+/// c(q, q̇, t) = A(q, t) q̇ + b(q, t) = 0: rolling without slipping, knife edges.
+///
+/// With them the equations of motion are those of Lagrange–d'Alembert, M q̈ = f + Aᵀλ with
+/// A q̈ = −ċ|_{q̈=0}: λ are the constraint forces in generalized coordinates, as for holonomic
+/// constraints. `#[lagrangian]` implements it from `fn velocity_constraints` and folds its rows
+/// into the system's [`Holonomic`] impl (after the holonomic ones, [`Holonomic::VELOCITY_ROWS`]
+/// of them), so [`Simulation::constrained`](crate::Simulation::constrained) runs both.
+///
+/// ```
+/// use lagrange_runtime::{constraints::Nonholonomic, Lagrangian, Scalar};
+/// /// A knife edge in the plane: (x, y, heading φ), sliding only along its heading.
+/// struct Skate;
+/// impl Lagrangian<3> for Skate {
+///     const COORDINATES: [&'static str; 3] = ["x", "y", "phi"];
+///     const CYCLIC: [bool; 3] = [true, true, true];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, _q: &[S; 3], v: &[S; 3], _t: S) -> S {
+///         (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
+///     }
+/// }
+/// impl Nonholonomic<3, 1> for Skate {
+///     fn velocity_constraints<S: Scalar>(&self, q: &[S; 3], v: &[S; 3], _t: S) -> [S; 1] {
+///         [v[1] * q[2].cos() - v[0] * q[2].sin()]
+///     }
+/// }
+/// // Heading along x, moving along x and turning: A = (0, 1, 0), ċ = −ẋ φ̇.
+/// let rows = Skate.velocity_constraint_rows(&[0.0, 0.0, 0.0], &[2.0, 0.0, 0.5], 0.0);
+/// assert_eq!((rows.jacobian, rows.rate, rows.curvature), ([[0.0, 1.0, 0.0]], [0.0], [-1.0]));
+/// ```
+pub trait Nonholonomic<const N: usize, const K: usize>: Lagrangian<N> {
+    /// c(q, q̇, t), one entry per constraint, affine in q̇: zero on the constrained motion.
+    fn velocity_constraints<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> [S; K];
+
+    /// The rows at (q, q̇, t): `value` 0 (no position part), `jacobian` A = ∂c/∂q̇, `rate` the
+    /// residual c, `curvature` ċ at q̈ = 0 (so the acceleration-level constraint is
+    /// A q̈ = −`curvature`), from one evaluation of
+    /// [`velocity_constraints`](Nonholonomic::velocity_constraints) in the [`ConstraintJet`]
+    /// seeded with the gradient on q̇ and the direction (q̇, 0, 1) on (q, q̇, t).
+    fn velocity_constraint_rows(
+        &self,
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> ConstraintRows<N, K> {
+        let (vj, tj) = ConstraintJet::seed(qdot, &[0.0; N], t);
+        // q moves along q̇ and carries no gradient: position jets with the velocity as rate.
+        let qj: [ConstraintJet<N>; N] =
+            core::array::from_fn(|i| ConstraintJet::moving(q[i], qdot[i]));
+        let c = self.velocity_constraints(&qj, &vj, tj);
+        ConstraintRows {
+            value: [0.0; K],
+            jacobian: core::array::from_fn(|j| c[j].grad_q()),
+            rate: core::array::from_fn(|j| c[j].value()),
+            curvature: core::array::from_fn(|j| c[j].rate()),
+        }
+    }
+}
+
+/// Writes the rows of `K - KV` holonomic constraints and `KV` velocity constraints into one set
+/// of rows, the velocity ones last: what `#[lagrangian]`'s `constraint_rows` returns for a
+/// system with `fn velocity_constraints`.
+///
+/// ```
+/// use lagrange_runtime::constraints::splice_velocity_rows;
+/// use lagrange_runtime::eom::ConstraintRows;
+/// let mut rows = ConstraintRows { value: [1.0, 0.0], jacobian: [[1.0], [0.0]], rate: [2.0, 0.0], curvature: [3.0, 0.0] };
+/// let v = ConstraintRows { value: [0.0], jacobian: [[5.0]], rate: [6.0], curvature: [7.0] };
+/// splice_velocity_rows(&mut rows, &v);
+/// assert_eq!((rows.jacobian, rows.rate, rows.curvature), ([[1.0], [5.0]], [2.0, 6.0], [3.0, 7.0]));
+/// ```
+pub fn splice_velocity_rows<const N: usize, const K: usize, const KV: usize>(
+    rows: &mut ConstraintRows<N, K>,
+    velocity: &ConstraintRows<N, KV>,
+) {
+    let first = K - KV;
+    for j in 0..KV {
+        rows.value[first + j] = 0.0;
+        rows.jacobian[first + j] = velocity.jacobian[j];
+        rows.rate[first + j] = velocity.rate[j];
+        rows.curvature[first + j] = velocity.curvature[j];
     }
 }
 

@@ -29,7 +29,7 @@ mod scalar;
 pub mod taylor;
 pub mod theory;
 
-pub use constraints::Holonomic;
+pub use constraints::{Holonomic, Nonholonomic};
 pub use contact::{Contact, Unilateral};
 pub use ensemble::{Ensemble, Member};
 pub use eom::solve_mass_matrix;

@@ -69,6 +69,7 @@ fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
         forces: None,
         constraints: None,
         contacts: None,
+        velocity_constraints: None,
     }
 }
 
@@ -924,6 +925,7 @@ fn func(
         body: syn::parse_str(body).expect("test body parses"),
         self_token: syn::Token![self](Span::call_site()),
         k: 0,
+        affine: false,
     }
 }
 

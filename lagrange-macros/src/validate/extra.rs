@@ -14,12 +14,16 @@ pub(super) const CONSTRAINTS_RULE: &str = "the coordinate parameters of `constra
 /// The rule for the parameters of `fn contacts`, quoted by every error about them.
 pub(super) const CONTACTS_RULE: &str = "the coordinate parameters of `contacts` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` and names may differ; a contact's gap g(q, t) ≥ 0 (and a sticking contact's tangential coordinate) depend on the positions only, so bind each velocity as `_` (`(x, _): Coord`); `t: Time` is optional, for a moving surface";
 
+/// The rule for the parameters of `fn velocity_constraints`, quoted by every error about them.
+pub(super) const VELOCITY_RULE: &str = "the coordinate parameters of `velocity_constraints` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` and names may differ; each entry c(q, q̇, t) = A(q, t) q̇ + b(q, t) is affine in the velocities; `t: Time` is optional";
+
 /// The parameter rule quoted for `kind`.
 pub(super) fn extra_rule(kind: FuncKind) -> &'static str {
     match kind {
         FuncKind::Dissipation | FuncKind::Forces => EXTRA_RULE,
         FuncKind::Constraints => CONSTRAINTS_RULE,
         FuncKind::Contacts => CONTACTS_RULE,
+        FuncKind::VelocityConstraints => VELOCITY_RULE,
     }
 }
 
@@ -56,6 +60,10 @@ pub(super) fn extra_hint(
         FuncKind::Contacts => match k {
             Some(k) => format!("[Contact; {k}]"),
             None => "[Contact; K]".to_owned(),
+        },
+        FuncKind::VelocityConstraints => match k {
+            Some(k) => format!("[Scalar; {k}]"),
+            None => "[Scalar; K]".to_owned(),
         },
     };
     format!(
@@ -159,6 +167,27 @@ pub(super) fn check_extra(
                     errors,
                     ty,
                     format!("`fn constraints` returns an array of constraints g(q, t), one entry per constraint, each zero on the constrained motion: write `-> [Scalar; K]` with K the number of constraints: `{hint}`"),
+                ),
+            }
+            ty.span()
+        }
+        (ReturnType::Type(_, ty), FuncKind::VelocityConstraints) => {
+            match constraint_count(&sig.output) {
+                Some(Ok(k)) if k >= 1 => {}
+                Some(Ok(_)) => fail(
+                    errors,
+                    ty,
+                    format!("`fn velocity_constraints` returns at least one constraint: write `[Scalar; 1]` or more, one entry A(q, t) q̇ + b(q, t) per constraint: `{hint}`"),
+                ),
+                Some(Err(len)) => fail(
+                    errors,
+                    len,
+                    format!("the length of the array `fn velocity_constraints` returns, K, is written as a number (how many velocity constraints there are): `{hint}`"),
+                ),
+                None => fail(
+                    errors,
+                    ty,
+                    format!("`fn velocity_constraints` returns an array of velocity constraints c(q, q̇, t) = A(q, t) q̇ + b(q, t), one entry per constraint, each zero on the constrained motion: write `-> [Scalar; K]`: `{hint}`"),
                 ),
             }
             ty.span()
@@ -361,6 +390,17 @@ pub(super) fn check_extra(
             errors,
         );
     }
+    let mut affine = false;
+    if kind == FuncKind::VelocityConstraints && declared_count(kind, &sig.output).is_some() {
+        affine = check_velocity_body(
+            &func.block,
+            &bindings,
+            time.as_ref(),
+            declared_k,
+            &hint,
+            errors,
+        );
+    }
     let ok = errors.is_empty();
     sink.push_all(std::mem::take(errors));
     if !ok {
@@ -376,6 +416,7 @@ pub(super) fn check_extra(
         body: func.block,
         self_token,
         k: declared_k.unwrap_or(0),
+        affine,
     })
 }
 
@@ -450,7 +491,7 @@ pub(super) fn check_constraints_body(
             }
             errors.at(
                 &at,
-                format!("`{velocity}` is a velocity, and `fn constraints` declares holonomic constraints g(q, t) = 0, which depend on the positions (and, for a moving constraint, on `t: Time`) only. A constraint on the velocities (rolling without slipping, a knife edge: A(q) q̇ + b = 0) is nonholonomic: this macro does not take those yet, and leaving the velocity out would change the physics; write the system in coordinates that satisfy it, or integrate the constraint if it is a time derivative of g(q, t) = 0. If `{velocity}` is here by mistake, bind it as `_`, `({x}, _)`: `{hint}`"),
+                format!("`{velocity}` is a velocity, and `fn constraints` declares holonomic constraints g(q, t) = 0, which depend on the positions (and, for a moving constraint, on `t: Time`) only. A constraint on the velocities (rolling without slipping, a knife edge: A(q) q̇ + b = 0) is nonholonomic: declare it in `fn velocity_constraints` (its parameters bind the velocities); leaving the velocity out would change the physics. If `{velocity}` is here by mistake, bind it as `_`, `({x}, _)`: `{hint}`"),
             );
         }
     }
@@ -502,4 +543,83 @@ pub(super) fn check_constraints_body(
             format!("the body of `fn {}` ends in an array literal, one entry {entry}per {what}, without a semicolon ({example}): `{hint}`", kind.user_name()),
         )),
     }
+}
+
+/// The rules of the body of `fn velocity_constraints`: it ends in an array literal of K entries,
+/// each affine in the velocities and depending on them (an entry free of velocities is a
+/// holonomic constraint). Returns whether some entry has a velocity-free term b(q, t) (or the
+/// body uses the time).
+pub(super) fn check_velocity_body(
+    body: &syn::Block,
+    bindings: &[(Option<proc_macro2::Ident>, Option<proc_macro2::Ident>)],
+    time: Option<&proc_macro2::Ident>,
+    k: Option<usize>,
+    hint: &str,
+    errors: &mut Errors,
+) -> bool {
+    use super::linear::{Form, Scope};
+    const EXAMPLE: &str = "`[x_dot - self.r * psi_dot * phi.cos()]`";
+    let velocities = bindings
+        .iter()
+        .filter_map(|(_, v)| v.as_ref().map(crate::model::unraw));
+    let mut scope = Scope::new(velocities, time.map(crate::model::unraw));
+    let Some((last, before)) = body.stmts.split_last() else {
+        errors.push(syn::Error::new(
+            body.brace_token.span.close(),
+            format!("the body of `fn velocity_constraints` ends in an array literal, one entry A(q, t) q̇ + b(q, t) per constraint ({EXAMPLE}): `{hint}`"),
+        ));
+        return false;
+    };
+    for stmt in before {
+        if let Err((span, msg)) = scope.statement(stmt) {
+            errors.push(syn::Error::new(span, msg));
+            return false;
+        }
+    }
+    let tail = match last {
+        syn::Stmt::Expr(e, None) => paren_less(e),
+        _ => {
+            errors.push(syn::Error::new(
+                body.brace_token.span.close(),
+                format!("the body of `fn velocity_constraints` ends in an array literal, one entry per constraint, without a semicolon ({EXAMPLE}): `{hint}`"),
+            ));
+            return false;
+        }
+    };
+    let syn::Expr::Array(a) = tail else {
+        errors.at(
+            tail,
+            format!("the body of `fn velocity_constraints` ends in an array literal, one entry A(q, t) q̇ + b(q, t) per constraint ({EXAMPLE}): `{hint}`"),
+        );
+        return false;
+    };
+    if let Some(k) = k {
+        if a.elems.len() != k {
+            errors.at(
+                a,
+                format!(
+                    "`fn velocity_constraints` returns {k} constraint{} (`[Scalar; {k}]`), and this array has {} entr{}: one entry A(q, t) q̇ + b(q, t) per constraint",
+                    if k == 1 { "" } else { "s" },
+                    a.elems.len(),
+                    if a.elems.len() == 1 { "y" } else { "ies" },
+                ),
+            );
+        }
+    }
+    let mut affine = false;
+    for entry in &a.elems {
+        match scope.expr(entry) {
+            Ok(Form::Free) => errors.at(
+                entry,
+                "this velocity constraint does not depend on the velocities: it is a condition on the positions, g(q, t) = 0, a holonomic constraint; declare it in `fn constraints` (a velocity constraint is A(q, t) q̇ + b(q, t) = 0: rolling without slipping, a knife edge)",
+            ),
+            Ok(Form::Linear) => {}
+            Ok(Form::Affine) => affine = true,
+            Err((span, msg)) => errors.push(syn::Error::new(
+                span,
+                format!("{msg}: a velocity constraint is affine in the velocities, A(q, t) q̇ + b(q, t) = 0 (Lagrange–d'Alembert takes no other): `{hint}`"),
+            )),
+        }
+    }
+    affine || time.is_some_and(|t| free_use(body, &crate::model::unraw(t)).is_some())
 }

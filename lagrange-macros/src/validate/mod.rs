@@ -18,6 +18,7 @@ use crate::parse::Split;
 mod body;
 mod coords;
 mod extra;
+mod linear;
 
 use body::*;
 use coords::*;
@@ -38,6 +39,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         forces,
         constraints,
         contacts,
+        velocity_constraints,
     } = split;
     if let Some((_, for_token)) = &rest.trait_ {
         errors.at(
@@ -86,6 +88,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         (&forces, FuncKind::Forces),
         (&constraints, FuncKind::Constraints),
         (&contacts, FuncKind::Contacts),
+        (&velocity_constraints, FuncKind::VelocityConstraints),
     ] {
         for extra in list.iter().skip(1) {
             let what = match kind {
@@ -93,6 +96,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
                 FuncKind::Forces => "a system has one `fn forces`: add the forces on each coordinate into its one entry of the array",
                 FuncKind::Constraints => "a system has one `fn constraints`: put every constraint g(q, t) = 0 into its own entry of the one array it returns",
                 FuncKind::Contacts => "a system has one `fn contacts`: put every contact into its own entry of the one array it returns",
+                FuncKind::VelocityConstraints => "a system has one `fn velocity_constraints`: put every velocity constraint into its own entry of the one array it returns",
             };
             errors.at(
                 &extra.sig.ident,
@@ -109,6 +113,12 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
             "`fn contacts` next to `fn constraints`: a run with contacts does not take holonomic constraints yet (Simulation::contacts would leave them out); write the system in coordinates that satisfy the constraints, or model them as contacts that stay closed",
         );
     }
+    if let (Some(c), Some(_)) = (contacts.first(), velocity_constraints.first()) {
+        errors.at(
+            &c.sig.ident,
+            "`fn contacts` next to `fn velocity_constraints`: a run with contacts does not take velocity constraints yet (Simulation::contacts would leave them out); a sticking contact (`.sticking(s)`) holds its contact point while closed",
+        );
+    }
     let func = funcs.swap_remove(0);
     let mut decl = check_fn(func, rest, options, errors)?;
     for (list, kind) in [
@@ -116,6 +126,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         (forces, FuncKind::Forces),
         (constraints, FuncKind::Constraints),
         (contacts, FuncKind::Contacts),
+        (velocity_constraints, FuncKind::VelocityConstraints),
     ] {
         let Some(f) = list.into_iter().next() else {
             continue;
@@ -126,6 +137,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
             FuncKind::Forces => decl.forces = checked,
             FuncKind::Constraints => decl.constraints = checked,
             FuncKind::Contacts => decl.contacts = checked,
+            FuncKind::VelocityConstraints => decl.velocity_constraints = checked,
         }
     }
     if errors.is_empty() {
@@ -334,6 +346,7 @@ fn check_fn(
         forces: None,
         constraints: None,
         contacts: None,
+        velocity_constraints: None,
     })
 }
 

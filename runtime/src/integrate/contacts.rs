@@ -18,7 +18,7 @@ use crate::linalg::lu_solve_dyn;
 use crate::scalar::Scalar;
 
 use super::events::Event;
-use super::manifold::{Manifold, Rows};
+use super::manifold::{least_norm_dyn, Manifold, Rows};
 use super::newton::inf_norm;
 use super::simulation::{Simulation, Sys};
 use super::state::{Fault, Y};
@@ -545,28 +545,12 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
 
 /// The least-norm Δ = Gᵀ(GGᵀ)⁻¹ r of G Δ = r over `rows`.
 fn least_norm<const N: usize>(rows: &[Row<N>], r: &[f64]) -> Result<[f64; N], Fault> {
-    let k = rows.len();
-    let mut ggt = vec![0.0; k * k];
-    let mut big = 0.0_f64;
-    for a in 0..k {
-        for b in 0..k {
-            ggt[a * k + b] = (0..N).map(|i| rows[a].grad[i] * rows[b].grad[i]).sum();
-            big = big.max(ggt[a * k + b].abs());
-        }
-    }
-    let mut mu = r.to_vec();
-    lu_solve_dyn(&mut ggt, &mut mu, big).map_err(|_| Fault::Newton {
-        iterations: 0,
-        residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
-        reason: "projecting onto the closed contacts: their gradients are dependent here",
-    })?;
-    let mut d = [0.0; N];
-    for a in 0..k {
-        for i in 0..N {
-            d[i] += rows[a].grad[i] * mu[a];
-        }
-    }
-    Ok(d)
+    let g: Vec<[f64; N]> = rows.iter().map(|r| r.grad).collect();
+    least_norm_dyn(
+        &g,
+        r,
+        "projecting onto the closed contacts: their gradients are dependent here",
+    )
 }
 
 impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>

@@ -6,7 +6,7 @@
 //! driver serves constrained and unconstrained runs.
 
 use crate::constraints::{Constrained, Holonomic};
-use crate::linalg::{solve_symmetric, SolveFailure};
+use crate::linalg::{lu_solve_dyn, solve_symmetric, SolveFailure};
 
 use super::newton::inf_norm;
 use super::state::{Fault, Y};
@@ -39,6 +39,42 @@ pub(crate) trait Manifold<const N: usize> {
 
     /// The largest |g| and |ġ| at a state.
     fn residual(&self, t: f64, y: &Y<N>) -> (f64, f64);
+
+    /// How many of the rows (the last ones) are velocity constraints A q̇ + b = 0, which have
+    /// no position part (zero for holonomic constraints and contacts).
+    fn velocity_rows(&self) -> usize {
+        0
+    }
+}
+
+/// The least-norm Δ = Gᵀ(GGᵀ)⁻¹ r of G Δ = r, with the number of rows known at run time.
+pub(crate) fn least_norm_dyn<const N: usize>(
+    g: &[[f64; N]],
+    r: &[f64],
+    reason: &'static str,
+) -> Result<[f64; N], Fault> {
+    let k = g.len();
+    let mut ggt = vec![0.0; k * k];
+    let mut big = 0.0_f64;
+    for a in 0..k {
+        for b in 0..k {
+            ggt[a * k + b] = (0..N).map(|i| g[a][i] * g[b][i]).sum();
+            big = big.max(ggt[a * k + b].abs());
+        }
+    }
+    let mut mu = r.to_vec();
+    lu_solve_dyn(&mut ggt, &mut mu, big).map_err(|_| Fault::Newton {
+        iterations: 0,
+        residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
+        reason,
+    })?;
+    let mut d = [0.0; N];
+    for a in 0..k {
+        for i in 0..N {
+            d[i] += g[a][i] * mu[a];
+        }
+    }
+    Ok(d)
 }
 
 /// The least-norm solution Δ = Gᵀ(GGᵀ)⁻¹ r of G Δ = r. Its failure's reason, like the
@@ -96,7 +132,19 @@ impl<H: Holonomic<N, K>, const N: usize, const K: usize> Manifold<N> for Constra
                 converged = true;
                 break;
             }
-            let dq = least_norm(&rows.jacobian, &rows.value)?;
+            // Velocity constraints (the last VELOCITY_ROWS rows) have no position part: q moves
+            // along the holonomic rows only.
+            let held = K - H::VELOCITY_ROWS;
+            let dq = if H::VELOCITY_ROWS == 0 {
+                least_norm(&rows.jacobian, &rows.value)?
+            } else {
+                least_norm_dyn(
+                    &rows.jacobian[..held],
+                    &rows.value[..held],
+                    "projecting onto the holonomic constraints: their gradients are dependent \
+                     or vanish here (one constraint repeats the others)",
+                )?
+            };
             for i in 0..N {
                 y[0][i] -= dq[i];
                 moved = moved.max(dq[i].abs());
@@ -133,5 +181,8 @@ impl<H: Holonomic<N, K>, const N: usize, const K: usize> Manifold<N> for Constra
     fn multipliers(&self, t: f64, y: &Y<N>) -> Result<Vec<f64>, Fault> {
         let (_, lambda) = self.system().constrained_accelerations(&y[0], &y[1], t)?;
         Ok(lambda.to_vec())
+    }
+    fn velocity_rows(&self) -> usize {
+        H::VELOCITY_ROWS
     }
 }

@@ -60,6 +60,22 @@ impl<const N: usize> ConstraintJet<N> {
         (qj, tj)
     }
 
+    /// A number moving at `rate` along the motion with no gradient: a coordinate of a velocity
+    /// constraint, whose gradient is taken in the velocities.
+    ///
+    /// ```
+    /// use lagrange_runtime::jet::ConstraintJet;
+    /// let x = ConstraintJet::<2>::moving(1.0, 3.0);
+    /// assert_eq!((x.value(), x.rate(), x.grad_q()), (1.0, 3.0, [0.0, 0.0]));
+    /// ```
+    pub fn moving(value: f64, rate: f64) -> Self {
+        ConstraintJet {
+            v: value,
+            d1: rate,
+            ..Self::ZERO
+        }
+    }
+
     /// The value g.
     ///
     /// ```
