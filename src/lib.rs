@@ -371,7 +371,8 @@ pub use lagrange_macros::lagrangian;
 // What users build with, in the index.
 pub use lagrange_runtime::{ensemble, geometry, linearize, rigid, theory};
 pub use lagrange_runtime::{
-    equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability,
+    equilibrium, ConstrainedLinearization, Linearization, LinearizationError, Linearize,
+    LinearizeConstrained, Mode, Stability,
 };
 pub use lagrange_runtime::{
     ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, Invariants, Jump,
@@ -423,7 +424,7 @@ pub mod prelude {
         angular_velocity, body_angular_velocity, velocity, Rotation,
     };
     pub use lagrange_runtime::{
-        equilibrium, Linearization, LinearizationError, Linearize, Stability,
+        equilibrium, Linearization, LinearizationError, Linearize, LinearizeConstrained, Stability,
     };
     pub use lagrange_runtime::{Contact, Ensemble, Member, Nonholonomic, Unilateral, Velocity};
     pub use lagrange_runtime::{DynamicsError, Holonomic, Lagrangian, SMatrix, Scalar, Vector3};

@@ -380,3 +380,49 @@ fn knife_edge_on_an_incline_against_its_closed_form() {
     // Two multipliers per sample: the plane's normal force and the blade's side force.
     assert_eq!(tr.lambda[0].len(), 2);
 }
+
+#[test]
+fn upright_disc_linearized_on_its_constraints() {
+    // The same threshold from the linearization on the constraint manifold: in the lean θ
+    // with the speeds θ̇ and φ̇ (the heading's angle is ignorable, its rate is not), the
+    // eigenvalues are 0 and ±√((4/5)(g/r − 3n²)), in both modes.
+    for factor in [0.8, 1.2, 2.0] {
+        let n: f64 = (factor * G / (3.0 * R)).sqrt();
+        let (q0, v0) = rolling([0.0; 5], [0.0, 0.0, n]);
+        let want = 0.8 * (G / R - 3.0 * n * n);
+        let eig_d = Disc { m: M, r: R, g: G }
+            .linearize_on_constraints(&q0, &v0, 0.0)
+            .unwrap()
+            .eigenvalues(&["theta"], &["theta", "phi"])
+            .unwrap();
+        let eig_j = JetsDisc { m: M, r: R, g: G }
+            .linearize_on_constraints(&q0, &v0, 0.0)
+            .unwrap()
+            .eigenvalues(&["theta"], &["theta", "phi"])
+            .unwrap();
+        for eig in [eig_d, eig_j] {
+            assert_eq!(eig.len(), 3);
+            let s = want.abs().sqrt();
+            let (hi, mid, lo) = (eig[0], eig[1], eig[2]);
+            if want > 0.0 {
+                assert!(
+                    (hi.re - s).abs() < 1e-10 && (lo.re + s).abs() < 1e-10,
+                    "{eig:?}"
+                );
+                assert!(mid.norm() < 1e-10);
+            } else {
+                // ±iω and 0, all on the imaginary axis.
+                assert!(eig.iter().all(|l| l.re.abs() < 1e-10), "{eig:?}");
+                assert!(eig.iter().any(|l| (l.im - s).abs() < 1e-10), "{eig:?}");
+            }
+        }
+    }
+    // The spin's angle is not a coordinate that closes the lean's equations on its own:
+    // without φ̇ the heading rate drives θ̈, and the reduction says so.
+    let (q0, v0) = rolling([0.0; 5], [0.0, 0.0, 3.0]);
+    let lin = Disc { m: M, r: R, g: G }
+        .linearize_on_constraints(&q0, &v0, 0.0)
+        .unwrap();
+    let err = lin.state_matrix(&["theta"], &["theta"]).unwrap_err();
+    assert!(err.to_string().contains("phi"), "{err}");
+}

@@ -337,6 +337,26 @@ fn constrained_impl(
     let velocity_method = jets_func(decl, analysis, fv, vbody, timed_methods, None);
     let scalar = quote!(::lagrange::__private::Scalar);
     let allow = crate::names::allow_generated();
+    let velocity_values = (0..kv).map(|i| {
+        let i = lit(i);
+        quote!(__lagrange_c[#i])
+    });
+    let held_values = (0..kh).map(|i| {
+        let i = lit(i);
+        quote!(__lagrange_g[#i])
+    });
+    let values_body = if kh == 0 {
+        quote! {
+            <Self as ::lagrange::__private::Nonholonomic<#n, #kv_lit>>::velocity_constraints(self, q, qdot, t)
+        }
+    } else {
+        let ident = Ident::new(&crate::names::holonomic(), proc_macro2::Span::call_site());
+        quote! {
+            let __lagrange_g = self.#ident(q, t);
+            let __lagrange_c = <Self as ::lagrange::__private::Nonholonomic<#n, #kv_lit>>::velocity_constraints(self, q, qdot, t);
+            [#(#held_values,)* #(#velocity_values),*]
+        }
+    };
     let (hidden, constraints_body, rows_body) = match holonomic {
         Some((f, body)) => {
             let name = crate::names::holonomic();
@@ -397,6 +417,10 @@ fn constrained_impl(
             #[inline]
             fn constraints<S: #scalar>(&self, q: &[S; #n], t: S) -> [S; #k] {
                 #constraints_body
+            }
+            #[inline]
+            fn constraint_values<S: #scalar>(&self, q: &[S; #n], qdot: &[S; #n], t: S) -> [S; #k] {
+                #values_body
             }
             #[inline]
             fn constraint_rows(

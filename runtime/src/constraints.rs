@@ -76,6 +76,31 @@ pub trait Holonomic<const N: usize, const K: usize>: Lagrangian<N> {
     /// g(q, t), one entry per constraint: zero on the constraints.
     fn constraints<S: Scalar>(&self, q: &[S; N], t: S) -> [S; K];
 
+    /// Every constraint as a function of the state: g(q, t) for the holonomic rows, then
+    /// c(q, q̇, t) for the last [`VELOCITY_ROWS`](Holonomic::VELOCITY_ROWS) (what the
+    /// linearization on the constraint manifold differentiates). The default, for holonomic
+    /// constraints only, is [`constraints`](Holonomic::constraints).
+    ///
+    /// ```
+    /// use lagrange_runtime::{Holonomic, Lagrangian, Scalar};
+    /// struct Ring;
+    /// impl Lagrangian<2> for Ring {
+    ///     const COORDINATES: [&'static str; 2] = ["x", "y"];
+    ///     const CYCLIC: [bool; 2] = [true, true];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, _q: &[S; 2], v: &[S; 2], _t: S) -> S { (v[0] * v[0] + v[1] * v[1]) * 0.5 }
+    /// }
+    /// impl Holonomic<2, 1> for Ring {
+    ///     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] { [q[0] * q[0] + q[1] * q[1] - 1.0] }
+    /// }
+    /// assert_eq!(Ring.constraint_values(&[2.0, 0.0], &[5.0, 5.0], 0.0), [3.0]);
+    /// ```
+    #[inline]
+    fn constraint_values<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> [S; K] {
+        let _ = qdot;
+        self.constraints(q, t)
+    }
+
     /// The constraint rows at (q, q̇, t): g, G = ∂g/∂q, ġ and g̈ at q̈ = 0, from one evaluation
     /// of [`constraints`](Holonomic::constraints) per constraint in the [`ConstraintJet`].
     ///

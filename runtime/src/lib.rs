@@ -40,6 +40,9 @@ pub use integrate::{
     Stiffness, Trajectory, Zeno, INVARIANT_FLOOR,
 };
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
-pub use linearize::{equilibrium, Linearization, LinearizationError, Linearize, Mode, Stability};
+pub use linearize::{
+    equilibrium, ConstrainedLinearization, Linearization, LinearizationError, Linearize,
+    LinearizeConstrained, Mode, Stability,
+};
 pub use nalgebra::{SMatrix, Vector3};
 pub use scalar::{Scalar, Velocity};

@@ -39,6 +39,9 @@ use crate::error::DynamicsError;
 use crate::jet::LinJet;
 use crate::lagrangian::{applied_jacobian, Lagrangian};
 
+mod constrained;
+pub use constrained::{ConstrainedLinearization, LinearizeConstrained};
+
 /// Relative tolerance of the stability classification: an eigenvalue counts as on the imaginary
 /// axis when |Re λ| ≤ `STABILITY_TOL` × s, s the frequency scale of the linearization (the
 /// largest of max |λ|, ‖M⁻¹C‖ and √‖M⁻¹K‖, Frobenius norms).
@@ -189,6 +192,12 @@ pub enum LinearizationError {
         /// Which problem and what to try.
         message: String,
     },
+    /// A linearization on the constraint manifold could not be reduced to the coordinates and
+    /// speeds asked for (an unknown name, dependent choices, or unnamed ones that drive them).
+    Reduction {
+        /// What was found and what to name instead.
+        message: String,
+    },
     /// Newton's method found no equilibrium from the guess.
     NoEquilibrium {
         /// Time.
@@ -267,6 +276,9 @@ impl fmt::Display for LinearizationError {
             LinearizationError::Eigen { message } => {
                 write!(f, "eigenvalue iteration failed: {message}")
             }
+            LinearizationError::Reduction { message } => {
+                write!(f, "no reduction to these coordinates: {message}")
+            }
             LinearizationError::NoEquilibrium {
                 t,
                 q,
@@ -306,9 +318,10 @@ pub trait Linearize<const N: usize>: Lagrangian<N> {
     /// [`linearize`](crate::linearize) for the formulas, the eigenvalues, modes and stability.
     ///
     /// Fails where the accelerations cannot be solved (singular M, non-finite values). A system
-    /// whose `#[lagrangian]` declares holonomic constraints is refused
-    /// ([`DynamicsError::Constrained`]): this linearizes the unconstrained L, and a linearization
-    /// on the constraint manifold is not there yet.
+    /// whose `#[lagrangian]` declares constraints (holonomic or velocity) is refused
+    /// ([`DynamicsError::Constrained`]): this linearizes the unconstrained L; the linearization
+    /// on the constraint manifold is
+    /// [`linearize_on_constraints`](crate::LinearizeConstrained::linearize_on_constraints).
     ///
     /// ```
     /// use lagrange::prelude::*;
@@ -338,13 +351,13 @@ pub trait Linearize<const N: usize>: Lagrangian<N> {
                 t,
                 q: q0.to_vec(),
                 qdot: qdot0.to_vec(),
-                message: "`linearize` linearizes the unconstrained L, whose modes include motions \
-                          the constraints of `fn constraints` forbid (its answer would be wrong, \
-                          not approximate); a linearization on the constraint manifold is not \
-                          there yet. Write the system in independent coordinates (coordinates \
-                          that satisfy the constraints) and linearize that, or study the \
-                          constrained motion with `Simulation::constrained`"
-                    .to_string(),
+                message:
+                    "`linearize` linearizes the unconstrained L, whose modes include motions \
+                          the constraints forbid (its answer would be wrong, not approximate): \
+                          call `linearize_on_constraints` (trait `LinearizeConstrained`, in the \
+                          prelude) and reduce it to independent coordinates, \
+                          `.reduce([\"phi\", \"delta\"])` or `.state_matrix(&coordinates, &speeds)`"
+                        .to_string(),
             });
         }
         jet_linearize(self, q0, qdot0, t)
@@ -400,7 +413,23 @@ where
     L: Lagrangian<N> + ?Sized,
 {
     let a0 = sys.accelerations(q, qdot, t)?;
-    let (qj, vj, tj) = LinJet::seed(q, qdot, t, qdot, &a0, 1.0);
+    linearize_along(sys, q, qdot, t, &a0)
+}
+
+/// M, C and K of M δq̈ + C δq̇ + K δq = 0 about the motion through (q, q̇) at t with
+/// accelerations `a0` (the system's own, or a constrained motion's): the derivatives of
+/// M q̈ − f − Q + ∂D/∂q̇ at q̈ = `a0` from one evaluation of L in the [`LinJet`].
+pub(crate) fn linearize_along<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+    a0: &[f64; N],
+) -> Result<Linearization<N>, DynamicsError>
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    let (qj, vj, tj) = LinJet::seed(q, qdot, t, qdot, a0, 1.0);
     let l = sys.lagrangian(&qj, &vj, tj);
     let (h, dh) = (l.base(), l.along());
     let (hqq, hqv, hvv) = (h.hess_qq(), h.hess_qqdot(), h.hess_qdotqdot());
