@@ -9,6 +9,7 @@
 
 #[cfg(feature = "test-models")]
 pub mod bench_top;
+pub mod bicycle_system;
 pub mod cli;
 pub mod contact_systems;
 pub mod double_pendulum_system;

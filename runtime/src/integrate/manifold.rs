@@ -125,6 +125,7 @@ impl<H: Holonomic<N, K>, const N: usize, const K: usize> Manifold<N> for Constra
         let mut moved = 0.0_f64;
         let mut converged = false;
         let mut residual = f64::NAN;
+        let mut previous = f64::INFINITY;
         for _ in 0..MAX_PROJECTION {
             let rows = sys.constraint_rows(&y[0], &zero, t);
             residual = rows.value.iter().fold(0.0_f64, |m, g| m.max(g.abs()));
@@ -132,6 +133,20 @@ impl<H: Holonomic<N, K>, const N: usize, const K: usize> Manifold<N> for Constra
                 converged = true;
                 break;
             }
+            // Newton stalls only at round-off: a residual that no longer halves, and is below
+            // 1e-12 of |G| times the size of q (at least 1), is g's own rounding (coordinates
+            // near zero make the step test below unreachable).
+            let gradient = rows
+                .jacobian
+                .iter()
+                .flatten()
+                .fold(0.0_f64, |m, x| m.max(x.abs()));
+            if residual > 0.5 * previous && residual <= 1e-12 * gradient * inf_norm(&y[0]).max(1.0)
+            {
+                converged = true;
+                break;
+            }
+            previous = residual;
             // Velocity constraints (the last VELOCITY_ROWS rows) have no position part: q moves
             // along the holonomic rows only.
             let held = K - H::VELOCITY_ROWS;
