@@ -117,6 +117,46 @@ use proc_macro::TokenStream;
 /// assert_eq!(<Bead as lagrange::Holonomic<2, 1>>::CONSTRAINED_COORDINATES, [true, false]);
 /// assert!(!<Bead as lagrange::Holonomic<2, 1>>::SCLERONOMIC);
 /// ```
+///
+/// # Velocity constraints
+///
+/// An optional `fn velocity_constraints(&self, (x, x_dot): Coord, ..., t: Time) -> [Scalar; K]`
+/// declares K velocity (nonholonomic) constraints A(q, t) q̇ + b(q, t) = 0, rolling without
+/// slipping: the velocities are bound (and `velocity`, the angular velocities may be used), each
+/// entry must be affine in them (checked at the token). The macro emits
+/// `impl Nonholonomic<N, K>` and folds the rows into `impl Holonomic<N, KH + K>` after those of
+/// `fn constraints` (`VELOCITY_ROWS = K`), so `Simulation::constrained` runs both.
+///
+/// ```
+/// use lagrange::prelude::*;
+///
+/// /// A skate: (x, y) and the heading φ; it cannot slide sideways.
+/// pub struct Skate { pub m: f64, pub i: f64 }
+///
+/// #[lagrangian]
+/// impl Skate {
+///     fn lagrangian(&self, (_x, x_dot): Coord, (_y, y_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
+///         0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) + 0.5 * self.i * phi_dot * phi_dot
+///     }
+///     fn velocity_constraints(&self, (_, x_dot): Coord, (_, y_dot): Coord, (phi, _): Coord) -> [Scalar; 1] {
+///         [y_dot * phi.cos() - x_dot * phi.sin()]
+///     }
+/// }
+///
+/// // Moving along its heading while turning: the blade's side force bends the path.
+/// let s = Skate { m: 2.0, i: 0.5 };
+/// let (acc, lambda) = s.constrained_accelerations(&[0.0, 0.0, 0.0], &[3.0, 0.0, 1.0], 0.0).unwrap();
+/// assert!(acc[0].abs() < 1e-12 && (acc[1] - 3.0).abs() < 1e-12); // ÿ = ẋ φ̇
+/// assert!((lambda[0] - 6.0).abs() < 1e-12); // m ẋ φ̇
+/// assert_eq!(<Skate as lagrange::Holonomic<3, 1>>::VELOCITY_ROWS, 1);
+/// ```
+///
+/// # Contacts
+///
+/// An optional `fn contacts(&self, (x, _): Coord, ..., t: Time) -> [Contact; K]` declares K
+/// unilateral contacts, each from its gap g(q, t) ≥ 0 (`Contact::gap(g)`, with
+/// `.restitution(e)`, `.sticking(s)`, `.named(..)`), and makes the macro emit
+/// `impl Unilateral<N, K>`, which `Simulation::contacts` runs (see the crate docs).
 #[proc_macro_attribute]
 pub fn lagrangian(args: TokenStream, input: TokenStream) -> TokenStream {
     // On a stack of its own (256 MiB reserved, committed as used, on this thread so the compiler's
