@@ -426,3 +426,56 @@ fn upright_disc_linearized_on_its_constraints() {
     let err = lin.state_matrix(&["theta"], &["theta"]).unwrap_err();
     assert!(err.to_string().contains("phi"), "{err}");
 }
+
+/// A cart-pole: the cart (mass `cart`) pushed along x by its field `push`, a bob (mass `bob`)
+/// on a massless rod of length l, θ from the upward vertical.
+pub struct CartPole {
+    pub cart: f64,
+    pub bob: f64,
+    pub l: f64,
+    pub g: f64,
+    pub push: f64,
+}
+
+#[lagrangian]
+impl CartPole {
+    fn lagrangian(&self, (_x, x_dot): Coord, (theta, theta_dot): Coord) -> Scalar {
+        0.5 * (self.cart + self.bob) * x_dot * x_dot
+            + self.bob * self.l * x_dot * theta_dot * theta.cos()
+            + 0.5 * self.bob * self.l * self.l * theta_dot * theta_dot
+            - self.bob * self.g * self.l * theta.cos()
+    }
+    fn forces(&self, (_, _): Coord, (_, _): Coord) -> [Scalar; 2] {
+        [self.push, 0.0]
+    }
+}
+
+#[test]
+fn cart_pole_gets_its_state_and_input_matrices() {
+    // Upright: (M + m) ẍ + m l θ̈ = u, m l ẍ + m l² θ̈ − m g l θ = 0.
+    let (mc, mb, l, g) = (2.0, 0.5, 0.8, 9.81);
+    let make = |u: &[f64; 1]| CartPole {
+        cart: mc,
+        bob: mb,
+        l,
+        g,
+        push: u[0],
+    };
+    let lin = make(&[0.0]).linearize(&[0.0; 2], &[0.0; 2], 0.0).unwrap();
+    let b = lagrange::linearize::input_matrix(make, &[0.0], &[0.0; 2], &[0.0; 2], 0.0).unwrap();
+    let want_m = [[mc + mb, mb * l], [mb * l, mb * l * l]];
+    for i in 0..2 {
+        for j in 0..2 {
+            assert!((lin.m[(i, j)] - want_m[i][j]).abs() < 1e-14);
+        }
+    }
+    assert!((lin.k[(1, 1)] + mb * g * l).abs() < 1e-13 && lin.k[(0, 0)] == 0.0);
+    assert_eq!((b[(0, 0)], b[(1, 0)]), (1.0, 0.0));
+    // The first-order (A, B): B_state = (0, M⁻¹ B); the pole falls at √((M + m) g/(M l)).
+    let minv = lin.m.try_inverse().unwrap();
+    let bs = minv * b;
+    assert!((bs[(0, 0)] - 1.0 / mc).abs() < 1e-14 && (bs[(1, 0)] + 1.0 / (mc * l)).abs() < 1e-14);
+    let eig = lin.eigenvalues().unwrap();
+    let rate = ((mc + mb) * g / (mc * l)).sqrt();
+    assert!((eig[0].re - rate).abs() < 1e-12, "{eig:?}");
+}

@@ -467,12 +467,67 @@ impl<const N: usize> ConstrainedLinearization<N> {
         coordinates: [&str; P],
     ) -> Result<Linearization<P>, LinearizationError> {
         let a = self.state_matrix(&coordinates, &coordinates)?;
+        let vs = self.named_speed_motions(&coordinates)?;
+        let m = SMatrix::<f64, P, P>::from_fn(|r, c| {
+            let mut s = 0.0;
+            for i in 0..N {
+                for k in 0..N {
+                    s += vs[r][i] * self.mass[(i, k)] * vs[c][k];
+                }
+            }
+            s
+        });
+        // A = [[0, I], [X, Y]]: K = −M X, C = −M Y.
+        let x = SMatrix::<f64, P, P>::from_fn(|r, c| a[(P + r, c)]);
+        let y = SMatrix::<f64, P, P>::from_fn(|r, c| a[(P + r, P + c)]);
+        Ok(Linearization::new(m, -(m * y), -(m * x)))
+    }
+
+    /// The input matrix of [`reduce`](Self::reduce)'s M q̈ + C q̇ + K q = B_r u from the full
+    /// one, `b` (of M δq̈ + … = b δu in all coordinates, e.g. from
+    /// [`input_matrix`](crate::linearize::input_matrix)): each input's generalized force on the
+    /// least-kinetic-energy admissible motion of each named speed, B_r = Vᵀ b (the constraint
+    /// forces do no work on admissible motions, so they drop out).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Holonomic, Lagrangian, LinearizeConstrained, Scalar, SMatrix};
+    /// # struct P;
+    /// # impl Lagrangian<2> for P {
+    /// #     const COORDINATES: [&'static str; 2] = ["x", "y"];
+    /// #     const CYCLIC: [bool; 2] = [true, false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S { (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81 }
+    /// # }
+    /// # impl Holonomic<2, 1> for P {
+    /// #     const SCLERONOMIC: bool = true;
+    /// #     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] { [q[0] * q[0] + q[1] * q[1] - 4.0] }
+    /// # }
+    /// // A horizontal push on the hanging bob acts fully on x; a vertical one not at all.
+    /// let lin = P.linearize_on_constraints(&[0.0, -2.0], &[0.0, 0.0], 0.0).unwrap();
+    /// let b = lin.reduce_inputs(["x"], &SMatrix::<f64, 2, 2>::identity()).unwrap();
+    /// assert!((b[(0, 0)] - 1.0).abs() < 1e-15 && b[(0, 1)].abs() < 1e-15);
+    /// ```
+    pub fn reduce_inputs<const P: usize, const U: usize>(
+        &self,
+        coordinates: [&str; P],
+        b: &SMatrix<f64, N, U>,
+    ) -> Result<SMatrix<f64, P, U>, LinearizationError> {
+        let vs = self.named_speed_motions(&coordinates)?;
+        Ok(SMatrix::<f64, P, U>::from_fn(|r, c| {
+            (0..N).map(|i| vs[r][i] * b[(i, c)]).sum()
+        }))
+    }
+
+    /// For each named speed, the least-kinetic-energy admissible velocity with that speed 1 and
+    /// the other named ones 0: min vᵀMv subject to [G; A] v = 0 and v_named = e_i.
+    fn named_speed_motions<const P: usize>(
+        &self,
+        coordinates: &[&str; P],
+    ) -> Result<[[f64; N]; P], LinearizationError> {
         let mut idx = [0usize; P];
         for (i, c) in coordinates.iter().enumerate() {
             idx[i] = self.index(c)?;
         }
-        // The least-kinetic-energy admissible velocity with named speed i = 1, the others 0:
-        // min vᵀMv subject to [G; A] v = 0 and v_named = e_i.
         let kr = self.velocity_rows.nrows();
         let n = N + kr + P;
         let mut vs = [[0.0; N]; P];
@@ -502,18 +557,6 @@ impl<const N: usize> ConstrainedLinearization<N> {
             })?;
             v.copy_from_slice(&x[..N]);
         }
-        let m = SMatrix::<f64, P, P>::from_fn(|r, c| {
-            let mut s = 0.0;
-            for i in 0..N {
-                for k in 0..N {
-                    s += vs[r][i] * self.mass[(i, k)] * vs[c][k];
-                }
-            }
-            s
-        });
-        // A = [[0, I], [X, Y]]: K = −M X, C = −M Y.
-        let x = SMatrix::<f64, P, P>::from_fn(|r, c| a[(P + r, c)]);
-        let y = SMatrix::<f64, P, P>::from_fn(|r, c| a[(P + r, P + c)]);
-        Ok(Linearization::new(m, -(m * y), -(m * x)))
+        Ok(vs)
     }
 }
