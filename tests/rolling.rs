@@ -464,9 +464,9 @@ fn cart_pole_gets_its_state_and_input_matrices() {
     let lin = make(&[0.0]).linearize(&[0.0; 2], &[0.0; 2], 0.0).unwrap();
     let b = lagrange::linearize::input_matrix(make, &[0.0], &[0.0; 2], &[0.0; 2], 0.0).unwrap();
     let want_m = [[mc + mb, mb * l], [mb * l, mb * l * l]];
-    for i in 0..2 {
-        for j in 0..2 {
-            assert!((lin.m[(i, j)] - want_m[i][j]).abs() < 1e-14);
+    for (i, row) in want_m.iter().enumerate() {
+        for (j, want) in row.iter().enumerate() {
+            assert!((lin.m[(i, j)] - want).abs() < 1e-14);
         }
     }
     assert!((lin.k[(1, 1)] + mb * g * l).abs() < 1e-13 && lin.k[(0, 0)] == 0.0);
