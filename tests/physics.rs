@@ -22,3 +22,4 @@ mod readable;
 mod rigid_body;
 mod taylor;
 mod taylor_attack;
+mod variational_equations;

@@ -34,15 +34,16 @@ pub use contact::{Contact, Unilateral};
 pub use ensemble::{Ensemble, Member};
 pub use eom::solve_mass_matrix;
 pub use error::DynamicsError;
+pub use integrate::sensitivity;
 pub use integrate::{
-    ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, Invariants, Jump,
-    Method, NamedInvariants, PartialTrajectory, Sample, Simulation, SimulationError, Stats,
-    Stiffness, Trajectory, Zeno, INVARIANT_FLOOR,
+    ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, EventSensitivity,
+    Invariants, Jump, Method, NamedInvariants, PartialTrajectory, Sample, Sensitivities,
+    Sensitivity, Simulation, SimulationError, Stats, Stiffness, Trajectory, Zeno, INVARIANT_FLOOR,
 };
 pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
 pub use linearize::{
     equilibrium, ConstrainedLinearization, Linearization, LinearizationError, Linearize,
     LinearizeConstrained, Mode, Stability,
 };
-pub use nalgebra::{SMatrix, Vector3};
+pub use nalgebra::{DMatrix, SMatrix, Vector3};
 pub use scalar::{Scalar, Velocity};

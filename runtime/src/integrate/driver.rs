@@ -464,7 +464,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
 
     /// Runs from (t0, y0) on the stepper `make` builds, built again from the state after each
     /// jump of a resetting event.
-    fn run<S: Stepper<N>>(
+    pub(super) fn run<S: Stepper<N>>(
         mut self,
         o: &RunOptions,
         t0: f64,
@@ -547,6 +547,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         let y0 = s.node(&mut self.stats)?;
         self.start_dense(o.t0, y0);
         self.push(o.t0, &y0, 0.0)?;
+        s.recorded(o.t0, o.t0, &mut self.stats)?;
         let g_old: Vec<f64> = self
             .events
             .iter()
@@ -576,7 +577,8 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     pub(super) fn finish<S: Stepper<N>>(&mut self, s: &mut S) -> Result<(), Fault> {
         let y = s.node(&mut self.stats)?;
         let w = self.work.at_node;
-        self.push(s.t(), &y, w)
+        self.push(s.t(), &y, w)?;
+        s.recorded(s.t(), s.t(), &mut self.stats)
     }
 
     /// What follows an accepted step of `s`: the projection of a constrained run, the work, the
@@ -684,12 +686,13 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
                         *next_time = ts;
                         break;
                     }
-                    let (y, w) = if (t_b - ts).abs() <= snap {
-                        (s.node(&mut self.stats)?, self.work.at_node)
+                    let (y, w, at) = if (t_b - ts).abs() <= snap {
+                        (s.node(&mut self.stats)?, self.work.at_node, t_b)
                     } else {
-                        (s.interp(ts, &mut self.stats)?, self.work_at(s, ts)?)
+                        (s.interp(ts, &mut self.stats)?, self.work_at(s, ts)?, ts)
                     };
                     self.push(ts, &y, w)?;
+                    s.recorded(ts, at, &mut self.stats)?;
                     *next_sample += 1;
                 }
             }
@@ -698,6 +701,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
                     let y = s.node(&mut self.stats)?;
                     let w = self.work.at_node;
                     self.push(t_b, &y, w)?;
+                    s.recorded(t_b, t_b, &mut self.stats)?;
                 }
             }
         }
@@ -713,6 +717,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
                 qdot: y[1],
                 direction: dir,
             });
+            s.event_located(tz, i, &mut self.stats)?;
         }
         if let Some((tz, i)) = stopping {
             let y = s.interp(tz, &mut self.stats)?;
@@ -721,6 +726,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             }
             let w = self.work_at(s, tz)?;
             self.push(tz, &y, w)?;
+            s.recorded(tz, tz, &mut self.stats)?;
             let ev = &self.events[i];
             match ev.try_reset(tz, &y[0], &y[1]) {
                 Some(after) if !ev.is_terminal() => self.jump(i, tz, y, after?, w)?,

@@ -65,6 +65,21 @@ pub(crate) trait Stepper<const N: usize> {
     /// step size h its variable is scaled by, the one `interp` divides by. Appends nothing on a
     /// fault.
     fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, stats: &mut Stats) -> Result<f64, Fault>;
+    /// The driver recorded a sample at time `t` whose state is the method's at time `at` (the
+    /// node, or the interpolant inside the last step; `at` ≠ `t` for a grid time snapped to a
+    /// node). Nothing for the plain methods; the sensitivity steppers record the state
+    /// transition matrix there.
+    #[inline(always)]
+    fn recorded(&mut self, _t: f64, _at: f64, _stats: &mut Stats) -> Result<(), Fault> {
+        Ok(())
+    }
+    /// The driver located a hit of event `event` (its index in the run's events) at time `t`
+    /// inside the last step. Nothing for the plain methods; the sensitivity steppers record the
+    /// state transition matrix there.
+    #[inline(always)]
+    fn event_located(&mut self, _t: f64, _event: usize, _stats: &mut Stats) -> Result<(), Fault> {
+        Ok(())
+    }
     /// How many Gauss–Legendre points the work integral takes over a step of this method: 4
     /// (exact for degree 7, below the error of the explicit methods' interpolants) unless the
     /// method's own order is higher (the Taylor method's series).

@@ -1,0 +1,72 @@
+//! Sensitivities of a run: the variational equations integrated with the motion.
+//!
+//! [`Simulation::sensitivity`](crate::Simulation::sensitivity) turns a run into one that also
+//! carries the state transition matrix Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) and, for parameters named
+//! with [`Sensitivity::parameter`], S(t) = ∂(q, q̇)(t)/∂p. They obey
+//!
+//! ```text
+//! Φ̇ = J Φ,  Φ(t₀) = I          Ṡ = J S + ∂f/∂p,  S(t₀) = 0
+//! J = [[0, I], [−M⁻¹K, −M⁻¹C]]
+//! ```
+//!
+//! with M, C, K the exact linearization about the motion through the current state
+//! ([`jet_linearize`](crate::linearize::jet_linearize): third derivatives of L from the jets,
+//! forces, dissipation and explicit time included), and ∂f/∂p = (0, ∂q̈/∂p) from a fourth-order
+//! central difference in p of the accelerations of the systems the parameter's closure builds.
+//!
+//! **How it is integrated.** The motion and its 2N + P columns of variations form one state of
+//! 2N(1 + 2N + P) numbers, stepped as one by the chosen method: DOP853 (with its error estimate
+//! over the motion and, separately, over the variations, the larger of the two deciding the step,
+//! and its 7th-order dense output for samples and events) or RK4 (on its grid, Hermite
+//! interpolation). Rust's stable const generics cannot size that state from N, so these steppers
+//! keep it in `Vec`s and reuse the methods' tableaux (`dop853_coefficients`) rather than the
+//! const-sized kernels of the plain methods; they plug into the same driver (samples, events,
+//! work, observer, dense output), which tells them through two hooks of its stepper trait when it
+//! records a sample or locates an event, so Φ is recorded exactly there. The variations are the
+//! method applied to the variational equations with the motion's steps: the exact derivative of
+//! the discrete flow, accurate like the motion.
+//!
+//! **Events.** At each located event t* (g(t*, q, q̇) = 0) the run also gives the sensitivity of
+//! the event's time, dt*/dx₀ = −(∂g/∂x · Φ(t*)) / ġ with ġ = ∂g/∂t + ∂g/∂x · f, and
+//! dt*/dp the same way with S. ∂g/∂(t, q, q̇) is a fourth-order central difference of the event
+//! function (it is a closure of numbers); at a grazing hit (ġ = 0) the event time is not
+//! differentiable and the sensitivity is `None`.
+//!
+//! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
+//! methods other than `Dop853` and `Rk4` (the Taylor method, Dormand–Prince, Radau5 and the
+//! variational integrator), constrained runs and contacts, and resetting events (the flow jumps
+//! there; its derivative needs the saltation matrix).
+//!
+//! ```
+//! use lagrange_runtime::{Lagrangian, Scalar, Simulation};
+//! /// ẍ = −x: Φ(t) = [[cos t, sin t], [−sin t, cos t]].
+//! struct Osc;
+//! impl Lagrangian<1> for Osc {
+//!     const COORDINATES: [&'static str; 1] = ["x"];
+//!     const CYCLIC: [bool; 1] = [false];
+//!     const AUTONOMOUS: bool = true;
+//!     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+//! }
+//! let run = Simulation::new(&Osc, [1.0], [0.0]).until(2.0).sensitivity().run().unwrap();
+//! let phi = run.phi.last().unwrap();
+//! assert!((phi[(0, 0)] - 2.0_f64.cos()).abs() < 1e-9 && (phi[(0, 1)] - 2.0_f64.sin()).abs() < 1e-9);
+//! ```
+
+mod builder;
+mod dop853;
+mod event_time;
+mod result;
+mod rk4;
+mod variation;
+
+pub use builder::Sensitivity;
+pub use result::{EventSensitivity, Sensitivities};
+
+/// What the driver's hooks record while a sensitivity run goes: the variations (the columns
+/// after y, flattened) at each recorded sample, with its time as recorded, and at each event hit
+/// with the event's index.
+#[derive(Default)]
+pub(crate) struct Log {
+    pub(crate) samples: Vec<(f64, Vec<f64>)>,
+    pub(crate) events: Vec<(f64, usize, Vec<f64>)>,
+}

@@ -1,0 +1,639 @@
+//! Periodic orbits by shooting: Newton's method on x(t₀ + T; x₀) − x₀ = 0 with the monodromy
+//! matrix from the variational equations, and the orbit's Floquet multipliers.
+//!
+//! An autonomous system's period is an unknown: each Newton step solves
+//!
+//! ```text
+//! [ Φ(T) − I   f(x(T)) ] [Δx]   [ −(x(T) − x₀) ]
+//! [ f(x₀)ᵀ        0    ] [ΔT] = [      0       ]
+//! ```
+//!
+//! (the second row is the phase condition: the correction is orthogonal to the flow, which
+//! otherwise slides along the orbit). A forced system with period 2π/ω has it fixed, and Newton
+//! solves (Φ(T) − I) Δx = −(x(T) − x₀) alone. Integrals of the motion (the energy, conserved
+//! momenta) and symmetries make these systems singular: orbits come in families. The step is the
+//! least-squares solution of least norm (the SVD, singular values below 1e-9 of the largest taken
+//! as zero), so Newton goes to the nearest orbit of the family. A step that does not reduce the
+//! residual is halved (up to 30 times).
+//!
+//! The multipliers are the eigenvalues of the monodromy matrix Φ(T) (from the real Schur form).
+
+use core::fmt;
+
+use nalgebra::{Complex, DMatrix, DVector};
+
+use crate::lagrangian::Lagrangian;
+
+use super::super::error::SimulationError;
+use super::super::method::Method;
+use super::super::simulation::Simulation;
+
+/// How far from the unit circle a multiplier may be and still count as on it, in
+/// [`OrbitStability`]: 1e-6 (the numerical multipliers of a neutral direction, e.g. the
+/// double multiplier 1 of a conservative orbit's flow and energy directions, split by about
+/// √(integration error)).
+///
+/// ```
+/// assert_eq!(lagrange_runtime::sensitivity::MULTIPLIER_TOL, 1e-6);
+/// ```
+pub const MULTIPLIER_TOL: f64 = 1e-6;
+
+/// The linear stability of a periodic orbit from its Floquet multipliers μ (tolerance
+/// [`MULTIPLIER_TOL`]).
+///
+/// ```
+/// use lagrange_runtime::sensitivity::OrbitStability;
+/// assert!(OrbitStability::Neutral.is_stable());
+/// assert!(!OrbitStability::Unstable { largest: 1.5 }.is_stable());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OrbitStability {
+    /// Every multiplier but the trivial one (μ = 1 along the flow of an autonomous system) has
+    /// |μ| < 1: nearby motions fall onto the orbit (a damped, driven system's stable cycle).
+    AsymptoticallyStable,
+    /// No |μ| > 1, some on the unit circle besides the trivial one: nearby motions stay near
+    /// without approaching (conservative systems: the multipliers come in pairs μ, 1/μ).
+    Neutral,
+    /// Some |μ| > 1: nearby motions leave the orbit, by a factor `largest` per period.
+    Unstable {
+        /// The largest |μ|.
+        largest: f64,
+    },
+}
+
+impl OrbitStability {
+    /// `true` unless [`OrbitStability::Unstable`].
+    ///
+    /// ```
+    /// use lagrange_runtime::sensitivity::OrbitStability;
+    /// assert!(OrbitStability::AsymptoticallyStable.is_stable());
+    /// ```
+    pub fn is_stable(&self) -> bool {
+        !matches!(self, OrbitStability::Unstable { .. })
+    }
+}
+
+impl fmt::Display for OrbitStability {
+    /// `asymptotically stable`, `neutral (multipliers on the unit circle)` or
+    /// `unstable (largest |μ| = …)`.
+    ///
+    /// ```
+    /// use lagrange_runtime::sensitivity::OrbitStability;
+    /// assert_eq!(OrbitStability::Unstable { largest: 2.0 }.to_string(), "unstable (largest |μ| = 2)");
+    /// ```
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            OrbitStability::AsymptoticallyStable => f.write_str("asymptotically stable"),
+            OrbitStability::Neutral => f.write_str("neutral (multipliers on the unit circle)"),
+            OrbitStability::Unstable { largest } => write!(f, "unstable (largest |μ| = {largest})"),
+        }
+    }
+}
+
+/// A periodic orbit found by [`Shooting`]: x(t₀ + T) = x₀.
+///
+/// ```
+/// use lagrange_runtime::{Lagrangian, Scalar};
+/// use lagrange_runtime::sensitivity::Shooting;
+/// /// ẍ = −x: every motion has period 2π, multipliers 1, 1.
+/// struct Osc;
+/// impl Lagrangian<1> for Osc {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+/// }
+/// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.0).find().unwrap();
+/// assert!((orbit.period - 2.0 * std::f64::consts::PI).abs() < 1e-9);
+/// assert!(orbit.multipliers.iter().all(|m| (m.norm() - 1.0).abs() < 1e-6));
+/// ```
+#[derive(Clone, Debug)]
+pub struct PeriodicOrbit<const N: usize> {
+    /// The start time t₀ (the phase of a forced system's orbit).
+    pub t0: f64,
+    /// q at t₀.
+    pub q0: [f64; N],
+    /// q̇ at t₀.
+    pub qdot0: [f64; N],
+    /// The period T.
+    pub period: f64,
+    /// The monodromy matrix Φ(t₀ + T) = ∂x(t₀ + T)/∂x₀ (2N × 2N, rows and columns (q, q̇)).
+    pub monodromy: DMatrix<f64>,
+    /// Its eigenvalues, the Floquet multipliers, by decreasing modulus.
+    pub multipliers: Vec<Complex<f64>>,
+    /// The verdict from the multipliers.
+    pub stability: OrbitStability,
+    /// |x(t₀ + T) − x₀| (Euclidean, over the 2N components) at the orbit returned.
+    pub closure: f64,
+    /// Newton iterations taken.
+    pub iterations: usize,
+}
+
+/// Why [`Shooting::find`] found no periodic orbit: what happened, where, and what to try.
+///
+/// ```
+/// use lagrange_runtime::sensitivity::OrbitError;
+/// let e = OrbitError::InvalidOptions { message: "period ≤ 0".into() };
+/// assert!(e.to_string().contains("period ≤ 0"));
+/// ```
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum OrbitError {
+    /// The options make no sense (before any run).
+    InvalidOptions {
+        /// What and what to try.
+        message: String,
+    },
+    /// A run from an iterate failed.
+    Run {
+        /// The iterate's period.
+        period: f64,
+        /// The run's error (time, state, partial trajectory).
+        source: Box<SimulationError>,
+    },
+    /// Newton did not reach the tolerance.
+    NoConvergence {
+        /// Iterations taken.
+        iterations: usize,
+        /// The best |x(T) − x₀| reached.
+        closure: f64,
+        /// The iterate that reached it: q₀, q̇₀ and T.
+        q: Vec<f64>,
+        /// q̇₀ of that iterate.
+        qdot: Vec<f64>,
+        /// T of that iterate.
+        period: f64,
+        /// What to try.
+        message: String,
+    },
+    /// The multipliers could not be computed (the Schur iteration did not converge).
+    Eigen {
+        /// What to try.
+        message: String,
+    },
+}
+
+impl fmt::Display for OrbitError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            OrbitError::InvalidOptions { message } => write!(f, "invalid shooting options: {message}"),
+            OrbitError::Run { period, source } => {
+                write!(f, "the run of an iterate (period {period}) failed: {source}")
+            }
+            OrbitError::NoConvergence {
+                iterations,
+                closure,
+                q,
+                qdot,
+                period,
+                message,
+            } => write!(
+                f,
+                "no periodic orbit after {iterations} Newton iterations: the best iterate \
+                 (q₀ = {q:?}, q̇₀ = {qdot:?}, T = {period}) closes to |x(T) − x₀| = {closure:e}: \
+                 {message}"
+            ),
+            OrbitError::Eigen { message } => write!(f, "Floquet multipliers: {message}"),
+        }
+    }
+}
+
+impl std::error::Error for OrbitError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            OrbitError::Run { source, .. } => Some(&**source),
+            _ => None,
+        }
+    }
+}
+
+/// A shooting solver for a periodic orbit of `sys` from a guess (q₀, q̇₀, T); configure, then
+/// [`find`](Shooting::find). See the [module documentation](self) for the method.
+///
+/// ```
+/// use lagrange_runtime::{Lagrangian, Scalar, Method};
+/// use lagrange_runtime::sensitivity::{OrbitStability, Shooting};
+/// /// ẍ + ẋ + x = cos t: the periodic response x = sin t, asymptotically stable.
+/// struct Forced;
+/// impl Lagrangian<1> for Forced {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     const ENERGY_CONSERVED: bool = false;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+///     fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+///     fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] { [t.cos()] }
+/// }
+/// let orbit = Shooting::forced(&Forced, [0.3], [0.5], 2.0 * std::f64::consts::PI)
+///     .method(Method::Dop853 { rtol: 1e-12, atol: 1e-12 })
+///     .find()
+///     .unwrap();
+/// assert!(orbit.q0[0].abs() < 1e-9 && (orbit.qdot0[0] - 1.0).abs() < 1e-9);
+/// assert_eq!(orbit.stability, OrbitStability::AsymptoticallyStable);
+/// ```
+pub struct Shooting<'a, L, const N: usize> {
+    sys: &'a L,
+    q0: [f64; N],
+    qdot0: [f64; N],
+    t0: f64,
+    period: f64,
+    fixed_period: bool,
+    method: Method,
+    tolerance: f64,
+    max_iterations: usize,
+}
+
+impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
+    /// A periodic orbit of an autonomous system near (q₀, q̇₀) with a period near `period_guess`
+    /// (both unknowns).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Shooting;
+    /// # struct Osc;
+    /// # impl Lagrangian<1> for Osc {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0] * 4.0) * 0.5 }
+    /// # }
+    /// let orbit = Shooting::autonomous(&Osc, [0.5], [0.0], 3.0).find().unwrap();
+    /// assert!((orbit.period - std::f64::consts::PI).abs() < 1e-9);
+    /// ```
+    pub fn autonomous(sys: &'a L, q0: [f64; N], qdot0: [f64; N], period_guess: f64) -> Self {
+        Shooting {
+            sys,
+            q0,
+            qdot0,
+            t0: 0.0,
+            period: period_guess,
+            fixed_period: false,
+            method: Method::Dop853 {
+                rtol: 1e-12,
+                atol: 1e-12,
+            },
+            tolerance: 1e-10,
+            max_iterations: 30,
+        }
+    }
+
+    /// A periodic orbit of period `period` (the forcing's, e.g. 2π/ω, or a multiple of it for a
+    /// subharmonic) near (q₀, q̇₀) at the start time (default 0): the period is fixed.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Shooting;
+    /// # struct F;
+    /// # impl Lagrangian<1> for F {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     const ENERGY_CONSERVED: bool = false;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// #     fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// #     fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] { [t.cos()] }
+    /// # }
+    /// let orbit = Shooting::forced(&F, [0.0], [0.0], 2.0 * std::f64::consts::PI).find().unwrap();
+    /// assert_eq!(orbit.period, 2.0 * std::f64::consts::PI);
+    /// ```
+    pub fn forced(sys: &'a L, q0: [f64; N], qdot0: [f64; N], period: f64) -> Self {
+        Shooting {
+            fixed_period: true,
+            ..Self::autonomous(sys, q0, qdot0, period)
+        }
+    }
+
+    /// The start time t₀ (default 0): for a forced system, the phase of the orbit found.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Shooting;
+    /// # struct Osc;
+    /// # impl Lagrangian<1> for Osc {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// # }
+    /// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.0).start_time(2.0).find().unwrap();
+    /// assert_eq!(orbit.t0, 2.0);
+    /// ```
+    pub fn start_time(mut self, t0: f64) -> Self {
+        self.t0 = t0;
+        self
+    }
+
+    /// The method of the runs (default DOP853 at rtol = atol = 1e-12; `Method::Rk4` also works).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, Method};
+    /// # use lagrange_runtime::sensitivity::Shooting;
+    /// # struct Osc;
+    /// # impl Lagrangian<1> for Osc {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// # }
+    /// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.0)
+    ///     .method(Method::Dop853 { rtol: 1e-13, atol: 1e-13 })
+    ///     .find()
+    ///     .unwrap();
+    /// assert!(orbit.closure < 1e-10);
+    /// ```
+    pub fn method(mut self, method: Method) -> Self {
+        self.method = method;
+        self
+    }
+
+    /// Newton stops when |x(t₀ + T) − x₀| ≤ `tolerance` (default 1e-10; it cannot go below the
+    /// runs' own error).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Shooting;
+    /// # struct Osc;
+    /// # impl Lagrangian<1> for Osc {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// # }
+    /// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.0).tolerance(1e-6).find().unwrap();
+    /// assert!(orbit.closure <= 1e-6);
+    /// ```
+    pub fn tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+
+    /// The most Newton iterations (default 30).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::{OrbitError, Shooting};
+    /// # struct Osc;
+    /// # impl Lagrangian<1> for Osc {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// # }
+    /// let err = Shooting::autonomous(&Osc, [1.0], [0.0], 5.0).max_iterations(0).find().unwrap_err();
+    /// assert!(matches!(err, OrbitError::NoConvergence { .. }));
+    /// ```
+    pub fn max_iterations(mut self, n: usize) -> Self {
+        self.max_iterations = n;
+        self
+    }
+
+    /// x(t₀ + T), Φ(t₀ + T) and f at both ends, from a sensitivity run from x.
+    fn shoot(&self, x: &[f64], period: f64) -> Result<Shot, OrbitError> {
+        let q: [f64; N] = core::array::from_fn(|i| x[i]);
+        let v: [f64; N] = core::array::from_fn(|i| x[N + i]);
+        let run = Simulation::new(self.sys, q, v)
+            .method(self.method)
+            .start_time(self.t0)
+            .until(self.t0 + period)
+            .sensitivity()
+            .run()
+            .map_err(|e| OrbitError::Run {
+                period,
+                source: Box::new(e),
+            })?;
+        let tr = &run.trajectory;
+        let (qe, ve) = match (tr.q.last(), tr.qdot.last()) {
+            (Some(q), Some(v)) => (q, v),
+            _ => {
+                return Err(OrbitError::InvalidOptions {
+                    message: "the run recorded no state".into(),
+                })
+            }
+        };
+        let end: Vec<f64> = qe.iter().chain(ve.iter()).copied().collect();
+        let t_end = self.t0 + period;
+        let slope = |t: f64, q: &[f64; N], v: &[f64; N]| -> Result<Vec<f64>, OrbitError> {
+            let a = self.sys.accelerations(q, v, t).map_err(|e| OrbitError::Run {
+                period,
+                source: Box::new(SimulationError::InvalidOptions {
+                    message: format!("the accelerations failed at an end of the orbit: {e}"),
+                }),
+            })?;
+            Ok(v.iter().chain(a.iter()).copied().collect())
+        };
+        Ok(Shot {
+            f_end: slope(t_end, qe, ve)?,
+            f_start: slope(self.t0, &q, &v)?,
+            end,
+            phi: run.final_phi().clone(),
+        })
+    }
+
+    /// Runs Newton from the guess and returns the orbit with its monodromy, multipliers and
+    /// stability.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::{OrbitStability, Shooting};
+    /// /// A pendulum's libration at amplitude ≈ 1 (any nearby amplitude is an orbit too: Newton
+    /// /// goes to the nearest).
+    /// struct P;
+    /// impl Lagrangian<1> for P {
+    ///     const COORDINATES: [&'static str; 1] = ["theta"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
+    /// }
+    /// let orbit = Shooting::autonomous(&P, [1.0], [0.0], 6.7).find().unwrap();
+    /// assert!(orbit.closure < 1e-10 && (orbit.period - 6.6998).abs() < 1e-3);
+    /// assert_eq!(orbit.stability, OrbitStability::Neutral);
+    /// ```
+    pub fn find(self) -> Result<PeriodicOrbit<N>, OrbitError> {
+        if !(self.period > 0.0 && self.period.is_finite()) {
+            return Err(OrbitError::InvalidOptions {
+                message: format!(
+                    "the period (guess) is {}: give a positive finite period",
+                    self.period
+                ),
+            });
+        }
+        if !(self.tolerance > 0.0) {
+            return Err(OrbitError::InvalidOptions {
+                message: format!("the tolerance is {}: give a positive one", self.tolerance),
+            });
+        }
+        let n2 = 2 * N;
+        let mut x: Vec<f64> = self.q0.iter().chain(self.qdot0.iter()).copied().collect();
+        let mut period = self.period;
+        let mut shot = self.shoot(&x, period)?;
+        let norm = |s: &Shot, x: &[f64]| -> f64 {
+            s.end
+                .iter()
+                .zip(x)
+                .map(|(a, b)| (a - b) * (a - b))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let mut closure = norm(&shot, &x);
+        let mut iterations = 0;
+        while !(closure <= self.tolerance) {
+            if iterations >= self.max_iterations {
+                return Err(self.no_convergence(iterations, closure, &x, period, "raise \
+                    max_iterations, start nearer the orbit, or loosen the tolerance to the \
+                    runs' accuracy (tighten the method's rtol to go lower)"));
+            }
+            iterations += 1;
+            let step = self.newton_step(&shot, &x)?;
+            // Backtracking: halve the step until the residual falls.
+            let mut lambda = 1.0;
+            let mut accepted = None;
+            for _ in 0..30 {
+                let xt: Vec<f64> = (0..n2).map(|i| x[i] + lambda * step[i]).collect();
+                let pt = if self.fixed_period {
+                    period
+                } else {
+                    period + lambda * step[n2]
+                };
+                if pt > 0.0 {
+                    if let Ok(s) = self.shoot(&xt, pt) {
+                        let c = norm(&s, &xt);
+                        if c < closure {
+                            accepted = Some((xt, pt, s, c));
+                            break;
+                        }
+                    }
+                }
+                lambda *= 0.5;
+            }
+            let Some((xt, pt, s, c)) = accepted else {
+                return Err(self.no_convergence(iterations, closure, &x, period, "no step along \
+                    Newton's direction reduces |x(T) − x₀| (the runs' error is reached, or the \
+                    guess is too far): loosen the tolerance or start nearer the orbit"));
+            };
+            (x, period, shot, closure) = (xt, pt, s, c);
+        }
+        let multipliers = multipliers(&shot.phi)?;
+        let stability = classify(&multipliers, !self.fixed_period);
+        Ok(PeriodicOrbit {
+            t0: self.t0,
+            q0: core::array::from_fn(|i| x[i]),
+            qdot0: core::array::from_fn(|i| x[N + i]),
+            period,
+            monodromy: shot.phi,
+            multipliers,
+            stability,
+            closure,
+            iterations,
+        })
+    }
+
+    /// The least-norm Newton step (Δx, ΔT) (ΔT absent for a fixed period).
+    fn newton_step(&self, shot: &Shot, x: &[f64]) -> Result<Vec<f64>, OrbitError> {
+        let n2 = 2 * N;
+        let (rows, cols) = if self.fixed_period {
+            (n2, n2)
+        } else {
+            (n2 + 1, n2 + 1)
+        };
+        let mut a = DMatrix::zeros(rows, cols);
+        let mut b = DVector::zeros(rows);
+        for i in 0..n2 {
+            for j in 0..n2 {
+                a[(i, j)] = shot.phi[(i, j)] - if i == j { 1.0 } else { 0.0 };
+            }
+            b[i] = -(shot.end[i] - x[i]);
+        }
+        if !self.fixed_period {
+            for i in 0..n2 {
+                a[(i, n2)] = shot.f_end[i];
+                a[(n2, i)] = shot.f_start[i];
+            }
+        }
+        let svd = nalgebra::SVD::try_new(a, true, true, f64::EPSILON, 10_000).ok_or_else(|| {
+            OrbitError::Eigen {
+                message: "the SVD of the Newton matrix did not converge (non-finite monodromy?): \
+                          tighten the method's tolerance"
+                    .into(),
+            }
+        })?;
+        let smax = svd.singular_values.max();
+        let dx = svd
+            .solve(&b, 1e-9 * smax)
+            .map_err(|e| OrbitError::Eigen { message: e.into() })?;
+        Ok(dx.iter().copied().collect())
+    }
+
+    fn no_convergence(
+        &self,
+        iterations: usize,
+        closure: f64,
+        x: &[f64],
+        period: f64,
+        message: &str,
+    ) -> OrbitError {
+        OrbitError::NoConvergence {
+            iterations,
+            closure,
+            q: x[..N].to_vec(),
+            qdot: x[N..].to_vec(),
+            period,
+            message: message.into(),
+        }
+    }
+}
+
+/// What one shot gives: x(T), Φ(T), f(x(T)) and f(x₀).
+struct Shot {
+    end: Vec<f64>,
+    phi: DMatrix<f64>,
+    f_end: Vec<f64>,
+    f_start: Vec<f64>,
+}
+
+/// The eigenvalues of the monodromy matrix, by decreasing modulus.
+///
+/// ```
+/// use lagrange_runtime::{sensitivity::multipliers, DMatrix};
+/// let m = DMatrix::from_row_slice(2, 2, &[0.0, -2.0, 0.5, 0.0]); // μ = ±i
+/// let mu = multipliers(&m).unwrap();
+/// assert!(mu.iter().all(|m| (m.norm() - 1.0).abs() < 1e-15));
+/// ```
+pub fn multipliers(monodromy: &DMatrix<f64>) -> Result<Vec<Complex<f64>>, OrbitError> {
+    let schur = nalgebra::Schur::try_new(monodromy.clone(), f64::EPSILON, 10_000).ok_or_else(|| {
+        OrbitError::Eigen {
+            message: "the Schur iteration of the monodromy matrix did not converge: check that \
+                      it is finite, or tighten the method's tolerance"
+                .into(),
+        }
+    })?;
+    let mut mu: Vec<Complex<f64>> = schur.complex_eigenvalues().iter().copied().collect();
+    mu.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.re.total_cmp(&a.re)));
+    Ok(mu)
+}
+
+/// The verdict from the multipliers; `autonomous`: one multiplier 1 (the flow's direction) is
+/// trivial and not counted.
+fn classify(mu: &[Complex<f64>], autonomous: bool) -> OrbitStability {
+    let largest = mu.iter().map(|m| m.norm()).fold(0.0, f64::max);
+    if largest > 1.0 + MULTIPLIER_TOL {
+        return OrbitStability::Unstable { largest };
+    }
+    let trivial = if autonomous {
+        mu.iter()
+            .enumerate()
+            .min_by(|a, b| (a.1 - 1.0).norm().total_cmp(&(b.1 - 1.0).norm()))
+            .map(|(i, _)| i)
+    } else {
+        None
+    };
+    let inside = mu
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| Some(*i) != trivial)
+        .all(|(_, m)| m.norm() < 1.0 - MULTIPLIER_TOL);
+    if inside {
+        OrbitStability::AsymptoticallyStable
+    } else {
+        OrbitStability::Neutral
+    }
+}

@@ -1,0 +1,163 @@
+//! The variational equations as one right-hand side: the motion y = (q, q̇) with ẏ = f(t, y),
+//! and its columns of first-order variations, each 2N long, with ẋ = J(t, y) x (+ ∂f/∂p for a
+//! parameter's column), J = [[0, I], [−M⁻¹K, −M⁻¹C]] exact from the jets
+//! ([`jet_linearize`](crate::linearize::jet_linearize): third derivatives of L; forces,
+//! dissipation and explicit time included).
+
+use nalgebra::SMatrix;
+
+use crate::error::DynamicsError;
+use crate::lagrangian::Lagrangian;
+use crate::linalg::{solve_symmetric, Ldlt};
+use crate::linearize::jet_linearize;
+
+use super::super::state::{Fault, Stats};
+
+/// A parameter the run differentiates the motion with respect to: its name, its value in the
+/// system of the run, and how to build the system at another value.
+pub(crate) struct Parameter<'a, L> {
+    pub(crate) name: String,
+    pub(crate) value: f64,
+    pub(crate) build: Box<dyn Fn(f64) -> L + 'a>,
+}
+
+/// The Jacobian blocks of q̈ at a state: ∂q̈/∂q = −M⁻¹K and ∂q̈/∂q̇ = −M⁻¹C.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Jacobian<const N: usize> {
+    pub(crate) d_q: SMatrix<f64, N, N>,
+    pub(crate) d_qdot: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> Jacobian<N> {
+    /// ẋ = J x for one column x = (δq, δq̇) of 2N entries, into `out`.
+    #[inline]
+    pub(crate) fn apply(&self, x: &[f64], out: &mut [f64]) {
+        for i in 0..N {
+            out[i] = x[N + i];
+            let mut s = 0.0;
+            for j in 0..N {
+                s += self.d_q[(i, j)] * x[j] + self.d_qdot[(i, j)] * x[N + j];
+            }
+            out[N + i] = s;
+        }
+    }
+}
+
+/// The augmented right-hand side: y, then `2N + P` columns of 2N entries (the columns of Φ,
+/// then one per parameter), stored one after the other.
+pub(crate) struct Variation<'s, 'a, L, const N: usize> {
+    pub(crate) sys: &'s L,
+    pub(crate) params: &'s [Parameter<'a, L>],
+    /// How many columns of Φ (2N for the state transition matrix; any number k of directions
+    /// for a Lyapunov run that follows k of them).
+    pub(crate) phi_cols: usize,
+}
+
+impl<'s, 'a, L: Lagrangian<N>, const N: usize> Variation<'s, 'a, L, N> {
+    /// The length of the augmented state.
+    pub(crate) fn len(&self) -> usize {
+        2 * N * (1 + self.phi_cols + self.params.len())
+    }
+
+    /// F(t, z) into `out` (both [`len`](Self::len) long), with the Jacobian at y. One
+    /// evaluation counts once in `stats.rhs_evals`.
+    pub(crate) fn eval(
+        &self,
+        t: f64,
+        z: &[f64],
+        out: &mut [f64],
+        stats: &mut Stats,
+    ) -> Result<Jacobian<N>, Fault> {
+        stats.rhs_evals += 1;
+        let q: [f64; N] = core::array::from_fn(|i| z[i]);
+        let v: [f64; N] = core::array::from_fn(|i| z[N + i]);
+        let a = self.sys.accelerations(&q, &v, t)?;
+        let jac = jacobian(self.sys, &q, &v, t)?;
+        out[..N].copy_from_slice(&v);
+        out[N..2 * N].copy_from_slice(&a);
+        let n2 = 2 * N;
+        for c in 0..self.phi_cols {
+            let at = n2 * (1 + c);
+            jac.apply(&z[at..at + n2], &mut out[at..at + n2]);
+        }
+        for (p, par) in self.params.iter().enumerate() {
+            let at = n2 * (1 + self.phi_cols + p);
+            jac.apply(&z[at..at + n2], &mut out[at..at + n2]);
+            let dp = d_accel_d_param(par, &q, &v, t)?;
+            for i in 0..N {
+                out[at + N + i] += dp[i];
+            }
+        }
+        Ok(jac)
+    }
+
+    /// The columns' slopes J x at a state whose Jacobian is known (after the columns were
+    /// replaced: a Lyapunov run's re-orthonormalization), into `out`'s columns.
+    pub(crate) fn refresh_columns(&self, jac: &Jacobian<N>, z: &[f64], out: &mut [f64]) {
+        let n2 = 2 * N;
+        for c in 0..self.phi_cols {
+            let at = n2 * (1 + c);
+            jac.apply(&z[at..at + n2], &mut out[at..at + n2]);
+        }
+    }
+}
+
+/// ∂q̈/∂q and ∂q̈/∂q̇ at (q, q̇, t): −M⁻¹K and −M⁻¹C of the linearization about the motion
+/// through the state.
+pub(crate) fn jacobian<L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    v: &[f64; N],
+    t: f64,
+) -> Result<Jacobian<N>, DynamicsError> {
+    let lin = jet_linearize(sys, q, v, t)?;
+    let m: [[f64; N]; N] = core::array::from_fn(|i| core::array::from_fn(|j| lin.m[(i, j)]));
+    let ldlt = Ldlt::factor(&m).ok();
+    let solve = |b: [f64; N]| match &ldlt {
+        Some(f) => Ok(f.solve(&b)),
+        None => solve_symmetric(&m, &b),
+    };
+    let mut d_q = SMatrix::<f64, N, N>::zeros();
+    let mut d_qdot = SMatrix::<f64, N, N>::zeros();
+    for j in 0..N {
+        let kj = solve(core::array::from_fn(|i| lin.k[(i, j)]));
+        let cj = solve(core::array::from_fn(|i| lin.c[(i, j)]));
+        match (kj, cj) {
+            (Ok(kj), Ok(cj)) if kj.iter().chain(cj.iter()).all(|x| x.is_finite()) => {
+                for i in 0..N {
+                    d_q[(i, j)] = -kj[i];
+                    d_qdot[(i, j)] = -cj[i];
+                }
+            }
+            _ => {
+                return Err(DynamicsError::NonFinite {
+                    t,
+                    q: q.to_vec(),
+                    qdot: v.to_vec(),
+                    message: "the mass matrix of the linearized motion is singular here, so \
+                              the variational equations have no Jacobian: choose coordinates \
+                              regular along the motion (Euler angles away from sin θ = 0)"
+                        .into(),
+                })
+            }
+        }
+    }
+    Ok(Jacobian { d_q, d_qdot })
+}
+
+/// ∂q̈/∂p by the fourth-order central difference of the accelerations of the systems built at
+/// p ± h and p ± 2h, h = ε^(1/5) max(|p|, 1) (truncation O(h⁴), round-off O(ε/h): both near
+/// 1e-13 relative for a smooth dependence).
+fn d_accel_d_param<L: Lagrangian<N>, const N: usize>(
+    par: &Parameter<'_, L>,
+    q: &[f64; N],
+    v: &[f64; N],
+    t: f64,
+) -> Result<[f64; N], DynamicsError> {
+    let h = f64::EPSILON.powf(0.2) * par.value.abs().max(1.0);
+    let at = |dp: f64| (par.build)(par.value + dp).accelerations(q, v, t);
+    let (p1, m1, p2, m2) = (at(h)?, at(-h)?, at(2.0 * h)?, at(-2.0 * h)?);
+    Ok(core::array::from_fn(|i| {
+        (8.0 * (p1[i] - m1[i]) - (p2[i] - m2[i])) / (12.0 * h)
+    }))
+}
