@@ -18,6 +18,7 @@ pub mod four_bar_system;
 pub mod heavy_top_system;
 pub mod quaternion_top_system;
 pub mod stiff_system;
+pub mod three_body_system;
 #[cfg(feature = "test-models")]
 #[macro_use]
 pub mod systems;

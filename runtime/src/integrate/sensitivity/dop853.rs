@@ -90,6 +90,11 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
         })
     }
 
+    /// The time of the current node.
+    pub(crate) fn node_time(&self) -> f64 {
+        self.t
+    }
+
     /// The augmented state at the current node.
     pub(crate) fn state(&self) -> &[f64] {
         &self.z

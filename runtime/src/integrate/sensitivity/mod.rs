@@ -55,11 +55,18 @@
 mod builder;
 mod dop853;
 mod event_time;
+mod lyapunov;
+mod periodic;
 mod result;
 mod rk4;
 mod variation;
 
 pub use builder::Sensitivity;
+pub use lyapunov::{Lyapunov, Spectrum};
+pub use periodic::{
+    multipliers, OrbitError, OrbitStability, PeriodicOrbit, Shooting, MULTIPLIER_TOL,
+    TRIVIAL_RADIUS,
+};
 pub use result::{EventSensitivity, Sensitivities};
 
 /// What the driver's hooks record while a sensitivity run goes: the variations (the columns

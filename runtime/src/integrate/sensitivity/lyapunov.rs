@@ -1,0 +1,415 @@
+//! Lyapunov exponents of a motion by QR re-orthonormalization of the state transition matrix
+//! (Benettin et al. 1980; Shimada & Nagashima 1979).
+//!
+//! k orthonormal directions Q₀ (the first k columns of the identity) are carried by the
+//! variational equations, Φ(t) Q, together with the motion (DOP853 over the augmented state).
+//! Every interval Δ the carried directions are factored W = Q R (modified Gram–Schmidt), the
+//! logarithms ln R_ii are summed and the run goes on from Q. After time t the i-th exponent is
+//! λ_i ≈ (1/t) Σ ln R_ii; the first k exponents, largest first, come out (k = 2N: the whole
+//! spectrum, whose sum is the mean of tr J, −⟨tr M⁻¹C⟩: −b/(m l²) for a pendulum with friction b).
+
+use nalgebra::DMatrix;
+
+use crate::lagrangian::Lagrangian;
+
+use super::super::error::SimulationError;
+use super::super::simulation::Simulation;
+use super::super::state::{Fault, Stats};
+use super::dop853::VarDop853;
+use super::variation::Variation;
+
+/// The Lyapunov spectrum of a motion and how it converged ([`Lyapunov::compute`]).
+///
+/// ```
+/// use lagrange_runtime::sensitivity::Spectrum;
+/// let s = Spectrum { exponents: vec![0.1, -0.6], history: vec![(10.0, vec![0.1, -0.6])], duration: 10.0, renormalizations: 10 };
+/// assert!((s.sum() + 0.5).abs() < 1e-15);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spectrum {
+    /// The exponents λ₁ ≥ λ₂ ≥ … (per unit time), as many as the directions followed.
+    pub exponents: Vec<f64>,
+    /// The running estimates (t − t_start, exponents) after each re-orthonormalization, thinned
+    /// to at most about 1000 entries (the convergence as the run goes).
+    pub history: Vec<(f64, Vec<f64>)>,
+    /// The time averaged over (after the transient).
+    pub duration: f64,
+    /// How many re-orthonormalizations were made.
+    pub renormalizations: usize,
+}
+
+impl Spectrum {
+    /// Σ λ_i: for the whole spectrum, the mean rate of phase-space contraction ⟨tr J⟩.
+    ///
+    /// ```
+    /// use lagrange_runtime::sensitivity::Spectrum;
+    /// let s = Spectrum { exponents: vec![0.5, -0.5], history: vec![], duration: 1.0, renormalizations: 1 };
+    /// assert_eq!(s.sum(), 0.0);
+    /// ```
+    pub fn sum(&self) -> f64 {
+        self.exponents.iter().sum()
+    }
+}
+
+/// The Lyapunov exponents of the motion from (q₀, q̇₀): configure, then
+/// [`compute`](Lyapunov::compute).
+///
+/// ```
+/// use lagrange_runtime::{Lagrangian, Scalar};
+/// use lagrange_runtime::sensitivity::Lyapunov;
+/// /// ẍ = x: the exponents are +1 and −1.
+/// struct Saddle;
+/// impl Lagrangian<1> for Saddle {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] + q[0] * q[0]) * 0.5 }
+/// }
+/// // Along the motion x = 0 (an equilibrium), J is constant.
+/// let s = Lyapunov::new(&Saddle, [0.0], [0.0]).duration(40.0).compute().unwrap();
+/// assert!((s.exponents[0] - 1.0).abs() < 0.03 && (s.exponents[1] + 1.0).abs() < 0.03);
+/// assert!(s.sum().abs() < 1e-9);
+/// ```
+pub struct Lyapunov<'a, L, const N: usize> {
+    sys: &'a L,
+    q0: [f64; N],
+    qdot0: [f64; N],
+    t0: f64,
+    transient: f64,
+    duration: f64,
+    every: f64,
+    directions: usize,
+    rtol: f64,
+    atol: f64,
+}
+
+impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
+    /// The exponents of the motion from (q₀, q̇₀) at t₀ = 0: the whole spectrum (2N), no
+    /// transient, over a duration of 1000, re-orthonormalized every 1, DOP853 at
+    /// rtol = atol = 1e-10.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Lyapunov;
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let s = Lyapunov::new(&Free, [0.0], [1.0]).duration(100.0).compute().unwrap();
+    /// assert!(s.exponents.iter().all(|l| l.abs() < 0.1)); // polynomial growth: exponents → 0
+    /// ```
+    pub fn new(sys: &'a L, q0: [f64; N], qdot0: [f64; N]) -> Self {
+        Lyapunov {
+            sys,
+            q0,
+            qdot0,
+            t0: 0.0,
+            transient: 0.0,
+            duration: 1000.0,
+            every: 1.0,
+            directions: 2 * N,
+            rtol: 1e-10,
+            atol: 1e-10,
+        }
+    }
+
+    /// The start time t₀ (default 0).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Lyapunov;
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let s = Lyapunov::new(&Free, [0.0], [1.0]).start_time(5.0).duration(10.0).compute().unwrap();
+    /// assert_eq!(s.duration, 10.0);
+    /// ```
+    pub fn start_time(mut self, t0: f64) -> Self {
+        self.t0 = t0;
+        self
+    }
+
+    /// Integrate this long first without averaging (to reach the attractor; default 0).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Lyapunov;
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let s = Lyapunov::new(&Free, [0.0], [1.0]).transient(50.0).duration(10.0).compute().unwrap();
+    /// assert_eq!(s.renormalizations, 10);
+    /// ```
+    pub fn transient(mut self, t: f64) -> Self {
+        self.transient = t;
+        self
+    }
+
+    /// The time averaged over after the transient (default 1000).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Lyapunov;
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let s = Lyapunov::new(&Free, [0.0], [1.0]).duration(20.0).compute().unwrap();
+    /// assert_eq!(s.duration, 20.0);
+    /// ```
+    pub fn duration(mut self, t: f64) -> Self {
+        self.duration = t;
+        self
+    }
+
+    /// Re-orthonormalize every `dt` (default 1; short enough that the directions do not all
+    /// collapse onto the fastest one in between: e^{(λ₁ − λ_k) dt} well below 1/ε).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Lyapunov;
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let s = Lyapunov::new(&Free, [0.0], [1.0]).duration(10.0).renormalize_every(0.5).compute().unwrap();
+    /// assert_eq!(s.renormalizations, 20);
+    /// ```
+    pub fn renormalize_every(mut self, dt: f64) -> Self {
+        self.every = dt;
+        self
+    }
+
+    /// Follow only the first `k` directions (1 ≤ k ≤ 2N; default 2N): the k largest exponents.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Lyapunov;
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let s = Lyapunov::new(&Free, [0.0], [1.0]).duration(10.0).directions(1).compute().unwrap();
+    /// assert_eq!(s.exponents.len(), 1);
+    /// ```
+    pub fn directions(mut self, k: usize) -> Self {
+        self.directions = k;
+        self
+    }
+
+    /// DOP853's tolerances for the motion and the directions (default 1e-10, 1e-10).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Lyapunov;
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let s = Lyapunov::new(&Free, [0.0], [1.0]).duration(10.0).tolerances(1e-12, 1e-12).compute().unwrap();
+    /// assert_eq!(s.exponents.len(), 2);
+    /// ```
+    pub fn tolerances(mut self, rtol: f64, atol: f64) -> Self {
+        self.rtol = rtol;
+        self.atol = atol;
+        self
+    }
+
+    /// Runs the transient (a plain run), then the motion with its k directions, and returns
+    /// the exponents with their convergence. Bad options are
+    /// [`SimulationError::InvalidOptions`]; a failing run is its error (time, state).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar, SimulationError};
+    /// # use lagrange_runtime::sensitivity::Lyapunov;
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let err = Lyapunov::new(&Free, [0.0], [1.0]).directions(3).compute().unwrap_err();
+    /// assert!(matches!(err, SimulationError::InvalidOptions { .. }));
+    /// ```
+    pub fn compute(self) -> Result<Spectrum, SimulationError> {
+        let n2 = 2 * N;
+        let bad = |message: String| Err(SimulationError::InvalidOptions { message });
+        if self.directions == 0 || self.directions > n2 {
+            return bad(format!(
+                "directions({}): follow 1 to 2N = {n2} directions",
+                self.directions
+            ));
+        }
+        if !(self.duration > 0.0 && self.every > 0.0 && self.transient >= 0.0)
+            || !(self.duration.is_finite() && self.transient.is_finite())
+        {
+            return bad(format!(
+                "duration {}, renormalize_every {}, transient {}: give a positive finite \
+                 duration and interval and a finite transient ≥ 0",
+                self.duration, self.every, self.transient
+            ));
+        }
+        if !(self.rtol > 0.0 && self.atol >= 0.0) {
+            return bad(format!(
+                "tolerances rtol = {}, atol = {}: give rtol > 0 and atol ≥ 0",
+                self.rtol, self.atol
+            ));
+        }
+        let method = super::super::method::Method::Dop853 {
+            rtol: self.rtol,
+            atol: self.atol,
+        };
+        // The transient: a plain run.
+        let (mut q, mut v, mut t) = (self.q0, self.qdot0, self.t0);
+        if self.transient > 0.0 {
+            let tr = Simulation::new(self.sys, q, v)
+                .method(method)
+                .start_time(t)
+                .until(t + self.transient)
+                .keep_samples(false)
+                .run()?;
+            if let (Some(qe), Some(ve)) = (tr.q.last(), tr.qdot.last()) {
+                (q, v) = (*qe, *ve);
+            }
+            t += self.transient;
+        }
+        // Check the options the way a run does (finite state, tolerances) before stepping.
+        Simulation::new(self.sys, q, v)
+            .method(method)
+            .start_time(t)
+            .until(t + self.every.min(self.duration))
+            .prepare()?;
+        let k = self.directions;
+        let var = Variation {
+            sys: self.sys,
+            params: &[],
+            phi_cols: k,
+        };
+        let mut z0 = vec![0.0; n2 * (1 + k)];
+        z0[..N].copy_from_slice(&q);
+        z0[N..n2].copy_from_slice(&v);
+        for j in 0..k {
+            z0[n2 * (1 + j) + j] = 1.0;
+        }
+        let mut stats = Stats::default();
+        let t_start = t;
+        let t_stop = t_start + self.duration;
+        let fail = |f: Fault, s: &VarDop853<'_, '_, '_, L, N>| -> SimulationError {
+            let z = s.state();
+            let (t, q, qdot) = (s.node_time(), z[..N].to_vec(), z[N..n2].to_vec());
+            let message = format!("{f:?}");
+            SimulationError::Dynamics {
+                source: Box::new(match f {
+                    Fault::Dynamics(e) => e,
+                    _ => crate::error::DynamicsError::NonFinite {
+                        t,
+                        q: q.clone(),
+                        qdot: qdot.clone(),
+                        message: format!(
+                            "the Lyapunov run could not go on ({message}): tighten the \
+                             tolerances or shorten the interval between re-orthonormalizations"
+                        ),
+                    },
+                }),
+                t,
+                q,
+                qdot,
+                partial: super::super::error::PartialTrajectory::none(),
+            }
+        };
+        let mut s = VarDop853::new(
+            var, t, z0, self.rtol, self.atol, self.every, None, &mut stats,
+        )
+        .map_err(|f| SimulationError::InvalidOptions {
+            message: format!("the Lyapunov run could not start at t = {t}: {f:?}"),
+        })?;
+        let mut sums = vec![0.0; k];
+        let mut history = Vec::new();
+        let total = (self.duration / self.every).ceil().max(1.0) as usize;
+        let thin = total.div_ceil(1000).max(1);
+        let mut count = 0;
+        while s.node_time() < t_stop {
+            let target = (t_start + (count + 1) as f64 * self.every).min(t_stop);
+            let target = if t_stop - target < 1e-9 * self.every {
+                t_stop
+            } else {
+                target
+            };
+            while s.node_time() < target {
+                s.step(target, &mut stats).map_err(|f| fail(f, &s))?;
+            }
+            let z = s.state();
+            let w = DMatrix::from_column_slice(n2, k, &z[n2..n2 * (1 + k)]);
+            let (qm, r) = gram_schmidt(w);
+            for (i, sum) in sums.iter_mut().enumerate() {
+                *sum += r[i].ln();
+            }
+            s.set_columns(qm.as_slice());
+            count += 1;
+            let elapsed = s.node_time() - t_start;
+            if count % thin == 0 || s.node_time() >= t_stop {
+                history.push((elapsed, sums.iter().map(|x| x / elapsed).collect()));
+            }
+        }
+        let exponents: Vec<f64> = sums.iter().map(|x| x / self.duration).collect();
+        if exponents.iter().any(|x| !x.is_finite()) {
+            let z = s.state();
+            return Err(SimulationError::NonFinite {
+                t: s.node_time(),
+                q: z[..N].to_vec(),
+                qdot: z[N..n2].to_vec(),
+                partial: super::super::error::PartialTrajectory::none(),
+            });
+        }
+        Ok(Spectrum {
+            exponents,
+            history,
+            duration: self.duration,
+            renormalizations: count,
+        })
+    }
+}
+
+/// W = Q R by modified Gram–Schmidt: Q (orthonormal columns) and the diagonal of R (the
+/// lengths, ≥ 0).
+fn gram_schmidt(mut w: DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>) {
+    let k = w.ncols();
+    let mut r = vec![0.0; k];
+    for j in 0..k {
+        for i in 0..j {
+            let d = w.column(i).dot(&w.column(j));
+            let ci = w.column(i).clone_owned();
+            w.column_mut(j).axpy(-d, &ci, 1.0);
+        }
+        let n = w.column(j).norm();
+        r[j] = n;
+        if n > 0.0 {
+            w.column_mut(j).scale_mut(1.0 / n);
+        }
+    }
+    (w, r)
+}
