@@ -32,6 +32,11 @@
 //! function (it is a closure of numbers); at a grazing hit (ġ = 0) the event time is not
 //! differentiable and the sensitivity is `None`.
 //!
+//! **Periodic orbits and Lyapunov exponents.** [`Shooting`] finds a periodic orbit by Newton on
+//! x(t₀ + T) − x₀ with the monodromy Φ(t₀ + T) (its [`PeriodicOrbit`] has the Floquet
+//! multipliers and an [`OrbitStability`] verdict); [`Lyapunov`] computes the exponents of a
+//! motion by QR re-orthonormalization of the carried directions.
+//!
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
 //! methods other than `Dop853` and `Rk4` (the Taylor method, Dormand–Prince, Radau5 and the
 //! variational integrator), constrained runs and contacts, and resetting events (the flow jumps
