@@ -202,9 +202,12 @@ fn driven(a: f64) -> DrivenPendulum {
     }
 }
 
+/// (a, the two multipliers as (Re, Im)) along the drive sweep.
 type Sweep = Vec<(f64, [(f64, f64); 2])>;
+/// The Lyapunov run's convergence: (elapsed time, the running exponents).
+type History = Vec<(f64, Vec<f64>)>;
 
-fn driven_pendulum() -> Result<(Sweep, Vec<(f64, Vec<f64>)>), Box<dyn std::error::Error>> {
+fn driven_pendulum() -> Result<(Sweep, History), Box<dyn std::error::Error>> {
     let period = 3.0 * PI;
     let method = Method::Dop853 {
         rtol: 1e-12,

@@ -239,12 +239,12 @@ fn elliptic_ke(k: f64) -> (f64, f64) {
 /// dT/dθ₀ by 1.4e-14, dT/dg by 1.1e-13.
 #[test]
 fn pendulum_period_and_its_sensitivities() {
-    let (theta0, g, l) = (1.3_f64, 1.0, 1.0);
+    let (theta0, g, l) = (1.3_f64, 1.0_f64, 1.0_f64);
     let k = (theta0 / 2.0).sin();
     let (kk, ee) = elliptic_ke(k);
-    let t_closed = 4.0 * (l / g as f64).sqrt() * kk;
+    let t_closed = 4.0 * (l / g).sqrt() * kk;
     let dt_closed =
-        2.0 * (l / g as f64).sqrt() * (theta0 / 2.0).cos() * (ee / (k * (1.0 - k * k)) - kk / k);
+        2.0 * (l / g).sqrt() * (theta0 / 2.0).cos() * (ee / (k * (1.0 - k * k)) - kk / k);
     assert!((t_closed - 7.019250311844546).abs() < 1e-12, "{t_closed}");
     assert!(
         (dt_closed - 1.2581654724013054).abs() < 1e-12,

@@ -264,9 +264,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
                 self.directions
             ));
         }
-        if !(self.duration > 0.0 && self.every > 0.0 && self.transient >= 0.0)
-            || !(self.duration.is_finite() && self.transient.is_finite())
-        {
+        let positive = self.duration > 0.0 && self.every > 0.0 && self.transient >= 0.0;
+        if !positive || !self.duration.is_finite() || !self.transient.is_finite() {
             return bad(format!(
                 "duration {}, renormalize_every {}, transient {}: give a positive finite \
                  duration and interval and a finite transient ≥ 0",

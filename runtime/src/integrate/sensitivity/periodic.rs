@@ -477,7 +477,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 ),
             });
         }
-        if !(self.tolerance > 0.0) {
+        if self.tolerance.is_nan() || self.tolerance <= 0.0 {
             return Err(OrbitError::InvalidOptions {
                 message: format!("the tolerance is {}: give a positive one", self.tolerance),
             });
@@ -496,7 +496,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         };
         let mut closure = norm(&shot, &x);
         let mut iterations = 0;
-        while !(closure <= self.tolerance) {
+        // A NaN closure (a run that blew up) keeps iterating until the budget ends.
+        while closure.is_nan() || closure > self.tolerance {
             if iterations >= self.max_iterations {
                 return Err(self.no_convergence(
                     iterations,
