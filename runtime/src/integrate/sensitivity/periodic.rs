@@ -12,9 +12,11 @@
 //! otherwise slides along the orbit). A forced system with period 2π/ω has it fixed, and Newton
 //! solves (Φ(T) − I) Δx = −(x(T) − x₀) alone. Integrals of the motion (the energy, conserved
 //! momenta) and symmetries make these systems singular: orbits come in families. The step is the
-//! least-squares solution of least norm (the SVD, singular values below 1e-9 of the largest taken
-//! as zero), so Newton goes to the nearest orbit of the family. A step that does not reduce the
-//! residual is halved (up to 30 times).
+//! least-squares solution of least norm (the SVD, singular values below r = |x(T) − x₀|/max(1, |x₀|)
+//! of the largest, clamped to [1e-9, 1e-2], taken as zero: off the orbit such an integral's
+//! direction is singular only to O(r)), so Newton goes to a nearby orbit of the family. A step that
+//! does not reduce the residual is halved (up to 30 times). Newton that ends on an equilibrium
+//! (periodic with any period) is refused with [`OrbitError::NoConvergence`].
 //!
 //! The multipliers are the eigenvalues of the monodromy matrix Φ(T) (from the real Schur form).
 
@@ -107,17 +109,17 @@ impl fmt::Display for OrbitStability {
 /// ```
 /// use lagrange_runtime::{Lagrangian, Scalar};
 /// use lagrange_runtime::sensitivity::Shooting;
-/// /// ẍ = −x: every motion has period 2π, multipliers 1, 1.
-/// struct Osc;
-/// impl Lagrangian<1> for Osc {
-///     const COORDINATES: [&'static str; 1] = ["x"];
+/// /// A pendulum, θ̈ = −sin θ: its librations are periodic, multipliers 1, 1 (a Jordan block).
+/// struct P;
+/// impl Lagrangian<1> for P {
+///     const COORDINATES: [&'static str; 1] = ["theta"];
 ///     const CYCLIC: [bool; 1] = [false];
 ///     const AUTONOMOUS: bool = true;
-///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
 /// }
-/// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.0).find().unwrap();
-/// assert!((orbit.period - 2.0 * std::f64::consts::PI).abs() < 1e-9);
-/// assert!(orbit.multipliers.iter().all(|m| (m.norm() - 1.0).abs() < 1e-6));
+/// let orbit = Shooting::autonomous(&P, [2.0], [0.0], 8.4).find().unwrap();
+/// assert!(orbit.closure < 1e-10);
+/// assert!(orbit.multipliers.iter().all(|m| (m - 1.0).norm() < 1e-3));
 /// ```
 #[derive(Clone, Debug)]
 pub struct PeriodicOrbit<const N: usize> {
@@ -272,10 +274,11 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     /// #     const COORDINATES: [&'static str; 1] = ["x"];
     /// #     const CYCLIC: [bool; 1] = [false];
     /// #     const AUTONOMOUS: bool = true;
-    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0] * 4.0) * 0.5 }
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() * 4.0 }
     /// # }
-    /// let orbit = Shooting::autonomous(&Osc, [0.5], [0.0], 3.0).find().unwrap();
-    /// assert!((orbit.period - std::f64::consts::PI).abs() < 1e-9);
+    /// // A libration of amplitude ≈ 0.5 of θ̈ = −4 sin θ: T ≈ π (1 + 0.5²/16).
+    /// let orbit = Shooting::autonomous(&Osc, [0.5], [0.0], 3.2).find().unwrap();
+    /// assert!(orbit.closure < 1e-10 && (orbit.period - 3.19).abs() < 0.01);
     /// ```
     pub fn autonomous(sys: &'a L, q0: [f64; N], qdot0: [f64; N], period_guess: f64) -> Self {
         Shooting {
@@ -330,9 +333,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     /// #     const COORDINATES: [&'static str; 1] = ["x"];
     /// #     const CYCLIC: [bool; 1] = [false];
     /// #     const AUTONOMOUS: bool = true;
-    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
     /// # }
-    /// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.0).start_time(2.0).find().unwrap();
+    /// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.7).start_time(2.0).find().unwrap();
     /// assert_eq!(orbit.t0, 2.0);
     /// ```
     pub fn start_time(mut self, t0: f64) -> Self {
@@ -350,9 +353,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     /// #     const COORDINATES: [&'static str; 1] = ["x"];
     /// #     const CYCLIC: [bool; 1] = [false];
     /// #     const AUTONOMOUS: bool = true;
-    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
     /// # }
-    /// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.0)
+    /// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.7)
     ///     .method(Method::Dop853 { rtol: 1e-13, atol: 1e-13 })
     ///     .find()
     ///     .unwrap();
@@ -374,9 +377,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     /// #     const COORDINATES: [&'static str; 1] = ["x"];
     /// #     const CYCLIC: [bool; 1] = [false];
     /// #     const AUTONOMOUS: bool = true;
-    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
     /// # }
-    /// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.0).tolerance(1e-6).find().unwrap();
+    /// let orbit = Shooting::autonomous(&Osc, [1.0], [0.0], 6.7).tolerance(1e-6).find().unwrap();
     /// assert!(orbit.closure <= 1e-6);
     /// ```
     pub fn tolerance(mut self, tolerance: f64) -> Self {
@@ -394,7 +397,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     /// #     const COORDINATES: [&'static str; 1] = ["x"];
     /// #     const CYCLIC: [bool; 1] = [false];
     /// #     const AUTONOMOUS: bool = true;
-    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
     /// # }
     /// let err = Shooting::autonomous(&Osc, [1.0], [0.0], 5.0).max_iterations(0).find().unwrap_err();
     /// assert!(matches!(err, OrbitError::NoConvergence { .. }));
@@ -510,7 +513,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 ));
             }
             iterations += 1;
-            let step = self.newton_step(&shot, &x)?;
+            let step = self.newton_step(&shot, &x, closure)?;
             // Backtracking: halve the step until the residual falls.
             let mut lambda = 1.0;
             let mut accepted = None;
@@ -545,6 +548,19 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             };
             (x, period, shot, closure) = (xt, pt, s, c);
         }
+        // An equilibrium is periodic with any period: not the orbit looked for.
+        let speed = shot.f_start.iter().map(|f| f * f).sum::<f64>().sqrt();
+        let size = x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
+        if !self.fixed_period && speed * period <= 1e-6 * size {
+            return Err(self.no_convergence(
+                iterations,
+                closure,
+                &x,
+                period,
+                "Newton went to an equilibrium (f(x₀) = 0 there), which is periodic with any \
+                 period: start farther from it",
+            ));
+        }
         let multipliers = multipliers(&shot.phi)?;
         let stability = classify(&multipliers, !self.fixed_period);
         Ok(PeriodicOrbit {
@@ -561,7 +577,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     }
 
     /// The least-norm Newton step (Δx, ΔT) (ΔT absent for a fixed period).
-    fn newton_step(&self, shot: &Shot, x: &[f64]) -> Result<Vec<f64>, OrbitError> {
+    fn newton_step(&self, shot: &Shot, x: &[f64], closure: f64) -> Result<Vec<f64>, OrbitError> {
         let n2 = 2 * N;
         let (rows, cols) = if self.fixed_period {
             (n2, n2)
@@ -589,9 +605,15 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                     .into(),
             }
         })?;
+        // Singular values below the residual's relative size are taken as zero: an integral of
+        // the motion makes the matrix singular on the orbit and nearly so (by O(residual)) off
+        // it, where inverting that direction would throw the iterate along the family (towards
+        // an equilibrium, the trivially periodic end of many families).
         let smax = svd.singular_values.max();
+        let size = x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
+        let cutoff = (closure / size).clamp(1e-9, 1e-2);
         let dx = svd
-            .solve(&b, 1e-9 * smax)
+            .solve(&b, cutoff * smax)
             .map_err(|e| OrbitError::Eigen { message: e.into() })?;
         Ok(dx.iter().copied().collect())
     }
