@@ -437,7 +437,7 @@ fn linearize_refuses_a_constrained_system() {
     ] {
         match r {
             Err(DynamicsError::Constrained { message, .. }) => {
-                assert!(message.contains("Simulation::constrained"), "{message}");
+                assert!(message.contains("linearize_on_constraints"), "{message}");
             }
             other => panic!(
                 "expected a refusal, got {:?}",
@@ -446,6 +446,20 @@ fn linearize_refuses_a_constrained_system() {
         }
     }
     const { assert!(<SphericalPendulumXyz as Lagrangian<3>>::COMPILED.constrained) };
+    // The method it names: on the sphere at the bottom, in x and y, ω² = g/l in both modes.
+    for lin in [
+        sym.linearize_on_constraints(&q, &v, 0.0),
+        sym.jets().linearize_on_constraints(&q, &v, 0.0),
+    ] {
+        let r = lin.unwrap().reduce(["r.x", "r.y"]).unwrap();
+        for i in 0..2 {
+            assert!(
+                (r.k[(i, i)] / r.m[(i, i)] - 9.81 / 2.0).abs() < 1e-12,
+                "{r:?}"
+            );
+        }
+        assert!(r.is_stable());
+    }
     let hand = SphericalHand {
         m: 1.0,
         g: 9.81,

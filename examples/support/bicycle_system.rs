@@ -182,6 +182,38 @@ impl Bicycle {
 
 #[lagrangian(mode = "jets")]
 impl Bicycle {
+    /// The geometry the three functions below share, from the rear contact (x, y), yaw, roll,
+    /// pitch and steer: the heading R_z(ψ)R_x(φ), the rear frame's and the fork's rotations, the
+    /// rear wheel's centre and the steer axis' reference point on the ground.
+    #[allow(clippy::type_complexity)]
+    fn frames(
+        &self,
+        x: Scalar,
+        y: Scalar,
+        psi: Scalar,
+        phi: Scalar,
+        theta: Scalar,
+        delta: Scalar,
+    ) -> (
+        Rotation<Scalar>,
+        Rotation<Scalar>,
+        Rotation<Scalar>,
+        Vector3<Scalar>,
+        Vector3<Scalar>,
+    ) {
+        let heading = Rotation::about_z(psi) * Rotation::about_x(phi);
+        let rear = heading * Rotation::about_y(theta);
+        let fork = rear
+            * Rotation::about_y(self.lambda)
+            * Rotation::about_z(delta)
+            * Rotation::about_y(-self.lambda);
+        // The rear wheel's centre above its contact, in the wheel's plane.
+        let c_r = Vector3::new(x, y, 0.0) - heading * Vector3::new(0.0, 0.0, self.r_r);
+        // The steer axis' point on the ground in the reference, carried by the rear frame.
+        let s = c_r + rear * Vector3::new(self.w + self.c, 0.0, self.r_r);
+        (heading, rear, fork, c_r, s)
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn lagrangian(
         &self,
@@ -194,17 +226,8 @@ impl Bicycle {
         (theta_r, _theta_r_dot): Coord,
         (theta_f, _theta_f_dot): Coord,
     ) -> Scalar {
-        let heading = Rotation::about_z(psi) * Rotation::about_x(phi);
-        let rear = heading * Rotation::about_y(theta);
-        let fork = rear
-            * Rotation::about_y(self.lambda)
-            * Rotation::about_z(delta)
-            * Rotation::about_y(-self.lambda);
-        // The rear wheel's centre above its contact, in the wheel's plane.
-        let c_r = Vector3::new(x, y, 0.0) - heading * Vector3::new(0.0, 0.0, self.r_r);
+        let (_, rear, fork, c_r, s) = self.frames(x, y, psi, phi, theta, delta);
         let b = c_r + rear * Vector3::new(self.x_b, 0.0, self.z_b + self.r_r);
-        // The steer axis' point on the ground in the reference, carried by the rear frame.
-        let s = c_r + rear * Vector3::new(self.w + self.c, 0.0, self.r_r);
         let h = s + fork * Vector3::new(self.x_h - self.w - self.c, 0.0, self.z_h);
         let c_f = s + fork * Vector3::new(-self.c, 0.0, -self.r_f);
         let rear_wheel = rear * Rotation::about_y(theta_r);
@@ -244,14 +267,7 @@ impl Bicycle {
         (_, _): Coord,
         (_, _): Coord,
     ) -> [Scalar; 1] {
-        let heading = Rotation::about_z(psi) * Rotation::about_x(phi);
-        let rear = heading * Rotation::about_y(theta);
-        let fork = rear
-            * Rotation::about_y(self.lambda)
-            * Rotation::about_z(delta)
-            * Rotation::about_y(-self.lambda);
-        let c_r = Vector3::new(x, y, 0.0) - heading * Vector3::new(0.0, 0.0, self.r_r);
-        let s = c_r + rear * Vector3::new(self.w + self.c, 0.0, self.r_r);
+        let (_, _, fork, _, s) = self.frames(x, y, psi, phi, theta, delta);
         let c_f = s + fork * Vector3::new(-self.c, 0.0, -self.r_f);
         let axle = fork * Vector3::new(0.0, 1.0, 0.0);
         // |ẑ − (ẑ·n) n| = √(1 − n_z²): the contact is r_F along the unit of ẑ − (ẑ·n) n.
@@ -273,15 +289,8 @@ impl Bicycle {
         (theta_r, _): Coord,
         (theta_f, _): Coord,
     ) -> [Scalar; 4] {
-        let heading = Rotation::about_z(psi) * Rotation::about_x(phi);
-        let rear = heading * Rotation::about_y(theta);
-        let fork = rear
-            * Rotation::about_y(self.lambda)
-            * Rotation::about_z(delta)
-            * Rotation::about_y(-self.lambda);
+        let (heading, rear, fork, c_r, s) = self.frames(x, y, psi, phi, theta, delta);
         let down_r = heading * Vector3::new(0.0, 0.0, self.r_r);
-        let c_r = Vector3::new(x, y, 0.0) - down_r;
-        let s = c_r + rear * Vector3::new(self.w + self.c, 0.0, self.r_r);
         let c_f = s + fork * Vector3::new(-self.c, 0.0, -self.r_f);
         let axle = fork * Vector3::new(0.0, 1.0, 0.0);
         let nz = axle.z;

@@ -386,9 +386,47 @@ impl<'a, H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Constraine
     }
 }
 
+/// The [`Lagrangian`] methods a view of a system (a constrained run's, a contact run's) takes
+/// from the system unchanged: L, D, Q, the pieces, M, the momenta and the energy. The view
+/// writes its flags, its power and its accelerations itself.
+macro_rules! forward_to_system {
+    () => {
+        #[inline(always)]
+        fn lagrangian<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S {
+            self.sys.lagrangian(q, qdot, t)
+        }
+        #[inline(always)]
+        fn dissipation<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S {
+            self.sys.dissipation(q, qdot, t)
+        }
+        #[inline(always)]
+        fn generalized_forces<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> [S; N] {
+            self.sys.generalized_forces(q, qdot, t)
+        }
+        #[inline(always)]
+        fn pieces(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Pieces<N> {
+            self.sys.pieces(q, qdot, t)
+        }
+        fn mass_matrix(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> SMatrix<f64, N, N> {
+            self.sys.mass_matrix(q, qdot, t)
+        }
+        fn momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> [f64; N] {
+            self.sys.momenta(q, qdot, t)
+        }
+        fn energy_and_momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> (f64, [f64; N]) {
+            self.sys.energy_and_momenta(q, qdot, t)
+        }
+        fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
+            self.sys.energy(q, qdot, t)
+        }
+    };
+}
+pub(crate) use forward_to_system;
+
 impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
     for Constrained<'_, H, N, K>
 {
+    forward_to_system!();
     const COORDINATES: [&'static str; N] = H::COORDINATES;
     const CYCLIC: [bool; N] = and_not(H::CYCLIC, H::CONSTRAINED_COORDINATES);
     const AUTONOMOUS: bool = H::AUTONOMOUS;
@@ -396,18 +434,6 @@ impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
         and_not(H::MOMENTUM_CONSERVED, H::CONSTRAINED_COORDINATES);
     const ENERGY_CONSERVED: bool = H::ENERGY_CONSERVED && H::SCLERONOMIC;
 
-    #[inline(always)]
-    fn lagrangian<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S {
-        self.sys.lagrangian(q, qdot, t)
-    }
-    #[inline(always)]
-    fn dissipation<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S {
-        self.sys.dissipation(q, qdot, t)
-    }
-    #[inline(always)]
-    fn generalized_forces<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> [S; N] {
-        self.sys.generalized_forces(q, qdot, t)
-    }
     /// The system's power plus that of the constraint forces, λ·(G q̇) (non-zero only for
     /// constraints that move in time); NaN where the constrained accelerations fail.
     fn power(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
@@ -434,10 +460,6 @@ impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
         p
     }
     #[inline(always)]
-    fn pieces(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Pieces<N> {
-        self.sys.pieces(q, qdot, t)
-    }
-    #[inline(always)]
     fn accelerations(
         &self,
         q: &[f64; N],
@@ -447,17 +469,5 @@ impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
         self.sys
             .constrained_accelerations(q, qdot, t)
             .map(|(a, _)| a)
-    }
-    fn mass_matrix(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> SMatrix<f64, N, N> {
-        self.sys.mass_matrix(q, qdot, t)
-    }
-    fn momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> [f64; N] {
-        self.sys.momenta(q, qdot, t)
-    }
-    fn energy_and_momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> (f64, [f64; N]) {
-        self.sys.energy_and_momenta(q, qdot, t)
-    }
-    fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
-        self.sys.energy(q, qdot, t)
     }
 }

@@ -556,6 +556,7 @@ fn least_norm<const N: usize>(rows: &[Row<N>], r: &[f64]) -> Result<[f64; N], Fa
 impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
     for ContactView<'_, U, N, K>
 {
+    crate::constraints::forward_to_system!();
     const COORDINATES: [&'static str; N] = U::COORDINATES;
     // A contact may touch any coordinate: none is cyclic, no momentum is conserved.
     const CYCLIC: [bool; N] = [false; N];
@@ -564,18 +565,6 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
     // Between impacts, closed contacts that do not move in time do no work.
     const ENERGY_CONSERVED: bool = U::ENERGY_CONSERVED && U::SCLERONOMIC;
 
-    #[inline(always)]
-    fn lagrangian<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S {
-        self.sys.lagrangian(q, qdot, t)
-    }
-    #[inline(always)]
-    fn dissipation<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> S {
-        self.sys.dissipation(q, qdot, t)
-    }
-    #[inline(always)]
-    fn generalized_forces<S: Scalar>(&self, q: &[S; N], qdot: &[S; N], t: S) -> [S; N] {
-        self.sys.generalized_forces(q, qdot, t)
-    }
     /// The system's power plus that of the closed contacts' forces, λ·(G q̇) (non-zero only for
     /// contacts that move in time); NaN where the accelerations fail.
     fn power(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
@@ -591,10 +580,6 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
         }
         p
     }
-    #[inline(always)]
-    fn pieces(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Pieces<N> {
-        self.sys.pieces(q, qdot, t)
-    }
     fn accelerations(
         &self,
         q: &[f64; N],
@@ -606,18 +591,6 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
             return self.sys.accelerations(q, qdot, t);
         }
         self.solve(q, qdot, t).map(|(a, _)| a)
-    }
-    fn mass_matrix(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> SMatrix<f64, N, N> {
-        self.sys.mass_matrix(q, qdot, t)
-    }
-    fn momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> [f64; N] {
-        self.sys.momenta(q, qdot, t)
-    }
-    fn energy_and_momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> (f64, [f64; N]) {
-        self.sys.energy_and_momenta(q, qdot, t)
-    }
-    fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
-        self.sys.energy(q, qdot, t)
     }
 }
 
