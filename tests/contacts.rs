@@ -296,3 +296,43 @@ fn particle_leaves_the_sphere_where_its_normal_force_vanishes() {
         assert_eq!(tr.work[i], 0.0);
     }
 }
+
+#[test]
+fn rocking_block_comes_to_rest_on_both_corners() {
+    // The rocking decays by Housner's ratio at each impact; the impacts accumulate and the
+    // block rests on both sticking corners (four rows on three coordinates: the corners'
+    // tangential rows are one row, kept once), pressing with m g in all.
+    let (b, h, m) = (0.2, 0.6, 3.0);
+    let block = Block { m, g: G, b, h };
+    let th0: f64 = 0.2;
+    let (x0, y0) = (b * th0.cos() - h * th0.sin(), b * th0.sin() + h * th0.cos());
+    let tr = Simulation::contacts(&block, [x0, y0, th0], [0.0; 3])
+        .method(Method::Dop853 {
+            rtol: 1e-12,
+            atol: 1e-14,
+        })
+        .until(8.0)
+        .run()
+        .unwrap();
+    let z = tr.zeno.as_ref().expect("the rocking accumulates");
+    assert!(z.resting && z.t_accumulation < 8.0, "{z}");
+    assert!(
+        tr.jumps.len() <= 40,
+        "{} impacts integrated",
+        tr.jumps.len()
+    );
+    assert_eq!(tr.terminated_by, None);
+    let last = tr.t.len() - 1;
+    let (q, v) = (tr.q[last], tr.qdot[last]);
+    assert!(
+        q[2].abs() < 1e-9 && v.iter().all(|x| x.abs() < 1e-9),
+        "{q:?} {v:?}"
+    );
+    let normal = tr.lambda[last][0] + tr.lambda[last][2];
+    assert!(
+        (normal - m * G).abs() < 1e-9 * m * G,
+        "{:?}",
+        tr.lambda[last]
+    );
+    assert!(tr.lambda[last][0] > 0.0 && tr.lambda[last][2] > 0.0);
+}

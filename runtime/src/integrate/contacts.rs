@@ -247,7 +247,7 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
         qdot: &[f64; N],
         t: f64,
     ) -> Result<([f64; N], Vec<f64>), DynamicsError> {
-        let rows = self.active_rows(q, qdot, t);
+        let rows = independent(self.active_rows(q, qdot, t));
         let mut lambda = vec![0.0; 2 * K];
         if rows.is_empty() {
             return Ok((self.sys.accelerations(q, qdot, t)?, lambda));
@@ -296,11 +296,10 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
                 q,
                 qdot,
                 message: format!(
-                    "the closed contacts [{}] (normal rows, and tangential rows of sticking \
-                     ones) are dependent or leave a direction without inertia: the contact \
-                     forces are not determined (a body resting on more points than it has \
-                     freedoms, e.g. a block on both sticking corners); make one of them \
-                     frictionless (no .sticking), or end the run before it settles",
+                    "the closed contacts [{}] leave a direction without inertia (a coordinate \
+                     that neither the mass matrix nor the contacts' rows hold): the accelerations \
+                     are not determined; give that coordinate inertia, or end the run before the \
+                     contacts close",
                     closed.join(", ")
                 ),
             }
@@ -372,6 +371,31 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
                 idx.push(i);
             }
         }
+        if plastic {
+            // The Zeno completion: where the impacts accumulate the motion normal to every
+            // touching contact has died out; all of them close, and the velocities lose their
+            // components against them (the plastic impact of all at once, least kinetic energy
+            // change: [M −Gᵀ; G 0] (q̇⁺, Λ) = (M q̇⁻, −∂g/∂t) over their independent rows). A
+            // contact that then pulls opens at once (`release`).
+            let mut next = closed;
+            for &i in &idx {
+                next[i] = true;
+            }
+            self.close(next, &rows);
+            self.anchor_at(q, t);
+            y[1] = self.plastic(q, qdot, t)?;
+            self.release(&y[0], &y[1], t)?;
+            self.project(t, &mut y).map_err(|f| DynamicsError::Impact {
+                t,
+                q: q.to_vec(),
+                qdot: qdot.to_vec(),
+                message: format!(
+                    "after the impacts accumulated, the state could not be put on the closed \
+                     contacts ({f:?})"
+                ),
+            })?;
+            return Ok(y);
+        }
         let cands: Vec<Candidate<N>> = idx
             .iter()
             .map(|&i| Candidate {
@@ -424,6 +448,52 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
             ),
         })?;
         Ok(y)
+    }
+
+    /// The velocities after a plastic impact on every closed contact at (q, q̇⁻, t): the
+    /// least-kinetic-energy change that makes each closed row's rate zero (independent rows).
+    fn plastic(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Result<[f64; N], DynamicsError> {
+        let rows = independent(self.active_rows(q, qdot, t));
+        if rows.is_empty() {
+            return Ok(*qdot);
+        }
+        let m: SMatrix<f64, N, N> = self.sys.mass_matrix(q, qdot, t);
+        let ms = (0..N)
+            .map(|i| m[(i, i)].abs())
+            .fold(f64::MIN_POSITIVE, f64::max);
+        let r = rows.len();
+        let n = N + r;
+        let mut a = vec![0.0; n * n];
+        let mut x = vec![0.0; n];
+        for i in 0..N {
+            for k in 0..N {
+                a[i * n + k] = m[(i, k)] / ms;
+            }
+            x[i] = (0..N).map(|k| m[(i, k)] * qdot[k]).sum::<f64>() / ms;
+        }
+        for (c, row) in rows.iter().enumerate() {
+            let big = row
+                .grad
+                .iter()
+                .fold(0.0_f64, |m, x| m.max(x.abs()))
+                .max(f64::MIN_POSITIVE);
+            for i in 0..N {
+                a[i * n + N + c] = -row.grad[i] / big;
+                a[(N + c) * n + i] = row.grad[i] / big;
+            }
+            // G q̇⁺ + ∂g/∂t = 0, with ∂g/∂t = rate − G q̇⁻.
+            let gv: f64 = (0..N).map(|i| row.grad[i] * qdot[i]).sum();
+            x[N + c] = -(row.rate - gv) / big;
+        }
+        lu_solve_dyn(&mut a, &mut x, 1.0).map_err(|_| DynamicsError::Impact {
+            t,
+            q: q.to_vec(),
+            qdot: qdot.to_vec(),
+            message: "the plastic impact on every touching contact has no solution (a \
+                      direction without inertia)"
+                .into(),
+        })?;
+        Ok(core::array::from_fn(|i| x[i]))
     }
 
     /// The run's events, one per contact: its gap while open, its normal force while closed,
@@ -503,7 +573,7 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
     fn project(&self, t: f64, y: &mut Y<N>) -> Result<f64, Fault> {
         let zero = [0.0; N];
         let mut moved = 0.0_f64;
-        let mut rows = self.active_rows(&y[0], &zero, t);
+        let mut rows = independent(self.active_rows(&y[0], &zero, t));
         if rows.is_empty() {
             return Ok(0.0);
         }
@@ -520,13 +590,13 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
             if !y[0].iter().all(|x| x.is_finite()) {
                 return Err(Fault::NonFinite);
             }
-            rows = self.active_rows(&y[0], &zero, t);
+            rows = independent(self.active_rows(&y[0], &zero, t));
             if inf_norm(&dq) <= 4.0 * f64::EPSILON * inf_norm(&y[0]) {
                 break;
             }
         }
         // Velocities: the nearest q̇ with G q̇ + ∂g/∂t = 0.
-        let vrows = self.active_rows(&y[0], &y[1], t);
+        let vrows = independent(self.active_rows(&y[0], &y[1], t));
         let r: Vec<f64> = vrows.iter().map(|r| r.rate).collect();
         let dv = least_norm(&vrows, &r)?;
         for i in 0..N {
@@ -541,6 +611,37 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
                 (p.max(r.value.abs()), v.max(r.rate.abs()))
             })
     }
+}
+
+/// The rows whose gradients are independent, in order: a row that repeats a combination of the
+/// ones before it (to 1e-9 of its length) is left out. A body resting on more contact rows than
+/// it has freedoms (a block on both sticking corners: the two corners' tangential rows are the
+/// same row) keeps a determined motion; the forces of the rows left out are taken as zero (the
+/// split of a statically indeterminate support is not determined by rigid bodies).
+fn independent<const N: usize>(rows: Vec<Row<N>>) -> Vec<Row<N>> {
+    let mut basis: Vec<[f64; N]> = Vec::new();
+    let mut kept = Vec::with_capacity(rows.len());
+    for row in rows {
+        let norm = row.grad.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm == 0.0 || !norm.is_finite() {
+            kept.push(row);
+            continue;
+        }
+        let mut v: [f64; N] = core::array::from_fn(|i| row.grad[i] / norm);
+        for b in &basis {
+            let d: f64 = (0..N).map(|i| v[i] * b[i]).sum();
+            for i in 0..N {
+                v[i] -= d * b[i];
+            }
+        }
+        let rest = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if rest <= 1e-9 {
+            continue;
+        }
+        basis.push(core::array::from_fn(|i| v[i] / rest));
+        kept.push(row);
+    }
+    kept
 }
 
 /// The least-norm Δ = Gᵀ(GGᵀ)⁻¹ r of G Δ = r over `rows`.

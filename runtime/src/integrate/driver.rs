@@ -516,7 +516,8 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     }
 
     /// The cap on the first step after a jump to (t, y): a hundredth of the time the state
-    /// takes to change by its own size, ‖y‖∞/‖ẏ‖∞ (none for the fixed-step methods, whose grid
+    /// takes to change by its own size, ‖y‖∞/‖ẏ‖∞, or the velocities by theirs, ‖q̇‖∞/‖q̈‖∞,
+    /// whichever is shorter (none for the fixed-step methods, whose grid
     /// restarts at the jump, or where it is not finite).
     fn first_step_after_jump(&self, t: f64, y: &Y<N>) -> Option<f64> {
         if self.method.is_fixed_step() {
@@ -526,7 +527,16 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         let norm = |xs: &mut dyn Iterator<Item = &f64>| xs.fold(0.0_f64, |m, x| m.max(x.abs()));
         let size = norm(&mut y.iter().flatten()).max(1e-6);
         let rate = norm(&mut y[1].iter().chain(a.iter()));
-        let h = 0.01 * size / rate;
+        // And a hundredth of the time the velocities take to change by their own size: a small,
+        // fast excursion (a rocking body's last rocks: a tenth of a millisecond up and back down
+        // to the next impact) must not fit inside the first step unseen.
+        let (speed, accel) = (norm(&mut y[1].iter()), norm(&mut a.iter()));
+        let turn = if speed > 0.0 && accel > 0.0 {
+            speed / accel
+        } else {
+            f64::INFINITY
+        };
+        let h = 0.01 * (size / rate).min(turn);
         (h.is_finite() && h > 0.0).then_some(h)
     }
 

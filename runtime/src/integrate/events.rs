@@ -373,7 +373,7 @@ impl fmt::Display for Zeno {
 pub(crate) const ZENO_INTERVALS: usize = 6;
 
 /// The accumulation of the hit times `ts` (oldest first), if the last [`ZENO_INTERVALS`]
-/// intervals shrink by one ratio r < 0.999 (to 1e-6): (r, the accumulation time).
+/// intervals shrink by one ratio r < 0.999 (to 1e-3: a rocking body's intervals shrink by a ratio that settles only as its amplitude does, and a miss leaves impacts too fast to resolve): (r, the accumulation time).
 pub(crate) fn zeno(ts: &[f64]) -> Option<(f64, f64)> {
     if ts.len() < ZENO_INTERVALS + 1 {
         return None;
@@ -382,7 +382,7 @@ pub(crate) fn zeno(ts: &[f64]) -> Option<(f64, f64)> {
     let d: Vec<f64> = tail.windows(2).map(|w| w[1] - w[0]).collect();
     let ratios: Vec<f64> = d.windows(2).map(|w| w[1] / w[0]).collect();
     let r = ratios[ratios.len() - 1];
-    let agree = ratios.iter().all(|&x| (x - r).abs() <= 1e-6 * r);
+    let agree = ratios.iter().all(|&x| (x - r).abs() <= 1e-3 * r);
     if !(agree && r > 0.0 && r < 0.999) {
         return None;
     }
