@@ -619,6 +619,10 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
 /// same row) keeps a determined motion; the forces of the rows left out are taken as zero (the
 /// split of a statically indeterminate support is not determined by rigid bodies).
 fn independent<const N: usize>(rows: Vec<Row<N>>) -> Vec<Row<N>> {
+    // One row (or none) needs no test: a vanishing gradient is the solve's to report.
+    if rows.len() <= 1 {
+        return rows;
+    }
     let mut basis: Vec<[f64; N]> = Vec::new();
     let mut kept = Vec::with_capacity(rows.len());
     for row in rows {
