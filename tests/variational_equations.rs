@@ -9,19 +9,7 @@ use lagrange::DMatrix;
 use crate::support::systems::{HeavyTop, HeavyTopJets};
 use crate::support::Rng;
 use lagrange_examples::driven_pendulum_system::DrivenPendulum;
-
-/// A plane pendulum, θ̈ = −(g/l) sin θ.
-pub struct Pendulum {
-    pub g: f64,
-    pub l: f64,
-}
-
-#[lagrangian]
-impl Pendulum {
-    fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
-        0.5 * self.l * self.l * theta_dot * theta_dot + self.g * self.l * theta.cos()
-    }
-}
+use lagrange_examples::pendulum_system::{period, Pendulum};
 
 /// (q, q̇)(t_end) of a plain run from y0.
 fn end_state<L: Lagrangian<N>, const N: usize>(
@@ -212,25 +200,6 @@ fn liouville_det_phi_of_the_damped_driven_pendulum() {
     assert!(worst < 1e-10, "det Φ off exp(−bt/ml²) by {worst:e}");
 }
 
-/// K(k) and E(k) by the arithmetic–geometric mean: K = π/(2 AGM(1, k′)),
-/// E = K (1 − Σₙ 2ⁿ⁻¹ cₙ²) with c₀ = k, cₙ₊₁ = (aₙ − bₙ)/2.
-fn elliptic_ke(k: f64) -> (f64, f64) {
-    let (mut a, mut b) = (1.0_f64, (1.0 - k * k).sqrt());
-    let mut sum = 0.5 * k * k;
-    let mut pow = 0.5;
-    for _ in 0..40 {
-        let c = 0.5 * (a - b);
-        (a, b) = (0.5 * (a + b), (a * b).sqrt());
-        pow *= 2.0;
-        sum += pow * c * c;
-        if c.abs() < 1e-17 {
-            break;
-        }
-    }
-    let kk = std::f64::consts::PI / (2.0 * a);
-    (kk, kk * (1.0 - sum))
-}
-
 /// Released from rest at θ₀ = 1.3 (g = l = 1): the period T = 4 √(l/g) K(k), k = sin(θ₀/2),
 /// from the time of the first θ-maximum (θ̇ = 0 falling), and dT/dθ₀ = 2 √(l/g) cos(θ₀/2)
 /// (E/(k k′²) − K/k) from the event-time sensitivity, both to 1e-10 (the numbers
@@ -240,11 +209,7 @@ fn elliptic_ke(k: f64) -> (f64, f64) {
 #[test]
 fn pendulum_period_and_its_sensitivities() {
     let (theta0, g, l) = (1.3_f64, 1.0_f64, 1.0_f64);
-    let k = (theta0 / 2.0).sin();
-    let (kk, ee) = elliptic_ke(k);
-    let t_closed = 4.0 * (l / g).sqrt() * kk;
-    let dt_closed =
-        2.0 * (l / g).sqrt() * (theta0 / 2.0).cos() * (ee / (k * (1.0 - k * k)) - kk / k);
+    let (t_closed, dt_closed) = period(theta0, g, l);
     assert!((t_closed - 7.019250311844546).abs() < 1e-12, "{t_closed}");
     assert!(
         (dt_closed - 1.2581654724013054).abs() < 1e-12,

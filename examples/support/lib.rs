@@ -17,6 +17,7 @@ pub mod double_pendulum_system;
 pub mod driven_pendulum_system;
 pub mod four_bar_system;
 pub mod heavy_top_system;
+pub mod pendulum_system;
 pub mod quaternion_top_system;
 pub mod stiff_system;
 pub mod three_body_system;
