@@ -14,6 +14,11 @@
 //! Then the long run: 10⁵ nutation periods (t = 1.143·10⁵) at tol 1e-16 and 1e-20, the relative
 //! drift of the energy and of the two cyclic momenta over every step.
 //!
+//! The variational section (`cargo bench --bench taylor -- variational`, run alone): the same
+//! top with its state transition matrix Φ (6 × 6) integrated along (`.sensitivity()`), our
+//! DOP853 and Taylor method against their own plain runs at tol 1e-10 and 1e-13, and heyoka's
+//! `var_ode_sys(order = 1)` against its plain runs, all in one run.
+//!
 //! Run: `cargo bench --bench taylor` (python3 -m pip install heyoka for the peer rows).
 
 use lagrange::prelude::*;
@@ -52,15 +57,24 @@ struct Row {
 }
 
 fn ours(name: &str, tol: f64, method: Method) -> Row {
+    ours_with(name, tol, method, false, REPEATS)
+}
+
+/// [`ours`], with the variational equations integrated along (Φ, 6 × 6) where `phi`.
+fn ours_with(name: &str, tol: f64, method: Method, phi: bool, repeats: usize) -> Row {
     let run = || {
-        Simulation::new(&TOP, Q0, V0)
+        let sim = Simulation::new(&TOP, Q0, V0)
             .method(method)
             .until(T_END)
-            .keep_samples(false)
-            .run()
-            .expect("the heavy top integrates")
+            .keep_samples(false);
+        if phi {
+            sim.sensitivity().run().map(|s| s.trajectory)
+        } else {
+            sim.run()
+        }
+        .expect("the heavy top integrates")
     };
-    let mut times: Vec<f64> = (0..REPEATS)
+    let mut times: Vec<f64> = (0..repeats)
         .map(|_| {
             let t0 = Instant::now();
             std::hint::black_box(run());
@@ -74,20 +88,24 @@ fn ours(name: &str, tol: f64, method: Method) -> Row {
         tol,
         err: theta_error(tr.q.last().map_or(f64::NAN, |q| q[0])),
         min_ms: times[0],
-        median_ms: times[REPEATS / 2],
+        median_ms: times[repeats / 2],
         steps: tr.stats.steps,
     }
 }
 
 const HEYOKA_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/heyoka_top.py");
 
-/// heyoka's rows, and its compile times, when python3 with heyoka is installed.
-fn heyoka() -> Option<(Vec<Row>, Vec<String>)> {
+/// heyoka's rows, and its compile times, when python3 with heyoka is installed (with `var`,
+/// its runs with the variational equations, `var_ode_sys`).
+fn heyoka(tols: &[f64], repeats: usize, var: bool) -> Option<(Vec<Row>, Vec<String>)> {
     let mut cmd = Command::new("python3");
     cmd.arg(HEYOKA_PEER)
         .arg("--repeats")
-        .arg(REPEATS.to_string());
-    for t in TOLS {
+        .arg(repeats.to_string());
+    if var {
+        cmd.arg("--var");
+    }
+    for t in tols {
         cmd.arg(format!("{t:e}"));
     }
     let out = cmd.output().ok()?;
@@ -127,11 +145,16 @@ fn heyoka() -> Option<(Vec<Row>, Vec<String>)> {
         ));
         rows.push(Row {
             who: format!(
-                "heyoka, {}",
-                if path == "hand" {
+                "heyoka, {}{}",
+                if path.starts_with("hand") {
                     "hand-written RHS"
                 } else {
                     "heyoka.lagrangian"
+                },
+                if path.ends_with("-var") {
+                    ", var_ode_sys"
+                } else {
+                    ""
                 }
             ),
             tol,
@@ -152,6 +175,10 @@ fn main() {
         assert!(r.err < 1e-8, "{}", r.err);
         return;
     }
+    if std::env::args().any(|a| a == "variational") {
+        variational();
+        return;
+    }
     let mut rows = Vec::new();
     for tol in TOLS {
         rows.push(ours(
@@ -164,7 +191,7 @@ fn main() {
         ));
         rows.push(ours("our Taylor", tol, Method::Taylor { tol }));
     }
-    let compile = match heyoka() {
+    let compile = match heyoka(&TOLS, REPEATS, false) {
         Some((hy, compile)) => {
             rows.extend(hy);
             Some(compile)
@@ -272,5 +299,79 @@ fn main() {
                 worst[2]
             ),
         }
+    }
+}
+
+/// The cost of Φ: each integrator with the variational equations against its own plain run, in
+/// one run (min times), and ours with Φ against heyoka's `var_ode_sys`.
+fn variational() {
+    const VAR_TOLS: [f64; 2] = [1e-10, 1e-13];
+    const VAR_REPEATS: usize = 15;
+    let mut rows = Vec::new();
+    for tol in VAR_TOLS {
+        let dop = Method::Dop853 {
+            rtol: tol,
+            atol: tol * 1e-2,
+        };
+        let taylor = Method::Taylor { tol };
+        rows.push(ours_with("our DOP853", tol, dop, false, VAR_REPEATS));
+        rows.push(ours_with("our DOP853, with Φ", tol, dop, true, VAR_REPEATS));
+        rows.push(ours_with("our Taylor", tol, taylor, false, VAR_REPEATS));
+        rows.push(ours_with(
+            "our Taylor, with Φ",
+            tol,
+            taylor,
+            true,
+            VAR_REPEATS,
+        ));
+    }
+    for var in [false, true] {
+        if let Some((hy, _)) = heyoka(&VAR_TOLS, VAR_REPEATS, var) {
+            rows.extend(hy);
+        }
+    }
+    println!("| tol | integrator | final θ error | min ms | median ms | steps |");
+    println!("|---|---|---|---|---|---|");
+    for tol in VAR_TOLS {
+        for r in rows.iter().filter(|r| r.tol == tol) {
+            println!(
+                "| {tol:.0e} | {} | {:.1e} | {:.3} | {:.3} | {} |",
+                r.who, r.err, r.min_ms, r.median_ms, r.steps
+            );
+        }
+    }
+    for tol in VAR_TOLS {
+        let at = |who: &str| rows.iter().find(|r| r.tol == tol && r.who == who);
+        let ratio = |a: &str, b: &str| match (at(a), at(b)) {
+            (Some(a), Some(b)) => format!("{:.2}", a.min_ms / b.min_ms),
+            _ => "-".into(),
+        };
+        println!(
+            "tol {tol:.0e}: with Φ / plain: our DOP853 {}, our Taylor {}, heyoka hand-written {}, \
+             heyoka.lagrangian {}; our Taylor with Φ / heyoka var_ode_sys: hand-written {}, \
+             heyoka.lagrangian {}; our DOP853 with Φ / heyoka var_ode_sys hand-written {}",
+            ratio("our DOP853, with Φ", "our DOP853"),
+            ratio("our Taylor, with Φ", "our Taylor"),
+            ratio(
+                "heyoka, hand-written RHS, var_ode_sys",
+                "heyoka, hand-written RHS"
+            ),
+            ratio(
+                "heyoka, heyoka.lagrangian, var_ode_sys",
+                "heyoka, heyoka.lagrangian"
+            ),
+            ratio(
+                "our Taylor, with Φ",
+                "heyoka, hand-written RHS, var_ode_sys"
+            ),
+            ratio(
+                "our Taylor, with Φ",
+                "heyoka, heyoka.lagrangian, var_ode_sys"
+            ),
+            ratio(
+                "our DOP853, with Φ",
+                "heyoka, hand-written RHS, var_ode_sys"
+            ),
+        );
     }
 }

@@ -71,13 +71,14 @@ fn rel_diff(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
 
 /// Φ(2) of the heavy top at 4 random states, from its variational equations, against
 /// differences of runs (h = 1e-3, Richardson: truncation O(h⁴) ≈ 1e-12): DOP853 at
-/// rtol = atol = 1e-13, where the runs' error (~1e-13) over h makes the differences good to
-/// ~1e-10 of max |Φ|; RK4 at dt = 1e-2, where both sides differentiate the same discrete map.
-/// Asserted to 1e-9 of max(1, max |Φ|) for both (measured: 7.7e-12 DOP853, 1.3e-11 RK4,
-/// symbolic; 6.9e-12 and 1.3e-11, jets), and the motion equal to the plain run's to 1e-9.
-fn heavy_top_phi_matches_differences<L: Lagrangian<3>>(top: &L, label: &str) {
+/// rtol = atol = 1e-13 and the Taylor method at tol = 1e-15, where the runs' error (~1e-13)
+/// over h makes the differences good to ~1e-10 of max |Φ|; RK4 at dt = 1e-2, where both sides
+/// differentiate the same discrete map. Asserted to 1e-9 of max(1, max |Φ|) for each (measured:
+/// 7.7e-12 DOP853, 1.3e-11 RK4, 6.9e-12 Taylor, symbolic; 6.9e-12 and 1.3e-11, jets, which
+/// have no Taylor series), and the motion equal to the plain run's to 1e-9.
+fn heavy_top_phi_matches_differences<L: Lagrangian<3>>(top: &L, label: &str, taylor: bool) {
     let mut rng = Rng(0x5eed_0038);
-    let mut worst = [0.0_f64; 2];
+    let mut worst = [0.0_f64; 3];
     for _ in 0..4 {
         let y0 = [
             rng.uniform(0.6, 2.4),
@@ -97,9 +98,11 @@ fn heavy_top_phi_matches_differences<L: Lagrangian<3>>(top: &L, label: &str) {
                 1e-9,
             ),
             (Method::Rk4 { dt: 1e-2 }, 1e-9),
+            (Method::Taylor { tol: 1e-15 }, 1e-9),
         ]
         .into_iter()
         .enumerate()
+        .take(if taylor { 3 } else { 2 })
         {
             let run = Simulation::new(top, [y0[0], y0[1], y0[2]], [y0[3], y0[4], y0[5]])
                 .method(method)
@@ -135,8 +138,14 @@ fn heavy_top_phi_matches_differences<L: Lagrangian<3>>(top: &L, label: &str) {
         }
     }
     eprintln!(
-        "{label}: worst relative difference DOP853 {:.2e}, RK4 {:.2e}",
-        worst[0], worst[1]
+        "{label}: worst relative difference DOP853 {:.2e}, RK4 {:.2e}{}",
+        worst[0],
+        worst[1],
+        if taylor {
+            format!(", Taylor {:.2e}", worst[2])
+        } else {
+            String::new()
+        }
     );
 }
 
@@ -149,7 +158,7 @@ fn heavy_top_phi_matches_differences_symbolic() {
         g: 1.0,
         l: 1.0,
     };
-    heavy_top_phi_matches_differences(&top, "symbolic");
+    heavy_top_phi_matches_differences(&top, "symbolic", true);
 }
 
 #[test]
@@ -161,7 +170,7 @@ fn heavy_top_phi_matches_differences_jets() {
         g: 1.0,
         l: 1.0,
     };
-    heavy_top_phi_matches_differences(&top, "jets");
+    heavy_top_phi_matches_differences(&top, "jets", false);
 }
 
 /// The damped driven pendulum of `examples/driven_pendulum.rs`: tr J = −b/(m l²), so by
@@ -204,8 +213,9 @@ fn liouville_det_phi_of_the_damped_driven_pendulum() {
 /// from the time of the first θ-maximum (θ̇ = 0 falling), and dT/dθ₀ = 2 √(l/g) cos(θ₀/2)
 /// (E/(k k′²) − K/k) from the event-time sensitivity, both to 1e-10 (the numbers
 /// 7.019250311844546 and 1.2581654724013054 too); dT/dg = −T/(2g) through the parameter
-/// sensitivity of the event time, to 1e-10. Measured (DOP853 at 1e-13): T off by 1.9e-14,
-/// dT/dθ₀ by 1.4e-14, dT/dg by 1.1e-13.
+/// sensitivity of the event time, to 1e-10. With DOP853 at 1e-13 and with the Taylor method
+/// (the variational equations' series from the generated one) at 1e-15. Measured: DOP853, T off
+/// by 1.9e-14, dT/dθ₀ by 1.4e-14, dT/dg by 1.1e-13; Taylor, 8.9e-16, 6.7e-16 and 2.1e-13.
 #[test]
 fn pendulum_period_and_its_sensitivities() {
     let (theta0, g, l) = (1.3_f64, 1.0_f64, 1.0_f64);
@@ -216,34 +226,45 @@ fn pendulum_period_and_its_sensitivities() {
         "{dt_closed}"
     );
     let p = Pendulum { g, l };
-    let run = Simulation::new(&p, [theta0], [0.0])
-        .method(Method::Dop853 {
+    for method in [
+        Method::Dop853 {
             rtol: 1e-13,
             atol: 1e-13,
-        })
-        .until(10.0)
-        .event(
-            Event::zero_crossing("theta max", |_t, _q, v: &[f64; 1]| v[0])
-                .falling()
-                .terminal(),
-        )
-        .sensitivity()
-        .parameter("g", g, |g| Pendulum { g, l })
-        .run()
-        .unwrap();
-    let ev = &run.events[0];
-    let dt = ev.dt_dx0.as_ref().unwrap();
-    let dtdg = ev.dt_dp.as_ref().unwrap()[0];
-    eprintln!(
-        "T = {:.16} (closed {t_closed:.16}), dT/dθ₀ = {:.16} (closed {dt_closed:.16}), dT/dg = {:.16} (closed {:.16})",
-        ev.t, dt[0], dtdg, -t_closed / (2.0 * g)
-    );
-    assert!((ev.t - t_closed).abs() < 1e-10, "T = {}", ev.t);
-    assert!((dt[0] - dt_closed).abs() < 1e-10, "dT/dθ₀ = {}", dt[0]);
-    assert!(
-        (dtdg + t_closed / (2.0 * g)).abs() < 1e-10,
-        "dT/dg = {dtdg}"
-    );
+        },
+        Method::Taylor { tol: 1e-15 },
+    ] {
+        let run = Simulation::new(&p, [theta0], [0.0])
+            .method(method)
+            .until(10.0)
+            .event(
+                Event::zero_crossing("theta max", |_t, _q, v: &[f64; 1]| v[0])
+                    .falling()
+                    .terminal(),
+            )
+            .sensitivity()
+            .parameter("g", g, |g| Pendulum { g, l })
+            .run()
+            .unwrap();
+        let ev = &run.events[0];
+        let dt = ev.dt_dx0.as_ref().unwrap();
+        let dtdg = ev.dt_dp.as_ref().unwrap()[0];
+        eprintln!(
+            "{method:?}: T off by {:.1e}, dT/dθ₀ by {:.1e}, dT/dg by {:.1e}",
+            ev.t - t_closed,
+            dt[0] - dt_closed,
+            dtdg + t_closed / (2.0 * g)
+        );
+        assert!((ev.t - t_closed).abs() < 1e-10, "{method:?}: T = {}", ev.t);
+        assert!(
+            (dt[0] - dt_closed).abs() < 1e-10,
+            "{method:?}: dT/dθ₀ = {}",
+            dt[0]
+        );
+        assert!(
+            (dtdg + t_closed / (2.0 * g)).abs() < 1e-10,
+            "{method:?}: dT/dg = {dtdg}"
+        );
+    }
 }
 
 /// What the sensitivity runs do not cover is refused before any step, saying what to use.
@@ -251,7 +272,6 @@ fn pendulum_period_and_its_sensitivities() {
 fn unsupported_runs_are_refused() {
     let p = Pendulum { g: 1.0, l: 1.0 };
     for method in [
-        Method::Taylor { tol: 1e-12 },
         Method::Radau5 {
             rtol: 1e-8,
             atol: 1e-8,

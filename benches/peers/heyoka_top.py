@@ -5,11 +5,16 @@ t = 114.3, scalar mode, with
 - "hand": the hand-written right-hand side (the closed form of the Euler-Lagrange equations),
 - "lagrangian": the equations heyoka derives itself with heyoka.lagrangian(L, qs, qdots).
 
+With --var, the same with the first-order variational equations integrated along
+(heyoka.var_ode_sys(sys, var_args.vars, order=1): the state transition matrix, 6 x 6, its
+initial value the identity), paths "hand-var" and "lagrangian-var": what benches/taylor.rs's
+variational section compares our sensitivity runs with.
+
 For each path and tolerance: the compile time (building the integrator: heyoka JIT-compiles with
 LLVM) once, then the propagation alone (the state reset to the initial one, propagate_until), min
 and median wall time over many repeats, the steps, and the final theta.
 
-Usage: python3 benches/peers/heyoka_top.py [--repeats R] TOL [TOL ...]
+Usage: python3 benches/peers/heyoka_top.py [--repeats R] [--var] TOL [TOL ...]
 Prints one line per (path, tol):
     heyoka <path> tol <tol> compile_ms <c> min_ms <m> median_ms <md> steps <n> theta <th>
 Install: python3 -m pip install heyoka   (7.x)
@@ -43,17 +48,22 @@ def lagrangian_sys():
     return hy.lagrangian(L, [th, ph, ps], [th_d, ph_d, ps_d])
 
 
-def measure(path, make, tol, repeats):
+def measure(path, make, tol, repeats, var=False):
     sys_ = make()
     t0 = time.perf_counter()
+    if var:
+        sys_ = hy.var_ode_sys(sys_, hy.var_args.vars, order=1)
+        path += "-var"
     ta = hy.taylor_adaptive(sys_, Y0, tol=tol)
     compile_ms = (time.perf_counter() - t0) * 1e3
+    # The whole initial state (with a variational system: the identity after Y0).
+    start = np.array(ta.state)
     # heyoka orders the state as the pairs were given: lagrangian() gives qs then qdots, as hand.
     times = []
     steps = 0
     for _ in range(repeats):
         ta.time = 0.0
-        ta.state[:] = Y0
+        ta.state[:] = start
         t0 = time.perf_counter()
         res = ta.propagate_until(T_END)
         times.append(time.perf_counter() - t0)
@@ -70,10 +80,13 @@ def main():
     if args and args[0] == "--repeats":
         repeats = int(args[1])
         args = args[2:]
+    var = bool(args) and args[0] == "--var"
+    if var:
+        args = args[1:]
     tols = [float(a) for a in args] or [1e-13, 1e-15]
     for tol in tols:
-        measure("hand", hand_sys, tol, repeats)
-        measure("lagrangian", lagrangian_sys, tol, repeats)
+        measure("hand", hand_sys, tol, repeats, var)
+        measure("lagrangian", lagrangian_sys, tol, repeats, var)
 
 
 if __name__ == "__main__":

@@ -26,6 +26,7 @@ pub mod mix;
 pub mod real;
 pub mod rigid;
 mod scalar;
+pub mod tangent;
 pub mod taylor;
 pub mod theory;
 

@@ -142,7 +142,7 @@ fn conv_weighted<T: Real>(
     let mut s = T::ZERO;
     let mut w = alpha * lo as f64 + beta;
     for (&a, &b) in x.iter().zip(y.iter().rev()) {
-        s += T::from(w) * a * b;
+        s += a * w * b;
         w += alpha;
     }
     s
@@ -230,7 +230,7 @@ pub fn div<T: Real>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn deriv<T: Real>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    conv_weighted(a, d, 1, k, 1.0, 0.0) / T::from(k as f64)
+    conv_weighted(a, d, 1, k, 1.0, 0.0) / k as f64
 }
 
 /// Coefficient k ≥ 1 of c = f(y, x) from the series p = ∂f/∂y and q = ∂f/∂x:
@@ -245,7 +245,7 @@ pub fn deriv<T: Real>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn deriv2<T: Real>(y: &RowOf<T>, p: &RowOf<T>, x: &RowOf<T>, q: &RowOf<T>, k: usize) -> T {
-    (conv_weighted(y, p, 1, k, 1.0, 0.0) + conv_weighted(x, q, 1, k, 1.0, 0.0)) / T::from(k as f64)
+    (conv_weighted(y, p, 1, k, 1.0, 0.0) + conv_weighted(x, q, 1, k, 1.0, 0.0)) / k as f64
 }
 
 /// Coefficient k ≥ 1 of c = a^α for a constant α, given c's coefficients 0..k:

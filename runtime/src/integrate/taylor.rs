@@ -191,6 +191,58 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
         r * (-2.0 - 0.7 / (p - 1) as f64).exp()
     }
 
+    /// The series at the current node (widened where its top coefficients vanish) and the step
+    /// it allows toward `t_end`: h and the time the step ends at (`t_end` itself for the last).
+    pub(crate) fn plan(&mut self, t_end: f64, stats: &mut Stats) -> Result<(f64, f64), Fault> {
+        self.compute(stats)?;
+        self.widen(stats)?;
+        let mut h = self.step_size().min(self.hmax);
+        let last = self.t + h >= t_end;
+        if last {
+            h = t_end - self.t;
+        }
+        if h.is_nan() || h <= 0.0 || self.t + h == self.t {
+            return Err(Fault::Underflow { h });
+        }
+        Ok((h, if last { t_end } else { self.t + h }))
+    }
+
+    /// Takes the series at the current node, to this stepper's order, from values computed
+    /// elsewhere (the value parts of the variational series: the same operations on the same
+    /// numbers; the caller counts that evaluation). Where they are not finite the stepper
+    /// computes its own, which says why.
+    pub(crate) fn install(&mut self, rows: impl Iterator<Item = Y<N>>) {
+        self.series.clear();
+        self.series.extend(rows.take(self.p + 1));
+        self.fresh = self.series.len() == self.p + 1
+            && self
+                .series
+                .iter()
+                .flatten()
+                .flatten()
+                .all(|x| x.is_finite());
+    }
+
+    /// The series at the current node as [`plan`](Self::plan) left it (order 0 the node's state).
+    pub(crate) fn node_series(&self) -> &[Y<N>] {
+        &self.series
+    }
+
+    /// Takes the step [`plan`](Self::plan) chose: the series summed at h.
+    pub(crate) fn take(&mut self, h: f64, t1: f64, stats: &mut Stats) -> Result<(), Fault> {
+        let y1 = horner(&self.series, h);
+        if !y1.iter().flatten().all(|x| x.is_finite()) {
+            return Err(Fault::NonFinite);
+        }
+        stats.steps += 1;
+        core::mem::swap(&mut self.old, &mut self.series);
+        self.t_old = self.t;
+        self.t = t1;
+        self.y = y1;
+        self.fresh = false;
+        Ok(())
+    }
+
     /// Where the top two coefficients of order p vanish, the series to [`MAX_ORDER`] instead
     /// (see the module docs).
     fn widen(&mut self, stats: &mut Stats) -> Result<(), Fault> {
@@ -230,27 +282,8 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Taylor<'_, L, N> {
         Ok(())
     }
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
-        self.compute(stats)?;
-        self.widen(stats)?;
-        let mut h = self.step_size().min(self.hmax);
-        let last = self.t + h >= t_end;
-        if last {
-            h = t_end - self.t;
-        }
-        if h.is_nan() || h <= 0.0 || self.t + h == self.t {
-            return Err(Fault::Underflow { h });
-        }
-        let y1 = horner(&self.series, h);
-        if !y1.iter().flatten().all(|x| x.is_finite()) {
-            return Err(Fault::NonFinite);
-        }
-        stats.steps += 1;
-        core::mem::swap(&mut self.old, &mut self.series);
-        self.t_old = self.t;
-        self.t = if last { t_end } else { self.t + h };
-        self.y = y1;
-        self.fresh = false;
-        Ok(())
+        let (h, t1) = self.plan(t_end, stats)?;
+        self.take(h, t1, stats)
     }
     /// The step's polynomial has degree p (up to 31 widened): ⌈(p + 1)/2⌉ points integrate a
     /// power of that degree exactly, so the work carries the step's own error (4 points left

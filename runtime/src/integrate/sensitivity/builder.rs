@@ -17,6 +17,7 @@ use super::dop853::VarDop853;
 use super::event_time::at_event;
 use super::result::Sensitivities;
 use super::rk4::VarRk4;
+use super::taylor::VarTaylor;
 use super::variation::{Parameter, Variation};
 use super::Log;
 
@@ -54,8 +55,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// This run with the variational equations integrated along: its
     /// [`run`](Sensitivity::run) returns the trajectory with Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) at
     /// every sample and the sensitivities of the events' times
-    /// ([`Sensitivities`](crate::Sensitivities)). Takes `Method::Dop853` (the default) and
-    /// `Method::Rk4`; see [`Sensitivity`] for what is refused.
+    /// ([`Sensitivities`](crate::Sensitivities)). Takes `Method::Dop853` (the default),
+    /// `Method::Taylor` (a system with a compiled series: the symbolic mode) and `Method::Rk4`;
+    /// see [`Sensitivity`] for what is refused.
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Scalar, Simulation};
@@ -122,8 +124,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// Runs the motion with its variational equations.
     ///
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
-    /// step) for what it does not cover yet: a method other than `Method::Dop853` or
-    /// `Method::Rk4`, a constrained run or one with contacts, an event that resets the state, a
+    /// step) for what it does not cover yet: a method other than `Method::Dop853`,
+    /// `Method::Taylor` or `Method::Rk4`, a constrained run or one with contacts, an event that resets the state, a
     /// parameter whose value is not finite. The samples' memory bound
     /// ([`Simulation::max_samples`]) counts Φ with each sample: by default as many samples fit
     /// in 256 MiB with their matrices.
@@ -138,7 +140,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
     /// # }
     /// let err = Simulation::new(&Free, [0.0], [1.0])
-    ///     .method(Method::Taylor { tol: 1e-12 })
+    ///     .method(Method::DormandPrince { rtol: 1e-9, atol: 1e-12 })
     ///     .until(1.0)
     ///     .sensitivity()
     ///     .run()
@@ -165,6 +167,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             sys: p.sys,
             params,
             phi_cols: n2,
+            kernel: Default::default(),
         };
         // The augmented initial state: y0, Φ(t0) = I, S(t0) = 0.
         let mut z0 = vec![0.0; n2 * (1 + cols)];
@@ -178,6 +181,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         let traj = match method {
             Method::Dop853 { rtol, atol } => driver.run(&p.opts, t0, y0, |t, _y, stats| {
                 VarDop853::new(var(), t, z0.clone(), rtol, atol, hmax, Some(&log), stats)
+            }),
+            Method::Taylor { tol } => driver.run(&p.opts, t0, y0, |t, _y, _stats| {
+                Ok(VarTaylor::new(var(), t, &z0, tol, hmax, Some(&log)))
             }),
             Method::Rk4 { dt } => driver.run(&p.opts, t0, y0, |t, _y, stats| {
                 VarRk4::new(
@@ -244,7 +250,10 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// Why this run cannot carry its variations (what it does not cover yet), if so.
     fn refusal(&self) -> Option<String> {
         let sim = &self.sim;
-        if !matches!(sim.method, Method::Dop853 { .. } | Method::Rk4 { .. }) {
+        if !matches!(
+            sim.method,
+            Method::Dop853 { .. } | Method::Rk4 { .. } | Method::Taylor { .. }
+        ) {
             return Some(unsupported_method(sim.method));
         }
         if sim.contact_run.is_some() {
@@ -283,8 +292,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
 /// The refusal of a method the sensitivity runs do not take.
 fn unsupported_method(method: Method) -> String {
     format!(
-        "sensitivity runs integrate the variational equations with Method::Dop853 or \
-         Method::Rk4; {method:?} is not covered yet: use Method::Dop853 {{ rtol, atol }} (the \
-         default, adaptive, with dense output for samples and events)"
+        "sensitivity runs integrate the variational equations with Method::Dop853, \
+         Method::Taylor or Method::Rk4; {method:?} is not covered yet: use Method::Dop853 \
+         {{ rtol, atol }} (the default, adaptive, with dense output for samples and events)"
     )
 }

@@ -8,7 +8,11 @@
 //! the exact derivative of the discrete flow with respect to the initial state. The error norm is
 //! the larger of DOP853's norm over the motion and its norm over the variations (each an RMS over
 //! its own components), so both are held to the tolerance, as heyoka's `var_ode_sys` does by
-//! integrating the augmented system as one.
+//! integrating the augmented system as one. A variation's component is weighted by the size of
+//! its column (atol + rtol · its largest component), not by its own: a column is a direction,
+//! held to rtol relative to its length, and a component passing near zero does not force steps
+//! at atol (per-component weights took 22–26 % more steps than the motion alone on the heavy
+//! top, these 12–13 %; BENCHMARKS.md).
 
 use core::cell::RefCell;
 
@@ -39,6 +43,9 @@ pub(crate) struct VarDop853<'s, 'a, 'l, L, const N: usize> {
     arg: Vec<f64>,
     /// The trial y₁ (scratch).
     z1: Vec<f64>,
+    /// The two error estimates Σ E5_j k_j and Σ E3_j k_j (scratch).
+    e5: Vec<f64>,
+    e3: Vec<f64>,
     /// Dense-output rows of the last step once evaluated (8 × len).
     r: Option<Vec<Vec<f64>>>,
     sc: StepControl,
@@ -62,7 +69,8 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
         let n = var.len();
         debug_assert_eq!(z0.len(), n);
         let atol = effective_atol(atol);
-        let mut k = vec![vec![0.0; n]; 16];
+        // Stages 0..=15, and a spare (16) for F at a trial point.
+        let mut k = vec![vec![0.0; n]; 17];
         let jac = var.eval(t0, &z0, &mut k[12], stats)?;
         let y0 = y_of::<N>(&z0);
         let f0 = y_of::<N>(&k[12]);
@@ -80,6 +88,8 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
             jac,
             arg: vec![0.0; n],
             z1: vec![0.0; n],
+            e5: vec![0.0; n],
+            e3: vec![0.0; n],
             r: None,
             sc: StepControl::new(
                 h,
@@ -124,15 +134,43 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
             return Err(Fault::NonFinite);
         }
         let n2 = 2 * N;
+        // The error estimates, stage by stage over every component (in that order each
+        // component's sum is DOP853's).
+        self.e5.fill(0.0);
+        self.e3.fill(0.0);
+        for (j, kj) in self.k.iter().enumerate().take(12) {
+            let (a5, a3) = (E5[j], E3[j]);
+            if a5 == 0.0 && a3 == 0.0 {
+                continue;
+            }
+            for ((e5, e3), k) in self.e5.iter_mut().zip(&mut self.e3).zip(kj) {
+                *e5 += a5 * k;
+                *e3 += a3 * k;
+            }
+        }
+        // The motion's components weighted by their own size (DOP853's norm); a column of
+        // variations by the column's size (its largest component at either end of the step): a
+        // column is held to rtol relative to itself, so its components that pass near zero do
+        // not force steps at atol.
+        let col_scale = |col: usize| {
+            self.z[col..col + n2]
+                .iter()
+                .chain(&self.z1[col..col + n2])
+                .fold(0.0_f64, |m, x| m.max(x.abs()))
+        };
         let part = |lo: usize, hi: usize| {
             let (mut err5, mut err3) = (0.0, 0.0);
+            let mut scale = 0.0;
             for i in lo..hi {
-                let w = self.atol + self.rtol * self.z[i].abs().max(self.z1[i].abs());
-                let (mut e5, mut e3) = (0.0, 0.0);
-                for j in 0..12 {
-                    e5 += E5[j] * self.k[j][i];
-                    e3 += E3[j] * self.k[j][i];
+                if lo >= n2 && i % n2 == 0 {
+                    scale = col_scale(i);
                 }
+                let w = if lo < n2 {
+                    self.atol + self.rtol * self.z[i].abs().max(self.z1[i].abs())
+                } else {
+                    self.atol + self.rtol * scale
+                };
+                let (e5, e3) = (self.e5[i], self.e3[i]);
                 err5 += (e5 / w) * (e5 / w);
                 err3 += (e3 / w) * (e3 / w);
             }
@@ -205,24 +243,26 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
 
     /// Takes one accepted step, not beyond `t_end`.
     pub(crate) fn step(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
-        let first = self.k[12].clone();
-        self.k[0].copy_from_slice(&first);
+        let (head, tail) = self.k.split_at_mut(12);
+        head[0].copy_from_slice(&tail[0]);
         loop {
             let (h, last) = self.sc.trial(self.t, t_end)?;
             let attempt = self.attempt(h, stats).and_then(|ln_err| {
                 if ln_err <= 0.0 {
-                    // F at the new point: the next step's first stage and the dense output.
-                    let mut f1 = vec![0.0; self.z.len()];
-                    let jac = self.var.eval(self.t + h, &self.z1, &mut f1, stats)?;
-                    Ok((ln_err, Some((f1, jac))))
+                    // F at the new point (into the spare stage 16): the next step's first stage
+                    // and the dense output.
+                    let jac = self
+                        .var
+                        .eval(self.t + h, &self.z1, &mut self.k[16], stats)?;
+                    Ok((ln_err, Some(jac)))
                 } else {
                     Ok((ln_err, None))
                 }
             });
             match attempt {
-                Ok((ln_err, Some((f1, jac)))) => {
+                Ok((ln_err, Some(jac))) => {
                     self.sc.accept(h, ln_err, stats);
-                    self.k[12] = f1;
+                    self.k.swap(12, 16);
                     self.jac = jac;
                     self.r = None;
                     self.t_old = self.t;

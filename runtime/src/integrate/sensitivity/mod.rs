@@ -6,13 +6,17 @@
 //!
 //! ```text
 //! Φ̇ = J Φ,  Φ(t₀) = I          Ṡ = J S + ∂f/∂p,  S(t₀) = 0
-//! J = [[0, I], [−M⁻¹K, −M⁻¹C]]
+//! J = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]] = [[0, I], [−M⁻¹K, −M⁻¹C]]
 //! ```
 //!
-//! with M, C, K the exact linearization about the motion through the current state
-//! ([`jet_linearize`](crate::linearize::jet_linearize): third derivatives of L from the jets,
-//! forces, dissipation and explicit time included), and ∂f/∂p = (0, ∂q̈/∂p) from a fourth-order
-//! central difference in p of the accelerations of the systems the parameter's closure builds.
+//! with J exact: where the system has a compiled q̈ (the symbolic mode) the generated kernel
+//! evaluated in [`Tangent`](crate::tangent::Tangent)s — the derivative of the generated code,
+//! two passes (along q, along q̇) — and otherwise, or where that kernel's pivot test declines,
+//! M, C, K of the linearization about the motion through the current state
+//! ([`jet_linearize`](crate::linearize::jet_linearize): third derivatives of L from the jets).
+//! Forces, dissipation and explicit time are included either way. ∂f/∂p = (0, ∂q̈/∂p) comes
+//! from a fourth-order central difference in p of the accelerations of the systems the
+//! parameter's closure builds.
 //!
 //! **How it is integrated.** The motion and its 2N + P columns of variations form one state of
 //! 2N(1 + 2N + P) numbers, stepped as one by the chosen method: DOP853 (with its error estimate
@@ -26,6 +30,13 @@
 //! method applied to the variational equations with the motion's steps: the exact derivative of
 //! the discrete flow, accurate like the motion.
 //!
+//! **The Taylor method** (`Method::Taylor`, systems with a compiled series) takes the generated
+//! series of the motion in tangents whose order-0 slopes are the columns at the node: the slopes
+//! of the k-th coefficients are the k-th Taylor coefficients of the variations, so the
+//! variational equations get their Taylor series from the same generated code (N columns per
+//! evaluation), summed at the motion's Jorba–Zou step; a parameter's explicit part comes from the
+//! central difference of the neighbouring systems' series.
+//!
 //! **Events.** At each located event t* (g(t*, q, q̇) = 0) the run also gives the sensitivity of
 //! the event's time, dt*/dx₀ = −(∂g/∂x · Φ(t*)) / ġ with ġ = ∂g/∂t + ∂g/∂x · f, and
 //! dt*/dp the same way with S. ∂g/∂(t, q, q̇) is a fourth-order central difference of the event
@@ -38,7 +49,7 @@
 //! motion by QR re-orthonormalization of the carried directions.
 //!
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
-//! methods other than `Dop853` and `Rk4` (the Taylor method, Dormand–Prince, Radau5 and the
+//! methods other than `Dop853`, `Taylor` and `Rk4` (Dormand–Prince, Radau5 and the
 //! variational integrator), constrained runs and contacts, and resetting events (the flow jumps
 //! there; its derivative needs the saltation matrix).
 //!
@@ -64,6 +75,7 @@ mod lyapunov;
 mod periodic;
 mod result;
 mod rk4;
+mod taylor;
 mod variation;
 
 pub use builder::Sensitivity;
@@ -73,6 +85,14 @@ pub use periodic::{
     TRIVIAL_RADIUS,
 };
 pub use result::{EventSensitivity, Sensitivities};
+
+/// How many directions one evaluation of the compiled kernels in [`Tangent`]s carries (the
+/// Jacobian's 2N, the Taylor method's columns): 8, one evaluation for Φ up to N = 4. Measured on
+/// the heavy top (N = 3), one evaluation of 8 against two of N: the Taylor method with Φ 6.6×
+/// instead of 7.4× its plain run (BENCHMARKS.md).
+///
+/// [`Tangent`]: crate::tangent::Tangent
+pub(crate) const CHUNK: usize = 8;
 
 /// What the driver's hooks record while a sensitivity run goes: the variations (the columns
 /// after y, flattened) at each recorded sample, with its time as recorded, and at each event hit

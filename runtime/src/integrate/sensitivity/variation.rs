@@ -1,8 +1,12 @@
 //! The variational equations as one right-hand side: the motion y = (q, q̇) with ẏ = f(t, y),
 //! and its columns of first-order variations, each 2N long, with ẋ = J(t, y) x (+ ∂f/∂p for a
-//! parameter's column), J = [[0, I], [−M⁻¹K, −M⁻¹C]] exact from the jets
-//! ([`jet_linearize`](crate::linearize::jet_linearize): third derivatives of L; forces,
-//! dissipation and explicit time included).
+//! parameter's column), J = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]] exact: where the system has a compiled
+//! q̈ (the symbolic mode), that kernel evaluated in [`Tangent`]s along q and q̇ (the derivative
+//! of the generated code: one evaluation of [`CHUNK`] directions up to N = 4); otherwise, or where
+//! that kernel declines (a pivot test), from the jets ([`jet_linearize`]: third derivatives of L,
+//! −M⁻¹K and −M⁻¹C). Forces, dissipation and explicit time are included either way.
+
+use core::cell::RefCell;
 
 use nalgebra::SMatrix;
 
@@ -10,8 +14,10 @@ use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 use crate::linalg::{solve_symmetric, Ldlt};
 use crate::linearize::jet_linearize;
+use crate::tangent::Tangent;
 
 use super::super::state::{Fault, Stats};
+use super::CHUNK;
 
 /// A parameter the run differentiates the motion with respect to: its name, its value in the
 /// system of the run, and how to build the system at another value.
@@ -32,13 +38,17 @@ impl<const N: usize> Jacobian<N> {
     /// ẋ = J x for one column x = (δq, δq̇) of 2N entries, into `out`.
     #[inline]
     pub(crate) fn apply(&self, x: &[f64], out: &mut [f64]) {
-        for i in 0..N {
-            out[i] = x[N + i];
+        let (Some(dq), Some(dv)) = (x.first_chunk::<N>(), x[N..].first_chunk::<N>()) else {
+            return;
+        };
+        let (top, bottom) = out.split_at_mut(N);
+        top.copy_from_slice(dv);
+        for (i, o) in bottom.iter_mut().take(N).enumerate() {
             let mut s = 0.0;
             for j in 0..N {
-                s += self.d_q[(i, j)] * x[j] + self.d_qdot[(i, j)] * x[N + j];
+                s += self.d_q[(i, j)] * dq[j] + self.d_qdot[(i, j)] * dv[j];
             }
-            out[N + i] = s;
+            *o = s;
         }
     }
 }
@@ -51,6 +61,8 @@ pub(crate) struct Variation<'s, 'a, L, const N: usize> {
     /// How many columns of Φ (2N for the state transition matrix; any number k of directions
     /// for a Lyapunov run that follows k of them).
     pub(crate) phi_cols: usize,
+    /// The compiled kernels' parameters in tangents (loaded at the first call).
+    pub(crate) kernel: RefCell<Vec<Tangent<CHUNK>>>,
 }
 
 impl<'s, 'a, L: Lagrangian<N>, const N: usize> Variation<'s, 'a, L, N> {
@@ -71,8 +83,13 @@ impl<'s, 'a, L: Lagrangian<N>, const N: usize> Variation<'s, 'a, L, N> {
         stats.rhs_evals += 1;
         let q: [f64; N] = core::array::from_fn(|i| z[i]);
         let v: [f64; N] = core::array::from_fn(|i| z[N + i]);
-        let a = self.sys.accelerations(&q, &v, t)?;
-        let jac = jacobian(self.sys, &q, &v, t)?;
+        let (a, jac) = match compiled(self.sys, &mut self.kernel.borrow_mut(), &q, &v, t) {
+            Some(both) => both,
+            None => (
+                self.sys.accelerations(&q, &v, t)?,
+                jacobian(self.sys, &q, &v, t)?,
+            ),
+        };
         out[..N].copy_from_slice(&v);
         out[N..2 * N].copy_from_slice(&a);
         let n2 = 2 * N;
@@ -100,6 +117,49 @@ impl<'s, 'a, L: Lagrangian<N>, const N: usize> Variation<'s, 'a, L, N> {
             jac.apply(&z[at..at + n2], &mut out[at..at + n2]);
         }
     }
+}
+
+/// q̈ and its Jacobian from the compiled kernel in tangents: the 2N directions (q, then q̇)
+/// [`CHUNK`] per evaluation (one evaluation up to N = 4; q̈ is the value of any). `None` where
+/// the system has no compiled kernel, or where it declines at this state (a pivot test failed, a
+/// value or slope not finite): the caller takes the jets.
+fn compiled<L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    params: &mut Vec<Tangent<CHUNK>>,
+    q: &[f64; N],
+    v: &[f64; N],
+    t: f64,
+) -> Option<([f64; N], Jacobian<N>)> {
+    let t = Tangent::constant(t);
+    let (mut d_q, mut d_qdot) = (SMatrix::zeros(), SMatrix::zeros());
+    let mut a = [0.0; N];
+    for first in (0..2 * N).step_by(CHUNK) {
+        let seed = |x: f64, dir: usize| {
+            let mut d = [0.0; CHUNK];
+            if let Some(s) = dir.checked_sub(first).and_then(|k| d.get_mut(k)) {
+                *s = 1.0;
+            }
+            Tangent::new(x, d)
+        };
+        let tq = core::array::from_fn(|i| seed(q[i], i));
+        let tv = core::array::from_fn(|i| seed(v[i], N + i));
+        let (acc, ok) = L::accelerations_in(&[sys], params, &tq, &tv, t)?;
+        if !ok {
+            return None;
+        }
+        for k in 0..CHUNK.min(2 * N - first) {
+            let dir = first + k;
+            for (i, x) in acc.iter().enumerate() {
+                if dir < N {
+                    d_q[(i, dir)] = x.slopes()[k];
+                } else {
+                    d_qdot[(i, dir - N)] = x.slopes()[k];
+                }
+            }
+        }
+        a = acc.map(Tangent::value);
+    }
+    Some((a, Jacobian { d_q, d_qdot }))
 }
 
 /// ∂q̈/∂q and ∂q̈/∂q̇ at (q, q̇, t): −M⁻¹K and −M⁻¹C of the linearization about the motion

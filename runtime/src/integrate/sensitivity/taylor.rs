@@ -1,0 +1,280 @@
+//! The Taylor method over the motion and its variations: at each node the generated series of
+//! the motion (`Lagrangian::series_in`) evaluated in [`Tangent`]s whose slopes at order 0 are the
+//! columns of Φ (and of the parameters' sensitivities) at the node. The slopes of the k-th
+//! coefficients are then the k-th coefficients of the variations: the Taylor series of the
+//! variational equations, from the same generated code, to the same order. The step is the
+//! motion's (Jorba–Zou from its last two coefficients, as [`Taylor`](super::super::taylor));
+//! the variations' series are summed at it, and are their dense output.
+//!
+//! [`CHUNK`] columns per evaluation (`Tangent<CHUNK>`): Φ's 2N columns and the parameters' P in
+//! ⌈(2N + P)/CHUNK⌉ evaluations. A parameter's explicit part ∂(x_k)/∂p comes from a
+//! fourth-order central difference of the series of the systems its closure builds at p ± h,
+//! p ± 2h (as the explicit methods take ∂q̈/∂p).
+
+use core::cell::RefCell;
+
+use crate::error::DynamicsError;
+use crate::lagrangian::Lagrangian;
+use crate::tangent::Tangent;
+use crate::taylor::{SeriesBuf, TaylorBuf};
+
+use super::super::state::{Fault, Stats, Y};
+use super::super::stepper::Stepper;
+use super::super::taylor::Taylor;
+use super::variation::Variation;
+use super::{Log, CHUNK};
+
+/// A parameter's four neighbouring systems (p + h, p − h, p + 2h, p − 2h) with their kernels'
+/// parameters and scratch, and h.
+struct Neighbours<L> {
+    systems: [L; 4],
+    params: [Vec<f64>; 4],
+    h: f64,
+}
+
+/// The Taylor stepper of the motion and its variations.
+pub(crate) struct VarTaylor<'s, 'a, 'l, L, const N: usize> {
+    var: Variation<'s, 'a, L, N>,
+    motion: Taylor<'s, L, N>,
+    /// The columns at the current node (each 2N: δq then δq̇).
+    cols: Vec<f64>,
+    /// The columns' series at the current node (order k: every column's k-th coefficients).
+    series: Vec<Vec<f64>>,
+    /// The columns' series of the last step, from its start.
+    old: Vec<Vec<f64>>,
+    /// The series in tangents (scratch) and the kernels' parameters in tangents.
+    out: Vec<[[Tangent<CHUNK>; N]; 2]>,
+    buf: SeriesBuf<Tangent<CHUNK>>,
+    params: Vec<Tangent<CHUNK>>,
+    neighbours: Vec<Neighbours<L>>,
+    /// A neighbour's series (scratch) and its buffer.
+    scratch: Vec<Y<N>>,
+    fbuf: TaylorBuf,
+    log: Option<&'l RefCell<Log>>,
+}
+
+impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
+    /// Starts at (t0, z0) (z0 the augmented state: y0 then the columns).
+    pub(crate) fn new(
+        var: Variation<'s, 'a, L, N>,
+        t0: f64,
+        z0: &[f64],
+        tol: f64,
+        hmax: f64,
+        log: Option<&'l RefCell<Log>>,
+    ) -> Self {
+        let n2 = 2 * N;
+        let y0 = super::dop853::y_of::<N>(z0);
+        let neighbours = var
+            .params
+            .iter()
+            .map(|p| {
+                let h = f64::EPSILON.powf(0.2) * p.value.abs().max(1.0);
+                Neighbours {
+                    systems: [h, -h, 2.0 * h, -2.0 * h].map(|dp| (p.build)(p.value + dp)),
+                    params: Default::default(),
+                    h,
+                }
+            })
+            .collect();
+        VarTaylor {
+            motion: Taylor::new(var.sys, t0, y0, tol, hmax),
+            var,
+            cols: z0[n2..].to_vec(),
+            series: Vec::new(),
+            old: Vec::new(),
+            out: Vec::new(),
+            buf: SeriesBuf::new(),
+            params: Vec::new(),
+            neighbours,
+            scratch: Vec::new(),
+            fbuf: TaylorBuf::new(),
+            log,
+        }
+    }
+
+    /// The columns' series at the current node with `rows` orders; the first evaluation's
+    /// values are the motion's series, handed to the motion's stepper where `install`.
+    fn column_series(
+        &mut self,
+        rows: usize,
+        install: bool,
+        stats: &mut Stats,
+    ) -> Result<(), Fault> {
+        let n2 = 2 * N;
+        let (t, y) = self.motion.node_state();
+        let ncols = self.cols.len() / n2;
+        self.series.resize(rows, Vec::new());
+        for row in &mut self.series {
+            row.clear();
+            row.resize(self.cols.len(), 0.0);
+        }
+        self.out.resize(rows, [[Tangent::constant(0.0); N]; 2]);
+        for first in (0..ncols).step_by(CHUNK) {
+            let take = (ncols - first).min(CHUNK);
+            let seed = |c: usize, i: usize| {
+                Tangent::new(
+                    y[c][i],
+                    core::array::from_fn(|k| {
+                        if k < take {
+                            self.cols[(first + k) * n2 + c * N + i]
+                        } else {
+                            0.0
+                        }
+                    }),
+                )
+            };
+            self.out[0] = [
+                core::array::from_fn(|i| seed(0, i)),
+                core::array::from_fn(|i| seed(1, i)),
+            ];
+            stats.rhs_evals += 1;
+            let ok = match L::series_in(
+                &[self.var.sys],
+                &mut self.params,
+                Tangent::constant(t),
+                &mut self.out,
+                &mut self.buf,
+            ) {
+                Some(Ok(ok)) => ok,
+                Some(Err(e)) => return Err(Fault::Dynamics(e)),
+                None => return Err(Fault::NonFinite),
+            };
+            if !ok {
+                return Err(Fault::Dynamics(DynamicsError::NonFinite {
+                    t,
+                    q: y[0].to_vec(),
+                    qdot: y[1].to_vec(),
+                    message: "the mass matrix is not positive definite here (its LDLᵀ has a \
+                              pivot below the accuracy bound), which the Taylor series of the \
+                              variational equations needs: use Method::Dop853 for this run"
+                        .into(),
+                }));
+            }
+            if first == 0 && install {
+                let values = self
+                    .out
+                    .iter()
+                    .map(|row| row.map(|part| part.map(Tangent::value)));
+                self.motion.install(values);
+            }
+            for (row, out) in self.series.iter_mut().zip(&self.out) {
+                for k in 0..take {
+                    let col = &mut row[(first + k) * n2..(first + k + 1) * n2];
+                    for c in 0..2 {
+                        for i in 0..N {
+                            col[c * N + i] = out[c][i].slopes()[k];
+                        }
+                    }
+                }
+            }
+        }
+        // The parameters' explicit parts, order by order (order 0 is the state: none).
+        let phi_cols = self.var.phi_cols;
+        for (p, nb) in self.neighbours.iter_mut().enumerate() {
+            let mut each: [Vec<Y<N>>; 4] = Default::default();
+            for ((sys, params), series) in nb.systems.iter().zip(&mut nb.params).zip(&mut each) {
+                self.scratch.clear();
+                self.scratch.resize(rows, y);
+                stats.rhs_evals += 1;
+                match L::series_in(&[sys], params, t, &mut self.scratch, &mut self.fbuf) {
+                    Some(Ok(_)) => {}
+                    Some(Err(e)) => return Err(Fault::Dynamics(e)),
+                    None => return Err(Fault::NonFinite),
+                }
+                series.clone_from(&self.scratch);
+            }
+            let at = (phi_cols + p) * n2;
+            for (k, row) in self.series.iter_mut().enumerate().skip(1) {
+                for c in 0..2 {
+                    for i in 0..N {
+                        let v = |j: usize| each[j][k][c][i];
+                        row[at + c * N + i] +=
+                            (8.0 * (v(0) - v(1)) - (v(2) - v(3))) / (12.0 * nb.h);
+                    }
+                }
+            }
+        }
+        if !self.series.iter().flatten().all(|x| x.is_finite()) {
+            return Err(Fault::NonFinite);
+        }
+        Ok(())
+    }
+
+    /// The columns at t in [t_prev, t].
+    fn cols_at(&self, t: f64) -> Vec<f64> {
+        if t >= self.motion.t() || self.old.is_empty() {
+            return self.cols.clone();
+        }
+        sum(&self.old, t - self.motion.t_prev())
+    }
+}
+
+/// Σ_k x_k τ^k by Horner's rule, component by component.
+fn sum(series: &[Vec<f64>], tau: f64) -> Vec<f64> {
+    let mut y = series[series.len() - 1].clone();
+    for x in series.iter().rev().skip(1) {
+        for (y, x) in y.iter_mut().zip(x) {
+            *y = *y * tau + x;
+        }
+    }
+    y
+}
+
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarTaylor<'_, '_, '_, L, N> {
+    fn t(&self) -> f64 {
+        self.motion.t()
+    }
+    fn t_prev(&self) -> f64 {
+        self.motion.t_prev()
+    }
+    fn last_state(&self) -> Y<N> {
+        self.motion.last_state()
+    }
+    fn set_node(&mut self, y: Y<N>, stats: &mut Stats) -> Result<(), Fault> {
+        // Not reached: sensitivity runs refuse constraints, whose projection calls this.
+        self.motion.set_node(y, stats)
+    }
+    fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
+        // The variations' series first: its first evaluation's values are the motion's series
+        // (so the motion's own is not computed); where the motion widens its series (its top
+        // coefficients vanish), the variations' are taken again to its length.
+        self.column_series(self.motion.order() + 1, true, stats)?;
+        let (h, t1) = self.motion.plan(t_end, stats)?;
+        let rows = self.motion.node_series().len();
+        if rows != self.series.len() {
+            self.column_series(rows, false, stats)?;
+        }
+        let cols = sum(&self.series, h);
+        if !cols.iter().all(|x| x.is_finite()) {
+            return Err(Fault::NonFinite);
+        }
+        self.motion.take(h, t1, stats)?;
+        self.cols = cols;
+        core::mem::swap(&mut self.old, &mut self.series);
+        Ok(())
+    }
+    fn gauss_points(&self) -> usize {
+        self.motion.gauss_points()
+    }
+    fn interp(&mut self, t: f64, stats: &mut Stats) -> Result<Y<N>, Fault> {
+        self.motion.interp(t, stats)
+    }
+    fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, stats: &mut Stats) -> Result<f64, Fault> {
+        self.motion.dense_rows(rows, stats)
+    }
+    fn recorded(&mut self, t: f64, at: f64, _stats: &mut Stats) -> Result<(), Fault> {
+        if let Some(log) = self.log {
+            let cols = self.cols_at(at);
+            log.borrow_mut().samples.push((t, cols));
+        }
+        Ok(())
+    }
+    fn event_located(&mut self, t: f64, event: usize, _stats: &mut Stats) -> Result<(), Fault> {
+        if let Some(log) = self.log {
+            let cols = self.cols_at(t);
+            log.borrow_mut().events.push((t, event, cols));
+        }
+        Ok(())
+    }
+}
