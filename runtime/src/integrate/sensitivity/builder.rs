@@ -167,6 +167,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             sys: p.sys,
             params,
             phi_cols: n2,
+            phi_unit: true,
             kernel: Default::default(),
         };
         // The augmented initial state: y0, Φ(t0) = I, S(t0) = 0.

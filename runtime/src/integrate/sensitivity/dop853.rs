@@ -43,6 +43,9 @@ pub(crate) struct VarDop853<'s, 'a, 'l, L, const N: usize> {
     arg: Vec<f64>,
     /// The trial y₁ (scratch).
     z1: Vec<f64>,
+    /// The components that move, as ranges: all but the constant columns of cyclic coordinates
+    /// (which every stage argument, y₁ and node keep as they were set at the start).
+    moving: Vec<(usize, usize)>,
     /// The two error estimates Σ E5_j k_j and Σ E3_j k_j (scratch).
     e5: Vec<f64>,
     e3: Vec<f64>,
@@ -75,7 +78,10 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
         let y0 = y_of::<N>(&z0);
         let f0 = y_of::<N>(&k[12]);
         let h = initial_step(var.sys, t0, &y0, &f0, 8, rtol, atol, hmax, stats)?;
+        // The scratch states start as z0: a constant column is never written again.
+        let scratch = z0.clone();
         Ok(VarDop853 {
+            moving: moving(&var),
             var,
             rtol,
             atol,
@@ -86,8 +92,8 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
             h_old: 0.0,
             k,
             jac,
-            arg: vec![0.0; n],
-            z1: vec![0.0; n],
+            arg: scratch.clone(),
+            z1: scratch,
             e5: vec![0.0; n],
             e3: vec![0.0; n],
             r: None,
@@ -124,64 +130,84 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
     fn attempt(&mut self, h: f64, stats: &mut Stats) -> Result<f64, Fault> {
         let n = self.z.len();
         for s in 1..12 {
-            combine_into(&mut self.arg, &self.z, h, &A[s][..s], &self.k);
+            combine_into(&mut self.arg, &self.z, h, &A[s][..s], &self.k, &self.moving);
             let (_, tail) = self.k.split_at_mut(s);
             self.var
                 .eval(self.t + C[s] * h, &self.arg, &mut tail[0], stats)?;
         }
-        combine_into(&mut self.z1, &self.z, h, &A[12][..12], &self.k);
+        combine_into(
+            &mut self.z1,
+            &self.z,
+            h,
+            &A[12][..12],
+            &self.k,
+            &self.moving,
+        );
         if !self.z1.iter().all(|x| x.is_finite()) {
             return Err(Fault::NonFinite);
         }
         let n2 = 2 * N;
         // The error estimates, stage by stage over every component (in that order each
         // component's sum is DOP853's).
-        self.e5.fill(0.0);
-        self.e3.fill(0.0);
-        for (j, kj) in self.k.iter().enumerate().take(12) {
-            let (a5, a3) = (E5[j], E3[j]);
-            if a5 == 0.0 && a3 == 0.0 {
-                continue;
-            }
-            for ((e5, e3), k) in self.e5.iter_mut().zip(&mut self.e3).zip(kj) {
-                *e5 += a5 * k;
-                *e3 += a3 * k;
+        // (A constant column's estimates stay 0.)
+        for &(lo, hi) in &self.moving {
+            self.e5[lo..hi].fill(0.0);
+            self.e3[lo..hi].fill(0.0);
+            for (j, kj) in self.k.iter().enumerate().take(12) {
+                let (a5, a3) = (E5[j], E3[j]);
+                if a5 == 0.0 && a3 == 0.0 {
+                    continue;
+                }
+                for ((e5, e3), k) in self.e5[lo..hi]
+                    .iter_mut()
+                    .zip(&mut self.e3[lo..hi])
+                    .zip(&kj[lo..hi])
+                {
+                    *e5 += a5 * k;
+                    *e3 += a3 * k;
+                }
             }
         }
         // The motion's components weighted by their own size (DOP853's norm); a column of
         // variations by the column's size (its largest component at either end of the step): a
         // column is held to rtol relative to itself, so its components that pass near zero do
         // not force steps at atol.
-        let col_scale = |col: usize| {
-            self.z[col..col + n2]
-                .iter()
-                .chain(&self.z1[col..col + n2])
-                .fold(0.0_f64, |m, x| m.max(x.abs()))
-        };
-        let part = |lo: usize, hi: usize| {
-            let (mut err5, mut err3) = (0.0, 0.0);
-            let mut scale = 0.0;
-            for i in lo..hi {
-                if lo >= n2 && i % n2 == 0 {
-                    scale = col_scale(i);
-                }
-                let w = if lo < n2 {
-                    self.atol + self.rtol * self.z[i].abs().max(self.z1[i].abs())
-                } else {
-                    self.atol + self.rtol * scale
-                };
-                let (e5, e3) = (self.e5[i], self.e3[i]);
-                err5 += (e5 / w) * (e5 / w);
-                err3 += (e3 / w) * (e3 / w);
-            }
+        let ln = |err5: f64, err3: f64, count: usize| {
             let deno = err5 + 0.01 * err3;
             let deno = if deno <= 0.0 { 1.0 } else { deno };
-            (h * err5).ln() - (deno * (hi - lo) as f64).ln() * 0.5
+            (h * err5).ln() - (deno * count as f64).ln() * 0.5
+        };
+        let motion = || {
+            let (mut err5, mut err3) = (0.0, 0.0);
+            for i in 0..n2 {
+                let w = self.atol + self.rtol * self.z[i].abs().max(self.z1[i].abs());
+                let (e5, e3) = (self.e5[i] / w, self.e3[i] / w);
+                err5 += e5 * e5;
+                err3 += e3 * e3;
+            }
+            ln(err5, err3, n2)
+        };
+        // A column's weight is one number: its squares summed, then divided by it.
+        let columns = || {
+            let (mut err5, mut err3) = (0.0, 0.0);
+            for col in (n2..n).step_by(n2) {
+                let r = col..col + n2;
+                let scale = self.z[r.clone()]
+                    .iter()
+                    .chain(&self.z1[r.clone()])
+                    .fold(0.0_f64, |m, x| m.max(x.abs()));
+                let w = self.atol + self.rtol * scale;
+                let s5 = self.e5[r.clone()].iter().map(|e| e * e).sum::<f64>();
+                let s3 = self.e3[r].iter().map(|e| e * e).sum::<f64>();
+                err5 += s5 / (w * w);
+                err3 += s3 / (w * w);
+            }
+            ln(err5, err3, n - n2)
         };
         let ln_err = if n > n2 {
-            part(0, n2).max(part(n2, n))
+            motion().max(columns())
         } else {
-            part(0, n2)
+            motion()
         };
         Ok(ln_err)
     }
@@ -192,7 +218,14 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
             let n = self.z.len();
             let h = self.h_old;
             for s in 13..16 {
-                combine_into(&mut self.arg, &self.z_old, h, &A[s][..s], &self.k);
+                combine_into(
+                    &mut self.arg,
+                    &self.z_old,
+                    h,
+                    &A[s][..s],
+                    &self.k,
+                    &self.moving,
+                );
                 let (_, tail) = self.k.split_at_mut(s);
                 self.var
                     .eval(self.t_old + C[s] * h, &self.arg, &mut tail[0], stats)?;
@@ -288,18 +321,48 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
     }
 }
 
-/// out = z + h Σ_j a_j k_j over the given coefficients (zeros skipped).
-fn combine_into(out: &mut [f64], z: &[f64], h: f64, a: &[f64], k: &[Vec<f64>]) {
-    out.copy_from_slice(z);
-    for (j, &aj) in a.iter().enumerate() {
-        if aj == 0.0 {
-            continue;
-        }
-        let ha = h * aj;
-        for (o, kj) in out.iter_mut().zip(&k[j]) {
-            *o += ha * kj;
+/// out = z + h Σ_j a_j k_j over the given coefficients (zeros skipped), on the components in
+/// `moving` (elsewhere out already equals z: constant columns).
+fn combine_into(
+    out: &mut [f64],
+    z: &[f64],
+    h: f64,
+    a: &[f64],
+    k: &[Vec<f64>],
+    moving: &[(usize, usize)],
+) {
+    for &(lo, hi) in moving {
+        let out = &mut out[lo..hi];
+        out.copy_from_slice(&z[lo..hi]);
+        for (j, &aj) in a.iter().enumerate() {
+            if aj == 0.0 {
+                continue;
+            }
+            let ha = h * aj;
+            for (o, kj) in out.iter_mut().zip(&k[j][lo..hi]) {
+                *o += ha * kj;
+            }
         }
     }
+}
+
+/// The ranges of the augmented state that move: the motion and every column but a constant one
+/// (adjacent ranges merged).
+fn moving<L: Lagrangian<N>, const N: usize>(var: &Variation<'_, '_, L, N>) -> Vec<(usize, usize)> {
+    let n2 = 2 * N;
+    let mut out: Vec<(usize, usize)> = Vec::new();
+    for c in 0..var.len() / n2 {
+        // Block 0 is the motion, block c + 1 column c.
+        if c > 0 && var.frozen(c - 1) {
+            continue;
+        }
+        let (lo, hi) = (c * n2, (c + 1) * n2);
+        match out.last_mut() {
+            Some(last) if last.1 == lo => last.1 = hi,
+            _ => out.push((lo, hi)),
+        }
+    }
+    out
 }
 
 /// DOP853's dense output of component i at s ∈ [0, 1] (as `dop853::eval_dense`).

@@ -307,6 +307,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
             sys: self.sys,
             params: &[],
             phi_cols: k,
+            phi_unit: false,
             kernel: Default::default(),
         };
         let mut z0 = vec![0.0; n2 * (1 + k)];

@@ -110,17 +110,22 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
             row.resize(self.cols.len(), 0.0);
         }
         self.out.resize(rows, [[Tangent::constant(0.0); N]; 2]);
-        for first in (0..ncols).step_by(CHUNK) {
-            let take = (ncols - first).min(CHUNK);
+        // The columns that move (a cyclic coordinate's column of Φ is constant: its series is
+        // the column itself, then zeros), CHUNK per evaluation.
+        let mut active = (0..ncols).filter(|&c| !self.var.frozen(c)).peekable();
+        let mut first_chunk = true;
+        while active.peek().is_some() {
+            // Slot k carries column chunk[k] (ncols: unused).
+            let mut chunk = [ncols; CHUNK];
+            for (slot, c) in chunk.iter_mut().zip(&mut active) {
+                *slot = c;
+            }
+            let cols = &self.cols;
             let seed = |c: usize, i: usize| {
                 Tangent::new(
                     y[c][i],
                     core::array::from_fn(|k| {
-                        if k < take {
-                            self.cols[(first + k) * n2 + c * N + i]
-                        } else {
-                            0.0
-                        }
+                        cols.get(chunk[k] * n2 + c * N + i).copied().unwrap_or(0.0)
                     }),
                 )
             };
@@ -151,16 +156,17 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
                         .into(),
                 }));
             }
-            if first == 0 && install {
+            if first_chunk && install {
                 let values = self
                     .out
                     .iter()
                     .map(|row| row.map(|part| part.map(Tangent::value)));
                 self.motion.install(values);
             }
+            first_chunk = false;
             for (row, out) in self.series.iter_mut().zip(&self.out) {
-                for k in 0..take {
-                    let col = &mut row[(first + k) * n2..(first + k + 1) * n2];
+                for (k, &col) in chunk.iter().enumerate().filter(|(_, &c)| c < ncols) {
+                    let col = &mut row[col * n2..(col + 1) * n2];
                     for c in 0..2 {
                         for i in 0..N {
                             col[c * N + i] = out[c][i].slopes()[k];
@@ -168,6 +174,10 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
                     }
                 }
             }
+        }
+        // The constant columns' order 0 (their higher orders are the zeros set above).
+        for c in (0..ncols).filter(|&c| self.var.frozen(c)) {
+            self.series[0][c * n2..(c + 1) * n2].copy_from_slice(&self.cols[c * n2..(c + 1) * n2]);
         }
         // The parameters' explicit parts, order by order (order 0 is the state: none).
         let phi_cols = self.var.phi_cols;

@@ -2,7 +2,8 @@
 //! and its columns of first-order variations, each 2N long, with ẋ = J(t, y) x (+ ∂f/∂p for a
 //! parameter's column), J = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]] exact: where the system has a compiled
 //! q̈ (the symbolic mode), that kernel evaluated in [`Tangent`]s along q and q̇ (the derivative
-//! of the generated code: one evaluation of [`CHUNK`] directions up to N = 4); otherwise, or where
+//! of the generated code, [`CHUNK`] directions per evaluation, the cyclic coordinates' left out);
+//! otherwise, or where
 //! that kernel declines (a pivot test), from the jets ([`jet_linearize`]: third derivatives of L,
 //! −M⁻¹K and −M⁻¹C). Forces, dissipation and explicit time are included either way.
 
@@ -61,6 +62,10 @@ pub(crate) struct Variation<'s, 'a, L, const N: usize> {
     /// How many columns of Φ (2N for the state transition matrix; any number k of directions
     /// for a Lyapunov run that follows k of them).
     pub(crate) phi_cols: usize,
+    /// Whether the first columns are Φ's (unit vectors at the start): the column of a cyclic
+    /// coordinate is then constant (shifting q_i shifts the motion: Φ e_i = e_i, J e_i = 0), and
+    /// is not integrated.
+    pub(crate) phi_unit: bool,
     /// The compiled kernels' parameters in tangents (loaded at the first call).
     pub(crate) kernel: RefCell<Vec<Tangent<CHUNK>>>,
 }
@@ -95,7 +100,11 @@ impl<'s, 'a, L: Lagrangian<N>, const N: usize> Variation<'s, 'a, L, N> {
         let n2 = 2 * N;
         for c in 0..self.phi_cols {
             let at = n2 * (1 + c);
-            jac.apply(&z[at..at + n2], &mut out[at..at + n2]);
+            if self.frozen(c) {
+                out[at..at + n2].fill(0.0);
+            } else {
+                jac.apply(&z[at..at + n2], &mut out[at..at + n2]);
+            }
         }
         for (p, par) in self.params.iter().enumerate() {
             let at = n2 * (1 + self.phi_cols + p);
@@ -106,6 +115,12 @@ impl<'s, 'a, L: Lagrangian<N>, const N: usize> Variation<'s, 'a, L, N> {
             }
         }
         Ok(jac)
+    }
+
+    /// Whether column c is a cyclic coordinate's column of Φ, constant e_c.
+    #[inline]
+    pub(crate) fn frozen(&self, c: usize) -> bool {
+        self.phi_unit && c < N && L::CYCLIC[c]
     }
 
     /// The columns' slopes J x at a state whose Jacobian is known (after the columns were
@@ -119,10 +134,12 @@ impl<'s, 'a, L: Lagrangian<N>, const N: usize> Variation<'s, 'a, L, N> {
     }
 }
 
-/// q̈ and its Jacobian from the compiled kernel in tangents: the 2N directions (q, then q̇)
-/// [`CHUNK`] per evaluation (one evaluation up to N = 4; q̈ is the value of any). `None` where
-/// the system has no compiled kernel, or where it declines at this state (a pivot test failed, a
-/// value or slope not finite): the caller takes the jets.
+/// q̈ and its Jacobian from the compiled kernel in tangents: the directions q_i of the
+/// coordinates that are not cyclic (q̈ does not depend on a cyclic one: its column is 0, and the
+/// run has checked the declaration), then every q̇_i, [`CHUNK`] per evaluation (one evaluation
+/// for the heavy top: θ, θ̇, φ̇, ψ̇). q̈ is the value of any evaluation. `None` where the system has
+/// no compiled kernel, or where it declines at this state (a pivot test failed, a value or slope
+/// not finite): the caller takes the jets.
 fn compiled<L: Lagrangian<N>, const N: usize>(
     sys: &L,
     params: &mut Vec<Tangent<CHUNK>>,
@@ -133,13 +150,18 @@ fn compiled<L: Lagrangian<N>, const N: usize>(
     let t = Tangent::constant(t);
     let (mut d_q, mut d_qdot) = (SMatrix::zeros(), SMatrix::zeros());
     let mut a = [0.0; N];
-    for first in (0..2 * N).step_by(CHUNK) {
+    let mut dirs = (0..2 * N).filter(|&d| d >= N || !L::CYCLIC[d]).peekable();
+    while dirs.peek().is_some() {
+        // This evaluation's directions (slot k: direction chunk[k]; 2N for an unused slot).
+        let mut chunk = [2 * N; CHUNK];
+        for (slot, d) in chunk.iter_mut().zip(&mut dirs) {
+            *slot = d;
+        }
         let seed = |x: f64, dir: usize| {
-            let mut d = [0.0; CHUNK];
-            if let Some(s) = dir.checked_sub(first).and_then(|k| d.get_mut(k)) {
-                *s = 1.0;
-            }
-            Tangent::new(x, d)
+            Tangent::new(
+                x,
+                core::array::from_fn(|k| f64::from(u8::from(chunk[k] == dir))),
+            )
         };
         let tq = core::array::from_fn(|i| seed(q[i], i));
         let tv = core::array::from_fn(|i| seed(v[i], N + i));
@@ -147,12 +169,11 @@ fn compiled<L: Lagrangian<N>, const N: usize>(
         if !ok {
             return None;
         }
-        for k in 0..CHUNK.min(2 * N - first) {
-            let dir = first + k;
+        for (k, &dir) in chunk.iter().enumerate() {
             for (i, x) in acc.iter().enumerate() {
                 if dir < N {
                     d_q[(i, dir)] = x.slopes()[k];
-                } else {
+                } else if dir < 2 * N {
                     d_qdot[(i, dir - N)] = x.slopes()[k];
                 }
             }
