@@ -14,7 +14,9 @@
 //! momenta) and symmetries make these systems singular: orbits come in families. The step is the
 //! least-squares solution of least norm (the SVD, singular values below r = |x(T) − x₀|/max(1, |x₀|)
 //! of the largest, clamped to [1e-9, 1e-2], taken as zero: off the orbit such an integral's
-//! direction is singular only to O(r)), so Newton goes to a nearby orbit of the family. A step that
+//! direction is singular only to O(r)), so Newton goes to a nearby orbit of the family. A forced
+//! system without a cyclic coordinate has isolated orbits: there only singular values below 1e-9
+//! of the largest are cut (near a bifurcation Φ(T) − I has a small one Newton needs). A step that
 //! does not reduce the residual is halved (up to 30 times). Newton that ends on an equilibrium
 //! (periodic with any period) is refused with [`OrbitError::NoConvergence`].
 //!
@@ -605,13 +607,22 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                     .into(),
             }
         })?;
-        // Singular values below the residual's relative size are taken as zero: an integral of
-        // the motion makes the matrix singular on the orbit and nearly so (by O(residual)) off
-        // it, where inverting that direction would throw the iterate along the family (towards
-        // an equilibrium, the trivially periodic end of many families).
+        // Singular values below the residual's relative size are taken as zero where orbits come
+        // in families (an autonomous system's energy, a conserved momentum): such an integral
+        // makes the matrix singular on the orbit and nearly so (by O(residual)) off it, where
+        // inverting that direction would throw the iterate along the family (towards an
+        // equilibrium, the trivially periodic end of many families). A forced system without a
+        // cyclic coordinate has isolated orbits: only round-off is cut (1e-9), so near a
+        // bifurcation, where a multiplier nears 1 and Φ(T) − I a small singular value, Newton
+        // keeps the direction it needs.
         let smax = svd.singular_values.max();
         let size = x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
-        let cutoff = (closure / size).clamp(1e-9, 1e-2);
+        let families = !self.fixed_period || L::CYCLIC.iter().any(|&c| c);
+        let cutoff = if families {
+            (closure / size).clamp(1e-9, 1e-2)
+        } else {
+            1e-9
+        };
         let dx = svd
             .solve(&b, cutoff * smax)
             .map_err(|e| OrbitError::Eigen { message: e.into() })?;
