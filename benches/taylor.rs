@@ -57,40 +57,51 @@ struct Row {
 }
 
 fn ours(name: &str, tol: f64, method: Method) -> Row {
-    ours_with(name, tol, method, false, REPEATS)
+    ours_with(&[(name, tol, method, false)], REPEATS)
+        .pop()
+        .expect("one row")
 }
 
-/// [`ours`], with the variational equations integrated along (Φ, 6 × 6) where `phi`.
-fn ours_with(name: &str, tol: f64, method: Method, phi: bool, repeats: usize) -> Row {
-    let run = || {
-        let sim = Simulation::new(&TOP, Q0, V0)
-            .method(method)
-            .until(T_END)
-            .keep_samples(false);
-        if phi {
-            sim.sensitivity().run().map(|s| s.trajectory)
-        } else {
-            sim.run()
-        }
-        .expect("the heavy top integrates")
-    };
-    let mut times: Vec<f64> = (0..repeats)
-        .map(|_| {
-            let t0 = Instant::now();
-            std::hint::black_box(run());
-            t0.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    let tr = run();
-    Row {
-        who: name.to_string(),
-        tol,
-        err: theta_error(tr.q.last().map_or(f64::NAN, |q| q[0])),
-        min_ms: times[0],
-        median_ms: times[repeats / 2],
-        steps: tr.stats.steps,
+/// One run of the top (with Φ, 6 × 6, integrated along where `phi`).
+fn run_top(method: Method, phi: bool) -> Trajectory<3> {
+    let sim = Simulation::new(&TOP, Q0, V0)
+        .method(method)
+        .until(T_END)
+        .keep_samples(false);
+    if phi {
+        sim.sensitivity().run().map(|s| s.trajectory)
+    } else {
+        sim.run()
     }
+    .expect("the heavy top integrates")
+}
+
+/// Rows of [`ours`] for several runs (name, tol, method, with Φ), their repeats interleaved
+/// (run 1, run 2, …, run 1, run 2, …) so that a ratio between them sees the same machine.
+fn ours_with(runs: &[(&str, f64, Method, bool)], repeats: usize) -> Vec<Row> {
+    let mut times = vec![Vec::with_capacity(repeats); runs.len()];
+    for _ in 0..repeats {
+        for (&(_, _, method, phi), times) in runs.iter().zip(&mut times) {
+            let t0 = Instant::now();
+            std::hint::black_box(run_top(method, phi));
+            times.push(t0.elapsed().as_secs_f64() * 1e3);
+        }
+    }
+    runs.iter()
+        .zip(&mut times)
+        .map(|(&(name, tol, method, phi), times)| {
+            times.sort_by(f64::total_cmp);
+            let tr = run_top(method, phi);
+            Row {
+                who: name.to_string(),
+                tol,
+                err: theta_error(tr.q.last().map_or(f64::NAN, |q| q[0])),
+                min_ms: times[0],
+                median_ms: times[repeats / 2],
+                steps: tr.stats.steps,
+            }
+        })
+        .collect()
 }
 
 const HEYOKA_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/heyoka_top.py");
@@ -303,10 +314,11 @@ fn main() {
 }
 
 /// The cost of Φ: each integrator with the variational equations against its own plain run, in
-/// one run (min times), and ours with Φ against heyoka's `var_ode_sys`.
+/// one run (min times, our four runs' repeats interleaved), and ours with Φ against heyoka's
+/// `var_ode_sys`.
 fn variational() {
     const VAR_TOLS: [f64; 2] = [1e-10, 1e-13];
-    const VAR_REPEATS: usize = 15;
+    const VAR_REPEATS: usize = 25;
     let mut rows = Vec::new();
     for tol in VAR_TOLS {
         let dop = Method::Dop853 {
@@ -314,14 +326,13 @@ fn variational() {
             atol: tol * 1e-2,
         };
         let taylor = Method::Taylor { tol };
-        rows.push(ours_with("our DOP853", tol, dop, false, VAR_REPEATS));
-        rows.push(ours_with("our DOP853, with Φ", tol, dop, true, VAR_REPEATS));
-        rows.push(ours_with("our Taylor", tol, taylor, false, VAR_REPEATS));
-        rows.push(ours_with(
-            "our Taylor, with Φ",
-            tol,
-            taylor,
-            true,
+        rows.extend(ours_with(
+            &[
+                ("our DOP853", tol, dop, false),
+                ("our DOP853, with Φ", tol, dop, true),
+                ("our Taylor", tol, taylor, false),
+                ("our Taylor, with Φ", tol, taylor, true),
+            ],
             VAR_REPEATS,
         ));
     }
