@@ -8,8 +8,8 @@ use super::state::Stats;
 use super::state::{combine, finite, rhs, stages, weighted, Fault, Y};
 use super::stepper::Stepper;
 
-const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
-const A: [[f64; 6]; 7] = [
+pub(crate) const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+pub(crate) const A: [[f64; 6]; 7] = [
     [0.0; 6],
     [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
     [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
@@ -41,7 +41,7 @@ const A: [[f64; 6]; 7] = [
     ],
 ];
 /// b − b̂ (the embedded 4th-order solution), over the 7 stages.
-const E: [f64; 7] = [
+pub(crate) const E: [f64; 7] = [
     71.0 / 57600.0,
     0.0,
     -71.0 / 16695.0,
@@ -51,7 +51,7 @@ const E: [f64; 7] = [
     -1.0 / 40.0,
 ];
 /// Dense-output coefficients (rcont5 of `dopri5.f`), over the 7 stages.
-const D: [f64; 7] = [
+pub(crate) const D: [f64; 7] = [
     -12715105075.0 / 11282082432.0,
     0.0,
     87487479700.0 / 32700410799.0,

@@ -14,6 +14,7 @@ use super::super::simulation::Simulation;
 use super::super::stepper::FixedGrid;
 use super::super::trajectory::{sample_bytes, SAMPLE_BUDGET_BYTES};
 use super::dop853::VarDop853;
+use super::dopri5::VarDopri5;
 use super::event_time::at_event;
 use super::result::Sensitivities;
 use super::rk4::VarRk4;
@@ -55,9 +56,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// This run with the variational equations integrated along: its
     /// [`run`](Sensitivity::run) returns the trajectory with Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) at
     /// every sample and the sensitivities of the events' times
-    /// ([`Sensitivities`](crate::Sensitivities)). Takes `Method::Dop853` (the default),
-    /// `Method::Taylor` (a system with a compiled series: the symbolic mode) and `Method::Rk4`;
-    /// see [`Sensitivity`] for what is refused.
+    /// ([`Sensitivities`](crate::Sensitivities)). Takes the explicit methods: `Method::Dop853`
+    /// (the default), `Method::DormandPrince`, `Method::Taylor` (a system with a compiled series:
+    /// the symbolic mode) and `Method::Rk4`; see [`Sensitivity`] for what is refused.
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Scalar, Simulation};
@@ -124,8 +125,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// Runs the motion with its variational equations.
     ///
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
-    /// step) for what it does not cover yet: a method other than `Method::Dop853`,
-    /// `Method::Taylor` or `Method::Rk4`, a constrained run or one with contacts, an event that resets the state, a
+    /// step) for what it does not cover yet: the implicit methods (`Method::Radau5`,
+    /// `Method::VariationalMidpoint`), a constrained run or one with contacts, an event that resets the state, a
     /// parameter whose value is not finite. The samples' memory bound
     /// ([`Simulation::max_samples`]) counts Φ with each sample: by default as many samples fit
     /// in 256 MiB with their matrices.
@@ -140,7 +141,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
     /// # }
     /// let err = Simulation::new(&Free, [0.0], [1.0])
-    ///     .method(Method::DormandPrince { rtol: 1e-9, atol: 1e-12 })
+    ///     .method(Method::Radau5 { rtol: 1e-9, atol: 1e-12 })
     ///     .until(1.0)
     ///     .sensitivity()
     ///     .run()
@@ -182,6 +183,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         let traj = match method {
             Method::Dop853 { rtol, atol } => driver.run(&p.opts, t0, y0, |t, _y, stats| {
                 VarDop853::new(var(), t, z0.clone(), rtol, atol, hmax, Some(&log), stats)
+            }),
+            Method::DormandPrince { rtol, atol } => driver.run(&p.opts, t0, y0, |t, _y, stats| {
+                VarDopri5::new(var(), t, z0.clone(), rtol, atol, hmax, Some(&log), stats)
             }),
             Method::Taylor { tol } => driver.run(&p.opts, t0, y0, |t, _y, _stats| {
                 Ok(VarTaylor::new(var(), t, &z0, tol, hmax, Some(&log)))
@@ -253,7 +257,10 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         let sim = &self.sim;
         if !matches!(
             sim.method,
-            Method::Dop853 { .. } | Method::Rk4 { .. } | Method::Taylor { .. }
+            Method::Dop853 { .. }
+                | Method::DormandPrince { .. }
+                | Method::Rk4 { .. }
+                | Method::Taylor { .. }
         ) {
             return Some(unsupported_method(sim.method));
         }
@@ -293,8 +300,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
 /// The refusal of a method the sensitivity runs do not take.
 fn unsupported_method(method: Method) -> String {
     format!(
-        "sensitivity runs integrate the variational equations with Method::Dop853, \
-         Method::Taylor or Method::Rk4; {method:?} is not covered yet: use Method::Dop853 \
-         {{ rtol, atol }} (the default, adaptive, with dense output for samples and events)"
+        "sensitivity runs integrate the variational equations with the explicit methods \
+         (Method::Dop853, Method::DormandPrince, Method::Taylor, Method::Rk4); {method:?} is not \
+         covered yet: use Method::Dop853 {{ rtol, atol }} (the default, adaptive, with dense \
+         output for samples and events)"
     )
 }

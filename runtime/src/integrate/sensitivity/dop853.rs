@@ -9,10 +9,10 @@
 //! the larger of DOP853's norm over the motion and its norm over the variations (each an RMS over
 //! its own components), so both are held to the tolerance, as heyoka's `var_ode_sys` does by
 //! integrating the augmented system as one. A variation's component is weighted by the size of
-//! its column (atol + rtol · its largest component), not by its own: a column is a direction,
-//! held to rtol relative to its length, and a component passing near zero does not force steps
-//! at atol (per-component weights took 22–26 % more steps than the motion alone on the heavy
-//! top, these 12–13 %; BENCHMARKS.md).
+//! its column ([`inverse_weights`]), not by its own: a column is a direction, held to rtol
+//! relative to its length, and a component passing near zero does not force steps at atol
+//! (per-component weights took 22–26 % more steps than the motion alone on the heavy top, these
+//! 12–13 %; BENCHMARKS.md).
 
 use core::cell::RefCell;
 
@@ -22,6 +22,7 @@ use super::super::control::{effective_atol, initial_step, Controller, StepContro
 use super::super::dop853_coefficients::{A, C, D, E3, E5};
 use super::super::state::{Fault, Stats, Y};
 use super::super::stepper::Stepper;
+use super::arith::{combine_into, inverse_weights, moving, sum_sq, weighted_into, y_of};
 use super::variation::{Jacobian, Variation};
 use super::Log;
 
@@ -46,9 +47,11 @@ pub(crate) struct VarDop853<'s, 'a, 'l, L, const N: usize> {
     /// The components that move, as ranges: all but the constant columns of cyclic coordinates
     /// (which every stage argument, y₁ and node keep as they were set at the start).
     moving: Vec<(usize, usize)>,
-    /// The two error estimates Σ E5_j k_j and Σ E3_j k_j (scratch).
+    /// The two error estimates Σ E5_j k_j and Σ E3_j k_j, and the inverse error weights
+    /// (scratch).
     e5: Vec<f64>,
     e3: Vec<f64>,
+    inv: Vec<f64>,
     /// Dense-output rows of the last step once evaluated (8 × len).
     r: Option<Vec<Vec<f64>>>,
     sc: StepControl,
@@ -96,6 +99,7 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
             z1: scratch,
             e5: vec![0.0; n],
             e3: vec![0.0; n],
+            inv: vec![0.0; n],
             r: None,
             sc: StepControl::new(
                 h,
@@ -147,67 +151,21 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
             return Err(Fault::NonFinite);
         }
         let n2 = 2 * N;
-        // The error estimates, stage by stage over every component (in that order each
-        // component's sum is DOP853's).
-        // (A constant column's estimates stay 0.)
-        for &(lo, hi) in &self.moving {
-            self.e5[lo..hi].fill(0.0);
-            self.e3[lo..hi].fill(0.0);
-            for (j, kj) in self.k.iter().enumerate().take(12) {
-                let (a5, a3) = (E5[j], E3[j]);
-                if a5 == 0.0 && a3 == 0.0 {
-                    continue;
-                }
-                for ((e5, e3), k) in self.e5[lo..hi]
-                    .iter_mut()
-                    .zip(&mut self.e3[lo..hi])
-                    .zip(&kj[lo..hi])
-                {
-                    *e5 += a5 * k;
-                    *e3 += a3 * k;
-                }
-            }
-        }
-        // The motion's components weighted by their own size (DOP853's norm); a column of
-        // variations by the column's size (its largest component at either end of the step): a
-        // column is held to rtol relative to itself, so its components that pass near zero do
-        // not force steps at atol.
-        let ln = |err5: f64, err3: f64, count: usize| {
+        weighted_into(&mut self.e5, &E5, &self.k, &self.moving);
+        weighted_into(&mut self.e3, &E3, &self.k, &self.moving);
+        inverse_weights(&self.z, &self.z1, n2, self.rtol, self.atol, &mut self.inv);
+        // DOP853's norm, over the motion and over the variations; the larger decides.
+        let ln = |lo: usize, hi: usize| {
+            let err5 = sum_sq(&self.e5, &self.inv, lo, hi);
+            let err3 = sum_sq(&self.e3, &self.inv, lo, hi);
             let deno = err5 + 0.01 * err3;
             let deno = if deno <= 0.0 { 1.0 } else { deno };
-            (h * err5).ln() - (deno * count as f64).ln() * 0.5
-        };
-        let motion = || {
-            let (mut err5, mut err3) = (0.0, 0.0);
-            for i in 0..n2 {
-                let w = self.atol + self.rtol * self.z[i].abs().max(self.z1[i].abs());
-                let (e5, e3) = (self.e5[i] / w, self.e3[i] / w);
-                err5 += e5 * e5;
-                err3 += e3 * e3;
-            }
-            ln(err5, err3, n2)
-        };
-        // A column's weight is one number: its squares summed, then divided by it.
-        let columns = || {
-            let (mut err5, mut err3) = (0.0, 0.0);
-            for col in (n2..n).step_by(n2) {
-                let r = col..col + n2;
-                let scale = self.z[r.clone()]
-                    .iter()
-                    .chain(&self.z1[r.clone()])
-                    .fold(0.0_f64, |m, x| m.max(x.abs()));
-                let w = self.atol + self.rtol * scale;
-                let s5 = self.e5[r.clone()].iter().map(|e| e * e).sum::<f64>();
-                let s3 = self.e3[r].iter().map(|e| e * e).sum::<f64>();
-                err5 += s5 / (w * w);
-                err3 += s3 / (w * w);
-            }
-            ln(err5, err3, n - n2)
+            (h * err5).ln() - (deno * (hi - lo) as f64).ln() * 0.5
         };
         let ln_err = if n > n2 {
-            motion().max(columns())
+            ln(0, n2).max(ln(n2, n))
         } else {
-            motion()
+            ln(0, n2)
         };
         Ok(ln_err)
     }
@@ -321,63 +279,11 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
     }
 }
 
-/// out = z + h Σ_j a_j k_j over the given coefficients (zeros skipped), on the components in
-/// `moving` (elsewhere out already equals z: constant columns).
-fn combine_into(
-    out: &mut [f64],
-    z: &[f64],
-    h: f64,
-    a: &[f64],
-    k: &[Vec<f64>],
-    moving: &[(usize, usize)],
-) {
-    for &(lo, hi) in moving {
-        let out = &mut out[lo..hi];
-        out.copy_from_slice(&z[lo..hi]);
-        for (j, &aj) in a.iter().enumerate() {
-            if aj == 0.0 {
-                continue;
-            }
-            let ha = h * aj;
-            for (o, kj) in out.iter_mut().zip(&k[j][lo..hi]) {
-                *o += ha * kj;
-            }
-        }
-    }
-}
-
-/// The ranges of the augmented state that move: the motion and every column but a constant one
-/// (adjacent ranges merged).
-fn moving<L: Lagrangian<N>, const N: usize>(var: &Variation<'_, '_, L, N>) -> Vec<(usize, usize)> {
-    let n2 = 2 * N;
-    let mut out: Vec<(usize, usize)> = Vec::new();
-    for c in 0..var.len() / n2 {
-        // Block 0 is the motion, block c + 1 column c.
-        if c > 0 && var.frozen(c - 1) {
-            continue;
-        }
-        let (lo, hi) = (c * n2, (c + 1) * n2);
-        match out.last_mut() {
-            Some(last) if last.1 == lo => last.1 = hi,
-            _ => out.push((lo, hi)),
-        }
-    }
-    out
-}
-
 /// DOP853's dense output of component i at s ∈ [0, 1] (as `dop853::eval_dense`).
 fn eval_dense(r: &[Vec<f64>], i: usize, s: f64) -> f64 {
     let s1 = 1.0 - s;
     let conpar = r[4][i] + s * (r[5][i] + s1 * (r[6][i] + s * r[7][i]));
     r[0][i] + s * (r[1][i] + s1 * (r[2][i] + s * (r[3][i] + s1 * conpar)))
-}
-
-/// The motion's part of an augmented state.
-pub(crate) fn y_of<const N: usize>(z: &[f64]) -> Y<N> {
-    [
-        core::array::from_fn(|i| z[i]),
-        core::array::from_fn(|i| z[N + i]),
-    ]
 }
 
 impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarDop853<'_, '_, '_, L, N> {

@@ -19,10 +19,10 @@
 //! parameter's closure builds.
 //!
 //! **How it is integrated.** The motion and its 2N + P columns of variations form one state of
-//! 2N(1 + 2N + P) numbers, stepped as one by the chosen method: DOP853 (with its error estimate
-//! over the motion and, separately, over the variations, the larger of the two deciding the step,
-//! and its 7th-order dense output for samples and events) or RK4 (on its grid, Hermite
-//! interpolation). Rust's stable const generics cannot size that state from N, so these steppers
+//! 2N(1 + 2N + P) numbers, stepped as one by the chosen method: DOP853 or Dormand–Prince (with
+//! their error estimates over the motion and, separately, over the variations, the larger of the
+//! two deciding the step, and their dense output for samples and events) or RK4 (on its grid,
+//! Hermite interpolation). Rust's stable const generics cannot size that state from N, so these steppers
 //! keep it in `Vec`s and reuse the methods' tableaux (`dop853_coefficients`) rather than the
 //! const-sized kernels of the plain methods; they plug into the same driver (samples, events,
 //! work, observer, dense output), which tells them through two hooks of its stepper trait when it
@@ -49,7 +49,7 @@
 //! motion by QR re-orthonormalization of the carried directions.
 //!
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
-//! methods other than `Dop853`, `Taylor` and `Rk4` (Dormand–Prince, Radau5 and the
+//! the implicit methods (Radau5 and the
 //! variational integrator), constrained runs and contacts, and resetting events (the flow jumps
 //! there; its derivative needs the saltation matrix).
 //!
@@ -68,8 +68,10 @@
 //! assert!((phi[(0, 0)] - 2.0_f64.cos()).abs() < 1e-9 && (phi[(0, 1)] - 2.0_f64.sin()).abs() < 1e-9);
 //! ```
 
+mod arith;
 mod builder;
 mod dop853;
+mod dopri5;
 mod event_time;
 mod lyapunov;
 mod periodic;

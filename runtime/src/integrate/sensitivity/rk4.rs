@@ -9,7 +9,7 @@ use crate::lagrangian::Lagrangian;
 
 use super::super::state::{Fault, Stats, Y};
 use super::super::stepper::{FixedGrid, Stepper};
-use super::dop853::y_of;
+use super::arith::y_of;
 use super::variation::Variation;
 use super::Log;
 

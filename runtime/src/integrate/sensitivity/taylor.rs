@@ -64,7 +64,7 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
         log: Option<&'l RefCell<Log>>,
     ) -> Self {
         let n2 = 2 * N;
-        let y0 = super::dop853::y_of::<N>(z0);
+        let y0 = super::arith::y_of::<N>(z0);
         let neighbours = var
             .params
             .iter()
