@@ -104,11 +104,7 @@ impl<const N: usize> Dense<N> {
     /// Keeps the last step of `s` (after its node was settled: projected, for a constrained
     /// run), unless that would pass the budget: then this step and every later one are refused
     /// (`at` says so for their times) and the run goes on.
-    pub(crate) fn keep<S: Stepper<N>>(
-        &mut self,
-        s: &mut S,
-        stats: &mut Stats,
-    ) -> Result<(), Fault> {
+    pub(crate) fn keep(&mut self, s: &mut dyn Stepper<N>, stats: &mut Stats) -> Result<(), Fault> {
         let t1 = s.t();
         if self.reached.is_some() {
             self.reached = Some(t1);

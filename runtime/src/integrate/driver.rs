@@ -322,7 +322,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     /// ∫ power dt over [a, b] within the last step, on the method's interpolant (Gauss–Legendre,
     /// [`Stepper::gauss_points`] points: the quadrature error is below the interpolant's, so W
     /// carries the integrator's accuracy).
-    fn power_integral<S: Stepper<N>>(&mut self, s: &mut S, a: f64, b: f64) -> Result<f64, Fault> {
+    fn power_integral(&mut self, s: &mut dyn Stepper<N>, a: f64, b: f64) -> Result<f64, Fault> {
         let h = b - a;
         let mut sum = 0.0;
         let m = s.gauss_points();
@@ -351,7 +351,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     }
 
     /// W at t in [t_a, t_b] of the last step (W at the node itself is known already).
-    fn work_at<S: Stepper<N>>(&mut self, s: &mut S, t: f64) -> Result<f64, Fault> {
+    fn work_at(&mut self, s: &mut dyn Stepper<N>, t: f64) -> Result<f64, Fault> {
         if !Self::RECORDS_WORK {
             return Ok(0.0);
         }
@@ -501,18 +501,23 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
                     return Ok(());
                 };
                 *s = make(t, y, &mut self.stats)?;
-                // The events' values start afresh from the state after the jump; the event that
-                // fired is on its zero (exactly 0: neither direction's crossing starts there).
-                for (g, e) in p.g_old.iter_mut().zip(self.events) {
-                    *g = e.value(t, &y[0], &y[1]);
-                }
-                if let Some(&(_, i, _)) = p.hits.iter().find(|h| h.0 == t) {
-                    p.g_old[i] = 0.0;
-                }
-                cap = self.first_step_after_jump(t, &y);
+                cap = self.restart(&mut p, t, &y);
             }
         }
         self.finish(s)
+    }
+
+    /// After a jump to (t, y): the events' values start afresh from the state after it (the
+    /// event that fired is on its zero, exactly 0: neither direction's crossing starts there),
+    /// and the cap on the next step. Apart from `drive`, which is compiled once per stepper.
+    fn restart(&mut self, p: &mut Progress, t: f64, y: &Y<N>) -> Option<f64> {
+        for (g, e) in p.g_old.iter_mut().zip(self.events) {
+            *g = e.value(t, &y[0], &y[1]);
+        }
+        if let Some(&(_, i, _)) = p.hits.iter().find(|h| h.0 == t) {
+            p.g_old[i] = 0.0;
+        }
+        self.first_step_after_jump(t, y)
     }
 
     /// The cap on the first step after a jump to (t, y): a hundredth of the time the state
@@ -549,9 +554,9 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     }
 
     /// Records the initial state and the events' first values.
-    pub(super) fn begin<S: Stepper<N>>(
+    pub(super) fn begin(
         &mut self,
-        s: &mut S,
+        s: &mut dyn Stepper<N>,
         o: &RunOptions,
     ) -> Result<Progress, Fault> {
         let y0 = s.node(&mut self.stats)?;
@@ -584,7 +589,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     }
 
     /// The end time, if the sample grid did not land on it.
-    pub(super) fn finish<S: Stepper<N>>(&mut self, s: &mut S) -> Result<(), Fault> {
+    pub(super) fn finish(&mut self, s: &mut dyn Stepper<N>) -> Result<(), Fault> {
         let y = s.node(&mut self.stats)?;
         let w = self.work.at_node;
         self.push(s.t(), &y, w)?;
@@ -593,9 +598,9 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
 
     /// What follows an accepted step of `s`: the projection of a constrained run, the work, the
     /// events located in the step, the samples in it. True when a terminal event ended the run.
-    pub(super) fn after_step<S: Stepper<N>>(
+    pub(super) fn after_step(
         &mut self,
-        s: &mut S,
+        s: &mut dyn Stepper<N>,
         o: &RunOptions,
         p: &mut Progress,
     ) -> Result<bool, Fault> {
@@ -655,7 +660,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
                         let tol = 1e-12_f64.max(4.0 * f64::EPSILON * t_b.abs());
                         let stats = &mut self.stats;
                         let tz = brent(
-                            |t| {
+                            &mut |t| {
                                 let y = s.interp(t, stats)?;
                                 Ok::<f64, Fault>(ev.value(t, &y[0], &y[1]))
                             },
@@ -808,10 +813,10 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
 
     /// The run's outcome: its trajectory, or the error with the trajectory up to the stepper's
     /// last accepted node.
-    pub(super) fn conclude<S: Stepper<N>>(
+    pub(super) fn conclude(
         mut self,
         r: Result<(), Fault>,
-        s: &S,
+        s: &dyn Stepper<N>,
     ) -> Result<Trajectory<N>, SimulationError> {
         match r {
             Ok(()) => {

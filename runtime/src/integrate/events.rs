@@ -393,7 +393,7 @@ pub(crate) fn zeno(ts: &[f64]) -> Option<(f64, f64)> {
 /// Brent's method (Numerical Recipes `zbrent`) for a root of f in [a, b] where f(a), f(b) have
 /// opposite signs (or one is zero), to `tol` in the argument.
 pub(crate) fn brent<E>(
-    mut f: impl FnMut(f64) -> Result<f64, E>,
+    f: &mut dyn FnMut(f64) -> Result<f64, E>,
     a: f64,
     b: f64,
     fa: f64,
@@ -476,7 +476,14 @@ mod tests {
 
     #[test]
     fn brent_finds_cos_root_to_1e_12() {
-        let r: Result<f64, ()> = brent(|x| Ok(x.cos()), 1.0, 2.0, 1f64.cos(), 2f64.cos(), 1e-12);
+        let r: Result<f64, ()> = brent(
+            &mut |x| Ok(x.cos()),
+            1.0,
+            2.0,
+            1f64.cos(),
+            2f64.cos(),
+            1e-12,
+        );
         assert!((r.unwrap() - core::f64::consts::FRAC_PI_2).abs() < 1e-12);
     }
 
