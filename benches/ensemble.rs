@@ -398,7 +398,7 @@ fn main() {
         let child = Command::new("python3")
             .arg(concat!(
                 env!("CARGO_MANIFEST_DIR"),
-                "/benches/peers/heyoka_batch.py"
+                "/peers/heyoka_batch.py"
             ))
             .arg(tol)
             .arg(PASSES.to_string())

@@ -135,7 +135,7 @@ fn best_of(n: usize, mut f: impl FnMut()) -> f64 {
 }
 
 /// The SciPy peer script.
-const SCIPY_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/scipy_dop853.py");
+const SCIPY_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/peers/scipy_dop853.py");
 
 /// The SciPy peer in the same run (`benches/peers/scipy_dop853.py`, best of 5), when python3 with
 /// SciPy is installed: its best wall time in seconds, and its report line.

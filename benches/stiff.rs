@@ -53,7 +53,7 @@ fn best_of(n: usize, mut f: impl FnMut()) -> f64 {
 }
 
 /// The SciPy peer script.
-const SCIPY_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/scipy_stiff.py");
+const SCIPY_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/peers/scipy_stiff.py");
 
 /// The SciPy peer's lines (`solve_ivp` Radau, then BDF), each with its best wall time in seconds,
 /// when python3 with SciPy is installed.

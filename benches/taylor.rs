@@ -104,7 +104,7 @@ fn ours_with(runs: &[(&str, f64, Method, bool)], repeats: usize) -> Vec<Row> {
         .collect()
 }
 
-const HEYOKA_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/peers/heyoka_top.py");
+const HEYOKA_PEER: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/peers/heyoka_top.py");
 
 /// heyoka's rows, and its compile times, when python3 with heyoka is installed (with `var`,
 /// its runs with the variational equations, `var_ode_sys`).
