@@ -45,7 +45,7 @@ use rayon::prelude::*;
 use crate::constraints::Holonomic;
 #[doc(hidden)]
 pub use crate::integrate::lanes::accelerations as lane_accelerations;
-use crate::integrate::lanes::{run_lanes, Out};
+use crate::integrate::lanes::{Out, run_lanes};
 use crate::integrate::{Simulation, SimulationError, Trajectory};
 use crate::lagrangian::Lagrangian;
 
@@ -891,16 +891,16 @@ impl Results<Vec<f64>> {
             }
         }
         for (i, r) in self.index.iter().zip(&self.results) {
-            if let Ok(vals) = r {
-                if vals.len() != self.columns.len() {
-                    return Err(invalid(format!(
-                        "member {i}: the reduction returned {} values for {} columns ({}); \
+            if let Ok(vals) = r
+                && vals.len() != self.columns.len()
+            {
+                return Err(invalid(format!(
+                    "member {i}: the reduction returned {} values for {} columns ({}); \
                          return one value per column named in `reduce` (no CSV written)",
-                        vals.len(),
-                        self.columns.len(),
-                        self.columns.join(", ")
-                    )));
-                }
+                    vals.len(),
+                    self.columns.len(),
+                    self.columns.join(", ")
+                )));
             }
         }
         let mut rows = Vec::new();

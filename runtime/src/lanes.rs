@@ -175,11 +175,7 @@ impl<const W: usize> Lanes<W> {
     pub fn select(mask: Mask<W>, a: impl Into<Self>, b: impl Into<Self>) -> Self {
         let (a, b) = (a.into(), b.into());
         Lanes(core::array::from_fn(|l| {
-            if mask.0[l] {
-                a.0[l]
-            } else {
-                b.0[l]
-            }
+            if mask.0[l] { a.0[l] } else { b.0[l] }
         }))
     }
 

@@ -38,13 +38,13 @@ pub use error::DynamicsError;
 pub use integrate::sensitivity;
 pub use integrate::{
     ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, EventSensitivity,
-    Invariants, Jump, Method, NamedInvariants, PartialTrajectory, Sample, Sensitivities,
-    Sensitivity, Simulation, SimulationError, Stats, Stiffness, Trajectory, Zeno, INVARIANT_FLOOR,
+    INVARIANT_FLOOR, Invariants, Jump, Method, NamedInvariants, PartialTrajectory, Sample,
+    Sensitivities, Sensitivity, Simulation, SimulationError, Stats, Stiffness, Trajectory, Zeno,
 };
-pub use lagrangian::{el_jet, hessian_jet, Lagrangian};
+pub use lagrangian::{Lagrangian, el_jet, hessian_jet};
 pub use linearize::{
-    equilibrium, ConstrainedLinearization, Linearization, LinearizationError, Linearize,
-    LinearizeConstrained, Mode, Stability,
+    ConstrainedLinearization, Linearization, LinearizationError, Linearize, LinearizeConstrained,
+    Mode, Stability, equilibrium,
 };
 pub use nalgebra::{DMatrix, SMatrix, Vector3};
 pub use scalar::{Scalar, Velocity};

@@ -37,7 +37,7 @@ use nalgebra::{Complex, DMatrix, SMatrix, SVector};
 
 use crate::error::DynamicsError;
 use crate::jet::LinJet;
-use crate::lagrangian::{applied_jacobian, Lagrangian};
+use crate::lagrangian::{Lagrangian, applied_jacobian};
 
 mod constrained;
 pub use constrained::{ConstrainedLinearization, LinearizeConstrained};
@@ -351,13 +351,12 @@ pub trait Linearize<const N: usize>: Lagrangian<N> {
                 t,
                 q: q0.to_vec(),
                 qdot: qdot0.to_vec(),
-                message:
-                    "`linearize` linearizes the unconstrained L, whose modes include motions \
+                message: "`linearize` linearizes the unconstrained L, whose modes include motions \
                           the constraints forbid (its answer would be wrong, not approximate): \
                           call `linearize_on_constraints` (trait `LinearizeConstrained`, in the \
                           prelude) and reduce it to independent coordinates, \
                           `.reduce([\"phi\", \"delta\"])` or `.state_matrix(&coordinates, &speeds)`"
-                        .to_string(),
+                    .to_string(),
             });
         }
         jet_linearize(self, q0, qdot0, t)
@@ -560,7 +559,7 @@ impl<const N: usize> Linearization<N> {
                          sin θ = 0): choose coordinates regular at the reference state.",
                         fmt_matrix(&self.m)
                     ),
-                })
+                });
             }
         };
         let mut a = DMatrix::zeros(2 * N, 2 * N);
@@ -945,7 +944,7 @@ where
                      no equilibrium nearby (the applied forces exceed what the potential can \
                      balance). Check the parameters, or try another guess."
                         .into(),
-                ))
+                ));
             }
         }
     }

@@ -177,19 +177,11 @@ impl Real for f64 {
 
     #[inline(always)]
     fn select(m: bool, a: Self, b: Self) -> Self {
-        if m {
-            a
-        } else {
-            b
-        }
+        if m { a } else { b }
     }
     #[inline(always)]
     fn step(self) -> Self {
-        if self >= 0.0 {
-            1.0
-        } else {
-            0.0
-        }
+        if self >= 0.0 { 1.0 } else { 0.0 }
     }
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {

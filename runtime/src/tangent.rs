@@ -319,11 +319,7 @@ impl<const K: usize> Real for Tangent<K> {
     }
     #[inline(always)]
     fn select(m: bool, a: Self, b: Self) -> Self {
-        if m {
-            a
-        } else {
-            b
-        }
+        if m { a } else { b }
     }
     #[inline(always)]
     fn step(self) -> Self {

@@ -58,7 +58,7 @@ pub mod series;
 pub use series::{Factor, LdlOf, SeriesFactor, SeriesReal};
 
 use crate::error::DynamicsError;
-use crate::linalg::{all_finite, solve_symmetric, Ldlt, SolveFailure};
+use crate::linalg::{Ldlt, SolveFailure, all_finite, solve_symmetric};
 
 /// The pieces of the equations of motion M q̈ = f_L + Q − ∂D/∂q̇ at one state, as a backend
 /// supplies them.
@@ -339,12 +339,13 @@ pub fn solve_constrained<const N: usize, const K: usize>(
             return Ok((a, out));
         }
     }
-    if K == 1 && N + K <= SADDLE_MAX {
-        if let Some((a, l)) = crate::linalg::saddle_solve_one(&pieces.mass, &f, &g[0], -c[0]) {
-            let mut lambda = [0.0; K];
-            lambda[0] = l;
-            return Ok((a, lambda));
-        }
+    if K == 1
+        && N + K <= SADDLE_MAX
+        && let Some((a, l)) = crate::linalg::saddle_solve_one(&pieces.mass, &f, &g[0], -c[0])
+    {
+        let mut lambda = [0.0; K];
+        lambda[0] = l;
+        return Ok((a, lambda));
     }
     let mut mscale = 0.0_f64;
     for i in 0..N {
@@ -446,7 +447,7 @@ pub fn solve_constrained<const N: usize, const K: usize>(
                 q,
                 qdot,
                 t,
-            ))
+            ));
         }
     };
     let mut a = z;
@@ -591,7 +592,7 @@ fn singular_constrained<const N: usize>(
 
 #[cfg(test)]
 mod tests {
-    use super::{solve_constrained, ConstraintRows, Pieces};
+    use super::{ConstraintRows, Pieces, solve_constrained};
 
     /// A constraint of gradient 1e-200 (its squared norm underflows to 0) is a constraint, not a
     /// zero gradient (issue 33): the mass on the line x = y pushed by (2, 0) accelerates at

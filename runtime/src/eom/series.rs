@@ -6,7 +6,7 @@
 //! are in [`taylor`](crate::taylor).
 
 use crate::error::DynamicsError;
-use crate::linalg::{ldlt_solve, ACCURATE_RELATIVE_PIVOT};
+use crate::linalg::{ACCURATE_RELATIVE_PIVOT, ldlt_solve};
 use crate::real::Real;
 
 use super::solve_mass_matrix;

@@ -18,7 +18,7 @@ use crate::linalg::lu_solve_dyn;
 use crate::scalar::Scalar;
 
 use super::events::Event;
-use super::manifold::{least_norm_dyn, Manifold, Rows};
+use super::manifold::{Manifold, Rows, least_norm_dyn};
 use super::newton::inf_norm;
 use super::simulation::{Simulation, Sys};
 use super::state::{Fault, Y};

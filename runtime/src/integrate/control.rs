@@ -5,7 +5,7 @@ use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 
 use super::state::Stats;
-use super::state::{combine, rhs, Fault, Y};
+use super::state::{Fault, Y, combine, rhs};
 
 /// The absolute tolerance the error weights use: `atol`, or for `atol = 0` (pure relative
 /// control) the smallest normal number, so that a component that is exactly zero with an exactly
@@ -13,11 +13,7 @@ use super::state::{combine, rhs, Fault, Y};
 /// 0/0 = NaN, while a zero component with a non-zero error still counts as an infinite relative
 /// error. Applied once when a run starts: the step itself is unchanged.
 pub(crate) fn effective_atol(atol: f64) -> f64 {
-    if atol == 0.0 {
-        f64::MIN_POSITIVE
-    } else {
-        atol
-    }
+    if atol == 0.0 { f64::MIN_POSITIVE } else { atol }
 }
 
 /// The error weights sk = atol + rtol · max(|y|, |y_new|), per component.
@@ -194,11 +190,7 @@ impl Controller {
         let g = self.fac_min.max(self.fac_max.min(g));
         self.ln_facold = ln_err.max(LN_FACOLD_MIN);
         let h_new = h * g;
-        if rejected_last {
-            h_new.min(h)
-        } else {
-            h_new
-        }
+        if rejected_last { h_new.min(h) } else { h_new }
     }
 
     /// The retry step after a rejected step with error norm err = exp(`ln_err`) > 1.

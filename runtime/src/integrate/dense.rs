@@ -149,15 +149,15 @@ impl<const N: usize> Dense<N> {
         if t == end {
             return Ok(self.end.1);
         }
-        if t > end {
-            if let Some(reached) = self.reached.filter(|&r| t <= r) {
-                return Err(DenseOutputError::Truncated {
-                    t,
-                    kept_until: end,
-                    reached,
-                    budget_bytes: self.budget,
-                });
-            }
+        if t > end
+            && let Some(reached) = self.reached.filter(|&r| t <= r)
+        {
+            return Err(DenseOutputError::Truncated {
+                t,
+                kept_until: end,
+                reached,
+                budget_bytes: self.budget,
+            });
         }
         if !(start..=end).contains(&t) {
             return Err(DenseOutputError::OutOfRange { t, start, end });

@@ -6,10 +6,10 @@ use crate::lagrangian::Lagrangian;
 
 use crate::real::Real;
 
-use super::control::{effective_atol, initial_step, Controller, StepControl};
+use super::control::{Controller, StepControl, effective_atol, initial_step};
 use super::dop853_coefficients::{A, C, D, E3, E5};
 use super::state::Stats;
-use super::state::{combine, finite, rhs, stages, weighted, Fault, YOf, Y};
+use super::state::{Fault, Y, YOf, combine, finite, rhs, stages, weighted};
 use super::stepper::Stepper;
 
 /// One DOP853 step of size h from (t, y) with k₀ = f(t, y) already in `k[0]`: the stages 1..=11

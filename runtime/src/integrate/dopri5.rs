@@ -3,9 +3,9 @@
 
 use crate::lagrangian::Lagrangian;
 
-use super::control::{effective_atol, initial_step, scales, sum_sq, Controller, StepControl};
+use super::control::{Controller, StepControl, effective_atol, initial_step, scales, sum_sq};
 use super::state::Stats;
-use super::state::{combine, finite, rhs, stages, weighted, Fault, Y};
+use super::state::{Fault, Y, combine, finite, rhs, stages, weighted};
 use super::stepper::Stepper;
 
 pub(crate) const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];

@@ -8,7 +8,7 @@ use super::dense::{Dense, Kind};
 use super::dop853::Dop853;
 use super::dopri5::Dopri5;
 use super::error::{PartialTrajectory, SimulationError};
-use super::events::{brent, zeno, Direction, Event, EventHit, Jump, Zeno, ZENO_INTERVALS};
+use super::events::{Direction, Event, EventHit, Jump, ZENO_INTERVALS, Zeno, brent, zeno};
 use super::manifold::Manifold;
 use super::method::Method;
 use super::radau5::Radau5;
@@ -618,13 +618,13 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             ..
         } = p;
         let (t_a, t_b) = (s.t_prev(), s.t());
-        if self.project_steps {
-            if let Some(m) = self.manifold {
-                let mut y = s.last_state();
-                let moved = m.project(t_b, &mut y)?;
-                self.traj.note_projection(moved);
-                s.set_node(y, &mut self.stats)?;
-            }
+        if self.project_steps
+            && let Some(m) = self.manifold
+        {
+            let mut y = s.last_state();
+            let moved = m.project(t_b, &mut y)?;
+            self.traj.note_projection(moved);
+            s.set_node(y, &mut self.stats)?;
         }
         // The step's interpolant, on the settled node.
         if let Some(d) = self.traj.dense_mut() {

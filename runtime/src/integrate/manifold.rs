@@ -6,7 +6,7 @@
 //! driver serves constrained and unconstrained runs.
 
 use crate::constraints::{Constrained, Holonomic};
-use crate::linalg::{lu_solve_dyn, solve_symmetric, SolveFailure};
+use crate::linalg::{SolveFailure, lu_solve_dyn, solve_symmetric};
 
 use super::newton::inf_norm;
 use super::state::{Fault, Y};

@@ -75,7 +75,7 @@ pub use sensitivity::{EventSensitivity, Sensitivities, Sensitivity};
 pub use simulation::Simulation;
 pub use state::Stats;
 pub use stiffness::Stiffness;
-pub use trajectory::{ConstraintResidual, Drift, Invariants, Sample, Trajectory, INVARIANT_FLOOR};
+pub use trajectory::{ConstraintResidual, Drift, INVARIANT_FLOOR, Invariants, Sample, Trajectory};
 
 #[cfg(test)]
 mod tests;

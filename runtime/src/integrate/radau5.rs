@@ -26,7 +26,7 @@ use crate::linearize::jet_linearize;
 
 use super::control::{effective_atol, initial_step, too_small};
 use super::state::Stats;
-use super::state::{finite, rhs, Fault, Y};
+use super::state::{Fault, Y, finite, rhs};
 use super::stepper::Stepper;
 
 /// √6.

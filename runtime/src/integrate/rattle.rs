@@ -21,15 +21,15 @@
 //! when the constrained system is, also where M alone is singular. A coordinate that neither L,
 //! a force nor a constraint depends on keeps its momentum bit for bit.
 
-use crate::lagrangian::{hessian_jet, Lagrangian};
+use crate::lagrangian::{Lagrangian, hessian_jet};
 use crate::linalg::lu_solve_dyn;
 
 use super::manifold::Manifold;
-use super::newton::{inf_norm, MAX_NEWTON};
+use super::newton::{MAX_NEWTON, inf_norm};
 use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
-use super::variational::{between_nodes, Midpoint, SINGULAR_STEP};
+use super::variational::{Midpoint, SINGULAR_STEP, between_nodes};
 
 /// The RATTLE stepper; its state is (t_k, q_k, p_k, q̇_k), every node on the constraints.
 pub(crate) struct Rattle<'a, L, const N: usize> {

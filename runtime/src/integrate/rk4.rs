@@ -4,7 +4,7 @@
 use crate::lagrangian::Lagrangian;
 
 use super::state::Stats;
-use super::state::{combine, finite, rhs, Fault, Y};
+use super::state::{Fault, Y, combine, finite, rhs};
 use super::stepper::{FixedGrid, Stepper};
 
 /// One classical RK4 step of size h from (t, y) with k₁ = f(t, y).

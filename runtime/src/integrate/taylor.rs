@@ -19,10 +19,10 @@
 
 use crate::lagrangian::Lagrangian;
 use crate::lanes::Lanes;
-use crate::taylor::{TaylorBuf, MAX_ORDER};
+use crate::taylor::{MAX_ORDER, TaylorBuf};
 
 use super::state::Stats;
-use super::state::{Fault, YOf, Y};
+use super::state::{Fault, Y, YOf};
 use super::stepper::Stepper;
 
 /// The order of the Taylor method for a tolerance.

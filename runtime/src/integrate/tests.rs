@@ -543,11 +543,13 @@ fn stiffness_is_diagnosed_where_it_stops_a_run() {
         "{m}"
     );
     // …and a step below the limit runs.
-    assert!(Simulation::new(&StiffPair, [1.0, 1.0], [0.0, 1e-3])
-        .method(Method::Rk4 { dt: 1.5e-4 })
-        .until(0.1)
-        .run()
-        .is_ok());
+    assert!(
+        Simulation::new(&StiffPair, [1.0, 1.0], [0.0, 1e-3])
+            .method(Method::Rk4 { dt: 1.5e-4 })
+            .until(0.1)
+            .run()
+            .is_ok()
+    );
 }
 
 /// The stiff pair's slow mode (K v = ω² v, K = [[1 + k₂, −k₂], [−k₂, k₂]]): ω² and the shape

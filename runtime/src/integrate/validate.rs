@@ -66,16 +66,16 @@ impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
                  terminal event and start a new one from the state you want"
             ));
         }
-        if let (Some(m), Method::VariationalMidpoint { .. }) = (&self.manifold, self.method) {
-            if m.velocity_rows() > 0 {
-                return Err(format!(
-                    "Method::VariationalMidpoint (RATTLE) keeps holonomic constraints g(q) = 0 at \
+        if let (Some(m), Method::VariationalMidpoint { .. }) = (&self.manifold, self.method)
+            && m.velocity_rows() > 0
+        {
+            return Err(format!(
+                "Method::VariationalMidpoint (RATTLE) keeps holonomic constraints g(q) = 0 at \
                      every node, and this system has {} velocity (nonholonomic) constraint(s), \
                      which its discrete form does not take yet: use Method::Dop853 (the default; \
                      q̇ is projected onto A q̇ + b = 0 after every step)",
-                    m.velocity_rows()
-                ));
-            }
+                m.velocity_rows()
+            ));
         }
         let positive = |name: &str, x: f64| {
             if x > 0.0 && x.is_finite() {

@@ -23,11 +23,11 @@
 
 use crate::eom::solve_mass_matrix;
 use crate::jet::HessianJet;
-use crate::lagrangian::{applied_jacobian, AppliedJacobian};
-use crate::lagrangian::{hessian_jet, Lagrangian};
+use crate::lagrangian::{AppliedJacobian, applied_jacobian};
+use crate::lagrangian::{Lagrangian, hessian_jet};
 use crate::linalg::lu_solve;
 
-use super::newton::{self, inf_norm, Residual};
+use super::newton::{self, Residual, inf_norm};
 use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};

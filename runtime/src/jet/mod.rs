@@ -29,7 +29,7 @@ pub use constraint::ConstraintJet;
 pub use el::ElJet;
 pub use hessian::HessianJet;
 pub use lin::LinJet;
-pub use timed::{timed_state, Timed};
+pub use timed::{Timed, timed_state};
 
 /// The jets carry derivatives in (q, q̇), not a rate along the motion: their `velocity` is NaN
 /// (a body that reads rates is evaluated in [`Timed`] jets).

@@ -10,7 +10,7 @@
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-use lagrange_functions::{tangent, Calc, Fun};
+use lagrange_functions::{Calc, Fun, tangent};
 
 use super::JetCalculus;
 use crate::scalar::{Scalar, Velocity};

@@ -29,7 +29,7 @@ use crate::error::DynamicsError;
 use crate::jet::LinJet;
 use crate::linalg::lu_solve_dyn;
 
-use super::{eigenvalues_of, linearize_along, Linearization, LinearizationError};
+use super::{Linearization, LinearizationError, eigenvalues_of, linearize_along};
 
 /// The relative size below which a singular value counts as zero (ranks, null spaces) and
 /// below which the unnamed directions' drive of the named rows counts as none.
@@ -385,11 +385,7 @@ impl<const N: usize> ConstrainedLinearization<N> {
             if drive > worst.0 {
                 // The coordinate or speed this direction moves most.
                 let (arg, _) = dir.iter().enumerate().fold((0, 0.0_f64), |b, (i, x)| {
-                    if x.abs() > b.1 {
-                        (i, x.abs())
-                    } else {
-                        b
-                    }
+                    if x.abs() > b.1 { (i, x.abs()) } else { b }
                 });
                 worst = (drive, arg);
             }

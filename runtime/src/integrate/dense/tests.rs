@@ -4,7 +4,7 @@
 
 use crate::constraints::Holonomic;
 use crate::ensemble::{Ensemble, Member};
-use crate::integrate::tests::{slope, Osc};
+use crate::integrate::tests::{Osc, slope};
 use crate::integrate::{DenseOutputError, Event, Method, Simulation, SimulationError, Trajectory};
 use crate::lagrangian::Lagrangian;
 use crate::scalar::Scalar;

@@ -9,8 +9,8 @@
 
 mod members;
 
-pub use members::accelerations;
 pub(crate) use members::Out;
+pub use members::accelerations;
 
 use crate::integrate::method::Method;
 use crate::integrate::simulation::Simulation;
@@ -104,9 +104,9 @@ crate::integrate::method::lanes_engines!(engines);
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Scalar;
     use crate::integrate::error::SimulationError;
     use crate::integrate::trajectory::Trajectory;
-    use crate::Scalar;
 
     /// x'' = −k x − x³ (a hand-written system: its lanes are the trait's default).
     struct Duffing {

@@ -12,7 +12,8 @@ use super::super::error::SimulationError;
 use super::super::method::Method;
 use super::super::simulation::Simulation;
 use super::super::stepper::FixedGrid;
-use super::super::trajectory::{sample_bytes, SAMPLE_BUDGET_BYTES};
+use super::super::trajectory::{SAMPLE_BUDGET_BYTES, sample_bytes};
+use super::Log;
 use super::dop853::VarDop853;
 use super::dopri5::VarDopri5;
 use super::event_time::at_event;
@@ -20,7 +21,6 @@ use super::result::Sensitivities;
 use super::rk4::VarRk4;
 use super::taylor::VarTaylor;
 use super::variation::{Parameter, Variation};
-use super::Log;
 
 /// A run that also integrates the variational equations: built by
 /// [`Simulation::sensitivity`], it gives Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) and ∂(q, q̇)(t)/∂p at the
@@ -203,7 +203,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             _ => {
                 return Err(SimulationError::InvalidOptions {
                     message: unsupported_method(method),
-                })
+                });
             }
         }?;
         let log = log.into_inner();

@@ -18,13 +18,13 @@ use core::cell::RefCell;
 
 use crate::lagrangian::Lagrangian;
 
-use super::super::control::{effective_atol, initial_step, Controller, StepControl};
+use super::super::control::{Controller, StepControl, effective_atol, initial_step};
 use super::super::dop853_coefficients::{A, C, D, E3, E5};
 use super::super::state::{Fault, Stats, Y};
 use super::super::stepper::Stepper;
+use super::Log;
 use super::arith::{combine_into, inverse_weights, moving, sum_sq, weighted_into, y_of};
 use super::variation::{Jacobian, Variation};
-use super::Log;
 
 /// The DOP853 stepper of the augmented state.
 pub(crate) struct VarDop853<'s, 'a, 'l, L, const N: usize> {

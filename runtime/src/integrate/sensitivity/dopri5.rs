@@ -9,13 +9,13 @@ use core::cell::RefCell;
 
 use crate::lagrangian::Lagrangian;
 
-use super::super::control::{effective_atol, initial_step, Controller, StepControl};
+use super::super::control::{Controller, StepControl, effective_atol, initial_step};
 use super::super::dopri5::{A, C, D, E};
 use super::super::state::{Fault, Stats, Y};
 use super::super::stepper::Stepper;
+use super::Log;
 use super::arith::{combine_into, inverse_weights, moving, sum_sq, weighted_into, y_of};
 use super::variation::Variation;
-use super::Log;
 
 /// The Dormand–Prince stepper of the augmented state.
 pub(crate) struct VarDopri5<'s, 'a, 'l, L, const N: usize> {

@@ -83,8 +83,8 @@ mod variation;
 pub use builder::Sensitivity;
 pub use lyapunov::{Lyapunov, Spectrum};
 pub use periodic::{
-    multipliers, OrbitError, OrbitStability, PeriodicOrbit, Shooting, MULTIPLIER_TOL,
-    TRIVIAL_RADIUS,
+    MULTIPLIER_TOL, OrbitError, OrbitStability, PeriodicOrbit, Shooting, TRIVIAL_RADIUS,
+    multipliers,
 };
 pub use result::{EventSensitivity, Sensitivities};
 

@@ -429,7 +429,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             _ => {
                 return Err(OrbitError::InvalidOptions {
                     message: "the run recorded no state".into(),
-                })
+                });
             }
         };
         let end: Vec<f64> = qe.iter().chain(ve.iter()).copied().collect();
@@ -526,13 +526,13 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 } else {
                     period + lambda * step[n2]
                 };
-                if pt > 0.0 {
-                    if let Ok(s) = self.shoot(&xt, pt) {
-                        let c = norm(&s, &xt);
-                        if c < closure {
-                            accepted = Some((xt, pt, s, c));
-                            break;
-                        }
+                if pt > 0.0
+                    && let Ok(s) = self.shoot(&xt, pt)
+                {
+                    let c = norm(&s, &xt);
+                    if c < closure {
+                        accepted = Some((xt, pt, s, c));
+                        break;
                     }
                 }
                 lambda *= 0.5;

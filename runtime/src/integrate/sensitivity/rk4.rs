@@ -9,9 +9,9 @@ use crate::lagrangian::Lagrangian;
 
 use super::super::state::{Fault, Stats, Y};
 use super::super::stepper::{FixedGrid, Stepper};
+use super::Log;
 use super::arith::y_of;
 use super::variation::Variation;
-use super::Log;
 
 /// The RK4 stepper of the augmented state.
 pub(crate) struct VarRk4<'s, 'a, 'l, L, const N: usize> {

@@ -22,7 +22,7 @@ use super::super::state::{Fault, Stats, Y};
 use super::super::stepper::Stepper;
 use super::super::taylor::Taylor;
 use super::variation::Variation;
-use super::{Log, CHUNK};
+use super::{CHUNK, Log};
 
 /// A parameter's four neighbouring systems (p + h, p − h, p + 2h, p − 2h) with their kernels'
 /// parameters and scratch, and h.
@@ -165,7 +165,7 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
             }
             first_chunk = false;
             for (row, out) in self.series.iter_mut().zip(&self.out) {
-                for (k, &col) in chunk.iter().enumerate().filter(|(_, &c)| c < ncols) {
+                for (k, &col) in chunk.iter().enumerate().filter(|&(_, &c)| c < ncols) {
                     let col = &mut row[col * n2..(col + 1) * n2];
                     for c in 0..2 {
                         for i in 0..N {

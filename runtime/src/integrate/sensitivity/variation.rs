@@ -13,7 +13,7 @@ use nalgebra::SMatrix;
 
 use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
-use crate::linalg::{solve_symmetric, Ldlt};
+use crate::linalg::{Ldlt, solve_symmetric};
 use crate::linearize::jet_linearize;
 use crate::tangent::Tangent;
 
@@ -219,7 +219,7 @@ pub(crate) fn jacobian<L: Lagrangian<N>, const N: usize>(
                               the variational equations have no Jacobian: choose coordinates \
                               regular along the motion (Euler angles away from sin θ = 0)"
                         .into(),
-                })
+                });
             }
         }
     }
