@@ -387,6 +387,9 @@ pub use lagrange_runtime::{SMatrix, Vector3};
 // Sensitivities, periodic orbits and Lyapunov exponents (issue 38).
 pub use lagrange_runtime::sensitivity;
 pub use lagrange_runtime::{DMatrix, EventSensitivity, Sensitivities, Sensitivity};
+// First-order forward mode through the compiled kernels (`Tangent<K>`), what the sensitivities
+// differentiate the generated code with.
+pub use lagrange_runtime::tangent;
 
 // The machinery under them: reachable (tests, benches and curious readers use it), not in the
 // index.
