@@ -52,7 +52,7 @@ pub(super) fn weighted_into(e: &mut [f64], c: &[f64], k: &[Vec<f64>], moving: &[
 /// The ranges of the augmented state that move: the motion and every column but a constant one
 /// (adjacent ranges merged).
 pub(super) fn moving<L: Lagrangian<N>, const N: usize>(
-    var: &Variation<'_, '_, L, N>,
+    var: &Variation<'_, L, N>,
 ) -> Vec<(usize, usize)> {
     let n2 = 2 * N;
     let mut out: Vec<(usize, usize)> = Vec::new();

@@ -49,7 +49,7 @@ use super::variation::{Parameter, Variation};
 /// ```
 pub struct Sensitivity<'a, L, const N: usize> {
     sim: Simulation<'a, L, N>,
-    params: Vec<Parameter<'a, L>>,
+    params: Vec<Parameter<L>>,
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
@@ -112,13 +112,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         mut self,
         name: impl Into<String>,
         value: f64,
-        build: impl Fn(f64) -> L + 'a,
+        build: impl Fn(f64) -> L,
     ) -> Self {
-        self.params.push(Parameter {
-            name: name.into(),
-            value,
-            build: Box::new(build),
-        });
+        self.params.push(Parameter::new(name.into(), value, build));
         self
     }
 

@@ -27,8 +27,8 @@ use super::arith::{combine_into, inverse_weights, moving, sum_sq, weighted_into,
 use super::variation::{Jacobian, Variation};
 
 /// The DOP853 stepper of the augmented state.
-pub(crate) struct VarDop853<'s, 'a, 'l, L, const N: usize> {
-    var: Variation<'s, 'a, L, N>,
+pub(crate) struct VarDop853<'s, 'l, L, const N: usize> {
+    var: Variation<'s, L, N>,
     rtol: f64,
     atol: f64,
     t: f64,
@@ -58,12 +58,12 @@ pub(crate) struct VarDop853<'s, 'a, 'l, L, const N: usize> {
     log: Option<&'l RefCell<Log>>,
 }
 
-impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'a, 'l, L, N> {
+impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarDop853<'s, 'l, L, N> {
     /// Starts at (t0, z0) (z0 the augmented state: y0 then the columns); the first step as for
     /// the motion alone (Hairer's estimate; the controller shrinks it if the variations need).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
-        var: Variation<'s, 'a, L, N>,
+        var: Variation<'s, L, N>,
         t0: f64,
         z0: Vec<f64>,
         rtol: f64,
@@ -286,7 +286,7 @@ fn eval_dense(r: &[Vec<f64>], i: usize, s: f64) -> f64 {
     r[0][i] + s * (r[1][i] + s1 * (r[2][i] + s * (r[3][i] + s1 * conpar)))
 }
 
-impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarDop853<'_, '_, '_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarDop853<'_, '_, L, N> {
     fn t(&self) -> f64 {
         self.t
     }

@@ -18,8 +18,8 @@ use super::arith::{combine_into, inverse_weights, moving, sum_sq, weighted_into,
 use super::variation::Variation;
 
 /// The Dormand–Prince stepper of the augmented state.
-pub(crate) struct VarDopri5<'s, 'a, 'l, L, const N: usize> {
-    var: Variation<'s, 'a, L, N>,
+pub(crate) struct VarDopri5<'s, 'l, L, const N: usize> {
+    var: Variation<'s, L, N>,
     rtol: f64,
     atol: f64,
     t: f64,
@@ -40,12 +40,12 @@ pub(crate) struct VarDopri5<'s, 'a, 'l, L, const N: usize> {
     log: Option<&'l RefCell<Log>>,
 }
 
-impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDopri5<'s, 'a, 'l, L, N> {
+impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarDopri5<'s, 'l, L, N> {
     /// Starts at (t0, z0) (z0 the augmented state: y0 then the columns); the first step as for the
     /// motion alone (the controller shrinks it if the variations need).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
-        var: Variation<'s, 'a, L, N>,
+        var: Variation<'s, L, N>,
         t0: f64,
         z0: Vec<f64>,
         rtol: f64,
@@ -140,7 +140,7 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarDopri5<'s, 'a, 'l, L, N> {
     }
 }
 
-impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarDopri5<'_, '_, '_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarDopri5<'_, '_, L, N> {
     fn t(&self) -> f64 {
         self.t
     }

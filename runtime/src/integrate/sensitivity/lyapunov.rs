@@ -319,7 +319,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
         let mut stats = Stats::default();
         let t_start = t;
         let t_stop = t_start + self.duration;
-        let fail = |f: Fault, s: &VarDop853<'_, '_, '_, L, N>| -> SimulationError {
+        let fail = |f: Fault, s: &VarDop853<'_, '_, L, N>| -> SimulationError {
             let z = s.state();
             let (t, q, qdot) = (s.node_time(), z[..N].to_vec(), z[N..n2].to_vec());
             let message = format!("{f:?}");

@@ -14,8 +14,8 @@ use super::arith::y_of;
 use super::variation::Variation;
 
 /// The RK4 stepper of the augmented state.
-pub(crate) struct VarRk4<'s, 'a, 'l, L, const N: usize> {
-    var: Variation<'s, 'a, L, N>,
+pub(crate) struct VarRk4<'s, 'l, L, const N: usize> {
+    var: Variation<'s, L, N>,
     grid: FixedGrid,
     k: u64,
     t: f64,
@@ -27,10 +27,10 @@ pub(crate) struct VarRk4<'s, 'a, 'l, L, const N: usize> {
     log: Option<&'l RefCell<Log>>,
 }
 
-impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarRk4<'s, 'a, 'l, L, N> {
+impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarRk4<'s, 'l, L, N> {
     /// Starts at (t0, z0) on the given grid.
     pub(crate) fn new(
-        var: Variation<'s, 'a, L, N>,
+        var: Variation<'s, L, N>,
         grid: FixedGrid,
         z0: Vec<f64>,
         log: Option<&'l RefCell<Log>>,
@@ -74,7 +74,7 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarRk4<'s, 'a, 'l, L, N> {
     }
 }
 
-impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarRk4<'_, '_, '_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarRk4<'_, '_, L, N> {
     fn t(&self) -> f64 {
         self.t
     }

@@ -21,20 +21,20 @@ use crate::taylor::{SeriesBuf, TaylorBuf};
 use super::super::state::{Fault, Stats, Y};
 use super::super::stepper::Stepper;
 use super::super::taylor::Taylor;
-use super::variation::Variation;
+use super::variation::{Variation, central};
 use super::{CHUNK, Log};
 
-/// A parameter's four neighbouring systems (p + h, p − h, p + 2h, p − 2h) with their kernels'
-/// parameters and scratch, and h.
-struct Neighbours<L> {
-    systems: [L; 4],
+/// A parameter's four neighbouring systems' kernel parameters and series (scratch kept between
+/// steps).
+#[derive(Default)]
+struct Neighbours<const N: usize> {
     params: [Vec<f64>; 4],
-    h: f64,
+    series: [Vec<Y<N>>; 4],
 }
 
 /// The Taylor stepper of the motion and its variations.
-pub(crate) struct VarTaylor<'s, 'a, 'l, L, const N: usize> {
-    var: Variation<'s, 'a, L, N>,
+pub(crate) struct VarTaylor<'s, 'l, L, const N: usize> {
+    var: Variation<'s, L, N>,
     motion: Taylor<'s, L, N>,
     /// The columns at the current node (each 2N: δq then δq̇).
     cols: Vec<f64>,
@@ -46,17 +46,16 @@ pub(crate) struct VarTaylor<'s, 'a, 'l, L, const N: usize> {
     out: Vec<[[Tangent<CHUNK>; N]; 2]>,
     buf: SeriesBuf<Tangent<CHUNK>>,
     params: Vec<Tangent<CHUNK>>,
-    neighbours: Vec<Neighbours<L>>,
-    /// A neighbour's series (scratch) and its buffer.
-    scratch: Vec<Y<N>>,
+    neighbours: Vec<Neighbours<N>>,
+    /// The neighbours' series buffer.
     fbuf: TaylorBuf,
     log: Option<&'l RefCell<Log>>,
 }
 
-impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
+impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'l, L, N> {
     /// Starts at (t0, z0) (z0 the augmented state: y0 then the columns).
     pub(crate) fn new(
-        var: Variation<'s, 'a, L, N>,
+        var: Variation<'s, L, N>,
         t0: f64,
         z0: &[f64],
         tol: f64,
@@ -65,18 +64,7 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
     ) -> Self {
         let n2 = 2 * N;
         let y0 = super::arith::y_of::<N>(z0);
-        let neighbours = var
-            .params
-            .iter()
-            .map(|p| {
-                let h = f64::EPSILON.powf(0.2) * p.value.abs().max(1.0);
-                Neighbours {
-                    systems: [h, -h, 2.0 * h, -2.0 * h].map(|dp| (p.build)(p.value + dp)),
-                    params: Default::default(),
-                    h,
-                }
-            })
-            .collect();
+        let neighbours = var.params.iter().map(|_| Neighbours::default()).collect();
         VarTaylor {
             motion: Taylor::new(var.sys, t0, y0, tol, hmax),
             var,
@@ -87,7 +75,6 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
             buf: SeriesBuf::new(),
             params: Vec::new(),
             neighbours,
-            scratch: Vec::new(),
             fbuf: TaylorBuf::new(),
             log,
         }
@@ -181,26 +168,29 @@ impl<'s, 'a, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'a, 'l, L, N> {
         }
         // The parameters' explicit parts, order by order (order 0 is the state: none).
         let phi_cols = self.var.phi_cols;
-        for (p, nb) in self.neighbours.iter_mut().enumerate() {
-            let mut each: [Vec<Y<N>>; 4] = Default::default();
-            for ((sys, params), series) in nb.systems.iter().zip(&mut nb.params).zip(&mut each) {
-                self.scratch.clear();
-                self.scratch.resize(rows, y);
+        for (p, (nb, par)) in self.neighbours.iter_mut().zip(self.var.params).enumerate() {
+            for ((sys, params), series) in par
+                .neighbours
+                .iter()
+                .zip(&mut nb.params)
+                .zip(&mut nb.series)
+            {
+                series.clear();
+                series.resize(rows, y);
                 stats.rhs_evals += 1;
-                match L::series_in(&[sys], params, t, &mut self.scratch, &mut self.fbuf) {
+                match L::series_in(&[sys], params, t, series, &mut self.fbuf) {
                     Some(Ok(_)) => {}
                     Some(Err(e)) => return Err(Fault::Dynamics(e)),
                     None => return Err(Fault::NonFinite),
                 }
-                series.clone_from(&self.scratch);
             }
             let at = (phi_cols + p) * n2;
+            let each = &nb.series;
             for (k, row) in self.series.iter_mut().enumerate().skip(1) {
                 for c in 0..2 {
                     for i in 0..N {
-                        let v = |j: usize| each[j][k][c][i];
                         row[at + c * N + i] +=
-                            (8.0 * (v(0) - v(1)) - (v(2) - v(3))) / (12.0 * nb.h);
+                            central(par.h, core::array::from_fn(|j| each[j][k][c][i]));
                     }
                 }
             }
@@ -231,7 +221,7 @@ fn sum(series: &[Vec<f64>], tau: f64) -> Vec<f64> {
     y
 }
 
-impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarTaylor<'_, '_, '_, L, N> {
+impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarTaylor<'_, '_, L, N> {
     fn t(&self) -> f64 {
         self.motion.t()
     }

@@ -21,11 +21,34 @@ use super::super::state::{Fault, Stats};
 use super::CHUNK;
 
 /// A parameter the run differentiates the motion with respect to: its name, its value in the
-/// system of the run, and how to build the system at another value.
-pub(crate) struct Parameter<'a, L> {
+/// system of the run, and the systems at p + h, p − h, p + 2h, p − 2h (built once, at
+/// [`Parameter::new`]) for the fourth-order central difference in p ([`central`]),
+/// h = ε^(1/5) max(|p|, 1): truncation O(h⁴), round-off O(ε/h), both near 1e-13 relative for a
+/// smooth dependence.
+pub(crate) struct Parameter<L> {
     pub(crate) name: String,
     pub(crate) value: f64,
-    pub(crate) build: Box<dyn Fn(f64) -> L + 'a>,
+    pub(crate) h: f64,
+    pub(crate) neighbours: [L; 4],
+}
+
+impl<L> Parameter<L> {
+    /// The parameter `name` at `value`, its neighbouring systems from `build`.
+    pub(crate) fn new(name: String, value: f64, build: impl Fn(f64) -> L) -> Self {
+        let h = f64::EPSILON.powf(0.2) * value.abs().max(1.0);
+        Parameter {
+            name,
+            value,
+            h,
+            neighbours: [h, -h, 2.0 * h, -2.0 * h].map(|dp| build(value + dp)),
+        }
+    }
+}
+
+/// The fourth-order central difference from the values at p + h, p − h, p + 2h, p − 2h.
+#[inline]
+pub(crate) fn central(h: f64, [p1, m1, p2, m2]: [f64; 4]) -> f64 {
+    (8.0 * (p1 - m1) - (p2 - m2)) / (12.0 * h)
 }
 
 /// The Jacobian blocks of q̈ at a state: ∂q̈/∂q = −M⁻¹K and ∂q̈/∂q̇ = −M⁻¹C.
@@ -56,9 +79,9 @@ impl<const N: usize> Jacobian<N> {
 
 /// The augmented right-hand side: y, then `2N + P` columns of 2N entries (the columns of Φ,
 /// then one per parameter), stored one after the other.
-pub(crate) struct Variation<'s, 'a, L, const N: usize> {
+pub(crate) struct Variation<'s, L, const N: usize> {
     pub(crate) sys: &'s L,
-    pub(crate) params: &'s [Parameter<'a, L>],
+    pub(crate) params: &'s [Parameter<L>],
     /// How many columns of Φ (2N for the state transition matrix; any number k of directions
     /// for a Lyapunov run that follows k of them).
     pub(crate) phi_cols: usize,
@@ -70,7 +93,7 @@ pub(crate) struct Variation<'s, 'a, L, const N: usize> {
     pub(crate) kernel: RefCell<Vec<Tangent<CHUNK>>>,
 }
 
-impl<'s, 'a, L: Lagrangian<N>, const N: usize> Variation<'s, 'a, L, N> {
+impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
     /// The length of the augmented state.
     pub(crate) fn len(&self) -> usize {
         2 * N * (1 + self.phi_cols + self.params.len())
@@ -226,19 +249,22 @@ pub(crate) fn jacobian<L: Lagrangian<N>, const N: usize>(
     Ok(Jacobian { d_q, d_qdot })
 }
 
-/// ∂q̈/∂p by the fourth-order central difference of the accelerations of the systems built at
-/// p ± h and p ± 2h, h = ε^(1/5) max(|p|, 1) (truncation O(h⁴), round-off O(ε/h): both near
-/// 1e-13 relative for a smooth dependence).
+/// ∂q̈/∂p by the fourth-order central difference of the parameter's neighbouring systems'
+/// accelerations ([`Parameter`]).
 fn d_accel_d_param<L: Lagrangian<N>, const N: usize>(
-    par: &Parameter<'_, L>,
+    par: &Parameter<L>,
     q: &[f64; N],
     v: &[f64; N],
     t: f64,
 ) -> Result<[f64; N], DynamicsError> {
-    let h = f64::EPSILON.powf(0.2) * par.value.abs().max(1.0);
-    let at = |dp: f64| (par.build)(par.value + dp).accelerations(q, v, t);
-    let (p1, m1, p2, m2) = (at(h)?, at(-h)?, at(2.0 * h)?, at(-2.0 * h)?);
+    let [p1, m1, p2, m2] = &par.neighbours;
+    let (p1, m1, p2, m2) = (
+        p1.accelerations(q, v, t)?,
+        m1.accelerations(q, v, t)?,
+        p2.accelerations(q, v, t)?,
+        m2.accelerations(q, v, t)?,
+    );
     Ok(core::array::from_fn(|i| {
-        (8.0 * (p1[i] - m1[i]) - (p2[i] - m2[i])) / (12.0 * h)
+        central(par.h, [p1[i], m1[i], p2[i], m2[i]])
     }))
 }
