@@ -681,3 +681,39 @@ fn zip_with_an_array_field_stops_at_the_shorter_side_like_the_jets() {
         ZipShort::EQUATIONS
     );
 }
+
+/// The jets-only iterator words on values of the motion: `.filter()`, `.any()`, `.all()` and
+/// `.for_each()` take their closures as written (they were lifted into scalars, a type error in
+/// the generated code, until the front end's vocabulary named them).
+pub struct OneSided {
+    pub k: f64,
+}
+
+#[lagrangian(mode = "jets")]
+impl OneSided {
+    fn lagrangian(&self, (q, q_dot): Coords<3>) -> Scalar {
+        let mut kinetic = 0.0;
+        q_dot.iter().for_each(|v| kinetic += 0.5 * v * v);
+        // A spring that pulls only the coordinates above zero.
+        let stretched: Scalar = q.iter().filter(|x| **x > 0.0).map(|x| x * x).sum();
+        let far = q.iter().any(|x| x.abs() > 10.0) || q.iter().all(|x| *x < -10.0);
+        let k = if far { 0.0 } else { self.k };
+        kinetic - 0.5 * k * stretched
+    }
+}
+
+#[test]
+fn jets_only_iterator_words_run_as_written() {
+    let s = OneSided { k: 2.5 };
+    let a = s
+        .accelerations(&[0.3, -0.4, 0.0], &[0.1, 0.2, 0.3], 0.0)
+        .expect("jets");
+    // q̈ = −k q where q > 0, 0 elsewhere.
+    assert!((a[0] + 2.5 * 0.3).abs() < 1e-14, "{a:?}");
+    assert_eq!(a[1], 0.0);
+    assert_eq!(a[2], 0.0);
+    let far = s
+        .accelerations(&[11.0, 0.5, 0.0], &[0.0; 3], 0.0)
+        .expect("jets");
+    assert_eq!(far, [0.0; 3]);
+}

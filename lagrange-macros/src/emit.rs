@@ -8,9 +8,33 @@ use quote::{quote, quote_spanned};
 
 use crate::analyze::Analysis;
 use crate::errors::Errors;
+use crate::front::Front;
 use crate::model::{unraw, CoordKind, Decl, Func, FuncKind};
 use crate::symbolic::SymbolicOutput;
 use crate::{parse, validate};
+
+/// The flags and the front end's bodies, for the emitters.
+struct Facts<'a> {
+    analysis: &'a Analysis,
+    front: &'a Front<'a>,
+}
+
+impl std::ops::Deref for Facts<'_> {
+    type Target = Analysis;
+    fn deref(&self) -> &Analysis {
+        self.analysis
+    }
+}
+
+impl Facts<'_> {
+    /// The names the body of `f` mentions (the front end's: what its generated method binds).
+    fn func_used(&self, f: &Func) -> HashSet<String> {
+        self.front
+            .func(f.kind)
+            .map(|b| b.used.clone())
+            .unwrap_or_default()
+    }
+}
 
 /// The errors and the item as written, when it is not even an impl block.
 pub fn unparsed(errors: &Errors, input: TokenStream) -> TokenStream {
@@ -104,11 +128,13 @@ pub struct JetsBodies {
 /// too, and nothing cascades; the build fails either way: no silent fallback).
 pub fn generate(
     decl: &Decl,
+    front: &Front<'_>,
     analysis: &Analysis,
     jets: &JetsBodies,
     symbolic: Option<&SymbolicOutput>,
     errors: &Errors,
 ) -> TokenStream {
+    let analysis = &Facts { analysis, front };
     let JetsBodies {
         rest,
         body,
@@ -132,8 +158,13 @@ pub fn generate(
         .iter()
         .map(|c| (Some(&c.name), Some(&c.dot)))
         .collect();
-    let (bindings, [q_pat, qdot_pat, t_pat]) =
-        bind_slots(decl, &coords, decl.time.as_ref(), &analysis.used, &params);
+    let (bindings, [q_pat, qdot_pat, t_pat]) = bind_slots(
+        decl,
+        &coords,
+        decl.time.as_ref(),
+        &analysis.front.lagrangian.used,
+        &params,
+    );
     let stmts = &body.stmts;
     let fn_attrs = &decl.fn_attrs;
     let ret = quote_spanned!(decl.ret_span=> Scalar);
@@ -171,7 +202,7 @@ pub fn generate(
             #(#bindings)*
             #(#stmts)*
         };
-        if crate::timed::reads_rates(&decl.body, &decl.rest).is_some() {
+        if crate::front::timed::reads_rates(&decl.body, &decl.rest).is_some() {
             let hidden = crate::names::timed(fn_ident);
             timed_methods.push(quote! {
                 #[doc(hidden)]
@@ -299,7 +330,7 @@ fn timed_wrapper(
 
 /// `impl Holonomic<N, K>` from `fn constraints` (its body `body`, lowered for jets): the flags
 /// CONSTRAINED_COORDINATES and SCLERONOMIC from the analysis, and the generic `fn constraints`.
-fn holonomic_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
+fn holonomic_impl(decl: &Decl, analysis: &Facts<'_>, f: &Func, body: &syn::Block) -> TokenStream {
     let self_ty = &decl.rest.self_ty;
     let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
     let k = proc_macro2::Literal::usize_unsuffixed(f.k);
@@ -323,7 +354,7 @@ fn holonomic_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block)
 /// velocity constraints' rows (`VELOCITY_ROWS = KV`), so `Simulation::constrained` runs both.
 fn constrained_impl(
     decl: &Decl,
-    analysis: &Analysis,
+    analysis: &Facts<'_>,
     holonomic: Option<(&Func, &syn::Block)>,
     (fv, vbody): (&Func, &syn::Block),
     timed_methods: &mut Vec<TokenStream>,
@@ -437,7 +468,7 @@ fn constrained_impl(
 
 /// `impl Unilateral<N, K>` from `fn contacts` (its body `body`, lowered for jets): SCLERONOMIC
 /// from the analysis, and the generic `fn contacts`.
-fn unilateral_impl(decl: &Decl, analysis: &Analysis, f: &Func, body: &syn::Block) -> TokenStream {
+fn unilateral_impl(decl: &Decl, analysis: &Facts<'_>, f: &Func, body: &syn::Block) -> TokenStream {
     let self_ty = &decl.rest.self_ty;
     let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
     let k = proc_macro2::Literal::usize_unsuffixed(f.k);
@@ -508,7 +539,7 @@ fn bind_slots(
 /// body `body`, lowered for jets.
 fn jets_func(
     decl: &Decl,
-    analysis: &Analysis,
+    analysis: &Facts<'_>,
     f: &Func,
     body: &syn::Block,
     timed_methods: &mut Vec<TokenStream>,
@@ -526,7 +557,7 @@ fn jets_func(
         decl,
         &coords,
         f.time.as_ref(),
-        analysis.func_used(f),
+        &analysis.func_used(f),
         &params,
     );
     let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
@@ -558,7 +589,7 @@ fn jets_func(
     let stmts = &body.stmts;
     // D or Q read rates: evaluated in `Timed` numbers, like L (`fn constraints` never is: a
     // rate there is a velocity constraint, refused in `expand`).
-    if !f.kind.positions_only() && crate::timed::reads_rates(&f.body, &decl.rest).is_some() {
+    if !f.kind.positions_only() && crate::front::timed::reads_rates(&f.body, &decl.rest).is_some() {
         let hidden = crate::names::timed(&ident);
         timed_methods.push(quote! {
             #[doc(hidden)]

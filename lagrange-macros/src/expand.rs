@@ -1,11 +1,12 @@
-//! The driver: parse → validate → analyze (and lower for jets) → derive symbolically → emit,
-//! with one error sink shared by every stage.
+//! The driver: parse → validate → the front end (`front/`: the bodies resolved once) → the flags
+//! (`analyze.rs`) and the jets back end (`jets/`) → the symbolic back end → emit, with one error
+//! sink shared by every stage.
 
 use proc_macro2::TokenStream;
 
 use crate::errors::Errors;
 use crate::model::{FuncKind, Mode};
-use crate::{analyze, emit, parse, symbolic, validate};
+use crate::{analyze, emit, front, jets, parse, symbolic, validate};
 
 /// The whole macro, from the attribute's arguments and the annotated item to the output.
 pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
@@ -25,7 +26,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     };
     // A rate in `fn constraints` would be a velocity constraint (nonholonomic).
     if let Some(f) = &decl.constraints {
-        if let Some(at) = crate::timed::reads_rates(&f.body, &decl.rest) {
+        if let Some(at) = crate::front::timed::reads_rates(&f.body, &decl.rest) {
             errors.push(syn::Error::new(
                 at,
                 "a velocity in `fn constraints`: `fn constraints` declares holonomic constraints \
@@ -39,7 +40,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     }
     // A rate in `fn contacts`: gaps are functions of the positions.
     if let Some(f) = &decl.contacts {
-        if let Some(at) = crate::timed::reads_rates(&f.body, &decl.rest) {
+        if let Some(at) = crate::front::timed::reads_rates(&f.body, &decl.rest) {
             errors.push(syn::Error::new(
                 at,
                 "a velocity in `fn contacts`: a contact's gap g(q, t) ≥ 0 (and a sticking \
@@ -50,41 +51,27 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
             return emit::stub(&errors, &fallback);
         }
     }
-    let mut analysis = analyze::analyze(&decl);
-    let helpers = analyze::helpers(&decl.rest);
-    let body = analyze::lower_for_jets(&decl.body, &analysis.bound(&decl), &helpers, &mut errors);
-    let rest = analyze::lower_helpers_for_jets(&decl.rest, &helpers, &mut errors);
-    let funcs: Vec<syn::Block> = decl
-        .funcs()
-        .map(|f| {
-            let vars = analysis.bound_func(f);
-            match f.kind {
-                FuncKind::Dissipation => {
-                    analyze::lower_for_jets(&f.body, &vars, &helpers, &mut errors)
-                }
-                FuncKind::Forces
-                | FuncKind::Constraints
-                | FuncKind::Contacts
-                | FuncKind::VelocityConstraints => {
-                    analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
-                }
-            }
-        })
+    let front = front::Front::of(&decl);
+    let mut analysis = analyze::analyze(&decl, &front);
+    let callables = &front.callables;
+    let body = jets::body(&front.lagrangian, callables, &mut errors);
+    let rest = jets::lower_helpers_for_jets(&decl.rest, callables, &mut errors);
+    let mut jet_body = |kind| {
+        front
+            .func(kind)
+            .map(|b| jets::body(b, callables, &mut errors))
+    };
+    // `fn dissipation` and `fn forces`, those present, in that order.
+    let funcs: Vec<syn::Block> = [FuncKind::Dissipation, FuncKind::Forces]
+        .into_iter()
+        .filter_map(&mut jet_body)
         .collect();
-    // `fn constraints`, in both modes the body rewritten generically over the scalar type (the
-    // runtime's jets give G and the second derivatives along the motion).
-    let constraints = decl.constraints.as_ref().map(|f| {
-        let vars = analysis.bound_func(f);
-        analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
-    });
-    let velocity = decl.velocity_constraints.as_ref().map(|f| {
-        let vars = analysis.bound_func(f);
-        analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
-    });
-    let contacts = decl.contacts.as_ref().map(|f| {
-        let vars = analysis.bound_func(f);
-        analyze::lower_array_for_jets(&f.body, &vars, &helpers, &mut errors)
-    });
+    // `fn constraints`, `fn velocity_constraints` and `fn contacts`, in both modes the body
+    // rewritten generically over the scalar type (the runtime's jets give G and the second
+    // derivatives along the motion).
+    let constraints = jet_body(FuncKind::Constraints);
+    let velocity = jet_body(FuncKind::VelocityConstraints);
+    let contacts = jet_body(FuncKind::Contacts);
     // `x ^ 2`, `2 * x`: said in the user's terms, and nothing emitted that rustc would report
     // again in the runtime's.
     if !errors.is_empty() {
@@ -92,7 +79,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     }
     let symbolic = match decl.options.mode {
         Mode::Jets => None,
-        Mode::Symbolic => symbolic::expand(&decl, &mut errors),
+        Mode::Symbolic => symbolic::expand(&decl, &front, &mut errors),
     };
     // With errors from the symbolic stage the impl is still emitted (with the jets `fn
     // lagrangian` and without the symbolic methods), next to the errors: see `emit::generate`.
@@ -108,5 +95,5 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
         contacts,
         velocity,
     };
-    emit::generate(&decl, &analysis, &jets, symbolic.as_ref(), &errors)
+    emit::generate(&decl, &front, &analysis, &jets, symbolic.as_ref(), &errors)
 }

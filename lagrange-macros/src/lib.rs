@@ -1,7 +1,10 @@
 //! The `#[lagrangian]` attribute macro of [lagrange](https://docs.rs/lagrange).
 //!
-//! The pipeline is parse → validate → analyze (and lower the body for jets) → derive
-//! symbolically (`mode = "symbolic"`) → emit, one module each, run by the driver in `expand.rs`.
+//! The pipeline is parse → validate → the front end (`front/`: each body's entry names and
+//! mentions, the callables, scopes and the pattern binder, the iterator vocabulary, the bodies
+//! that read rates; resolved once) → the flags (`analyze.rs`) and the jets back end (`jets/`) →
+//! the symbolic back end (`symbolic/`, `mode = "symbolic"`) → emit, one module each, run by the
+//! driver in `expand.rs`.
 //! Every stage pushes its errors into one sink, spanned at the user's tokens, so all are
 //! reported at once. While errors exist, what is emitted is:
 //!
@@ -29,11 +32,12 @@ mod analyze;
 mod emit;
 mod errors;
 mod expand;
+mod front;
+mod jets;
 mod model;
 mod names;
 mod parse;
 mod symbolic;
-mod timed;
 mod validate;
 
 use proc_macro::TokenStream;

@@ -155,8 +155,12 @@ fn without_hidden_coordinates(dag: &mut Dag, l: Id, n: usize) -> Id {
 
 /// Lowers the body of `decl` and differentiates it; `None` (with the reasons pushed to
 /// `errors`) when the body cannot be lowered.
-pub fn derive(decl: &Decl, errors: &mut Errors) -> Option<Derivation> {
-    let lowered = lower::lower(decl, errors)?;
+pub fn derive(
+    decl: &Decl,
+    front: &crate::front::Front<'_>,
+    errors: &mut Errors,
+) -> Option<Derivation> {
+    let lowered = lower::lower(decl, front, errors)?;
     let mut dag = lowered.dag;
     let l = without_hidden_coordinates(&mut dag, lowered.lagrangian, decl.n());
     let n = decl.n();

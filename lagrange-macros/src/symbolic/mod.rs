@@ -42,7 +42,11 @@ pub use methods::{methods, SymbolicOutput};
 
 /// Lowers, differentiates and emits the symbolic implementation of `decl`; `None` (with every
 /// reason pushed to `errors`) when the body cannot be derived symbolically.
-pub fn expand(decl: &Decl, errors: &mut Errors) -> Option<SymbolicOutput> {
-    let d = derive::derive(decl, errors)?;
+pub fn expand(
+    decl: &Decl,
+    front: &crate::front::Front<'_>,
+    errors: &mut Errors,
+) -> Option<SymbolicOutput> {
+    let d = derive::derive(decl, front, errors)?;
     Some(methods::output(&d, decl))
 }

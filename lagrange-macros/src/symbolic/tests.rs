@@ -16,7 +16,8 @@ use crate::model::{CoordKind, CoordParam, Decl, Mode, Options};
 /// `super::derive` with its errors as a list.
 fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
     let mut errors = Errors::default();
-    match super::derive::derive(decl, &mut errors) {
+    let front = crate::front::Front::of(decl);
+    match super::derive::derive(decl, &front, &mut errors) {
         Some(d) if errors.is_empty() => Ok(d),
         _ => Err(errors.into_vec()),
     }
@@ -25,7 +26,8 @@ fn derive(decl: &Decl) -> Result<Derivation, Vec<syn::Error>> {
 /// `super::expand` with its errors as a list.
 fn expand(decl: &Decl) -> Result<SymbolicOutput, Vec<syn::Error>> {
     let mut errors = Errors::default();
-    match super::expand(decl, &mut errors) {
+    let front = crate::front::Front::of(decl);
+    match super::expand(decl, &front, &mut errors) {
         Some(out) if errors.is_empty() => Ok(out),
         _ => Err(errors.into_vec()),
     }

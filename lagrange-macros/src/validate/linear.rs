@@ -10,7 +10,7 @@ use quote::ToTokens;
 use syn::spanned::Spanned;
 use syn::{BinOp, Expr, Pat, Stmt, UnOp};
 
-use crate::timed::RATE_FUNCTIONS;
+use crate::front::timed::RATE_FUNCTIONS;
 
 /// How an expression depends on the velocities.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

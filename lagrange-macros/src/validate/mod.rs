@@ -329,7 +329,12 @@ fn check_fn(
             .chain(&state_names)
             .map(crate::model::unraw)
             .collect();
-        crate::analyze::lower_for_jets(&func.block, &vars, &crate::analyze::helpers(&rest), errors);
+        crate::jets::lower_for_jets(
+            &func.block,
+            &vars,
+            &crate::front::Callables::of(&rest),
+            errors,
+        );
         return None;
     }
     Some(Decl {

@@ -6,51 +6,50 @@ use super::*;
 impl Lower {
     /// Inlines a call of `f` (a closure, a nested `fn`, a helper method) with `args`.
     pub(super) fn call_fn(&mut self, f: &Callable, args: Vec<Val>, at: &dyn At) -> R<Val> {
-        if !self.spend(at, &format!("this call of {}", f.what)) {
+        let (what, params) = (&f.f.what, &f.f.params);
+        if !self.spend(at, &format!("this call of {what}")) {
             return Ok(Val::Poison);
         }
         if self.depth >= MAX_CALL_DEPTH {
             return Ok(self.err(syn::Error::new(
                 at.at(),
                 format!(
-                    "{} is called {MAX_CALL_DEPTH} calls deep: the symbolic mode inlines every \
+                    "{what} is called {MAX_CALL_DEPTH} calls deep: the symbolic mode inlines every \
                      call, so it cannot follow recursion; use `#[lagrangian(mode = \"jets\")]` on \
-                     this impl block",
-                    f.what
+                     this impl block"
                 ),
             )));
         }
-        if args.len() != f.params.len() {
+        if args.len() != params.len() {
             return Ok(self.err(syn::Error::new(
                 at.at(),
                 format!(
-                    "{} takes {} argument(s), and this call gives {}",
-                    f.what,
-                    f.params.len(),
+                    "{what} takes {} argument(s), and this call gives {}",
+                    params.len(),
                     args.len()
                 ),
             )));
         }
         // A nested `fn` sees the other `fn` items of the scope it is called from.
-        let env = if f.item {
+        let env: Scopes<Val> = if f.f.item {
             self.scopes
                 .iter()
-                .filter(|(_, v)| matches!(v, Val::F(c) if c.item))
+                .filter(|(_, v)| matches!(v, Val::F(c) if c.f.item))
                 .cloned()
                 .collect()
         } else {
             f.env.clone()
         };
-        let base = env.len();
-        let saved = std::mem::replace(&mut self.scopes, env);
+        let base = env.mark();
+        let saved = self.scopes.replace(env);
         let saved_base = std::mem::replace(&mut self.frame_base, base);
         self.depth += 1;
-        for (p, a) in f.params.iter().zip(args) {
+        for (p, a) in f.f.params.iter().zip(args) {
             self.bind(p, a);
         }
-        let result = match &f.body {
-            CallBody::Expr(e) => self.expr(e),
-            CallBody::Block(b) => self.block(b),
+        let result = match &f.f.body {
+            FnBody::Expr(e) => self.expr(e),
+            FnBody::Block(b) => self.block(b),
         };
         self.depth -= 1;
         self.scopes = saved;
@@ -171,8 +170,7 @@ impl Lower {
         // A method the symbolic mode does not know, on parameters only (`self.n.count_ones()`,
         // `self.table.len()`): evaluated once per call, as written.
         let name = m.method.to_string();
-        let adaptor = crate::analyze::ITERATOR_METHODS.contains(&name.as_str())
-            && !matches!(name.as_str(), "sum" | "product" | "fold" | "count" | "len");
+        let adaptor = Iter::of(&name).is_some_and(|w| w.is_adaptor() && !w.jets_only());
         if Fun::from_method(&name).is_none() && !KNOWN_METHODS.contains(&name.as_str()) && !adaptor
         {
             if let Some(v) = self.opaque(&Expr::MethodCall(m.clone())) {

@@ -73,11 +73,8 @@ impl Lower {
             Expr::Range(r) => self.range(r)?,
             Expr::ForLoop(f) => self.for_loop(f)?,
             Expr::Closure(c) => Val::F(std::rc::Rc::new(Callable {
-                what: "this closure".to_owned(),
-                params: c.inputs.iter().cloned().collect(),
-                body: CallBody::Expr((*c.body).clone()),
+                f: std::rc::Rc::new(crate::front::callables::closure(c)),
                 env: self.scopes.clone(),
-                item: false,
             })),
             Expr::Binary(b) => self.binary(b)?,
             Expr::Assign(a) => {
@@ -124,19 +121,19 @@ impl Lower {
         let cond = self.condition(&i.cond);
         let before = self.scopes.clone();
         let a = self.block(&i.then_branch)?;
-        let after_a = std::mem::replace(&mut self.scopes, before.clone());
+        let after_a = self.scopes.replace(before.clone());
         let b = match &i.else_branch {
             Some((_, e)) => self.expr(e)?,
             None => Val::Tuple(Vec::new()),
         };
-        let after_b = std::mem::replace(&mut self.scopes, before);
+        let after_b = self.scopes.replace(before);
         let Some(c) = cond else {
             return Ok(Val::Poison);
         };
         let span = i.if_token.span;
         for (k, ((_, va), (_, vb))) in after_a.into_iter().zip(after_b).enumerate() {
             let v = self.merge(c, va, vb, span);
-            self.scopes[k].1 = v;
+            self.scopes.set(k, v);
         }
         Ok(self.merge(c, a, b, span))
     }

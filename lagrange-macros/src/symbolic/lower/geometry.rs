@@ -46,7 +46,7 @@ impl Lower {
             [ty, f] if ty == "Vector3" && matches!(f.as_str(), "x" | "y" | "z") => {
                 format!("Vector3::{f}")
             }
-            [f] if crate::timed::RATE_FUNCTIONS.contains(&f.as_str()) => f.clone(),
+            [f] if crate::front::timed::RATE_FUNCTIONS.contains(&f.as_str()) => f.clone(),
             _ => return Ok(None),
         };
         let arity = match name.as_str() {

@@ -41,7 +41,7 @@ impl Lower {
             if !self.spend(&head, "this loop") {
                 return Ok(Val::Poison);
             }
-            let depth = self.scopes.len();
+            let depth = self.scopes.mark();
             let span = f.for_token.span;
             let before = self
                 .guard_cond(&guard, span)
@@ -51,10 +51,10 @@ impl Lower {
             self.scopes.truncate(depth);
             // An element of a zip that may not exist: what the body assigned, under its guard.
             if let Some((c, before)) = before {
-                let after = std::mem::replace(&mut self.scopes, before.clone());
+                let after = self.scopes.replace(before.clone());
                 for (k, ((_, va), (_, vb))) in after.into_iter().zip(before).enumerate() {
                     let v = self.merge(c, va, vb, span);
-                    self.scopes[k].1 = v;
+                    self.scopes.set(k, v);
                 }
             }
         }
@@ -73,12 +73,15 @@ impl Lower {
         whole: &dyn At,
     ) -> R<Option<Val>> {
         let nargs = args.len();
+        let Some(word) = Iter::of(name) else {
+            return Ok(None);
+        };
         let items = match recv {
             Val::A(items) => items.clone(),
             Val::Seq(b) => {
-                return Ok(match (name, nargs) {
-                    ("iter" | "into_iter" | "copied" | "cloned", 0) => Some(Val::Seq(b.clone())),
-                    ("zip", 1) => {
+                return Ok(match (word, nargs) {
+                    (Iter::Elements, 0) => Some(Val::Seq(b.clone())),
+                    (Iter::Zip, 1) => {
                         let other = self.seq_or_expr(args[0])?;
                         match other {
                             Val::A(ys) => {
@@ -96,8 +99,15 @@ impl Lower {
                         }
                     }
                     (
-                        "enumerate" | "map" | "sum" | "product" | "fold" | "rev" | "len" | "skip"
-                        | "take",
+                        Iter::Enumerate
+                        | Iter::Map
+                        | Iter::Sum
+                        | Iter::Product
+                        | Iter::Fold
+                        | Iter::Rev
+                        | Iter::Len
+                        | Iter::Skip
+                        | Iter::Take,
                         _,
                     ) => Some(self.unknown_length(b, whole)),
                     _ => None,
@@ -106,26 +116,26 @@ impl Lower {
             Val::Z(z) => return self.zipped_method((**z).clone(), recv_e, name, args, whole),
             _ => return Ok(None),
         };
-        Ok(Some(match (name, nargs) {
-            ("iter" | "into_iter" | "copied" | "cloned" | "by_ref", 0) => Val::A(items),
-            ("len" | "count", 0) => Val::I(items.len() as i64),
-            ("enumerate", 0) => Val::A(
+        Ok(Some(match (word, nargs) {
+            (Iter::Elements, 0) => Val::A(items),
+            (Iter::Len | Iter::Count, 0) => Val::I(items.len() as i64),
+            (Iter::Enumerate, 0) => Val::A(
                 items
                     .into_iter()
                     .enumerate()
                     .map(|(k, x)| Val::Tuple(vec![Val::I(k as i64), x]))
                     .collect(),
             ),
-            ("rev", 0) => Val::A(items.into_iter().rev().collect()),
-            ("skip" | "take" | "step_by", 1) => match self.int_arg(name, args[0])? {
-                Ok(k) => Val::A(match name {
-                    "skip" => items.into_iter().skip(k).collect(),
-                    "take" => items.into_iter().take(k).collect(),
+            (Iter::Rev, 0) => Val::A(items.into_iter().rev().collect()),
+            (Iter::Skip | Iter::Take | Iter::StepBy, 1) => match self.int_arg(name, args[0])? {
+                Ok(k) => Val::A(match word {
+                    Iter::Skip => items.into_iter().skip(k).collect(),
+                    Iter::Take => items.into_iter().take(k).collect(),
                     _ => items.into_iter().step_by(k).collect(),
                 }),
                 Err(v) => v,
             },
-            ("zip", 1) => match self.seq_or_expr(args[0])? {
+            (Iter::Zip, 1) => match self.seq_or_expr(args[0])? {
                 Val::A(ys) => Val::A(
                     items
                         .into_iter()
@@ -152,7 +162,7 @@ impl Lower {
                     ))
                 }
             },
-            ("map", 1) => {
+            (Iter::Map, 1) => {
                 let f = self.expr(args[0])?;
                 let Val::F(f) = f else {
                     return Ok(Some(self.unsupported(
@@ -166,7 +176,7 @@ impl Lower {
                 }
                 Val::A(out)
             }
-            ("fold", 2) => {
+            (Iter::Fold, 2) => {
                 let mut acc = self.expr(args[0])?;
                 let Val::F(f) = self.expr(args[1])? else {
                     return Ok(Some(self.unsupported(
@@ -179,8 +189,8 @@ impl Lower {
                 }
                 acc
             }
-            ("sum" | "product", 0) => {
-                let op = if name == "sum" { '+' } else { '*' };
+            (Iter::Sum | Iter::Product, 0) => {
+                let op = if word == Iter::Sum { '+' } else { '*' };
                 let mut it = items.into_iter();
                 match it.next() {
                     None => Val::S(if op == '+' { Dag::ZERO } else { Dag::ONE }),
@@ -272,13 +282,18 @@ impl Lower {
         let span = whole.at();
         let z =
             |items: Vec<(Val, Guard)>, forward: bool| Val::Z(Box::new(Zipped { items, forward }));
-        Ok(Some(match (name, args.len()) {
-            ("iter" | "into_iter" | "copied" | "cloned" | "by_ref", 0) => z(items, forward),
-            ("rev", 0) => z(items.into_iter().rev().collect(), !forward),
-            ("enumerate" | "skip" | "take" | "step_by" | "zip", _) if !forward => {
+        let Some(word) = Iter::of(name) else {
+            return Ok(None);
+        };
+        Ok(Some(match (word, args.len()) {
+            (Iter::Elements, 0) => z(items, forward),
+            (Iter::Rev, 0) => z(items.into_iter().rev().collect(), !forward),
+            (Iter::Enumerate | Iter::Skip | Iter::Take | Iter::StepBy | Iter::Zip, _)
+                if !forward =>
+            {
                 self.after_rev(name, whole)
             }
-            ("enumerate", 0) => z(
+            (Iter::Enumerate, 0) => z(
                 items
                     .into_iter()
                     .enumerate()
@@ -286,18 +301,18 @@ impl Lower {
                     .collect(),
                 true,
             ),
-            ("skip" | "take" | "step_by", 1) => match self.int_arg(name, args[0])? {
+            (Iter::Skip | Iter::Take | Iter::StepBy, 1) => match self.int_arg(name, args[0])? {
                 Ok(k) => z(
-                    match name {
-                        "skip" => items.into_iter().skip(k).collect(),
-                        "take" => items.into_iter().take(k).collect(),
+                    match word {
+                        Iter::Skip => items.into_iter().skip(k).collect(),
+                        Iter::Take => items.into_iter().take(k).collect(),
                         _ => items.into_iter().step_by(k).collect(),
                     },
                     true,
                 ),
                 Err(v) => v,
             },
-            ("zip", 1) => match self.seq_or_expr(args[0])? {
+            (Iter::Zip, 1) => match self.seq_or_expr(args[0])? {
                 Val::A(ys) => {
                     zip_guarded(items, ys.into_iter().map(|y| (y, Guard::new())).collect())
                 }
@@ -316,7 +331,7 @@ impl Lower {
                     ))
                 }
             },
-            ("map", 1) => {
+            (Iter::Map, 1) => {
                 let Val::F(f) = self.expr(args[0])? else {
                     return Ok(Some(self.unsupported(
                         args[0].span(),
@@ -329,7 +344,7 @@ impl Lower {
                 }
                 z(out, forward)
             }
-            ("fold", 2) => {
+            (Iter::Fold, 2) => {
                 let mut acc = self.expr(args[0])?;
                 let Val::F(f) = self.expr(args[1])? else {
                     return Ok(Some(self.unsupported(
@@ -343,8 +358,8 @@ impl Lower {
                 }
                 acc
             }
-            ("sum" | "product", 0) => {
-                let op = if name == "sum" { '+' } else { '*' };
+            (Iter::Sum | Iter::Product, 0) => {
+                let op = if word == Iter::Sum { '+' } else { '*' };
                 let mut acc: Option<Val> = None;
                 for (x, g) in items {
                     if !self.spend(whole, &format!("this `.{name}()`")) {
@@ -366,7 +381,7 @@ impl Lower {
                 }
                 acc.unwrap_or(Val::S(if op == '+' { Dag::ZERO } else { Dag::ONE }))
             }
-            ("len" | "count", 0) => self.unsupported(
+            (Iter::Len | Iter::Count, 0) => self.unsupported(
                 span,
                 &format!(
                     "`.{name}()` of a zip with an array field whose length the macro does not \

@@ -25,7 +25,11 @@ use syn::{BinOp, Expr, Lit, Member, Pat, Stmt, UnOp};
 
 use super::dag::{Dag, Fun, Id, Node};
 use crate::errors::Errors;
-use crate::model::{unraw, CoordKind, Decl, Func};
+use crate::front::callables::{FnBody, Function};
+use crate::front::scope::{Bindable, Scopes};
+use crate::front::vocab::Iter;
+use crate::front::{Body, Front, Seed};
+use crate::model::{unraw, CoordKind, Decl};
 
 /// A `self.<field>` used in the body.
 #[derive(Clone, Debug)]
@@ -107,26 +111,39 @@ struct Zipped {
 /// The array fields an element of a [`Zipped`] reads and at which position.
 type Guard = Vec<(Expr, usize)>;
 
-/// A function the lowering inlines: its parameter patterns, its body and the bindings it sees.
+/// A function the lowering inlines (the front end's description of it) and the bindings its
+/// body sees (a closure's captured scope; none for a helper or a nested `fn`).
 struct Callable {
-    /// What it is, for messages (`this closure`, `the helper method `kinetic``).
-    what: String,
-    params: Vec<Pat>,
-    body: CallBody,
-    /// The bindings visible in the body (a closure's captured scope; none for an item).
-    env: Vec<(String, Val)>,
-    /// A `fn` item: sees the other `fn` items of the scope it is called from, not the locals.
-    item: bool,
+    f: std::rc::Rc<Function>,
+    env: Scopes<Val>,
 }
 
-enum CallBody {
-    Expr(Expr),
-    Block(syn::Block),
+impl Callable {
+    /// A function that captures nothing.
+    fn item(f: std::rc::Rc<Function>) -> Callable {
+        Callable {
+            f,
+            env: Scopes::default(),
+        }
+    }
 }
 
 impl std::fmt::Debug for Callable {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.what)
+        f.write_str(&self.f.what)
+    }
+}
+
+impl Bindable for Val {
+    fn parts(self, n: usize) -> Result<Vec<Val>, Val> {
+        match self {
+            Val::Tuple(items) if items.len() == n => Ok(items),
+            Val::Poison => Ok(vec![Val::Poison; n]),
+            _ => Err(Val::Poison),
+        }
+    }
+    fn refuse(pat: &Pat) -> Option<syn::Error> {
+        Some(unsupported(pat.span(), "this pattern"))
     }
 }
 
@@ -201,24 +218,29 @@ struct Bodies {
 /// Lowers the bodies of `decl` (`fn lagrangian`, and `fn dissipation` and `fn forces` if given)
 /// into one DAG; `None` (with every reason pushed to `sink`) when a body uses what the symbolic
 /// mode cannot lower.
-pub fn lower(decl: &Decl, sink: &mut Errors) -> Option<Lowered> {
+pub fn lower(decl: &Decl, front: &Front<'_>, sink: &mut Errors) -> Option<Lowered> {
     let mut fields: Vec<Field> = Vec::new();
     // Each retry turns one more field into a vector, so this terminates.
     loop {
         let mut lw = Lower {
             dag: Dag::new(decl.n()),
-            scopes: Vec::new(),
+            scopes: Scopes::default(),
             errors: Vec::new(),
             fields: std::mem::take(&mut fields),
             conds: Vec::new(),
-            helpers: helpers(&decl.rest),
-            int_consts: int_consts(&decl.rest),
+            helpers: front
+                .callables
+                .helpers
+                .iter()
+                .map(|(name, f)| (name.clone(), std::rc::Rc::new(Callable::item(f.clone()))))
+                .collect(),
+            int_consts: front.callables.int_consts.clone(),
             depth: 0,
             frame_base: 0,
             work: 0,
             over_budget: false,
         };
-        match lw.bodies(decl) {
+        match lw.bodies(decl, front) {
             Err(Retype(f)) => {
                 fields = lw.fields;
                 fields[f].vector = true;
@@ -277,7 +299,7 @@ fn body_tail_span(b: &syn::Block) -> Span {
 
 struct Lower {
     dag: Dag,
-    scopes: Vec<(String, Val)>,
+    scopes: Scopes<Val>,
     errors: Vec<syn::Error>,
     fields: Vec<Field>,
     conds: Vec<Cond>,
@@ -296,49 +318,6 @@ struct Lower {
     /// The current body went past [`MAX_WORK`] (reported once): what is left of it is not
     /// expanded.
     over_budget: bool,
-}
-
-/// The patterns of a function's parameters after `self`.
-fn param_pats(sig: &syn::Signature) -> Vec<Pat> {
-    sig.inputs
-        .iter()
-        .filter_map(|a| match a {
-            syn::FnArg::Typed(pt) => Some((*pt.pat).clone()),
-            syn::FnArg::Receiver(_) => None,
-        })
-        .collect()
-}
-
-fn helpers(rest: &syn::ItemImpl) -> std::collections::HashMap<String, std::rc::Rc<Callable>> {
-    rest.items
-        .iter()
-        .filter_map(|item| match item {
-            syn::ImplItem::Fn(f) if crate::model::is_helper(f) => {
-                let params = param_pats(&f.sig);
-                Some((
-                    unraw(&f.sig.ident),
-                    std::rc::Rc::new(Callable {
-                        what: format!("the helper method `{}`", f.sig.ident),
-                        params,
-                        body: CallBody::Block(f.block.clone()),
-                        env: Vec::new(),
-                        item: false,
-                    }),
-                ))
-            }
-            _ => None,
-        })
-        .collect()
-}
-
-fn int_consts(rest: &syn::ItemImpl) -> std::collections::HashMap<String, i64> {
-    rest.items
-        .iter()
-        .filter_map(|item| match item {
-            syn::ImplItem::Const(c) => int_literal(&c.expr).map(|k| (unraw(&c.ident), k)),
-            _ => None,
-        })
-        .collect()
 }
 
 /// The identifiers of a path's segments (`f64::consts::PI` → ["f64", "consts", "PI"]).
@@ -495,18 +474,14 @@ impl Lower {
     }
 
     fn lookup(&self, name: &str) -> Option<Val> {
-        self.scopes
-            .iter()
-            .rev()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.clone())
+        self.scopes.lookup(name)
     }
 
     fn assign(&mut self, name: &str, val: Val) -> bool {
-        match self.scopes.iter().rposition(|(n, _)| n == name) {
+        match self.scopes.position(name) {
             Some(k) if self.depth > 0 && k < self.frame_base => false,
             Some(k) => {
-                self.scopes[k].1 = val;
+                self.scopes.set(k, val);
                 true
             }
             None => false,
@@ -627,69 +602,63 @@ impl Lower {
         best.map(|(_, f)| f)
     }
 
-    /// Binds a function's coordinate (and time) names to the DAG's leaves, as the only scope.
-    fn seed(
-        &mut self,
-        decl: &Decl,
-        bindings: &[(Option<&proc_macro2::Ident>, Option<&proc_macro2::Ident>)],
-        time: Option<&proc_macro2::Ident>,
-    ) {
-        self.scopes.clear();
-        for (c, (name, dot)) in decl.coords.iter().zip(bindings) {
-            let i = c.first_index;
-            let (q, v) = match c.kind {
-                CoordKind::Scalar => (Val::S(self.dag.q(i)), Val::S(self.dag.v(i))),
-                CoordKind::Vector3 => (
-                    Val::V([self.dag.q(i), self.dag.q(i + 1), self.dag.q(i + 2)]),
-                    Val::V([self.dag.v(i), self.dag.v(i + 1), self.dag.v(i + 2)]),
-                ),
-                CoordKind::Array(k) => (
-                    Val::A((i..i + k).map(|j| Val::S(self.dag.q(j))).collect()),
-                    Val::A((i..i + k).map(|j| Val::S(self.dag.v(j))).collect()),
-                ),
+    /// Binds a body's entry names (the front end's seeds) to the DAG's leaves, as the only
+    /// scope.
+    fn seed(&mut self, decl: &Decl, body: &Body<'_>) {
+        self.scopes = Scopes::default();
+        // Every coordinate's leaves, in declaration order (so the graph's nodes are numbered
+        // the same whichever names a body binds).
+        let leaves: Vec<(Val, Val)> = decl
+            .coords
+            .iter()
+            .map(|c| {
+                let i = c.first_index;
+                match c.kind {
+                    CoordKind::Scalar => (Val::S(self.dag.q(i)), Val::S(self.dag.v(i))),
+                    CoordKind::Vector3 => (
+                        Val::V([self.dag.q(i), self.dag.q(i + 1), self.dag.q(i + 2)]),
+                        Val::V([self.dag.v(i), self.dag.v(i + 1), self.dag.v(i + 2)]),
+                    ),
+                    CoordKind::Array(k) => (
+                        Val::A((i..i + k).map(|j| Val::S(self.dag.q(j))).collect()),
+                        Val::A((i..i + k).map(|j| Val::S(self.dag.v(j))).collect()),
+                    ),
+                }
+            })
+            .collect();
+        let time = body
+            .seeds
+            .iter()
+            .any(|(_, s)| *s == Seed::Time)
+            .then(|| self.dag.t());
+        for (name, seed) in &body.seeds {
+            let v = match (*seed, time) {
+                (Seed::Coord(p), _) => leaves[p].0.clone(),
+                (Seed::Velocity(p), _) => leaves[p].1.clone(),
+                (Seed::Time, Some(t)) => Val::S(t),
+                (Seed::Time, None) => Val::Poison,
             };
-            if let Some(name) = name {
-                self.scopes.push((unraw(name), q));
-            }
-            if let Some(dot) = dot {
-                self.scopes.push((unraw(dot), v));
-            }
-        }
-        if let Some(t) = time {
-            let t_id = self.dag.t();
-            self.scopes.push((unraw(t), Val::S(t_id)));
+            self.scopes.push(name.clone(), v);
         }
     }
 
-    /// Lowers L, then D and Q (if given) into the same DAG.
-    fn bodies(&mut self, decl: &Decl) -> R<Bodies> {
-        let own: Vec<_> = decl
-            .coords
-            .iter()
-            .map(|c| (Some(&c.name), Some(&c.dot)))
-            .collect();
-        self.seed(decl, &own, decl.time.as_ref());
+    fn bodies(&mut self, decl: &Decl, front: &Front<'_>) -> R<Bodies> {
+        self.seed(decl, &front.lagrangian);
         self.new_body();
         let lagrangian = self.block(&decl.body)?;
-        fn bindings(f: &Func) -> Vec<(Option<&proc_macro2::Ident>, Option<&proc_macro2::Ident>)> {
-            f.bindings
-                .iter()
-                .map(|(c, v)| (c.as_ref(), v.as_ref()))
-                .collect()
-        }
-        let dissipation = match &decl.dissipation {
-            Some(f) => {
-                self.seed(decl, &bindings(f), f.time.as_ref());
+        let dissipation = match front.func(crate::model::FuncKind::Dissipation) {
+            Some(b) => {
+                self.seed(decl, b);
                 self.new_body();
-                Some(self.block(&f.body)?)
+                Some(self.block(b.block)?)
             }
             None => None,
         };
-        let forces = match &decl.forces {
-            Some(f) => {
-                self.seed(decl, &bindings(f), f.time.as_ref());
+        let forces = match front.func(crate::model::FuncKind::Forces) {
+            Some(b) => {
+                self.seed(decl, b);
                 self.new_body();
-                Some(self.array_block(&f.body, decl.n())?)
+                Some(self.array_block(b.block, decl.n())?)
             }
             None => None,
         };

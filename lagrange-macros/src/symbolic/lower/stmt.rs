@@ -7,7 +7,7 @@ impl Lower {
     /// The body of `fn forces`: statements, then an array literal of `n` values (`None`, with an
     /// error, for any other tail).
     pub(super) fn array_block(&mut self, b: &syn::Block, n: usize) -> R<Option<Vec<Val>>> {
-        let depth = self.scopes.len();
+        let depth = self.scopes.mark();
         let (init, tail) = match b.stmts.split_last() {
             Some((Stmt::Expr(e, None), init)) => (init, Some(e)),
             _ => (&b.stmts[..], None),
@@ -45,7 +45,7 @@ impl Lower {
     }
 
     pub(super) fn block(&mut self, b: &syn::Block) -> R<Val> {
-        let depth = self.scopes.len();
+        let depth = self.scopes.mark();
         let result = self.stmts(&b.stmts)?;
         self.scopes.truncate(depth);
         Ok(result)
@@ -59,16 +59,9 @@ impl Lower {
         // Nested `fn` items are visible in the whole block.
         for stmt in stmts {
             if let Stmt::Item(syn::Item::Fn(f)) = stmt {
-                let params = param_pats(&f.sig);
-                let callable = Callable {
-                    what: format!("the function `{}`", f.sig.ident),
-                    params,
-                    body: CallBody::Block((*f.block).clone()),
-                    env: Vec::new(),
-                    item: true,
-                };
+                let callable = Callable::item(std::rc::Rc::new(crate::front::callables::nested(f)));
                 self.scopes
-                    .push((unraw(&f.sig.ident), Val::F(std::rc::Rc::new(callable))));
+                    .push(unraw(&f.sig.ident), Val::F(std::rc::Rc::new(callable)));
             }
         }
         for (k, stmt) in stmts.iter().enumerate() {
@@ -96,7 +89,7 @@ impl Lower {
                 // `const K: f64 = 2.0;`: its value, if it does not depend on the state.
                 Stmt::Item(syn::Item::Const(c)) => {
                     let v = self.expr(&c.expr)?;
-                    self.scopes.push((unraw(&c.ident), v));
+                    self.scopes.push(unraw(&c.ident), v);
                 }
                 Stmt::Item(item) => {
                     self.unsupported(
@@ -112,40 +105,10 @@ impl Lower {
         Ok(result)
     }
 
+    /// Binds `pat` to `v` with the front end's binder (the patterns the symbolic mode takes:
+    /// names, `_`, tuples, references, parentheses and typed patterns).
     pub(super) fn bind(&mut self, pat: &Pat, v: Val) {
-        match pat {
-            Pat::Ident(p) if p.by_ref.is_none() && p.subpat.is_none() => {
-                self.scopes.push((unraw(&p.ident), v));
-            }
-            Pat::Wild(_) => {}
-            Pat::Type(t) => self.bind(&t.pat, v),
-            Pat::Paren(p) => self.bind(&p.pat, v),
-            Pat::Reference(r) => self.bind(&r.pat, v),
-            Pat::Tuple(t) => match v {
-                Val::Tuple(items) if items.len() == t.elems.len() => {
-                    for (p, item) in t.elems.iter().zip(items) {
-                        self.bind(p, item);
-                    }
-                }
-                Val::Poison => {
-                    for p in &t.elems {
-                        self.bind(p, Val::Poison);
-                    }
-                }
-                _ => {
-                    self.err(syn::Error::new(
-                        t.span(),
-                        "this tuple pattern does not match the value's shape",
-                    ));
-                    for p in &t.elems {
-                        self.bind(p, Val::Poison);
-                    }
-                }
-            },
-            other => {
-                self.unsupported(other.span(), "this pattern");
-            }
-        }
+        crate::front::scope::bind(&mut self.scopes, pat, v, &mut self.errors);
     }
 
     pub(super) fn store(&mut self, target: &Expr, v: Val) {
@@ -163,8 +126,7 @@ impl Lower {
                 if self.depth > 0
                     && self
                         .scopes
-                        .iter()
-                        .rposition(|(n, _)| *n == name)
+                        .position(&name)
                         .is_some_and(|k| k < self.frame_base)
                 {
                     self.unsupported(
