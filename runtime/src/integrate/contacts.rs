@@ -748,9 +748,9 @@ where
             Ok(view) => {
                 let events = view.events(&q0, 0.0);
                 let mut sim = Self::with(Sys::Owned(Box::new(view.clone())), q0, qdot0);
-                sim.manifold = Some(Box::new(view));
-                sim.events = events;
-                sim.contact_run = Some(Ok(()));
+                sim.o.manifold = Some(Box::new(view));
+                sim.o.events = events;
+                sim.o.contact_run = Some(Ok(()));
                 sim
             }
             Err(message) => {
@@ -763,7 +763,7 @@ where
                     }),
                 };
                 let mut sim = Self::with(Sys::Owned(Box::new(view)), q0, qdot0);
-                sim.contact_run = Some(Err(message));
+                sim.o.contact_run = Some(Err(message));
                 sim
             }
         }

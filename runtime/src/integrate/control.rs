@@ -2,7 +2,6 @@
 //! error norm, Hairer's initial step, the PI controller and the per-run [`StepControl`].
 
 use crate::error::DynamicsError;
-use crate::lagrangian::Lagrangian;
 
 use super::state::Stats;
 use super::state::{Fault, Y, combine, rhs};
@@ -72,8 +71,8 @@ const FALLBACK_STEP: f64 = 1e-6;
 /// not an overflow to a zero step; a step that still comes out zero or non-finite is
 /// [`FALLBACK_STEP`] (at most `hmax`).
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn initial_step<L: Lagrangian<N>, const N: usize>(
-    sys: &L,
+pub(crate) fn initial_step<const N: usize>(
+    sys: &dyn super::system::System<N>,
     t: f64,
     y: &Y<N>,
     f0: &Y<N>,

@@ -17,6 +17,7 @@ use super::rk4::Rk4;
 use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
+use super::system::System;
 use super::taylor::Taylor;
 use super::trajectory::{Sample, Trajectory};
 use super::variational::VariationalMidpoint;
@@ -77,6 +78,11 @@ pub(super) fn run<L: Lagrangian<N>, const N: usize>(
         }),
     }
 }
+
+/// Builds a run's stepper from a state (t, y): at the start, and again after each jump of a
+/// resetting event.
+type Make<'m, 's, const N: usize> =
+    dyn FnMut(f64, Y<N>, &mut Stats) -> Result<Box<dyn Stepper<N> + 's>, Fault> + 'm;
 
 /// What a run asks of the driver besides the method: its time span, sampling and step budget.
 pub(super) struct RunOptions<'s> {
@@ -145,8 +151,10 @@ impl Sampling<'_> {
     }
 }
 
-pub(super) struct Driver<'s, 'a, 'o, L, const N: usize> {
-    sys: &'s L,
+pub(super) struct Driver<'s, 'a, 'o, const N: usize> {
+    sys: &'s dyn System<N>,
+    /// Whether the run records the work (the energy is not conserved); a constant per system.
+    records_work: bool,
     /// The method (a failure's stiffness diagnosis reads it).
     method: Method,
     /// The constraints of a constrained run.
@@ -223,17 +231,18 @@ pub(super) fn gauss_legendre(m: usize) -> Vec<(f64, f64)> {
     out
 }
 
-impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
+impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
     /// The driver of a run of `method` on `sys` under the options `o`.
     pub(super) fn new(
-        sys: &'s L,
+        sys: &'s dyn System<N>,
         manifold: Option<&'s dyn Manifold<N>>,
         events: &'s [Event<'a, N>],
         method: Method,
         o: &RunOptions,
         observer: Option<&'o mut dyn FnMut(&Sample<N>)>,
     ) -> Self {
-        let mut traj = Trajectory::empty::<L>(manifold.map_or(0, |m| m.count()));
+        let flags = sys.flags();
+        let mut traj = Trajectory::empty(flags, manifold.map_or(0, |m| m.count()));
         if events.iter().any(|e| e.is_reset()) {
             // A jump changes the energy and the momenta: the work column carries its energy.
             traj.energy_conserved = false;
@@ -241,6 +250,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         }
         Driver {
             sys,
+            records_work: !flags.energy_conserved,
             method,
             events,
             observer,
@@ -265,7 +275,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     /// events, the work integral, the dense output kept): a lane run then keeps each member's
     /// stages.
     pub(super) fn needs_interpolant(&self, o: &RunOptions) -> bool {
-        Self::RECORDS_WORK
+        self.records_work
             || !self.events.is_empty()
             || o.sampling.inside(o.t0, o.until)
             || self.dense.is_some()
@@ -282,9 +292,6 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     pub(super) fn stats(&mut self) -> &mut Stats {
         &mut self.stats
     }
-
-    /// Whether the run records the work (the energy is not conserved); a constant per system.
-    const RECORDS_WORK: bool = !L::ENERGY_CONSERVED;
 
     /// Records the state at t: the observer sees it, the trajectory stores it (bounded by
     /// `max_samples` when every sample is kept).
@@ -352,7 +359,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
 
     /// W at t in [t_a, t_b] of the last step (W at the node itself is known already).
     fn work_at(&mut self, s: &mut dyn Stepper<N>, t: f64) -> Result<f64, Fault> {
-        if !Self::RECORDS_WORK {
+        if !self.records_work {
             return Ok(0.0);
         }
         if t == s.t() {
@@ -365,7 +372,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
     /// Turns a stepper fault into the error, with the trajectory so far ending at (t, y).
     pub(super) fn fail(mut self, fault: Fault, t: f64, y: Y<N>) -> SimulationError {
         let fault = match fault {
-            Fault::Dynamics(e) => Fault::Dynamics(crate::lagrangian::blame_applied(self.sys, e)),
+            Fault::Dynamics(e) => Fault::Dynamics(self.sys.blame(e)),
             other => other,
         };
         if y.iter().flatten().all(|x| x.is_finite()) {
@@ -464,28 +471,42 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
 
     /// Runs from (t0, y0) on the stepper `make` builds, built again from the state after each
     /// jump of a resetting event.
-    pub(super) fn run<S: Stepper<N>>(
-        mut self,
+    pub(super) fn run<S: Stepper<N> + 's>(
+        self,
         o: &RunOptions,
         t0: f64,
         y0: Y<N>,
         mut make: impl FnMut(f64, Y<N>, &mut Stats) -> Result<S, Fault>,
     ) -> Result<Trajectory<N>, SimulationError> {
+        self.run_boxed(o, t0, y0, &mut |t, y, stats| {
+            make(t, y, stats).map(|s| Box::new(s) as Box<dyn Stepper<N> + 's>)
+        })
+    }
+
+    /// [`Driver::run`] on a boxed stepper: the loop is compiled once per N, not per system and
+    /// method (one indirect call per step).
+    fn run_boxed(
+        mut self,
+        o: &RunOptions,
+        t0: f64,
+        y0: Y<N>,
+        make: &mut Make<'_, 's, N>,
+    ) -> Result<Trajectory<N>, SimulationError> {
         let mut s = match make(t0, y0, &mut self.stats) {
             Ok(s) => s,
             Err(f) => return Err(self.fail(f, t0, y0)),
         };
-        let r = self.drive(&mut s, o, &mut make);
-        self.conclude(r, &s)
+        let r = self.drive(&mut s, o, make);
+        self.conclude(r, &*s)
     }
 
-    fn drive<S: Stepper<N>>(
+    fn drive(
         &mut self,
-        s: &mut S,
+        s: &mut Box<dyn Stepper<N> + 's>,
         o: &RunOptions,
-        make: &mut impl FnMut(f64, Y<N>, &mut Stats) -> Result<S, Fault>,
+        make: &mut Make<'_, 's, N>,
     ) -> Result<(), Fault> {
-        let mut p = self.begin(s, o)?;
+        let mut p = self.begin(&mut **s, o)?;
         // After a jump, an adaptive method's steps are capped, from a small first step growing
         // 8× a step: the event that fired sits at g = 0, and a first step long enough to go up
         // and come back down past it (a polynomial motion, whose error estimate is nil) would
@@ -496,7 +517,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
             let t_end = cap.map_or(o.until, |h| o.until.min(s.t() + h));
             s.advance(t_end, &mut self.stats)?;
             cap = cap.map(|h| 8.0 * h).filter(|&h| s.t() + h < o.until);
-            if self.after_step(s, o, &mut p)? {
+            if self.after_step(&mut **s, o, &mut p)? {
                 let Some((t, y)) = self.pending.take() else {
                     return Ok(());
                 };
@@ -504,7 +525,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
                 cap = self.restart(&mut p, t, &y);
             }
         }
-        self.finish(s)
+        self.finish(&mut **s)
     }
 
     /// After a jump to (t, y): the events' values start afresh from the state after it (the
@@ -573,7 +594,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         // sample time alone.
         let projects = self.project_steps && self.manifold.is_some();
         let quiet = !(projects
-            || Self::RECORDS_WORK
+            || self.records_work
             || !self.events.is_empty()
             || matches!(o.sampling, Sampling::Steps)
             || self.dense.is_some());
@@ -630,7 +651,7 @@ impl<'s, 'a, 'o, L: Lagrangian<N>, const N: usize> Driver<'s, 'a, 'o, L, N> {
         if let Some(d) = self.traj.dense_mut() {
             d.keep(s, &mut self.stats)?;
         }
-        if Self::RECORDS_WORK {
+        if self.records_work {
             self.work.at_prev = self.work.at_node;
             self.work.at_node = f64::NAN;
             let dw = self.power_integral(s, t_a, t_b)?;

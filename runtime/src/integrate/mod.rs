@@ -60,6 +60,7 @@ mod simulation;
 mod state;
 mod stepper;
 mod stiffness;
+mod system;
 mod taylor;
 mod trajectory;
 mod validate;

@@ -21,7 +21,6 @@
 //! when the constrained system is, also where M alone is singular. A coordinate that neither L,
 //! a force nor a constraint depends on keeps its momentum bit for bit.
 
-use crate::lagrangian::{Lagrangian, hessian_jet};
 use crate::linalg::lu_solve_dyn;
 
 use super::manifold::Manifold;
@@ -29,11 +28,12 @@ use super::newton::{MAX_NEWTON, inf_norm};
 use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
+use super::system::System;
 use super::variational::{Midpoint, SINGULAR_STEP, between_nodes};
 
 /// The RATTLE stepper; its state is (t_k, q_k, p_k, q̇_k), every node on the constraints.
-pub(crate) struct Rattle<'a, L, const N: usize> {
-    sys: &'a L,
+pub(crate) struct Rattle<'a, const N: usize> {
+    sys: &'a dyn System<N>,
     m: &'a dyn Manifold<N>,
     grid: FixedGrid,
     k: u64,
@@ -84,10 +84,10 @@ fn solve_bordered<const N: usize>(
     Ok((dx, x[N..].to_vec()))
 }
 
-impl<'a, L: Lagrangian<N>, const N: usize> Rattle<'a, L, N> {
+impl<'a, const N: usize> Rattle<'a, N> {
     /// Starts at (t0, q0, q̇0), a state on the constraints, with p0 = ∂L/∂q̇(q0, q̇0, t0).
     pub(crate) fn new(
-        sys: &'a L,
+        sys: &'a dyn System<N>,
         m: &'a dyn Manifold<N>,
         grid: FixedGrid,
         q0: [f64; N],
@@ -218,7 +218,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Rattle<'a, L, N> {
         let mut last_dv = f64::INFINITY;
         let mut r_norm = f64::NAN;
         for _ in 0..MAX_NEWTON {
-            let jet = hessian_jet(self.sys, q1, &v, t1);
+            let jet = self.sys.hessian_jet(q1, &v, t1);
             stats.rhs_evals += 1;
             let lv = jet.grad_qdot();
             let mut p1 = *p_star;
@@ -284,7 +284,7 @@ fn inf_norm_slice(x: &[f64]) -> f64 {
     x.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
 }
 
-impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Rattle<'_, L, N> {
+impl<const N: usize> Stepper<N> for Rattle<'_, N> {
     fn t(&self) -> f64 {
         self.t
     }

@@ -10,6 +10,7 @@ use super::error::SimulationError;
 use super::events::Event;
 use super::manifold::Manifold;
 use super::method::Method;
+use super::system::System;
 use super::trajectory::{Sample, Trajectory};
 
 /// The observer of [`Simulation::observe`]: called with every recorded sample.
@@ -46,6 +47,13 @@ type Observer<'a, const N: usize> = Box<dyn FnMut(&Sample<N>) + 'a>;
 /// ```
 pub struct Simulation<'a, L, const N: usize> {
     pub(super) sys: Sys<'a, L>,
+    /// Everything else: the options, checked and prepared once per N (not per system).
+    pub(super) o: Options<'a, N>,
+}
+
+/// A run's options: what [`Simulation`] holds besides the system. Its checks and its
+/// preparation are compiled once per N, whatever the system.
+pub(super) struct Options<'a, const N: usize> {
     /// The constraints of a run made by [`Simulation::constrained`].
     pub(super) manifold: Option<Box<dyn Manifold<N> + 'a>>,
     /// Whether a constrained run starts from the projection of (q0, q̇0) onto the constraints.
@@ -98,32 +106,34 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     pub(super) fn with(sys: Sys<'a, L>, q0: [f64; N], qdot0: [f64; N]) -> Self {
         Simulation {
             sys,
-            manifold: None,
-            project_initial: false,
-            q0,
-            qdot0,
-            t0: 0.0,
-            until: None,
-            method: Method::Dop853 {
-                rtol: 1e-10,
-                atol: 1e-12,
+            o: Options {
+                manifold: None,
+                project_initial: false,
+                q0,
+                qdot0,
+                t0: 0.0,
+                until: None,
+                method: Method::Dop853 {
+                    rtol: 1e-10,
+                    atol: 1e-12,
+                },
+                sample_every: None,
+                sample_at: None,
+                events: Vec::new(),
+                max_steps: 10_000_000,
+                max_samples: None,
+                observer: None,
+                keep_samples: true,
+                keep_dense: false,
+                max_step: None,
+                contact_run: None,
             },
-            sample_every: None,
-            sample_at: None,
-            events: Vec::new(),
-            max_steps: 10_000_000,
-            max_samples: None,
-            observer: None,
-            keep_samples: true,
-            keep_dense: false,
-            max_step: None,
-            contact_run: None,
         }
     }
 
     /// The initial state (q0, q̇0) as given.
     pub(crate) fn initial(&self) -> ([f64; N], [f64; N]) {
-        (self.q0, self.qdot0)
+        (self.o.q0, self.o.qdot0)
     }
 
     /// The integration method.
@@ -141,7 +151,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert_eq!(tr.stats.steps, 10);
     /// ```
     pub fn method(mut self, method: Method) -> Self {
-        self.method = method;
+        self.o.method = method;
         self
     }
 
@@ -160,7 +170,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert_eq!(tr.t[0], 5.0);
     /// ```
     pub fn start_time(mut self, t0: f64) -> Self {
-        self.t0 = t0;
+        self.o.t0 = t0;
         self
     }
 
@@ -179,7 +189,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert_eq!(*tr.t.last().unwrap(), 2.5);
     /// ```
     pub fn until(mut self, t_end: f64) -> Self {
-        self.until = Some(t_end);
+        self.o.until = Some(t_end);
         self
     }
 
@@ -198,7 +208,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert_eq!(tr.t.len(), 11);
     /// ```
     pub fn sample_every(mut self, dt_sample: f64) -> Self {
-        self.sample_every = Some(dt_sample);
+        self.o.sample_every = Some(dt_sample);
         self
     }
 
@@ -227,7 +237,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert!((tr.q[4][0] - 5.0_f64.sin()).abs() < 1e-9);
     /// ```
     pub fn sample_at(mut self, times: impl IntoIterator<Item = f64>) -> Self {
-        self.sample_at = Some(times.into_iter().collect());
+        self.o.sample_at = Some(times.into_iter().collect());
         self
     }
 
@@ -250,7 +260,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert!((tr.events[0].t - 0.5).abs() < 1e-12);
     /// ```
     pub fn event(mut self, event: Event<'a, N>) -> Self {
-        self.events.push(event);
+        self.o.events.push(event);
         self
     }
 
@@ -270,7 +280,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert!(r.is_err());
     /// ```
     pub fn max_steps(mut self, n: usize) -> Self {
-        self.max_steps = n;
+        self.o.max_steps = n;
         self
     }
 
@@ -300,7 +310,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert!(matches!(err, SimulationError::InvalidOptions { .. }));
     /// ```
     pub fn max_samples(mut self, n: usize) -> Self {
-        self.max_samples = Some(n);
+        self.o.max_samples = Some(n);
         self
     }
 
@@ -332,7 +342,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert_eq!(tr.t.len(), 2); // the first and the last sample
     /// ```
     pub fn observe(mut self, f: impl FnMut(&Sample<N>) + 'a) -> Self {
-        self.observer = Some(Box::new(f));
+        self.o.observer = Some(Box::new(f));
         self
     }
 
@@ -357,7 +367,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert_eq!(all.invariants(), ends.invariants());
     /// ```
     pub fn keep_samples(mut self, keep: bool) -> Self {
-        self.keep_samples = keep;
+        self.o.keep_samples = keep;
         self
     }
 
@@ -403,7 +413,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert!((q[0] - 0.123_f64.cos()).abs() < 1e-9);
     /// ```
     pub fn keep_dense_output(mut self, keep: bool) -> Self {
-        self.keep_dense = keep;
+        self.o.keep_dense = keep;
         self
     }
 
@@ -423,7 +433,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// assert!(tr.stats.steps >= 10);
     /// ```
     pub fn max_step(mut self, h: f64) -> Self {
-        self.max_step = Some(h);
+        self.o.max_step = Some(h);
         self
     }
 
@@ -454,6 +464,26 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
         )
     }
 
+    /// Checks the options and gathers what the driver needs (the lanes engine of an ensemble
+    /// takes the same).
+    pub(super) fn prepare(&mut self) -> Result<Prepared<'_, 'a, L, N>, SimulationError> {
+        let Simulation { sys, o } = self;
+        let sys: &L = sys;
+        let ready = o.prepare(sys)?;
+        Ok(Prepared {
+            sys,
+            manifold: ready.manifold,
+            events: ready.events,
+            method: ready.method,
+            y0: ready.y0,
+            hmax: ready.hmax,
+            opts: ready.opts,
+            observer: ready.observer,
+        })
+    }
+}
+
+impl<'a, const N: usize> Options<'a, N> {
     /// The bytes one stored sample of this run takes (with its constraints' λ).
     pub(super) fn sample_bytes(&self) -> usize {
         super::trajectory::sample_bytes(N, self.manifold.as_ref().map_or(0, |m| m.count()))
@@ -476,15 +506,16 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
         self.max_samples_bound().saturating_mul(self.sample_bytes())
     }
 
-    /// Checks the options and gathers what the driver needs (the lanes engine of an ensemble
-    /// takes the same).
-    pub(super) fn prepare(&mut self) -> Result<Prepared<'_, 'a, L, N>, SimulationError> {
+    /// The checked options of a run of `sys`, ready for the driver (compiled once per N).
+    fn prepare<'p>(&'p mut self, sys: &dyn System<N>) -> Result<Ready<'p, 'a, N>, SimulationError> {
         let until = self
-            .validate()
-            .and_then(|until| self.check_cyclic().map(|()| until))
+            .validate(sys)
+            .and_then(|until| self.check_cyclic(sys).map(|()| until))
             .map_err(|message| SimulationError::InvalidOptions { message })?;
         let y0 = self.initial_state()?;
         let hmax = self.max_step.unwrap_or(until - self.t0);
+        let max_samples = self.max_samples_bound();
+        let dense_budget = self.keep_dense.then(|| self.dense_budget());
         let sampling = match (&self.sample_at, self.sample_every) {
             (Some(times), _) => Sampling::At {
                 times,
@@ -504,12 +535,11 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
             sampling,
             max_steps: self.max_steps,
             keep_samples: self.keep_samples,
-            max_samples: self.max_samples_bound(),
+            max_samples,
             max_samples_default: self.max_samples.is_none(),
-            dense_budget: self.keep_dense.then(|| self.dense_budget()),
+            dense_budget,
         };
-        Ok(Prepared {
-            sys: &*self.sys,
+        Ok(Ready {
             manifold: self.manifold.as_deref(),
             events: &self.events,
             method: self.method,
@@ -524,8 +554,17 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     }
 }
 
-/// A checked run, ready for the driver: the system, its constraints and events, the method, the
-/// initial state, the largest step and the run options.
+/// [`Prepared`] without the system.
+struct Ready<'p, 'a, const N: usize> {
+    manifold: Option<&'p (dyn Manifold<N> + 'a)>,
+    events: &'p [Event<'a, N>],
+    method: Method,
+    y0: super::state::Y<N>,
+    hmax: f64,
+    opts: RunOptions<'p>,
+    observer: Option<&'p mut dyn FnMut(&Sample<N>)>,
+}
+
 pub(super) struct Prepared<'p, 'a, L, const N: usize> {
     pub(super) sys: &'p L,
     pub(super) manifold: Option<&'p (dyn Manifold<N> + 'a)>,
@@ -554,7 +593,7 @@ impl<L> core::ops::Deref for Sys<'_, L> {
     }
 }
 
-impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
+impl<const N: usize> Options<'_, N> {
     /// y0 = (q0, q̇0), on the constraints of a constrained run: checked, or projected there when
     /// asked.
     fn initial_state(&self) -> Result<[[f64; N]; 2], SimulationError> {
@@ -656,7 +695,7 @@ where
     pub fn constrained(system: &'a H, q0: [f64; N], qdot0: [f64; N]) -> Self {
         let view = Constrained::new(system);
         let mut sim = Self::with(Sys::Owned(Box::new(view)), q0, qdot0);
-        sim.manifold = Some(Box::new(view));
+        sim.o.manifold = Some(Box::new(view));
         sim
     }
 
@@ -664,19 +703,20 @@ where
     /// observer, limits): how an ensemble gives its members' constrained runs the options it was
     /// configured with on the plain builder.
     pub(crate) fn options_from<M>(mut self, plain: Simulation<'a, M, N>) -> Self {
-        self.t0 = plain.t0;
-        self.until = plain.until;
-        self.method = plain.method;
-        self.sample_every = plain.sample_every;
-        self.sample_at = plain.sample_at;
-        self.events = plain.events;
-        self.max_steps = plain.max_steps;
-        self.max_step = plain.max_step;
-        self.max_samples = plain.max_samples;
-        self.observer = plain.observer;
-        self.keep_samples = plain.keep_samples;
-        self.keep_dense = plain.keep_dense;
-        self.project_initial |= plain.project_initial;
+        let plain = plain.o;
+        self.o.t0 = plain.t0;
+        self.o.until = plain.until;
+        self.o.method = plain.method;
+        self.o.sample_every = plain.sample_every;
+        self.o.sample_at = plain.sample_at;
+        self.o.events = plain.events;
+        self.o.max_steps = plain.max_steps;
+        self.o.max_step = plain.max_step;
+        self.o.max_samples = plain.max_samples;
+        self.o.observer = plain.observer;
+        self.o.keep_samples = plain.keep_samples;
+        self.o.keep_dense = plain.keep_dense;
+        self.o.project_initial |= plain.project_initial;
         self
     }
 
@@ -707,7 +747,7 @@ where
     /// assert!((tr.q[0][0] - 1.0).abs() < 1e-15 && tr.qdot[0] == [0.0, 0.3]); // nearest tangent velocity
     /// ```
     pub fn project_initial_state(mut self) -> Self {
-        self.project_initial = true;
+        self.o.project_initial = true;
         self
     }
 }

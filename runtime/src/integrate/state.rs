@@ -69,7 +69,7 @@ impl From<DynamicsError> for Fault {
 
 /// f(t, y) = (q̇, q̈(q, q̇, t)), counted in `stats`.
 #[inline(always)]
-pub(crate) fn rhs<L: Lagrangian<N>, const N: usize>(
+pub(crate) fn rhs<L: super::system::System<N> + ?Sized, const N: usize>(
     sys: &L,
     t: f64,
     y: &Y<N>,

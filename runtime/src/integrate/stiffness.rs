@@ -6,9 +6,6 @@
 
 use core::fmt;
 
-use crate::lagrangian::Lagrangian;
-use crate::linearize::jet_linearize;
-
 use super::method::Method;
 use super::state::Y;
 
@@ -89,8 +86,8 @@ impl fmt::Display for Stiffness {
 /// accepted steps after `t0`. `None` for the implicit method, a
 /// constrained run, or where the linearization fails.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn diagnose<L: Lagrangian<N>, const N: usize>(
-    sys: &L,
+pub(crate) fn diagnose<const N: usize>(
+    sys: &dyn super::system::System<N>,
     method: Method,
     constrained: bool,
     t0: f64,
@@ -109,17 +106,14 @@ pub(crate) fn diagnose<L: Lagrangian<N>, const N: usize>(
         }
         _ => return None,
     };
-    let eig = jet_linearize(sys, &y[0], &y[1], t)
-        .ok()?
-        .eigenvalues()
-        .ok()?;
-    let omega_max = eig.iter().map(|l| l.norm()).fold(0.0, f64::max);
+    let sizes = sys.mode_sizes(&y[0], &y[1], t)?;
+    let omega_max = sizes.iter().copied().fold(0.0, f64::max);
     if !(omega_max.is_finite() && omega_max > 0.0) {
         return None;
     }
-    let omega_min = eig
+    let omega_min = sizes
         .iter()
-        .map(|l| l.norm())
+        .copied()
         .filter(|&m| m > 1e-9 * omega_max)
         .fold(None, |a: Option<f64>, m| Some(a.map_or(m, |a| a.min(m))));
     match (blew_up, fixed, limit) {

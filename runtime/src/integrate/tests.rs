@@ -207,7 +207,7 @@ fn default_max_samples_is_a_memory_budget() {
     assert_eq!(super::trajectory::sample_bytes(32, 0), 99 * 8);
     assert_eq!(super::trajectory::sample_bytes(2, 1), 72 + 32);
     let sim = Simulation::new(&Osc, [1.0], [0.0]).until(1.0);
-    assert_eq!(sim.max_samples_bound(), (256 << 20) / 48);
+    assert_eq!(sim.o.max_samples_bound(), (256 << 20) / 48);
     let err = sim.sample_every(1e-7).run().unwrap_err();
     assert!(
         matches!(err, SimulationError::InvalidOptions { .. }),
@@ -419,7 +419,7 @@ fn taylor_checks_the_time_resolution() {
             .method(Method::Taylor { tol })
             .start_time(t0)
             .until(until);
-        sim.validate()
+        sim.o.validate(&Osc)
     };
     // A long run from t = 0 (10⁵ periods of a top at tol 1e-16) is told to cut itself into
     // segments short enough for its tol, not to shift an origin that is already 0.

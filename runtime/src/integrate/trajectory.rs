@@ -277,7 +277,7 @@ pub struct Trajectory<const N: usize> {
 
 impl<const N: usize> Trajectory<N> {
     /// An empty trajectory of the system `L`, with its names and flags.
-    pub(crate) fn empty<L: crate::Lagrangian<N>>(constraint_count: usize) -> Self {
+    pub(crate) fn empty(flags: super::system::Flags<N>, constraint_count: usize) -> Self {
         Trajectory {
             t: Vec::new(),
             q: Vec::new(),
@@ -289,11 +289,11 @@ impl<const N: usize> Trajectory<N> {
             jumps: Vec::new(),
             zeno: None,
             stats: Stats::default(),
-            coordinates: L::COORDINATES,
-            cyclic: L::CYCLIC,
-            autonomous: L::AUTONOMOUS,
-            momentum_conserved: L::MOMENTUM_CONSERVED,
-            energy_conserved: L::ENERGY_CONSERVED,
+            coordinates: flags.coordinates,
+            cyclic: flags.cyclic,
+            autonomous: flags.autonomous,
+            momentum_conserved: flags.momentum_conserved,
+            energy_conserved: flags.energy_conserved,
             terminated_by: None,
             lambda: Vec::new(),
             constraint_count,

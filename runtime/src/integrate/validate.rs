@@ -2,14 +2,13 @@
 //! system's `CYCLIC` declaration. A failed check is
 //! [`SimulationError::InvalidOptions`](super::SimulationError::InvalidOptions).
 
-use crate::lagrangian::Lagrangian;
-
 use super::method::Method;
-use super::simulation::Simulation;
+use super::simulation::Options;
+use super::system::System;
 
-impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
-    /// Checks the options: the end time, or the message of the error.
-    pub(super) fn validate(&self) -> Result<f64, String> {
+impl<const N: usize> Options<'_, N> {
+    /// Checks the options of a run of `sys`: the end time, or the message of the error.
+    pub(super) fn validate(&self, sys: &dyn System<N>) -> Result<f64, String> {
         let until = self
             .until
             .ok_or_else(|| "no end time: call .until(t_end) before .run()".to_string())?;
@@ -157,7 +156,7 @@ impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
                          Method::VariationalMidpoint (RATTLE) for a constrained run"
                         .to_string());
                 }
-                if let Some(what) = L::COMPILED.not_analytic {
+                if let Some(what) = sys.not_analytic() {
                     return Err(format!(
                         "the Taylor method needs a body that is analytic along the motion (each \
                          step sums one series, which runs straight across a kink or a jump \
@@ -166,11 +165,7 @@ impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
                          or write the body with a smooth function (x.abs() ≈ (x * x + ε²).sqrt())"
                     ));
                 }
-                let mut out = [[self.q0, self.qdot0], [[0.0; N]; 2]];
-                let mut buf = crate::taylor::TaylorBuf::new();
-                if L::series_in(&[&*self.sys], &mut Vec::new(), self.t0, &mut out, &mut buf)
-                    .is_none()
-                {
+                if !sys.has_series(&[self.q0, self.qdot0], self.t0) {
                     return Err("the Taylor method needs the system's Taylor series, which \
                          `#[lagrangian]` generates in its default symbolic mode for systems of \
                          up to 1024 series (expression nodes the equations need; more would \
@@ -301,22 +296,23 @@ impl<L: Lagrangian<N>, const N: usize> Simulation<'_, L, N> {
     /// coordinate declared cyclic is shifted. The explicit methods rely on it (they do not form
     /// the stage positions of cyclic coordinates), and the momenta reported as conserved do too.
     /// Skipped where the dynamics fail at the initial state (the run reports that).
-    pub(super) fn check_cyclic(&self) -> Result<(), String> {
+    pub(super) fn check_cyclic(&self, sys: &dyn System<N>) -> Result<(), String> {
         const SHIFT: f64 = 0.739_085_133_215_160_6;
-        let Ok(a0) = self.sys.accelerations(&self.q0, &self.qdot0, self.t0) else {
+        let Ok(a0) = sys.accelerations(&self.q0, &self.qdot0, self.t0) else {
             return Ok(());
         };
-        for i in (0..N).filter(|&i| L::CYCLIC[i]) {
+        let flags = sys.flags();
+        for i in (0..N).filter(|&i| flags.cyclic[i]) {
             let mut q = self.q0;
             q[i] += SHIFT;
-            let a1 = self.sys.accelerations(&q, &self.qdot0, self.t0);
+            let a1 = sys.accelerations(&q, &self.qdot0, self.t0);
             let same = a1.as_ref().is_ok_and(|a1| {
                 a0.iter()
                     .zip(a1)
                     .all(|(x, y)| (x - y).abs() <= 1e-9 * (x.abs() + y.abs()) + 1e-300)
             });
             if !same {
-                let name = L::COORDINATES[i];
+                let name = flags.coordinates[i];
                 let shifted = a1.map_or_else(|e| format!("an error ({e})"), |a| format!("{a:?}"));
                 return Err(format!(
                     "CYCLIC declares the coordinate `{name}` absent from L, but the accelerations \

@@ -23,18 +23,18 @@
 
 use crate::eom::solve_mass_matrix;
 use crate::jet::HessianJet;
-use crate::lagrangian::{AppliedJacobian, applied_jacobian};
-use crate::lagrangian::{Lagrangian, hessian_jet};
+use crate::lagrangian::AppliedJacobian;
 use crate::linalg::lu_solve;
 
 use super::newton::{self, Residual, inf_norm};
 use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
+use super::system::System;
 
 /// The variational midpoint stepper; its own state is (t_k, q_k, p_k).
-pub(crate) struct VariationalMidpoint<'a, L, const N: usize> {
-    sys: &'a L,
+pub(crate) struct VariationalMidpoint<'a, const N: usize> {
+    sys: &'a dyn System<N>,
     grid: FixedGrid,
     k: u64,
     t: f64,
@@ -49,9 +49,9 @@ pub(crate) struct VariationalMidpoint<'a, L, const N: usize> {
     v_old: [f64; N],
 }
 
-impl<'a, L: Lagrangian<N>, const N: usize> VariationalMidpoint<'a, L, N> {
+impl<'a, const N: usize> VariationalMidpoint<'a, N> {
     /// Starts at (t0, q0, q̇0) with p0 = ∂L/∂q̇(q0, q̇0, t0).
-    pub(crate) fn new(sys: &'a L, grid: FixedGrid, q0: [f64; N], v0: [f64; N]) -> Self {
+    pub(crate) fn new(sys: &'a dyn System<N>, grid: FixedGrid, q0: [f64; N], v0: [f64; N]) -> Self {
         let p = sys.momenta(&q0, &v0, grid.t0);
         VariationalMidpoint {
             sys,
@@ -76,7 +76,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> VariationalMidpoint<'a, L, N> {
             stats,
             "the inverse Legendre map (solving ∂L/∂q̇ = p for q̇) did not converge",
             |v, stats| {
-                let jet = hessian_jet(self.sys, &self.q, v, self.t);
+                let jet = self.sys.hessian_jet(&self.q, v, self.t);
                 stats.rhs_evals += 1;
                 let lv = jet.grad_qdot();
                 let mut r = [0.0; N];
@@ -96,7 +96,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> VariationalMidpoint<'a, L, N> {
             },
             |v, res, _r_norm, _stats| {
                 let m = res.data.hess_qdotqdot();
-                solve_mass_matrix(&m, &res.r, L::COORDINATES, &self.q, v, self.t)
+                solve_mass_matrix(&m, &res.r, self.sys.flags().coordinates, &self.q, v, self.t)
                     .map_err(Fault::from)
             },
         )?;
@@ -104,7 +104,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> VariationalMidpoint<'a, L, N> {
     }
 }
 
-impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VariationalMidpoint<'_, L, N> {
+impl<const N: usize> Stepper<N> for VariationalMidpoint<'_, N> {
     fn t(&self) -> f64 {
         self.t
     }
@@ -261,8 +261,8 @@ pub(super) struct Midpoint<const N: usize> {
 
 impl<const N: usize> Midpoint<N> {
     /// Evaluates R at q1 (one Hessian-jet evaluation of L, counted in `stats`).
-    pub(super) fn at<L: Lagrangian<N>>(
-        sys: &L,
+    pub(super) fn at(
+        sys: &dyn System<N>,
         q0: &[f64; N],
         q1: &[f64; N],
         p0: &[f64; N],
@@ -276,10 +276,10 @@ impl<const N: usize> Midpoint<N> {
             qm[i] = 0.5 * (q0[i] + q1[i]);
             v[i] = (q1[i] - q0[i]) / h;
         }
-        let jet = hessian_jet(sys, &qm, &v, tm);
+        let jet = sys.hessian_jet(&qm, &v, tm);
         // The applied forces F = Q − ∂D/∂q̇ at the midpoint (zero for a conservative system):
         // the discrete Lagrange–d'Alembert principle adds (h/2)·F to both discrete momenta.
-        let forced = applied_jacobian(sys, &qm, &v, tm);
+        let forced = sys.applied_jacobian(&qm, &v, tm);
         stats.rhs_evals += 1;
         let lq = jet.grad_q();
         let lv = jet.grad_qdot();

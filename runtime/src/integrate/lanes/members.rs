@@ -180,7 +180,9 @@ fn unreachable_free_lane() -> ! {
 /// A member taken into a lane, whatever its method: its driver (samples, events, trajectory),
 /// its place between steps, its scalar stepper and its options.
 pub(super) struct Entered<'p, 'a, L, S, const N: usize> {
-    pub(super) driver: Driver<'p, 'a, 'p, L, N>,
+    pub(super) driver: Driver<'p, 'a, 'p, N>,
+    /// The member's system type (its stepper holds the system itself).
+    pub(super) system: core::marker::PhantomData<&'p L>,
     pub(super) progress: Progress,
     pub(super) stepper: S,
     pub(super) opts: RunOptions<'p>,
@@ -240,6 +242,7 @@ pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
     };
     Some(Entered {
         driver,
+        system: core::marker::PhantomData,
         progress,
         stepper,
         opts,

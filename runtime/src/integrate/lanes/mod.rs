@@ -85,13 +85,13 @@ macro_rules! engines {
             out: &mut Out<'_, N>,
         ) {
             $(
-                let ours = |s: &Simulation<'_, L, N>| matches!(s.method, Method::$variant { .. });
+                let ours = |s: &Simulation<'_, L, N>| matches!(s.o.method, Method::$variant { .. });
                 if sims.iter().any(ours) {
                     let queue = sims.iter_mut().enumerate().filter(|(_, s)| ours(s));
                     $file::run::<L, N, W>(queue, out);
                 }
             )*
-            let engine = |s: &Simulation<'_, L, N>| false $(|| matches!(s.method, Method::$variant { .. }))*;
+            let engine = |s: &Simulation<'_, L, N>| false $(|| matches!(s.o.method, Method::$variant { .. }))*;
             for (pos, sim) in sims.iter_mut().enumerate().filter(|(_, s)| !engine(s)) {
                 out(pos, sim.prepare().and_then(scalar));
             }

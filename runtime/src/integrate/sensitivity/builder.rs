@@ -252,22 +252,22 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     fn refusal(&self) -> Option<String> {
         let sim = &self.sim;
         if !matches!(
-            sim.method,
+            sim.o.method,
             Method::Dop853 { .. }
                 | Method::DormandPrince { .. }
                 | Method::Rk4 { .. }
                 | Method::Taylor { .. }
         ) {
-            return Some(unsupported_method(sim.method));
+            return Some(unsupported_method(sim.o.method));
         }
-        if sim.contact_run.is_some() {
+        if sim.o.contact_run.is_some() {
             return Some(
                 "sensitivities of a run with contacts are not covered yet (the flow jumps at \
                  the impacts): run the phases between impacts as separate sensitivity runs"
                     .into(),
             );
         }
-        if sim.manifold.is_some() {
+        if sim.o.manifold.is_some() {
             return Some(
                 "sensitivities of a constrained run are not covered yet (the variations would \
                  have to stay tangent to the constraints): write the system in independent \
@@ -275,7 +275,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                     .into(),
             );
         }
-        if let Some(e) = sim.events.iter().find(|e| e.is_reset()) {
+        if let Some(e) = sim.o.events.iter().find(|e| e.is_reset()) {
             return Some(format!(
                 "event `{}` resets the state, and the derivative of a flow that jumps needs the \
                  saltation matrix, not covered yet: make the event terminal and start a new \
