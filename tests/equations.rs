@@ -3,7 +3,7 @@
 //! and hand-written systems against closed forms and against the run-time jets, the macro
 //! contract and its lint cleanliness. Part 2, tests/physics.rs, simulates the reference text's
 //! physics. `support` holds what both share, the systems declared once among it. The
-//! compile-fail cases are the third test target, tests/ui.rs.
+//! compile-fail cases are tests/ui.rs, the package tests/Cargo.toml.
 //!
 //! Run one module with `cargo test --test equations symbolic::`.
 

@@ -1,15 +1,17 @@
-//! The one trybuild driver. Compile-fail cases of `#[lagrangian]`, one directory per kind under
-//! tests/ui/ (each bad input gets a clear error at the user's token, with the symbolic mode's own
+//! The one trybuild driver (a package of its own, tests/Cargo.toml, so that trybuild builds the
+//! cases against the facade alone). Compile-fail cases of `#[lagrangian]`, one directory per kind
+//! under tests/ui/ (each bad input gets a clear error at the user's token, with the symbolic mode's own
 //! errors in tests/ui/symbolic/). The compile-pass cases (hygiene) are ordinary tests in
 //! tests/hygiene/; tests/ui_pass/ holds bodies deeper than anything written by hand, built here
 //! because trybuild builds with full debug info (the test profile has line tables only).
-//! Regenerate the expected output with `TRYBUILD=overwrite cargo test --test ui` and review it.
+//! Regenerate the expected output with `TRYBUILD=overwrite cargo test -p lagrange-ui` and review
+//! it.
 
 #[test]
 fn ui() {
     let t = trybuild::TestCases::new();
     // Every directory holds compile-fail cases: a new one is picked up without an edit.
-    let mut groups: Vec<String> = std::fs::read_dir("tests/ui")
+    let mut groups: Vec<String> = std::fs::read_dir("ui")
         .expect("tests/ui is readable")
         .filter_map(Result::ok)
         .filter(|e| e.path().is_dir())
@@ -18,7 +20,7 @@ fn ui() {
     groups.sort();
     assert!(!groups.is_empty(), "no compile-fail cases under tests/ui/");
     for group in &groups {
-        t.compile_fail(format!("tests/ui/{group}/*.rs"));
+        t.compile_fail(format!("ui/{group}/*.rs"));
     }
-    t.pass("tests/ui_pass/*.rs");
+    t.pass("ui_pass/*.rs");
 }
