@@ -702,22 +702,21 @@ where
     /// This constrained run with every option of `plain` (method, end time, samples, events,
     /// observer, limits): how an ensemble gives its members' constrained runs the options it was
     /// configured with on the plain builder.
-    pub(crate) fn options_from<M>(mut self, plain: Simulation<'a, M, N>) -> Self {
-        let plain = plain.o;
-        self.o.t0 = plain.t0;
-        self.o.until = plain.until;
-        self.o.method = plain.method;
-        self.o.sample_every = plain.sample_every;
-        self.o.sample_at = plain.sample_at;
-        self.o.events = plain.events;
-        self.o.max_steps = plain.max_steps;
-        self.o.max_step = plain.max_step;
-        self.o.max_samples = plain.max_samples;
-        self.o.observer = plain.observer;
-        self.o.keep_samples = plain.keep_samples;
-        self.o.keep_dense = plain.keep_dense;
-        self.o.project_initial |= plain.project_initial;
-        self
+    pub(crate) fn options_from<M>(self, plain: Simulation<'a, M, N>) -> Self {
+        let (mine, plain) = (self.o, plain.o);
+        Simulation {
+            sys: self.sys,
+            // The constrained run's own: its constraints and initial state; every other option
+            // is the plain builder's.
+            o: Options {
+                manifold: mine.manifold,
+                project_initial: mine.project_initial | plain.project_initial,
+                q0: mine.q0,
+                qdot0: mine.qdot0,
+                contact_run: mine.contact_run,
+                ..plain
+            },
+        }
     }
 
     /// Start from the projection of (q0, q̇0) onto the constraints (the nearest q with
