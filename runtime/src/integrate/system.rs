@@ -9,8 +9,6 @@ use crate::jet::HessianJet;
 use crate::lagrangian::{AppliedJacobian, Lagrangian, applied_jacobian, hessian_jet};
 use crate::linearize::jet_linearize;
 
-use super::state::Y;
-
 /// A system seen by the run machinery (every [`Lagrangian`] is one).
 pub(crate) trait System<const N: usize> {
     /// q̈ at (q, q̇, t) ([`Lagrangian::accelerations`]).
@@ -43,7 +41,7 @@ pub(crate) trait System<const N: usize> {
     /// ([`Compiled::not_analytic`](crate::lagrangian::Compiled::not_analytic)).
     fn not_analytic(&self) -> Option<&'static str>;
     /// Whether the system has its Taylor series (compiled by the symbolic mode): tried at y.
-    fn has_series(&self, y: &Y<N>, t: f64) -> bool;
+    fn has_series(&self, y: &[[f64; N]; 2], t: f64) -> bool;
 }
 
 /// A system's declarations ([`Lagrangian::COORDINATES`], `CYCLIC`, …), as values.
@@ -102,7 +100,7 @@ impl<L: Lagrangian<N>, const N: usize> System<N> for L {
     fn not_analytic(&self) -> Option<&'static str> {
         L::COMPILED.not_analytic
     }
-    fn has_series(&self, y: &Y<N>, t: f64) -> bool {
+    fn has_series(&self, y: &[[f64; N]; 2], t: f64) -> bool {
         let mut out = [*y, [[0.0; N]; 2]];
         let mut buf = crate::taylor::TaylorBuf::new();
         L::series_in(&[self], &mut Vec::new(), t, &mut out, &mut buf).is_some()
