@@ -665,15 +665,7 @@ where
         items: Vec<I>,
         f: impl Fn(I) -> T + Sync + Send,
     ) -> Vec<T> {
-        match self.threads {
-            Some(1) => items.into_iter().map(f).collect(),
-            Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
-                Ok(pool) => pool.install(|| items.into_par_iter().map(f).collect()),
-                // No threads to be had: the calling thread runs them all.
-                Err(_) => items.into_iter().map(f).collect(),
-            },
-            None => items.into_par_iter().map(f).collect(),
-        }
+        in_threads(self.threads, items, &f)
     }
 
     /// The members of `range` on the lanes engine, `width` per vector, in member order. A panic
@@ -762,6 +754,25 @@ where
 
 /// `f()`, or the member's [`SimulationError::MemberPanicked`] with the panic's message if it
 /// panicked: one member's panic does not take the others' results with it.
+/// `f` of every item, in order, on `threads` threads (rayon's pool where `None`): `f` as a trait
+/// object, so rayon's machinery is compiled once per item and result type, not once per ensemble
+/// closure (one indirect call per member).
+fn in_threads<I: Send, T: Send>(
+    threads: Option<usize>,
+    items: Vec<I>,
+    f: &(dyn Fn(I) -> T + Sync),
+) -> Vec<T> {
+    match threads {
+        Some(1) => items.into_iter().map(f).collect(),
+        Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+            Ok(pool) => pool.install(|| items.into_par_iter().map(f).collect()),
+            // No threads to be had: the calling thread runs them all.
+            Err(_) => items.into_iter().map(f).collect(),
+        },
+        None => items.into_par_iter().map(f).collect(),
+    }
+}
+
 fn isolated<T>(member: usize, f: impl FnOnce() -> T) -> Result<T, SimulationError> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|payload| {
         let message = if let Some(s) = payload.downcast_ref::<&str>() {
