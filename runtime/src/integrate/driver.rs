@@ -530,7 +530,7 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
 
     /// After a jump to (t, y): the events' values start afresh from the state after it (the
     /// event that fired is on its zero, exactly 0: neither direction's crossing starts there),
-    /// and the cap on the next step. Apart from `drive`, which is compiled once per stepper.
+    /// and the cap on the next step. Apart from `drive`, to keep its loop short.
     fn restart(&mut self, p: &mut Progress, t: f64, y: &Y<N>) -> Option<f64> {
         for (g, e) in p.g_old.iter_mut().zip(self.events) {
             *g = e.value(t, &y[0], &y[1]);
