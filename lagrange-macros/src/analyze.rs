@@ -6,7 +6,7 @@
 
 use syn::{Block, Expr, Stmt};
 
-use crate::front::{Body, Front, Seed};
+use crate::front::{paren_less, Body, Front, Seed};
 use crate::model::{Decl, FuncKind};
 
 /// What the analysis found.
@@ -103,14 +103,6 @@ pub fn tail_array(body: &Block) -> Option<Vec<&Expr>> {
             _ => None,
         },
         _ => None,
-    }
-}
-
-fn paren_less(e: &Expr) -> &Expr {
-    match e {
-        Expr::Paren(p) => paren_less(&p.expr),
-        Expr::Group(g) => paren_less(&g.expr),
-        _ => e,
     }
 }
 

@@ -70,7 +70,7 @@ impl Callables {
                     out.helpers.insert(unraw(&f.sig.ident), Rc::new(function));
                 }
                 syn::ImplItem::Const(c) => {
-                    if let Some(k) = int_literal(&c.expr) {
+                    if let Some(k) = super::int_literal(&c.expr) {
                         out.int_consts.insert(unraw(&c.ident), k);
                     }
                 }
@@ -142,19 +142,6 @@ pub fn type_of(ty: &syn::Type) -> ParamType {
 }
 
 /// An integer literal, possibly negated and parenthesized.
-pub fn int_literal(e: &Expr) -> Option<i64> {
-    match e {
-        Expr::Paren(p) => int_literal(&p.expr),
-        Expr::Group(g) => int_literal(&g.expr),
-        Expr::Lit(syn::ExprLit {
-            lit: syn::Lit::Int(i),
-            ..
-        }) => i.base10_parse::<i64>().ok(),
-        Expr::Unary(u) if matches!(u.op, syn::UnOp::Neg(_)) => int_literal(&u.expr).map(|x| -x),
-        _ => None,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -16,6 +16,7 @@ use std::collections::HashSet;
 
 use proc_macro2::{Ident, TokenStream, TokenTree};
 use syn::visit::Visit;
+use syn::Expr;
 
 use crate::model::{unraw, Decl, FuncKind};
 
@@ -174,5 +175,26 @@ pub fn idents_in(ts: TokenStream, out: &mut HashSet<String>) {
             TokenTree::Group(g) => idents_in(g.stream(), out),
             _ => {}
         }
+    }
+}
+
+/// `e` without the parentheses (and invisible groups) around it.
+pub fn paren_less(e: &Expr) -> &Expr {
+    match e {
+        Expr::Paren(p) => paren_less(&p.expr),
+        Expr::Group(g) => paren_less(&g.expr),
+        _ => e,
+    }
+}
+
+/// An integer literal, possibly negated and parenthesized (`6`, `-(2)`).
+pub fn int_literal(e: &Expr) -> Option<i64> {
+    match paren_less(e) {
+        Expr::Lit(syn::ExprLit {
+            lit: syn::Lit::Int(i),
+            ..
+        }) => i.base10_parse::<i64>().ok(),
+        Expr::Unary(u) if matches!(u.op, syn::UnOp::Neg(_)) => int_literal(&u.expr).map(|x| -x),
+        _ => None,
     }
 }

@@ -28,6 +28,7 @@ use syn::{Block, Expr, Pat, Stmt};
 
 use crate::errors::Errors;
 use crate::front::callables::Callables;
+use crate::front::paren_less;
 use crate::front::scope::{Bindable, Scopes};
 use crate::model::{mentions_scalar, unraw};
 
@@ -279,13 +280,5 @@ pub fn body(b: &crate::front::Body<'_>, callables: &Callables, errors: &mut Erro
             lower_for_jets(b.block, &vars, callables, errors)
         }
         Some(_) => lower_array_for_jets(b.block, &vars, callables, errors),
-    }
-}
-
-fn paren_less(e: &Expr) -> &Expr {
-    match e {
-        Expr::Paren(p) => paren_less(&p.expr),
-        Expr::Group(g) => paren_less(&g.expr),
-        _ => e,
     }
 }

@@ -28,7 +28,7 @@ use crate::errors::Errors;
 use crate::front::callables::{FnBody, Function};
 use crate::front::scope::{Bindable, Scopes};
 use crate::front::vocab::Iter;
-use crate::front::{Body, Front, Seed};
+use crate::front::{int_literal, paren_less, Body, Front, Seed};
 use crate::model::{unraw, CoordKind, Decl};
 
 /// A `self.<field>` used in the body.
@@ -393,26 +393,6 @@ fn pick(d: &mut Dag, a: Id, b: Id, u: Id, v: Id) -> Id {
 
 fn segment_names(path: &syn::Path) -> Vec<String> {
     path.segments.iter().map(|s| s.ident.to_string()).collect()
-}
-
-fn paren_less(e: &Expr) -> &Expr {
-    match e {
-        Expr::Paren(p) => paren_less(&p.expr),
-        Expr::Group(g) => paren_less(&g.expr),
-        _ => e,
-    }
-}
-
-/// An integer literal, possibly negated and parenthesized.
-fn int_literal(e: &Expr) -> Option<i64> {
-    match paren_less(e) {
-        Expr::Lit(l) => match &l.lit {
-            Lit::Int(i) => i.base10_parse::<i64>().ok(),
-            _ => None,
-        },
-        Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => int_literal(&u.expr).map(|x| -x),
-        _ => None,
-    }
 }
 
 fn expr_kind(e: &Expr) -> &'static str {
