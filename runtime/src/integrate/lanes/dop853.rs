@@ -36,7 +36,7 @@ struct Attempting {
 }
 
 /// A DOP853 member in a lane.
-type DopSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, L, Dop853<'p, L, N>, Attempting, N>;
+type DopSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, Dop853<'p, L, N>, Attempting, N>;
 
 /// The DOP853 engine over the members of `queue` (see the module docs).
 #[inline(always)]

@@ -15,9 +15,9 @@ use crate::lanes::{Lanes, Mask};
 
 /// One member in a lane: its position in the input, its run (driver, stepper, options) and what
 /// the engine keeps per member besides (`X`).
-pub(super) struct Slot<'p, 'a, L, S, X, const N: usize> {
+pub(super) struct Slot<'p, 'a, S, X, const N: usize> {
     pub(super) pos: usize,
-    pub(super) run: Entered<'p, 'a, L, S, N>,
+    pub(super) run: Entered<'p, 'a, S, N>,
     pub(super) own: X,
 }
 
@@ -33,15 +33,15 @@ pub(super) fn fill<
     const N: usize,
     const W: usize,
 >(
-    slots: &mut [Option<Slot<'p, 'a, L, S, X, N>>; W],
+    slots: &mut [Option<Slot<'p, 'a, S, X, N>>; W],
     queue: &mut impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
     out: &mut Out<'_, N>,
     start: impl Fn(
         usize,
         &'p mut Simulation<'a, L, N>,
         &mut Out<'_, N>,
-    ) -> Option<Slot<'p, 'a, L, S, X, N>>,
-    pending: impl Fn(&mut Slot<'p, 'a, L, S, X, N>) -> Result<bool, Fault>,
+    ) -> Option<Slot<'p, 'a, S, X, N>>,
+    pending: impl Fn(&mut Slot<'p, 'a, S, X, N>) -> Result<bool, Fault>,
 ) -> bool {
     let mut refreshed = false;
     for slot in slots.iter_mut() {
@@ -161,8 +161,8 @@ pub(super) enum End {
 
 /// Ends the run in `slot` and sends its result to `out`.
 #[inline(never)]
-pub(super) fn retire<L: Lagrangian<N>, S: Stepper<N>, X, const N: usize>(
-    slot: &mut Option<Slot<'_, '_, L, S, X, N>>,
+pub(super) fn retire<S: Stepper<N>, X, const N: usize>(
+    slot: &mut Option<Slot<'_, '_, S, X, N>>,
     end: End,
     out: &mut Out<'_, N>,
 ) {
@@ -179,10 +179,8 @@ fn unreachable_free_lane() -> ! {
 
 /// A member taken into a lane, whatever its method: its driver (samples, events, trajectory),
 /// its place between steps, its scalar stepper and its options.
-pub(super) struct Entered<'p, 'a, L, S, const N: usize> {
+pub(super) struct Entered<'p, 'a, S, const N: usize> {
     pub(super) driver: Driver<'p, 'a, 'p, N>,
-    /// The member's system type (its stepper holds the system itself).
-    pub(super) system: core::marker::PhantomData<&'p L>,
     pub(super) progress: Progress,
     pub(super) stepper: S,
     pub(super) opts: RunOptions<'p>,
@@ -197,7 +195,7 @@ pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
     out: &mut Out<'_, N>,
     takes: impl FnOnce(Method) -> Option<P>,
     make: impl FnOnce(&'p L, P, f64, Y<N>, f64, &mut Stats) -> Result<S, Fault>,
-) -> Option<Entered<'p, 'a, L, S, N>> {
+) -> Option<Entered<'p, 'a, S, N>> {
     let p = match sim.prepare() {
         Ok(p) => p,
         Err(e) => {
@@ -242,14 +240,13 @@ pub(super) fn enter<'p, 'a, L: Lagrangian<N>, S: Stepper<N>, P, const N: usize>(
     };
     Some(Entered {
         driver,
-        system: core::marker::PhantomData,
         progress,
         stepper,
         opts,
     })
 }
 
-impl<L: Lagrangian<N>, S: Stepper<N>, const N: usize> Entered<'_, '_, L, S, N> {
+impl<S: Stepper<N>, const N: usize> Entered<'_, '_, S, N> {
     /// The run's result, however it ended (on reaching the end time its last sample is recorded
     /// here).
     pub(super) fn end(self, end: End) -> Result<Trajectory<N>, SimulationError> {

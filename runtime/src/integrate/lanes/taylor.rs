@@ -24,7 +24,7 @@ use crate::integrate::taylor::Taylor;
 use super::members::{enter, fill, lanes_of, retire, End, Out, Slot};
 
 /// A Taylor member in a lane (nothing kept besides its run).
-type TaylorSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, L, Taylor<'p, L, N>, (), N>;
+type TaylorSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, Taylor<'p, L, N>, (), N>;
 
 /// Whether the run goes on (`Ok(true)`: it needs the series at its node), has reached its end
 /// (`Ok(false)`) or has used up its step budget.
