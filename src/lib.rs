@@ -366,6 +366,125 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+/// Derives `impl Lagrangian<N>` from `fn lagrangian(&self, (q, q_dot): Coord, ...) -> Scalar`
+/// (and the optional `fn dissipation` and `fn forces`) written as plain Rust. See the crate
+/// documentation above.
+///
+/// # Arguments
+///
+/// `#[lagrangian]` derives symbolically at compile time; `#[lagrangian(mode = "jets")]` with the
+/// run-time jets. `#[lagrangian(lanes)]` asks the symbolic mode for its lanes code (SIMD
+/// ensembles) whatever the system's size: by default only systems of up to 300 generated
+/// operations (the heavy top, a 6-link chain) get it, since every `Ensemble` compiles the lanes
+/// engines around it (a 12-link chain's release build took 123 s against 12 s without).
+///
+/// # Signature forms
+///
+/// `fn lagrangian(&self, <coordinates>, t: Time) -> Scalar` (`self: &Self` also works), each
+/// coordinate parameter one of `(x, x_dot): Coord` (a `Scalar`), `(r, r_dot): Coord3` (a
+/// `Vector3<Scalar>`, slots `r.x`, `r.y`, `r.z`) or `(q, q_dot): Coords<K>` (a `[Scalar; K]`, K an
+/// integer literal, slots `q[0]` … `q[K-1]`), mixed freely; `t: Time` is optional. Methods of
+/// the same impl block written with `Scalar` are helpers: generic over the number type in both
+/// modes, inlined by the symbolic mode.
+///
+/// ```
+/// use lagrange::prelude::*;
+///
+/// pub struct Chain { pub m: f64, pub l: f64, pub g: f64 }
+///
+/// #[lagrangian]
+/// impl Chain {
+///     fn lagrangian(&self, (q, q_dot): Coords<3>) -> Scalar {
+///         let (mut vx, mut vy, mut y, mut l) = (0.0, 0.0, 0.0, 0.0);
+///         for k in 0..q.len() {
+///             let (s, c) = q[k].sin_cos();
+///             vx += self.l * c * q_dot[k];
+///             vy += self.l * s * q_dot[k];
+///             y -= self.l * c;
+///             l += 0.5 * self.m * (vx * vx + vy * vy) - self.m * self.g * y;
+///         }
+///         l
+///     }
+/// }
+///
+/// let c = Chain { m: 1.0, l: 1.0, g: 9.81 };
+/// let a = c.accelerations(&[0.0; 3], &[0.0; 3], 0.0).unwrap();
+/// assert_eq!(a, [0.0; 3]); // hanging straight down, at rest
+/// assert_eq!(Chain::COORDINATES, ["q[0]", "q[1]", "q[2]"]);
+/// ```
+///
+/// # Constraints
+///
+/// An optional `fn constraints(&self, (x, _): Coord, ..., t: Time) -> [Scalar; K]` next to
+/// `fn lagrangian` declares K holonomic constraints g(q, t) = 0 and makes the macro also emit
+/// `impl Holonomic<N, K>` (in both modes). It takes `lagrangian`'s coordinates, all of them, in
+/// the same order and of the same kinds; any binding may be `_`, every velocity must be (the
+/// constraints depend on the positions, and on `t: Time` for a moving constraint, only), and the
+/// body ends in an array literal of K entries. `CONSTRAINED_COORDINATES` marks the coordinates
+/// the body mentions; `SCLERONOMIC` is `true` when it does not use the time.
+///
+/// ```
+/// use lagrange::prelude::*;
+///
+/// /// A bead on a vertical line that moves as x = a cos(ω t).
+/// pub struct Bead { pub g: f64, pub a: f64, pub w: f64 }
+///
+/// #[lagrangian(mode = "jets")]
+/// impl Bead {
+///     fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+///         0.5 * (x_dot * x_dot + y_dot * y_dot) - self.g * y
+///     }
+///     fn constraints(&self, (x, _): Coord, (_, _): Coord, t: Time) -> [Scalar; 1] {
+///         [x - self.a * (self.w * t).cos()]
+///     }
+/// }
+///
+/// let b = Bead { g: 9.81, a: 0.5, w: 2.0 };
+/// let (acc, _) = b.constrained_accelerations(&[0.5, 0.0], &[0.0, 0.0], 0.0).unwrap();
+/// assert!((acc[0] + 0.5 * 4.0).abs() < 1e-12 && (acc[1] + 9.81).abs() < 1e-12);
+/// assert_eq!(<Bead as lagrange::Holonomic<2, 1>>::CONSTRAINED_COORDINATES, [true, false]);
+/// assert!(!<Bead as lagrange::Holonomic<2, 1>>::SCLERONOMIC);
+/// ```
+///
+/// # Velocity constraints
+///
+/// An optional `fn velocity_constraints(&self, (x, x_dot): Coord, ..., t: Time) -> [Scalar; K]`
+/// declares K velocity (nonholonomic) constraints A(q, t) q̇ + b(q, t) = 0, rolling without
+/// slipping: the velocities are bound (and `velocity`, the angular velocities may be used), each
+/// entry must be affine in them (checked at the token). The macro emits
+/// `impl Nonholonomic<N, K>` and folds the rows into `impl Holonomic<N, KH + K>` after those of
+/// `fn constraints` (`VELOCITY_ROWS = K`), so `Simulation::constrained` runs both.
+///
+/// ```
+/// use lagrange::prelude::*;
+///
+/// /// A skate: (x, y) and the heading φ; it cannot slide sideways.
+/// pub struct Skate { pub m: f64, pub i: f64 }
+///
+/// #[lagrangian]
+/// impl Skate {
+///     fn lagrangian(&self, (_x, x_dot): Coord, (_y, y_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
+///         0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) + 0.5 * self.i * phi_dot * phi_dot
+///     }
+///     fn velocity_constraints(&self, (_, x_dot): Coord, (_, y_dot): Coord, (phi, _): Coord) -> [Scalar; 1] {
+///         [y_dot * phi.cos() - x_dot * phi.sin()]
+///     }
+/// }
+///
+/// // Moving along its heading while turning: the blade's side force bends the path.
+/// let s = Skate { m: 2.0, i: 0.5 };
+/// let (acc, lambda) = s.constrained_accelerations(&[0.0, 0.0, 0.0], &[3.0, 0.0, 1.0], 0.0).unwrap();
+/// assert!(acc[0].abs() < 1e-12 && (acc[1] - 3.0).abs() < 1e-12); // ÿ = ẋ φ̇
+/// assert!((lambda[0] - 6.0).abs() < 1e-12); // m ẋ φ̇
+/// assert_eq!(<Skate as lagrange::Holonomic<3, 1>>::VELOCITY_ROWS, 1);
+/// ```
+///
+/// # Contacts
+///
+/// An optional `fn contacts(&self, (x, _): Coord, ..., t: Time) -> [Contact; K]` declares K
+/// unilateral contacts, each from its gap g(q, t) ≥ 0 (`Contact::gap(g)`, with
+/// `.restitution(e)`, `.sticking(s)`, `.named(..)`), and makes the macro emit
+/// `impl Unilateral<N, K>`, which `Simulation::contacts` runs (see the crate docs).
 pub use lagrange_macros::lagrangian;
 
 // What users build with, in the index.

@@ -24,7 +24,7 @@ pub enum ParamType {
 }
 
 /// A function's body.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub enum FnBody {
     /// A closure's expression.
     Expr(Expr),
@@ -33,7 +33,7 @@ pub enum FnBody {
 }
 
 /// A function a body may call: a helper method, a nested `fn` or a closure.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Function {
     /// What it is, for messages (`this closure`, `the helper method `kinetic``).
     pub what: String,
@@ -49,7 +49,7 @@ pub struct Function {
 }
 
 /// The impl block's helper methods by name and its integer `const`s with a literal value.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Default)]
 pub struct Callables {
     /// `fn kinetic(&self, v: Scalar) -> Scalar` and the like ([`crate::model::is_helper`]).
     pub helpers: HashMap<String, Rc<Function>>,

@@ -32,7 +32,7 @@ use crate::front::{int_literal, paren_less, Body, Front, Seed};
 use crate::model::{unraw, CoordKind, Decl};
 
 /// A `self.<field>` used in the body.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Field {
     /// The field name.
     pub name: String,
@@ -69,7 +69,7 @@ pub struct Cond {
     pub assumed: bool,
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 enum Val {
     S(Id),
     V([Id; 3]),
@@ -99,7 +99,7 @@ enum Val {
 /// condition on parameters, evaluated once per call. The consumers (`for`, `sum`, `product`,
 /// `fold`) take each element's contribution under its condition (a `Select`), and the loads are
 /// `self.k.get(2)`, so a field shorter than the coordinates neither panics nor adds terms.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 struct Zipped {
     items: Vec<(Val, Guard)>,
     /// The elements are in the order they were zipped in (`false` after `.rev()`): the ones that
