@@ -1,11 +1,12 @@
 //! Ensembles: 1024 heavy tops with random parameters and initial states (I⊥ ∈ [0.8, 1.2],
 //! I∥ ∈ [0.4, 0.6], m g l ∈ [4, 6], θ0 ∈ [0.5, 0.9], φ̇0 ∈ [1.5, 2.5], ψ̇0 ∈ [10, 14]; seeded),
-//! each to t = 114.3, on the ensemble API: DOP853 (rtol 1e-10) one member at a time and in 4 SIMD
-//! lanes, and the Taylor method (tol 1e-10, 1e-13) likewise, on one thread and on two; DOP853 at
-//! rtol 1e-11 and Taylor at 1e-12 in lanes (final errors near 1e-10, the target's matched
-//! accuracy); and — in the same run, when python3 with heyoka is installed — heyoka's batch mode
-//! at its fastest batch size on this machine (`benches/peers/heyoka_batch.py` times 2, 4, 8 and 16
-//! tops per vector and reports the fastest) at tol 1e-10, 1e-11, 1e-12 and 1e-13, with
+//! each to t = 114.3, on the ensemble API: DOP853 (rtol 1e-10, 1e-11) and the Taylor method (tol
+//! 1e-10, 1e-12, 1e-13) one member at a time and on every lanes path the CPU has (`Simd`: 4 AVX2
+//! lanes exact, 4 AVX2 lanes with FMA, 8 AVX-512 lanes with FMA), on one thread and on two (final
+//! errors near 1e-10 and 1e-11, the matched accuracies); and — in the same run, when python3
+//! with heyoka is installed — heyoka's batch mode at its fastest batch size on this machine
+//! (`benches/peers/heyoka_batch.py` times 1, 2, 4, 8 and 16 tops per vector and reports the
+//! fastest) at tol 1e-10, 1e-11, 1e-12 and 1e-13, with
 //! the hand-written right-hand side and with the equations heyoka derives from the Lagrangian.
 //! Every final θ is compared with a reference run of the same top (our Taylor method at tol
 //! 2e-17, not timed); the time per top is the best of five passes, interleaved over the
@@ -17,6 +18,7 @@
 //!
 //! Run: `cargo bench --bench ensemble`
 
+use lagrange::ensemble::Simd;
 use lagrange::prelude::*;
 use std::io::Write;
 use std::process::{Command, Stdio};
@@ -58,7 +60,7 @@ fn tops() -> Vec<(Top, f64, f64, f64)> {
 fn sweep(
     tops: &[(Top, f64, f64, f64)],
     method: Method,
-    lanes: usize,
+    simd: Simd,
     threads: usize,
     passes: usize,
 ) -> (Vec<f64>, f64) {
@@ -77,7 +79,8 @@ fn sweep(
                 .keep_samples(false)
         })
         .threads(threads)
-        .lanes(lanes)
+        .lanes(if simd == Simd::Off { 1 } else { 4 })
+        .simd(simd)
         .reduce(&["theta"], |tr| tr.q[tr.q.len() - 1][0]);
         best = best.min(t0.elapsed().as_secs_f64());
         theta = r
@@ -263,7 +266,7 @@ fn main() {
                 rtol: 1e-8,
                 atol: 1e-10,
             },
-            4,
+            Simd::Native,
             2,
             1,
         );
@@ -271,65 +274,56 @@ fn main() {
         return;
     }
     // The most accurate run the time resolution at t = 114.3 allows (the run refuses tol < 1.3e-17).
-    let (reference, _) = sweep(&tops, Method::Taylor { tol: 2e-17 }, 1, 2, 1);
+    let (reference, _) = sweep(&tops, Method::Taylor { tol: 2e-17 }, Simd::Off, 2, 1);
     println!("{TOPS} heavy tops to t = {T_END}; final θ error against Taylor at tol 2e-17 (median, max); best of {PASSES} interleaved passes");
     let mut one_thread = Vec::new();
     let dop853 = Method::Dop853 {
         rtol: 1e-10,
         atol: 1e-12,
     };
-    let configs = [
-        ("our DOP853 rtol 1e-10, one member at a time", dop853, 1),
-        ("our DOP853 rtol 1e-10, 4 lanes", dop853, 4),
-        (
-            "our Taylor tol 1e-10, one member at a time",
-            Method::Taylor { tol: 1e-10 },
-            1,
-        ),
-        (
-            "our Taylor tol 1e-10, 4 lanes",
-            Method::Taylor { tol: 1e-10 },
-            4,
-        ),
-        (
-            "our Taylor tol 1e-13, one member at a time",
-            Method::Taylor { tol: 1e-13 },
-            1,
-        ),
-        (
-            "our Taylor tol 1e-13, 4 lanes",
-            Method::Taylor { tol: 1e-13 },
-            4,
-        ),
-        // Between the rows above and heyoka's, for the ratio at matched final error (≈ 1e-10).
-        (
-            "our DOP853 rtol 1e-11, 4 lanes",
-            Method::Dop853 {
-                rtol: 1e-11,
-                atol: 1e-13,
-            },
-            4,
-        ),
-        (
-            "our Taylor tol 1e-12, 4 lanes",
-            Method::Taylor { tol: 1e-12 },
-            4,
-        ),
-    ];
+    let dop853_11 = Method::Dop853 {
+        rtol: 1e-11,
+        atol: 1e-13,
+    };
+    // Every lanes path this CPU has (issue 41: the exact AVX2 lanes, AVX2 with FMA, AVX-512 at 8
+    // lanes), each method at each accuracy, in one run.
+    let paths: Vec<(Simd, &str)> = [
+        (Simd::Exact, "4 lanes AVX2 exact"),
+        (Simd::Avx2Fma, "4 lanes AVX2+FMA"),
+        (Simd::Avx512, "8 lanes AVX-512+FMA"),
+    ]
+    .into_iter()
+    .filter(|(p, _)| p.resolved() == *p)
+    .collect();
+    let mut configs: Vec<(String, Method, Simd)> = Vec::new();
+    for (name, method) in [
+        ("our DOP853 rtol 1e-10", dop853),
+        ("our DOP853 rtol 1e-11", dop853_11),
+        ("our Taylor tol 1e-10", Method::Taylor { tol: 1e-10 }),
+        ("our Taylor tol 1e-12", Method::Taylor { tol: 1e-12 }),
+        ("our Taylor tol 1e-13", Method::Taylor { tol: 1e-13 }),
+    ] {
+        if name.contains("1e-10") || name.contains("Taylor tol 1e-13") {
+            configs.push((format!("{name}, one member at a time"), method, Simd::Off));
+        }
+        for (simd, what) in &paths {
+            configs.push((format!("{name}, {what}"), method, *simd));
+        }
+    }
     // Rounds over every configuration, the best of each kept: on a shared machine the load
     // moves over seconds, and interleaving gives every configuration the same chances.
     let mut best = vec![[f64::INFINITY; 2]; configs.len()];
     let mut theta = vec![Vec::new(); configs.len()];
     for _ in 0..PASSES {
-        for (c, &(_, method, lanes)) in configs.iter().enumerate() {
+        for (c, &(_, method, simd)) in configs.iter().enumerate() {
             for (k, threads) in [1, 2].into_iter().enumerate() {
-                let (th, t) = sweep(&tops, method, lanes, threads, 1);
+                let (th, t) = sweep(&tops, method, simd, threads, 1);
                 best[c][k] = best[c][k].min(t);
                 theta[c] = th;
             }
         }
     }
-    for (c, &(name, _, _)) in configs.iter().enumerate() {
+    for (c, (name, _, _)) in configs.iter().enumerate() {
         let [t1, t2] = best[c];
         let (med, max) = errors(&theta[c], &reference);
         println!(
@@ -338,14 +332,10 @@ fn main() {
             t2 / TOPS as f64 * 1e3,
             t1 / t2
         );
-        one_thread.push((name, t1 / TOPS as f64 * 1e3, med));
+        one_thread.push((name.clone(), t1 / TOPS as f64 * 1e3, med));
     }
     // What the vector arithmetic alone costs at the evaluations DOP853 takes at rtol 1e-11:
     // floors under our DOP853 lanes at that accuracy, however cheap the step control.
-    let dop853_11 = Method::Dop853 {
-        rtol: 1e-11,
-        atol: 1e-13,
-    };
     let evals = Ensemble::new(tops.len(), |i| {
         let (top, th, ph_d, ps_d) = tops[i];
         Member::new(top, [th, 0.0, 0.0], [0.0, ph_d, ps_d])
@@ -363,7 +353,7 @@ fn main() {
         );
         let err = one_thread
             .iter()
-            .find(|r| r.0 == "our DOP853 rtol 1e-11, 4 lanes")
+            .find(|r| r.0 == "our DOP853 rtol 1e-11, 4 lanes AVX2 exact")
             .map_or(f64::NAN, |r| r.2);
         for (name, ns) in [
             (
@@ -376,7 +366,7 @@ fn main() {
             ),
             ("floor: DOP853-shaped steps without step control", steps),
         ] {
-            one_thread.push((name, ms(ns), err));
+            one_thread.push((name.to_string(), ms(ns), err));
         }
     }
     let input: String = tops

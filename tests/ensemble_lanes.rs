@@ -5,6 +5,7 @@
 //! the `f64` methods) enter (the heavy top); the generated `accelerations_lanes` equals
 //! `accelerations` lane by lane for every kind of input.
 
+use lagrange::ensemble::Simd;
 use lagrange::lanes::Lanes;
 use lagrange::prelude::*;
 use lagrange::Stats;
@@ -76,8 +77,21 @@ fn well(i: usize) -> Anharmonic {
 /// A member's recorded bits, statistics and terminating event, or its error as text.
 type Outcome = Result<(Vec<u64>, Stats, Option<String>), String>;
 
-/// The members' trajectories (or errors, as text) with `w` lanes.
+/// The members' trajectories (or errors, as text) with `w` lanes on the exact path (every
+/// operation rounded as the single run's: [`Simd::Exact`]).
 fn sweep<L: Lagrangian<3> + Sync>(
+    len: usize,
+    w: usize,
+    bad: Option<usize>,
+    system: impl Fn(usize) -> L + Sync,
+    configure: for<'s> fn(Sim<'s, L>) -> Sim<'s, L>,
+) -> Vec<Outcome> {
+    sweep_on(Simd::Exact, len, w, bad, system, configure)
+}
+
+/// [`sweep`] on the lanes path `simd`.
+fn sweep_on<L: Lagrangian<3> + Sync>(
+    simd: Simd,
     len: usize,
     w: usize,
     bad: Option<usize>,
@@ -93,6 +107,7 @@ fn sweep<L: Lagrangian<3> + Sync>(
     })
     .configure(configure)
     .lanes(w)
+    .simd(simd)
     .threads(1)
     .run()
     .results
@@ -557,4 +572,127 @@ fn generated_taylor_lanes_equal_scalar_series_for_every_input_kind() {
     let mut singular: [Mixed; 4] = std::array::from_fn(|i| member(i + 4));
     singular[2].m = 0.0;
     check(singular, Some(2));
+}
+
+/// The fused paths this machine has (AVX2 with FMA, 4 lanes; AVX-512, 8 lanes).
+fn fused_paths() -> Vec<Simd> {
+    let paths: Vec<Simd> = [Simd::Avx2Fma, Simd::Avx512]
+        .into_iter()
+        .filter(|s| s.resolved() == *s)
+        .collect();
+    eprintln!("fused lanes paths on this machine: {paths:?}");
+    paths
+}
+
+/// The last record's t, q and q̇ of an outcome.
+fn last_state(r: &(Vec<u64>, Stats, Option<String>)) -> Vec<f64> {
+    let b = &r.0;
+    b[b.len() - 8..b.len() - 1]
+        .iter()
+        .map(|&x| f64::from_bits(x))
+        .collect()
+}
+
+/// `fused` against `exact`, member by member: the same failures with the same messages; for the
+/// others the same number of steps (±1) and the last state within `rel` relative (absolute below
+/// 1). The number of members whose last state differs at all.
+fn to_round_off(fused: &[Outcome], exact: &[Outcome], rel: f64, what: &str) -> usize {
+    assert_eq!(fused.len(), exact.len());
+    let mut differ = 0;
+    for (i, (a, b)) in fused.iter().zip(exact).enumerate() {
+        let (a, b) = match (a, b) {
+            (Ok(a), Ok(b)) => (a, b),
+            (Err(a), Err(b)) => {
+                assert_eq!(a, b, "{what}, member {i}");
+                continue;
+            }
+            _ => panic!("{what}, member {i}: {a:?} vs {b:?}"),
+        };
+        assert!(
+            a.1.steps.abs_diff(b.1.steps) <= 1,
+            "{what}, member {i}: {:?} vs {:?}",
+            a.1,
+            b.1
+        );
+        let (ya, yb) = (last_state(a), last_state(b));
+        for c in 0..7 {
+            let tol = rel * yb[c].abs().max(1.0);
+            assert!(
+                (ya[c] - yb[c]).abs() <= tol,
+                "{what}, member {i}, {c}: {} vs {}",
+                ya[c],
+                yb[c]
+            );
+        }
+        differ += usize::from(ya != yb);
+    }
+    differ
+}
+
+/// Every fused path this machine has gives every member the run of the exact lanes to round-off
+/// (DOP853 and Taylor, the polynomial well and the heavy top, 4 s): steps ±1, the last state
+/// within 1e-12 relative (DOP853) and 1e-11 (Taylor, as for the vector sin and cos); a failing
+/// member reports the same error and spares its neighbours; a lane does not depend on the
+/// others (two threads, other neighbours, the same bits).
+#[test]
+fn fused_paths_equal_the_exact_lanes_to_round_off() {
+    for simd in fused_paths() {
+        let w = simd.width();
+        let what = format!("{simd:?} ({w} lanes)");
+        let mut differ = 0;
+        differ += to_round_off(
+            &sweep_on(simd, 13, w, None, well, every_step_any),
+            &sweep(13, 4, None, well, every_step_any),
+            1e-12,
+            &what,
+        );
+        differ += to_round_off(
+            &sweep_on(simd, 13, w, None, well, taylor_every_step),
+            &sweep(13, 4, None, well, taylor_every_step),
+            1e-11,
+            &what,
+        );
+        differ += to_round_off(
+            &sweep_on(simd, 13, w, None, top, every_step),
+            &sweep(13, 4, None, top, every_step),
+            1e-12,
+            &what,
+        );
+        differ += to_round_off(
+            &sweep_on(simd, 13, w, None, top, taylor_every_step),
+            &sweep(13, 4, None, top, taylor_every_step),
+            1e-11,
+            &what,
+        );
+        assert!(
+            differ > 0,
+            "{what}: the fused multiply-adds do change the rounding"
+        );
+        // A failing member (θ0 = 0: M singular) in the middle of a vector.
+        let fused = sweep_on(simd, 9, w, Some(5), top, short::<HeavyTop>);
+        assert_eq!(fused[5], sweep(9, 1, Some(5), top, short::<HeavyTop>)[5]);
+        assert_eq!(fused.iter().filter(|r| r.is_ok()).count(), 8, "{what}");
+        // Lane independence: the same members with other neighbours (two threads).
+        let two = Ensemble::new(13, |i| {
+            Member::new(
+                well(i),
+                [theta0(i, None), 0.1, 0.0],
+                [0.2, 1.0 + 0.1 * i as f64, 15.0],
+            )
+        })
+        .configure(every_step_any)
+        .simd(simd)
+        .threads(2)
+        .run()
+        .results;
+        let two: Vec<Vec<u64>> = two
+            .iter()
+            .map(|r| r.as_ref().map(bits).unwrap_or_default())
+            .collect();
+        let one: Vec<Vec<u64>> = sweep_on(simd, 13, w, None, well, every_step_any)
+            .into_iter()
+            .map(|r| r.map(|r| r.0).unwrap_or_default())
+            .collect();
+        assert_eq!(two, one, "{what}");
+    }
 }

@@ -22,7 +22,7 @@ import heyoka as hy
 import numpy as np
 
 T_END = 114.3
-BATCHES = (2, 4, 8, 16)
+BATCHES = (1, 2, 4, 8, 16)
 
 
 def system():

@@ -8,7 +8,8 @@
 //! to every member's [`Simulation`] ([`Ensemble::configure`]), and returns for each member either
 //! its whole [`Trajectory`] ([`Ensemble::run`]) or a row of numbers a closure computes from it
 //! ([`Ensemble::reduce`]). DOP853 and Taylor members run several per vector, one per SIMD lane
-//! ([`Ensemble::lanes`]; 4 by default for a system with generated lanes code).
+//! ([`Ensemble::lanes`]; by default for a system with generated lanes code: 8 per AVX-512
+//! vector, 4 per AVX2 vector, chosen at run time, [`Ensemble::simd`]).
 //! [`Ensemble::shard`] runs the k-th of n contiguous blocks of members, so
 //! a batch scheduler's job array runs the blocks on as many machines and their CSVs concatenate
 //! (the README's "Ensembles" section has the recipe).
@@ -43,6 +44,7 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use crate::constraints::Holonomic;
+pub use crate::integrate::lanes::Simd;
 #[doc(hidden)]
 pub use crate::integrate::lanes::accelerations as lane_accelerations;
 use crate::integrate::lanes::{Out, run_lanes};
@@ -101,9 +103,6 @@ impl<L, const N: usize> Member<L, N> {
 /// The most threads [`Ensemble::threads`] starts per available core.
 pub const MAX_THREADS_PER_CORE: usize = 4;
 
-/// The one width the lanes engine is compiled for ([`Ensemble::lanes`]).
-const LANES: usize = 4;
-
 /// A member's named parameters.
 pub type Params = Vec<(&'static str, f64)>;
 
@@ -111,8 +110,10 @@ pub type Params = Vec<(&'static str, f64)>;
 type Configure<'c, L, const N: usize> =
     Box<dyn for<'s> Fn(Simulation<'s, L, N>) -> Simulation<'s, L, N> + Sync + 'c>;
 
-/// The lanes engine's entry: members in order, each result to the sink as the member ends.
-type LanesFn<L, const N: usize> = for<'s, 'o> fn(&mut [Simulation<'s, L, N>], &mut Out<'o, N>);
+/// The lanes engine's entry: members in order, each result to the sink as the member ends, on
+/// the path the [`Simd`] resolves to.
+type LanesFn<L, const N: usize> =
+    for<'s, 'o> fn(&mut [Simulation<'s, L, N>], &mut Out<'o, N>, Simd);
 
 /// How the members of an ensemble run: [`Plain`] (as they are; DOP853 and Taylor members share
 /// SIMD lanes) or [`Constrained`] (the constrained run of their system). A type parameter of
@@ -171,9 +172,9 @@ impl<L: Lagrangian<N>, const N: usize> Engine<L, N> for Plain {
     }
 
     fn lanes() -> Option<LanesFn<L, N>> {
-        // One width is compiled (the engine is large and generic in the system): 4, the fastest
-        // measured on AVX2 (BENCHMARKS.md, "Ensembles with SIMD lanes").
-        Some(run_lanes::<L, N, LANES>)
+        // One width per instruction set is compiled (the engine is large and generic in the
+        // system): `Simd`'s paths.
+        Some(run_lanes::<L, N>)
     }
 }
 
@@ -221,9 +222,10 @@ pub struct Ensemble<'c, L, F, const N: usize, E = Plain> {
     threads: Option<usize>,
     shard: Option<(usize, usize)>,
     progress: bool,
-    /// Members per vector of the lanes engine (1: one member at a time); `None`: 4 where the
-    /// system has generated lanes code, else 1.
-    lanes: Option<usize>,
+    /// Whether members share lanes; `None`: where the system has generated lanes code.
+    lanes: Option<bool>,
+    /// The lanes' instruction set and width.
+    simd: Simd,
     engine: PhantomData<fn() -> E>,
 }
 
@@ -326,6 +328,7 @@ where
             shard: None,
             progress: false,
             lanes: None,
+            simd: Simd::Native,
             engine: PhantomData,
         }
     }
@@ -373,6 +376,7 @@ where
             shard: self.shard,
             progress: self.progress,
             lanes: self.lanes,
+            simd: self.simd,
             engine: PhantomData,
         }
     }
@@ -485,22 +489,21 @@ where
         self
     }
 
-    /// Runs DOP853 and Taylor members several per vector (`w` ≥ 2; 1 turns lanes off): they step
-    /// together, one per SIMD lane, each with its own step size (and, for DOP853, accept/reject
-    /// decision), a member's lane going to the next member as soon as it ends. The Taylor
-    /// method's lanes compute the series of W members in one pass of vector code
-    /// ([`Lagrangian::series_in`]); each member sums its own. Any `w` ≥ 2 (up to
-    /// `usize::MAX`) runs 4 lanes, the fastest width measured (2 and 8 were slower; one width keeps
-    /// the build short); 0 and 1 turn lanes off. Without this call: 4
-    /// where the system's accelerations are generated lanes code
-    /// ([`Compiled::lanes`](crate::lagrangian::Compiled::lanes): `#[lagrangian]` in symbolic mode), else 1. A lane
-    /// equals the member's single run bit for bit where the lanes compute the scalar operations,
-    /// and to round-off where the vector sin and cos enter; it never depends on the other lanes.
-    /// Members with another method (RK4, Dormand–Prince, variational), or constrained ones, run
-    /// one at a time whatever `w` is.
+    /// Runs DOP853 and Taylor members several per vector (`w` ≥ 2; 0 and 1 turn lanes off): they
+    /// step together, one per SIMD lane, each with its own step size (and, for DOP853,
+    /// accept/reject decision), a member's lane going to the next member as soon as it ends. The
+    /// Taylor method's lanes compute the series of W members in one pass of vector code
+    /// ([`Lagrangian::series_in`]); each member sums its own. The width is the instruction set's
+    /// ([`simd`](Ensemble::simd): 8 on AVX-512, 4 on AVX2), whatever `w` ≥ 2 is. Without this
+    /// call: lanes where the system's accelerations are generated lanes code
+    /// ([`Compiled::lanes`](crate::lagrangian::Compiled::lanes): `#[lagrangian]` in symbolic
+    /// mode), else none. A lane never depends on the other lanes; it equals the member's single
+    /// run bit for bit on [`Simd::Exact`] (but where the vector sin and cos enter: to round-off
+    /// there), to round-off on the fused paths. Members with another method (RK4,
+    /// Dormand–Prince, variational), or constrained ones, run one at a time whatever `w` is.
     ///
     /// ```
-    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member, Simd};
     /// # use lagrange_runtime::{Lagrangian, Scalar};
     /// # struct Osc { w: f64 }
     /// # impl Lagrangian<1> for Osc {
@@ -511,20 +514,50 @@ where
     /// #         (v[0] * v[0] - q[0] * q[0] * (self.w * self.w)) * 0.5
     /// #     }
     /// # }
-    /// let sweep = |w| {
+    /// let sweep = |w, simd| {
     ///     Ensemble::new(6, |i| Member::new(Osc { w: 1.0 + i as f64 }, [1.0], [0.0]))
     ///         .configure(|sim| sim.until(3.0))
     ///         .lanes(w)
+    ///         .simd(simd)
     ///         .reduce(&["x"], |tr| tr.q[tr.q.len() - 1][0])
     /// };
-    /// let (one, four) = (sweep(1), sweep(4));
-    /// for (a, b) in one.results.iter().zip(&four.results) {
-    ///     assert_eq!(a.as_ref().unwrap().to_bits(), b.as_ref().unwrap().to_bits());
+    /// let one = sweep(1, Simd::Native);
+    /// for (simd, bound) in [(Simd::Exact, 0.0), (Simd::Native, 1e-12)] {
+    ///     for (a, b) in one.results.iter().zip(&sweep(4, simd).results) {
+    ///         assert!((a.as_ref().unwrap() - b.as_ref().unwrap()).abs() <= bound);
+    ///     }
     /// }
     /// ```
     pub fn lanes(mut self, w: usize) -> Self {
-        // The one compiled width (see `Plain::lanes`), or none.
-        self.lanes = Some(if w >= 2 { LANES } else { 1 });
+        self.lanes = Some(w >= 2);
+        self
+    }
+
+    /// The instruction set, width and arithmetic of the lanes ([`Simd`]; default
+    /// [`Simd::Native`]: the fastest the CPU has, chosen when the ensemble runs, or the one the
+    /// environment variable `LAGRANGE_SIMD` names). [`Simd::Exact`] makes every member its single
+    /// run bit for bit (where no vector sin or cos enters); the fused paths differ from it by
+    /// round-off, as a run compiled with fused multiply-adds would.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member, Simd};
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let r = Ensemble::new(5, |i| Member::new(Free, [0.0], [i as f64]))
+    ///     .configure(|sim| sim.until(2.0))
+    ///     .lanes(4)
+    ///     .simd(Simd::Exact)
+    ///     .reduce(&["x"], |tr| tr.q[tr.q.len() - 1][0]);
+    /// assert_eq!(r.results[3].as_ref().unwrap(), &6.0);
+    /// ```
+    pub fn simd(mut self, simd: Simd) -> Self {
+        self.simd = simd;
         self
     }
 
@@ -609,11 +642,11 @@ where
     ) -> Results<R> {
         let range = self.members();
         let bar = Bar::new(self.progress, range.len());
-        let width = match self.lanes {
-            None if L::COMPILED.lanes => LANES,
-            None => 1,
-            Some(w) => w,
+        let simd = match self.lanes.unwrap_or(L::COMPILED.lanes) {
+            true => self.simd.resolved(),
+            false => Simd::Off,
         };
+        let width = simd.width();
         let lanes = E::lanes().filter(|_| width >= 2);
         let out: Vec<(Params, Result<R, SimulationError>)> = if let Some(engine) = lanes {
             // Blocks of members, each run by the lanes engine in one thread.
@@ -627,7 +660,7 @@ where
                 .step_by(block)
                 .map(|a| a..(a + block).min(range.end))
                 .collect();
-            let one = |r: Range<usize>| self.lanes_block(r, engine, &keep, &bar);
+            let one = |r: Range<usize>| self.lanes_block(r, engine, simd, &keep, &bar);
             let parts: Vec<Vec<(Params, Result<R, SimulationError>)>> =
                 self.in_threads(blocks, one);
             parts.into_iter().flatten().collect()
@@ -675,6 +708,7 @@ where
         &self,
         range: Range<usize>,
         engine: LanesFn<L, N>,
+        simd: Simd,
         keep: &(impl Fn(Trajectory<N>) -> R + Sync),
         bar: &Bar,
     ) -> Vec<(Params, Result<R, SimulationError>)> {
@@ -716,7 +750,7 @@ where
                 slots[pos] = Some(r);
                 bar.inc();
             };
-            if let Err(e) = isolated(start, || engine(&mut sims, &mut out)) {
+            if let Err(e) = isolated(start, || engine(&mut sims, &mut out, simd)) {
                 let message = match e {
                     SimulationError::MemberPanicked { message, .. } => message,
                     other => other.to_string(),
@@ -1178,13 +1212,13 @@ mod limits {
             .threads(usize::MAX);
         let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
         assert_eq!(e.threads, Some(MAX_THREADS_PER_CORE * cores));
-        assert_eq!(e.lanes, Some(LANES));
+        assert_eq!(e.lanes, Some(true));
         let r = e.run();
         assert_eq!(r.failures(), 0);
         let e = Ensemble::new(1, |_| Member::new(Osc, [1.0], [0.0]))
             .threads(0)
             .lanes(0);
-        assert_eq!((e.threads, e.lanes), (Some(1), Some(1)));
+        assert_eq!((e.threads, e.lanes), (Some(1), Some(false)));
     }
 
     /// x'' = −x, whose Lagrangian panics once |x| passes `limit` (system code that panics).

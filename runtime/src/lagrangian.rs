@@ -227,7 +227,7 @@ pub trait Lagrangian<const N: usize> {
     ///         (v[0] * v[0] - q[0] * q[0] * self.k) * 0.5
     ///     }
     /// }
-    /// let z = Lanes([0.0; 2]);
+    /// let z = Lanes::<2>([0.0; 2]);
     /// let none = Spring::accelerations_in(&[&Spring { k: 1.0 }, &Spring { k: 4.0 }], &mut Vec::new(), &[z], &[z], z);
     /// assert!(none.is_none()); // hand-written: no compiled kernel
     /// ```

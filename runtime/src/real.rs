@@ -16,7 +16,7 @@ use crate::lanes::{Lanes, Mask};
 /// ```
 /// use lagrange_runtime::{lanes::Lanes, real::LeftOps};
 /// fn twice<R: Copy>(x: R) -> R where f64: LeftOps<R> { 2.0 * x }
-/// assert_eq!(twice(Lanes([1.0, 2.0])).0, [2.0, 4.0]);
+/// assert_eq!(twice(Lanes::<2>([1.0, 2.0])).0, [2.0, 4.0]);
 /// ```
 pub trait LeftOps<R>:
     Add<R, Output = R> + Sub<R, Output = R> + Mul<R, Output = R> + Div<R, Output = R>
@@ -69,12 +69,12 @@ macro_rules! functions {
 /// use lagrange_runtime::{lanes::Lanes, {real::Real, taylor::mul}};
 /// let (mut a, mut b) = ([Lanes::<2>::ZERO; 32], [<Lanes<2> as Real>::ZERO; 32]);
 /// // a = 1 + c τ with c = 1 in lane 0 and 2 in lane 1, b = 3 + τ: (ab)₁ = 3c + 1.
-/// (a[0], a[1], b[0], b[1]) = (Lanes([1.0; 2]), Lanes([1.0, 2.0]), Lanes([3.0; 2]), Lanes([1.0; 2]));
+/// (a[0], a[1], b[0], b[1]) = (Lanes::<2>([1.0; 2]), Lanes::<2>([1.0, 2.0]), Lanes::<2>([3.0; 2]), Lanes::<2>([1.0; 2]));
 /// assert_eq!(mul(&a, &b, 1).0, [4.0, 7.0]);
 /// // One body for both widths:
 /// fn pivot_ok<R: Real>(d: R, m: R) -> R::Mask { d.greater(m * 1e-8) & d.finite() }
 /// assert!(pivot_ok(1.0, 2.0));
-/// assert_eq!(pivot_ok(Lanes([1.0, -1.0]), Lanes([2.0; 2])).0, [true, false]);
+/// assert_eq!(pivot_ok(Lanes::<2>([1.0, -1.0]), Lanes::<2>([2.0; 2])).0, [true, false]);
 /// ```
 pub trait Real:
     Copy
@@ -122,6 +122,10 @@ pub trait Real:
 
     /// Lane by lane, `a` where `m` is set, else `b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// `self · a + b`: rounded twice for `f64` (a single run computes as written) and for
+    /// [`Lanes`] of the exact paths, once for fused [`Lanes`] (the engines' FMA paths). What the
+    /// integrators' sums and the Taylor convolutions are written with.
+    fn madd(self, a: Self, b: Self) -> Self;
     /// The Heaviside step: 1 where `self ≥ 0`, else 0.
     fn step(self) -> Self;
     /// (sin, cos); for lanes one vector computation within 1 ulp of the `f64` methods.
@@ -180,6 +184,10 @@ impl Real for f64 {
         if m { a } else { b }
     }
     #[inline(always)]
+    fn madd(self, a: Self, b: Self) -> Self {
+        self * a + b
+    }
+    #[inline(always)]
     fn step(self) -> Self {
         if self >= 0.0 { 1.0 } else { 0.0 }
     }
@@ -210,7 +218,7 @@ impl Real for f64 {
     functions!(f64);
 }
 
-impl<const W: usize> Real for Lanes<W> {
+impl<const W: usize, const F: bool> Real for Lanes<W, F> {
     const ZERO: Self = Lanes([0.0; W]);
     const NAN: Self = Lanes([f64::NAN; W]);
     const WIDTH: usize = W;
@@ -251,6 +259,10 @@ impl<const W: usize> Real for Lanes<W> {
         Lanes::select(m, a, b)
     }
     #[inline(always)]
+    fn madd(self, a: Self, b: Self) -> Self {
+        Lanes::madd(self, a, b)
+    }
+    #[inline(always)]
     fn step(self) -> Self {
         Lanes::step(self)
     }
@@ -288,7 +300,7 @@ mod tests {
     /// Every function of the table is the `f64` method in every lane, bit for bit.
     #[test]
     fn lanes_functions_are_the_f64_methods() {
-        let x = Lanes([0.3, 0.7, 0.05, 0.9]);
+        let x = Lanes::<4>([0.3, 0.7, 0.05, 0.9]);
         macro_rules! check {
             ($($variant:ident $f:ident $unicode:literal $latex:literal real = $real:ident
                 jets = $jets:ident tangent $targs:tt = $tangent:expr; jets $jargs:tt = $jet:expr;)*) => {
@@ -309,7 +321,7 @@ mod tests {
         assert_eq!(Real::atan2(x, Lanes([1.0; 4])).0[2], 0.05_f64.atan2(1.0));
         assert_eq!(Real::powi(x, 3).0[3], 0.9_f64.powi(3));
         assert_eq!(<f64 as Real>::select(false, 1.0, 2.0), 2.0);
-        assert_eq!(Real::step(Lanes([0.0, -1.0])).0, [1.0, 0.0]);
-        assert_eq!(Real::nonzero(Lanes([0.0, 2.0])).0, [false, true]);
+        assert_eq!(Real::step(Lanes::<2>([0.0, -1.0])).0, [1.0, 0.0]);
+        assert_eq!(Real::nonzero(Lanes::<2>([0.0, 2.0])).0, [false, true]);
     }
 }

@@ -322,6 +322,10 @@ impl<const K: usize> Real for Tangent<K> {
         if m { a } else { b }
     }
     #[inline(always)]
+    fn madd(self, a: Self, b: Self) -> Self {
+        self * a + b
+    }
+    #[inline(always)]
     fn step(self) -> Self {
         Tangent::constant(self.v.step())
     }

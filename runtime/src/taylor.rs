@@ -117,7 +117,7 @@ fn dot_rev<T: Real>(x: &[T], y: &[T]) -> T {
     let (x, y) = (&x[..n], &y[..n]);
     let mut s = T::ZERO;
     for (&a, &b) in x.iter().zip(y.iter().rev()) {
-        s += a * b;
+        s = a.madd(b, s);
     }
     s
 }
@@ -142,7 +142,7 @@ fn conv_weighted<T: Real>(
     let mut s = T::ZERO;
     let mut w = alpha * lo as f64 + beta;
     for (&a, &b) in x.iter().zip(y.iter().rev()) {
-        s += a * w * b;
+        s = (a * w).madd(b, s);
         w += alpha;
     }
     s
@@ -163,7 +163,7 @@ fn conv_weighted_by<T: Real>(
     let mut s = T::ZERO;
     let mut w = alpha * T::from(lo as f64) + beta;
     for (&a, &b) in x.iter().zip(y.iter().rev()) {
-        s += w * a * b;
+        s = (w * a).madd(b, s);
         w += alpha;
     }
     s
@@ -196,7 +196,7 @@ pub fn sqr<T: Real>(a: &RowOf<T>, k: usize) -> T {
     let mut s = dot_rev(&a[..half], &a[k + 1 - half..=k]);
     s += s;
     if k.is_multiple_of(2) {
-        s += a[k / 2] * a[k / 2];
+        s = a[k / 2].madd(a[k / 2], s);
     }
     s
 }

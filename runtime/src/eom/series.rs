@@ -24,7 +24,7 @@ use super::solve_mass_matrix;
 ///     x[0]
 /// }
 /// assert_eq!(solve(2.0, 4.0), 2.0);
-/// assert_eq!(solve(Lanes([2.0, 4.0]), Lanes([4.0; 2])).0, [2.0, 1.0]);
+/// assert_eq!(solve(Lanes::<2>([2.0, 4.0]), Lanes::<2>([4.0; 2])).0, [2.0, 1.0]);
 /// ```
 pub trait SeriesReal: Real {
     /// The factorization of M₀ at this width.
@@ -35,7 +35,7 @@ impl SeriesReal for f64 {
     type Factor<const N: usize> = Factor<N>;
 }
 
-impl<const W: usize> SeriesReal for crate::lanes::Lanes<W> {
+impl<const W: usize, const F: bool> SeriesReal for crate::lanes::Lanes<W, F> {
     type Factor<const N: usize> = LdlOf<Self, N>;
 }
 
@@ -85,10 +85,10 @@ pub trait SeriesFactor<R: Real, const N: usize>: Sized {
 ///
 /// ```
 /// use lagrange_runtime::{eom::LdlOf, lanes::Lanes};
-/// let m = [[Lanes([2.0, -1.0])]];
+/// let m = [[Lanes::<2>([2.0, -1.0])]];
 /// let (f, ok) = LdlOf::<Lanes<2>, 1>::factor(&m);
 /// assert_eq!(ok.0, [true, false]);
-/// assert_eq!(f.solve(&[Lanes([4.0, 4.0])])[0].0[0], 2.0);
+/// assert_eq!(f.solve(&[Lanes::<2>([4.0, 4.0])])[0].0[0], 2.0);
 /// let (f, ok) = LdlOf::<f64, 1>::factor(&[[2.0]]);
 /// assert!(ok && f.solve(&[4.0]) == [2.0]);
 /// ```

@@ -94,12 +94,12 @@ pub(crate) fn step_of<R: Real, F: Accelerations<R, N>, const N: usize>(
     // q̇ halves added pairwise (a serial chain of N additions: it is on the critical path).
     let (mut err5, mut err3) = (R::ZERO, R::ZERO);
     for i in 0..N {
-        let w = |c: usize| atol + rtol * y[c][i].abs().max(y1[c][i].abs());
+        let w = |c: usize| rtol.madd(y[c][i].abs().max(y1[c][i].abs()), atol);
         let (w0, w1) = (w(0), w(1));
         let (a, b) = (e5[0][i] / w0, e5[1][i] / w1);
-        err5 += a * a + b * b;
+        err5 += a.madd(a, b * b);
         let (a, b) = (e3[0][i] / w0, e3[1][i] / w1);
-        err3 += a * a + b * b;
+        err3 += a.madd(a, b * b);
     }
     let deno = err5 + err3 * 0.01;
     let deno = R::select(deno.at_most(R::ZERO), R::from(1.0), deno);

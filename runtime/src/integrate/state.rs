@@ -136,7 +136,7 @@ pub(crate) fn combine<const S: usize, const N: usize, const R: usize, const K: u
         let w = weighted_to(last, a, k);
         for r in 0..2 {
             for i in 0..N {
-                base[r][i] += h * w[r][i];
+                base[r][i] = h.madd(w[r][i], base[r][i]);
             }
         }
     }
@@ -144,7 +144,7 @@ pub(crate) fn combine<const S: usize, const N: usize, const R: usize, const K: u
     let mut out = [[T::from(0.0); N]; 2];
     for r in 0..2 {
         for i in 0..N {
-            out[r][i] = base[r][i] + hl * k[last][r][i];
+            out[r][i] = hl.madd(k[last][r][i], base[r][i]);
         }
     }
     out
@@ -181,7 +181,7 @@ fn weighted_to<const N: usize, const R: usize, const K: usize, T: Real>(
         }
         for r in 0..2 {
             for i in 0..N {
-                w[r][i] += T::from(a[j]) * k[j][r][i];
+                w[r][i] = T::from(a[j]).madd(k[j][r][i], w[r][i]);
             }
         }
     }

@@ -140,9 +140,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
     /// Takes the series at the current node from lane `l` of the lanes engine's series `src`
     /// (whose orders are at least this stepper's), counted as one evaluation as `compute` counts
     /// its own. The caller has checked that the lane's coefficients are finite.
-    pub(crate) fn take_series<const W: usize>(
+    pub(crate) fn take_series<const W: usize, const F: bool>(
         &mut self,
-        src: &[YOf<Lanes<W>, N>],
+        src: &[YOf<Lanes<W, F>, N>],
         l: usize,
         stats: &mut Stats,
     ) {

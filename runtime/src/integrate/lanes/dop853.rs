@@ -46,14 +46,15 @@ pub(super) fn run<
     L: Lagrangian<N> + 'a,
     const N: usize,
     const W: usize,
+    const F: bool,
 >(
     queue: impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
     out: &mut Out<'_, N>,
 ) {
     let mut queue = queue;
     let mut slots: [Option<DopSlot<'_, '_, L, N>>; W] = core::array::from_fn(|_| None);
-    let mut params: Vec<Lanes<W>> = Vec::new();
-    let mut k = [[[Lanes::<W>::ZERO; N]; 2]; 16];
+    let mut params: Vec<Lanes<W, F>> = Vec::new();
+    let mut k = [[[Lanes::<W, F>::ZERO; N]; 2]; 16];
     loop {
         let refreshed = fill(&mut slots, &mut queue, out, start, pending);
         let Some(lane) = lanes_of(&slots) else {
@@ -68,7 +69,7 @@ pub(super) fn run<
         let mut h = Lanes::ZERO;
         let mut rtol = Lanes::ZERO;
         let mut atol = Lanes::ZERO;
-        let mut y = [[Lanes::<W>::ZERO; N]; 2];
+        let mut y = [[Lanes::<W, F>::ZERO; N]; 2];
         for (l, s) in lane.iter().enumerate() {
             let (tl, yl) = s.run.stepper.node_state();
             let (r, a) = s.run.stepper.tolerances();
@@ -197,17 +198,17 @@ fn pending<L: Lagrangian<N>, const N: usize>(s: &mut DopSlot<'_, '_, L, N>) -> R
 }
 
 /// The accelerations of W members (see [`accelerations`]).
-struct Members<'a, L, const W: usize> {
+struct Members<'a, L, const W: usize, const F: bool> {
     members: &'a [&'a L; W],
-    params: &'a mut Vec<Lanes<W>>,
+    params: &'a mut Vec<Lanes<W, F>>,
 }
 
-impl<L: Lagrangian<N>, const N: usize, const W: usize> Accelerations<Lanes<W>, N>
-    for Members<'_, L, W>
+impl<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool> Accelerations<Lanes<W, F>, N>
+    for Members<'_, L, W, F>
 {
     type Error = core::convert::Infallible;
     #[inline(always)]
-    fn at(&mut self, t: Lanes<W>, y: &YOf<Lanes<W>, N>) -> Result<[Lanes<W>; N], Self::Error> {
+    fn at(&mut self, t: Lanes<W, F>, y: &YOf<Lanes<W, F>, N>) -> Result<[Lanes<W, F>; N], Self::Error> {
         Ok(accelerations(self.members, self.params, &y[0], &y[1], t))
     }
 }
@@ -216,16 +217,16 @@ impl<L: Lagrangian<N>, const N: usize, const W: usize> Accelerations<Lanes<W>, N
 /// [`step_of`] at width W.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize>(
+fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
     members: &[&L; W],
-    params: &mut Vec<Lanes<W>>,
-    t: Lanes<W>,
-    y: &YOf<Lanes<W>, N>,
-    k: &mut [YOf<Lanes<W>, N>; 16],
-    h: Lanes<W>,
-    rtol: Lanes<W>,
-    atol: Lanes<W>,
-) -> Attempted<Lanes<W>, N> {
+    params: &mut Vec<Lanes<W, F>>,
+    t: Lanes<W, F>,
+    y: &YOf<Lanes<W, F>, N>,
+    k: &mut [YOf<Lanes<W, F>, N>; 16],
+    h: Lanes<W, F>,
+    rtol: Lanes<W, F>,
+    atol: Lanes<W, F>,
+) -> Attempted<Lanes<W, F>, N> {
     let f = Members { members, params };
     let Ok(out) = step_of(L::CYCLIC, f, t, y, k, h, rtol, atol);
     out

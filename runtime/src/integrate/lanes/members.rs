@@ -103,18 +103,18 @@ pub(super) fn lanes_of<T, const W: usize>(slots: &[Option<T>; W]) -> Option<[&T;
 ///     }
 /// }
 /// let (a, b) = (Spring { k: 1.0 }, Spring { k: 4.0 });
-/// let x = Lanes([1.0, 0.5]);
-/// let qdd = lane_accelerations(&[&a, &b], &mut Vec::new(), &[x], &[Lanes([0.0; 2])], Lanes([0.0; 2]));
+/// let x = Lanes::<2>([1.0, 0.5]);
+/// let qdd = lane_accelerations(&[&a, &b], &mut Vec::new(), &[x], &[Lanes::<2>([0.0; 2])], Lanes::<2>([0.0; 2]));
 /// assert_eq!(qdd[0].0, [-1.0, -2.0]);
 /// ```
 #[inline(always)]
-pub fn accelerations<L: Lagrangian<N>, const N: usize, const W: usize>(
+pub fn accelerations<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
     members: &[&L; W],
-    params: &mut Vec<Lanes<W>>,
-    q: &[Lanes<W>; N],
-    qdot: &[Lanes<W>; N],
-    t: Lanes<W>,
-) -> [Lanes<W>; N] {
+    params: &mut Vec<Lanes<W, F>>,
+    q: &[Lanes<W, F>; N],
+    qdot: &[Lanes<W, F>; N],
+    t: Lanes<W, F>,
+) -> [Lanes<W, F>; N] {
     match L::accelerations_in(members, params, q, qdot, t) {
         Some((x, ok)) if ok.all() => x,
         Some((x, ok)) => one_by_one(members, q, qdot, t, x, ok),
@@ -127,14 +127,14 @@ pub fn accelerations<L: Lagrangian<N>, const N: usize, const W: usize>(
 // Out of line: a cold path for generated systems, and inlining a jets derivation at each of the
 // twelve stages of every instantiation costs build time for nothing.
 #[inline(never)]
-fn one_by_one<L: Lagrangian<N>, const N: usize, const W: usize>(
+fn one_by_one<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
     members: &[&L; W],
-    q: &[Lanes<W>; N],
-    qdot: &[Lanes<W>; N],
-    t: Lanes<W>,
-    mut x: [Lanes<W>; N],
+    q: &[Lanes<W, F>; N],
+    qdot: &[Lanes<W, F>; N],
+    t: Lanes<W, F>,
+    mut x: [Lanes<W, F>; N],
     ok: Mask<W>,
-) -> [Lanes<W>; N] {
+) -> [Lanes<W, F>; N] {
     for (l, sys) in members.iter().enumerate() {
         if ok.0[l] {
             continue;

@@ -18,39 +18,137 @@ use crate::lagrangian::Lagrangian;
 
 use members::scalar;
 
-/// Runs `sims` (in order) with W members per vector, calling `out(position, result)` as each
-/// member ends (not in order): DOP853 and Taylor members without constraints in lanes, any other
-/// member on the scalar driver.
+/// The instruction set, width and arithmetic an ensemble's lanes run with
+/// ([`Ensemble::simd`](crate::ensemble::Ensemble::simd)), chosen when the ensemble runs, from what
+/// the CPU has: no `RUSTFLAGS`, and a binary built on one machine runs on any other.
 ///
-/// On an x86-64 CPU with AVX2 the engine runs as AVX2 code, chosen at run time so the same binary
-/// runs everywhere; an x86-64 CPU without AVX2 runs the members one at a time (the same results:
-/// a lane is its scalar run bit for bit). Lanes in SSE2's 2-wide vectors were 1.6× slower than
-/// AVX2's (BENCHMARKS.md "Ensembles with SIMD lanes"), little faster than one member at a time,
-/// and cost a second compiled copy of both engines for every system in every build. Other
-/// architectures run the engines as their own vector code. Rust does not fuse a multiplication
-/// and an addition unless asked (`mul_add`), so every path computes the same numbers.
-pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize, const W: usize>(
+/// ```
+/// use lagrange_runtime::ensemble::Simd;
+/// // What this machine runs for each request: a path it has, or the nearest below it.
+/// for s in [Simd::Native, Simd::Exact, Simd::Avx2Fma, Simd::Avx512] {
+///     assert!(s.resolved().width() >= 1);
+/// }
+/// assert_eq!(Simd::Exact.width(), 4);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Simd {
+    /// The fastest path the CPU has (the default): [`Avx512`](Simd::Avx512), else
+    /// [`Avx2Fma`](Simd::Avx2Fma), else [`Exact`](Simd::Exact). The environment variable
+    /// `LAGRANGE_SIMD` (`exact`, `avx2-fma`, `avx512`, `off`) chooses another.
+    #[default]
+    Native,
+    /// 4 lanes of AVX2 whose every operation rounds as the single run's (no fused multiply-add):
+    /// a member equals its single run bit for bit, but where the vector sin and cos enter (to
+    /// round-off there). One member at a time on a CPU without AVX2.
+    Exact,
+    /// 4 lanes of AVX2 with fused multiply-adds in the integrators' sums, the Taylor
+    /// convolutions and the vector sin and cos: a member equals its single run to round-off.
+    /// [`Exact`](Simd::Exact) on a CPU without FMA.
+    Avx2Fma,
+    /// 8 lanes of AVX-512 with fused multiply-adds (as [`Avx2Fma`](Simd::Avx2Fma)).
+    /// [`Avx2Fma`](Simd::Avx2Fma) on a CPU without AVX-512F.
+    Avx512,
+    /// One member at a time (what `Ensemble::lanes(1)` asks for).
+    Off,
+}
+
+impl Simd {
+    /// The members per vector of this path (1 for [`Off`](Simd::Off); [`Native`](Simd::Native)
+    /// as resolved on this CPU).
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::Simd;
+    /// assert_eq!((Simd::Avx512.width(), Simd::Avx2Fma.width(), Simd::Off.width()), (8, 4, 1));
+    /// ```
+    pub fn width(self) -> usize {
+        match self {
+            Simd::Native => self.resolved().width(),
+            Simd::Exact | Simd::Avx2Fma => 4,
+            Simd::Avx512 => 8,
+            Simd::Off => 1,
+        }
+    }
+
+    /// The path this CPU runs for the request: [`Native`](Simd::Native) resolved (by
+    /// `LAGRANGE_SIMD`, else the fastest the CPU has), a path the CPU lacks lowered to the next
+    /// one it has, [`Off`](Simd::Off) where it has none.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::Simd;
+    /// assert_ne!(Simd::Native.resolved(), Simd::Native);
+    /// assert_eq!(Simd::Off.resolved(), Simd::Off);
+    /// ```
+    pub fn resolved(self) -> Simd {
+        let want = match self {
+            Simd::Native => match std::env::var("LAGRANGE_SIMD").as_deref() {
+                Ok("exact") => Simd::Exact,
+                Ok("avx2-fma") => Simd::Avx2Fma,
+                Ok("avx512") => Simd::Avx512,
+                Ok("off") => Simd::Off,
+                _ => Simd::Avx512,
+            },
+            other => other,
+        };
+        let (avx2, fma, avx512) = cpu();
+        match want {
+            Simd::Avx512 if avx512 && fma => Simd::Avx512,
+            Simd::Avx512 | Simd::Avx2Fma if avx2 && fma => Simd::Avx2Fma,
+            Simd::Avx512 | Simd::Avx2Fma | Simd::Exact if avx2 => Simd::Exact,
+            _ => Simd::Off,
+        }
+    }
+}
+
+/// Whether the CPU has AVX2, FMA and AVX-512F.
+fn cpu() -> (bool, bool, bool) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        (
+            std::is_x86_feature_detected!("avx2"),
+            std::is_x86_feature_detected!("fma"),
+            std::is_x86_feature_detected!("avx512f"),
+        )
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        (false, false, false)
+    }
+}
+
+/// Runs `sims` (in order) on the path `simd` resolves to on this CPU, calling
+/// `out(position, result)` as each member ends (not in order): DOP853 and Taylor members without
+/// constraints in lanes, any other member on the scalar driver.
+///
+/// The lanes code is compiled three times on x86-64, for AVX2 (4 lanes, every operation the
+/// scalar one), AVX2 with FMA (4 lanes, fused) and AVX-512 (8 lanes, fused), each chosen at run
+/// time; an x86-64 CPU without AVX2 runs the members one at a time (the same results as
+/// [`Simd::Exact`]: a lane is its scalar run bit for bit there). Other architectures run the
+/// exact engines as their own vector code.
+pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize>(
     sims: &mut [Simulation<'_, L, N>],
     out: &mut Out<'_, N>,
+    simd: Simd,
 ) {
     #[cfg(target_arch = "x86_64")]
     {
-        if std::is_x86_feature_detected!("avx2") {
-            // SAFETY: `run_lanes_avx2` only needs AVX2, which the CPU has (checked just above).
-            #[allow(unsafe_code)]
-            unsafe {
-                run_lanes_avx2::<L, N, W>(sims, out)
-            }
-        } else {
-            one_at_a_time(sims, out)
+        // SAFETY (each `unsafe` below): `resolved` returns a path only where the CPU has every
+        // feature its function enables.
+        #[allow(unsafe_code)]
+        match simd.resolved() {
+            Simd::Avx512 => unsafe { run_lanes_avx512::<L, N>(sims, out) },
+            Simd::Avx2Fma => unsafe { run_lanes_avx2_fma::<L, N>(sims, out) },
+            Simd::Exact => unsafe { run_lanes_avx2::<L, N>(sims, out) },
+            Simd::Off | Simd::Native => one_at_a_time(sims, out),
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    run_lanes_here::<L, N, W>(sims, out)
+    match simd {
+        Simd::Off => one_at_a_time(sims, out),
+        _ => run_lanes_here::<L, N, 4, false>(sims, out),
+    }
 }
 
 /// Every member on the scalar driver, in order.
-#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 fn one_at_a_time<L: Lagrangian<N>, const N: usize>(
     sims: &mut [Simulation<'_, L, N>],
     out: &mut Out<'_, N>,
@@ -60,14 +158,35 @@ fn one_at_a_time<L: Lagrangian<N>, const N: usize>(
     }
 }
 
-/// [`run_lanes_here`] compiled for AVX2 (its vector code inlined here).
+/// [`run_lanes_here`] compiled for AVX2, 4 lanes, unfused ([`Simd::Exact`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn run_lanes_avx2<L: Lagrangian<N>, const N: usize, const W: usize>(
+fn run_lanes_avx2<L: Lagrangian<N>, const N: usize>(
     sims: &mut [Simulation<'_, L, N>],
     out: &mut Out<'_, N>,
 ) {
-    run_lanes_here::<L, N, W>(sims, out)
+    run_lanes_here::<L, N, 4, false>(sims, out)
+}
+
+/// [`run_lanes_here`] compiled for AVX2 and FMA, 4 lanes, fused ([`Simd::Avx2Fma`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn run_lanes_avx2_fma<L: Lagrangian<N>, const N: usize>(
+    sims: &mut [Simulation<'_, L, N>],
+    out: &mut Out<'_, N>,
+) {
+    run_lanes_here::<L, N, 4, true>(sims, out)
+}
+
+/// [`run_lanes_here`] compiled for AVX-512F (with AVX2 and FMA), 8 lanes, fused
+/// ([`Simd::Avx512`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2,fma")]
+fn run_lanes_avx512<L: Lagrangian<N>, const N: usize>(
+    sims: &mut [Simulation<'_, L, N>],
+    out: &mut Out<'_, N>,
+) {
+    run_lanes_here::<L, N, 8, true>(sims, out)
 }
 
 /// Declares the engines' files and [`run_lanes_here`] from the list of `method.rs`.
@@ -80,7 +199,7 @@ macro_rules! engines {
         /// the scalar driver, in order. A constrained member's engine hands it to the scalar
         /// driver too.
         #[inline(always)]
-        fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize>(
+        fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
             sims: &mut [Simulation<'_, L, N>],
             out: &mut Out<'_, N>,
         ) {
@@ -88,7 +207,7 @@ macro_rules! engines {
                 let ours = |s: &Simulation<'_, L, N>| matches!(s.o.method, Method::$variant { .. });
                 if sims.iter().any(ours) {
                     let queue = sims.iter_mut().enumerate().filter(|(_, s)| ours(s));
-                    $file::run::<L, N, W>(queue, out);
+                    $file::run::<L, N, W, F>(queue, out);
                 }
             )*
             let engine = |s: &Simulation<'_, L, N>| false $(|| matches!(s.o.method, Method::$variant { .. }))*;
@@ -155,7 +274,7 @@ mod tests {
     #[test]
     fn one_at_a_time_equals_the_lanes() {
         let systems: Vec<Duffing> = (0..11).map(|i| Duffing { k: 1.0 + i as f64 }).collect();
-        let lanes = collect(&systems, run_lanes::<Duffing, 1, 4>);
+        let lanes = collect(&systems, |s, o| run_lanes(s, o, Simd::Exact));
         let plain = collect(&systems, one_at_a_time::<Duffing, 1>);
         for (i, (a, b)) in lanes.iter().zip(&plain).enumerate() {
             match (a, b) {

@@ -58,15 +58,16 @@ pub(super) fn run<
     L: Lagrangian<N> + 'a,
     const N: usize,
     const W: usize,
+    const F: bool,
 >(
     queue: impl Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
     out: &mut Out<'_, N>,
 ) {
     let mut queue = queue;
     let mut slots: [Option<TaylorSlot<'p, 'a, L, N>>; W] = core::array::from_fn(|_| None);
-    let mut params: Vec<Lanes<W>> = Vec::new();
-    let mut series: Vec<YOf<Lanes<W>, N>> = Vec::new();
-    let mut buf = SeriesBuf::<Lanes<W>>::new();
+    let mut params: Vec<Lanes<W, F>> = Vec::new();
+    let mut series: Vec<YOf<Lanes<W, F>, N>> = Vec::new();
+    let mut buf = SeriesBuf::<Lanes<W, F>>::new();
     loop {
         let refreshed = fill(&mut slots, &mut queue, out, start, pending);
         let Some(lane) = lanes_of(&slots) else {
@@ -95,7 +96,7 @@ pub(super) fn run<
             L::series_in(&members, &mut params, t, &mut series, &mut buf).and_then(Result::ok);
         // 0 · x is 0 for finite x and NaN otherwise: a lane's sum is 0 only where its series
         // is finite (the orders past the lowest member's apart: a member does not read them).
-        let mut finite = [Lanes::<W>::ZERO; 2];
+        let mut finite = [Lanes::<W, F>::ZERO; 2];
         for (k, row) in series.iter().enumerate().skip(1) {
             for x in row.iter().flatten() {
                 finite[usize::from(k > min_order)] += *x * 0.0;
