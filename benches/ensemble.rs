@@ -2,7 +2,7 @@
 //! I∥ ∈ [0.4, 0.6], m g l ∈ [4, 6], θ0 ∈ [0.5, 0.9], φ̇0 ∈ [1.5, 2.5], ψ̇0 ∈ [10, 14]; seeded),
 //! each to t = 114.3, on the ensemble API: DOP853 (rtol 1e-10, 1e-11) and the Taylor method (tol
 //! 1e-10, 1e-12, 1e-13) one member at a time and on every lanes path the CPU has (`Simd`: 4 AVX2
-//! lanes exact, 4 AVX2 lanes with FMA, 8 AVX-512 lanes with FMA), on one thread and on two (final
+//! lanes exact, 4 AVX2 lanes with FMA), on one thread and on two (final
 //! errors near 1e-10 and 1e-11, the matched accuracies); and — in the same run, when python3
 //! with heyoka is installed — heyoka's batch mode at its fastest batch size on this machine
 //! (`benches/peers/heyoka_batch.py` times 1, 2, 4, 8 and 16 tops per vector and reports the
@@ -16,7 +16,8 @@
 //! vector in flight and two; whole DOP853-shaped steps without step control), against heyoka at
 //! the same error.
 //!
-//! Run: `cargo bench --bench ensemble`
+//! Run: `cargo bench --bench ensemble` (`-- --ours`: our rows only, without the floors and the
+//! peer)
 
 use lagrange::ensemble::Simd;
 use lagrange::prelude::*;
@@ -285,12 +286,11 @@ fn main() {
         rtol: 1e-11,
         atol: 1e-13,
     };
-    // Every lanes path this CPU has (issue 41: the exact AVX2 lanes, AVX2 with FMA, AVX-512 at 8
-    // lanes), each method at each accuracy, in one run.
+    // Every lanes path this CPU has (issue 41: the exact AVX2 lanes, AVX2 with FMA), each method
+    // at each accuracy, in one run.
     let paths: Vec<(Simd, &str)> = [
         (Simd::Exact, "4 lanes AVX2 exact"),
         (Simd::Avx2Fma, "4 lanes AVX2+FMA"),
-        (Simd::Avx512, "8 lanes AVX-512+FMA"),
     ]
     .into_iter()
     .filter(|(p, _)| p.resolved() == *p)
@@ -333,6 +333,10 @@ fn main() {
             t1 / t2
         );
         one_thread.push((name.clone(), t1 / TOPS as f64 * 1e3, med));
+    }
+    if std::env::args().any(|a| a == "--ours") {
+        // `cargo bench --bench ensemble -- --ours`: our rows only (no floors, no peer).
+        return;
     }
     // What the vector arithmetic alone costs at the evaluations DOP853 takes at rtol 1e-11:
     // floors under our DOP853 lanes at that accuracy, however cheap the step control.

@@ -8,8 +8,8 @@
 //! to every member's [`Simulation`] ([`Ensemble::configure`]), and returns for each member either
 //! its whole [`Trajectory`] ([`Ensemble::run`]) or a row of numbers a closure computes from it
 //! ([`Ensemble::reduce`]). DOP853 and Taylor members run several per vector, one per SIMD lane
-//! ([`Ensemble::lanes`]; by default for a system with generated lanes code: 8 per AVX-512
-//! vector, 4 per AVX2 vector, chosen at run time, [`Ensemble::simd`]).
+//! ([`Ensemble::lanes`]; by default for a system with generated lanes code, 4 per AVX2 vector
+//! with fused multiply-adds where the CPU has FMA, chosen at run time: [`Ensemble::simd`]).
 //! [`Ensemble::shard`] runs the k-th of n contiguous blocks of members, so
 //! a batch scheduler's job array runs the blocks on as many machines and their CSVs concatenate
 //! (the README's "Ensembles" section has the recipe).
@@ -494,7 +494,7 @@ where
     /// accept/reject decision), a member's lane going to the next member as soon as it ends. The
     /// Taylor method's lanes compute the series of W members in one pass of vector code
     /// ([`Lagrangian::series_in`]); each member sums its own. The width is the instruction set's
-    /// ([`simd`](Ensemble::simd): 8 on AVX-512, 4 on AVX2), whatever `w` ≥ 2 is. Without this
+    /// ([`simd`](Ensemble::simd): 4 AVX2 lanes), whatever `w` ≥ 2 is. Without this
     /// call: lanes where the system's accelerations are generated lanes code
     /// ([`Compiled::lanes`](crate::lagrangian::Compiled::lanes): `#[lagrangian]` in symbolic
     /// mode), else none. A lane never depends on the other lanes; it equals the member's single
@@ -534,8 +534,8 @@ where
     }
 
     /// The instruction set, width and arithmetic of the lanes ([`Simd`]; default
-    /// [`Simd::Native`]: the fastest the CPU has, chosen when the ensemble runs, or the one the
-    /// environment variable `LAGRANGE_SIMD` names). [`Simd::Exact`] makes every member its single
+    /// [`Simd::Native`]: the fastest measured that the CPU has, chosen when the ensemble runs, or
+    /// the one the environment variable `LAGRANGE_SIMD` names). [`Simd::Exact`] makes every member its single
     /// run bit for bit (where no vector sin or cos enters); the fused paths differ from it by
     /// round-off, as a run compiled with fused multiply-adds would.
     ///

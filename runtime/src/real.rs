@@ -31,7 +31,8 @@ impl<R> LeftOps<R> for f64 where
 /// The elementary functions of one argument, from the one table
 /// ([`lagrange_functions::with_functions!`]): each row marked `real = yes` is a trait method of
 /// [`Real`] (`functions!(decl)`), its `f64` instance (`functions!(f64)`) and its lanes instance
-/// (`functions!(lanes)`: the `f64` method lane by lane). A new row needs nothing here.
+/// (`functions!(lanes)`: the `f64` method lane by lane; `ln` of the fused lanes from the vector
+/// code, [`Lanes::ln_vector`]). A new row needs nothing here.
 macro_rules! functions {
     ($part:ident) => {
         lagrange_functions::with_functions!(functions @rows $part);
@@ -50,6 +51,14 @@ macro_rules! functions {
         #[inline(always)]
         fn $f(self) -> Self {
             f64::$f(self)
+        }
+    };
+    // The fused lanes take ln from the vector code (within 1 ulp of `f64::ln`): DOP853's error
+    // norm takes two per member and step.
+    (@one lanes yes ln) => {
+        #[inline(always)]
+        fn ln(self) -> Self {
+            if F { Lanes::ln_vector(self) } else { self.map(f64::ln) }
         }
     };
     (@one lanes yes $f:ident) => {

@@ -18,53 +18,49 @@ use crate::lagrangian::Lagrangian;
 
 use members::scalar;
 
-/// The instruction set, width and arithmetic an ensemble's lanes run with
+/// The instruction set and arithmetic an ensemble's lanes run with
 /// ([`Ensemble::simd`](crate::ensemble::Ensemble::simd)), chosen when the ensemble runs, from what
 /// the CPU has: no `RUSTFLAGS`, and a binary built on one machine runs on any other.
 ///
 /// ```
 /// use lagrange_runtime::ensemble::Simd;
 /// // What this machine runs for each request: a path it has, or the nearest below it.
-/// for s in [Simd::Native, Simd::Exact, Simd::Avx2Fma, Simd::Avx512] {
-///     assert!(s.resolved().width() >= 1);
+/// for s in [Simd::Native, Simd::Exact, Simd::Avx2Fma, Simd::Off] {
+///     assert!(s.resolved() != Simd::Native && s.width() >= 1);
 /// }
-/// assert_eq!(Simd::Exact.width(), 4);
+/// assert_eq!((Simd::Exact.width(), Simd::Off.width()), (4, 1));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Simd {
-    /// The fastest path the CPU has (the default): [`Avx512`](Simd::Avx512), else
-    /// [`Avx2Fma`](Simd::Avx2Fma), else [`Exact`](Simd::Exact). The environment variable
-    /// `LAGRANGE_SIMD` (`exact`, `avx2-fma`, `avx512`, `off`) chooses another.
+    /// The fastest path measured that the CPU has (the default): [`Avx2Fma`](Simd::Avx2Fma)
+    /// where it has FMA, else [`Exact`](Simd::Exact), else one member at a time. The
+    /// environment variable `LAGRANGE_SIMD` (`exact`, `avx2-fma`, `off`) chooses another.
     #[default]
     Native,
     /// 4 lanes of AVX2 whose every operation rounds as the single run's (no fused multiply-add):
     /// a member equals its single run bit for bit, but where the vector sin and cos enter (to
     /// round-off there). One member at a time on a CPU without AVX2.
     Exact,
-    /// 4 lanes of AVX2 with fused multiply-adds in the integrators' sums, the Taylor
-    /// convolutions and the vector sin and cos: a member equals its single run to round-off.
-    /// [`Exact`](Simd::Exact) on a CPU without FMA.
+    /// 4 lanes of AVX2 with fused multiply-adds in the integrators' sums, the error norm, the
+    /// Taylor convolutions and the vector sin, cos and ln: a member equals its single run to
+    /// round-off. [`Exact`](Simd::Exact) on a CPU without FMA.
     Avx2Fma,
-    /// 8 lanes of AVX-512 with fused multiply-adds (as [`Avx2Fma`](Simd::Avx2Fma)).
-    /// [`Avx2Fma`](Simd::Avx2Fma) on a CPU without AVX-512F.
-    Avx512,
     /// One member at a time (what `Ensemble::lanes(1)` asks for).
     Off,
 }
 
 impl Simd {
-    /// The members per vector of this path (1 for [`Off`](Simd::Off); [`Native`](Simd::Native)
-    /// as resolved on this CPU).
+    /// The members per vector of this path (4 in lanes, 1 for [`Off`](Simd::Off);
+    /// [`Native`](Simd::Native) as resolved on this CPU).
     ///
     /// ```
     /// # use lagrange_runtime::ensemble::Simd;
-    /// assert_eq!((Simd::Avx512.width(), Simd::Avx2Fma.width(), Simd::Off.width()), (8, 4, 1));
+    /// assert_eq!((Simd::Avx2Fma.width(), Simd::Off.width()), (4, 1));
     /// ```
     pub fn width(self) -> usize {
         match self {
             Simd::Native => self.resolved().width(),
             Simd::Exact | Simd::Avx2Fma => 4,
-            Simd::Avx512 => 8,
             Simd::Off => 1,
         }
     }
@@ -82,36 +78,32 @@ impl Simd {
         let want = match self {
             Simd::Native => match std::env::var("LAGRANGE_SIMD").as_deref() {
                 Ok("exact") => Simd::Exact,
-                Ok("avx2-fma") => Simd::Avx2Fma,
-                Ok("avx512") => Simd::Avx512,
                 Ok("off") => Simd::Off,
-                _ => Simd::Avx512,
+                _ => Simd::Avx2Fma,
             },
             other => other,
         };
-        let (avx2, fma, avx512) = cpu();
+        let (avx2, fma) = cpu();
         match want {
-            Simd::Avx512 if avx512 && fma => Simd::Avx512,
-            Simd::Avx512 | Simd::Avx2Fma if avx2 && fma => Simd::Avx2Fma,
-            Simd::Avx512 | Simd::Avx2Fma | Simd::Exact if avx2 => Simd::Exact,
+            Simd::Avx2Fma if avx2 && fma => Simd::Avx2Fma,
+            Simd::Avx2Fma | Simd::Exact if avx2 => Simd::Exact,
             _ => Simd::Off,
         }
     }
 }
 
-/// Whether the CPU has AVX2, FMA and AVX-512F.
-fn cpu() -> (bool, bool, bool) {
+/// Whether the CPU has AVX2 and FMA.
+fn cpu() -> (bool, bool) {
     #[cfg(target_arch = "x86_64")]
     {
         (
             std::is_x86_feature_detected!("avx2"),
             std::is_x86_feature_detected!("fma"),
-            std::is_x86_feature_detected!("avx512f"),
         )
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        (false, false, false)
+        (false, false)
     }
 }
 
@@ -119,11 +111,14 @@ fn cpu() -> (bool, bool, bool) {
 /// `out(position, result)` as each member ends (not in order): DOP853 and Taylor members without
 /// constraints in lanes, any other member on the scalar driver.
 ///
-/// The lanes code is compiled three times on x86-64, for AVX2 (4 lanes, every operation the
-/// scalar one), AVX2 with FMA (4 lanes, fused) and AVX-512 (8 lanes, fused), each chosen at run
-/// time; an x86-64 CPU without AVX2 runs the members one at a time (the same results as
-/// [`Simd::Exact`]: a lane is its scalar run bit for bit there). Other architectures run the
-/// exact engines as their own vector code.
+/// The lanes code is compiled twice on x86-64, for AVX2 (4 lanes, every operation the scalar
+/// one) and for AVX2 with FMA (4 lanes, fused), chosen at run time; an x86-64 CPU without AVX2
+/// runs the members one at a time (the same results as [`Simd::Exact`]: a lane is its scalar run
+/// bit for bit there). Lanes in SSE2's 2-wide vectors were 1.6× slower than AVX2's and 8 lanes of
+/// AVX-512 with FMA 16–19 % slower than 4 of AVX2 with FMA (BENCHMARKS.md, "Native vector
+/// width": this project's AMD EPYC machines run AVX-512 on 256-bit units), so neither is compiled:
+/// each path is a copy of both engines for every system in every build. Other architectures run
+/// the exact engines as their own vector code.
 pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize>(
     sims: &mut [Simulation<'_, L, N>],
     out: &mut Out<'_, N>,
@@ -135,7 +130,6 @@ pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize>(
         // feature its function enables.
         #[allow(unsafe_code)]
         match simd.resolved() {
-            Simd::Avx512 => unsafe { run_lanes_avx512::<L, N>(sims, out) },
             Simd::Avx2Fma => unsafe { run_lanes_avx2_fma::<L, N>(sims, out) },
             Simd::Exact => unsafe { run_lanes_avx2::<L, N>(sims, out) },
             Simd::Off | Simd::Native => one_at_a_time(sims, out),
@@ -176,17 +170,6 @@ fn run_lanes_avx2_fma<L: Lagrangian<N>, const N: usize>(
     out: &mut Out<'_, N>,
 ) {
     run_lanes_here::<L, N, 4, true>(sims, out)
-}
-
-/// [`run_lanes_here`] compiled for AVX-512F (with AVX2 and FMA), 8 lanes, fused
-/// ([`Simd::Avx512`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2,fma")]
-fn run_lanes_avx512<L: Lagrangian<N>, const N: usize>(
-    sims: &mut [Simulation<'_, L, N>],
-    out: &mut Out<'_, N>,
-) {
-    run_lanes_here::<L, N, 8, true>(sims, out)
 }
 
 /// Declares the engines' files and [`run_lanes_here`] from the list of `method.rs`.
