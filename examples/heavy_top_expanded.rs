@@ -471,52 +471,58 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             __lagrange_qdot[0] * __lagrange_x9,
             __lagrange_qdot[0] * __lagrange_x8,
         );
-        let (
-            __lagrange_x23,
-            __lagrange_x54,
-            __lagrange_x56,
-            __lagrange_x63,
-            __lagrange_x65,
-            __lagrange_x80,
-            __lagrange_x93,
-        ): (R, R, R, R, R, R, R) = (
+        let (__lagrange_x23, __lagrange_x54, __lagrange_x63, __lagrange_x65, __lagrange_x80): (
+            R,
+            R,
+            R,
+            R,
+            R,
+        ) = (
             __lagrange_qdot[2] + __lagrange_x22,
             __lagrange_p_i_perp * __lagrange_x53,
-            __lagrange_p_i_par * __lagrange_x55,
             __lagrange_qdot[1] * __lagrange_x60,
             __lagrange_x15 * __lagrange_x59,
             __lagrange_x15 * __lagrange_x22,
-            __lagrange_x8 * __lagrange_x33,
         );
         let (
             __lagrange_x57,
             __lagrange_x67,
-            __lagrange_x69,
             __lagrange_x77,
             __lagrange_x82,
             __lagrange_x85,
             __lagrange_x104,
-        ): (R, R, R, R, R, R, R) = (
-            __lagrange_x54 + __lagrange_x56,
+        ): (R, R, R, R, R, R) = (
+            <R as ::lagrange::__private::Real>::madd(
+                __lagrange_p_i_par,
+                __lagrange_x55,
+                __lagrange_x54,
+            ),
             __lagrange_p_i_perp * __lagrange_x65,
-            __lagrange_x23 * __lagrange_x60,
             __lagrange_p_i_par * __lagrange_x63,
             __lagrange_p_i_perp * __lagrange_x80,
             __lagrange_x15 * __lagrange_x23,
             __lagrange_p_i_par * __lagrange_x54,
         );
-        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (R, R, R) = (
+        let (__lagrange_x68, __lagrange_x72): (R, R) = (
             <R as ::core::convert::From<f64>>::from(2.0) * __lagrange_x67,
-            __lagrange_x65 + __lagrange_x69,
-            __lagrange_p_i_par * __lagrange_x85,
+            <R as ::lagrange::__private::Real>::madd(
+                __lagrange_x23,
+                __lagrange_x60,
+                __lagrange_x65,
+            ),
         );
-        let (__lagrange_x74, __lagrange_x91): (R, R) = (
-            __lagrange_p_i_par * __lagrange_x72,
-            __lagrange_x82 - __lagrange_x89,
+        let __lagrange_x91: R = <R as ::lagrange::__private::Real>::madd(
+            -__lagrange_p_i_par,
+            __lagrange_x85,
+            __lagrange_x82,
         );
         let (__lagrange_x95, __lagrange_x96): (R, R) = (
-            __lagrange_x91 + __lagrange_x93,
-            __lagrange_x74 - __lagrange_x68,
+            <R as ::lagrange::__private::Real>::madd(__lagrange_x8, __lagrange_x33, __lagrange_x91),
+            <R as ::lagrange::__private::Real>::madd(
+                __lagrange_p_i_par,
+                __lagrange_x72,
+                -__lagrange_x68,
+            ),
         );
         let (__lagrange_qddot, __lagrange_ok) = '__lagrange_fast: {
             let __lagrange_ok = <R as ::lagrange::__private::Real>::EVERY_LANE;

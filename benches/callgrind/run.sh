@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Instruction counts (valgrind's callgrind) of the heavy top's kernels, this tree against a base
 # revision, in one run: q̈ ×10⁶, one DOP853 run, one Taylor run, 64 members on DOP853 and on the
-# Taylor method in 4 SIMD lanes (BENCHMARKS.md, "One body for every kernel, before and after").
+# Taylor method in 4 SIMD lanes, exact and on the CPU's default path (BENCHMARKS.md, "One body
+# for every kernel, before and after").
 # Instruction counts do not move with the machine's load, where a 2 % timing would; each line also
 # says whether both binaries printed the same numbers (bit for bit).
 #
@@ -81,10 +82,14 @@ RS
 done
 count() { valgrind --tool=callgrind --callgrind-out-file=/dev/null "$@" 2>&1 | sed -n 's/.*refs: *//p' | tr -d ','; }
 printf '| kernel | %s | this tree | change | same numbers |\n|---|---|---|---|---|\n' "$base"
-for mode in acc dop taylor ens_dop853 ens_taylor; do
-    b=$(count "$work/base/target/release/kernels" "$mode")
-    t=$(count "$work/this/target/release/kernels" "$mode")
+# The ensembles twice: on the exact lanes (LAGRANGE_SIMD=exact: the numbers of the single runs,
+# so of a base without fused lanes) and on the default path this CPU resolves (fused multiply-adds
+# where it has FMA: the same numbers to round-off only).
+for run in acc dop taylor ens_dop853:exact ens_taylor:exact ens_dop853:native ens_taylor:native; do
+    mode="${run%%:*}"; simd="${run#*:}"; [ "$simd" = "$run" ] && simd=native
+    b=$(LAGRANGE_SIMD=$simd count "$work/base/target/release/kernels" "$mode")
+    t=$(LAGRANGE_SIMD=$simd count "$work/this/target/release/kernels" "$mode")
     same=no
-    [ "$("$work/base/target/release/kernels" "$mode")" = "$("$work/this/target/release/kernels" "$mode")" ] && same=yes
-    printf '| %s | %s | %s | %+.2f %% | %s |\n' "$mode" "$b" "$t" "$(echo "($t - $b) * 100 / $b" | bc -l)" "$same"
+    [ "$(LAGRANGE_SIMD=$simd "$work/base/target/release/kernels" "$mode")" = "$(LAGRANGE_SIMD=$simd "$work/this/target/release/kernels" "$mode")" ] && same=yes
+    printf '| %s | %s | %s | %+.2f %% | %s |\n' "$run" "$b" "$t" "$(echo "($t - $b) * 100 / $b" | bc -l)" "$same"
 done

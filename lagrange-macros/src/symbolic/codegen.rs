@@ -203,6 +203,7 @@ pub fn emit_as(
         }
     }
     let loads = std::mem::take(&mut stmts);
+    let fused = multiply_adds(dag, &need, outputs, lanes.is_some());
     // Every `let` opens a lexical scope, and debug info nests them: thousands of sequential
     // `let`s overflow LLVM's stack. Nodes are grouped by level (1 + the deepest inner operand)
     // into one tuple `let` per level, so the nesting depth is the depth of the DAG.
@@ -214,6 +215,11 @@ pub fn emit_as(
         let id = id as Id;
         let node = dag.node(id);
         if !*needed || node.is_leaf() {
+            continue;
+        }
+        if fused.absorbed[id as usize] {
+            // Computed inside the sum that uses it (see `multiply_adds`).
+            level[id as usize] = node_level(dag, &level, node);
             continue;
         }
         // A needed sin(a) and cos(a) become one `a.sin_cos()` (emitted with the sin).
@@ -237,69 +243,86 @@ pub fn emit_as(
         };
         let o = |i: Id| operand_as(dag, fields, i, lanes);
         let receiver = |i: Id| receiver(dag, fields, i, lanes);
-        let rhs = match node {
-            Node::Un(_, a) if partner.is_some() => {
-                let a = receiver(a);
-                quote!(#a.sin_cos())
+        // A sum that computes its product (see `multiply_adds`): x·y + c, x·y − c as x·y + (−c),
+        // c − x·y as (−x)·y + c — the values of the unfused expression, bit for bit, where `madd`
+        // rounds twice.
+        let fuse = fused.with[id as usize].and_then(|(m, at_a)| match dag.node(m) {
+            Node::Mul(x, y) => Some((o(x), o(y), at_a)),
+            _ => None,
+        });
+        let madd = |x: TokenStream, y: TokenStream, c: TokenStream| quote!(<#num as #rt>::madd(#x, #y, #c));
+        let rhs = match (node, fuse) {
+            (Node::Add(_, c), Some((x, y, true))) => madd(x, y, o(c)),
+            (Node::Add(c, _), Some((x, y, false))) => madd(x, y, o(c)),
+            (Node::Sub(_, c), Some((x, y, true))) => {
+                let c = o(c);
+                madd(x, y, quote!(-#c))
             }
-            Node::Add(a, b) => {
-                let (a, b) = (o(a), o(b));
-                quote!(#a + #b)
-            }
-            Node::Sub(a, b) => {
-                let (a, b) = (o(a), o(b));
-                quote!(#a - #b)
-            }
-            Node::Mul(a, b) => {
-                let (a, b) = (o(a), o(b));
-                quote!(#a * #b)
-            }
-            Node::Div(a, b) => {
-                let (a, b) = (o(a), o(b));
-                quote!(#a / #b)
-            }
-            Node::Neg(a) => {
-                let a = o(a);
-                quote!(-#a)
-            }
-            Node::Powi(a, 2) => {
-                let a = o(a);
-                quote!(#a * #a)
-            }
-            Node::Powi(a, n) => {
-                let a = receiver(a);
-                let n = Literal::i32_unsuffixed(n);
-                quote!(#a.powi(#n))
-            }
-            Node::Powf(a, b) => {
-                let (a, b) = (receiver(a), o(b));
-                quote!(#a.powf(#b))
-            }
-            Node::Select(c, a, b) => {
-                let (a, b) = (o(a), o(b));
-                let c = names::cond(c);
-                match lanes {
-                    Some(l) => quote!(<#l as #rt>::select(#c, #a, #b)),
-                    None => quote!(if #c { #a } else { #b }),
+            (Node::Sub(c, _), Some((x, y, false))) => madd(quote!(-#x), y, o(c)),
+            _ => match node {
+                Node::Un(_, a) if partner.is_some() => {
+                    let a = receiver(a);
+                    quote!(#a.sin_cos())
                 }
-            }
-            Node::Atan2(y, x) => {
-                let (y, x) = (receiver(y), o(x));
-                quote!(#y.atan2(#x))
-            }
-            Node::Un(Fun::Step, a) => {
-                let a = o(a);
-                match lanes {
-                    Some(l) => quote!(<#l as #rt>::step(#a)),
-                    None => quote!(if #a >= 0.0 { 1.0_f64 } else { 0.0_f64 }),
+                Node::Add(a, b) => {
+                    let (a, b) = (o(a), o(b));
+                    quote!(#a + #b)
                 }
-            }
-            Node::Un(f, a) => {
-                let a = receiver(a);
-                let m = Ident::new(f.method(), Span::call_site());
-                quote!(#a.#m())
-            }
-            Node::Const(_) | Node::Param(..) | Node::Q(_) | Node::V(_) | Node::T => continue,
+                Node::Sub(a, b) => {
+                    let (a, b) = (o(a), o(b));
+                    quote!(#a - #b)
+                }
+                Node::Mul(a, b) => {
+                    let (a, b) = (o(a), o(b));
+                    quote!(#a * #b)
+                }
+                Node::Div(a, b) => {
+                    let (a, b) = (o(a), o(b));
+                    quote!(#a / #b)
+                }
+                Node::Neg(a) => {
+                    let a = o(a);
+                    quote!(-#a)
+                }
+                Node::Powi(a, 2) => {
+                    let a = o(a);
+                    quote!(#a * #a)
+                }
+                Node::Powi(a, n) => {
+                    let a = receiver(a);
+                    let n = Literal::i32_unsuffixed(n);
+                    quote!(#a.powi(#n))
+                }
+                Node::Powf(a, b) => {
+                    let (a, b) = (receiver(a), o(b));
+                    quote!(#a.powf(#b))
+                }
+                Node::Select(c, a, b) => {
+                    let (a, b) = (o(a), o(b));
+                    let c = names::cond(c);
+                    match lanes {
+                        Some(l) => quote!(<#l as #rt>::select(#c, #a, #b)),
+                        None => quote!(if #c { #a } else { #b }),
+                    }
+                }
+                Node::Atan2(y, x) => {
+                    let (y, x) = (receiver(y), o(x));
+                    quote!(#y.atan2(#x))
+                }
+                Node::Un(Fun::Step, a) => {
+                    let a = o(a);
+                    match lanes {
+                        Some(l) => quote!(<#l as #rt>::step(#a)),
+                        None => quote!(if #a >= 0.0 { 1.0_f64 } else { 0.0_f64 }),
+                    }
+                }
+                Node::Un(f, a) => {
+                    let a = receiver(a);
+                    let m = Ident::new(f.method(), Span::call_site());
+                    quote!(#a.#m())
+                }
+                Node::Const(_) | Node::Param(..) | Node::Q(_) | Node::V(_) | Node::T => continue,
+            },
         };
         let lv = node_level(dag, &level, node);
         level[id as usize] = lv;
@@ -354,6 +377,67 @@ pub fn emit_as(
         inputs,
         lets,
     }
+}
+
+/// Which products a generic kernel computes inside the sum that uses them.
+struct MultiplyAdds {
+    /// The product is computed by its user's `madd` (not bound on its own).
+    absorbed: Vec<bool>,
+    /// For a sum or difference: the product it fuses and whether it is the left operand.
+    with: Vec<Option<(Id, bool)>>,
+}
+
+/// The multiply-adds of a generic kernel (`generic`; none in `f64` code): every product that is
+/// needed once, by a sum or a difference, and is not an output, is computed in that sum as
+/// `Real::madd(x, y, c)` — rounded twice for `f64` and the exact lanes (the same values as
+/// `x * y + c`, bit for bit), once in the fused lanes (a fused multiply-add: one rounding, and
+/// half the latency on the dependency chains that bound a right-hand side). Where both operands
+/// are such products, the deeper one is fused (the other is computed alongside).
+fn multiply_adds(dag: &Dag, need: &[bool], outputs: &[Id], generic: bool) -> MultiplyAdds {
+    let n = dag.len();
+    let mut out = MultiplyAdds {
+        absorbed: vec![false; n],
+        with: vec![None; n],
+    };
+    if !generic {
+        return out;
+    }
+    let mut uses = vec![0u32; n];
+    let mut depth = vec![0usize; n];
+    for id in 0..n {
+        if !need[id] {
+            continue;
+        }
+        let node = dag.node(id as Id);
+        for c in node.children() {
+            uses[c as usize] += 1;
+            depth[id] = depth[id].max(depth[c as usize] + 1);
+        }
+    }
+    for &o in outputs {
+        uses[o as usize] += 2;
+    }
+    let single_product = |x: Id| uses[x as usize] == 1 && matches!(dag.node(x), Node::Mul(..));
+    for id in 0..n {
+        if !need[id] {
+            continue;
+        }
+        let (a, b) = match dag.node(id as Id) {
+            Node::Add(a, b) | Node::Sub(a, b) if a != b => (a, b),
+            _ => continue,
+        };
+        let pick = match (single_product(a), single_product(b)) {
+            (true, true) if depth[b as usize] > depth[a as usize] => Some((b, false)),
+            (true, _) => Some((a, true)),
+            (false, true) => Some((b, false)),
+            (false, false) => None,
+        };
+        if let Some((m, at_a)) = pick {
+            out.absorbed[m as usize] = true;
+            out.with[id] = Some((m, at_a));
+        }
+    }
+    out
 }
 
 /// The parameters of the generic kernels: every field and condition the body reads, in one
