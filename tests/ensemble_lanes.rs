@@ -639,31 +639,21 @@ fn fused_paths_equal_the_exact_lanes_to_round_off() {
     for simd in fused_paths() {
         let w = simd.width();
         let what = format!("{simd:?} ({w} lanes)");
-        let mut differ = 0;
-        differ += to_round_off(
-            &sweep_on(simd, 13, w, None, well, every_step_any),
-            &sweep(13, 4, None, well, every_step_any),
-            1e-12,
-            &what,
-        );
-        differ += to_round_off(
-            &sweep_on(simd, 13, w, None, well, taylor_every_step),
-            &sweep(13, 4, None, well, taylor_every_step),
-            1e-11,
-            &what,
-        );
-        differ += to_round_off(
-            &sweep_on(simd, 13, w, None, top, every_step),
-            &sweep(13, 4, None, top, every_step),
-            1e-12,
-            &what,
-        );
-        differ += to_round_off(
-            &sweep_on(simd, 13, w, None, top, taylor_every_step),
-            &sweep(13, 4, None, top, taylor_every_step),
-            1e-11,
-            &what,
-        );
+        // 13 members on `simd` against the exact lanes, to `rel` (see `to_round_off`).
+        fn against_exact<L: Lagrangian<3> + Sync>(
+            simd: Simd,
+            system: impl Fn(usize) -> L + Sync + Copy,
+            cfg: for<'s> fn(Sim<'s, L>) -> Sim<'s, L>,
+            rel: f64,
+            what: &str,
+        ) -> usize {
+            let fused = sweep_on(simd, 13, simd.width(), None, system, cfg);
+            to_round_off(&fused, &sweep(13, 4, None, system, cfg), rel, what)
+        }
+        let differ = against_exact(simd, well, every_step_any, 1e-12, &what)
+            + against_exact(simd, well, taylor_every_step, 1e-11, &what)
+            + against_exact(simd, top, every_step, 1e-12, &what)
+            + against_exact(simd, top, taylor_every_step, 1e-11, &what);
         assert!(
             differ > 0,
             "{what}: the fused multiply-adds do change the rounding"

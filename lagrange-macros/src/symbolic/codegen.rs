@@ -404,10 +404,7 @@ fn multiply_adds(dag: &Dag, need: &[bool], outputs: &[Id], generic: bool) -> Mul
     }
     let mut uses = vec![0u32; n];
     let mut depth = vec![0usize; n];
-    for id in 0..n {
-        if !need[id] {
-            continue;
-        }
+    for (id, _) in need.iter().enumerate().filter(|(_, &needed)| needed) {
         let node = dag.node(id as Id);
         for c in node.children() {
             uses[c as usize] += 1;
@@ -418,10 +415,7 @@ fn multiply_adds(dag: &Dag, need: &[bool], outputs: &[Id], generic: bool) -> Mul
         uses[o as usize] += 2;
     }
     let single_product = |x: Id| uses[x as usize] == 1 && matches!(dag.node(x), Node::Mul(..));
-    for id in 0..n {
-        if !need[id] {
-            continue;
-        }
+    for (id, _) in need.iter().enumerate().filter(|(_, &needed)| needed) {
         let (a, b) = match dag.node(id as Id) {
             Node::Add(a, b) | Node::Sub(a, b) if a != b => (a, b),
             _ => continue,
