@@ -615,6 +615,13 @@ fn to_round_off(fused: &[Outcome], exact: &[Outcome], rel: f64, what: &str) -> u
             b.1
         );
         let (ya, yb) = (last_state(a), last_state(b));
+        let worst = (0..7)
+            .map(|c| (ya[c] - yb[c]).abs() / yb[c].abs().max(1.0))
+            .fold(0.0_f64, f64::max);
+        eprintln!(
+            "{what}, member {i}: steps {} vs {}, last state {worst:.1e} relative",
+            a.1.steps, b.1.steps
+        );
         for c in 0..7 {
             let tol = rel * yb[c].abs().max(1.0);
             assert!(
