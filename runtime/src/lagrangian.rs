@@ -214,7 +214,8 @@ pub trait Lagrangian<const N: usize> {
     /// empty, the kernel fills it; the caller empties it when a lane's member changes. `None`:
     /// no compiled kernel (the default; `#[lagrangian]` generates it in symbolic mode where
     /// [`Compiled::lanes`] holds). Every lane equals `accelerations` of its member bit for bit
-    /// where the arithmetic is the scalar code's, to round-off where the vector sin and cos enter.
+    /// where the arithmetic is the scalar code's, to round-off where the vector sin and cos enter
+    /// and in the fused lanes (`Lanes<W, true>`, whose `madd` rounds once).
     ///
     /// ```
     /// # use lagrange_runtime::{Lagrangian, Scalar, lanes::Lanes};

@@ -5,8 +5,10 @@
 //! The stages, the new state and the error sums of all lanes are one pass of vector code (the
 //! system's [`Lagrangian::accelerations_in`]); everything that is per member stays the scalar
 //! code of [`Dop853`] and the driver, run on that member's own stepper: the step-size controller,
-//! the decision, the samples, events, dense output and errors. So a lane's trajectory is the
-//! scalar run's bit for bit (tests/ensemble_lanes.rs), and a member that ends (or fails) frees
+//! the decision, the samples, events, dense output and errors. So on the exact lanes a lane's
+//! trajectory is the scalar run's bit for bit (tests/ensemble_lanes.rs), on the fused ones
+//! (`Lanes<W, true>`: the sums and the error norm with fused multiply-adds, the vector ln) to
+//! round-off; and a member that ends (or fails) frees
 //! its lane for the next member at once: the lanes stay full until the queue runs dry.
 //!
 //! A lane whose stages are not all finite (the dynamics failed there, or the state blew up) has
