@@ -117,33 +117,50 @@ pub fn accelerations<L: Lagrangian<N>, const N: usize, const W: usize, const F: 
 ) -> [Lanes<W, F>; N] {
     match L::accelerations_in(members, params, q, qdot, t) {
         Some((x, ok)) if ok.all() => x,
-        Some((x, ok)) => one_by_one(members, q, qdot, t, x, ok),
-        None => one_by_one(members, q, qdot, t, [Lanes::NAN; N], Mask::splat(false)),
+        Some((x, ok)) => {
+            one_by_one(members, &lanes(q), &lanes(qdot), t.0, lanes(&x), ok).map(Lanes)
+        }
+        None => one_by_one(
+            members,
+            &lanes(q),
+            &lanes(qdot),
+            t.0,
+            [[f64::NAN; W]; N],
+            Mask::splat(false),
+        )
+        .map(Lanes),
     }
 }
 
-/// `x`, with every lane not set in `ok` replaced by its member's own
-/// [`Lagrangian::accelerations`] (NaN where that fails).
+/// The lanes of each entry of `v`, as plain arrays.
+#[inline(always)]
+fn lanes<const N: usize, const W: usize, const F: bool>(v: &[Lanes<W, F>; N]) -> [[f64; W]; N] {
+    v.map(|x| x.0)
+}
+
+/// `x` (entry i, lane l), with every lane not set in `ok` replaced by its member's own
+/// [`Lagrangian::accelerations`] (NaN where that fails). On plain arrays, so that the exact and
+/// the fused lanes share one copy.
 // Out of line: a cold path for generated systems, and inlining a jets derivation at each of the
 // twelve stages of every instantiation costs build time for nothing.
 #[inline(never)]
-fn one_by_one<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
+fn one_by_one<L: Lagrangian<N>, const N: usize, const W: usize>(
     members: &[&L; W],
-    q: &[Lanes<W, F>; N],
-    qdot: &[Lanes<W, F>; N],
-    t: Lanes<W, F>,
-    mut x: [Lanes<W, F>; N],
+    q: &[[f64; W]; N],
+    qdot: &[[f64; W]; N],
+    t: [f64; W],
+    mut x: [[f64; W]; N],
     ok: Mask<W>,
-) -> [Lanes<W, F>; N] {
+) -> [[f64; W]; N] {
     for (l, sys) in members.iter().enumerate() {
         if ok.0[l] {
             continue;
         }
-        let ql: [f64; N] = core::array::from_fn(|i| q[i].0[l]);
-        let vl: [f64; N] = core::array::from_fn(|i| qdot[i].0[l]);
-        let a = sys.accelerations(&ql, &vl, t.0[l]).unwrap_or([f64::NAN; N]);
+        let ql: [f64; N] = core::array::from_fn(|i| q[i][l]);
+        let vl: [f64; N] = core::array::from_fn(|i| qdot[i][l]);
+        let a = sys.accelerations(&ql, &vl, t[l]).unwrap_or([f64::NAN; N]);
         for i in 0..N {
-            x[i].0[l] = a[i];
+            x[i][l] = a[i];
         }
     }
     x
