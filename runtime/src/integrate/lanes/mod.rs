@@ -34,7 +34,8 @@ use members::scalar;
 pub enum Simd {
     /// The fastest path measured that the CPU has (the default): [`Avx2Fma`](Simd::Avx2Fma)
     /// where it has FMA, else [`Exact`](Simd::Exact), else one member at a time. The
-    /// environment variable `LAGRANGE_SIMD` (`exact`, `avx2-fma`, `off`) chooses another.
+    /// environment variable `LAGRANGE_SIMD` (`exact`, `avx2-fma`, `off`; any other value: the
+    /// default) chooses another.
     #[default]
     Native,
     /// 4 lanes of AVX2 whose every operation rounds as the single run's (no fused multiply-add):
@@ -42,8 +43,8 @@ pub enum Simd {
     /// round-off there). One member at a time on a CPU without AVX2.
     Exact,
     /// 4 lanes of AVX2 with fused multiply-adds in the integrators' sums, the error norm, the
-    /// Taylor convolutions and the vector sin, cos and ln: a member equals its single run to
-    /// round-off. [`Exact`](Simd::Exact) on a CPU without FMA.
+    /// Taylor convolutions, the generated kernels' multiply-adds and the vector sin, cos and ln:
+    /// a member equals its single run to round-off. [`Exact`](Simd::Exact) on a CPU without FMA.
     Avx2Fma,
     /// One member at a time (what `Ensemble::lanes(1)` asks for).
     Off,
