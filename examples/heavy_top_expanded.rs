@@ -772,115 +772,103 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_c[2][__lagrange_k] = __lagrange_out[__lagrange_k][1][0];
                 __lagrange_c[3][__lagrange_k] = __lagrange_out[__lagrange_k][1][1];
                 __lagrange_c[4][__lagrange_k] = __lagrange_out[__lagrange_k][1][2];
-                __lagrange_c[5][__lagrange_k] = ::lagrange::__private::taylor::deriv(
-                    &__lagrange_c[1],
-                    &__lagrange_c[6],
+                let [__lagrange_g0, __lagrange_g1] = ::lagrange::__private::taylor::derivs(
+                    [&__lagrange_c[1], &__lagrange_c[1]],
+                    [&__lagrange_c[6], &__lagrange_c[30]],
                     __lagrange_k,
                 );
-                __lagrange_c[6][__lagrange_k] = ::lagrange::__private::taylor::deriv(
-                    &__lagrange_c[1],
-                    &__lagrange_c[30],
+                __lagrange_c[5][__lagrange_k] = __lagrange_g0;
+                __lagrange_c[6][__lagrange_k] = __lagrange_g1;
+                __lagrange_c[19][__lagrange_k] = __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
+                __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
+                __lagrange_c[36][__lagrange_k] = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
+                let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3] =
+                    ::lagrange::__private::taylor::muls(
+                        [
+                            &__lagrange_c[3],
+                            &__lagrange_c[3],
+                            &__lagrange_c[2],
+                            &__lagrange_c[2],
+                        ],
+                        [
+                            &__lagrange_c[5],
+                            &__lagrange_c[6],
+                            &__lagrange_c[6],
+                            &__lagrange_c[5],
+                        ],
+                        __lagrange_k,
+                    );
+                __lagrange_c[9][__lagrange_k] = __lagrange_g0;
+                __lagrange_c[11][__lagrange_k] = __lagrange_g1;
+                __lagrange_c[20][__lagrange_k] = __lagrange_g2;
+                __lagrange_c[21][__lagrange_k] = __lagrange_g3;
+                let [__lagrange_g0, __lagrange_g1] = ::lagrange::__private::taylor::sqrs(
+                    [&__lagrange_c[5], &__lagrange_c[6]],
                     __lagrange_k,
                 );
-                __lagrange_c[9][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                    &__lagrange_c[3],
-                    &__lagrange_c[5],
-                    __lagrange_k,
-                );
-                __lagrange_c[11][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                    &__lagrange_c[3],
-                    &__lagrange_c[6],
-                    __lagrange_k,
-                );
+                __lagrange_c[14][__lagrange_k] = __lagrange_g0;
+                __lagrange_c[16][__lagrange_k] = __lagrange_g1;
                 __lagrange_c[12][__lagrange_k] =
                     __lagrange_c[4][__lagrange_k] + __lagrange_c[11][__lagrange_k];
-                __lagrange_c[14][__lagrange_k] =
-                    ::lagrange::__private::taylor::sqr(&__lagrange_c[5], __lagrange_k);
                 __lagrange_c[15][__lagrange_k] =
                     __lagrange_p_i_perp * __lagrange_c[14][__lagrange_k];
-                __lagrange_c[16][__lagrange_k] =
-                    ::lagrange::__private::taylor::sqr(&__lagrange_c[6], __lagrange_k);
                 __lagrange_c[17][__lagrange_k] =
                     __lagrange_p_i_par * __lagrange_c[16][__lagrange_k];
                 __lagrange_c[18][__lagrange_k] =
                     __lagrange_c[15][__lagrange_k] + __lagrange_c[17][__lagrange_k];
-                __lagrange_c[19][__lagrange_k] = __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
-                __lagrange_c[20][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                    &__lagrange_c[2],
-                    &__lagrange_c[6],
-                    __lagrange_k,
-                );
-                __lagrange_c[21][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                    &__lagrange_c[2],
-                    &__lagrange_c[5],
-                    __lagrange_k,
-                );
-                __lagrange_c[22][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                    &__lagrange_c[3],
-                    &__lagrange_c[21],
-                    __lagrange_k,
-                );
-                __lagrange_c[23][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                    &__lagrange_c[9],
-                    &__lagrange_c[20],
-                    __lagrange_k,
-                );
+                let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3, __lagrange_g4] =
+                    ::lagrange::__private::taylor::muls(
+                        [
+                            &__lagrange_c[3],
+                            &__lagrange_c[9],
+                            &__lagrange_c[12],
+                            &__lagrange_c[9],
+                            &__lagrange_c[9],
+                        ],
+                        [
+                            &__lagrange_c[21],
+                            &__lagrange_c[20],
+                            &__lagrange_c[21],
+                            &__lagrange_c[11],
+                            &__lagrange_c[12],
+                        ],
+                        __lagrange_k,
+                    );
+                __lagrange_c[22][__lagrange_k] = __lagrange_g0;
+                __lagrange_c[23][__lagrange_k] = __lagrange_g1;
+                __lagrange_c[26][__lagrange_k] = __lagrange_g2;
+                __lagrange_c[31][__lagrange_k] = __lagrange_g3;
+                __lagrange_c[33][__lagrange_k] = __lagrange_g4;
                 __lagrange_c[24][__lagrange_k] =
                     __lagrange_p_i_perp * __lagrange_c[23][__lagrange_k];
                 __lagrange_c[25][__lagrange_k] =
                     <R as ::core::convert::From<f64>>::from(2.0) * __lagrange_c[24][__lagrange_k];
-                __lagrange_c[26][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                    &__lagrange_c[12],
-                    &__lagrange_c[21],
-                    __lagrange_k,
-                );
                 __lagrange_c[27][__lagrange_k] =
                     __lagrange_c[23][__lagrange_k] + __lagrange_c[26][__lagrange_k];
                 __lagrange_c[28][__lagrange_k] =
                     __lagrange_p_i_par * __lagrange_c[27][__lagrange_k];
                 __lagrange_c[29][__lagrange_k] =
                     __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
-                __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
-                __lagrange_c[31][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                    &__lagrange_c[9],
-                    &__lagrange_c[11],
-                    __lagrange_k,
-                );
                 __lagrange_c[32][__lagrange_k] =
                     __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
-                __lagrange_c[33][__lagrange_k] = ::lagrange::__private::taylor::mul(
-                    &__lagrange_c[9],
-                    &__lagrange_c[12],
-                    __lagrange_k,
-                );
                 __lagrange_c[34][__lagrange_k] =
                     __lagrange_p_i_par * __lagrange_c[33][__lagrange_k];
                 __lagrange_c[35][__lagrange_k] =
                     __lagrange_c[32][__lagrange_k] - __lagrange_c[34][__lagrange_k];
-                __lagrange_c[36][__lagrange_k] = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
                 __lagrange_c[37][__lagrange_k] =
                     __lagrange_c[35][__lagrange_k] + __lagrange_c[36][__lagrange_k];
                 __lagrange_c[38][__lagrange_k] =
                     __lagrange_c[28][__lagrange_k] - __lagrange_c[25][__lagrange_k];
+                let [__lagrange_tail0, __lagrange_tail1, __lagrange_tail2] =
+                    ::lagrange::__private::taylor::mass_tails(
+                        [&__lagrange_c[18], &__lagrange_c[19], &__lagrange_c[19]],
+                        [&__lagrange_c[40], &__lagrange_c[41], &__lagrange_c[40]],
+                        __lagrange_k,
+                    );
                 [
                     __lagrange_c[37][__lagrange_k],
-                    __lagrange_c[38][__lagrange_k]
-                        - ::lagrange::__private::taylor::mass_tail(
-                            &__lagrange_c[18],
-                            &__lagrange_c[40],
-                            __lagrange_k,
-                        )
-                        - ::lagrange::__private::taylor::mass_tail(
-                            &__lagrange_c[19],
-                            &__lagrange_c[41],
-                            __lagrange_k,
-                        ),
-                    __lagrange_c[29][__lagrange_k]
-                        - ::lagrange::__private::taylor::mass_tail(
-                            &__lagrange_c[19],
-                            &__lagrange_c[40],
-                            __lagrange_k,
-                        ),
+                    __lagrange_c[38][__lagrange_k] - __lagrange_tail0 - __lagrange_tail1,
+                    __lagrange_c[29][__lagrange_k] - __lagrange_tail2,
                 ]
             };
             ::lagrange::__private::eom::SeriesFactor::solve(

@@ -388,16 +388,13 @@ mod __lagrange_Pendulum_2105f53a_kernels {
                 [__lagrange_c[8][0]]
             } else {
                 __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
-                __lagrange_c[4][__lagrange_k] = ::lagrange::__private::taylor::deriv(
-                    &__lagrange_c[1],
-                    &__lagrange_c[6],
+                let [__lagrange_g0, __lagrange_g1] = ::lagrange::__private::taylor::derivs(
+                    [&__lagrange_c[1], &__lagrange_c[1]],
+                    [&__lagrange_c[6], &__lagrange_c[4]],
                     __lagrange_k,
                 );
-                __lagrange_c[5][__lagrange_k] = ::lagrange::__private::taylor::deriv(
-                    &__lagrange_c[1],
-                    &__lagrange_c[4],
-                    __lagrange_k,
-                );
+                __lagrange_c[4][__lagrange_k] = __lagrange_g0;
+                __lagrange_c[5][__lagrange_k] = __lagrange_g1;
                 __lagrange_c[6][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
                 __lagrange_c[7][__lagrange_k] = __lagrange_x18 * __lagrange_c[5][__lagrange_k];
                 __lagrange_c[8][__lagrange_k] = -__lagrange_c[7][__lagrange_k];

@@ -188,6 +188,56 @@ fn kernel_order(rules: &[Option<Rule>], ids: &[Id]) -> Option<Vec<Id>> {
     Some(order)
 }
 
+/// The most convolutions of one kind the generated series computes side by side in one loop
+/// (`taylor::muls`, `derivs`, `mass_tails`): each keeps its running sum in a register.
+const GROUP: usize = 8;
+
+/// Whether a rule is a convolution (its coefficient k a sum over orders 0..=k), not O(1).
+fn convolves(r: &Rule) -> bool {
+    matches!(
+        r,
+        Rule::Mul(..)
+            | Rule::Sqr(_)
+            | Rule::Div(..)
+            | Rule::Deriv(..)
+            | Rule::Deriv2(..)
+            | Rule::Powf(..)
+    )
+}
+
+/// The kernels of [`kernel_order`] by level, each level's convolutions and then its other
+/// kernels: a convolution's level is one more than the highest level among the operands it reads
+/// at the same order, another kernel's is that highest level (0 for none). The convolutions of
+/// one level read none of each other's coefficient k, so they can be computed side by side; the
+/// other kernels of the level come after them, in [`kernel_order`]'s order. `None` where a node
+/// has no rule.
+fn levels(rules: &[Option<Rule>], kernels: &[Id]) -> Option<Vec<(Vec<Id>, Vec<Id>)>> {
+    let mut level: std::collections::HashMap<Id, usize> = std::collections::HashMap::new();
+    let mut out: Vec<(Vec<Id>, Vec<Id>)> = Vec::new();
+    for &id in kernels {
+        let r = rules.get(id as usize)?.as_ref()?;
+        let highest = reads_same_order(r)
+            .iter()
+            .filter_map(|x| level.get(x).copied())
+            .max();
+        let l = match (convolves(r), highest) {
+            (true, Some(h)) => h + 1,
+            (true, None) => 1,
+            (false, h) => h.unwrap_or(0),
+        };
+        level.insert(id, l);
+        if out.len() <= l {
+            out.resize_with(l + 1, Default::default);
+        }
+        if convolves(r) {
+            out[l].0.push(id);
+        } else {
+            out[l].1.push(id);
+        }
+    }
+    Some(out)
+}
+
 /// The first construct among `ids` whose value is not analytic along the motion, named for the
 /// user: the Taylor method would step over its kink (a series taken on one side of x = 0 sums to
 /// the other side's continuation: `|x|` becomes `x`), so it refuses such a body. Functions of the
@@ -368,75 +418,123 @@ impl Program<'_> {
                 flat.push(s);
             }
         }
-        // Orders ≥ 1: one kernel per node, indices constant, each after what it reads.
+        // Orders ≥ 1: one kernel per node, indices constant, each after what it reads, level by
+        // level ([`levels`]); the products and the functions of one level that read none of each
+        // other are computed side by side in groups ([`GROUP`]).
         let mut step = TokenStream::new();
-        for &id in kernels {
-            let r = rules[id as usize].as_ref()?;
-            let s = sl(id);
-            let value = match *r {
-                Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
-                Rule::Leaf => match dag.node(id) {
-                    Node::Q(i) => {
-                        let i = Literal::usize_unsuffixed(i as usize);
-                        quote!(#out[#k][0][#i])
+        for (convolutions, others) in levels(rules, kernels)? {
+            let mut products: Vec<(Id, Id, Id)> = Vec::new();
+            let mut functions: Vec<(Id, Id, Id)> = Vec::new();
+            let mut squares: Vec<(Id, Id)> = Vec::new();
+            let mut later = TokenStream::new();
+            for id in convolutions.into_iter().chain(others) {
+                let r = rules[id as usize].as_ref()?;
+                let s = sl(id);
+                let value = match *r {
+                    Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
+                    Rule::Mul(x, y) => {
+                        products.push((id, x, y));
+                        continue;
                     }
-                    Node::V(i) => {
-                        let i = Literal::usize_unsuffixed(i as usize);
-                        quote!(#out[#k][1][#i])
+                    Rule::Deriv(x, dd) => {
+                        functions.push((id, x, dd));
+                        continue;
                     }
-                    _ => codegen::real_const(&num, &quote!(if #k == 1 { 1.0 } else { 0.0 })),
-                },
-                Rule::Add(x, y) => {
-                    let (x, y) = (sl(x), sl(y));
-                    quote!(#c[#x][#k] + #c[#y][#k])
+                    Rule::Leaf => match dag.node(id) {
+                        Node::Q(i) => {
+                            let i = Literal::usize_unsuffixed(i as usize);
+                            quote!(#out[#k][0][#i])
+                        }
+                        Node::V(i) => {
+                            let i = Literal::usize_unsuffixed(i as usize);
+                            quote!(#out[#k][1][#i])
+                        }
+                        _ => codegen::real_const(&num, &quote!(if #k == 1 { 1.0 } else { 0.0 })),
+                    },
+                    Rule::Add(x, y) => {
+                        let (x, y) = (sl(x), sl(y));
+                        quote!(#c[#x][#k] + #c[#y][#k])
+                    }
+                    Rule::Sub(x, y) => {
+                        let (x, y) = (sl(x), sl(y));
+                        quote!(#c[#x][#k] - #c[#y][#k])
+                    }
+                    Rule::Neg(x) => {
+                        let x = sl(x);
+                        quote!(-#c[#x][#k])
+                    }
+                    Rule::Sqr(x) => {
+                        squares.push((id, x));
+                        continue;
+                    }
+                    Rule::Scale(x, f) => {
+                        let (x, f) = (sl(x), op(f));
+                        quote!(#f * #c[#x][#k])
+                    }
+                    Rule::Div(x, y) => {
+                        let (x, y) = (sl(x), sl(y));
+                        quote!(#rt::div(&#c[#x], &#c[#y], &#c[#s], #k))
+                    }
+                    Rule::DivConst(x, f) => {
+                        let (x, f) = (sl(x), op(f));
+                        quote!(#c[#x][#k] / #f)
+                    }
+                    Rule::Deriv2(y, p, x, qq) => {
+                        let (y, p, x, qq) = (sl(y), sl(p), sl(x), sl(qq));
+                        quote!(#rt::deriv2(&#c[#y], &#c[#p], &#c[#x], &#c[#qq], #k))
+                    }
+                    Rule::Powf(x, e) => {
+                        let (x, e) = (sl(x), op(e));
+                        quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k))
+                    }
+                    Rule::Select(cond, x, y) => {
+                        let (x, y) = (sl(x), sl(y));
+                        let cond = names::cond(cond);
+                        quote!(<#num as #real>::select(#cond, #c[#x][#k], #c[#y][#k]))
+                    }
+                };
+                let to = if convolves(r) { &mut step } else { &mut later };
+                to.extend(quote!(#c[#s][#k] = #value;));
+            }
+            for (kernel, single, jobs) in [
+                (quote!(#rt::muls), quote!(#rt::mul), &products),
+                (quote!(#rt::derivs), quote!(#rt::deriv), &functions),
+            ] {
+                for group in jobs.chunks(GROUP) {
+                    let targets = group.iter().map(|&(id, ..)| sl(id));
+                    let xs = group.iter().map(|&(_, x, _)| sl(x));
+                    let ys = group.iter().map(|&(.., y)| sl(y));
+                    step.extend(if let [(id, x, y)] = group {
+                        let (s, x, y) = (sl(*id), sl(*x), sl(*y));
+                        quote!(#c[#s][#k] = #single(&#c[#x], &#c[#y], #k);)
+                    } else {
+                        let vs: Vec<_> = (0..group.len())
+                            .map(|i| names::taylor(&format!("g{i}")))
+                            .collect();
+                        quote! {
+                            let [#(#vs),*] = #kernel([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k);
+                            #( #c[#targets][#k] = #vs; )*
+                        }
+                    });
                 }
-                Rule::Sub(x, y) => {
-                    let (x, y) = (sl(x), sl(y));
-                    quote!(#c[#x][#k] - #c[#y][#k])
-                }
-                Rule::Neg(x) => {
-                    let x = sl(x);
-                    quote!(-#c[#x][#k])
-                }
-                Rule::Mul(x, y) => {
-                    let (x, y) = (sl(x), sl(y));
-                    quote!(#rt::mul(&#c[#x], &#c[#y], #k))
-                }
-                Rule::Sqr(x) => {
-                    let x = sl(x);
-                    quote!(#rt::sqr(&#c[#x], #k))
-                }
-                Rule::Scale(x, f) => {
-                    let (x, f) = (sl(x), op(f));
-                    quote!(#f * #c[#x][#k])
-                }
-                Rule::Div(x, y) => {
-                    let (x, y) = (sl(x), sl(y));
-                    quote!(#rt::div(&#c[#x], &#c[#y], &#c[#s], #k))
-                }
-                Rule::DivConst(x, f) => {
-                    let (x, f) = (sl(x), op(f));
-                    quote!(#c[#x][#k] / #f)
-                }
-                Rule::Deriv(x, dd) => {
-                    let (x, dd) = (sl(x), sl(dd));
-                    quote!(#rt::deriv(&#c[#x], &#c[#dd], #k))
-                }
-                Rule::Deriv2(y, p, x, qq) => {
-                    let (y, p, x, qq) = (sl(y), sl(p), sl(x), sl(qq));
-                    quote!(#rt::deriv2(&#c[#y], &#c[#p], &#c[#x], &#c[#qq], #k))
-                }
-                Rule::Powf(x, e) => {
-                    let (x, e) = (sl(x), op(e));
-                    quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k))
-                }
-                Rule::Select(cond, x, y) => {
-                    let (x, y) = (sl(x), sl(y));
-                    let cond = names::cond(cond);
-                    quote!(<#num as #real>::select(#cond, #c[#x][#k], #c[#y][#k]))
-                }
-            };
-            step.extend(quote!(#c[#s][#k] = #value;));
+            }
+            for group in squares.chunks(GROUP) {
+                step.extend(if let [(id, x)] = group {
+                    let (s, x) = (sl(*id), sl(*x));
+                    quote!(#c[#s][#k] = #rt::sqr(&#c[#x], #k);)
+                } else {
+                    let targets = group.iter().map(|&(id, _)| sl(id));
+                    let xs = group.iter().map(|&(_, x)| sl(x));
+                    let vs: Vec<_> = (0..group.len())
+                        .map(|i| names::taylor(&format!("g{i}")))
+                        .collect();
+                    quote! {
+                        let [#(#vs),*] = #rt::sqrs([#(&#c[#xs]),*], #k);
+                        #( #c[#targets][#k] = #vs; )*
+                    }
+                });
+            }
+            step.extend(later);
         }
         // M₀ (upper triangle) and the right-hand side of order k, less Σ_{j ≥ 1} M_j a_{k−j} over
         // the entries of M that vary along the motion (the others have no coefficient past order 0).
@@ -456,6 +554,21 @@ impl Program<'_> {
             });
             quote!([#(#cols),*])
         });
+        // Σ_{j ≥ 1} M_j a_{k−j} over the entries of M that vary along the motion (the others have
+        // no coefficient past order 0), every one of them side by side in groups.
+        let tails: Vec<(usize, usize)> = (0..n)
+            .flat_map(|i| (0..n).map(move |l| (i, l)))
+            .filter(|&(i, l)| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
+            .collect();
+        let tail_name = |t: usize| names::taylor(&format!("tail{t}"));
+        for (g, group) in tails.chunks(GROUP).enumerate() {
+            let ms = group.iter().map(|&(i, l)| sl(entry(i, l)));
+            let als = group.iter().map(|&(_, l)| &accel[l]);
+            let vs = (0..group.len()).map(|t| tail_name(g * GROUP + t));
+            step.extend(quote! {
+                let [#(#vs),*] = #rt::mass_tails([#(&#c[#ms]),*], [#(&#c[#als]),*], #k);
+            });
+        }
         let rhs = (0..n).map(|i| {
             let f = match d.rhs[i] {
                 Dag::ZERO => zero.clone(),
@@ -464,11 +577,13 @@ impl Program<'_> {
                     quote!(#c[#s][#k])
                 }
             };
-            let tail = (0..n)
-                .filter(|&l| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
-                .map(|l| {
-                    let (m, al) = (sl(entry(i, l)), &accel[l]);
-                    quote!(- #rt::mass_tail(&#c[#m], &#c[#al], #k))
+            let tail = tails
+                .iter()
+                .enumerate()
+                .filter(|(_, &(row, _))| row == i)
+                .map(|(t, _)| {
+                    let v = tail_name(t);
+                    quote!(- #v)
                 });
             quote!(#f #(#tail)*)
         });

@@ -49,6 +49,8 @@ pub(crate) struct Taylor<'a, L, const N: usize> {
     sys: &'a L,
     /// The order from the tolerance (the series may be wider for one step, see the module docs).
     p: usize,
+    /// The step's safety factor e^{−2 − 0.7/(p−1)} (see [`Self::step_size`]), computed once.
+    safety: f64,
     hmax: f64,
     t: f64,
     y: Y<N>,
@@ -70,6 +72,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
         Taylor {
             sys,
             p,
+            safety: (-2.0 - 0.7 / (p - 1) as f64).exp(),
             hmax,
             t: t0,
             y: y0,
@@ -188,7 +191,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
             // A widened series: the highest non-zero coefficients above p.
             (p + 1..=top).map(rho).fold(f64::INFINITY, f64::min)
         };
-        r * (-2.0 - 0.7 / (p - 1) as f64).exp()
+        r * self.safety
     }
 
     /// The series at the current node (widened where its top coefficients vanish) and the step
