@@ -76,7 +76,7 @@ macro_rules! functions {
 ///
 /// ```
 /// use lagrange_runtime::{lanes::Lanes, {real::Real, taylor::mul}};
-/// let (mut a, mut b) = ([Lanes::<2>::ZERO; 32], [<Lanes<2> as Real>::ZERO; 32]);
+/// let (mut a, mut b) = ([Lanes::<2>::ZERO; 33], [<Lanes<2> as Real>::ZERO; 33]);
 /// // a = 1 + c τ with c = 1 in lane 0 and 2 in lane 1, b = 3 + τ: (ab)₁ = 3c + 1.
 /// (a[0], a[1], b[0], b[1]) = (Lanes::<2>([1.0; 2]), Lanes::<2>([1.0, 2.0]), Lanes::<2>([3.0; 2]), Lanes::<2>([1.0; 2]));
 /// assert_eq!(mul(&a, &b, 1).0, [4.0, 7.0]);
