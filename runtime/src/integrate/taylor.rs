@@ -175,31 +175,29 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
     /// vanish (see [`Self::widen`]).
     fn step_size(&self) -> f64 {
         let p = self.p;
-        let s = self.norm(0).max(1.0);
-        let rho = |k: usize| {
-            let n = self.norm(k);
-            if n == 0.0 {
-                f64::INFINITY
-            } else {
-                (s / n).powf(1.0 / k as f64)
-            }
-        };
         let top = self.series.len() - 1;
-        let r = if top == p {
-            rho(p - 1).min(rho(p))
-        } else {
-            // A widened series: the highest non-zero coefficients above p.
-            (p + 1..=top).map(rho).fold(f64::INFINITY, f64::min)
-        };
+        if top == p {
+            return self.step_from_norms(self.norm(0), self.norm(p - 1), self.norm(p));
+        }
+        // A widened series: the highest non-zero coefficients above p.
+        let s = self.norm(0).max(1.0);
+        let r = (p + 1..=top)
+            .map(|k| rho(s, self.norm(k), k))
+            .fold(f64::INFINITY, f64::min);
         r * self.safety
     }
 
-    /// The series at the current node (widened where its top coefficients vanish) and the step
-    /// it allows toward `t_end`: h and the time the step ends at (`t_end` itself for the last).
-    pub(crate) fn plan(&mut self, t_end: f64, stats: &mut Stats) -> Result<(f64, f64), Fault> {
-        self.compute(stats)?;
-        self.widen(stats)?;
-        let mut h = self.step_size().min(self.hmax);
+    /// [`Self::step_size`] of a series of order p from the largest |coefficient| of orders 0,
+    /// p − 1 and p.
+    fn step_from_norms(&self, n0: f64, n_before_top: f64, n_top: f64) -> f64 {
+        let (p, s) = (self.p, n0.max(1.0));
+        rho(s, n_before_top, p - 1).min(rho(s, n_top, p)) * self.safety
+    }
+
+    /// The step a proposed h allows toward `t_end` (at most hmax; `t_end` itself for the last):
+    /// h and the time the step ends at, or the underflow.
+    fn bounded(&self, h: f64, t_end: f64) -> Result<(f64, f64), Fault> {
+        let mut h = h.min(self.hmax);
         let last = self.t + h >= t_end;
         if last {
             h = t_end - self.t;
@@ -208,6 +206,57 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
             return Err(Fault::Underflow { h });
         }
         Ok((h, if last { t_end } else { self.t + h }))
+    }
+
+    /// The series at the current node (widened where its top coefficients vanish) and the step
+    /// it allows toward `t_end`: h and the time the step ends at (`t_end` itself for the last).
+    pub(crate) fn plan(&mut self, t_end: f64, stats: &mut Stats) -> Result<(f64, f64), Fault> {
+        self.compute(stats)?;
+        self.widen(stats)?;
+        self.bounded(self.step_size(), t_end)
+    }
+
+    /// What [`Self::plan`] would give for a series of this stepper's order whose largest
+    /// |coefficient| of orders 0, p − 1 and p the lanes engine measured; `None` where `plan`
+    /// has more to do (the top two coefficients vanish: it widens) or fails (it says why).
+    pub(crate) fn plan_from_norms(&self, norms: [f64; 3], t_end: f64) -> Option<(f64, f64)> {
+        let [n0, n_before_top, n_top] = norms;
+        if n_top == 0.0 && n_before_top == 0.0 && self.p < MAX_ORDER {
+            return None;
+        }
+        self.bounded(self.step_from_norms(n0, n_before_top, n_top), t_end)
+            .ok()
+    }
+
+    /// Lands a step the lanes engine took for this member from its node: the series counted as
+    /// one evaluation, the step as [`Self::take`] counts it, y₁ its sum at the end time t₁ from
+    /// [`Self::plan_from_norms`]. `dense` is the member's series (lane `l` of the engine's) where
+    /// the driver reads the step's interpolant: it becomes the step's dense output, as the
+    /// series does in `take`; without it the interpolant is not kept.
+    pub(crate) fn land<const W: usize, const F: bool>(
+        &mut self,
+        t1: f64,
+        y1: Y<N>,
+        dense: Option<(&[YOf<Lanes<W, F>, N>], usize)>,
+        stats: &mut Stats,
+    ) {
+        stats.rhs_evals += 1;
+        stats.steps += 1;
+        if let Some((src, l)) = dense {
+            self.old.resize(self.p + 1, [[0.0; N]; 2]);
+            self.old[0] = self.y;
+            for (row, from) in self.old.iter_mut().zip(src).skip(1) {
+                for (part, from) in row.iter_mut().zip(from) {
+                    for (v, x) in part.iter_mut().zip(from) {
+                        *v = x.0[l];
+                    }
+                }
+            }
+        }
+        self.t_old = self.t;
+        self.t = t1;
+        self.y = y1;
+        self.fresh = false;
     }
 
     /// Takes the series at the current node, to this stepper's order, from values computed
@@ -253,6 +302,15 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
             return Ok(());
         }
         self.series_to(MAX_ORDER, stats)
+    }
+}
+
+/// ρ_k = (s/n_k)^{1/k} from the largest |coefficient| n_k of order k (infinite where it is 0).
+fn rho(s: f64, n: f64, k: usize) -> f64 {
+    if n == 0.0 {
+        f64::INFINITY
+    } else {
+        (s / n).powf(1.0 / k as f64)
     }
 }
 

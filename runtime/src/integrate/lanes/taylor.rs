@@ -17,7 +17,7 @@ use crate::taylor::SeriesBuf;
 
 use crate::integrate::method::Method;
 use crate::integrate::simulation::Simulation;
-use crate::integrate::state::{Fault, YOf};
+use crate::integrate::state::{Fault, Y, YOf};
 use crate::integrate::stepper::Stepper;
 use crate::integrate::taylor::Taylor;
 
@@ -102,15 +102,69 @@ pub(super) fn run<
                 finite[usize::from(k > min_order)] += *x * 0.0;
             }
         }
-        // Scatter: each lane whose series the vector code gave takes it; every busy lane steps.
+        // Each lane whose series the vector code gave, at the order every busy lane has, plans its
+        // step from the largest |coefficient| of orders 0, p − 1 and p (its own scalar step
+        // size); the sums at those steps are then one pass of vector code (Horner's rule, the
+        // operations of the scalar sum in every lane). The others take their series and step
+        // on their own.
+        let p = min_order;
+        let mut plans: [Option<(f64, f64)>; W] = [None; W];
+        let mut tau = Lanes::<W, F>::ZERO;
+        for l in 0..W {
+            let Some(s) = slots[l].as_ref() else { continue };
+            let clean = finite[0].0[l] == 0.0 && (orders[l] == min_order || finite[1].0[l] == 0.0);
+            if !(clean && order == p && done.is_some_and(|m| m.0[l])) {
+                continue;
+            }
+            let norm = |k: usize| {
+                series[k]
+                    .iter()
+                    .flatten()
+                    .fold(0.0_f64, |m, x| m.max(x.0[l].abs()))
+            };
+            let stepper = &s.run.stepper;
+            plans[l] = stepper.plan_from_norms([norm(0), norm(p - 1), norm(p)], s.run.opts.until);
+            if let Some((h, _)) = plans[l] {
+                tau.0[l] = h;
+            }
+        }
+        let y1 = plans.iter().any(Option::is_some).then(|| {
+            let mut y = series[p];
+            for row in series[..p].iter().rev() {
+                for (yc, xc) in y.iter_mut().zip(row) {
+                    for (v, x) in yc.iter_mut().zip(xc) {
+                        *v = *v * tau + *x;
+                    }
+                }
+            }
+            y
+        });
         for l in 0..W {
             let Some(s) = slots[l].as_mut() else { continue };
             let r = &mut s.run;
-            let clean = finite[0].0[l] == 0.0 && (orders[l] == min_order || finite[1].0[l] == 0.0);
-            if clean && done.is_some_and(|m| m.0[l]) {
-                r.stepper.take_series(&series, l, r.driver.stats());
-            }
-            match step(s) {
+            let landed = match (plans[l], &y1) {
+                (Some((_, t1)), Some(y)) => {
+                    let y1: Y<N> = core::array::from_fn(|c| core::array::from_fn(|i| y[c][i].0[l]));
+                    let ok = y1.iter().flatten().all(|x| x.is_finite());
+                    if ok {
+                        let dense = r.driver.needs_interpolant(&r.opts).then_some((&series[..], l));
+                        r.stepper.land(t1, y1, dense, r.driver.stats());
+                    }
+                    ok
+                }
+                _ => false,
+            };
+            let stepped = if landed {
+                r.driver
+                    .after_step(&mut r.stepper, &r.opts, &mut r.progress)
+            } else {
+                let clean = finite[0].0[l] == 0.0 && (orders[l] == min_order || finite[1].0[l] == 0.0);
+                if clean && done.is_some_and(|m| m.0[l]) {
+                    r.stepper.take_series(&series, l, r.driver.stats());
+                }
+                step(s)
+            };
+            match stepped {
                 Ok(false) => {}
                 Ok(true) => retire(&mut slots[l], End::Stopped, out),
                 Err(f) => retire(&mut slots[l], End::Failed(f), out),
