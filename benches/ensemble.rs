@@ -6,7 +6,8 @@
 //! errors near 1e-10 and 1e-11, the matched accuracies); and — in the same run, when python3
 //! with heyoka is installed — heyoka's batch mode at its fastest batch size on this machine
 //! (`benches/peers/heyoka_batch.py` times 1, 2, 4, 8 and 16 tops per vector and reports the
-//! fastest) at tol 1e-10, 1e-11, 1e-12 and 1e-13, with
+//! fastest) at tol 1e-10, 1e-11, 1e-12, 1e-13 and 1e-14 (the last so that our Taylor rows at tol
+//! 1e-13 have heyoka tolerances on both sides of their error), with
 //! the hand-written right-hand side and with the equations heyoka derives from the Lagrangian.
 //! Every final θ is compared with a reference run of the same top (our Taylor method at tol
 //! 2e-17, not timed); the time per top is the best of five passes, interleaved over the
@@ -386,7 +387,7 @@ fn main() {
     // it derives itself from the same Lagrangian (heyoka.lagrangian: what we do).
     let runs = ["hand", "lagrangian"]
         .into_iter()
-        .flat_map(|path| ["1e-10", "1e-11", "1e-12", "1e-13"].map(|tol| (path, tol)));
+        .flat_map(|path| ["1e-10", "1e-11", "1e-12", "1e-13", "1e-14"].map(|tol| (path, tol)));
     let mut peer: Vec<(&str, f64, f64)> = Vec::new();
     for (path, tol) in runs {
         let child = Command::new("python3")
