@@ -139,7 +139,7 @@ pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize>(
     #[cfg(not(target_arch = "x86_64"))]
     match simd {
         Simd::Off => one_at_a_time(sims, out),
-        _ => run_lanes_here::<L, N, 4, false>(sims, out),
+        _ => run_lanes_here::<L, N, false>(sims, out),
     }
 }
 
@@ -153,29 +153,29 @@ fn one_at_a_time<L: Lagrangian<N>, const N: usize>(
     }
 }
 
-/// [`run_lanes_here`] compiled for AVX2, 4 lanes, unfused ([`Simd::Exact`]).
+/// [`run_lanes_here`] compiled for AVX2, unfused ([`Simd::Exact`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn run_lanes_avx2<L: Lagrangian<N>, const N: usize>(
     sims: &mut [Simulation<'_, L, N>],
     out: &mut Out<'_, N>,
 ) {
-    run_lanes_here::<L, N, 4, false>(sims, out)
+    run_lanes_here::<L, N, false>(sims, out)
 }
 
-/// [`run_lanes_here`] compiled for AVX2 and FMA, 4 lanes, fused ([`Simd::Avx2Fma`]).
+/// [`run_lanes_here`] compiled for AVX2 and FMA, fused ([`Simd::Avx2Fma`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn run_lanes_avx2_fma<L: Lagrangian<N>, const N: usize>(
     sims: &mut [Simulation<'_, L, N>],
     out: &mut Out<'_, N>,
 ) {
-    run_lanes_here::<L, N, 4, true>(sims, out)
+    run_lanes_here::<L, N, true>(sims, out)
 }
 
 /// Declares the engines' files and [`run_lanes_here`] from the list of `method.rs`.
 macro_rules! engines {
-    ($($variant:ident => $file:ident),* $(,)?) => {
+    ($($variant:ident => $file:ident, $w:literal lanes),* $(,)?) => {
         $(mod $file;)*
 
         /// The engines, for the instruction set of their caller: each method's members on its
@@ -183,7 +183,7 @@ macro_rules! engines {
         /// the scalar driver, in order. A constrained member's engine hands it to the scalar
         /// driver too.
         #[inline(always)]
-        fn run_lanes_here<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
+        fn run_lanes_here<L: Lagrangian<N>, const N: usize, const F: bool>(
             sims: &mut [Simulation<'_, L, N>],
             out: &mut Out<'_, N>,
         ) {
@@ -191,7 +191,7 @@ macro_rules! engines {
                 let ours = |s: &Simulation<'_, L, N>| matches!(s.o.method, Method::$variant { .. });
                 if sims.iter().any(ours) {
                     let queue = sims.iter_mut().enumerate().filter(|(_, s)| ours(s));
-                    $file::run::<L, N, W, F>(queue, out);
+                    $file::run::<L, N, $w, F>(queue, out);
                 }
             )*
             let engine = |s: &Simulation<'_, L, N>| false $(|| matches!(s.o.method, Method::$variant { .. }))*;
