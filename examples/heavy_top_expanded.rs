@@ -781,7 +781,7 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_c[6][__lagrange_k] = __lagrange_g1;
                 __lagrange_c[19][__lagrange_k] = __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
                 __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
-                __lagrange_c[36][__lagrange_k] = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
+                let __lagrange_t93: R = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
                 let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3] =
                     ::lagrange::__private::taylor::muls(
                         [
@@ -810,12 +810,9 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_c[16][__lagrange_k] = __lagrange_g1;
                 __lagrange_c[12][__lagrange_k] =
                     __lagrange_c[4][__lagrange_k] + __lagrange_c[11][__lagrange_k];
-                __lagrange_c[15][__lagrange_k] =
-                    __lagrange_p_i_perp * __lagrange_c[14][__lagrange_k];
-                __lagrange_c[17][__lagrange_k] =
-                    __lagrange_p_i_par * __lagrange_c[16][__lagrange_k];
-                __lagrange_c[18][__lagrange_k] =
-                    __lagrange_c[15][__lagrange_k] + __lagrange_c[17][__lagrange_k];
+                let __lagrange_t54: R = __lagrange_p_i_perp * __lagrange_c[14][__lagrange_k];
+                let __lagrange_t56: R = __lagrange_p_i_par * __lagrange_c[16][__lagrange_k];
+                __lagrange_c[18][__lagrange_k] = __lagrange_t54 + __lagrange_t56;
                 let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3, __lagrange_g4] =
                     ::lagrange::__private::taylor::muls(
                         [
@@ -839,26 +836,18 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_c[26][__lagrange_k] = __lagrange_g2;
                 __lagrange_c[31][__lagrange_k] = __lagrange_g3;
                 __lagrange_c[33][__lagrange_k] = __lagrange_g4;
-                __lagrange_c[24][__lagrange_k] =
-                    __lagrange_p_i_perp * __lagrange_c[23][__lagrange_k];
-                __lagrange_c[25][__lagrange_k] =
-                    <R as ::core::convert::From<f64>>::from(2.0) * __lagrange_c[24][__lagrange_k];
-                __lagrange_c[27][__lagrange_k] =
+                let __lagrange_t67: R = __lagrange_p_i_perp * __lagrange_c[23][__lagrange_k];
+                let __lagrange_t68: R =
+                    <R as ::core::convert::From<f64>>::from(2.0) * __lagrange_t67;
+                let __lagrange_t72: R =
                     __lagrange_c[23][__lagrange_k] + __lagrange_c[26][__lagrange_k];
-                __lagrange_c[28][__lagrange_k] =
-                    __lagrange_p_i_par * __lagrange_c[27][__lagrange_k];
-                __lagrange_c[29][__lagrange_k] =
-                    __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
-                __lagrange_c[32][__lagrange_k] =
-                    __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
-                __lagrange_c[34][__lagrange_k] =
-                    __lagrange_p_i_par * __lagrange_c[33][__lagrange_k];
-                __lagrange_c[35][__lagrange_k] =
-                    __lagrange_c[32][__lagrange_k] - __lagrange_c[34][__lagrange_k];
-                __lagrange_c[37][__lagrange_k] =
-                    __lagrange_c[35][__lagrange_k] + __lagrange_c[36][__lagrange_k];
-                __lagrange_c[38][__lagrange_k] =
-                    __lagrange_c[28][__lagrange_k] - __lagrange_c[25][__lagrange_k];
+                let __lagrange_t74: R = __lagrange_p_i_par * __lagrange_t72;
+                let __lagrange_t77: R = __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
+                let __lagrange_t82: R = __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
+                let __lagrange_t89: R = __lagrange_p_i_par * __lagrange_c[33][__lagrange_k];
+                let __lagrange_t91: R = __lagrange_t82 - __lagrange_t89;
+                let __lagrange_t95: R = __lagrange_t91 + __lagrange_t93;
+                let __lagrange_t96: R = __lagrange_t74 - __lagrange_t68;
                 let [__lagrange_tail0, __lagrange_tail1, __lagrange_tail2] =
                     ::lagrange::__private::taylor::mass_tails(
                         [&__lagrange_c[18], &__lagrange_c[19], &__lagrange_c[19]],
@@ -866,9 +855,9 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                         __lagrange_k,
                     );
                 [
-                    __lagrange_c[37][__lagrange_k],
-                    __lagrange_c[38][__lagrange_k] - __lagrange_tail0 - __lagrange_tail1,
-                    __lagrange_c[29][__lagrange_k] - __lagrange_tail2,
+                    __lagrange_t95,
+                    __lagrange_t96 - __lagrange_tail0 - __lagrange_tail1,
+                    __lagrange_t77 - __lagrange_tail2,
                 ]
             };
             ::lagrange::__private::eom::SeriesFactor::solve(

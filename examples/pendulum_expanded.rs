@@ -396,9 +396,9 @@ mod __lagrange_Pendulum_2105f53a_kernels {
                 __lagrange_c[4][__lagrange_k] = __lagrange_g0;
                 __lagrange_c[5][__lagrange_k] = __lagrange_g1;
                 __lagrange_c[6][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
-                __lagrange_c[7][__lagrange_k] = __lagrange_x18 * __lagrange_c[5][__lagrange_k];
-                __lagrange_c[8][__lagrange_k] = -__lagrange_c[7][__lagrange_k];
-                [__lagrange_c[8][__lagrange_k]]
+                let __lagrange_t26: R = __lagrange_x18 * __lagrange_c[5][__lagrange_k];
+                let __lagrange_t27: R = -__lagrange_t26;
+                [__lagrange_t27]
             };
             ::lagrange::__private::eom::SeriesFactor::solve(
                 &__lagrange_factor,

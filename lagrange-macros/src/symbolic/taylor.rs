@@ -422,6 +422,69 @@ impl Program<'_> {
         // level ([`levels`]); the products and the functions of one level that read none of each
         // other are computed side by side in groups ([`GROUP`]).
         let mut step = TokenStream::new();
+        let entry = |i: usize, l: usize| {
+            let (r, cc) = if i <= l { (i, l) } else { (l, i) };
+            d.mass[r][cc]
+        };
+        // Σ_{j ≥ 1} M_j a_{k−j} over the entries of M that vary along the motion (the others have
+        // no coefficient past order 0), every one of them side by side in groups.
+        let tails: Vec<(usize, usize)> = (0..n)
+            .flat_map(|i| (0..n).map(move |l| (i, l)))
+            .filter(|&(i, l)| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
+            .collect();
+        // The nodes that keep a row past order 0: those a kernel reads at other orders than its own
+        // (a convolution's operands, a quotient's and a power's own series, a function's
+        // derivative series, the entries of M in the tails), the leaves and the constants. The
+        // others (sums, differences, scalings, selections read at their own order only) are locals
+        // of the order: no store, no row in the cache (the heavy top: 24 rows of 42 written).
+        let mut kept = vec![false; dag.len()];
+        for &id in ids {
+            let Some(r) = rules.get(id as usize).and_then(Option::as_ref) else {
+                continue;
+            };
+            let keep: Vec<Id> = match *r {
+                Rule::Mul(a, b) | Rule::Deriv(a, b) => vec![a, b],
+                Rule::Sqr(a) => vec![a],
+                Rule::Div(a, b) => vec![a, b, id],
+                Rule::Powf(a, _) => vec![a, id],
+                Rule::Deriv2(y, p, x, q) => vec![y, p, x, q],
+                Rule::Leaf | Rule::Constant => vec![id],
+                _ => vec![],
+            };
+            for x in keep {
+                if let Some(k) = kept.get_mut(x as usize) {
+                    *k = true;
+                }
+            }
+        }
+        for &(i, l) in &tails {
+            kept[entry(i, l) as usize] = true;
+        }
+        let local = |x: Id| {
+            !kept.get(x as usize).copied().unwrap_or(true)
+                && matches!(
+                    rules.get(x as usize).and_then(Option::as_ref),
+                    Some(
+                        Rule::Add(..)
+                            | Rule::Sub(..)
+                            | Rule::Neg(_)
+                            | Rule::Scale(..)
+                            | Rule::DivConst(..)
+                            | Rule::Select(..)
+                    )
+                )
+        };
+        let local_name = |x: Id| names::taylor(&format!("t{x}"));
+        // Coefficient k of x: its local or its row.
+        let at = |x: Id| {
+            if local(x) {
+                let t = local_name(x);
+                quote!(#t)
+            } else {
+                let s = sl(x);
+                quote!(#c[#s][#k])
+            }
+        };
         for (convolutions, others) in levels(rules, kernels)? {
             let mut products: Vec<(Id, Id, Id)> = Vec::new();
             let mut functions: Vec<(Id, Id, Id)> = Vec::new();
@@ -452,32 +515,32 @@ impl Program<'_> {
                         _ => codegen::real_const(&num, &quote!(if #k == 1 { 1.0 } else { 0.0 })),
                     },
                     Rule::Add(x, y) => {
-                        let (x, y) = (sl(x), sl(y));
-                        quote!(#c[#x][#k] + #c[#y][#k])
+                        let (x, y) = (at(x), at(y));
+                        quote!(#x + #y)
                     }
                     Rule::Sub(x, y) => {
-                        let (x, y) = (sl(x), sl(y));
-                        quote!(#c[#x][#k] - #c[#y][#k])
+                        let (x, y) = (at(x), at(y));
+                        quote!(#x - #y)
                     }
                     Rule::Neg(x) => {
-                        let x = sl(x);
-                        quote!(-#c[#x][#k])
+                        let x = at(x);
+                        quote!(-#x)
                     }
                     Rule::Sqr(x) => {
                         squares.push((id, x));
                         continue;
                     }
                     Rule::Scale(x, f) => {
-                        let (x, f) = (sl(x), op(f));
-                        quote!(#f * #c[#x][#k])
+                        let (x, f) = (at(x), op(f));
+                        quote!(#f * #x)
                     }
                     Rule::Div(x, y) => {
                         let (x, y) = (sl(x), sl(y));
                         quote!(#rt::div(&#c[#x], &#c[#y], &#c[#s], #k))
                     }
                     Rule::DivConst(x, f) => {
-                        let (x, f) = (sl(x), op(f));
-                        quote!(#c[#x][#k] / #f)
+                        let (x, f) = (at(x), op(f));
+                        quote!(#x / #f)
                     }
                     Rule::Deriv2(y, p, x, qq) => {
                         let (y, p, x, qq) = (sl(y), sl(p), sl(x), sl(qq));
@@ -488,13 +551,18 @@ impl Program<'_> {
                         quote!(#rt::powf(&#c[#x], &#c[#s], #e, #k))
                     }
                     Rule::Select(cond, x, y) => {
-                        let (x, y) = (sl(x), sl(y));
+                        let (x, y) = (at(x), at(y));
                         let cond = names::cond(cond);
-                        quote!(<#num as #real>::select(#cond, #c[#x][#k], #c[#y][#k]))
+                        quote!(<#num as #real>::select(#cond, #x, #y))
                     }
                 };
-                let to = if convolves(r) { &mut step } else { &mut later };
-                to.extend(quote!(#c[#s][#k] = #value;));
+                if local(id) {
+                    let t = local_name(id);
+                    later.extend(quote!(let #t: #num = #value;));
+                } else {
+                    let to = if convolves(r) { &mut step } else { &mut later };
+                    to.extend(quote!(#c[#s][#k] = #value;));
+                }
             }
             for (kernel, single, jobs) in [
                 (quote!(#rt::muls), quote!(#rt::mul), &products),
@@ -538,10 +606,6 @@ impl Program<'_> {
         }
         // M₀ (upper triangle) and the right-hand side of order k, less Σ_{j ≥ 1} M_j a_{k−j} over
         // the entries of M that vary along the motion (the others have no coefficient past order 0).
-        let entry = |i: usize, l: usize| {
-            let (r, cc) = if i <= l { (i, l) } else { (l, i) };
-            d.mass[r][cc]
-        };
         let m0_rows = (0..n).map(|i| {
             let cols = (0..n).map(|l| {
                 let id = d.mass[i][l];
@@ -554,12 +618,6 @@ impl Program<'_> {
             });
             quote!([#(#cols),*])
         });
-        // Σ_{j ≥ 1} M_j a_{k−j} over the entries of M that vary along the motion (the others have
-        // no coefficient past order 0), every one of them side by side in groups.
-        let tails: Vec<(usize, usize)> = (0..n)
-            .flat_map(|i| (0..n).map(move |l| (i, l)))
-            .filter(|&(i, l)| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
-            .collect();
         let tail_name = |t: usize| names::taylor(&format!("tail{t}"));
         for (g, group) in tails.chunks(GROUP).enumerate() {
             let ms = group.iter().map(|&(i, l)| sl(entry(i, l)));
@@ -572,10 +630,7 @@ impl Program<'_> {
         let rhs = (0..n).map(|i| {
             let f = match d.rhs[i] {
                 Dag::ZERO => zero.clone(),
-                id => {
-                    let s = sl(id);
-                    quote!(#c[#s][#k])
-                }
+                id => at(id),
             };
             let tail = tails
                 .iter()
