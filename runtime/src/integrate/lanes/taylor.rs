@@ -108,12 +108,17 @@ pub(super) fn run<
         // operations of the scalar sum in every lane). The others take their series and step
         // on their own.
         let p = min_order;
+        // Whether lane l's series is the vector code's and finite to its member's order.
+        let given = |l: usize| {
+            finite[0].0[l] == 0.0
+                && (orders[l] == min_order || finite[1].0[l] == 0.0)
+                && done.is_some_and(|m| m.0[l])
+        };
         let mut plans: [Option<(f64, f64)>; W] = [None; W];
         let mut tau = Lanes::<W, F>::ZERO;
         for l in 0..W {
             let Some(s) = slots[l].as_ref() else { continue };
-            let clean = finite[0].0[l] == 0.0 && (orders[l] == min_order || finite[1].0[l] == 0.0);
-            if !(clean && order == p && done.is_some_and(|m| m.0[l])) {
+            if !(given(l) && order == p) {
                 continue;
             }
             let norm = |k: usize| {
@@ -158,8 +163,7 @@ pub(super) fn run<
                 r.driver
                     .after_step(&mut r.stepper, &r.opts, &mut r.progress)
             } else {
-                let clean = finite[0].0[l] == 0.0 && (orders[l] == min_order || finite[1].0[l] == 0.0);
-                if clean && done.is_some_and(|m| m.0[l]) {
+                if given(l) {
                     r.stepper.take_series(&series, l, r.driver.stats());
                 }
                 step(s)
