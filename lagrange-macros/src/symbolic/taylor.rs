@@ -486,9 +486,10 @@ impl Program<'_> {
             }
         };
         for (convolutions, others) in levels(rules, kernels)? {
-            let mut products: Vec<(Id, Id, Id)> = Vec::new();
-            let mut functions: Vec<(Id, Id, Id)> = Vec::new();
-            let mut squares: Vec<(Id, Id)> = Vec::new();
+            // The convolutions of the level computed side by side: (node, its operand rows).
+            let mut products: Vec<(Id, Vec<Id>)> = Vec::new();
+            let mut functions: Vec<(Id, Vec<Id>)> = Vec::new();
+            let mut squares: Vec<(Id, Vec<Id>)> = Vec::new();
             let mut later = TokenStream::new();
             for id in convolutions.into_iter().chain(others) {
                 let r = rules[id as usize].as_ref()?;
@@ -496,11 +497,11 @@ impl Program<'_> {
                 let value = match *r {
                     Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
                     Rule::Mul(x, y) => {
-                        products.push((id, x, y));
+                        products.push((id, vec![x, y]));
                         continue;
                     }
                     Rule::Deriv(x, dd) => {
-                        functions.push((id, x, dd));
+                        functions.push((id, vec![x, dd]));
                         continue;
                     }
                     Rule::Leaf => match dag.node(id) {
@@ -527,7 +528,7 @@ impl Program<'_> {
                         quote!(-#x)
                     }
                     Rule::Sqr(x) => {
-                        squares.push((id, x));
+                        squares.push((id, vec![x]));
                         continue;
                     }
                     Rule::Scale(x, f) => {
@@ -564,43 +565,36 @@ impl Program<'_> {
                     to.extend(quote!(#c[#s][#k] = #value;));
                 }
             }
+            // Each kind's jobs in groups of up to GROUP: one call of the side-by-side kernel
+            // (one array of rows per operand), or the one-at-a-time kernel for a group of one.
             for (kernel, single, jobs) in [
                 (quote!(#rt::muls), quote!(#rt::mul), &products),
                 (quote!(#rt::derivs), quote!(#rt::deriv), &functions),
+                (quote!(#rt::sqrs), quote!(#rt::sqr), &squares),
             ] {
                 for group in jobs.chunks(GROUP) {
-                    let targets = group.iter().map(|&(id, ..)| sl(id));
-                    let xs = group.iter().map(|&(_, x, _)| sl(x));
-                    let ys = group.iter().map(|&(.., y)| sl(y));
-                    step.extend(if let [(id, x, y)] = group {
-                        let (s, x, y) = (sl(*id), sl(*x), sl(*y));
-                        quote!(#c[#s][#k] = #single(&#c[#x], &#c[#y], #k);)
+                    step.extend(if let [(id, operands)] = group {
+                        let s = sl(*id);
+                        let rows = operands.iter().map(|&x| {
+                            let x = sl(x);
+                            quote!(&#c[#x])
+                        });
+                        quote!(#c[#s][#k] = #single(#(#rows,)* #k);)
                     } else {
+                        let targets = group.iter().map(|(id, _)| sl(*id));
+                        let arrays = (0..group[0].1.len()).map(|a| {
+                            let xs = group.iter().map(|(_, operands)| sl(operands[a]));
+                            quote!([#(&#c[#xs]),*])
+                        });
                         let vs: Vec<_> = (0..group.len())
                             .map(|i| names::taylor(&format!("g{i}")))
                             .collect();
                         quote! {
-                            let [#(#vs),*] = #kernel([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k);
+                            let [#(#vs),*] = #kernel(#(#arrays,)* #k);
                             #( #c[#targets][#k] = #vs; )*
                         }
                     });
                 }
-            }
-            for group in squares.chunks(GROUP) {
-                step.extend(if let [(id, x)] = group {
-                    let (s, x) = (sl(*id), sl(*x));
-                    quote!(#c[#s][#k] = #rt::sqr(&#c[#x], #k);)
-                } else {
-                    let targets = group.iter().map(|&(id, _)| sl(id));
-                    let xs = group.iter().map(|&(_, x)| sl(x));
-                    let vs: Vec<_> = (0..group.len())
-                        .map(|i| names::taylor(&format!("g{i}")))
-                        .collect();
-                    quote! {
-                        let [#(#vs),*] = #rt::sqrs([#(&#c[#xs]),*], #k);
-                        #( #c[#targets][#k] = #vs; )*
-                    }
-                });
             }
             step.extend(later);
         }
