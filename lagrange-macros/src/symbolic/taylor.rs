@@ -436,7 +436,7 @@ impl Program<'_> {
         // (a convolution's operands, a quotient's and a power's own series, a function's
         // derivative series, the entries of M in the tails), the leaves and the constants. The
         // others (sums, differences, scalings, selections read at their own order only) are locals
-        // of the order: no store, no row in the cache (the heavy top: 24 rows of 42 written).
+        // of the order: no store, no row in the cache (the heavy top writes 24 rows, not 37).
         let mut kept = vec![false; dag.len()];
         for &id in ids {
             let Some(r) = rules.get(id as usize).and_then(Option::as_ref) else {
