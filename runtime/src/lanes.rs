@@ -560,6 +560,16 @@ mod tests {
     }
 
     /// The ulps between two numbers of the same sign (0 for equal ones).
+    /// Uniform numbers in [lo, hi) from a xorshift sequence seeded with `seed`.
+    fn uniform(mut seed: u64) -> impl FnMut(f64, f64) -> f64 {
+        move |lo, hi| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
+        }
+    }
+
     fn ulps(a: f64, b: f64) -> u64 {
         if a == b {
             return 0;
@@ -590,13 +600,7 @@ mod tests {
     }
 
     fn within_one_ulp<const F: bool>() {
-        let mut seed: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut next = |lo: f64, hi: f64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
-        };
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         let mut worst = 0;
         for (count, bound) in [(1_000_000, 50.0), (100_000, 1e5), (100_000, 1e-3)] {
             for _ in 0..count / 4 {
@@ -636,13 +640,7 @@ mod tests {
     }
 
     fn ln_within_one_ulp<const F: bool>() {
-        let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut next = |lo: f64, hi: f64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
-        };
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15);
         for wide in [true, false] {
             for _ in 0..250_000 {
                 let x = Lanes::<4, F>::from_fn(|_| {

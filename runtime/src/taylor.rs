@@ -117,47 +117,22 @@ impl<T: Real> SeriesBuf<T> {
     }
 }
 
-/// Σ_i x_i y_{n−1−i} over two slices of one length n, one running sum (measured faster than
-/// four partial sums on these short series: the kernels of independent nodes overlap instead).
-#[inline(always)]
-fn dot_rev<T: Real>(x: &[T], y: &[T]) -> T {
-    let n = x.len().min(y.len());
-    let (x, y) = (&x[..n], &y[..n]);
-    let mut s = T::ZERO;
-    for (&a, &b) in x.iter().zip(y.iter().rev()) {
-        s = a.madd(b, s);
-    }
-    s
-}
-
-/// Σ_{j=lo..=k} x_j y_{k−j} (lo ≤ k ≤ [`MAX_ORDER`]).
+/// Σ_{j=lo..=k} x_j y_{k−j} (lo ≤ k ≤ [`MAX_ORDER`]): one of [`convs`].
 #[inline(always)]
 fn conv<T: Real>(x: &RowOf<T>, y: &RowOf<T>, lo: usize, k: usize) -> T {
-    dot_rev(&x[lo..=k], &y[..=k - lo])
-}
-
-/// Σ_{j=lo..=k} (α j + β) x_j y_{k−j}, the weights in `f64` (the same in every lane).
-#[inline(always)]
-fn conv_weighted<T: Real>(
-    x: &RowOf<T>,
-    y: &RowOf<T>,
-    lo: usize,
-    k: usize,
-    alpha: f64,
-    beta: f64,
-) -> T {
-    let (x, y) = (&x[lo..=k], &y[..=k - lo]);
-    let mut s = T::ZERO;
-    let mut w = alpha * lo as f64 + beta;
-    for (&a, &b) in x.iter().zip(y.iter().rev()) {
-        s = (a * w).madd(b, s);
-        w += alpha;
-    }
+    let [s] = convs([x], [y], lo, k, false);
     s
 }
 
-/// [`conv_weighted`] with weights of `T` (an α that differs from lane to lane): the same
-/// operations in each lane.
+/// Σ_{j=lo..=k} j x_j y_{k−j}: one of [`convs`], weighted.
+#[inline(always)]
+fn conv_weighted<T: Real>(x: &RowOf<T>, y: &RowOf<T>, lo: usize, k: usize) -> T {
+    let [s] = convs([x], [y], lo, k, true);
+    s
+}
+
+/// Σ_{j=lo..=k} (α j + β) x_j y_{k−j} with weights of `T` (an α that differs from lane to lane):
+/// the same operations in each lane.
 #[inline(always)]
 fn conv_weighted_by<T: Real>(
     x: &RowOf<T>,
@@ -178,8 +153,7 @@ fn conv_weighted_by<T: Real>(
 }
 
 /// M convolutions side by side: lane m of the result is Σ_{j=lo..=k} w_j x_m,j y_m,k−j with
-/// w_j = j (`weighted`) or 1, each summed in the order and with the operations of [`conv`] /
-/// [`conv_weighted`] (the same bits), in one loop. One convolution is a chain of additions, each
+/// w_j = j (`weighted`) or 1, in one loop ([`dots`]). One convolution is a chain of additions, each
 /// waiting for the one before; M of them interleaved keep M chains in flight (the heavy top's
 /// hand-written series, 2026-11-28: 674 against 758 ns per series of order 16, the same bits).
 #[inline(always)]
@@ -198,7 +172,9 @@ fn convs<T: Real, const M: usize>(
 }
 
 /// M sums Σ_i w_i x_m,i y_m,n−1−i over slices of one length n (w_i = w₀ + i where `w0` is given,
-/// else 1), each in the order of [`dot_rev`] / [`conv_weighted`], in one loop.
+/// else 1), each one running sum, in one loop: the one body of every convolution here (one
+/// running sum was measured faster than two or four partial sums on these short series; the
+/// chains of independent sums overlap instead).
 #[inline(always)]
 fn dots<T: Real, const M: usize>(xs: [&[T]; M], ys: [&[T]; M], w0: Option<f64>) -> [T; M] {
     let n = xs.iter().chain(&ys).map(|s| s.len()).min().unwrap_or(0);
@@ -307,7 +283,7 @@ pub fn mul<T: Real>(a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
 #[inline(always)]
 pub fn sqr<T: Real>(a: &RowOf<T>, k: usize) -> T {
     let half = k.div_ceil(2);
-    let mut s = dot_rev(&a[..half], &a[k + 1 - half..=k]);
+    let [mut s] = dots([&a[..half]], [&a[k + 1 - half..=k]], None);
     s += s;
     if k.is_multiple_of(2) {
         s = a[k / 2].madd(a[k / 2], s);
@@ -344,7 +320,7 @@ pub fn div<T: Real>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn deriv<T: Real>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    conv_weighted(a, d, 1, k, 1.0, 0.0) / k as f64
+    conv_weighted(a, d, 1, k) / k as f64
 }
 
 /// Coefficient k ≥ 1 of c = f(y, x) from the series p = ∂f/∂y and q = ∂f/∂x:
@@ -359,7 +335,7 @@ pub fn deriv<T: Real>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn deriv2<T: Real>(y: &RowOf<T>, p: &RowOf<T>, x: &RowOf<T>, q: &RowOf<T>, k: usize) -> T {
-    (conv_weighted(y, p, 1, k, 1.0, 0.0) + conv_weighted(x, q, 1, k, 1.0, 0.0)) / k as f64
+    (conv_weighted(y, p, 1, k) + conv_weighted(x, q, 1, k)) / k as f64
 }
 
 /// Coefficient k ≥ 1 of c = a^α for a constant α, given c's coefficients 0..k:

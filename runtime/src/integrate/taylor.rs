@@ -149,15 +149,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
         l: usize,
         stats: &mut Stats,
     ) {
-        self.series.resize(self.p + 1, [[0.0; N]; 2]);
-        self.series[0] = self.y;
-        for (row, from) in self.series.iter_mut().zip(src).skip(1) {
-            for (part, from) in row.iter_mut().zip(from) {
-                for (v, x) in part.iter_mut().zip(from) {
-                    *v = x.0[l];
-                }
-            }
-        }
+        lane_rows(&mut self.series, self.p, self.y, src, l);
         stats.rhs_evals += 1;
         self.fresh = true;
     }
@@ -243,15 +235,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
         stats.rhs_evals += 1;
         stats.steps += 1;
         if let Some((src, l)) = dense {
-            self.old.resize(self.p + 1, [[0.0; N]; 2]);
-            self.old[0] = self.y;
-            for (row, from) in self.old.iter_mut().zip(src).skip(1) {
-                for (part, from) in row.iter_mut().zip(from) {
-                    for (v, x) in part.iter_mut().zip(from) {
-                        *v = x.0[l];
-                    }
-                }
-            }
+            lane_rows(&mut self.old, self.p, self.y, src, l);
         }
         self.t_old = self.t;
         self.t = t1;
@@ -302,6 +286,26 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
             return Ok(());
         }
         self.series_to(MAX_ORDER, stats)
+    }
+}
+
+/// `rows` = the series of order p of lane `l` of the lanes engine's `src`, with `y` (the node,
+/// bit for bit the lane's order 0) as order 0.
+fn lane_rows<const N: usize, const W: usize, const F: bool>(
+    rows: &mut Vec<Y<N>>,
+    p: usize,
+    y: Y<N>,
+    src: &[YOf<Lanes<W, F>, N>],
+    l: usize,
+) {
+    rows.resize(p + 1, [[0.0; N]; 2]);
+    rows[0] = y;
+    for (row, from) in rows.iter_mut().zip(src).skip(1) {
+        for (part, from) in row.iter_mut().zip(from) {
+            for (v, x) in part.iter_mut().zip(from) {
+                *v = x.0[l];
+            }
+        }
     }
 }
 
