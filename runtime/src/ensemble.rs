@@ -493,8 +493,9 @@ where
     /// step together, one per SIMD lane, each with its own step size (and, for DOP853,
     /// accept/reject decision), a member's lane going to the next member as soon as it ends. The
     /// Taylor method's lanes compute the series of W members in one pass of vector code
-    /// ([`Lagrangian::series_in`]); each member sums its own. The width is the instruction set's
-    /// ([`simd`](Ensemble::simd): 4 AVX2 lanes), whatever `w` ≥ 2 is. Without this
+    /// ([`Lagrangian::series_in`]); each member takes its own step. The width is the instruction
+    /// set's and the method's ([`simd`](Ensemble::simd): AVX2, 4 members per pass for DOP853 and 8,
+    /// two vectors, for the Taylor method), whatever `w` ≥ 2 is. Without this
     /// call: lanes where the system's accelerations are generated lanes code
     /// ([`Compiled::lanes`](crate::lagrangian::Compiled::lanes): `#[lagrangian]` in symbolic
     /// mode), else none. A lane never depends on the other lanes; it equals the member's single

@@ -38,11 +38,11 @@ pub enum Simd {
     /// default) chooses another.
     #[default]
     Native,
-    /// 4 lanes of AVX2 whose every operation rounds as the single run's (no fused multiply-add):
+    /// AVX2 lanes whose every operation rounds as the single run's (no fused multiply-add):
     /// a member equals its single run bit for bit, but where the vector sin and cos enter (to
     /// round-off there). One member at a time on a CPU without AVX2.
     Exact,
-    /// 4 lanes of AVX2 with fused multiply-adds in the integrators' sums, the error norm, the
+    /// AVX2 lanes with fused multiply-adds in the integrators' sums, the error norm, the
     /// Taylor convolutions, the generated kernels' multiply-adds and the vector sin, cos and ln:
     /// a member equals its single run to round-off. [`Exact`](Simd::Exact) on a CPU without FMA.
     Avx2Fma,
@@ -51,8 +51,9 @@ pub enum Simd {
 }
 
 impl Simd {
-    /// The members per vector of this path (4 in lanes, 1 for [`Off`](Simd::Off);
-    /// [`Native`](Simd::Native) as resolved on this CPU).
+    /// The members per vector of this path (4 in AVX2 lanes, 1 for [`Off`](Simd::Off);
+    /// [`Native`](Simd::Native) as resolved on this CPU). An engine may run several vectors
+    /// side by side: the Taylor method runs two (the list in `integrate/method.rs`).
     ///
     /// ```
     /// # use lagrange_runtime::ensemble::Simd;
@@ -112,8 +113,9 @@ fn cpu() -> (bool, bool) {
 /// `out(position, result)` as each member ends (not in order): DOP853 and Taylor members without
 /// constraints in lanes, any other member on the scalar driver.
 ///
-/// The lanes code is compiled twice on x86-64, for AVX2 (4 lanes, every operation the scalar
-/// one) and for AVX2 with FMA (4 lanes, fused), chosen at run time; an x86-64 CPU without AVX2
+/// The lanes code is compiled twice on x86-64, for AVX2 (every operation the scalar one) and for
+/// AVX2 with FMA (fused), chosen at run time, each engine at the members per pass its line in
+/// `lanes_engines!` names (DOP853 4, Taylor 8); an x86-64 CPU without AVX2
 /// runs the members one at a time (the same results as [`Simd::Exact`]: a lane is its scalar run
 /// bit for bit there). Lanes in SSE2's 2-wide vectors were 1.6× slower than AVX2's and 8 lanes of
 /// AVX-512 with FMA 16–19 % slower than 4 of AVX2 with FMA (BENCHMARKS.md, "Native vector
