@@ -626,8 +626,8 @@ mod __lagrange_HeavyTop_67f09420_kernels {
         }
         let __lagrange_order =
             (__lagrange_out.len() - 1).min(::lagrange::__private::taylor::MAX_ORDER);
-        let __lagrange_c: &mut [::lagrange::__private::taylor::RowOf<R>; 42] =
-            __lagrange_buf.slots::<42>();
+        let __lagrange_c: &mut [::lagrange::__private::taylor::RowOf<R>; 56] =
+            __lagrange_buf.slots::<56>();
         let __lagrange_y0: [[R; 3]; 2] = __lagrange_out[0];
         let (__lagrange_q, __lagrange_qdot): (&[R; 3], &[R; 3]) =
             (&__lagrange_y0[0], &__lagrange_y0[1]);
@@ -636,8 +636,17 @@ mod __lagrange_HeavyTop_67f09420_kernels {
         let __lagrange_p_m: R = __lagrange_params[2];
         let __lagrange_p_g: R = __lagrange_params[3];
         let __lagrange_p_l: R = __lagrange_params[4];
-        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31): ((R, R), R) =
-            (__lagrange_q[0].sin_cos(), __lagrange_p_m * __lagrange_p_g);
+        let ((__lagrange_x8, __lagrange_x9), __lagrange_x31, __lagrange_x109, __lagrange_x111): (
+            (R, R),
+            R,
+            R,
+            R,
+        ) = (
+            __lagrange_q[0].sin_cos(),
+            __lagrange_p_m * __lagrange_p_g,
+            __lagrange_p_i_perp * __lagrange_p_i_par,
+            __lagrange_p_i_par * __lagrange_p_i_par,
+        );
         let (
             __lagrange_x15,
             __lagrange_x22,
@@ -648,7 +657,9 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             __lagrange_x59,
             __lagrange_x60,
             __lagrange_x79,
-        ): (R, R, R, R, R, R, R, R, R) = (
+            __lagrange_x114,
+            __lagrange_x117,
+        ): (R, R, R, R, R, R, R, R, R, R, R) = (
             __lagrange_qdot[1] * __lagrange_x8,
             __lagrange_qdot[1] * __lagrange_x9,
             __lagrange_x31 * __lagrange_p_l,
@@ -658,6 +669,8 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             __lagrange_qdot[0] * __lagrange_x9,
             __lagrange_qdot[0] * __lagrange_x8,
             -__lagrange_x8,
+            __lagrange_qdot[2] * __lagrange_x111,
+            __lagrange_x8 * __lagrange_x109,
         );
         let (
             __lagrange_x23,
@@ -667,7 +680,8 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             __lagrange_x65,
             __lagrange_x80,
             __lagrange_x93,
-        ): (R, R, R, R, R, R, R) = (
+            __lagrange_x112,
+        ): (R, R, R, R, R, R, R, R) = (
             __lagrange_qdot[2] + __lagrange_x22,
             __lagrange_p_i_perp * __lagrange_x53,
             __lagrange_p_i_par * __lagrange_x55,
@@ -675,6 +689,11 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             __lagrange_x15 * __lagrange_x59,
             __lagrange_x15 * __lagrange_x22,
             __lagrange_x8 * __lagrange_x33,
+            <R as ::lagrange::__private::Real>::madd(
+                <R as ::core::convert::From<f64>>::from(-2.0),
+                __lagrange_x109,
+                __lagrange_x111,
+            ),
         );
         let (
             __lagrange_x57,
@@ -683,27 +702,40 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             __lagrange_x77,
             __lagrange_x82,
             __lagrange_x85,
-        ): (R, R, R, R, R, R) = (
+            __lagrange_x104,
+            __lagrange_x113,
+        ): (R, R, R, R, R, R, R, R) = (
             __lagrange_x54 + __lagrange_x56,
             __lagrange_p_i_perp * __lagrange_x65,
             __lagrange_x23 * __lagrange_x60,
             __lagrange_p_i_par * __lagrange_x63,
             __lagrange_p_i_perp * __lagrange_x80,
             __lagrange_x15 * __lagrange_x23,
+            __lagrange_p_i_par * __lagrange_x54,
+            __lagrange_x22 * __lagrange_x112,
         );
-        let (__lagrange_x68, __lagrange_x72, __lagrange_x89): (R, R, R) = (
+        let (__lagrange_x68, __lagrange_x72, __lagrange_x89, __lagrange_x115): (R, R, R, R) = (
             <R as ::core::convert::From<f64>>::from(2.0) * __lagrange_x67,
             __lagrange_x65 + __lagrange_x69,
             __lagrange_p_i_par * __lagrange_x85,
+            __lagrange_x113 + __lagrange_x114,
         );
-        let (__lagrange_x74, __lagrange_x91): (R, R) = (
+        let (__lagrange_x74, __lagrange_x91, __lagrange_x116): (R, R, R) = (
             __lagrange_p_i_par * __lagrange_x72,
             __lagrange_x82 - __lagrange_x89,
+            __lagrange_qdot[0] * __lagrange_x115,
         );
-        let (__lagrange_x95, __lagrange_x96): (R, R) = (
+        let (__lagrange_x95, __lagrange_x96, __lagrange_x118): (R, R, R) = (
             __lagrange_x91 + __lagrange_x93,
             __lagrange_x74 - __lagrange_x68,
+            __lagrange_x116 / __lagrange_x117,
         );
+        let (__lagrange_x119, __lagrange_x122): (R, R) = (
+            __lagrange_x58 * __lagrange_x118,
+            __lagrange_x95 / __lagrange_p_i_perp,
+        );
+        let __lagrange_x120: R = __lagrange_x77 - __lagrange_x119;
+        let __lagrange_x121: R = __lagrange_x120 / __lagrange_p_i_par;
         __lagrange_c[1][0] = __lagrange_q[0];
         __lagrange_c[2][0] = __lagrange_qdot[0];
         __lagrange_c[3][0] = __lagrange_qdot[1];
@@ -742,146 +774,310 @@ mod __lagrange_HeavyTop_67f09420_kernels {
         __lagrange_c[36][0] = __lagrange_x93;
         __lagrange_c[37][0] = __lagrange_x95;
         __lagrange_c[38][0] = __lagrange_x96;
+        __lagrange_c[39][0] = __lagrange_x104;
+        __lagrange_c[40][0] = __lagrange_x109;
+        __lagrange_c[41][0] = __lagrange_x111;
+        __lagrange_c[42][0] = __lagrange_x112;
+        __lagrange_c[43][0] = __lagrange_x113;
+        __lagrange_c[44][0] = __lagrange_x114;
+        __lagrange_c[45][0] = __lagrange_x115;
+        __lagrange_c[46][0] = __lagrange_x116;
+        __lagrange_c[47][0] = __lagrange_x117;
+        __lagrange_c[48][0] = __lagrange_x118;
+        __lagrange_c[49][0] = __lagrange_x119;
+        __lagrange_c[50][0] = __lagrange_x120;
+        __lagrange_c[51][0] = __lagrange_x121;
+        __lagrange_c[52][0] = __lagrange_x122;
+        let __lagrange_r118: R = <R as ::core::convert::From<f64>>::from(1.0) / __lagrange_x117;
+        let __lagrange_r121: R = <R as ::core::convert::From<f64>>::from(1.0) / __lagrange_p_i_par;
+        let __lagrange_r122: R = <R as ::core::convert::From<f64>>::from(1.0) / __lagrange_p_i_perp;
         __lagrange_c[0][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         __lagrange_c[7][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         __lagrange_c[8][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         __lagrange_c[10][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         __lagrange_c[13][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        let (__lagrange_factor , __lagrange_ok) = << R as :: lagrange :: __private :: eom :: SeriesReal > :: Factor < 3 > as :: lagrange :: __private :: eom :: SeriesFactor < R , 3 >> :: new (& [[__lagrange_c [7] [0] , < R as :: lagrange :: __private :: Real > :: ZERO , < R as :: lagrange :: __private :: Real > :: ZERO] , [< R as :: lagrange :: __private :: Real > :: ZERO , __lagrange_c [18] [0] , __lagrange_c [19] [0]] , [< R as :: lagrange :: __private :: Real > :: ZERO , < R as :: lagrange :: __private :: Real > :: ZERO , __lagrange_c [10] [0]]] , & [__lagrange_c [37] [0] , __lagrange_c [38] [0] , __lagrange_c [29] [0]] , __lagrange_names , __lagrange_q , __lagrange_qdot , __lagrange_t) ;
-        if let ::core::option::Option::Some(__lagrange_e) =
-            ::lagrange::__private::eom::SeriesFactor::error(
-                &__lagrange_factor,
-                __lagrange_names,
-                __lagrange_q,
-                __lagrange_qdot,
-                __lagrange_t,
-            )
-        {
-            return ::core::result::Result::Err(__lagrange_e);
+        __lagrange_c[40][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
+        __lagrange_c[41][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
+        __lagrange_c[42][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
+        let __lagrange_ok = <R as ::lagrange::__private::Real>::EVERY_LANE
+            & <R as ::lagrange::__private::Real>::nonzero(__lagrange_c[10][0])
+            & <R as ::lagrange::__private::Real>::finite(__lagrange_c[10][0])
+            & <R as ::lagrange::__private::Real>::nonzero(__lagrange_c[39][0])
+            & <R as ::lagrange::__private::Real>::finite(__lagrange_c[39][0])
+            & <R as ::lagrange::__private::Real>::nonzero(__lagrange_c[7][0])
+            & <R as ::lagrange::__private::Real>::finite(__lagrange_c[7][0]);
+        if !<R as ::lagrange::__private::Real>::all(__lagrange_ok) {
+            if let ::core::option::Option::Some(__lagrange_e) =
+                <R as ::lagrange::__private::eom::SeriesReal>::declined(
+                    &[
+                        [
+                            __lagrange_c[7][0],
+                            <R as ::lagrange::__private::Real>::ZERO,
+                            <R as ::lagrange::__private::Real>::ZERO,
+                        ],
+                        [
+                            <R as ::lagrange::__private::Real>::ZERO,
+                            __lagrange_c[18][0],
+                            __lagrange_c[19][0],
+                        ],
+                        [
+                            <R as ::lagrange::__private::Real>::ZERO,
+                            <R as ::lagrange::__private::Real>::ZERO,
+                            __lagrange_c[10][0],
+                        ],
+                    ],
+                    &[
+                        __lagrange_c[37][0],
+                        __lagrange_c[38][0],
+                        __lagrange_c[29][0],
+                    ],
+                    __lagrange_names,
+                    __lagrange_q,
+                    __lagrange_qdot,
+                    __lagrange_t,
+                )
+            {
+                return ::core::result::Result::Err(__lagrange_e);
+            }
         }
-        let mut __lagrange_a = [<R as ::lagrange::__private::Real>::ZERO; 3];
+        let mut __lagrange_a: [R; 3];
+        let mut __lagrange_mh15: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh22: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh60: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh63: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh80: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh85: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh116: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh118: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh119: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh8: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh9: R = <R as ::lagrange::__private::Real>::ZERO;
         for __lagrange_k in 0..__lagrange_order {
-            let __lagrange_b: [R; 3] = if __lagrange_k == 0 {
-                [
-                    __lagrange_c[37][0],
-                    __lagrange_c[38][0],
-                    __lagrange_c[29][0],
-                ]
-            } else {
+            if __lagrange_k > 0 {
+                let __lagrange_h15: R = ::lagrange::__private::taylor::mul_newest(
+                    __lagrange_mh15,
+                    &__lagrange_c[5],
+                    &__lagrange_c[3],
+                    __lagrange_k,
+                );
+                let __lagrange_h22: R = ::lagrange::__private::taylor::mul_newest(
+                    __lagrange_mh22,
+                    &__lagrange_c[6],
+                    &__lagrange_c[3],
+                    __lagrange_k,
+                );
+                let __lagrange_h60: R = ::lagrange::__private::taylor::mul_newest(
+                    __lagrange_mh60,
+                    &__lagrange_c[5],
+                    &__lagrange_c[2],
+                    __lagrange_k,
+                );
+                let __lagrange_h63: R = ::lagrange::__private::taylor::mul_newest(
+                    __lagrange_mh63,
+                    &__lagrange_c[21],
+                    &__lagrange_c[3],
+                    __lagrange_k,
+                );
+                let __lagrange_h80: R = ::lagrange::__private::taylor::mul_newest(
+                    __lagrange_mh80,
+                    &__lagrange_c[9],
+                    &__lagrange_c[11],
+                    __lagrange_k,
+                );
+                let __lagrange_h85: R = ::lagrange::__private::taylor::mul_newest(
+                    __lagrange_mh85,
+                    &__lagrange_c[12],
+                    &__lagrange_c[9],
+                    __lagrange_k,
+                );
+                let __lagrange_h116: R = ::lagrange::__private::taylor::mul_newest(
+                    __lagrange_mh116,
+                    &__lagrange_c[45],
+                    &__lagrange_c[2],
+                    __lagrange_k,
+                );
+                let __lagrange_h118: R = ::lagrange::__private::taylor::mul_newest(
+                    __lagrange_mh118,
+                    &__lagrange_c[47],
+                    &__lagrange_c[48],
+                    __lagrange_k,
+                );
+                let __lagrange_h119: R = ::lagrange::__private::taylor::mul_newest(
+                    __lagrange_mh119,
+                    &__lagrange_c[48],
+                    &__lagrange_c[19],
+                    __lagrange_k,
+                );
+                let __lagrange_h8: R = ::lagrange::__private::taylor::deriv_newest(
+                    __lagrange_mh8,
+                    &__lagrange_c[1],
+                    &__lagrange_c[6],
+                    __lagrange_k,
+                );
+                let __lagrange_h9: R = ::lagrange::__private::taylor::deriv_newest(
+                    __lagrange_mh9,
+                    &__lagrange_c[1],
+                    &__lagrange_c[30],
+                    __lagrange_k,
+                );
                 __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
                 __lagrange_c[2][__lagrange_k] = __lagrange_out[__lagrange_k][1][0];
                 __lagrange_c[3][__lagrange_k] = __lagrange_out[__lagrange_k][1][1];
                 __lagrange_c[4][__lagrange_k] = __lagrange_out[__lagrange_k][1][2];
-                let [__lagrange_g0, __lagrange_g1] = ::lagrange::__private::taylor::derivs(
-                    [&__lagrange_c[1], &__lagrange_c[1]],
-                    [&__lagrange_c[6], &__lagrange_c[30]],
+                __lagrange_c[5][__lagrange_k] = ::lagrange::__private::taylor::deriv_finish(
+                    __lagrange_h8,
+                    &__lagrange_c[1],
+                    &__lagrange_c[6],
                     __lagrange_k,
                 );
-                __lagrange_c[5][__lagrange_k] = __lagrange_g0;
-                __lagrange_c[6][__lagrange_k] = __lagrange_g1;
-                __lagrange_c[19][__lagrange_k] = __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
-                __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
-                let __lagrange_t93: R = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
-                let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3] =
-                    ::lagrange::__private::taylor::muls(
-                        [
-                            &__lagrange_c[3],
-                            &__lagrange_c[3],
-                            &__lagrange_c[2],
-                            &__lagrange_c[2],
-                        ],
-                        [
-                            &__lagrange_c[5],
-                            &__lagrange_c[6],
-                            &__lagrange_c[6],
-                            &__lagrange_c[5],
-                        ],
-                        __lagrange_k,
-                    );
-                __lagrange_c[9][__lagrange_k] = __lagrange_g0;
-                __lagrange_c[11][__lagrange_k] = __lagrange_g1;
-                __lagrange_c[20][__lagrange_k] = __lagrange_g2;
-                __lagrange_c[21][__lagrange_k] = __lagrange_g3;
-                let [__lagrange_g0, __lagrange_g1] = ::lagrange::__private::taylor::sqrs(
-                    [&__lagrange_c[5], &__lagrange_c[6]],
+                __lagrange_c[6][__lagrange_k] = ::lagrange::__private::taylor::deriv_finish(
+                    __lagrange_h9,
+                    &__lagrange_c[1],
+                    &__lagrange_c[30],
                     __lagrange_k,
                 );
-                __lagrange_c[14][__lagrange_k] = __lagrange_g0;
-                __lagrange_c[16][__lagrange_k] = __lagrange_g1;
+                __lagrange_c[9][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
+                    __lagrange_h15,
+                    &__lagrange_c[5],
+                    &__lagrange_c[3],
+                    __lagrange_k,
+                );
+                __lagrange_c[11][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
+                    __lagrange_h22,
+                    &__lagrange_c[6],
+                    &__lagrange_c[3],
+                    __lagrange_k,
+                );
                 __lagrange_c[12][__lagrange_k] =
                     __lagrange_c[4][__lagrange_k] + __lagrange_c[11][__lagrange_k];
-                let __lagrange_t54: R = __lagrange_p_i_perp * __lagrange_c[14][__lagrange_k];
-                let __lagrange_t56: R = __lagrange_p_i_par * __lagrange_c[16][__lagrange_k];
-                __lagrange_c[18][__lagrange_k] = __lagrange_t54 + __lagrange_t56;
-                let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3, __lagrange_g4] =
-                    ::lagrange::__private::taylor::muls(
-                        [
-                            &__lagrange_c[3],
-                            &__lagrange_c[9],
-                            &__lagrange_c[12],
-                            &__lagrange_c[9],
-                            &__lagrange_c[9],
-                        ],
-                        [
-                            &__lagrange_c[21],
-                            &__lagrange_c[20],
-                            &__lagrange_c[21],
-                            &__lagrange_c[11],
-                            &__lagrange_c[12],
-                        ],
-                        __lagrange_k,
-                    );
-                __lagrange_c[22][__lagrange_k] = __lagrange_g0;
-                __lagrange_c[23][__lagrange_k] = __lagrange_g1;
-                __lagrange_c[26][__lagrange_k] = __lagrange_g2;
-                __lagrange_c[31][__lagrange_k] = __lagrange_g3;
-                __lagrange_c[33][__lagrange_k] = __lagrange_g4;
-                let __lagrange_t67: R = __lagrange_p_i_perp * __lagrange_c[23][__lagrange_k];
-                let __lagrange_t68: R =
-                    <R as ::core::convert::From<f64>>::from(2.0) * __lagrange_t67;
-                let __lagrange_t72: R =
-                    __lagrange_c[23][__lagrange_k] + __lagrange_c[26][__lagrange_k];
-                let __lagrange_t74: R = __lagrange_p_i_par * __lagrange_t72;
+                __lagrange_c[19][__lagrange_k] = __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
+                __lagrange_c[21][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
+                    __lagrange_h60,
+                    &__lagrange_c[5],
+                    &__lagrange_c[2],
+                    __lagrange_k,
+                );
+                __lagrange_c[22][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
+                    __lagrange_h63,
+                    &__lagrange_c[21],
+                    &__lagrange_c[3],
+                    __lagrange_k,
+                );
                 let __lagrange_t77: R = __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
+                __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
+                __lagrange_c[31][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
+                    __lagrange_h80,
+                    &__lagrange_c[9],
+                    &__lagrange_c[11],
+                    __lagrange_k,
+                );
                 let __lagrange_t82: R = __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
+                __lagrange_c[33][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
+                    __lagrange_h85,
+                    &__lagrange_c[12],
+                    &__lagrange_c[9],
+                    __lagrange_k,
+                );
                 let __lagrange_t89: R = __lagrange_p_i_par * __lagrange_c[33][__lagrange_k];
                 let __lagrange_t91: R = __lagrange_t82 - __lagrange_t89;
+                let __lagrange_t93: R = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
                 let __lagrange_t95: R = __lagrange_t91 + __lagrange_t93;
-                let __lagrange_t96: R = __lagrange_t74 - __lagrange_t68;
-                let [__lagrange_tail0, __lagrange_tail1, __lagrange_tail2] =
-                    ::lagrange::__private::taylor::mass_tails(
-                        [&__lagrange_c[18], &__lagrange_c[19], &__lagrange_c[19]],
-                        [&__lagrange_c[40], &__lagrange_c[41], &__lagrange_c[40]],
-                        __lagrange_k,
-                    );
-                [
-                    __lagrange_t95,
-                    __lagrange_t96 - __lagrange_tail0 - __lagrange_tail1,
-                    __lagrange_t77 - __lagrange_tail2,
-                ]
-            };
-            ::lagrange::__private::eom::SeriesFactor::solve(
-                &__lagrange_factor,
-                &__lagrange_b,
-                &mut __lagrange_a,
-                __lagrange_names,
-                __lagrange_q,
-                __lagrange_qdot,
-                __lagrange_t,
-            )?;
+                let __lagrange_t113: R = __lagrange_x112 * __lagrange_c[11][__lagrange_k];
+                let __lagrange_t114: R = __lagrange_x111 * __lagrange_c[4][__lagrange_k];
+                __lagrange_c[45][__lagrange_k] = __lagrange_t113 + __lagrange_t114;
+                __lagrange_c[46][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
+                    __lagrange_h116,
+                    &__lagrange_c[45],
+                    &__lagrange_c[2],
+                    __lagrange_k,
+                );
+                __lagrange_c[47][__lagrange_k] = __lagrange_x109 * __lagrange_c[5][__lagrange_k];
+                __lagrange_c[48][__lagrange_k] = ::lagrange::__private::taylor::div_finish(
+                    __lagrange_h118,
+                    __lagrange_c[46][__lagrange_k],
+                    &__lagrange_c[47],
+                    &__lagrange_c[48],
+                    __lagrange_r118,
+                    __lagrange_k,
+                );
+                __lagrange_c[49][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
+                    __lagrange_h119,
+                    &__lagrange_c[48],
+                    &__lagrange_c[19],
+                    __lagrange_k,
+                );
+                let __lagrange_t120: R = __lagrange_t77 - __lagrange_c[49][__lagrange_k];
+                __lagrange_c[51][__lagrange_k] = __lagrange_t120 * __lagrange_r121;
+                __lagrange_c[52][__lagrange_k] = __lagrange_t95 * __lagrange_r122;
+            }
+            __lagrange_a = [
+                __lagrange_c[52][__lagrange_k],
+                __lagrange_c[48][__lagrange_k],
+                __lagrange_c[51][__lagrange_k],
+            ];
             let __lagrange_r = 1.0 / (__lagrange_k + 1) as f64;
-            __lagrange_c[39][__lagrange_k] = __lagrange_a[0];
+            __lagrange_c[53][__lagrange_k] = __lagrange_a[0];
             __lagrange_out[__lagrange_k + 1][0][0] =
                 __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
-            __lagrange_c[40][__lagrange_k] = __lagrange_a[1];
+            __lagrange_c[54][__lagrange_k] = __lagrange_a[1];
             __lagrange_out[__lagrange_k + 1][0][1] =
                 __lagrange_out[__lagrange_k][1][1] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][1] = __lagrange_a[1] * __lagrange_r;
-            __lagrange_c[41][__lagrange_k] = __lagrange_a[2];
+            __lagrange_c[55][__lagrange_k] = __lagrange_a[2];
             __lagrange_out[__lagrange_k + 1][0][2] =
                 __lagrange_out[__lagrange_k][1][2] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][2] = __lagrange_a[2] * __lagrange_r;
+            if __lagrange_k + 1 < __lagrange_order {
+                [
+                    __lagrange_mh15,
+                    __lagrange_mh22,
+                    __lagrange_mh60,
+                    __lagrange_mh63,
+                    __lagrange_mh80,
+                ] = ::lagrange::__private::taylor::muls_mid(
+                    [
+                        &__lagrange_c[5],
+                        &__lagrange_c[6],
+                        &__lagrange_c[5],
+                        &__lagrange_c[21],
+                        &__lagrange_c[9],
+                    ],
+                    [
+                        &__lagrange_c[3],
+                        &__lagrange_c[3],
+                        &__lagrange_c[2],
+                        &__lagrange_c[3],
+                        &__lagrange_c[11],
+                    ],
+                    __lagrange_k + 1,
+                );
+                [
+                    __lagrange_mh85,
+                    __lagrange_mh116,
+                    __lagrange_mh118,
+                    __lagrange_mh119,
+                ] = ::lagrange::__private::taylor::muls_mid(
+                    [
+                        &__lagrange_c[12],
+                        &__lagrange_c[45],
+                        &__lagrange_c[47],
+                        &__lagrange_c[48],
+                    ],
+                    [
+                        &__lagrange_c[9],
+                        &__lagrange_c[2],
+                        &__lagrange_c[48],
+                        &__lagrange_c[19],
+                    ],
+                    __lagrange_k + 1,
+                );
+                [__lagrange_mh8, __lagrange_mh9] = ::lagrange::__private::taylor::derivs_mid(
+                    [&__lagrange_c[1], &__lagrange_c[1]],
+                    [&__lagrange_c[6], &__lagrange_c[30]],
+                    __lagrange_k + 1,
+                );
+            }
         }
         for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {
             *__lagrange_x = [[<R as ::lagrange::__private::Real>::NAN; 3]; 2];

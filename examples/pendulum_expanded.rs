@@ -383,18 +383,37 @@ mod __lagrange_Pendulum_2105f53a_kernels {
             return ::core::result::Result::Err(__lagrange_e);
         }
         let mut __lagrange_a = [<R as ::lagrange::__private::Real>::ZERO; 1];
+        let mut __lagrange_mh19: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_mh24: R = <R as ::lagrange::__private::Real>::ZERO;
         for __lagrange_k in 0..__lagrange_order {
             let __lagrange_b: [R; 1] = if __lagrange_k == 0 {
                 [__lagrange_c[8][0]]
             } else {
-                __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
-                let [__lagrange_g0, __lagrange_g1] = ::lagrange::__private::taylor::derivs(
-                    [&__lagrange_c[1], &__lagrange_c[1]],
-                    [&__lagrange_c[6], &__lagrange_c[4]],
+                let __lagrange_h19: R = ::lagrange::__private::taylor::deriv_newest(
+                    __lagrange_mh19,
+                    &__lagrange_c[1],
+                    &__lagrange_c[6],
                     __lagrange_k,
                 );
-                __lagrange_c[4][__lagrange_k] = __lagrange_g0;
-                __lagrange_c[5][__lagrange_k] = __lagrange_g1;
+                let __lagrange_h24: R = ::lagrange::__private::taylor::deriv_newest(
+                    __lagrange_mh24,
+                    &__lagrange_c[1],
+                    &__lagrange_c[4],
+                    __lagrange_k,
+                );
+                __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
+                __lagrange_c[4][__lagrange_k] = ::lagrange::__private::taylor::deriv_finish(
+                    __lagrange_h19,
+                    &__lagrange_c[1],
+                    &__lagrange_c[6],
+                    __lagrange_k,
+                );
+                __lagrange_c[5][__lagrange_k] = ::lagrange::__private::taylor::deriv_finish(
+                    __lagrange_h24,
+                    &__lagrange_c[1],
+                    &__lagrange_c[4],
+                    __lagrange_k,
+                );
                 __lagrange_c[6][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
                 let __lagrange_t26: R = __lagrange_x18 * __lagrange_c[5][__lagrange_k];
                 let __lagrange_t27: R = -__lagrange_t26;
@@ -414,6 +433,13 @@ mod __lagrange_Pendulum_2105f53a_kernels {
             __lagrange_out[__lagrange_k + 1][0][0] =
                 __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
+            if __lagrange_k + 1 < __lagrange_order {
+                [__lagrange_mh19, __lagrange_mh24] = ::lagrange::__private::taylor::derivs_mid(
+                    [&__lagrange_c[1], &__lagrange_c[1]],
+                    [&__lagrange_c[6], &__lagrange_c[4]],
+                    __lagrange_k + 1,
+                );
+            }
         }
         for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {
             *__lagrange_x = [[<R as ::lagrange::__private::Real>::NAN; 1]; 2];

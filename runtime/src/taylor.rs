@@ -117,13 +117,6 @@ impl<T: Real> SeriesBuf<T> {
     }
 }
 
-/// Σ_{j=lo..=k} x_j y_{k−j} (lo ≤ k ≤ [`MAX_ORDER`]): one of [`convs`].
-#[inline(always)]
-fn conv<T: Real>(x: &RowOf<T>, y: &RowOf<T>, lo: usize, k: usize) -> T {
-    let [s] = convs([x], [y], lo, k, false);
-    s
-}
-
 /// Σ_{j=lo..=k} j x_j y_{k−j}: one of [`convs`], weighted.
 #[inline(always)]
 fn conv_weighted<T: Real>(x: &RowOf<T>, y: &RowOf<T>, lo: usize, k: usize) -> T {
@@ -190,73 +183,295 @@ fn dots<T: Real, const M: usize>(xs: [&[T]; M], ys: [&[T]; M], w0: Option<f64>) 
     s
 }
 
-/// Coefficient k of M products side by side: `muls([a, c], [b, d], k)` is
-/// `[mul(a, b, k), mul(c, d, k)]`, bit for bit, in one loop (what the generated series call for the
-/// products of one order that do not read each other).
+/// The part of coefficient k ≥ 1 of M products that the coefficients below k give,
+/// Σ_{j=1..k−1} a_j b_{k−j}, side by side in one loop ([`dots`]): what the generated series
+/// computes for every product of an order first, before any coefficient k is known (no sum waits
+/// for another), and [`mul_finish`] completes with the two terms that read coefficient k.
+/// Quotients ([`div_finish`]) and the mass tails ([`tail_finish`]) have sums of this shape too.
 ///
 /// ```
-/// use lagrange_runtime::taylor::{mul, muls};
+/// use lagrange_runtime::taylor::{mul, mul_finish, muls_known};
 /// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
-/// (a[0], a[1], a[2], b[0], b[1]) = (1.0, 0.5, 0.25, 2.0, -1.0);
-/// assert_eq!(muls([&a, &b], [&b, &b], 2), [mul(&a, &b, 2), mul(&b, &b, 2)]);
+/// (a[0], a[1], a[2], b[0], b[1], b[2]) = (1.0, 0.5, 0.25, 2.0, -1.0, 3.0);
+/// let [h, g] = muls_known([&a, &b], [&b, &b], 2);
+/// assert_eq!(h, 0.5 * -1.0);
+/// assert_eq!([mul_finish(h, &a, &b, 2), mul_finish(g, &b, &b, 2)], [mul(&a, &b, 2), mul(&b, &b, 2)]);
 /// ```
 #[inline(always)]
-pub fn muls<T: Real, const M: usize>(a: [&RowOf<T>; M], b: [&RowOf<T>; M], k: usize) -> [T; M] {
-    convs(a, b, 0, k, false)
+pub fn muls_known<T: Real, const M: usize>(
+    a: [&RowOf<T>; M],
+    b: [&RowOf<T>; M],
+    k: usize,
+) -> [T; M] {
+    known(a, b, k, false)
 }
 
-/// Coefficient k of M squares side by side: `sqrs([a, b], k)` is `[sqr(a, k), sqr(b, k)]`, bit
-/// for bit.
+/// The part of Σ_{j=1..k−1} w_j x_j y_{k−j} (w_j = j where `weighted`, else 1) that reads
+/// coefficients below k − 1 only, j = 2..k−2, for M pairs of rows in one [`dots`] pass: what the
+/// generated series computes for order k + 1 right after order k, while order k's chain of
+/// finishing steps is still in flight (no term waits for it). [`newest`] adds the rest.
+#[inline(always)]
+fn mids<T: Real, const M: usize>(
+    x: [&RowOf<T>; M],
+    y: [&RowOf<T>; M],
+    k: usize,
+    weighted: bool,
+) -> [T; M] {
+    if k > 3 {
+        dots(
+            x.map(|r| &r[2..k - 1]),
+            y.map(|r| &r[2..k - 1]),
+            weighted.then_some(2.0),
+        )
+    } else {
+        [T::ZERO; M]
+    }
+}
+
+/// [`mids`]'s sum `mid` completed with the terms that read coefficient k − 1 (j = 1 and
+/// j = k − 1; one term at k = 2, none at k = 1).
+#[inline(always)]
+fn newest<T: Real>(mid: T, x: &RowOf<T>, y: &RowOf<T>, k: usize, weighted: bool) -> T {
+    match k {
+        0 | 1 => T::ZERO,
+        2 => x[1].madd(y[1], mid),
+        _ => {
+            let last = if weighted { (k - 1) as f64 } else { 1.0 };
+            (x[k - 1] * last).madd(y[1], x[1].madd(y[k - 1], mid))
+        }
+    }
+}
+
+/// Σ_{j=1..k−1} w_j x_j y_{k−j} for M pairs of rows: [`mids`], then [`newest`].
+#[inline(always)]
+fn known<T: Real, const M: usize>(
+    x: [&RowOf<T>; M],
+    y: [&RowOf<T>; M],
+    k: usize,
+    weighted: bool,
+) -> [T; M] {
+    let mid = mids(x, y, k, weighted);
+    core::array::from_fn(|m| newest(mid[m], x[m], y[m], k, weighted))
+}
+
+/// The part of [`muls_known`] that reads coefficients below k − 1 only (j = 2..k−2), M side by
+/// side: the generated series computes it for order k + 1 right after finishing order k, so the
+/// long sums overlap the short chain each order waits for; [`mul_newest`] completes it.
 ///
 /// ```
-/// use lagrange_runtime::taylor::{sqr, sqrs};
+/// use lagrange_runtime::taylor::{mul_newest, muls_known, muls_mid};
 /// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
-/// (a[0], a[1], a[2], b[0], b[1]) = (1.0, 0.5, 0.25, 2.0, -1.0);
-/// assert_eq!(sqrs([&a, &b], 2), [sqr(&a, 2), sqr(&b, 2)]);
-/// assert_eq!(sqrs([&a, &b], 3), [sqr(&a, 3), sqr(&b, 3)]);
+/// for j in 0..6 { (a[j], b[j]) = (1.0 + j as f64, 2.0 - j as f64); }
+/// let [m] = muls_mid([&a], [&b], 5);
+/// assert_eq!(m, 3.0 * -1.0 + 4.0 * 0.0);
+/// assert_eq!(mul_newest(m, &a, &b, 5), muls_known([&a], [&b], 5)[0]);
 /// ```
 #[inline(always)]
-pub fn sqrs<T: Real, const M: usize>(a: [&RowOf<T>; M], k: usize) -> [T; M] {
+pub fn muls_mid<T: Real, const M: usize>(a: [&RowOf<T>; M], b: [&RowOf<T>; M], k: usize) -> [T; M] {
+    mids(a, b, k, false)
+}
+
+/// [`muls_mid`]'s sum completed to [`muls_known`]'s: + a₁ b_{k−1} + a_{k−1} b₁.
+///
+/// ```
+/// use lagrange_runtime::taylor::mul_newest;
+/// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
+/// (a[1], b[1]) = (2.0, 3.0);
+/// assert_eq!(mul_newest(0.0, &a, &b, 2), 6.0);
+/// ```
+#[inline(always)]
+pub fn mul_newest<T: Real>(mid: T, a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
+    newest(mid, a, b, k, false)
+}
+
+/// The part of [`derivs_known`] that reads coefficients below k − 1 only (j = 2..k−2, weights j),
+/// M side by side; [`deriv_newest`] completes it.
+///
+/// ```
+/// use lagrange_runtime::taylor::{deriv_newest, derivs_known, derivs_mid};
+/// let (mut a, mut d) = ([0.0; 33], [0.0; 33]);
+/// for j in 0..6 { (a[j], d[j]) = (1.0 + j as f64, 2.0 - j as f64); }
+/// let [m] = derivs_mid([&a], [&d], 5);
+/// assert_eq!(deriv_newest(m, &a, &d, 5), derivs_known([&a], [&d], 5)[0]);
+/// ```
+#[inline(always)]
+pub fn derivs_mid<T: Real, const M: usize>(
+    a: [&RowOf<T>; M],
+    d: [&RowOf<T>; M],
+    k: usize,
+) -> [T; M] {
+    mids(a, d, k, true)
+}
+
+/// [`derivs_mid`]'s sum completed to [`derivs_known`]'s: + a₁ d_{k−1} + (k − 1) a_{k−1} d₁.
+///
+/// ```
+/// use lagrange_runtime::taylor::deriv_newest;
+/// let (mut a, mut d) = ([0.0; 33], [0.0; 33]);
+/// (a[1], a[2], d[1], d[2]) = (2.0, 1.0, 3.0, 0.5);
+/// assert_eq!(deriv_newest(0.0, &a, &d, 3), 2.0 * 0.5 + 2.0 * 1.0 * 3.0);
+/// ```
+#[inline(always)]
+pub fn deriv_newest<T: Real>(mid: T, a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
+    newest(mid, a, d, k, true)
+}
+
+/// Coefficient k ≥ 1 of a·b from its known part h ([`muls_known`]): h + a₀ b_k + a_k b₀.
+///
+/// ```
+/// use lagrange_runtime::taylor::mul_finish;
+/// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
+/// (a[0], a[1], b[0], b[1]) = (1.0, 1.0, 2.0, -1.0);
+/// assert_eq!(mul_finish(0.0, &a, &b, 1), 1.0);
+/// ```
+#[inline(always)]
+pub fn mul_finish<T: Real>(h: T, a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
+    a[k].madd(b[0], a[0].madd(b[k], h))
+}
+
+/// The part of coefficient k ≥ 1 of M squares that the coefficients below k give:
+/// 2 Σ_{1 ≤ j < k−j} a_j a_{k−j} (+ a_{k/2}² for even k), side by side.
+///
+/// ```
+/// use lagrange_runtime::taylor::{sqr, sqr_finish, sqrs_known};
+/// let mut a = [0.0; 33];
+/// (a[0], a[1], a[2], a[3]) = (1.0, 0.5, 0.25, 2.0);
+/// for k in 1..=3 {
+///     let [h] = sqrs_known([&a], k);
+///     assert_eq!(sqr_finish(h, &a, k), sqr(&a, k));
+/// }
+/// ```
+#[inline(always)]
+pub fn sqrs_known<T: Real, const M: usize>(a: [&RowOf<T>; M], k: usize) -> [T; M] {
+    let mid = sqrs_mid(a, k);
+    core::array::from_fn(|m| sqr_newest(mid[m], a[m], k))
+}
+
+/// The part of [`sqrs_known`] that reads coefficients below k − 1 only: 2 Σ_{2 ≤ j < k−j}
+/// a_j a_{k−j} (+ a_{k/2}² for even k ≥ 4), M side by side; [`sqr_newest`] completes it.
+///
+/// ```
+/// use lagrange_runtime::taylor::{sqr_newest, sqrs_known, sqrs_mid};
+/// let mut a = [0.0; 33];
+/// for j in 0..7 { a[j] = 1.0 + j as f64; }
+/// for k in 1..=6 {
+///     let [m] = sqrs_mid([&a], k);
+///     assert_eq!(sqr_newest(m, &a, k), sqrs_known([&a], k)[0]);
+/// }
+/// ```
+#[inline(always)]
+pub fn sqrs_mid<T: Real, const M: usize>(a: [&RowOf<T>; M], k: usize) -> [T; M] {
     let half = k.div_ceil(2);
-    let s = dots(a.map(|r| &r[..half]), a.map(|r| &r[k + 1 - half..=k]), None);
-    let mut out = s.map(|v| v + v);
-    if k.is_multiple_of(2) {
-        for (o, r) in out.iter_mut().zip(a) {
+    let mut s = if half > 2 {
+        dots(
+            a.map(|r| &r[2..half]),
+            a.map(|r| &r[k + 1 - half..k - 1]),
+            None,
+        )
+        .map(|v| v + v)
+    } else {
+        [T::ZERO; M]
+    };
+    if k >= 4 && k.is_multiple_of(2) {
+        for (o, r) in s.iter_mut().zip(a) {
             *o = r[k / 2].madd(r[k / 2], *o);
         }
     }
-    out
+    s
 }
 
-/// Coefficient k ≥ 1 of M functions side by side: `derivs([a, a], [d, e], k)` is
-/// `[deriv(a, d, k), deriv(a, e, k)]`, bit for bit (sin and cos of one argument).
+/// [`sqrs_mid`]'s sum completed to [`sqrs_known`]'s: + 2 a₁ a_{k−1} (a₁² at k = 2).
 ///
 /// ```
-/// use lagrange_runtime::taylor::{deriv, derivs};
+/// use lagrange_runtime::taylor::sqr_newest;
+/// let mut a = [0.0; 33];
+/// (a[1], a[2]) = (2.0, 3.0);
+/// assert_eq!([sqr_newest(0.0, &a, 2), sqr_newest(0.0, &a, 3)], [4.0, 12.0]);
+/// ```
+#[inline(always)]
+pub fn sqr_newest<T: Real>(mid: T, a: &RowOf<T>, k: usize) -> T {
+    match k {
+        0 | 1 => T::ZERO,
+        2 => a[1].madd(a[1], mid),
+        _ => (a[1] + a[1]).madd(a[k - 1], mid),
+    }
+}
+
+/// Coefficient k ≥ 1 of a² from its known part h ([`sqrs_known`]): h + 2 a₀ a_k.
+///
+/// ```
+/// use lagrange_runtime::taylor::sqr_finish;
+/// let mut a = [0.0; 33];
+/// (a[0], a[1]) = (3.0, 1.0);
+/// assert_eq!(sqr_finish(0.0, &a, 1), 6.0);
+/// ```
+#[inline(always)]
+pub fn sqr_finish<T: Real>(h: T, a: &RowOf<T>, k: usize) -> T {
+    (a[0] + a[0]).madd(a[k], h)
+}
+
+/// The part of k·c_k (k ≥ 1) of M functions c = f(a) that the coefficients below k give,
+/// Σ_{j=1..k−1} j a_j d_{k−j} with d = f′(a), side by side.
+///
+/// ```
+/// use lagrange_runtime::taylor::{deriv, deriv_finish, derivs_known};
 /// let (mut a, mut d, mut e) = ([0.0; 33], [0.0; 33], [0.0; 33]);
 /// (a[1], a[2], d[0], d[1], e[0]) = (1.0, 0.5, 0.3, 0.7, -2.0);
-/// assert_eq!(derivs([&a, &a], [&d, &e], 2), [deriv(&a, &d, 2), deriv(&a, &e, 2)]);
+/// let [h, g] = derivs_known([&a, &a], [&d, &e], 2);
+/// assert_eq!(h, 0.7);
+/// assert_eq!([deriv_finish(h, &a, &d, 2), deriv_finish(g, &a, &e, 2)], [deriv(&a, &d, 2), deriv(&a, &e, 2)]);
 /// ```
 #[inline(always)]
-pub fn derivs<T: Real, const M: usize>(a: [&RowOf<T>; M], d: [&RowOf<T>; M], k: usize) -> [T; M] {
-    convs(a, d, 1, k, true).map(|s| s / k as f64)
-}
-
-/// M of [`mass_tail`] side by side, bit for bit.
-///
-/// ```
-/// use lagrange_runtime::taylor::{mass_tail, mass_tails};
-/// let (mut m, mut a) = ([0.0; 33], [0.0; 33]);
-/// (m[1], m[2], a[0], a[1]) = (2.0, 0.5, 3.0, -1.0);
-/// assert_eq!(mass_tails([&m, &a], [&a, &m], 2), [mass_tail(&m, &a, 2), mass_tail(&a, &m, 2)]);
-/// ```
-#[inline(always)]
-pub fn mass_tails<T: Real, const M: usize>(
-    m: [&RowOf<T>; M],
+pub fn derivs_known<T: Real, const M: usize>(
     a: [&RowOf<T>; M],
+    d: [&RowOf<T>; M],
     k: usize,
 ) -> [T; M] {
-    convs(m, a, 1, k, false)
+    known(a, d, k, true)
+}
+
+/// Coefficient k ≥ 1 of c = f(a) from its known part h ([`derivs_known`]): h / k + a_k d₀ (the
+/// division by k reads h alone, so it is off the chain through a_k).
+///
+/// ```
+/// use lagrange_runtime::taylor::deriv_finish;
+/// let (mut a, mut d) = ([0.0; 33], [0.0; 33]);
+/// (a[1], d[0]) = (2.0, 0.5);
+/// assert_eq!(deriv_finish(0.0, &a, &d, 1), 1.0);
+/// ```
+#[inline(always)]
+pub fn deriv_finish<T: Real>(h: T, a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
+    a[k].madd(d[0], h / k as f64)
+}
+
+/// Coefficient k ≥ 1 of c = a / b from the known part h = Σ_{j=1..k−1} b_j c_{k−j}
+/// ([`muls_known`] of b and c), a_k and r = 1 / b₀ (one division per series, none on the chain
+/// of an order): (a_k − (h + b_k c₀)) · r (a_k, the numerator, is the value that arrives last).
+///
+/// ```
+/// use lagrange_runtime::taylor::div_finish;
+/// // 1 / (1 − τ): c₁ = (0 − (−1)·1) · 1.
+/// let (mut b, mut c) = ([0.0; 33], [0.0; 33]);
+/// (b[0], b[1], c[0]) = (1.0, -1.0, 1.0);
+/// assert_eq!(div_finish(0.0, 0.0, &b, &c, 1.0, 1), 1.0);
+/// ```
+#[inline(always)]
+pub fn div_finish<T: Real>(h: T, a_k: T, b: &RowOf<T>, c: &RowOf<T>, r: T, k: usize) -> T {
+    (a_k - b[k].madd(c[0], h)) * r
+}
+
+/// The mass tail Σ_{j=1..k} m_j a_{k−j} (k ≥ 1) from its known part h = Σ_{j=1..k−1}
+/// ([`muls_known`] of m and a): h + m_k a₀.
+///
+/// ```
+/// use lagrange_runtime::taylor::tail_finish;
+/// let (mut m, mut a) = ([0.0; 33], [0.0; 33]);
+/// (m[1], a[0]) = (2.0, 3.0);
+/// assert_eq!(tail_finish(0.0, &m, &a, 1), 6.0);
+/// ```
+#[inline(always)]
+pub fn tail_finish<T: Real>(h: T, m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
+    m[k].madd(a[0], h)
 }
 
 /// Coefficient k of a·b: Σ_{j=0..k} a_j b_{k−j}.
@@ -269,7 +484,11 @@ pub fn mass_tails<T: Real, const M: usize>(
 /// ```
 #[inline(always)]
 pub fn mul<T: Real>(a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
-    conv(a, b, 0, k)
+    if k == 0 {
+        return a[0] * b[0];
+    }
+    let [h] = muls_known([a], [b], k);
+    mul_finish(h, a, b, k)
 }
 
 /// Coefficient k of a²: Σ_{j=0..k} a_j a_{k−j}, the symmetric terms once.
@@ -282,13 +501,11 @@ pub fn mul<T: Real>(a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn sqr<T: Real>(a: &RowOf<T>, k: usize) -> T {
-    let half = k.div_ceil(2);
-    let [mut s] = dots([&a[..half]], [&a[k + 1 - half..=k]], None);
-    s += s;
-    if k.is_multiple_of(2) {
-        s = a[k / 2].madd(a[k / 2], s);
+    if k == 0 {
+        return a[0] * a[0];
     }
-    s
+    let [h] = sqrs_known([a], k);
+    sqr_finish(h, a, k)
 }
 
 /// Coefficient k of c = a / b, given c's coefficients 0..k: (a_k − Σ_{j=1..k} b_j c_{k−j}) / b₀.
@@ -303,8 +520,11 @@ pub fn sqr<T: Real>(a: &RowOf<T>, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn div<T: Real>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -> T {
-    let s = if k == 0 { T::ZERO } else { conv(b, c, 1, k) };
-    (a[k] - s) / b[0]
+    if k == 0 {
+        return a[0] / b[0];
+    }
+    let [h] = muls_known([b], [c], k);
+    div_finish(h, a[k], b, c, T::from(1.0) / b[0], k)
 }
 
 /// Coefficient k ≥ 1 of c = f(a) from the series d = f′(a): (1/k) Σ_{j=1..k} j a_j d_{k−j}
@@ -320,7 +540,8 @@ pub fn div<T: Real>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn deriv<T: Real>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    conv_weighted(a, d, 1, k) / k as f64
+    let [h] = derivs_known([a], [d], k);
+    deriv_finish(h, a, d, k)
 }
 
 /// Coefficient k ≥ 1 of c = f(y, x) from the series p = ∂f/∂y and q = ∂f/∂x:
@@ -367,7 +588,11 @@ pub fn powf<T: Real>(a: &RowOf<T>, c: &RowOf<T>, alpha: T, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn mass_tail<T: Real>(m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
-    conv(m, a, 1, k)
+    if k == 0 {
+        return T::ZERO;
+    }
+    let [h] = muls_known([m], [a], k);
+    tail_finish(h, m, a, k)
 }
 
 #[cfg(test)]
@@ -411,50 +636,63 @@ mod tests {
         }
     }
 
-    /// The side-by-side kernels are their one-at-a-time kernels bit for bit, at every order, in
-    /// `f64` and in lanes (the generated series call them for independent nodes of one level).
+    /// The known parts side by side, finished, are the one-at-a-time kernels bit for bit, at
+    /// every order, in `f64` and in lanes (the generated series compute every known part of an
+    /// order first, then finish node by node); each lane of a lanes kernel is its `f64` kernel.
     #[test]
-    fn grouped_kernels_equal_the_single_ones_bit_for_bit() {
+    fn known_parts_finished_equal_the_single_kernels_bit_for_bit() {
         use crate::lanes::Lanes;
         let row = |seed: usize| -> Row {
             core::array::from_fn(|j| (((j * seed + 3) % 17) as f64 - 8.0) / (1.0 + j as f64).sqrt())
         };
         let (a, b, c, d) = (row(5), row(7), row(11), row(13));
-        for k in 0..=MAX_ORDER {
+        for k in 1..=MAX_ORDER {
+            let [h0, h1, h2] = muls_known([&a, &b, &c], [&d, &c, &a], k);
             assert_eq!(
-                muls([&a, &b, &c], [&d, &c, &a], k).map(f64::to_bits),
+                [
+                    mul_finish(h0, &a, &d, k),
+                    mul_finish(h1, &b, &c, k),
+                    mul_finish(h2, &c, &a, k)
+                ]
+                .map(f64::to_bits),
                 [mul(&a, &d, k), mul(&b, &c, k), mul(&c, &a, k)].map(f64::to_bits),
                 "muls, k = {k}"
             );
+            let [h0, h1] = sqrs_known([&a, &b], k);
             assert_eq!(
-                sqrs([&a, &b], k).map(f64::to_bits),
+                [sqr_finish(h0, &a, k), sqr_finish(h1, &b, k)].map(f64::to_bits),
                 [sqr(&a, k), sqr(&b, k)].map(f64::to_bits),
                 "sqrs, k = {k}"
             );
-            if k > 0 {
-                assert_eq!(
-                    derivs([&a, &b], [&c, &d], k).map(f64::to_bits),
-                    [deriv(&a, &c, k), deriv(&b, &d, k)].map(f64::to_bits),
-                    "derivs, k = {k}"
-                );
-                assert_eq!(
-                    mass_tails([&a, &d], [&b, &c], k).map(f64::to_bits),
-                    [mass_tail(&a, &b, k), mass_tail(&d, &c, k)].map(f64::to_bits),
-                    "mass_tails, k = {k}"
-                );
-            }
+            let [h0, h1] = derivs_known([&a, &b], [&c, &d], k);
+            assert_eq!(
+                [deriv_finish(h0, &a, &c, k), deriv_finish(h1, &b, &d, k)].map(f64::to_bits),
+                [deriv(&a, &c, k), deriv(&b, &d, k)].map(f64::to_bits),
+                "derivs, k = {k}"
+            );
+            let [h0, h1] = muls_known([&a, &d], [&b, &c], k);
+            assert_eq!(
+                [tail_finish(h0, &a, &b, k), tail_finish(h1, &d, &c, k)].map(f64::to_bits),
+                [mass_tail(&a, &b, k), mass_tail(&d, &c, k)].map(f64::to_bits),
+                "mass_tails, k = {k}"
+            );
         }
         let lanes = |r: &Row, s: &Row| -> RowOf<Lanes<2>> {
             core::array::from_fn(|j| Lanes::<2>([r[j], s[j]]))
         };
         let (la, lb) = (lanes(&a, &b), lanes(&c, &d));
-        for k in 1..=MAX_ORDER {
-            assert_eq!(
-                muls([&la, &lb], [&lb, &la], k),
-                [mul(&la, &lb, k), mul(&lb, &la, k)]
-            );
-            assert_eq!(sqrs([&la], k), [sqr(&la, k)]);
-            assert_eq!(derivs([&la], [&lb], k), [deriv(&la, &lb, k)]);
+        let mut lc = [Lanes::<2>([0.0; 2]); MAX_ORDER + 2];
+        let (mut ca, mut cb) = ([0.0; MAX_ORDER + 2], [0.0; MAX_ORDER + 2]);
+        for k in 0..=MAX_ORDER {
+            assert_eq!(mul(&la, &lb, k).0, [mul(&a, &c, k), mul(&b, &d, k)]);
+            assert_eq!(sqr(&la, k).0, [sqr(&a, k), sqr(&b, k)]);
+            lc[k] = div(&la, &lb, &lc, k);
+            ca[k] = div(&a, &c, &ca, k);
+            cb[k] = div(&b, &d, &cb, k);
+            assert_eq!(lc[k].0, [ca[k], cb[k]], "div, k = {k}");
+            if k > 0 {
+                assert_eq!(deriv(&la, &lb, k).0, [deriv(&a, &c, k), deriv(&b, &d, k)]);
+            }
         }
     }
 

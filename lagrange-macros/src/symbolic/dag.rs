@@ -500,6 +500,42 @@ impl Dag {
         self.intern(Node::Mul(a, b))
     }
 
+    /// The product of `factors` (1 for none), two at a time, each time a pair whose product is
+    /// already a node where there is one: a new product reuses the DAG's (the Taylor series
+    /// convolves once per product node that varies along the motion).
+    pub fn product(&mut self, factors: &[Id]) -> Id {
+        let mut parts: Vec<Id> = factors.to_vec();
+        while parts.len() > 1 {
+            let mut pick = (0, 1);
+            'find: for i in 0..parts.len() {
+                for j in i + 1..parts.len() {
+                    if self.has_product(parts[i], parts[j]) {
+                        pick = (i, j);
+                        break 'find;
+                    }
+                }
+            }
+            let b = parts.remove(pick.1);
+            let a = parts.remove(pick.0);
+            let p = self.mul(a, b);
+            parts.push(p);
+        }
+        parts.pop().unwrap_or(Self::ONE)
+    }
+
+    /// Whether a · b is already a node (as written or as the same monomial).
+    fn has_product(&self, a: Id, b: Id) -> bool {
+        let (x, y) = if a <= b { (a, b) } else { (b, a) };
+        if self.index.contains_key(&Node::Mul(x, y)) {
+            return true;
+        }
+        let mut key = Vec::new();
+        self.factors(a, &mut key) && self.factors(b, &mut key) && {
+            key.sort_unstable();
+            self.monomials.contains_key(&key)
+        }
+    }
+
     /// Appends the factors of a product without constant factors (a non-product is its own
     /// factor); false when there are more than [`MONOMIAL_MAX_FACTORS`].
     fn factors(&self, id: Id, out: &mut Vec<Id>) -> bool {

@@ -25,6 +25,7 @@
 mod codegen;
 mod dag;
 mod derive;
+mod explicit;
 mod functions;
 mod lower;
 mod methods;

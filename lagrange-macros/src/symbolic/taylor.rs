@@ -24,6 +24,7 @@ use quote::quote;
 use super::codegen;
 use super::dag::{Dag, Id, Node};
 use super::derive::Derivation;
+use super::explicit;
 use super::functions::Rule as _;
 use crate::names;
 
@@ -188,9 +189,26 @@ fn kernel_order(rules: &[Option<Rule>], ids: &[Id]) -> Option<Vec<Id>> {
     Some(order)
 }
 
-/// The most convolutions of one kind the generated series computes side by side in one loop
-/// (`taylor::muls`, `derivs`, `mass_tails`): each keeps its running sum in a register.
+/// The most known parts of one kind the generated series computes side by side in one loop
+/// (`taylor::muls_known`, `sqrs_known`, `derivs_known`): each keeps its running sum in a
+/// register.
 const GROUP: usize = 8;
+
+/// `jobs` in the fewest groups of at most [`GROUP`], of sizes that differ by one at most (nine
+/// products as 5 + 4, not 8 + 1: a group of one is a chain of k additions none overlaps).
+fn balanced<T>(jobs: &[T]) -> impl Iterator<Item = &[T]> {
+    let groups = jobs.len().div_ceil(GROUP);
+    let (base, extra) = match groups {
+        0 => (0, 0),
+        g => (jobs.len() / g, jobs.len() % g),
+    };
+    let mut rest = jobs;
+    (0..groups).map(move |g| {
+        let (head, tail) = rest.split_at((base + usize::from(g < extra)).min(rest.len()));
+        rest = tail;
+        head
+    })
+}
 
 /// Whether a rule is a convolution (its coefficient k a sum over orders 0..=k), not O(1).
 fn convolves(r: &Rule) -> bool {
@@ -203,39 +221,6 @@ fn convolves(r: &Rule) -> bool {
             | Rule::Deriv2(..)
             | Rule::Powf(..)
     )
-}
-
-/// The kernels of [`kernel_order`] by level, each level's convolutions and then its other
-/// kernels: a convolution's level is one more than the highest level among the operands it reads
-/// at the same order, another kernel's is that highest level (0 for none). The convolutions of
-/// one level read none of each other's coefficient k, so they can be computed side by side; the
-/// other kernels of the level come after them, in [`kernel_order`]'s order. `None` where a node
-/// has no rule.
-fn levels(rules: &[Option<Rule>], kernels: &[Id]) -> Option<Vec<(Vec<Id>, Vec<Id>)>> {
-    let mut level: std::collections::HashMap<Id, usize> = std::collections::HashMap::new();
-    let mut out: Vec<(Vec<Id>, Vec<Id>)> = Vec::new();
-    for &id in kernels {
-        let r = rules.get(id as usize)?.as_ref()?;
-        let highest = reads_same_order(r)
-            .iter()
-            .filter_map(|x| level.get(x).copied())
-            .max();
-        let l = match (convolves(r), highest) {
-            (true, Some(h)) => h + 1,
-            (true, None) => 1,
-            (false, h) => h.unwrap_or(0),
-        };
-        level.insert(id, l);
-        if out.len() <= l {
-            out.resize_with(l + 1, Default::default);
-        }
-        if convolves(r) {
-            out[l].0.push(id);
-        } else {
-            out[l].1.push(id);
-        }
-    }
-    Some(out)
 }
 
 /// The first construct among `ids` whose value is not analytic along the motion, named for the
@@ -300,12 +285,33 @@ fn series(
     n: usize,
     binds: &TokenStream,
 ) -> Option<Result<TokenStream, &'static str>> {
+    series_with(d, n, binds, true)
+}
+
+/// [`series`], with explicit accelerations where `try_explicit` and the system has them and
+/// they take fewer convolutions per order than the solve (its products and its tails).
+fn series_with(
+    d: &Derivation,
+    n: usize,
+    binds: &TokenStream,
+    try_explicit: bool,
+) -> Option<Result<TokenStream, &'static str>> {
     let mut dag = d.dag.clone();
+    let explicit = if try_explicit {
+        explicit::accelerations(&mut dag, d)
+    } else {
+        None
+    };
     let mut outputs: Vec<Id> = Vec::new();
     for (i, row) in d.mass.iter().enumerate() {
         outputs.extend(row.iter().skip(i).copied());
     }
     outputs.extend(d.rhs.iter().copied());
+    let solve_roots = outputs.clone();
+    if let Some(e) = &explicit {
+        outputs.extend(&e.accel);
+        outputs.extend(&e.tests);
+    }
     // Every node the outputs need, with the nodes their rules need, to a fixed point.
     let mut rules: Vec<Option<Rule>> = Vec::new();
     let mut need: BTreeSet<Id> = BTreeSet::new();
@@ -333,13 +339,48 @@ fn series(
         return Some(Err(what));
     }
     if ids.len() > MAX_TAYLOR_SLOTS {
-        return None;
+        return if explicit.is_some() {
+            series_with(d, n, binds, false)
+        } else {
+            None
+        };
     }
     let mut slot = vec![0usize; dag.len()];
     for (s, &id) in ids.iter().enumerate() {
         slot[id as usize] = s + 1;
     }
     let kernels = kernel_order(&rules, &ids)?;
+    let split = match &explicit {
+        None => None,
+        Some(e) => {
+            let ours = per_order(&rules, &e.accel);
+            let theirs = per_order(&rules, &solve_roots);
+            let convolutions = |set: &BTreeSet<Id>| {
+                set.iter()
+                    .filter(|&&x| rules[x as usize].as_ref().is_some_and(convolves))
+                    .count()
+            };
+            let tails = (0..n)
+                .flat_map(|i| (0..n).map(move |l| (i, l)))
+                .filter(|&(i, l)| {
+                    let x = if i <= l { d.mass[i][l] } else { d.mass[l][i] };
+                    x != Dag::ZERO && !dag.is_state_free(x)
+                })
+                .count();
+            if convolutions(&ours) >= convolutions(&theirs) + tails {
+                return series_with(d, n, binds, false);
+            }
+            Some(Split {
+                accel: &e.accel,
+                tests: &e.tests,
+                kernels: kernels
+                    .iter()
+                    .copied()
+                    .filter(|x| ours.contains(x))
+                    .collect(),
+            })
+        }
+    };
     let program = Program {
         d,
         n,
@@ -348,8 +389,25 @@ fn series(
         ids: &ids,
         kernels: &kernels,
         slot: &slot,
+        explicit: split.as_ref(),
     };
     Some(Ok(program.emit(binds)?))
+}
+
+/// The nodes whose coefficients of orders ≥ 1 the series of `roots` reads (the roots, and what
+/// their rules read, to a fixed point; a constant reads nothing past order 0).
+fn per_order(rules: &[Option<Rule>], roots: &[Id]) -> BTreeSet<Id> {
+    let mut seen = BTreeSet::new();
+    let mut stack: Vec<Id> = roots.iter().copied().filter(|&x| x != Dag::ZERO).collect();
+    while let Some(x) = stack.pop() {
+        if !seen.insert(x) {
+            continue;
+        }
+        if let Some(r) = rules.get(x as usize).and_then(Option::as_ref) {
+            stack.extend(reads(r).into_iter().filter(|&y| y != Dag::ZERO));
+        }
+    }
+    seen
 }
 
 /// What the emission reads: the derivation, the extended DAG, every needed node's rule and slot.
@@ -362,6 +420,26 @@ struct Program<'a> {
     /// The order of the kernels at orders ≥ 1 ([`kernel_order`]).
     kernels: &'a [Id],
     slot: &'a [usize],
+    /// The explicit accelerations and which kernels each way needs, where the series uses them.
+    explicit: Option<&'a Split<'a>>,
+}
+
+/// The code of orders ≥ 1 for a list of kernels: the sums' mutable locals (`decls`, before the
+/// loop), what order k computes (`step`), and the sums' parts for order k + 1 (`next`, after
+/// order k is stored).
+struct Pass {
+    decls: TokenStream,
+    step: TokenStream,
+    next: TokenStream,
+}
+
+/// A series with explicit accelerations ([`explicit::accelerations`]): the accelerations, the
+/// divisors that must be finite and not zero at order 0, and the kernels of orders ≥ 1 the
+/// accelerations read, in [`kernel_order`]'s order.
+struct Split<'a> {
+    accel: &'a [Id],
+    tests: &'a [Id],
+    kernels: Vec<Id>,
 }
 
 impl Program<'_> {
@@ -377,6 +455,7 @@ impl Program<'_> {
             ids,
             kernels,
             slot,
+            explicit: _,
         } = *self;
         let num = codegen::real_type();
         let real = quote!(::lagrange::__private::Real);
@@ -418,25 +497,36 @@ impl Program<'_> {
                 flat.push(s);
             }
         }
-        // Orders ≥ 1: one kernel per node, indices constant, each after what it reads, level by
-        // level ([`levels`]); the products and the functions of one level that read none of each
-        // other are computed side by side in groups ([`GROUP`]).
-        let mut step = TokenStream::new();
+        // 1 / b₀ of each quotient a / b the orders ≥ 1 compute (`taylor::div_finish`; by a constant
+        // b, each coefficient is a_k · (1 / b)): a multiplication on the chain of an order where
+        // a division was (measured: the heavy top's θ̈ = f_θ / I⊥ ended each order in a divsd).
+        let per_order_kernels: &[Id] = self.explicit.map_or(kernels, |e| &e.kernels);
+        for &id in per_order_kernels {
+            if let Some(Rule::Div(_, y) | Rule::DivConst(_, y)) = rules[id as usize] {
+                let (r, y) = (names::taylor(&format!("r{id}")), op(y));
+                let one = codegen::real_const(&num, &quote!(1.0));
+                set0.extend(quote!(let #r: #num = #one / #y;));
+            }
+        }
         let entry = |i: usize, l: usize| {
             let (r, cc) = if i <= l { (i, l) } else { (l, i) };
             d.mass[r][cc]
         };
         // Σ_{j ≥ 1} M_j a_{k−j} over the entries of M that vary along the motion (the others have
-        // no coefficient past order 0), every one of them side by side in groups.
-        let tails: Vec<(usize, usize)> = (0..n)
-            .flat_map(|i| (0..n).map(move |l| (i, l)))
-            .filter(|&(i, l)| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
-            .collect();
+        // no coefficient past order 0); none with explicit accelerations.
+        let tails: Vec<(usize, usize)> = match self.explicit {
+            Some(_) => Vec::new(),
+            None => (0..n)
+                .flat_map(|i| (0..n).map(move |l| (i, l)))
+                .filter(|&(i, l)| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
+                .collect(),
+        };
         // The nodes that keep a row past order 0: those a kernel reads at other orders than its own
-        // (a convolution's operands, a quotient's and a power's own series, a function's
-        // derivative series, the entries of M in the tails), the leaves and the constants. The
-        // others (sums, differences, scalings, selections read at their own order only) are locals
-        // of the order: no store, no row in the cache (the heavy top writes 24 rows, not 37).
+        // (a convolution's operands, a quotient's divisor and own series, a power's own series, a
+        // function's derivative series, the entries of M in the tails, the explicit accelerations),
+        // the leaves and the constants. The others (sums, differences, scalings, selections, a
+        // quotient's numerator: read at their own order only) are locals of the order: no store,
+        // no row in the cache.
         let mut kept = vec![false; dag.len()];
         for &id in ids {
             let Some(r) = rules.get(id as usize).and_then(Option::as_ref) else {
@@ -445,7 +535,7 @@ impl Program<'_> {
             let keep: Vec<Id> = match *r {
                 Rule::Mul(a, b) | Rule::Deriv(a, b) => vec![a, b],
                 Rule::Sqr(a) => vec![a],
-                Rule::Div(a, b) => vec![a, b, id],
+                Rule::Div(_, b) => vec![b, id],
                 Rule::Powf(a, _) => vec![a, id],
                 Rule::Deriv2(y, p, x, q) => vec![y, p, x, q],
                 Rule::Leaf | Rule::Constant => vec![id],
@@ -459,6 +549,11 @@ impl Program<'_> {
         }
         for &(i, l) in &tails {
             kept[entry(i, l) as usize] = true;
+        }
+        for &x in self.explicit.map_or(&[][..], |e| e.accel) {
+            if let Some(k) = kept.get_mut(x as usize) {
+                *k = true;
+            }
         }
         let local = |x: Id| {
             !kept.get(x as usize).copied().unwrap_or(true)
@@ -485,24 +580,61 @@ impl Program<'_> {
                 quote!(#c[#s][#k])
             }
         };
-        for (convolutions, others) in levels(rules, kernels)? {
-            // The convolutions of the level computed side by side: (node, its operand rows).
-            let mut products: Vec<(Id, Vec<Id>)> = Vec::new();
-            let mut functions: Vec<(Id, Vec<Id>)> = Vec::new();
-            let mut squares: Vec<(Id, Vec<Id>)> = Vec::new();
-            let mut later = TokenStream::new();
-            for id in convolutions.into_iter().chain(others) {
+        let known_name = |x: Id| names::taylor(&format!("h{x}"));
+        let reciprocal_name = |x: Id| names::taylor(&format!("r{x}"));
+        let tail_known = |t: usize| names::taylor(&format!("htail{t}"));
+        let tail_name = |t: usize| names::taylor(&format!("tail{t}"));
+        // Orders ≥ 1, in two passes. First the known part of every convolution of the order (the
+        // terms that read only coefficients below k), side by side in groups of up to [`GROUP`]
+        // per kind: none reads another, so they are all in flight at once. Then node by node,
+        // each after what it reads at order k ([`kernel_order`]), the O(1) rest (a product's
+        // a₀ b_k + a_k b₀, a function's k a_k d₀, …). The chain of sums each order waits for is
+        // then the few terms per node, not a convolution per level.
+        let pass = |list: &[Id]| -> Option<Pass> {
+            // (known part, x, y) of the sums Σ_{j=1..k−1} x_j y_{k−j}: products, quotients
+            // (divisor and own series) and the mass tails.
+            let mut products: Vec<(proc_macro2::Ident, Literal, Literal)> = Vec::new();
+            let mut squares: Vec<(proc_macro2::Ident, Literal)> = Vec::new();
+            let mut functions: Vec<(proc_macro2::Ident, Literal, Literal)> = Vec::new();
+            let mut finish = TokenStream::new();
+            // When each node's coefficient k is ready, in additions' latencies from the start of
+            // the order (a product's is one multiply-add after its later operand): a product
+            // finishes with the later operand's a_k b₀ last (`taylor::mul_finish`), so the chain
+            // through it is one multiply-add.
+            let mut ready: std::collections::HashMap<Id, u32> = std::collections::HashMap::new();
+            for &id in list {
                 let r = rules[id as usize].as_ref()?;
+                let latest = reads_same_order(r)
+                    .iter()
+                    .filter_map(|x| ready.get(x).copied())
+                    .max()
+                    .unwrap_or(0);
+                ready.insert(id, latest + if convolves(r) { 2 } else { 1 });
                 let s = sl(id);
+                let h = known_name(id);
                 let value = match *r {
                     Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
                     Rule::Mul(x, y) => {
-                        products.push((id, vec![x, y]));
-                        continue;
+                        let later = |v: Id| ready.get(&v).copied().unwrap_or(0);
+                        let (x, y) = if later(y) > later(x) { (y, x) } else { (x, y) };
+                        let (x, y) = (sl(x), sl(y));
+                        products.push((h.clone(), x.clone(), y.clone()));
+                        quote!(#rt::mul_finish(#h, &#c[#x], &#c[#y], #k))
+                    }
+                    Rule::Sqr(x) => {
+                        let x = sl(x);
+                        squares.push((h.clone(), x.clone()));
+                        quote!(#rt::sqr_finish(#h, &#c[#x], #k))
                     }
                     Rule::Deriv(x, dd) => {
-                        functions.push((id, vec![x, dd]));
-                        continue;
+                        let (x, dd) = (sl(x), sl(dd));
+                        functions.push((h.clone(), x.clone(), dd.clone()));
+                        quote!(#rt::deriv_finish(#h, &#c[#x], &#c[#dd], #k))
+                    }
+                    Rule::Div(x, y) => {
+                        let (x, y, r) = (at(x), sl(y), reciprocal_name(id));
+                        products.push((h.clone(), y.clone(), s.clone()));
+                        quote!(#rt::div_finish(#h, #x, &#c[#y], &#c[#s], #r, #k))
                     }
                     Rule::Leaf => match dag.node(id) {
                         Node::Q(i) => {
@@ -527,21 +659,13 @@ impl Program<'_> {
                         let x = at(x);
                         quote!(-#x)
                     }
-                    Rule::Sqr(x) => {
-                        squares.push((id, vec![x]));
-                        continue;
-                    }
                     Rule::Scale(x, f) => {
                         let (x, f) = (at(x), op(f));
                         quote!(#f * #x)
                     }
-                    Rule::Div(x, y) => {
-                        let (x, y) = (sl(x), sl(y));
-                        quote!(#rt::div(&#c[#x], &#c[#y], &#c[#s], #k))
-                    }
-                    Rule::DivConst(x, f) => {
-                        let (x, f) = (at(x), op(f));
-                        quote!(#x / #f)
+                    Rule::DivConst(x, _) => {
+                        let (x, r) = (at(x), reciprocal_name(id));
+                        quote!(#x * #r)
                     }
                     Rule::Deriv2(y, p, x, qq) => {
                         let (y, p, x, qq) = (sl(y), sl(p), sl(x), sl(qq));
@@ -559,47 +683,69 @@ impl Program<'_> {
                 };
                 if local(id) {
                     let t = local_name(id);
-                    later.extend(quote!(let #t: #num = #value;));
+                    finish.extend(quote!(let #t: #num = #value;));
                 } else {
-                    let to = if convolves(r) { &mut step } else { &mut later };
-                    to.extend(quote!(#c[#s][#k] = #value;));
+                    finish.extend(quote!(#c[#s][#k] = #value;));
                 }
             }
-            // Each kind's jobs in groups of up to GROUP: one call of the side-by-side kernel
-            // (one array of rows per operand), or the one-at-a-time kernel for a group of one.
-            for (kernel, single, jobs) in [
-                (quote!(#rt::muls), quote!(#rt::mul), &products),
-                (quote!(#rt::derivs), quote!(#rt::deriv), &functions),
-                (quote!(#rt::sqrs), quote!(#rt::sqr), &squares),
-            ] {
-                for group in jobs.chunks(GROUP) {
-                    step.extend(if let [(id, operands)] = group {
-                        let s = sl(*id);
-                        let rows = operands.iter().map(|&x| {
-                            let x = sl(x);
-                            quote!(&#c[#x])
-                        });
-                        quote!(#c[#s][#k] = #single(#(#rows,)* #k);)
-                    } else {
-                        let targets = group.iter().map(|(id, _)| sl(*id));
-                        let arrays = (0..group[0].1.len()).map(|a| {
-                            let xs = group.iter().map(|(_, operands)| sl(operands[a]));
-                            quote!([#(&#c[#xs]),*])
-                        });
-                        let vs: Vec<_> = (0..group.len())
-                            .map(|i| names::taylor(&format!("g{i}")))
-                            .collect();
-                        quote! {
-                            let [#(#vs),*] = #kernel(#(#arrays,)* #k);
-                            #( #c[#targets][#k] = #vs; )*
-                        }
-                    });
-                }
+            for (t, &(i, l)) in tails.iter().enumerate() {
+                products.push((tail_known(t), sl(entry(i, l)), accel[l].clone()));
             }
-            step.extend(later);
-        }
-        // M₀ (upper triangle) and the right-hand side of order k, less Σ_{j ≥ 1} M_j a_{k−j} over
-        // the entries of M that vary along the motion (the others have no coefficient past order 0).
+            // Each sum's part that reads below k − 1 is a mutable local across orders (`m…`),
+            // computed for order k + 1 right after order k is finished (`next`); order k completes
+            // it with the terms that read k − 1 (`h…`) before finishing its nodes.
+            let mid = |h: &proc_macro2::Ident| {
+                names::taylor(&format!("m{}", &h.to_string()["__lagrange_".len()..]))
+            };
+            let (mut decls, mut newest, mut next) =
+                (TokenStream::new(), TokenStream::new(), TokenStream::new());
+            for (h, x, y) in &products {
+                let m = mid(h);
+                decls.extend(quote!(let mut #m: #num = #zero;));
+                newest.extend(quote!(let #h: #num = #rt::mul_newest(#m, &#c[#x], &#c[#y], #k);));
+            }
+            for (h, x) in &squares {
+                let m = mid(h);
+                decls.extend(quote!(let mut #m: #num = #zero;));
+                newest.extend(quote!(let #h: #num = #rt::sqr_newest(#m, &#c[#x], #k);));
+            }
+            for (h, x, y) in &functions {
+                let m = mid(h);
+                decls.extend(quote!(let mut #m: #num = #zero;));
+                newest.extend(quote!(let #h: #num = #rt::deriv_newest(#m, &#c[#x], &#c[#y], #k);));
+            }
+            let k1 = quote!(#k + 1);
+            for group in balanced(&products) {
+                let ms = group.iter().map(|j| mid(&j.0));
+                let xs = group.iter().map(|j| &j.1);
+                let ys = group.iter().map(|j| &j.2);
+                next.extend(quote! {
+                    [#(#ms),*] = #rt::muls_mid([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k1);
+                });
+            }
+            for group in balanced(&squares) {
+                let ms = group.iter().map(|j| mid(&j.0));
+                let xs = group.iter().map(|j| &j.1);
+                next.extend(quote! {
+                    [#(#ms),*] = #rt::sqrs_mid([#(&#c[#xs]),*], #k1);
+                });
+            }
+            for group in balanced(&functions) {
+                let ms = group.iter().map(|j| mid(&j.0));
+                let xs = group.iter().map(|j| &j.1);
+                let ys = group.iter().map(|j| &j.2);
+                next.extend(quote! {
+                    [#(#ms),*] = #rt::derivs_mid([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k1);
+                });
+            }
+            Some(Pass {
+                decls,
+                step: quote!(#newest #finish),
+                next,
+            })
+        };
+        // M₀ (upper triangle) and the right-hand side of order 0 (the solve's, or the error's
+        // where explicit accelerations do not apply).
         let m0_rows = (0..n).map(|i| {
             let cols = (0..n).map(|l| {
                 let id = d.mass[i][l];
@@ -611,30 +757,6 @@ impl Program<'_> {
                 }
             });
             quote!([#(#cols),*])
-        });
-        let tail_name = |t: usize| names::taylor(&format!("tail{t}"));
-        for (g, group) in tails.chunks(GROUP).enumerate() {
-            let ms = group.iter().map(|&(i, l)| sl(entry(i, l)));
-            let als = group.iter().map(|&(_, l)| &accel[l]);
-            let vs = (0..group.len()).map(|t| tail_name(g * GROUP + t));
-            step.extend(quote! {
-                let [#(#vs),*] = #rt::mass_tails([#(&#c[#ms]),*], [#(&#c[#als]),*], #k);
-            });
-        }
-        let rhs = (0..n).map(|i| {
-            let f = match d.rhs[i] {
-                Dag::ZERO => zero.clone(),
-                id => at(id),
-            };
-            let tail = tails
-                .iter()
-                .enumerate()
-                .filter(|(_, &(row, _))| row == i)
-                .map(|(t, _)| {
-                    let v = tail_name(t);
-                    quote!(- #v)
-                });
-            quote!(#f #(#tail)*)
         });
         let b0: Vec<TokenStream> = (0..n)
             .map(|i| match d.rhs[i] {
@@ -651,7 +773,111 @@ impl Program<'_> {
         let ii2 = (0..n).map(Literal::usize_unsuffixed);
         let max = quote!(#rt::MAX_ORDER);
         let params = names::lane_params();
-        let factor_ty = quote!(<<#num as ::lagrange::__private::eom::SeriesReal>::Factor<#nn> as ::lagrange::__private::eom::SeriesFactor<#num, #nn>>);
+        let store = quote! {
+            let __lagrange_r = 1.0 / (#k + 1) as f64;
+            #(
+                #c[#accel][#k] = #a[#ii];
+                #out[#k + 1][0][#ii2] = #out[#k][1][#ii2] * __lagrange_r;
+                #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
+            )*
+        };
+        let solve = match self.explicit {
+            None => {
+                let factor_ty = quote!(<<#num as ::lagrange::__private::eom::SeriesReal>::Factor<#nn> as ::lagrange::__private::eom::SeriesFactor<#num, #nn>>);
+                let Pass { decls, step, next } = pass(kernels)?;
+                let rhs = (0..n).map(|i| {
+                    let f = match d.rhs[i] {
+                        Dag::ZERO => zero.clone(),
+                        id => at(id),
+                    };
+                    let tail = tails
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, &(row, _))| row == i)
+                        .map(|(t, _)| {
+                            let v = tail_name(t);
+                            quote!(- #v)
+                        });
+                    quote!(#f #(#tail)*)
+                });
+                let tail_finish = tails.iter().enumerate().map(|(t, &(i, l))| {
+                    let (v, h, m, al) = (tail_name(t), tail_known(t), sl(entry(i, l)), &accel[l]);
+                    quote!(let #v: #num = #rt::tail_finish(#h, &#c[#m], &#c[#al], #k);)
+                });
+                quote! {
+                    // A single run pivots where M₀ has no LDLᵀ (or returns why it is singular); a
+                    // lane where it has none is left out of the mask: the caller takes its member's
+                    // single-run series.
+                    let (#factor, __lagrange_ok) =
+                        #factor_ty::new(&[#(#m0_rows),*], &[#(#b0),*], #names_, #q, #qdot, #t);
+                    if let ::core::option::Option::Some(__lagrange_e) =
+                        ::lagrange::__private::eom::SeriesFactor::error(&#factor, #names_, #q, #qdot, #t)
+                    {
+                        return ::core::result::Result::Err(__lagrange_e);
+                    }
+                    let mut #a = [<#num as #real>::ZERO; #nn];
+                    #decls
+                    for #k in 0..#order {
+                        let #b: [#num; #nn] = if #k == 0 {
+                            [#(#b0),*]
+                        } else {
+                            #step
+                            #(#tail_finish)*
+                            [#(#rhs),*]
+                        };
+                        ::lagrange::__private::eom::SeriesFactor::solve(
+                            &#factor, &#b, &mut #a, #names_, #q, #qdot, #t,
+                        )?;
+                        #store
+                        if #k + 1 < #order {
+                            #next
+                        }
+                    }
+                }
+            }
+            Some(split) => {
+                let tests = split.tests.iter().map(|&x| {
+                    let x = sl(x);
+                    quote!(& <#num as #real>::nonzero(#c[#x][0]) & <#num as #real>::finite(#c[#x][0]))
+                });
+                let value = |i: usize| match split.accel[i] {
+                    Dag::ZERO => zero.clone(),
+                    x => {
+                        let x = sl(x);
+                        quote!(#c[#x][#k])
+                    }
+                };
+                let values = (0..n).map(value);
+                let Pass { decls, step, next } = pass(&split.kernels)?;
+                quote! {
+                    // The explicit accelerations, where their divisors are finite and not zero at
+                    // order 0 (a lane where one is not is left out of the mask: the caller takes
+                    // its member's single-run series; a single run returns why M₀ is singular).
+                    let __lagrange_ok = <#num as #real>::EVERY_LANE #(#tests)*;
+                    if !<#num as #real>::all(__lagrange_ok) {
+                        if let ::core::option::Option::Some(__lagrange_e) =
+                            <#num as ::lagrange::__private::eom::SeriesReal>::declined(
+                                &[#(#m0_rows),*], &[#(#b0),*], #names_, #q, #qdot, #t,
+                            )
+                        {
+                            return ::core::result::Result::Err(__lagrange_e);
+                        }
+                    }
+                    let mut #a: [#num; #nn];
+                    #decls
+                    for #k in 0..#order {
+                        if #k > 0 {
+                            #step
+                        }
+                        #a = [#(#values),*];
+                        #store
+                        if #k + 1 < #order {
+                            #next
+                        }
+                    }
+                }
+            }
+        };
         Some(quote! {
             /// The Taylor coefficients of the motion through `out[0]` at t (see
             /// `Lagrangian::series_in`), in the lanes of the mask.
@@ -674,34 +900,7 @@ impl Program<'_> {
                 #stmts0
                 #set0
                 #( #c[#flat][1..=#order].fill(#zero); )*
-                // A single run pivots where M₀ has no LDLᵀ (or returns why it is singular); a
-                // lane where it has none is left out of the mask: the caller takes its member's
-                // single-run series.
-                let (#factor, __lagrange_ok) =
-                    #factor_ty::new(&[#(#m0_rows),*], &[#(#b0),*], #names_, #q, #qdot, #t);
-                if let ::core::option::Option::Some(__lagrange_e) =
-                    ::lagrange::__private::eom::SeriesFactor::error(&#factor, #names_, #q, #qdot, #t)
-                {
-                    return ::core::result::Result::Err(__lagrange_e);
-                }
-                let mut #a = [<#num as #real>::ZERO; #nn];
-                for #k in 0..#order {
-                    let #b: [#num; #nn] = if #k == 0 {
-                        [#(#b0),*]
-                    } else {
-                        #step
-                        [#(#rhs),*]
-                    };
-                    ::lagrange::__private::eom::SeriesFactor::solve(
-                        &#factor, &#b, &mut #a, #names_, #q, #qdot, #t,
-                    )?;
-                    let __lagrange_r = 1.0 / (#k + 1) as f64;
-                    #(
-                        #c[#accel][#k] = #a[#ii];
-                        #out[#k + 1][0][#ii2] = #out[#k][1][#ii2] * __lagrange_r;
-                        #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
-                    )*
-                }
+                #solve
                 // Orders past MAX_ORDER are not computed.
                 for __lagrange_x in &mut #out[#order + 1..] {
                     *__lagrange_x = [[<#num as #real>::NAN; #nn]; 2];

@@ -29,14 +29,70 @@ use super::solve_mass_matrix;
 pub trait SeriesReal: Real {
     /// The factorization of M₀ at this width.
     type Factor<const N: usize>: SeriesFactor<Self, N>;
+
+    /// For a series with explicit accelerations (a system whose mass matrix is block diagonal in
+    /// 1×1 blocks and 2×2 blocks with exact determinants) where a divisor is zero or not finite at
+    /// order 0: a single run's error (M₀'s, as the solve gives it); `None` for lanes, which leave
+    /// such a member out of the mask instead.
+    fn declined<const N: usize>(
+        m0: &[[Self; N]; N],
+        b0: &[Self; N],
+        names: [&'static str; N],
+        q: &[Self; N],
+        qdot: &[Self; N],
+        t: Self,
+    ) -> Option<DynamicsError>;
 }
 
 impl SeriesReal for f64 {
     type Factor<const N: usize> = Factor<N>;
+
+    /// ```
+    /// use lagrange_runtime::{eom::SeriesReal, DynamicsError};
+    /// let e = f64::declined(&[[0.0]], &[1.0], ["x"], &[0.0], &[0.0], 0.0);
+    /// assert!(matches!(e, Some(DynamicsError::SingularMassMatrix { .. })));
+    /// ```
+    fn declined<const N: usize>(
+        m0: &[[f64; N]; N],
+        b0: &[f64; N],
+        names: [&'static str; N],
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> Option<DynamicsError> {
+        Some(match solve_mass_matrix(m0, b0, names, q, qdot, t) {
+            Err(e) => e,
+            // M₀ is regular, yet a determinant computed as one product of its factors is zero or
+            // not finite: its entries are out of the range of a product.
+            Ok(_) => DynamicsError::NonFinite {
+                t,
+                q: q.to_vec(),
+                qdot: qdot.to_vec(),
+                message: "the Taylor series divides by a determinant of a 2×2 block of the mass \
+                          matrix ∂²L/∂q̇∂q̇ (or by a diagonal entry) that is zero or not finite in \
+                          floating point here, although the matrix itself can be solved: its \
+                          entries are too large or too small for their product. Try: other units \
+                          for the coordinates or parameters, or another method (DOP853 solves \
+                          M q̈ = f by elimination)."
+                    .to_string(),
+            },
+        })
+    }
 }
 
 impl<const W: usize, const F: bool> SeriesReal for crate::lanes::Lanes<W, F> {
     type Factor<const N: usize> = LdlOf<Self, N>;
+
+    fn declined<const N: usize>(
+        _m0: &[[Self; N]; N],
+        _b0: &[Self; N],
+        _names: [&'static str; N],
+        _q: &[Self; N],
+        _qdot: &[Self; N],
+        _t: Self,
+    ) -> Option<DynamicsError> {
+        None
+    }
 }
 
 /// The factorization of M₀ that every order of one Taylor step shares, over the kernels' number
