@@ -621,13 +621,12 @@ mod __lagrange_HeavyTop_67f09420_kernels {
         <R as ::lagrange::__private::Real>::Mask,
         ::lagrange::__private::DynamicsError,
     > {
+        use ::lagrange::__private::taylor as __lagrange_rt;
         if __lagrange_out.len() < 2 {
             return ::core::result::Result::Ok(<R as ::lagrange::__private::Real>::EVERY_LANE);
         }
-        let __lagrange_order =
-            (__lagrange_out.len() - 1).min(::lagrange::__private::taylor::MAX_ORDER);
-        let __lagrange_c: &mut [::lagrange::__private::taylor::RowOf<R>; 56] =
-            __lagrange_buf.slots::<56>();
+        let __lagrange_order = (__lagrange_out.len() - 1).min(__lagrange_rt::MAX_ORDER);
+        let __lagrange_c: &mut [__lagrange_rt::RowOf<R>; 56] = __lagrange_buf.slots::<56>();
         let __lagrange_y0: [[R; 3]; 2] = __lagrange_out[0];
         let (__lagrange_q, __lagrange_qdot): (&[R; 3], &[R; 3]) =
             (&__lagrange_y0[0], &__lagrange_y0[1]);
@@ -736,6 +735,9 @@ mod __lagrange_HeavyTop_67f09420_kernels {
         );
         let __lagrange_x120: R = __lagrange_x77 - __lagrange_x119;
         let __lagrange_x121: R = __lagrange_x120 / __lagrange_p_i_par;
+        let __lagrange_r118: R = <R as ::core::convert::From<f64>>::from(1.0) / __lagrange_x117;
+        let __lagrange_r121: R = <R as ::core::convert::From<f64>>::from(1.0) / __lagrange_p_i_par;
+        let __lagrange_r122: R = <R as ::core::convert::From<f64>>::from(1.0) / __lagrange_p_i_perp;
         __lagrange_c[1][0] = __lagrange_q[0];
         __lagrange_c[2][0] = __lagrange_qdot[0];
         __lagrange_c[3][0] = __lagrange_qdot[1];
@@ -749,56 +751,24 @@ mod __lagrange_HeavyTop_67f09420_kernels {
         __lagrange_c[11][0] = __lagrange_x22;
         __lagrange_c[12][0] = __lagrange_x23;
         __lagrange_c[13][0] = __lagrange_x33;
-        __lagrange_c[14][0] = __lagrange_x53;
-        __lagrange_c[15][0] = __lagrange_x54;
-        __lagrange_c[16][0] = __lagrange_x55;
-        __lagrange_c[17][0] = __lagrange_x56;
         __lagrange_c[18][0] = __lagrange_x57;
         __lagrange_c[19][0] = __lagrange_x58;
         __lagrange_c[20][0] = __lagrange_x59;
         __lagrange_c[21][0] = __lagrange_x60;
-        __lagrange_c[22][0] = __lagrange_x63;
-        __lagrange_c[23][0] = __lagrange_x65;
-        __lagrange_c[24][0] = __lagrange_x67;
-        __lagrange_c[25][0] = __lagrange_x68;
-        __lagrange_c[26][0] = __lagrange_x69;
-        __lagrange_c[27][0] = __lagrange_x72;
-        __lagrange_c[28][0] = __lagrange_x74;
         __lagrange_c[29][0] = __lagrange_x77;
         __lagrange_c[30][0] = __lagrange_x79;
-        __lagrange_c[31][0] = __lagrange_x80;
-        __lagrange_c[32][0] = __lagrange_x82;
-        __lagrange_c[33][0] = __lagrange_x85;
-        __lagrange_c[34][0] = __lagrange_x89;
-        __lagrange_c[35][0] = __lagrange_x91;
-        __lagrange_c[36][0] = __lagrange_x93;
         __lagrange_c[37][0] = __lagrange_x95;
         __lagrange_c[38][0] = __lagrange_x96;
         __lagrange_c[39][0] = __lagrange_x104;
         __lagrange_c[40][0] = __lagrange_x109;
         __lagrange_c[41][0] = __lagrange_x111;
         __lagrange_c[42][0] = __lagrange_x112;
-        __lagrange_c[43][0] = __lagrange_x113;
-        __lagrange_c[44][0] = __lagrange_x114;
         __lagrange_c[45][0] = __lagrange_x115;
-        __lagrange_c[46][0] = __lagrange_x116;
         __lagrange_c[47][0] = __lagrange_x117;
         __lagrange_c[48][0] = __lagrange_x118;
-        __lagrange_c[49][0] = __lagrange_x119;
-        __lagrange_c[50][0] = __lagrange_x120;
         __lagrange_c[51][0] = __lagrange_x121;
         __lagrange_c[52][0] = __lagrange_x122;
-        let __lagrange_r118: R = <R as ::core::convert::From<f64>>::from(1.0) / __lagrange_x117;
-        let __lagrange_r121: R = <R as ::core::convert::From<f64>>::from(1.0) / __lagrange_p_i_par;
-        let __lagrange_r122: R = <R as ::core::convert::From<f64>>::from(1.0) / __lagrange_p_i_perp;
         __lagrange_c[0][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        __lagrange_c[7][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        __lagrange_c[8][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        __lagrange_c[10][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        __lagrange_c[13][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        __lagrange_c[40][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        __lagrange_c[41][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        __lagrange_c[42][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         let __lagrange_ok = <R as ::lagrange::__private::Real>::EVERY_LANE
             & <R as ::lagrange::__private::Real>::nonzero(__lagrange_c[10][0])
             & <R as ::lagrange::__private::Real>::finite(__lagrange_c[10][0])
@@ -841,109 +811,43 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             }
         }
         let mut __lagrange_a: [R; 3];
-        let mut __lagrange_mh15: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh22: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh60: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh63: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh80: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh85: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh116: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh118: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh119: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh8: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh9: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m15: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m22: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m60: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m63: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m80: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m85: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m116: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m118: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m119: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m8: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m9: R = <R as ::lagrange::__private::Real>::ZERO;
         for __lagrange_k in 0..__lagrange_order {
             if __lagrange_k > 0 {
-                let __lagrange_h15: R = ::lagrange::__private::taylor::mul_newest(
-                    __lagrange_mh15,
-                    &__lagrange_c[5],
-                    &__lagrange_c[3],
-                    __lagrange_k,
-                );
-                let __lagrange_h22: R = ::lagrange::__private::taylor::mul_newest(
-                    __lagrange_mh22,
-                    &__lagrange_c[6],
-                    &__lagrange_c[3],
-                    __lagrange_k,
-                );
-                let __lagrange_h60: R = ::lagrange::__private::taylor::mul_newest(
-                    __lagrange_mh60,
-                    &__lagrange_c[5],
-                    &__lagrange_c[2],
-                    __lagrange_k,
-                );
-                let __lagrange_h63: R = ::lagrange::__private::taylor::mul_newest(
-                    __lagrange_mh63,
-                    &__lagrange_c[21],
-                    &__lagrange_c[3],
-                    __lagrange_k,
-                );
-                let __lagrange_h80: R = ::lagrange::__private::taylor::mul_newest(
-                    __lagrange_mh80,
-                    &__lagrange_c[9],
-                    &__lagrange_c[11],
-                    __lagrange_k,
-                );
-                let __lagrange_h85: R = ::lagrange::__private::taylor::mul_newest(
-                    __lagrange_mh85,
-                    &__lagrange_c[12],
-                    &__lagrange_c[9],
-                    __lagrange_k,
-                );
-                let __lagrange_h116: R = ::lagrange::__private::taylor::mul_newest(
-                    __lagrange_mh116,
-                    &__lagrange_c[45],
-                    &__lagrange_c[2],
-                    __lagrange_k,
-                );
-                let __lagrange_h118: R = ::lagrange::__private::taylor::mul_newest(
-                    __lagrange_mh118,
-                    &__lagrange_c[47],
-                    &__lagrange_c[48],
-                    __lagrange_k,
-                );
-                let __lagrange_h119: R = ::lagrange::__private::taylor::mul_newest(
-                    __lagrange_mh119,
-                    &__lagrange_c[48],
-                    &__lagrange_c[19],
-                    __lagrange_k,
-                );
-                let __lagrange_h8: R = ::lagrange::__private::taylor::deriv_newest(
-                    __lagrange_mh8,
-                    &__lagrange_c[1],
-                    &__lagrange_c[6],
-                    __lagrange_k,
-                );
-                let __lagrange_h9: R = ::lagrange::__private::taylor::deriv_newest(
-                    __lagrange_mh9,
-                    &__lagrange_c[1],
-                    &__lagrange_c[30],
-                    __lagrange_k,
-                );
                 __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
                 __lagrange_c[2][__lagrange_k] = __lagrange_out[__lagrange_k][1][0];
                 __lagrange_c[3][__lagrange_k] = __lagrange_out[__lagrange_k][1][1];
                 __lagrange_c[4][__lagrange_k] = __lagrange_out[__lagrange_k][1][2];
-                __lagrange_c[5][__lagrange_k] = ::lagrange::__private::taylor::deriv_finish(
-                    __lagrange_h8,
+                __lagrange_c[5][__lagrange_k] = __lagrange_rt::deriv_rest(
+                    __lagrange_m8,
                     &__lagrange_c[1],
                     &__lagrange_c[6],
                     __lagrange_k,
                 );
-                __lagrange_c[6][__lagrange_k] = ::lagrange::__private::taylor::deriv_finish(
-                    __lagrange_h9,
+                __lagrange_c[6][__lagrange_k] = __lagrange_rt::deriv_rest(
+                    __lagrange_m9,
                     &__lagrange_c[1],
                     &__lagrange_c[30],
                     __lagrange_k,
                 );
-                __lagrange_c[9][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
-                    __lagrange_h15,
+                __lagrange_c[9][__lagrange_k] = __lagrange_rt::mul_rest(
+                    __lagrange_m15,
                     &__lagrange_c[5],
                     &__lagrange_c[3],
                     __lagrange_k,
                 );
-                __lagrange_c[11][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
-                    __lagrange_h22,
+                __lagrange_c[11][__lagrange_k] = __lagrange_rt::mul_rest(
+                    __lagrange_m22,
                     &__lagrange_c[6],
                     &__lagrange_c[3],
                     __lagrange_k,
@@ -951,29 +855,29 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_c[12][__lagrange_k] =
                     __lagrange_c[4][__lagrange_k] + __lagrange_c[11][__lagrange_k];
                 __lagrange_c[19][__lagrange_k] = __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
-                __lagrange_c[21][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
-                    __lagrange_h60,
+                __lagrange_c[21][__lagrange_k] = __lagrange_rt::mul_rest(
+                    __lagrange_m60,
                     &__lagrange_c[5],
                     &__lagrange_c[2],
                     __lagrange_k,
                 );
-                __lagrange_c[22][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
-                    __lagrange_h63,
+                __lagrange_c[22][__lagrange_k] = __lagrange_rt::mul_rest(
+                    __lagrange_m63,
                     &__lagrange_c[21],
                     &__lagrange_c[3],
                     __lagrange_k,
                 );
                 let __lagrange_t77: R = __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
                 __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
-                __lagrange_c[31][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
-                    __lagrange_h80,
+                __lagrange_c[31][__lagrange_k] = __lagrange_rt::mul_rest(
+                    __lagrange_m80,
                     &__lagrange_c[9],
                     &__lagrange_c[11],
                     __lagrange_k,
                 );
                 let __lagrange_t82: R = __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
-                __lagrange_c[33][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
-                    __lagrange_h85,
+                __lagrange_c[33][__lagrange_k] = __lagrange_rt::mul_rest(
+                    __lagrange_m85,
                     &__lagrange_c[12],
                     &__lagrange_c[9],
                     __lagrange_k,
@@ -985,23 +889,23 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 let __lagrange_t113: R = __lagrange_x112 * __lagrange_c[11][__lagrange_k];
                 let __lagrange_t114: R = __lagrange_x111 * __lagrange_c[4][__lagrange_k];
                 __lagrange_c[45][__lagrange_k] = __lagrange_t113 + __lagrange_t114;
-                __lagrange_c[46][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
-                    __lagrange_h116,
+                __lagrange_c[46][__lagrange_k] = __lagrange_rt::mul_rest(
+                    __lagrange_m116,
                     &__lagrange_c[45],
                     &__lagrange_c[2],
                     __lagrange_k,
                 );
                 __lagrange_c[47][__lagrange_k] = __lagrange_x109 * __lagrange_c[5][__lagrange_k];
-                __lagrange_c[48][__lagrange_k] = ::lagrange::__private::taylor::div_finish(
-                    __lagrange_h118,
+                __lagrange_c[48][__lagrange_k] = __lagrange_rt::div_rest(
+                    __lagrange_m118,
                     __lagrange_c[46][__lagrange_k],
                     &__lagrange_c[47],
                     &__lagrange_c[48],
                     __lagrange_r118,
                     __lagrange_k,
                 );
-                __lagrange_c[49][__lagrange_k] = ::lagrange::__private::taylor::mul_finish(
-                    __lagrange_h119,
+                __lagrange_c[49][__lagrange_k] = __lagrange_rt::mul_rest(
+                    __lagrange_m119,
                     &__lagrange_c[48],
                     &__lagrange_c[19],
                     __lagrange_k,
@@ -1030,12 +934,12 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             __lagrange_out[__lagrange_k + 1][1][2] = __lagrange_a[2] * __lagrange_r;
             if __lagrange_k + 1 < __lagrange_order {
                 [
-                    __lagrange_mh15,
-                    __lagrange_mh22,
-                    __lagrange_mh60,
-                    __lagrange_mh63,
-                    __lagrange_mh80,
-                ] = ::lagrange::__private::taylor::muls_mid(
+                    __lagrange_m15,
+                    __lagrange_m22,
+                    __lagrange_m60,
+                    __lagrange_m63,
+                    __lagrange_m80,
+                ] = __lagrange_rt::muls_mid(
                     [
                         &__lagrange_c[5],
                         &__lagrange_c[6],
@@ -1053,11 +957,11 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                     __lagrange_k + 1,
                 );
                 [
-                    __lagrange_mh85,
-                    __lagrange_mh116,
-                    __lagrange_mh118,
-                    __lagrange_mh119,
-                ] = ::lagrange::__private::taylor::muls_mid(
+                    __lagrange_m85,
+                    __lagrange_m116,
+                    __lagrange_m118,
+                    __lagrange_m119,
+                ] = __lagrange_rt::muls_mid(
                     [
                         &__lagrange_c[12],
                         &__lagrange_c[45],
@@ -1072,7 +976,7 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                     ],
                     __lagrange_k + 1,
                 );
-                [__lagrange_mh8, __lagrange_mh9] = ::lagrange::__private::taylor::derivs_mid(
+                [__lagrange_m8, __lagrange_m9] = __lagrange_rt::derivs_mid(
                     [&__lagrange_c[1], &__lagrange_c[1]],
                     [&__lagrange_c[6], &__lagrange_c[30]],
                     __lagrange_k + 1,

@@ -334,13 +334,12 @@ mod __lagrange_Pendulum_2105f53a_kernels {
         <R as ::lagrange::__private::Real>::Mask,
         ::lagrange::__private::DynamicsError,
     > {
+        use ::lagrange::__private::taylor as __lagrange_rt;
         if __lagrange_out.len() < 2 {
             return ::core::result::Result::Ok(<R as ::lagrange::__private::Real>::EVERY_LANE);
         }
-        let __lagrange_order =
-            (__lagrange_out.len() - 1).min(::lagrange::__private::taylor::MAX_ORDER);
-        let __lagrange_c: &mut [::lagrange::__private::taylor::RowOf<R>; 10] =
-            __lagrange_buf.slots::<10>();
+        let __lagrange_order = (__lagrange_out.len() - 1).min(__lagrange_rt::MAX_ORDER);
+        let __lagrange_c: &mut [__lagrange_rt::RowOf<R>; 10] = __lagrange_buf.slots::<10>();
         let __lagrange_y0: [[R; 1]; 2] = __lagrange_out[0];
         let (__lagrange_q, __lagrange_qdot): (&[R; 1], &[R; 1]) =
             (&__lagrange_y0[0], &__lagrange_y0[1]);
@@ -363,13 +362,9 @@ mod __lagrange_Pendulum_2105f53a_kernels {
         __lagrange_c[2][0] = __lagrange_x10;
         __lagrange_c[3][0] = __lagrange_x18;
         __lagrange_c[4][0] = __lagrange_x19;
-        __lagrange_c[5][0] = __lagrange_x24;
         __lagrange_c[6][0] = __lagrange_x25;
-        __lagrange_c[7][0] = __lagrange_x26;
         __lagrange_c[8][0] = __lagrange_x27;
         __lagrange_c[0][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        __lagrange_c[2][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        __lagrange_c[3][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
         let (__lagrange_factor , __lagrange_ok) = << R as :: lagrange :: __private :: eom :: SeriesReal > :: Factor < 1 > as :: lagrange :: __private :: eom :: SeriesFactor < R , 1 >> :: new (& [[__lagrange_c [2] [0]]] , & [__lagrange_c [8] [0]] , __lagrange_names , __lagrange_q , __lagrange_qdot , __lagrange_t) ;
         if let ::core::option::Option::Some(__lagrange_e) =
             ::lagrange::__private::eom::SeriesFactor::error(
@@ -383,33 +378,21 @@ mod __lagrange_Pendulum_2105f53a_kernels {
             return ::core::result::Result::Err(__lagrange_e);
         }
         let mut __lagrange_a = [<R as ::lagrange::__private::Real>::ZERO; 1];
-        let mut __lagrange_mh19: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_mh24: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m19: R = <R as ::lagrange::__private::Real>::ZERO;
+        let mut __lagrange_m24: R = <R as ::lagrange::__private::Real>::ZERO;
         for __lagrange_k in 0..__lagrange_order {
             let __lagrange_b: [R; 1] = if __lagrange_k == 0 {
                 [__lagrange_c[8][0]]
             } else {
-                let __lagrange_h19: R = ::lagrange::__private::taylor::deriv_newest(
-                    __lagrange_mh19,
-                    &__lagrange_c[1],
-                    &__lagrange_c[6],
-                    __lagrange_k,
-                );
-                let __lagrange_h24: R = ::lagrange::__private::taylor::deriv_newest(
-                    __lagrange_mh24,
-                    &__lagrange_c[1],
-                    &__lagrange_c[4],
-                    __lagrange_k,
-                );
                 __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
-                __lagrange_c[4][__lagrange_k] = ::lagrange::__private::taylor::deriv_finish(
-                    __lagrange_h19,
+                __lagrange_c[4][__lagrange_k] = __lagrange_rt::deriv_rest(
+                    __lagrange_m19,
                     &__lagrange_c[1],
                     &__lagrange_c[6],
                     __lagrange_k,
                 );
-                __lagrange_c[5][__lagrange_k] = ::lagrange::__private::taylor::deriv_finish(
-                    __lagrange_h24,
+                __lagrange_c[5][__lagrange_k] = __lagrange_rt::deriv_rest(
+                    __lagrange_m24,
                     &__lagrange_c[1],
                     &__lagrange_c[4],
                     __lagrange_k,
@@ -434,7 +417,7 @@ mod __lagrange_Pendulum_2105f53a_kernels {
                 __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
             if __lagrange_k + 1 < __lagrange_order {
-                [__lagrange_mh19, __lagrange_mh24] = ::lagrange::__private::taylor::derivs_mid(
+                [__lagrange_m19, __lagrange_m24] = __lagrange_rt::derivs_mid(
                     [&__lagrange_c[1], &__lagrange_c[1]],
                     [&__lagrange_c[6], &__lagrange_c[4]],
                     __lagrange_k + 1,

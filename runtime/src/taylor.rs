@@ -430,8 +430,9 @@ pub fn derivs_known<T: Real, const M: usize>(
     known(a, d, k, true)
 }
 
-/// Coefficient k ≥ 1 of c = f(a) from its known part h ([`derivs_known`]): h / k + a_k d₀ (the
-/// division by k reads h alone, so it is off the chain through a_k).
+/// Coefficient k ≥ 1 of c = f(a) from its known part h ([`derivs_known`]): h · (1/k) + a_k d₀
+/// (1/k depends on nothing computed, so no division is on the chain from one order to the next:
+/// measured, h / k put one there).
 ///
 /// ```
 /// use lagrange_runtime::taylor::deriv_finish;
@@ -441,7 +442,7 @@ pub fn derivs_known<T: Real, const M: usize>(
 /// ```
 #[inline(always)]
 pub fn deriv_finish<T: Real>(h: T, a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    a[k].madd(d[0], h / k as f64)
+    a[k].madd(d[0], h * (1.0 / k as f64))
 }
 
 /// Coefficient k ≥ 1 of c = a / b from the known part h = Σ_{j=1..k−1} b_j c_{k−j}
@@ -472,6 +473,84 @@ pub fn div_finish<T: Real>(h: T, a_k: T, b: &RowOf<T>, c: &RowOf<T>, r: T, k: us
 #[inline(always)]
 pub fn tail_finish<T: Real>(h: T, m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
     m[k].madd(a[0], h)
+}
+
+/// Coefficient k ≥ 1 of a·b from [`muls_mid`]'s part m: [`mul_newest`], then [`mul_finish`]
+/// (what the generated series calls per product and order).
+///
+/// ```
+/// use lagrange_runtime::taylor::{mul, mul_rest, muls_mid};
+/// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
+/// for j in 0..7 { (a[j], b[j]) = (1.0 + j as f64, 2.0 - j as f64); }
+/// let [m] = muls_mid([&a], [&b], 6);
+/// assert_eq!(mul_rest(m, &a, &b, 6), mul(&a, &b, 6));
+/// ```
+#[inline(always)]
+pub fn mul_rest<T: Real>(m: T, a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
+    mul_finish(mul_newest(m, a, b, k), a, b, k)
+}
+
+/// Coefficient k ≥ 1 of a² from [`sqrs_mid`]'s part m: [`sqr_newest`], then [`sqr_finish`].
+///
+/// ```
+/// use lagrange_runtime::taylor::{sqr, sqr_rest, sqrs_mid};
+/// let mut a = [0.0; 33];
+/// for j in 0..7 { a[j] = 1.0 + j as f64; }
+/// let [m] = sqrs_mid([&a], 6);
+/// assert_eq!(sqr_rest(m, &a, 6), sqr(&a, 6));
+/// ```
+#[inline(always)]
+pub fn sqr_rest<T: Real>(m: T, a: &RowOf<T>, k: usize) -> T {
+    sqr_finish(sqr_newest(m, a, k), a, k)
+}
+
+/// Coefficient k ≥ 1 of f(a) from [`derivs_mid`]'s part m: [`deriv_newest`], then
+/// [`deriv_finish`].
+///
+/// ```
+/// use lagrange_runtime::taylor::{deriv, deriv_rest, derivs_mid};
+/// let (mut a, mut d) = ([0.0; 33], [0.0; 33]);
+/// for j in 0..7 { (a[j], d[j]) = (1.0 + j as f64, 2.0 - j as f64); }
+/// let [m] = derivs_mid([&a], [&d], 6);
+/// assert_eq!(deriv_rest(m, &a, &d, 6), deriv(&a, &d, 6));
+/// ```
+#[inline(always)]
+pub fn deriv_rest<T: Real>(m: T, a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
+    deriv_finish(deriv_newest(m, a, d, k), a, d, k)
+}
+
+/// Coefficient k ≥ 1 of a / b from [`muls_mid`]'s part m of b and c, a_k and r = 1 / b₀:
+/// [`mul_newest`], then [`div_finish`].
+///
+/// ```
+/// use lagrange_runtime::taylor::{div_rest, muls_mid};
+/// // 1 / (1 − τ) = 1 + τ + τ² + …
+/// let (mut b, mut c) = ([0.0; 33], [0.0; 33]);
+/// (b[0], b[1], c[0]) = (1.0, -1.0, 1.0);
+/// for k in 1..6 {
+///     let [m] = muls_mid([&b], [&c], k);
+///     c[k] = div_rest(m, 0.0, &b, &c, 1.0, k);
+/// }
+/// assert_eq!(&c[..6], &[1.0; 6]);
+/// ```
+#[inline(always)]
+pub fn div_rest<T: Real>(m: T, a_k: T, b: &RowOf<T>, c: &RowOf<T>, r: T, k: usize) -> T {
+    div_finish(mul_newest(m, b, c, k), a_k, b, c, r, k)
+}
+
+/// The mass tail Σ_{j=1..k} m_j a_{k−j} from [`muls_mid`]'s part `mid` of m and a:
+/// [`mul_newest`], then [`tail_finish`].
+///
+/// ```
+/// use lagrange_runtime::taylor::{mass_tail, muls_mid, tail_rest};
+/// let (mut m, mut a) = ([0.0; 33], [0.0; 33]);
+/// for j in 0..7 { (m[j], a[j]) = (1.0 + j as f64, 2.0 - j as f64); }
+/// let [mid] = muls_mid([&m], [&a], 6);
+/// assert_eq!(tail_rest(mid, &m, &a, 6), mass_tail(&m, &a, 6));
+/// ```
+#[inline(always)]
+pub fn tail_rest<T: Real>(mid: T, m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
+    tail_finish(mul_newest(mid, m, a, k), m, a, k)
 }
 
 /// Coefficient k of a·b: Σ_{j=0..k} a_j b_{k−j}.

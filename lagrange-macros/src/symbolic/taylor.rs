@@ -477,26 +477,14 @@ impl Program<'_> {
             names::taylor("b"),
             names::taylor("a"),
         );
-        let rt = quote!(::lagrange::__private::taylor);
+        // The runtime's kernels under a short local name (the series calls one per node and order).
+        let rt = names::taylor("rt");
+        let rt = quote!(#rt);
         let sl = |x: Id| Literal::usize_unsuffixed(slot[x as usize]);
         let op = |x: Id| codegen::operand_as(dag, &d.fields, x, Some(&num));
         // Order 0: the straight-line values of every needed node.
         let stmts0 = codegen::emit_as(dag, &d.fields, &d.conds, ids, Some(&num)).values;
         let mut set0 = TokenStream::new();
-        // Slots with no coefficient past order 0 (constants, steps, the zero series): zeroed, since
-        // the buffer may have held another layout.
-        let mut flat = vec![Literal::usize_unsuffixed(0)];
-        for &id in ids {
-            let s = sl(id);
-            let v = op(id);
-            set0.extend(quote!(#c[#s][0] = #v;));
-            if matches!(
-                rules[id as usize],
-                Some(Rule::Constant | Rule::Deriv(_, Dag::ZERO))
-            ) {
-                flat.push(s);
-            }
-        }
         // 1 / b₀ of each quotient a / b the orders ≥ 1 compute (`taylor::div_finish`; by a constant
         // b, each coefficient is a_k · (1 / b)): a multiplication on the chain of an order where
         // a division was (measured: the heavy top's θ̈ = f_θ / I⊥ ended each order in a divsd).
@@ -528,6 +516,8 @@ impl Program<'_> {
         // quotient's numerator: read at their own order only) are locals of the order: no store,
         // no row in the cache.
         let mut kept = vec![false; dag.len()];
+        // Whether a kernel reads a node's row (not only its coefficient of the same order).
+        let mut row_read = vec![false; dag.len()];
         for &id in ids {
             let Some(r) = rules.get(id as usize).and_then(Option::as_ref) else {
                 continue;
@@ -545,6 +535,11 @@ impl Program<'_> {
                 if let Some(k) = kept.get_mut(x as usize) {
                     *k = true;
                 }
+                if x != id {
+                    if let Some(k) = row_read.get_mut(x as usize) {
+                        *k = true;
+                    }
+                }
             }
         }
         for &(i, l) in &tails {
@@ -553,6 +548,35 @@ impl Program<'_> {
         for &x in self.explicit.map_or(&[][..], |e| e.accel) {
             if let Some(k) = kept.get_mut(x as usize) {
                 *k = true;
+            }
+        }
+        // Order 0 of every row (the kernels read it at every order) and of what the solve, its
+        // error or the tests read at order 0 (M₀, b₀, the divisors); the other nodes' order-0
+        // values are the straight-line locals above.
+        let mut order0: BTreeSet<Id> = BTreeSet::new();
+        for (i, row) in d.mass.iter().enumerate() {
+            order0.extend(row.iter().skip(i).copied());
+        }
+        order0.extend(&d.rhs);
+        order0.extend(self.explicit.map_or(&[][..], |e| e.tests));
+        // A node constant past order 0 (a constant, a step, the zero series) has coefficients
+        // k ≥ 1 of zero: read as zero where an order computes, its row zeroed (the buffer may
+        // have held another layout) only where a kernel reads it as a row.
+        let flat_rule = |x: Id| {
+            matches!(
+                rules.get(x as usize).and_then(Option::as_ref),
+                Some(Rule::Constant | Rule::Deriv(_, Dag::ZERO))
+            )
+        };
+        let mut flat = vec![Literal::usize_unsuffixed(0)];
+        for &id in ids {
+            let s = sl(id);
+            if kept[id as usize] || order0.contains(&id) {
+                let v = op(id);
+                set0.extend(quote!(#c[#s][0] = #v;));
+            }
+            if flat_rule(id) && row_read[id as usize] {
+                flat.push(s);
             }
         }
         let local = |x: Id| {
@@ -570,9 +594,11 @@ impl Program<'_> {
                 )
         };
         let local_name = |x: Id| names::taylor(&format!("t{x}"));
-        // Coefficient k of x: its local or its row.
+        // Coefficient k of x: zero, its local or its row.
         let at = |x: Id| {
-            if local(x) {
+            if flat_rule(x) {
+                zero.clone()
+            } else if local(x) {
                 let t = local_name(x);
                 quote!(#t)
             } else {
@@ -580,19 +606,20 @@ impl Program<'_> {
                 quote!(#c[#s][#k])
             }
         };
-        let known_name = |x: Id| names::taylor(&format!("h{x}"));
+        let mid_name = |x: Id| names::taylor(&format!("m{x}"));
         let reciprocal_name = |x: Id| names::taylor(&format!("r{x}"));
-        let tail_known = |t: usize| names::taylor(&format!("htail{t}"));
+        let tail_mid = |t: usize| names::taylor(&format!("mtail{t}"));
         let tail_name = |t: usize| names::taylor(&format!("tail{t}"));
-        // Orders ≥ 1, in two passes. First the known part of every convolution of the order (the
-        // terms that read only coefficients below k), side by side in groups of up to [`GROUP`]
-        // per kind: none reads another, so they are all in flight at once. Then node by node,
-        // each after what it reads at order k ([`kernel_order`]), the O(1) rest (a product's
-        // a₀ b_k + a_k b₀, a function's k a_k d₀, …). The chain of sums each order waits for is
-        // then the few terms per node, not a convolution per level.
+        // Orders ≥ 1, software-pipelined. Every convolution's sum Σ_{j=2..k−2} (the terms that
+        // read coefficients below k − 1) is computed for order k + 1 right after order k is
+        // stored, side by side in groups of up to [`GROUP`] per kind: none reads another, nor
+        // anything order k is still computing, so they overlap order k's chain. Order k then
+        // finishes node by node, each after what it reads at order k ([`kernel_order`]), with
+        // the O(1) rest (the terms that read k − 1 and k: a product's a₀ b_k + a_k b₀, …). The
+        // chain each order waits for is a few multiply-adds per node, not a convolution per level.
         let pass = |list: &[Id]| -> Option<Pass> {
-            // (known part, x, y) of the sums Σ_{j=1..k−1} x_j y_{k−j}: products, quotients
-            // (divisor and own series) and the mass tails.
+            // (its part's local, x, y) of the sums Σ x_j y_{k−j}: products, quotients (divisor
+            // and own series) and the mass tails.
             let mut products: Vec<(proc_macro2::Ident, Literal, Literal)> = Vec::new();
             let mut squares: Vec<(proc_macro2::Ident, Literal)> = Vec::new();
             let mut functions: Vec<(proc_macro2::Ident, Literal, Literal)> = Vec::new();
@@ -611,7 +638,7 @@ impl Program<'_> {
                     .unwrap_or(0);
                 ready.insert(id, latest + if convolves(r) { 2 } else { 1 });
                 let s = sl(id);
-                let h = known_name(id);
+                let h = mid_name(id);
                 let value = match *r {
                     Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
                     Rule::Mul(x, y) => {
@@ -619,22 +646,22 @@ impl Program<'_> {
                         let (x, y) = if later(y) > later(x) { (y, x) } else { (x, y) };
                         let (x, y) = (sl(x), sl(y));
                         products.push((h.clone(), x.clone(), y.clone()));
-                        quote!(#rt::mul_finish(#h, &#c[#x], &#c[#y], #k))
+                        quote!(#rt::mul_rest(#h, &#c[#x], &#c[#y], #k))
                     }
                     Rule::Sqr(x) => {
                         let x = sl(x);
                         squares.push((h.clone(), x.clone()));
-                        quote!(#rt::sqr_finish(#h, &#c[#x], #k))
+                        quote!(#rt::sqr_rest(#h, &#c[#x], #k))
                     }
                     Rule::Deriv(x, dd) => {
                         let (x, dd) = (sl(x), sl(dd));
                         functions.push((h.clone(), x.clone(), dd.clone()));
-                        quote!(#rt::deriv_finish(#h, &#c[#x], &#c[#dd], #k))
+                        quote!(#rt::deriv_rest(#h, &#c[#x], &#c[#dd], #k))
                     }
                     Rule::Div(x, y) => {
                         let (x, y, r) = (at(x), sl(y), reciprocal_name(id));
                         products.push((h.clone(), y.clone(), s.clone()));
-                        quote!(#rt::div_finish(#h, #x, &#c[#y], &#c[#s], #r, #k))
+                        quote!(#rt::div_rest(#h, #x, &#c[#y], &#c[#s], #r, #k))
                     }
                     Rule::Leaf => match dag.node(id) {
                         Node::Q(i) => {
@@ -689,34 +716,24 @@ impl Program<'_> {
                 }
             }
             for (t, &(i, l)) in tails.iter().enumerate() {
-                products.push((tail_known(t), sl(entry(i, l)), accel[l].clone()));
+                products.push((tail_mid(t), sl(entry(i, l)), accel[l].clone()));
             }
             // Each sum's part that reads below k − 1 is a mutable local across orders (`m…`),
             // computed for order k + 1 right after order k is finished (`next`); order k completes
-            // it with the terms that read k − 1 (`h…`) before finishing its nodes.
-            let mid = |h: &proc_macro2::Ident| {
-                names::taylor(&format!("m{}", &h.to_string()["__lagrange_".len()..]))
-            };
-            let (mut decls, mut newest, mut next) =
-                (TokenStream::new(), TokenStream::new(), TokenStream::new());
-            for (h, x, y) in &products {
-                let m = mid(h);
+            // it with the terms that read k − 1 and k (`taylor::mul_rest`, …).
+            let mut decls = TokenStream::new();
+            for m in products
+                .iter()
+                .map(|j| &j.0)
+                .chain(squares.iter().map(|j| &j.0))
+                .chain(functions.iter().map(|j| &j.0))
+            {
                 decls.extend(quote!(let mut #m: #num = #zero;));
-                newest.extend(quote!(let #h: #num = #rt::mul_newest(#m, &#c[#x], &#c[#y], #k);));
             }
-            for (h, x) in &squares {
-                let m = mid(h);
-                decls.extend(quote!(let mut #m: #num = #zero;));
-                newest.extend(quote!(let #h: #num = #rt::sqr_newest(#m, &#c[#x], #k);));
-            }
-            for (h, x, y) in &functions {
-                let m = mid(h);
-                decls.extend(quote!(let mut #m: #num = #zero;));
-                newest.extend(quote!(let #h: #num = #rt::deriv_newest(#m, &#c[#x], &#c[#y], #k);));
-            }
+            let mut next = TokenStream::new();
             let k1 = quote!(#k + 1);
             for group in balanced(&products) {
-                let ms = group.iter().map(|j| mid(&j.0));
+                let ms = group.iter().map(|j| &j.0);
                 let xs = group.iter().map(|j| &j.1);
                 let ys = group.iter().map(|j| &j.2);
                 next.extend(quote! {
@@ -724,14 +741,14 @@ impl Program<'_> {
                 });
             }
             for group in balanced(&squares) {
-                let ms = group.iter().map(|j| mid(&j.0));
+                let ms = group.iter().map(|j| &j.0);
                 let xs = group.iter().map(|j| &j.1);
                 next.extend(quote! {
                     [#(#ms),*] = #rt::sqrs_mid([#(&#c[#xs]),*], #k1);
                 });
             }
             for group in balanced(&functions) {
-                let ms = group.iter().map(|j| mid(&j.0));
+                let ms = group.iter().map(|j| &j.0);
                 let xs = group.iter().map(|j| &j.1);
                 let ys = group.iter().map(|j| &j.2);
                 next.extend(quote! {
@@ -740,7 +757,7 @@ impl Program<'_> {
             }
             Some(Pass {
                 decls,
-                step: quote!(#newest #finish),
+                step: finish,
                 next,
             })
         };
@@ -801,8 +818,8 @@ impl Program<'_> {
                     quote!(#f #(#tail)*)
                 });
                 let tail_finish = tails.iter().enumerate().map(|(t, &(i, l))| {
-                    let (v, h, m, al) = (tail_name(t), tail_known(t), sl(entry(i, l)), &accel[l]);
-                    quote!(let #v: #num = #rt::tail_finish(#h, &#c[#m], &#c[#al], #k);)
+                    let (v, h, m, al) = (tail_name(t), tail_mid(t), sl(entry(i, l)), &accel[l]);
+                    quote!(let #v: #num = #rt::tail_rest(#h, &#c[#m], &#c[#al], #k);)
                 });
                 quote! {
                     // A single run pivots where M₀ has no LDLᵀ (or returns why it is singular); a
@@ -887,8 +904,9 @@ impl Program<'_> {
                 #names_: [&'static str; #nn],
                 #t: #num,
                 #out: &mut [[[#num; #nn]; 2]],
-                #buf: &mut #rt::SeriesBuf<#num>,
+                #buf: &mut ::lagrange::__private::taylor::SeriesBuf<#num>,
             ) -> ::core::result::Result<<#num as #real>::Mask, ::lagrange::__private::DynamicsError> {
+                use ::lagrange::__private::taylor as #rt;
                 if #out.len() < 2 {
                     return ::core::result::Result::Ok(<#num as #real>::EVERY_LANE);
                 }
