@@ -19,6 +19,7 @@
 
 use crate::lagrangian::Lagrangian;
 use crate::lanes::Lanes;
+use crate::real::Real;
 use crate::taylor::{MAX_ORDER, TaylorBuf};
 
 use super::state::Stats;
@@ -318,17 +319,53 @@ fn rho(s: f64, n: f64, k: usize) -> f64 {
     }
 }
 
-/// Σ x_k τ^k by Horner's rule.
-pub(super) fn horner<const N: usize>(series: &[Y<N>], tau: f64) -> Y<N> {
-    let mut y = series[series.len() - 1];
-    for x in series.iter().rev().skip(1) {
-        for c in 0..2 {
-            for i in 0..N {
-                y[c][i] = y[c][i] * tau + x[c][i];
+/// Σ x_k τ^k for every component, over any [`Real`] (single runs, their dense output and the
+/// lanes engine's members: one body): Horner's rule in τ² on the even and on the odd
+/// coefficients side by side, then even + τ·odd — two chains of ⌈n/2⌉ multiply-adds where one
+/// chain of n was (the sum's latency, not its arithmetic, bounds it: 6 components). Never fused
+/// (not `Real::madd`): a member of an ensemble on the fused lanes sums its step as its single run
+/// does, bit for bit.
+pub(crate) fn horner<R: Real, const N: usize>(series: &[YOf<R, N>], tau: R) -> YOf<R, N> {
+    let n = series.len();
+    let Some(&last) = series.last() else {
+        return [[R::ZERO; N]; 2];
+    };
+    if n == 1 {
+        return last;
+    }
+    let t2 = tau * tau;
+    // The highest even and odd indices, and the chains started there.
+    let (top_even, top_odd) = if n % 2 == 1 {
+        (n - 1, n - 2)
+    } else {
+        (n - 2, n - 1)
+    };
+    let (mut even, mut odd) = (series[top_even], series[top_odd]);
+    for j in (0..=(n - 1) / 2).rev() {
+        let (ke, ko) = (2 * j, 2 * j + 1);
+        if ke < top_even {
+            let x = &series[ke];
+            for c in 0..2 {
+                for i in 0..N {
+                    even[c][i] = even[c][i] * t2 + x[c][i];
+                }
+            }
+        }
+        if ko < top_odd {
+            let x = &series[ko];
+            for c in 0..2 {
+                for i in 0..N {
+                    odd[c][i] = odd[c][i] * t2 + x[c][i];
+                }
             }
         }
     }
-    y
+    for c in 0..2 {
+        for i in 0..N {
+            even[c][i] = odd[c][i] * tau + even[c][i];
+        }
+    }
+    even
 }
 
 impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Taylor<'_, L, N> {

@@ -104,8 +104,8 @@ pub(super) fn run<
         }
         // Each lane whose series the vector code gave, at the order every busy lane has, plans its
         // step from the largest |coefficient| of orders 0, p − 1 and p (its own scalar step
-        // size); the sums at those steps are then one pass of vector code (Horner's rule, the
-        // operations of the scalar sum in every lane). The others take their series and step
+        // size); the sums at those steps are then one pass of vector code (`taylor::horner`, the
+        // scalar sum's body in every lane). The others take their series and step
         // on their own.
         let p = min_order;
         // Whether lane l's series is the vector code's and finite to its member's order.
@@ -133,17 +133,10 @@ pub(super) fn run<
                 tau.0[l] = h;
             }
         }
-        let y1 = plans.iter().any(Option::is_some).then(|| {
-            let mut y = series[p];
-            for row in series[..p].iter().rev() {
-                for (yc, xc) in y.iter_mut().zip(row) {
-                    for (v, x) in yc.iter_mut().zip(xc) {
-                        *v = *v * tau + *x;
-                    }
-                }
-            }
-            y
-        });
+        let y1 = plans
+            .iter()
+            .any(Option::is_some)
+            .then(|| crate::integrate::taylor::horner(&series[..=p], tau));
         for l in 0..W {
             let Some(s) = slots[l].as_mut() else { continue };
             let r = &mut s.run;
