@@ -811,17 +811,6 @@ mod __lagrange_HeavyTop_67f09420_kernels {
             }
         }
         let mut __lagrange_a: [R; 3];
-        let mut __lagrange_m15: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m22: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m60: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m63: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m80: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m85: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m116: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m118: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m119: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m8: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m9: R = <R as ::lagrange::__private::Real>::ZERO;
         for __lagrange_k in 0..__lagrange_order {
             if __lagrange_k > 0 {
                 __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
@@ -829,25 +818,25 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_c[3][__lagrange_k] = __lagrange_out[__lagrange_k][1][1];
                 __lagrange_c[4][__lagrange_k] = __lagrange_out[__lagrange_k][1][2];
                 __lagrange_c[5][__lagrange_k] = __lagrange_rt::deriv_rest(
-                    __lagrange_m8,
+                    __lagrange_c[5][__lagrange_k],
                     &__lagrange_c[1],
                     &__lagrange_c[6],
                     __lagrange_k,
                 );
                 __lagrange_c[6][__lagrange_k] = __lagrange_rt::deriv_rest(
-                    __lagrange_m9,
+                    __lagrange_c[6][__lagrange_k],
                     &__lagrange_c[1],
                     &__lagrange_c[30],
                     __lagrange_k,
                 );
                 __lagrange_c[9][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_m15,
+                    __lagrange_c[9][__lagrange_k],
                     &__lagrange_c[5],
                     &__lagrange_c[3],
                     __lagrange_k,
                 );
                 __lagrange_c[11][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_m22,
+                    __lagrange_c[11][__lagrange_k],
                     &__lagrange_c[6],
                     &__lagrange_c[3],
                     __lagrange_k,
@@ -856,13 +845,13 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                     __lagrange_c[4][__lagrange_k] + __lagrange_c[11][__lagrange_k];
                 __lagrange_c[19][__lagrange_k] = __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
                 __lagrange_c[21][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_m60,
+                    __lagrange_c[21][__lagrange_k],
                     &__lagrange_c[5],
                     &__lagrange_c[2],
                     __lagrange_k,
                 );
                 __lagrange_c[22][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_m63,
+                    __lagrange_c[22][__lagrange_k],
                     &__lagrange_c[21],
                     &__lagrange_c[3],
                     __lagrange_k,
@@ -870,14 +859,14 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 let __lagrange_t77: R = __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
                 __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
                 __lagrange_c[31][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_m80,
+                    __lagrange_c[31][__lagrange_k],
                     &__lagrange_c[9],
                     &__lagrange_c[11],
                     __lagrange_k,
                 );
                 let __lagrange_t82: R = __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
                 __lagrange_c[33][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_m85,
+                    __lagrange_c[33][__lagrange_k],
                     &__lagrange_c[12],
                     &__lagrange_c[9],
                     __lagrange_k,
@@ -890,14 +879,14 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 let __lagrange_t114: R = __lagrange_x111 * __lagrange_c[4][__lagrange_k];
                 __lagrange_c[45][__lagrange_k] = __lagrange_t113 + __lagrange_t114;
                 __lagrange_c[46][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_m116,
+                    __lagrange_c[46][__lagrange_k],
                     &__lagrange_c[45],
                     &__lagrange_c[2],
                     __lagrange_k,
                 );
                 __lagrange_c[47][__lagrange_k] = __lagrange_x109 * __lagrange_c[5][__lagrange_k];
                 __lagrange_c[48][__lagrange_k] = __lagrange_rt::div_rest(
-                    __lagrange_m118,
+                    __lagrange_c[48][__lagrange_k],
                     __lagrange_c[46][__lagrange_k],
                     &__lagrange_c[47],
                     &__lagrange_c[48],
@@ -905,7 +894,7 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                     __lagrange_k,
                 );
                 __lagrange_c[49][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_m119,
+                    __lagrange_c[49][__lagrange_k],
                     &__lagrange_c[48],
                     &__lagrange_c[19],
                     __lagrange_k,
@@ -933,54 +922,62 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_out[__lagrange_k][1][2] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][2] = __lagrange_a[2] * __lagrange_r;
             if __lagrange_k + 1 < __lagrange_order {
-                [
-                    __lagrange_m15,
-                    __lagrange_m22,
-                    __lagrange_m60,
-                    __lagrange_m63,
-                    __lagrange_m80,
-                ] = __lagrange_rt::muls_mid(
-                    [
-                        &__lagrange_c[5],
-                        &__lagrange_c[6],
-                        &__lagrange_c[5],
-                        &__lagrange_c[21],
-                        &__lagrange_c[9],
-                    ],
-                    [
-                        &__lagrange_c[3],
-                        &__lagrange_c[3],
-                        &__lagrange_c[2],
-                        &__lagrange_c[3],
-                        &__lagrange_c[11],
-                    ],
-                    __lagrange_k + 1,
-                );
-                [
-                    __lagrange_m85,
-                    __lagrange_m116,
-                    __lagrange_m118,
-                    __lagrange_m119,
-                ] = __lagrange_rt::muls_mid(
-                    [
-                        &__lagrange_c[12],
-                        &__lagrange_c[45],
-                        &__lagrange_c[47],
-                        &__lagrange_c[48],
-                    ],
-                    [
-                        &__lagrange_c[9],
-                        &__lagrange_c[2],
-                        &__lagrange_c[48],
-                        &__lagrange_c[19],
-                    ],
-                    __lagrange_k + 1,
-                );
-                [__lagrange_m8, __lagrange_m9] = __lagrange_rt::derivs_mid(
-                    [&__lagrange_c[1], &__lagrange_c[1]],
-                    [&__lagrange_c[6], &__lagrange_c[30]],
-                    __lagrange_k + 1,
-                );
+                {
+                    let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3, __lagrange_g4] =
+                        __lagrange_rt::muls_mid(
+                            [
+                                &__lagrange_c[5],
+                                &__lagrange_c[6],
+                                &__lagrange_c[5],
+                                &__lagrange_c[21],
+                                &__lagrange_c[9],
+                            ],
+                            [
+                                &__lagrange_c[3],
+                                &__lagrange_c[3],
+                                &__lagrange_c[2],
+                                &__lagrange_c[3],
+                                &__lagrange_c[11],
+                            ],
+                            __lagrange_k + 1,
+                        );
+                    __lagrange_c[9][__lagrange_k + 1] = __lagrange_g0;
+                    __lagrange_c[11][__lagrange_k + 1] = __lagrange_g1;
+                    __lagrange_c[21][__lagrange_k + 1] = __lagrange_g2;
+                    __lagrange_c[22][__lagrange_k + 1] = __lagrange_g3;
+                    __lagrange_c[31][__lagrange_k + 1] = __lagrange_g4;
+                }
+                {
+                    let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3] =
+                        __lagrange_rt::muls_mid(
+                            [
+                                &__lagrange_c[12],
+                                &__lagrange_c[45],
+                                &__lagrange_c[47],
+                                &__lagrange_c[48],
+                            ],
+                            [
+                                &__lagrange_c[9],
+                                &__lagrange_c[2],
+                                &__lagrange_c[48],
+                                &__lagrange_c[19],
+                            ],
+                            __lagrange_k + 1,
+                        );
+                    __lagrange_c[33][__lagrange_k + 1] = __lagrange_g0;
+                    __lagrange_c[46][__lagrange_k + 1] = __lagrange_g1;
+                    __lagrange_c[48][__lagrange_k + 1] = __lagrange_g2;
+                    __lagrange_c[49][__lagrange_k + 1] = __lagrange_g3;
+                }
+                {
+                    let [__lagrange_g0, __lagrange_g1] = __lagrange_rt::derivs_mid(
+                        [&__lagrange_c[1], &__lagrange_c[1]],
+                        [&__lagrange_c[6], &__lagrange_c[30]],
+                        __lagrange_k + 1,
+                    );
+                    __lagrange_c[5][__lagrange_k + 1] = __lagrange_g0;
+                    __lagrange_c[6][__lagrange_k + 1] = __lagrange_g1;
+                }
             }
         }
         for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {

@@ -378,21 +378,19 @@ mod __lagrange_Pendulum_2105f53a_kernels {
             return ::core::result::Result::Err(__lagrange_e);
         }
         let mut __lagrange_a = [<R as ::lagrange::__private::Real>::ZERO; 1];
-        let mut __lagrange_m19: R = <R as ::lagrange::__private::Real>::ZERO;
-        let mut __lagrange_m24: R = <R as ::lagrange::__private::Real>::ZERO;
         for __lagrange_k in 0..__lagrange_order {
             let __lagrange_b: [R; 1] = if __lagrange_k == 0 {
                 [__lagrange_c[8][0]]
             } else {
                 __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
                 __lagrange_c[4][__lagrange_k] = __lagrange_rt::deriv_rest(
-                    __lagrange_m19,
+                    __lagrange_c[4][__lagrange_k],
                     &__lagrange_c[1],
                     &__lagrange_c[6],
                     __lagrange_k,
                 );
                 __lagrange_c[5][__lagrange_k] = __lagrange_rt::deriv_rest(
-                    __lagrange_m24,
+                    __lagrange_c[5][__lagrange_k],
                     &__lagrange_c[1],
                     &__lagrange_c[4],
                     __lagrange_k,
@@ -417,11 +415,15 @@ mod __lagrange_Pendulum_2105f53a_kernels {
                 __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
             if __lagrange_k + 1 < __lagrange_order {
-                [__lagrange_m19, __lagrange_m24] = __lagrange_rt::derivs_mid(
-                    [&__lagrange_c[1], &__lagrange_c[1]],
-                    [&__lagrange_c[6], &__lagrange_c[4]],
-                    __lagrange_k + 1,
-                );
+                {
+                    let [__lagrange_g0, __lagrange_g1] = __lagrange_rt::derivs_mid(
+                        [&__lagrange_c[1], &__lagrange_c[1]],
+                        [&__lagrange_c[6], &__lagrange_c[4]],
+                        __lagrange_k + 1,
+                    );
+                    __lagrange_c[4][__lagrange_k + 1] = __lagrange_g0;
+                    __lagrange_c[5][__lagrange_k + 1] = __lagrange_g1;
+                }
             }
         }
         for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {

@@ -18,7 +18,16 @@
 //! The equations of motion M(q, q̇, t) q̈ = f(q, q̇, t) become, order by order,
 //! M₀ a_k = f_k − Σ_{j=1..k} M_j a_{k−j} (a = q̈): one factorization of M₀
 //! ([`Factor`](crate::eom::Factor), with the other solves of the equations of motion) serves every
-//! order, and q_{k+1} = q̇_k/(k+1), q̇_{k+1} = a_k/(k+1).
+//! order, and q_{k+1} = q̇_k/(k+1), q̇_{k+1} = a_k/(k+1). Where M is block diagonal in 1×1 blocks
+//! and decoupled 2×2 blocks whose determinants cancel to one monomial (the heavy top), the macro
+//! writes q̈ itself as expressions (Cramer's rule, common factors cancelled) and the series has
+//! no M, no tails and no solve per order.
+//!
+//! Every sum is split by what it reads, so that the chain one order waits for is short: the terms
+//! that read only coefficients below k − 1 ([`muls_mid`], [`sqrs_mid`], [`derivs_mid`], several
+//! sums side by side in one loop) are computed for order k + 1 as soon as order k is done, while
+//! the rest of order k + 1's work waits; the terms that read k − 1 and k are added node by node
+//! ([`mul_rest`], [`sqr_rest`], [`deriv_rest`], [`div_rest`], [`tail_rest`]).
 //!
 //! The generated code holds its series in one fixed-size array ([`TaylorBuf::slots`]) and indexes
 //! it with constants, so that no index is checked at run time but the order's.

@@ -424,11 +424,9 @@ struct Program<'a> {
     explicit: Option<&'a Split<'a>>,
 }
 
-/// The code of orders ≥ 1 for a list of kernels: the sums' mutable locals (`decls`, before the
-/// loop), what order k computes (`step`), and the sums' parts for order k + 1 (`next`, after
-/// order k is stored).
+/// The code of orders ≥ 1 for a list of kernels: what order k computes (`step`), and the sums'
+/// parts for order k + 1 (`next`, after order k is stored).
 struct Pass {
-    decls: TokenStream,
     step: TokenStream,
     next: TokenStream,
 }
@@ -460,7 +458,6 @@ impl Program<'_> {
         let num = codegen::real_type();
         let real = quote!(::lagrange::__private::Real);
         let zero = quote!(<#num as #real>::ZERO);
-        let nslots = Literal::usize_unsuffixed(ids.len() + 1 + n);
         let accel: Vec<Literal> = (0..n)
             .map(|l| Literal::usize_unsuffixed(ids.len() + 1 + l))
             .collect();
@@ -509,6 +506,8 @@ impl Program<'_> {
                 .filter(|&(i, l)| entry(i, l) != Dag::ZERO && !dag.is_state_free(entry(i, l)))
                 .collect(),
         };
+        // Slots: 0 the zero series, the nodes, the accelerations, the tails' parts.
+        let nslots = Literal::usize_unsuffixed(ids.len() + 1 + n + tails.len());
         // The nodes that keep a row past order 0: those a kernel reads at other orders than its own
         // (a convolution's operands, a quotient's divisor and own series, a power's own series, a
         // function's derivative series, the entries of M in the tails, the explicit accelerations),
@@ -606,9 +605,10 @@ impl Program<'_> {
                 quote!(#c[#s][#k])
             }
         };
-        let mid_name = |x: Id| names::taylor(&format!("m{x}"));
+
         let reciprocal_name = |x: Id| names::taylor(&format!("r{x}"));
-        let tail_mid = |t: usize| names::taylor(&format!("mtail{t}"));
+        // Where a tail's part for the next order waits (its own row, after the accelerations').
+        let tail_slot = |t: usize| Literal::usize_unsuffixed(ids.len() + 1 + n + t);
         let tail_name = |t: usize| names::taylor(&format!("tail{t}"));
         // Orders ≥ 1, software-pipelined. Every convolution's sum Σ_{j=2..k−2} (the terms that
         // read coefficients below k − 1) is computed for order k + 1 right after order k is
@@ -620,9 +620,9 @@ impl Program<'_> {
         let pass = |list: &[Id]| -> Option<Pass> {
             // (its part's local, x, y) of the sums Σ x_j y_{k−j}: products, quotients (divisor
             // and own series) and the mass tails.
-            let mut products: Vec<(proc_macro2::Ident, Literal, Literal)> = Vec::new();
-            let mut squares: Vec<(proc_macro2::Ident, Literal)> = Vec::new();
-            let mut functions: Vec<(proc_macro2::Ident, Literal, Literal)> = Vec::new();
+            let mut products: Vec<(Literal, Literal, Literal)> = Vec::new();
+            let mut squares: Vec<(Literal, Literal)> = Vec::new();
+            let mut functions: Vec<(Literal, Literal, Literal)> = Vec::new();
             let mut finish = TokenStream::new();
             // When each node's coefficient k is ready, in additions' latencies from the start of
             // the order (a product's is one multiply-add after its later operand): a product
@@ -638,29 +638,31 @@ impl Program<'_> {
                     .unwrap_or(0);
                 ready.insert(id, latest + if convolves(r) { 2 } else { 1 });
                 let s = sl(id);
-                let h = mid_name(id);
+                // The part of the sums for this order, computed at the end of the order before,
+                // waits in this node's own row at this order (overwritten by the coefficient).
+                let h = quote!(#c[#s][#k]);
                 let value = match *r {
                     Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
                     Rule::Mul(x, y) => {
                         let later = |v: Id| ready.get(&v).copied().unwrap_or(0);
                         let (x, y) = if later(y) > later(x) { (y, x) } else { (x, y) };
                         let (x, y) = (sl(x), sl(y));
-                        products.push((h.clone(), x.clone(), y.clone()));
+                        products.push((s.clone(), x.clone(), y.clone()));
                         quote!(#rt::mul_rest(#h, &#c[#x], &#c[#y], #k))
                     }
                     Rule::Sqr(x) => {
                         let x = sl(x);
-                        squares.push((h.clone(), x.clone()));
+                        squares.push((s.clone(), x.clone()));
                         quote!(#rt::sqr_rest(#h, &#c[#x], #k))
                     }
                     Rule::Deriv(x, dd) => {
                         let (x, dd) = (sl(x), sl(dd));
-                        functions.push((h.clone(), x.clone(), dd.clone()));
+                        functions.push((s.clone(), x.clone(), dd.clone()));
                         quote!(#rt::deriv_rest(#h, &#c[#x], &#c[#dd], #k))
                     }
                     Rule::Div(x, y) => {
                         let (x, y, r) = (at(x), sl(y), reciprocal_name(id));
-                        products.push((h.clone(), y.clone(), s.clone()));
+                        products.push((s.clone(), y.clone(), s.clone()));
                         quote!(#rt::div_rest(#h, #x, &#c[#y], &#c[#s], #r, #k))
                     }
                     Rule::Leaf => match dag.node(id) {
@@ -716,50 +718,45 @@ impl Program<'_> {
                 }
             }
             for (t, &(i, l)) in tails.iter().enumerate() {
-                products.push((tail_mid(t), sl(entry(i, l)), accel[l].clone()));
+                products.push((tail_slot(t), sl(entry(i, l)), accel[l].clone()));
             }
-            // Each sum's part that reads below k − 1 is a mutable local across orders (`m…`),
-            // computed for order k + 1 right after order k is finished (`next`); order k completes
-            // it with the terms that read k − 1 and k (`taylor::mul_rest`, …).
-            let mut decls = TokenStream::new();
-            for m in products
-                .iter()
-                .map(|j| &j.0)
-                .chain(squares.iter().map(|j| &j.0))
-                .chain(functions.iter().map(|j| &j.0))
-            {
-                decls.extend(quote!(let mut #m: #num = #zero;));
-            }
+            // Each sum's part that reads below k − 1, for order k + 1, computed right after order
+            // k is finished (`next`), into the row it belongs to at k + 1 (rows, not locals
+            // carried through the loop: LLVM took such locals of lanes apart into scalars); order
+            // k + 1 completes it with the terms that read k and k + 1 (`taylor::mul_rest`, …).
             let mut next = TokenStream::new();
             let k1 = quote!(#k + 1);
+            let g = |i: usize| names::taylor(&format!("g{i}"));
             for group in balanced(&products) {
-                let ms = group.iter().map(|j| &j.0);
+                let (gs, gs2) = ((0..group.len()).map(g), (0..group.len()).map(g));
+                let ss = group.iter().map(|j| &j.0);
                 let xs = group.iter().map(|j| &j.1);
                 let ys = group.iter().map(|j| &j.2);
-                next.extend(quote! {
-                    [#(#ms),*] = #rt::muls_mid([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k1);
-                });
+                next.extend(quote! {{
+                    let [#(#gs),*] = #rt::muls_mid([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k1);
+                    #( #c[#ss][#k1] = #gs2; )*
+                }});
             }
             for group in balanced(&squares) {
-                let ms = group.iter().map(|j| &j.0);
+                let (gs, gs2) = ((0..group.len()).map(g), (0..group.len()).map(g));
+                let ss = group.iter().map(|j| &j.0);
                 let xs = group.iter().map(|j| &j.1);
-                next.extend(quote! {
-                    [#(#ms),*] = #rt::sqrs_mid([#(&#c[#xs]),*], #k1);
-                });
+                next.extend(quote! {{
+                    let [#(#gs),*] = #rt::sqrs_mid([#(&#c[#xs]),*], #k1);
+                    #( #c[#ss][#k1] = #gs2; )*
+                }});
             }
             for group in balanced(&functions) {
-                let ms = group.iter().map(|j| &j.0);
+                let (gs, gs2) = ((0..group.len()).map(g), (0..group.len()).map(g));
+                let ss = group.iter().map(|j| &j.0);
                 let xs = group.iter().map(|j| &j.1);
                 let ys = group.iter().map(|j| &j.2);
-                next.extend(quote! {
-                    [#(#ms),*] = #rt::derivs_mid([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k1);
-                });
+                next.extend(quote! {{
+                    let [#(#gs),*] = #rt::derivs_mid([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k1);
+                    #( #c[#ss][#k1] = #gs2; )*
+                }});
             }
-            Some(Pass {
-                decls,
-                step: finish,
-                next,
-            })
+            Some(Pass { step: finish, next })
         };
         // M₀ (upper triangle) and the right-hand side of order 0 (the solve's, or the error's
         // where explicit accelerations do not apply).
@@ -801,7 +798,7 @@ impl Program<'_> {
         let solve = match self.explicit {
             None => {
                 let factor_ty = quote!(<<#num as ::lagrange::__private::eom::SeriesReal>::Factor<#nn> as ::lagrange::__private::eom::SeriesFactor<#num, #nn>>);
-                let Pass { decls, step, next } = pass(kernels)?;
+                let Pass { step, next } = pass(kernels)?;
                 let rhs = (0..n).map(|i| {
                     let f = match d.rhs[i] {
                         Dag::ZERO => zero.clone(),
@@ -818,8 +815,8 @@ impl Program<'_> {
                     quote!(#f #(#tail)*)
                 });
                 let tail_finish = tails.iter().enumerate().map(|(t, &(i, l))| {
-                    let (v, h, m, al) = (tail_name(t), tail_mid(t), sl(entry(i, l)), &accel[l]);
-                    quote!(let #v: #num = #rt::tail_rest(#h, &#c[#m], &#c[#al], #k);)
+                    let (v, h, m, al) = (tail_name(t), tail_slot(t), sl(entry(i, l)), &accel[l]);
+                    quote!(let #v: #num = #rt::tail_rest(#c[#h][#k], &#c[#m], &#c[#al], #k);)
                 });
                 quote! {
                     // A single run pivots where M₀ has no LDLᵀ (or returns why it is singular); a
@@ -833,7 +830,6 @@ impl Program<'_> {
                         return ::core::result::Result::Err(__lagrange_e);
                     }
                     let mut #a = [<#num as #real>::ZERO; #nn];
-                    #decls
                     for #k in 0..#order {
                         let #b: [#num; #nn] = if #k == 0 {
                             [#(#b0),*]
@@ -865,7 +861,7 @@ impl Program<'_> {
                     }
                 };
                 let values = (0..n).map(value);
-                let Pass { decls, step, next } = pass(&split.kernels)?;
+                let Pass { step, next } = pass(&split.kernels)?;
                 quote! {
                     // The explicit accelerations, where their divisors are finite and not zero at
                     // order 0 (a lane where one is not is left out of the mask: the caller takes
@@ -881,7 +877,6 @@ impl Program<'_> {
                         }
                     }
                     let mut #a: [#num; #nn];
-                    #decls
                     for #k in 0..#order {
                         if #k > 0 {
                             #step

@@ -324,7 +324,8 @@ fn rho(s: f64, n: f64, k: usize) -> f64 {
 /// coefficients side by side, then even + τ·odd — two chains of ⌈n/2⌉ multiply-adds where one
 /// chain of n was (the sum's latency, not its arithmetic, bounds it: 6 components). Never fused
 /// (not `Real::madd`): a member of an ensemble on the fused lanes sums its step as its single run
-/// does, bit for bit.
+/// does, bit for bit. Inlined: the lanes engine's instance must take its caller's instruction set.
+#[inline(always)]
 pub(crate) fn horner<R: Real, const N: usize>(series: &[YOf<R, N>], tau: R) -> YOf<R, N> {
     let n = series.len();
     let Some(&last) = series.last() else {
