@@ -193,9 +193,8 @@ fn dots<T: Real, const M: usize>(xs: [&[T]; M], ys: [&[T]; M], w0: Option<f64>) 
 }
 
 /// The part of coefficient k ≥ 1 of M products that the coefficients below k give,
-/// Σ_{j=1..k−1} a_j b_{k−j}, side by side in one loop ([`dots`]): what the generated series
-/// computes for every product of an order first, before any coefficient k is known (no sum waits
-/// for another), and [`mul_finish`] completes with the two terms that read coefficient k.
+/// Σ_{j=1..k−1} a_j b_{k−j}, side by side: [`muls_mid`] (the terms that read below k − 1), then
+/// [`mul_newest`]; [`mul_finish`] completes it with the two terms that read coefficient k.
 /// Quotients ([`div_finish`]) and the mass tails ([`tail_finish`]) have sums of this shape too.
 ///
 /// ```

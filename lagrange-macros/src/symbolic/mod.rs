@@ -18,7 +18,9 @@
 //! A condition on the state is an error at the offending name that says to use `mode = "jets"`.
 //!
 //! The jobs, one file each: `lower` (bodies → DAG), `derive` (M, f_L, the applied forces, the
-//! right-hand side, momenta, energy, power, decoupled blocks), `solve` (the straight-line solve), `codegen` (DAG → `let`s), `methods` (the generated
+//! right-hand side, momenta, energy, power, decoupled blocks), `solve` (the straight-line solve),
+//! `explicit` (q̈ as expressions where M's blocks allow, for the Taylor series), `taylor` (the
+//! Taylor series), `codegen` (DAG → `let`s), `methods` (the generated
 //! method bodies and consts), `print` (the equations for people); `dag` is the expression DAG,
 //! `functions` the table of elementary functions, `poly` the polynomial expander.
 

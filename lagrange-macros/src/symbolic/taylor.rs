@@ -1,6 +1,7 @@
 //! Emission of `fn taylor_series`: the Taylor coefficients of the motion, order by order, from
 //! the recurrences of every node the equations of motion need (the kernels of the runtime's
-//! `taylor` module), and the order-by-order solve M₀ a_k = f_k − Σ M_j a_{k−j}.
+//! `taylor` module), and the order-by-order solve M₀ a_k = f_k − Σ M_j a_{k−j} — or, where the
+//! mass matrix allows it, explicit accelerations (`explicit.rs`) and no solve at all.
 //!
 //! The program is built on a copy of the derivation's DAG, because some rules need nodes of their
 //! own: a function c = f(a) uses the series of f′(a) (the function table's derivative, which may
@@ -8,7 +9,9 @@
 //! a = 0, O(log n) nodes), a negative power is 1/a⁻ⁿ, and atan2(y, x) uses x/(x² + y²) and
 //! −y/(x² + y²). The values at order 0 are the straight-line code of the other methods; orders
 //! 1, 2, … call one kernel per node, each after the operands it reads at the same order (not in id
-//! order: the nodes the rules add come after the nodes that read them). Nodes that depend on no
+//! order: the nodes the rules add come after the nodes that read them), and each convolution's
+//! long middle sum is computed one order ahead, right after the order before is stored (see
+//! `Program::emit`: the chain one order waits for is then a few multiply-adds per node). Nodes that depend on no
 //! coordinate, velocity or time are constants of the series (their order-0 value only), and a
 //! product or quotient by one is a scaling. A node the rules do not cover (a power with a
 //! state-dependent exponent), or more than [`MAX_TAYLOR_SLOTS`] series, leaves the method out:
@@ -189,9 +192,8 @@ fn kernel_order(rules: &[Option<Rule>], ids: &[Id]) -> Option<Vec<Id>> {
     Some(order)
 }
 
-/// The most known parts of one kind the generated series computes side by side in one loop
-/// (`taylor::muls_known`, `sqrs_known`, `derivs_known`): each keeps its running sum in a
-/// register.
+/// The most sums of one kind the generated series computes side by side in one loop
+/// (`taylor::muls_mid`, `sqrs_mid`, `derivs_mid`): each keeps its running sum in a register.
 const GROUP: usize = 8;
 
 /// `jobs` in the fewest groups of at most [`GROUP`], of sizes that differ by one at most (nine
