@@ -817,60 +817,20 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_c[2][__lagrange_k] = __lagrange_out[__lagrange_k][1][0];
                 __lagrange_c[3][__lagrange_k] = __lagrange_out[__lagrange_k][1][1];
                 __lagrange_c[4][__lagrange_k] = __lagrange_out[__lagrange_k][1][2];
-                __lagrange_c[5][__lagrange_k] = __lagrange_rt::deriv_rest(
-                    __lagrange_c[5][__lagrange_k],
-                    &__lagrange_c[1],
-                    &__lagrange_c[6],
-                    __lagrange_k,
-                );
-                __lagrange_c[6][__lagrange_k] = __lagrange_rt::deriv_rest(
-                    __lagrange_c[6][__lagrange_k],
-                    &__lagrange_c[1],
-                    &__lagrange_c[30],
-                    __lagrange_k,
-                );
-                __lagrange_c[9][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_c[9][__lagrange_k],
-                    &__lagrange_c[5],
-                    &__lagrange_c[3],
-                    __lagrange_k,
-                );
-                __lagrange_c[11][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_c[11][__lagrange_k],
-                    &__lagrange_c[6],
-                    &__lagrange_c[3],
-                    __lagrange_k,
-                );
+                __lagrange_rt::deriv_at(__lagrange_c, 5, 1, 6, __lagrange_k);
+                __lagrange_rt::deriv_at(__lagrange_c, 6, 1, 30, __lagrange_k);
+                __lagrange_rt::mul_at(__lagrange_c, 9, 5, 3, __lagrange_k);
+                __lagrange_rt::mul_at(__lagrange_c, 11, 6, 3, __lagrange_k);
                 __lagrange_c[12][__lagrange_k] =
                     __lagrange_c[4][__lagrange_k] + __lagrange_c[11][__lagrange_k];
                 __lagrange_c[19][__lagrange_k] = __lagrange_p_i_par * __lagrange_c[6][__lagrange_k];
-                __lagrange_c[21][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_c[21][__lagrange_k],
-                    &__lagrange_c[5],
-                    &__lagrange_c[2],
-                    __lagrange_k,
-                );
-                __lagrange_c[22][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_c[22][__lagrange_k],
-                    &__lagrange_c[21],
-                    &__lagrange_c[3],
-                    __lagrange_k,
-                );
+                __lagrange_rt::mul_at(__lagrange_c, 21, 5, 2, __lagrange_k);
+                __lagrange_rt::mul_at(__lagrange_c, 22, 21, 3, __lagrange_k);
                 let __lagrange_t77: R = __lagrange_p_i_par * __lagrange_c[22][__lagrange_k];
                 __lagrange_c[30][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
-                __lagrange_c[31][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_c[31][__lagrange_k],
-                    &__lagrange_c[9],
-                    &__lagrange_c[11],
-                    __lagrange_k,
-                );
+                __lagrange_rt::mul_at(__lagrange_c, 31, 9, 11, __lagrange_k);
                 let __lagrange_t82: R = __lagrange_p_i_perp * __lagrange_c[31][__lagrange_k];
-                __lagrange_c[33][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_c[33][__lagrange_k],
-                    &__lagrange_c[12],
-                    &__lagrange_c[9],
-                    __lagrange_k,
-                );
+                __lagrange_rt::mul_at(__lagrange_c, 33, 12, 9, __lagrange_k);
                 let __lagrange_t89: R = __lagrange_p_i_par * __lagrange_c[33][__lagrange_k];
                 let __lagrange_t91: R = __lagrange_t82 - __lagrange_t89;
                 let __lagrange_t93: R = __lagrange_x33 * __lagrange_c[5][__lagrange_k];
@@ -878,27 +838,17 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 let __lagrange_t113: R = __lagrange_x112 * __lagrange_c[11][__lagrange_k];
                 let __lagrange_t114: R = __lagrange_x111 * __lagrange_c[4][__lagrange_k];
                 __lagrange_c[45][__lagrange_k] = __lagrange_t113 + __lagrange_t114;
-                __lagrange_c[46][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_c[46][__lagrange_k],
-                    &__lagrange_c[45],
-                    &__lagrange_c[2],
-                    __lagrange_k,
-                );
+                __lagrange_rt::mul_at(__lagrange_c, 46, 45, 2, __lagrange_k);
                 __lagrange_c[47][__lagrange_k] = __lagrange_x109 * __lagrange_c[5][__lagrange_k];
-                __lagrange_c[48][__lagrange_k] = __lagrange_rt::div_rest(
-                    __lagrange_c[48][__lagrange_k],
+                __lagrange_rt::div_at(
+                    __lagrange_c,
+                    48,
                     __lagrange_c[46][__lagrange_k],
-                    &__lagrange_c[47],
-                    &__lagrange_c[48],
+                    47,
                     __lagrange_r118,
                     __lagrange_k,
                 );
-                __lagrange_c[49][__lagrange_k] = __lagrange_rt::mul_rest(
-                    __lagrange_c[49][__lagrange_k],
-                    &__lagrange_c[48],
-                    &__lagrange_c[19],
-                    __lagrange_k,
-                );
+                __lagrange_rt::mul_at(__lagrange_c, 49, 48, 19, __lagrange_k);
                 let __lagrange_t120: R = __lagrange_t77 - __lagrange_c[49][__lagrange_k];
                 __lagrange_c[51][__lagrange_k] = __lagrange_t120 * __lagrange_r121;
                 __lagrange_c[52][__lagrange_k] = __lagrange_t95 * __lagrange_r122;
@@ -909,75 +859,37 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_c[51][__lagrange_k],
             ];
             let __lagrange_r = 1.0 / (__lagrange_k + 1) as f64;
-            __lagrange_c[53][__lagrange_k] = __lagrange_a[0];
             __lagrange_out[__lagrange_k + 1][0][0] =
                 __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
-            __lagrange_c[54][__lagrange_k] = __lagrange_a[1];
             __lagrange_out[__lagrange_k + 1][0][1] =
                 __lagrange_out[__lagrange_k][1][1] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][1] = __lagrange_a[1] * __lagrange_r;
-            __lagrange_c[55][__lagrange_k] = __lagrange_a[2];
             __lagrange_out[__lagrange_k + 1][0][2] =
                 __lagrange_out[__lagrange_k][1][2] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][2] = __lagrange_a[2] * __lagrange_r;
             if __lagrange_k + 1 < __lagrange_order {
-                {
-                    let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3, __lagrange_g4] =
-                        __lagrange_rt::muls_mid(
-                            [
-                                &__lagrange_c[5],
-                                &__lagrange_c[6],
-                                &__lagrange_c[5],
-                                &__lagrange_c[21],
-                                &__lagrange_c[9],
-                            ],
-                            [
-                                &__lagrange_c[3],
-                                &__lagrange_c[3],
-                                &__lagrange_c[2],
-                                &__lagrange_c[3],
-                                &__lagrange_c[11],
-                            ],
-                            __lagrange_k + 1,
-                        );
-                    __lagrange_c[9][__lagrange_k + 1] = __lagrange_g0;
-                    __lagrange_c[11][__lagrange_k + 1] = __lagrange_g1;
-                    __lagrange_c[21][__lagrange_k + 1] = __lagrange_g2;
-                    __lagrange_c[22][__lagrange_k + 1] = __lagrange_g3;
-                    __lagrange_c[31][__lagrange_k + 1] = __lagrange_g4;
-                }
-                {
-                    let [__lagrange_g0, __lagrange_g1, __lagrange_g2, __lagrange_g3] =
-                        __lagrange_rt::muls_mid(
-                            [
-                                &__lagrange_c[12],
-                                &__lagrange_c[45],
-                                &__lagrange_c[47],
-                                &__lagrange_c[48],
-                            ],
-                            [
-                                &__lagrange_c[9],
-                                &__lagrange_c[2],
-                                &__lagrange_c[48],
-                                &__lagrange_c[19],
-                            ],
-                            __lagrange_k + 1,
-                        );
-                    __lagrange_c[33][__lagrange_k + 1] = __lagrange_g0;
-                    __lagrange_c[46][__lagrange_k + 1] = __lagrange_g1;
-                    __lagrange_c[48][__lagrange_k + 1] = __lagrange_g2;
-                    __lagrange_c[49][__lagrange_k + 1] = __lagrange_g3;
-                }
-                {
-                    let [__lagrange_g0, __lagrange_g1] = __lagrange_rt::derivs_mid(
-                        [&__lagrange_c[1], &__lagrange_c[1]],
-                        [&__lagrange_c[6], &__lagrange_c[30]],
-                        __lagrange_k + 1,
-                    );
-                    __lagrange_c[5][__lagrange_k + 1] = __lagrange_g0;
-                    __lagrange_c[6][__lagrange_k + 1] = __lagrange_g1;
-                }
+                __lagrange_rt::muls_mid_at(
+                    __lagrange_c,
+                    [9, 11, 21, 22, 31],
+                    [5, 6, 5, 21, 9],
+                    [3, 3, 2, 3, 11],
+                    __lagrange_k + 1,
+                );
+                __lagrange_rt::muls_mid_at(
+                    __lagrange_c,
+                    [33, 46, 48, 49],
+                    [12, 45, 47, 48],
+                    [9, 2, 48, 19],
+                    __lagrange_k + 1,
+                );
+                __lagrange_rt::derivs_mid_at(
+                    __lagrange_c,
+                    [5, 6],
+                    [1, 1],
+                    [6, 30],
+                    __lagrange_k + 1,
+                );
             }
         }
         for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {

@@ -383,18 +383,8 @@ mod __lagrange_Pendulum_2105f53a_kernels {
                 [__lagrange_c[8][0]]
             } else {
                 __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
-                __lagrange_c[4][__lagrange_k] = __lagrange_rt::deriv_rest(
-                    __lagrange_c[4][__lagrange_k],
-                    &__lagrange_c[1],
-                    &__lagrange_c[6],
-                    __lagrange_k,
-                );
-                __lagrange_c[5][__lagrange_k] = __lagrange_rt::deriv_rest(
-                    __lagrange_c[5][__lagrange_k],
-                    &__lagrange_c[1],
-                    &__lagrange_c[4],
-                    __lagrange_k,
-                );
+                __lagrange_rt::deriv_at(__lagrange_c, 4, 1, 6, __lagrange_k);
+                __lagrange_rt::deriv_at(__lagrange_c, 5, 1, 4, __lagrange_k);
                 __lagrange_c[6][__lagrange_k] = -__lagrange_c[5][__lagrange_k];
                 let __lagrange_t26: R = __lagrange_x18 * __lagrange_c[5][__lagrange_k];
                 let __lagrange_t27: R = -__lagrange_t26;
@@ -410,20 +400,17 @@ mod __lagrange_Pendulum_2105f53a_kernels {
                 __lagrange_t,
             )?;
             let __lagrange_r = 1.0 / (__lagrange_k + 1) as f64;
-            __lagrange_c[9][__lagrange_k] = __lagrange_a[0];
             __lagrange_out[__lagrange_k + 1][0][0] =
                 __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
             __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
             if __lagrange_k + 1 < __lagrange_order {
-                {
-                    let [__lagrange_g0, __lagrange_g1] = __lagrange_rt::derivs_mid(
-                        [&__lagrange_c[1], &__lagrange_c[1]],
-                        [&__lagrange_c[6], &__lagrange_c[4]],
-                        __lagrange_k + 1,
-                    );
-                    __lagrange_c[4][__lagrange_k + 1] = __lagrange_g0;
-                    __lagrange_c[5][__lagrange_k + 1] = __lagrange_g1;
-                }
+                __lagrange_rt::derivs_mid_at(
+                    __lagrange_c,
+                    [4, 5],
+                    [1, 1],
+                    [6, 4],
+                    __lagrange_k + 1,
+                );
             }
         }
         for __lagrange_x in &mut __lagrange_out[__lagrange_order + 1..] {

@@ -561,6 +561,181 @@ pub fn tail_rest<T: Real>(mid: T, m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
     tail_finish(mul_newest(mid, m, a, k), m, a, k)
 }
 
+/// [`muls_mid`] of the rows x and y of `c`, each sum stored at its row s, order k (the generated
+/// series' call for the products, quotients and tails of the next order: rows by index).
+///
+/// ```
+/// use lagrange_runtime::taylor::{muls_mid, muls_mid_at};
+/// let mut c = [[0.0; 33]; 4];
+/// for j in 0..7 { (c[2][j], c[3][j]) = (1.0 + j as f64, 2.0 - j as f64); }
+/// muls_mid_at(&mut c, [0, 1], [2, 3], [3, 3], 6);
+/// assert_eq!([c[0][6], c[1][6]], muls_mid([&c[2], &c[3]], [&c[3], &c[3]], 6));
+/// ```
+#[inline(always)]
+pub fn muls_mid_at<T: Real, const S: usize, const M: usize>(
+    c: &mut [RowOf<T>; S],
+    s: [usize; M],
+    x: [usize; M],
+    y: [usize; M],
+    k: usize,
+) {
+    let sums = {
+        let c: &[RowOf<T>; S] = c;
+        muls_mid::<T, M>(
+            core::array::from_fn(|m| &c[x[m]]),
+            core::array::from_fn(|m| &c[y[m]]),
+            k,
+        )
+    };
+    for (s, v) in s.into_iter().zip(sums) {
+        c[s][k] = v;
+    }
+}
+
+/// [`sqrs_mid`] of the rows x of `c`, each stored at its row s, order k (see [`muls_mid_at`]).
+///
+/// ```
+/// use lagrange_runtime::taylor::{sqrs_mid, sqrs_mid_at};
+/// let mut c = [[0.0; 33]; 2];
+/// for j in 0..7 { c[1][j] = 1.0 + j as f64; }
+/// sqrs_mid_at(&mut c, [0], [1], 6);
+/// assert_eq!([c[0][6]], sqrs_mid([&c[1]], 6));
+/// ```
+#[inline(always)]
+pub fn sqrs_mid_at<T: Real, const S: usize, const M: usize>(
+    c: &mut [RowOf<T>; S],
+    s: [usize; M],
+    x: [usize; M],
+    k: usize,
+) {
+    let sums = {
+        let c: &[RowOf<T>; S] = c;
+        sqrs_mid::<T, M>(core::array::from_fn(|m| &c[x[m]]), k)
+    };
+    for (s, v) in s.into_iter().zip(sums) {
+        c[s][k] = v;
+    }
+}
+
+/// [`derivs_mid`] of the rows x and d of `c`, each stored at its row s, order k (see
+/// [`muls_mid_at`]).
+///
+/// ```
+/// use lagrange_runtime::taylor::{derivs_mid, derivs_mid_at};
+/// let mut c = [[0.0; 33]; 3];
+/// for j in 0..7 { (c[1][j], c[2][j]) = (1.0 + j as f64, 2.0 - j as f64); }
+/// derivs_mid_at(&mut c, [0], [1], [2], 6);
+/// assert_eq!([c[0][6]], derivs_mid([&c[1]], [&c[2]], 6));
+/// ```
+#[inline(always)]
+pub fn derivs_mid_at<T: Real, const S: usize, const M: usize>(
+    c: &mut [RowOf<T>; S],
+    s: [usize; M],
+    x: [usize; M],
+    d: [usize; M],
+    k: usize,
+) {
+    let sums = {
+        let c: &[RowOf<T>; S] = c;
+        derivs_mid::<T, M>(
+            core::array::from_fn(|m| &c[x[m]]),
+            core::array::from_fn(|m| &c[d[m]]),
+            k,
+        )
+    };
+    for (s, v) in s.into_iter().zip(sums) {
+        c[s][k] = v;
+    }
+}
+
+/// `c[s][k] = mul_rest(c[s][k], &c[x], &c[y], k)`: a product's coefficient k from the part of
+/// its sums that waits in its own row (what the generated series calls per product and order).
+///
+/// ```
+/// use lagrange_runtime::taylor::{mul, mul_at, muls_mid};
+/// let mut c = [[0.0; 33]; 3];
+/// for j in 0..7 { (c[1][j], c[2][j]) = (1.0 + j as f64, 2.0 - j as f64); }
+/// let [m] = muls_mid([&c[1]], [&c[2]], 6);
+/// c[0][6] = m;
+/// mul_at(&mut c, 0, 1, 2, 6);
+/// assert_eq!(c[0][6], mul(&c[1], &c[2], 6));
+/// ```
+#[inline(always)]
+pub fn mul_at<T: Real, const S: usize>(
+    c: &mut [RowOf<T>; S],
+    s: usize,
+    x: usize,
+    y: usize,
+    k: usize,
+) {
+    c[s][k] = mul_rest(c[s][k], &c[x], &c[y], k);
+}
+
+/// `c[s][k] = sqr_rest(c[s][k], &c[x], k)` (see [`mul_at`]).
+///
+/// ```
+/// use lagrange_runtime::taylor::{sqr, sqr_at, sqrs_mid};
+/// let mut c = [[0.0; 33]; 2];
+/// for j in 0..7 { c[1][j] = 1.0 + j as f64; }
+/// let [m] = sqrs_mid([&c[1]], 6);
+/// c[0][6] = m;
+/// sqr_at(&mut c, 0, 1, 6);
+/// assert_eq!(c[0][6], sqr(&c[1], 6));
+/// ```
+#[inline(always)]
+pub fn sqr_at<T: Real, const S: usize>(c: &mut [RowOf<T>; S], s: usize, x: usize, k: usize) {
+    c[s][k] = sqr_rest(c[s][k], &c[x], k);
+}
+
+/// `c[s][k] = deriv_rest(c[s][k], &c[x], &c[d], k)` (see [`mul_at`]).
+///
+/// ```
+/// use lagrange_runtime::taylor::{deriv, deriv_at, derivs_mid};
+/// let mut c = [[0.0; 33]; 3];
+/// for j in 0..7 { (c[1][j], c[2][j]) = (1.0 + j as f64, 2.0 - j as f64); }
+/// let [m] = derivs_mid([&c[1]], [&c[2]], 6);
+/// c[0][6] = m;
+/// deriv_at(&mut c, 0, 1, 2, 6);
+/// assert_eq!(c[0][6], deriv(&c[1], &c[2], 6));
+/// ```
+#[inline(always)]
+pub fn deriv_at<T: Real, const S: usize>(
+    c: &mut [RowOf<T>; S],
+    s: usize,
+    x: usize,
+    d: usize,
+    k: usize,
+) {
+    c[s][k] = deriv_rest(c[s][k], &c[x], &c[d], k);
+}
+
+/// `c[s][k] = div_rest(c[s][k], a_k, &c[y], &c[s], r, k)`: coefficient k of a / y, the quotient's
+/// own row s (see [`mul_at`]).
+///
+/// ```
+/// use lagrange_runtime::taylor::{div_at, muls_mid};
+/// // 1 / (1 − τ) = 1 + τ + τ² + …: row 0 the quotient, row 1 the divisor.
+/// let mut c = [[0.0; 33]; 2];
+/// (c[1][0], c[1][1], c[0][0]) = (1.0, -1.0, 1.0);
+/// for k in 1..6 {
+///     let [m] = muls_mid([&c[1]], [&c[0]], k);
+///     c[0][k] = m;
+///     div_at(&mut c, 0, 0.0, 1, 1.0, k);
+/// }
+/// assert_eq!(&c[0][..6], &[1.0; 6]);
+/// ```
+#[inline(always)]
+pub fn div_at<T: Real, const S: usize>(
+    c: &mut [RowOf<T>; S],
+    s: usize,
+    a_k: T,
+    y: usize,
+    r: T,
+    k: usize,
+) {
+    c[s][k] = div_rest(c[s][k], a_k, &c[y], &c[s], r, k);
+}
+
 /// Coefficient k of a·b: Σ_{j=0..k} a_j b_{k−j}.
 ///
 /// ```

@@ -639,10 +639,10 @@ impl Program<'_> {
                     .max()
                     .unwrap_or(0);
                 ready.insert(id, latest + if convolves(r) { 2 } else { 1 });
+                // A convolution's part of the sums for this order, computed at the end of the order
+                // before, waits in its own row at this order (`taylor::mul_at`, …, overwrite it
+                // with the coefficient: one short call per node and order).
                 let s = sl(id);
-                // The part of the sums for this order, computed at the end of the order before,
-                // waits in this node's own row at this order (overwritten by the coefficient).
-                let h = quote!(#c[#s][#k]);
                 let value = match *r {
                     Rule::Constant | Rule::Deriv(_, Dag::ZERO) => continue,
                     Rule::Mul(x, y) => {
@@ -650,22 +650,26 @@ impl Program<'_> {
                         let (x, y) = if later(y) > later(x) { (y, x) } else { (x, y) };
                         let (x, y) = (sl(x), sl(y));
                         products.push((s.clone(), x.clone(), y.clone()));
-                        quote!(#rt::mul_rest(#h, &#c[#x], &#c[#y], #k))
+                        finish.extend(quote!(#rt::mul_at(#c, #s, #x, #y, #k);));
+                        continue;
                     }
                     Rule::Sqr(x) => {
                         let x = sl(x);
                         squares.push((s.clone(), x.clone()));
-                        quote!(#rt::sqr_rest(#h, &#c[#x], #k))
+                        finish.extend(quote!(#rt::sqr_at(#c, #s, #x, #k);));
+                        continue;
                     }
                     Rule::Deriv(x, dd) => {
                         let (x, dd) = (sl(x), sl(dd));
                         functions.push((s.clone(), x.clone(), dd.clone()));
-                        quote!(#rt::deriv_rest(#h, &#c[#x], &#c[#dd], #k))
+                        finish.extend(quote!(#rt::deriv_at(#c, #s, #x, #dd, #k);));
+                        continue;
                     }
                     Rule::Div(x, y) => {
                         let (x, y, r) = (at(x), sl(y), reciprocal_name(id));
                         products.push((s.clone(), y.clone(), s.clone()));
-                        quote!(#rt::div_rest(#h, #x, &#c[#y], &#c[#s], #r, #k))
+                        finish.extend(quote!(#rt::div_at(#c, #s, #x, #y, #r, #k);));
+                        continue;
                     }
                     Rule::Leaf => match dag.node(id) {
                         Node::Q(i) => {
@@ -728,35 +732,26 @@ impl Program<'_> {
             // k + 1 completes it with the terms that read k and k + 1 (`taylor::mul_rest`, …).
             let mut next = TokenStream::new();
             let k1 = quote!(#k + 1);
-            let g = |i: usize| names::taylor(&format!("g{i}"));
             for group in balanced(&products) {
-                let (gs, gs2) = ((0..group.len()).map(g), (0..group.len()).map(g));
                 let ss = group.iter().map(|j| &j.0);
                 let xs = group.iter().map(|j| &j.1);
                 let ys = group.iter().map(|j| &j.2);
-                next.extend(quote! {{
-                    let [#(#gs),*] = #rt::muls_mid([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k1);
-                    #( #c[#ss][#k1] = #gs2; )*
-                }});
+                next.extend(quote! {
+                    #rt::muls_mid_at(#c, [#(#ss),*], [#(#xs),*], [#(#ys),*], #k1);
+                });
             }
             for group in balanced(&squares) {
-                let (gs, gs2) = ((0..group.len()).map(g), (0..group.len()).map(g));
                 let ss = group.iter().map(|j| &j.0);
                 let xs = group.iter().map(|j| &j.1);
-                next.extend(quote! {{
-                    let [#(#gs),*] = #rt::sqrs_mid([#(&#c[#xs]),*], #k1);
-                    #( #c[#ss][#k1] = #gs2; )*
-                }});
+                next.extend(quote!(#rt::sqrs_mid_at(#c, [#(#ss),*], [#(#xs),*], #k1);));
             }
             for group in balanced(&functions) {
-                let (gs, gs2) = ((0..group.len()).map(g), (0..group.len()).map(g));
                 let ss = group.iter().map(|j| &j.0);
                 let xs = group.iter().map(|j| &j.1);
                 let ys = group.iter().map(|j| &j.2);
-                next.extend(quote! {{
-                    let [#(#gs),*] = #rt::derivs_mid([#(&#c[#xs]),*], [#(&#c[#ys]),*], #k1);
-                    #( #c[#ss][#k1] = #gs2; )*
-                }});
+                next.extend(quote! {
+                    #rt::derivs_mid_at(#c, [#(#ss),*], [#(#xs),*], [#(#ys),*], #k1);
+                });
             }
             Some(Pass { step: finish, next })
         };
@@ -789,10 +784,16 @@ impl Program<'_> {
         let ii2 = (0..n).map(Literal::usize_unsuffixed);
         let max = quote!(#rt::MAX_ORDER);
         let params = names::lane_params();
+        // The accelerations' rows are read by the mass tails only.
+        let accel_rows = if tails.is_empty() {
+            TokenStream::new()
+        } else {
+            quote!(#( #c[#accel][#k] = #a[#ii]; )*)
+        };
         let store = quote! {
             let __lagrange_r = 1.0 / (#k + 1) as f64;
+            #accel_rows
             #(
-                #c[#accel][#k] = #a[#ii];
                 #out[#k + 1][0][#ii2] = #out[#k][1][#ii2] * __lagrange_r;
                 #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
             )*
