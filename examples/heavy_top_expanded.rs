@@ -769,38 +769,15 @@ mod __lagrange_HeavyTop_67f09420_kernels {
         __lagrange_c[51][0] = __lagrange_x121;
         __lagrange_c[52][0] = __lagrange_x122;
         __lagrange_c[0][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        let __lagrange_ok = <R as ::lagrange::__private::Real>::EVERY_LANE
-            & <R as ::lagrange::__private::Real>::nonzero(__lagrange_c[10][0])
-            & <R as ::lagrange::__private::Real>::finite(__lagrange_c[10][0])
-            & <R as ::lagrange::__private::Real>::nonzero(__lagrange_c[39][0])
-            & <R as ::lagrange::__private::Real>::finite(__lagrange_c[39][0])
-            & <R as ::lagrange::__private::Real>::nonzero(__lagrange_c[7][0])
-            & <R as ::lagrange::__private::Real>::finite(__lagrange_c[7][0]);
+        let __lagrange_ok = __lagrange_rt::divisors_ok(__lagrange_c, [10, 39, 7]);
         if !<R as ::lagrange::__private::Real>::all(__lagrange_ok) {
             if let ::core::option::Option::Some(__lagrange_e) =
                 <R as ::lagrange::__private::eom::SeriesReal>::declined(
-                    &[
-                        [
-                            __lagrange_c[7][0],
-                            <R as ::lagrange::__private::Real>::ZERO,
-                            <R as ::lagrange::__private::Real>::ZERO,
-                        ],
-                        [
-                            <R as ::lagrange::__private::Real>::ZERO,
-                            __lagrange_c[18][0],
-                            __lagrange_c[19][0],
-                        ],
-                        [
-                            <R as ::lagrange::__private::Real>::ZERO,
-                            <R as ::lagrange::__private::Real>::ZERO,
-                            __lagrange_c[10][0],
-                        ],
-                    ],
-                    &[
-                        __lagrange_c[37][0],
-                        __lagrange_c[38][0],
-                        __lagrange_c[29][0],
-                    ],
+                    &__lagrange_rt::order0_matrix(
+                        __lagrange_c,
+                        [[7, 0, 0], [0, 18, 19], [0, 0, 10]],
+                    ),
+                    &__lagrange_rt::order0_column(__lagrange_c, [37, 38, 29]),
                     __lagrange_names,
                     __lagrange_q,
                     __lagrange_qdot,
@@ -858,16 +835,7 @@ mod __lagrange_HeavyTop_67f09420_kernels {
                 __lagrange_c[48][__lagrange_k],
                 __lagrange_c[51][__lagrange_k],
             ];
-            let __lagrange_r = 1.0 / (__lagrange_k + 1) as f64;
-            __lagrange_out[__lagrange_k + 1][0][0] =
-                __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
-            __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
-            __lagrange_out[__lagrange_k + 1][0][1] =
-                __lagrange_out[__lagrange_k][1][1] * __lagrange_r;
-            __lagrange_out[__lagrange_k + 1][1][1] = __lagrange_a[1] * __lagrange_r;
-            __lagrange_out[__lagrange_k + 1][0][2] =
-                __lagrange_out[__lagrange_k][1][2] * __lagrange_r;
-            __lagrange_out[__lagrange_k + 1][1][2] = __lagrange_a[2] * __lagrange_r;
+            __lagrange_rt::next_order(__lagrange_out, __lagrange_a, __lagrange_k);
             if __lagrange_k + 1 < __lagrange_order {
                 __lagrange_rt::muls_mid_at(
                     __lagrange_c,

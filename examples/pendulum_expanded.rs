@@ -365,7 +365,7 @@ mod __lagrange_Pendulum_2105f53a_kernels {
         __lagrange_c[6][0] = __lagrange_x25;
         __lagrange_c[8][0] = __lagrange_x27;
         __lagrange_c[0][1..=__lagrange_order].fill(<R as ::lagrange::__private::Real>::ZERO);
-        let (__lagrange_factor , __lagrange_ok) = << R as :: lagrange :: __private :: eom :: SeriesReal > :: Factor < 1 > as :: lagrange :: __private :: eom :: SeriesFactor < R , 1 >> :: new (& [[__lagrange_c [2] [0]]] , & [__lagrange_c [8] [0]] , __lagrange_names , __lagrange_q , __lagrange_qdot , __lagrange_t) ;
+        let (__lagrange_factor , __lagrange_ok) = << R as :: lagrange :: __private :: eom :: SeriesReal > :: Factor < 1 > as :: lagrange :: __private :: eom :: SeriesFactor < R , 1 >> :: new (& __lagrange_rt :: order0_matrix (__lagrange_c , [[2]]) , & __lagrange_rt :: order0_column (__lagrange_c , [8]) , __lagrange_names , __lagrange_q , __lagrange_qdot , __lagrange_t) ;
         if let ::core::option::Option::Some(__lagrange_e) =
             ::lagrange::__private::eom::SeriesFactor::error(
                 &__lagrange_factor,
@@ -380,7 +380,7 @@ mod __lagrange_Pendulum_2105f53a_kernels {
         let mut __lagrange_a = [<R as ::lagrange::__private::Real>::ZERO; 1];
         for __lagrange_k in 0..__lagrange_order {
             let __lagrange_b: [R; 1] = if __lagrange_k == 0 {
-                [__lagrange_c[8][0]]
+                __lagrange_rt::order0_column(__lagrange_c, [8])
             } else {
                 __lagrange_c[1][__lagrange_k] = __lagrange_out[__lagrange_k][0][0];
                 __lagrange_rt::deriv_at(__lagrange_c, 4, 1, 6, __lagrange_k);
@@ -399,10 +399,7 @@ mod __lagrange_Pendulum_2105f53a_kernels {
                 __lagrange_qdot,
                 __lagrange_t,
             )?;
-            let __lagrange_r = 1.0 / (__lagrange_k + 1) as f64;
-            __lagrange_out[__lagrange_k + 1][0][0] =
-                __lagrange_out[__lagrange_k][1][0] * __lagrange_r;
-            __lagrange_out[__lagrange_k + 1][1][0] = __lagrange_a[0] * __lagrange_r;
+            __lagrange_rt::next_order(__lagrange_out, __lagrange_a, __lagrange_k);
             if __lagrange_k + 1 < __lagrange_order {
                 __lagrange_rt::derivs_mid_at(
                     __lagrange_c,

@@ -561,6 +561,83 @@ pub fn tail_rest<T: Real>(mid: T, m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
     tail_finish(mul_newest(mid, m, a, k), m, a, k)
 }
 
+/// M₀'s upper triangle from the rows of `c` at order 0: entry (i, l) is `c[slots[i][l]][0]`, zero
+/// where the slot is 0 (a structural zero) or below the diagonal (what the generated series hands
+/// the order-by-order solve and its errors).
+///
+/// ```
+/// use lagrange_runtime::taylor::order0_matrix;
+/// let mut c = [[0.0; 33]; 3];
+/// (c[1][0], c[2][0]) = (2.0, 0.5);
+/// assert_eq!(order0_matrix(&c, [[1, 2], [2, 1]]), [[2.0, 0.5], [0.0, 2.0]]);
+/// ```
+#[inline(always)]
+pub fn order0_matrix<T: Real, const S: usize, const N: usize>(
+    c: &[RowOf<T>; S],
+    slots: [[usize; N]; N],
+) -> [[T; N]; N] {
+    core::array::from_fn(|i| {
+        core::array::from_fn(|l| match slots[i][l] {
+            0 => T::ZERO,
+            _ if l < i => T::ZERO,
+            s => c[s][0],
+        })
+    })
+}
+
+/// A column from the rows of `c` at order 0: `c[slots[i]][0]`, zero for slot 0 (b₀ of the
+/// order-by-order solve).
+///
+/// ```
+/// use lagrange_runtime::taylor::order0_column;
+/// let mut c = [[0.0; 33]; 2];
+/// c[1][0] = 3.0;
+/// assert_eq!(order0_column(&c, [1, 0]), [3.0, 0.0]);
+/// ```
+#[inline(always)]
+pub fn order0_column<T: Real, const S: usize, const N: usize>(
+    c: &[RowOf<T>; S],
+    slots: [usize; N],
+) -> [T; N] {
+    slots.map(|s| if s == 0 { T::ZERO } else { c[s][0] })
+}
+
+/// The lanes where every divisor `c[slots[m]][0]` is finite and not zero (the test of a series
+/// with explicit accelerations).
+///
+/// ```
+/// use lagrange_runtime::taylor::divisors_ok;
+/// let mut c = [[0.0; 33]; 3];
+/// (c[1][0], c[2][0]) = (2.0, 0.0);
+/// assert!(divisors_ok(&c, [1]) && !divisors_ok(&c, [1, 2]));
+/// ```
+#[inline(always)]
+pub fn divisors_ok<T: Real, const S: usize, const M: usize>(
+    c: &[RowOf<T>; S],
+    slots: [usize; M],
+) -> T::Mask {
+    slots.iter().fold(T::EVERY_LANE, |ok, &s| {
+        ok & c[s][0].nonzero() & c[s][0].finite()
+    })
+}
+
+/// Order k + 1 of the state series from order k: q_{k+1} = q̇_k/(k+1), q̇_{k+1} = a_k/(k+1).
+///
+/// ```
+/// use lagrange_runtime::taylor::next_order;
+/// let mut out = [[[1.0], [2.0]], [[0.0], [0.0]]];
+/// next_order(&mut out, [6.0], 0);
+/// assert_eq!(out[1], [[2.0], [6.0]]);
+/// ```
+#[inline(always)]
+pub fn next_order<T: Real, const N: usize>(out: &mut [[[T; N]; 2]], a: [T; N], k: usize) {
+    let r = 1.0 / (k + 1) as f64;
+    for i in 0..N {
+        out[k + 1][0][i] = out[k][1][i] * r;
+        out[k + 1][1][i] = a[i] * r;
+    }
+}
+
 /// [`muls_mid`] of the rows x and y of `c`, each sum stored at its row s, order k (the generated
 /// series' call for the products, quotients and tails of the next order: rows by index).
 ///

@@ -757,31 +757,22 @@ impl Program<'_> {
         };
         // M₀ (upper triangle) and the right-hand side of order 0 (the solve's, or the error's
         // where explicit accelerations do not apply).
-        let m0_rows = (0..n).map(|i| {
-            let cols = (0..n).map(|l| {
-                let id = d.mass[i][l];
-                if l < i || id == Dag::ZERO {
-                    zero.clone()
-                } else {
-                    let s = sl(id);
-                    quote!(#c[#s][0])
-                }
+        let m0_slots = (0..n).map(|i| {
+            let cols = (0..n).map(|l| match d.mass[i][l] {
+                id if l >= i && id != Dag::ZERO => sl(id),
+                _ => Literal::usize_unsuffixed(0),
             });
             quote!([#(#cols),*])
         });
-        let b0: Vec<TokenStream> = (0..n)
-            .map(|i| match d.rhs[i] {
-                Dag::ZERO => zero.clone(),
-                id => {
-                    let s = sl(id);
-                    quote!(#c[#s][0])
-                }
-            })
-            .collect();
+        let b0_slots = (0..n).map(|i| match d.rhs[i] {
+            Dag::ZERO => Literal::usize_unsuffixed(0),
+            id => sl(id),
+        });
+        let m0 = quote!(#rt::order0_matrix(#c, [#(#m0_slots),*]));
+        let b0 = quote!(#rt::order0_column(#c, [#(#b0_slots),*]));
         let nn = Literal::usize_unsuffixed(n);
         let names_ = names::taylor("names");
         let ii = (0..n).map(Literal::usize_unsuffixed);
-        let ii2 = (0..n).map(Literal::usize_unsuffixed);
         let max = quote!(#rt::MAX_ORDER);
         let params = names::lane_params();
         // The accelerations' rows are read by the mass tails only.
@@ -791,12 +782,8 @@ impl Program<'_> {
             quote!(#( #c[#accel][#k] = #a[#ii]; )*)
         };
         let store = quote! {
-            let __lagrange_r = 1.0 / (#k + 1) as f64;
             #accel_rows
-            #(
-                #out[#k + 1][0][#ii2] = #out[#k][1][#ii2] * __lagrange_r;
-                #out[#k + 1][1][#ii2] = #a[#ii2] * __lagrange_r;
-            )*
+            #rt::next_order(#out, #a, #k);
         };
         let solve = match self.explicit {
             None => {
@@ -826,7 +813,7 @@ impl Program<'_> {
                     // lane where it has none is left out of the mask: the caller takes its member's
                     // single-run series.
                     let (#factor, __lagrange_ok) =
-                        #factor_ty::new(&[#(#m0_rows),*], &[#(#b0),*], #names_, #q, #qdot, #t);
+                        #factor_ty::new(&#m0, &#b0, #names_, #q, #qdot, #t);
                     if let ::core::option::Option::Some(__lagrange_e) =
                         ::lagrange::__private::eom::SeriesFactor::error(&#factor, #names_, #q, #qdot, #t)
                     {
@@ -835,7 +822,7 @@ impl Program<'_> {
                     let mut #a = [<#num as #real>::ZERO; #nn];
                     for #k in 0..#order {
                         let #b: [#num; #nn] = if #k == 0 {
-                            [#(#b0),*]
+                            #b0
                         } else {
                             #step
                             #(#tail_finish)*
@@ -852,10 +839,7 @@ impl Program<'_> {
                 }
             }
             Some(split) => {
-                let tests = split.tests.iter().map(|&x| {
-                    let x = sl(x);
-                    quote!(& <#num as #real>::nonzero(#c[#x][0]) & <#num as #real>::finite(#c[#x][0]))
-                });
+                let tests = split.tests.iter().map(|&x| sl(x));
                 let value = |i: usize| match split.accel[i] {
                     Dag::ZERO => zero.clone(),
                     x => {
@@ -869,11 +853,11 @@ impl Program<'_> {
                     // The explicit accelerations, where their divisors are finite and not zero at
                     // order 0 (a lane where one is not is left out of the mask: the caller takes
                     // its member's single-run series; a single run returns why M₀ is singular).
-                    let __lagrange_ok = <#num as #real>::EVERY_LANE #(#tests)*;
+                    let __lagrange_ok = #rt::divisors_ok(#c, [#(#tests),*]);
                     if !<#num as #real>::all(__lagrange_ok) {
                         if let ::core::option::Option::Some(__lagrange_e) =
                             <#num as ::lagrange::__private::eom::SeriesReal>::declined(
-                                &[#(#m0_rows),*], &[#(#b0),*], #names_, #q, #qdot, #t,
+                                &#m0, &#b0, #names_, #q, #qdot, #t,
                             )
                         {
                             return ::core::result::Result::Err(__lagrange_e);
