@@ -385,18 +385,6 @@ impl<const K: usize> Real for Tangent<K> {
 /// The Taylor series in tangents: one LDLᵀ of M₀ per step (a failed pivot test clears the mask).
 impl<const K: usize> crate::eom::SeriesReal for Tangent<K> {
     type Factor<const N: usize> = crate::eom::LdlOf<Self, N>;
-
-    /// As a failed pivot test: the mask is cleared (the sensitivity run says so).
-    fn declined<const N: usize>(
-        _m0: &[[Self; N]; N],
-        _b0: &[Self; N],
-        _names: [&'static str; N],
-        _q: &[Self; N],
-        _qdot: &[Self; N],
-        _t: Self,
-    ) -> Option<crate::error::DynamicsError> {
-        None
-    }
 }
 
 #[cfg(test)]

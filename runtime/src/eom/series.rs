@@ -32,16 +32,18 @@ pub trait SeriesReal: Real {
 
     /// For a series with explicit accelerations (a system whose mass matrix is block diagonal in
     /// 1×1 blocks and 2×2 blocks with exact determinants) where a divisor is zero or not finite at
-    /// order 0: a single run's error (M₀'s, as the solve gives it); `None` for lanes, which leave
-    /// such a member out of the mask instead.
+    /// order 0: a single run's error (M₀'s, as the solve gives it); `None` (the default) for
+    /// lanes and tangents, which clear that lane's mask instead.
     fn declined<const N: usize>(
-        m0: &[[Self; N]; N],
-        b0: &[Self; N],
-        names: [&'static str; N],
-        q: &[Self; N],
-        qdot: &[Self; N],
-        t: Self,
-    ) -> Option<DynamicsError>;
+        _m0: &[[Self; N]; N],
+        _b0: &[Self; N],
+        _names: [&'static str; N],
+        _q: &[Self; N],
+        _qdot: &[Self; N],
+        _t: Self,
+    ) -> Option<DynamicsError> {
+        None
+    }
 }
 
 impl SeriesReal for f64 {
@@ -82,17 +84,6 @@ impl SeriesReal for f64 {
 
 impl<const W: usize, const F: bool> SeriesReal for crate::lanes::Lanes<W, F> {
     type Factor<const N: usize> = LdlOf<Self, N>;
-
-    fn declined<const N: usize>(
-        _m0: &[[Self; N]; N],
-        _b0: &[Self; N],
-        _names: [&'static str; N],
-        _q: &[Self; N],
-        _qdot: &[Self; N],
-        _t: Self,
-    ) -> Option<DynamicsError> {
-        None
-    }
 }
 
 /// The factorization of M₀ that every order of one Taylor step shares, over the kernels' number
