@@ -192,28 +192,6 @@ fn dots<T: Real, const M: usize>(xs: [&[T]; M], ys: [&[T]; M], w0: Option<f64>) 
     s
 }
 
-/// The part of coefficient k ≥ 1 of M products that the coefficients below k give,
-/// Σ_{j=1..k−1} a_j b_{k−j}, side by side: [`muls_mid`] (the terms that read below k − 1), then
-/// [`mul_newest`]; [`mul_finish`] completes it with the two terms that read coefficient k.
-/// Quotients ([`div_finish`]) and the mass tails ([`tail_finish`]) have sums of this shape too.
-///
-/// ```
-/// use lagrange_runtime::taylor::{mul, mul_finish, muls_known};
-/// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
-/// (a[0], a[1], a[2], b[0], b[1], b[2]) = (1.0, 0.5, 0.25, 2.0, -1.0, 3.0);
-/// let [h, g] = muls_known([&a, &b], [&b, &b], 2);
-/// assert_eq!(h, 0.5 * -1.0);
-/// assert_eq!([mul_finish(h, &a, &b, 2), mul_finish(g, &b, &b, 2)], [mul(&a, &b, 2), mul(&b, &b, 2)]);
-/// ```
-#[inline(always)]
-pub fn muls_known<T: Real, const M: usize>(
-    a: [&RowOf<T>; M],
-    b: [&RowOf<T>; M],
-    k: usize,
-) -> [T; M] {
-    known(a, b, k, false)
-}
-
 /// The part of Σ_{j=1..k−1} w_j x_j y_{k−j} (w_j = j where `weighted`, else 1) that reads
 /// coefficients below k − 1 only, j = 2..k−2, for M pairs of rows in one [`dots`] pass: what the
 /// generated series computes for order k + 1 right after order k, while order k's chain of
@@ -237,7 +215,7 @@ fn mids<T: Real, const M: usize>(
 }
 
 /// [`mids`]'s sum `mid` completed with the terms that read coefficient k − 1 (j = 1 and
-/// j = k − 1; one term at k = 2, none at k = 1).
+/// j = k − 1; one term at k = 2, none at k = 1): Σ_{j=1..k−1} w_j x_j y_{k−j}.
 #[inline(always)]
 fn newest<T: Real>(mid: T, x: &RowOf<T>, y: &RowOf<T>, k: usize, weighted: bool) -> T {
     match k {
@@ -250,57 +228,35 @@ fn newest<T: Real>(mid: T, x: &RowOf<T>, y: &RowOf<T>, k: usize, weighted: bool)
     }
 }
 
-/// Σ_{j=1..k−1} w_j x_j y_{k−j} for M pairs of rows: [`mids`], then [`newest`].
-#[inline(always)]
-fn known<T: Real, const M: usize>(
-    x: [&RowOf<T>; M],
-    y: [&RowOf<T>; M],
-    k: usize,
-    weighted: bool,
-) -> [T; M] {
-    let mid = mids(x, y, k, weighted);
-    core::array::from_fn(|m| newest(mid[m], x[m], y[m], k, weighted))
-}
-
-/// The part of [`muls_known`] that reads coefficients below k − 1 only (j = 2..k−2), M side by
-/// side: the generated series computes it for order k + 1 right after finishing order k, so the
-/// long sums overlap the short chain each order waits for; [`mul_newest`] completes it.
+/// The part of coefficient k ≥ 1 of M products a·b that reads coefficients below k − 1 only,
+/// Σ_{j=2..k−2} a_j b_{k−j}, side by side: the generated series computes it for order k + 1
+/// right after finishing order k, so the long sums overlap the short chain each order waits for;
+/// [`mul_rest`] completes it. Quotients ([`div_rest`]) and the mass tails ([`tail_rest`]) have
+/// sums of this shape too.
 ///
 /// ```
-/// use lagrange_runtime::taylor::{mul_newest, muls_known, muls_mid};
+/// use lagrange_runtime::taylor::{mul, mul_rest, muls_mid};
 /// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
 /// for j in 0..6 { (a[j], b[j]) = (1.0 + j as f64, 2.0 - j as f64); }
-/// let [m] = muls_mid([&a], [&b], 5);
+/// let [m, n] = muls_mid([&a, &b], [&b, &b], 5);
 /// assert_eq!(m, 3.0 * -1.0 + 4.0 * 0.0);
-/// assert_eq!(mul_newest(m, &a, &b, 5), muls_known([&a], [&b], 5)[0]);
+/// assert_eq!([mul_rest(m, &a, &b, 5), mul_rest(n, &b, &b, 5)], [mul(&a, &b, 5), mul(&b, &b, 5)]);
 /// ```
 #[inline(always)]
 pub fn muls_mid<T: Real, const M: usize>(a: [&RowOf<T>; M], b: [&RowOf<T>; M], k: usize) -> [T; M] {
     mids(a, b, k, false)
 }
 
-/// [`muls_mid`]'s sum completed to [`muls_known`]'s: + a₁ b_{k−1} + a_{k−1} b₁.
+/// The part of k·c_k (k ≥ 1) of M functions c = f(a) that reads coefficients below k − 1 only,
+/// Σ_{j=2..k−2} j a_j d_{k−j} with d = f′(a), side by side; [`deriv_rest`] completes it.
 ///
 /// ```
-/// use lagrange_runtime::taylor::mul_newest;
-/// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
-/// (a[1], b[1]) = (2.0, 3.0);
-/// assert_eq!(mul_newest(0.0, &a, &b, 2), 6.0);
-/// ```
-#[inline(always)]
-pub fn mul_newest<T: Real>(mid: T, a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
-    newest(mid, a, b, k, false)
-}
-
-/// The part of [`derivs_known`] that reads coefficients below k − 1 only (j = 2..k−2, weights j),
-/// M side by side; [`deriv_newest`] completes it.
-///
-/// ```
-/// use lagrange_runtime::taylor::{deriv_newest, derivs_known, derivs_mid};
+/// use lagrange_runtime::taylor::{deriv, deriv_rest, derivs_mid};
 /// let (mut a, mut d) = ([0.0; 33], [0.0; 33]);
 /// for j in 0..6 { (a[j], d[j]) = (1.0 + j as f64, 2.0 - j as f64); }
 /// let [m] = derivs_mid([&a], [&d], 5);
-/// assert_eq!(deriv_newest(m, &a, &d, 5), derivs_known([&a], [&d], 5)[0]);
+/// assert_eq!(m, 2.0 * 3.0 * -1.0 + 3.0 * 4.0 * 0.0);
+/// assert_eq!(deriv_rest(m, &a, &d, 5), deriv(&a, &d, 5));
 /// ```
 #[inline(always)]
 pub fn derivs_mid<T: Real, const M: usize>(
@@ -311,60 +267,17 @@ pub fn derivs_mid<T: Real, const M: usize>(
     mids(a, d, k, true)
 }
 
-/// [`derivs_mid`]'s sum completed to [`derivs_known`]'s: + a₁ d_{k−1} + (k − 1) a_{k−1} d₁.
+/// The part of coefficient k ≥ 1 of M squares that reads coefficients below k − 1 only:
+/// 2 Σ_{2 ≤ j < k−j} a_j a_{k−j} (+ a_{k/2}² for even k ≥ 4), side by side; [`sqr_rest`]
+/// completes it.
 ///
 /// ```
-/// use lagrange_runtime::taylor::deriv_newest;
-/// let (mut a, mut d) = ([0.0; 33], [0.0; 33]);
-/// (a[1], a[2], d[1], d[2]) = (2.0, 1.0, 3.0, 0.5);
-/// assert_eq!(deriv_newest(0.0, &a, &d, 3), 2.0 * 0.5 + 2.0 * 1.0 * 3.0);
-/// ```
-#[inline(always)]
-pub fn deriv_newest<T: Real>(mid: T, a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    newest(mid, a, d, k, true)
-}
-
-/// Coefficient k ≥ 1 of a·b from its known part h ([`muls_known`]): h + a₀ b_k + a_k b₀.
-///
-/// ```
-/// use lagrange_runtime::taylor::mul_finish;
-/// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
-/// (a[0], a[1], b[0], b[1]) = (1.0, 1.0, 2.0, -1.0);
-/// assert_eq!(mul_finish(0.0, &a, &b, 1), 1.0);
-/// ```
-#[inline(always)]
-pub fn mul_finish<T: Real>(h: T, a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
-    a[k].madd(b[0], a[0].madd(b[k], h))
-}
-
-/// The part of coefficient k ≥ 1 of M squares that the coefficients below k give:
-/// 2 Σ_{1 ≤ j < k−j} a_j a_{k−j} (+ a_{k/2}² for even k), side by side.
-///
-/// ```
-/// use lagrange_runtime::taylor::{sqr, sqr_finish, sqrs_known};
-/// let mut a = [0.0; 33];
-/// (a[0], a[1], a[2], a[3]) = (1.0, 0.5, 0.25, 2.0);
-/// for k in 1..=3 {
-///     let [h] = sqrs_known([&a], k);
-///     assert_eq!(sqr_finish(h, &a, k), sqr(&a, k));
-/// }
-/// ```
-#[inline(always)]
-pub fn sqrs_known<T: Real, const M: usize>(a: [&RowOf<T>; M], k: usize) -> [T; M] {
-    let mid = sqrs_mid(a, k);
-    core::array::from_fn(|m| sqr_newest(mid[m], a[m], k))
-}
-
-/// The part of [`sqrs_known`] that reads coefficients below k − 1 only: 2 Σ_{2 ≤ j < k−j}
-/// a_j a_{k−j} (+ a_{k/2}² for even k ≥ 4), M side by side; [`sqr_newest`] completes it.
-///
-/// ```
-/// use lagrange_runtime::taylor::{sqr_newest, sqrs_known, sqrs_mid};
+/// use lagrange_runtime::taylor::{sqr, sqr_rest, sqrs_mid};
 /// let mut a = [0.0; 33];
 /// for j in 0..7 { a[j] = 1.0 + j as f64; }
 /// for k in 1..=6 {
 ///     let [m] = sqrs_mid([&a], k);
-///     assert_eq!(sqr_newest(m, &a, k), sqrs_known([&a], k)[0]);
+///     assert_eq!(sqr_rest(m, &a, k), sqr(&a, k));
 /// }
 /// ```
 #[inline(always)]
@@ -388,147 +301,59 @@ pub fn sqrs_mid<T: Real, const M: usize>(a: [&RowOf<T>; M], k: usize) -> [T; M] 
     s
 }
 
-/// [`sqrs_mid`]'s sum completed to [`sqrs_known`]'s: + 2 a₁ a_{k−1} (a₁² at k = 2).
+/// Coefficient k ≥ 1 of a·b from [`muls_mid`]'s part m: + a₁ b_{k−1} + a_{k−1} b₁ (the terms
+/// that read k − 1), then + a₀ b_k + a_k b₀ (those that read k; the later operand's a_k last).
 ///
 /// ```
-/// use lagrange_runtime::taylor::sqr_newest;
-/// let mut a = [0.0; 33];
-/// (a[1], a[2]) = (2.0, 3.0);
-/// assert_eq!([sqr_newest(0.0, &a, 2), sqr_newest(0.0, &a, 3)], [4.0, 12.0]);
-/// ```
-#[inline(always)]
-pub fn sqr_newest<T: Real>(mid: T, a: &RowOf<T>, k: usize) -> T {
-    match k {
-        0 | 1 => T::ZERO,
-        2 => a[1].madd(a[1], mid),
-        _ => (a[1] + a[1]).madd(a[k - 1], mid),
-    }
-}
-
-/// Coefficient k ≥ 1 of a² from its known part h ([`sqrs_known`]): h + 2 a₀ a_k.
-///
-/// ```
-/// use lagrange_runtime::taylor::sqr_finish;
-/// let mut a = [0.0; 33];
-/// (a[0], a[1]) = (3.0, 1.0);
-/// assert_eq!(sqr_finish(0.0, &a, 1), 6.0);
-/// ```
-#[inline(always)]
-pub fn sqr_finish<T: Real>(h: T, a: &RowOf<T>, k: usize) -> T {
-    (a[0] + a[0]).madd(a[k], h)
-}
-
-/// The part of k·c_k (k ≥ 1) of M functions c = f(a) that the coefficients below k give,
-/// Σ_{j=1..k−1} j a_j d_{k−j} with d = f′(a), side by side.
-///
-/// ```
-/// use lagrange_runtime::taylor::{deriv, deriv_finish, derivs_known};
-/// let (mut a, mut d, mut e) = ([0.0; 33], [0.0; 33], [0.0; 33]);
-/// (a[1], a[2], d[0], d[1], e[0]) = (1.0, 0.5, 0.3, 0.7, -2.0);
-/// let [h, g] = derivs_known([&a, &a], [&d, &e], 2);
-/// assert_eq!(h, 0.7);
-/// assert_eq!([deriv_finish(h, &a, &d, 2), deriv_finish(g, &a, &e, 2)], [deriv(&a, &d, 2), deriv(&a, &e, 2)]);
-/// ```
-#[inline(always)]
-pub fn derivs_known<T: Real, const M: usize>(
-    a: [&RowOf<T>; M],
-    d: [&RowOf<T>; M],
-    k: usize,
-) -> [T; M] {
-    known(a, d, k, true)
-}
-
-/// Coefficient k ≥ 1 of c = f(a) from its known part h ([`derivs_known`]): h · (1/k) + a_k d₀
-/// (1/k depends on nothing computed, so no division is on the chain from one order to the next:
-/// measured, h / k put one there).
-///
-/// ```
-/// use lagrange_runtime::taylor::deriv_finish;
-/// let (mut a, mut d) = ([0.0; 33], [0.0; 33]);
-/// (a[1], d[0]) = (2.0, 0.5);
-/// assert_eq!(deriv_finish(0.0, &a, &d, 1), 1.0);
-/// ```
-#[inline(always)]
-pub fn deriv_finish<T: Real>(h: T, a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    a[k].madd(d[0], h * (1.0 / k as f64))
-}
-
-/// Coefficient k ≥ 1 of c = a / b from the known part h = Σ_{j=1..k−1} b_j c_{k−j}
-/// ([`muls_known`] of b and c), a_k and r = 1 / b₀ (one division per series, none on the chain
-/// of an order): (a_k − (h + b_k c₀)) · r (a_k, the numerator, is the value that arrives last).
-///
-/// ```
-/// use lagrange_runtime::taylor::div_finish;
-/// // 1 / (1 − τ): c₁ = (0 − (−1)·1) · 1.
-/// let (mut b, mut c) = ([0.0; 33], [0.0; 33]);
-/// (b[0], b[1], c[0]) = (1.0, -1.0, 1.0);
-/// assert_eq!(div_finish(0.0, 0.0, &b, &c, 1.0, 1), 1.0);
-/// ```
-#[inline(always)]
-pub fn div_finish<T: Real>(h: T, a_k: T, b: &RowOf<T>, c: &RowOf<T>, r: T, k: usize) -> T {
-    (a_k - b[k].madd(c[0], h)) * r
-}
-
-/// The mass tail Σ_{j=1..k} m_j a_{k−j} (k ≥ 1) from its known part h = Σ_{j=1..k−1}
-/// ([`muls_known`] of m and a): h + m_k a₀.
-///
-/// ```
-/// use lagrange_runtime::taylor::tail_finish;
-/// let (mut m, mut a) = ([0.0; 33], [0.0; 33]);
-/// (m[1], a[0]) = (2.0, 3.0);
-/// assert_eq!(tail_finish(0.0, &m, &a, 1), 6.0);
-/// ```
-#[inline(always)]
-pub fn tail_finish<T: Real>(h: T, m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
-    m[k].madd(a[0], h)
-}
-
-/// Coefficient k ≥ 1 of a·b from [`muls_mid`]'s part m: [`mul_newest`], then [`mul_finish`]
-/// (what the generated series calls per product and order).
-///
-/// ```
-/// use lagrange_runtime::taylor::{mul, mul_rest, muls_mid};
+/// use lagrange_runtime::taylor::mul_rest;
 /// let (mut a, mut b) = ([0.0; 33], [0.0; 33]);
-/// for j in 0..7 { (a[j], b[j]) = (1.0 + j as f64, 2.0 - j as f64); }
-/// let [m] = muls_mid([&a], [&b], 6);
-/// assert_eq!(mul_rest(m, &a, &b, 6), mul(&a, &b, 6));
+/// (a[0], a[1], b[0], b[1]) = (1.0, 1.0, 2.0, -1.0);
+/// assert_eq!(mul_rest(0.0, &a, &b, 1), 1.0);
 /// ```
 #[inline(always)]
 pub fn mul_rest<T: Real>(m: T, a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
-    mul_finish(mul_newest(m, a, b, k), a, b, k)
+    let h = newest(m, a, b, k, false);
+    a[k].madd(b[0], a[0].madd(b[k], h))
 }
 
-/// Coefficient k ≥ 1 of a² from [`sqrs_mid`]'s part m: [`sqr_newest`], then [`sqr_finish`].
+/// Coefficient k ≥ 1 of a² from [`sqrs_mid`]'s part m: + 2 a₁ a_{k−1} (a₁² at k = 2), then
+/// + 2 a₀ a_k.
 ///
 /// ```
-/// use lagrange_runtime::taylor::{sqr, sqr_rest, sqrs_mid};
+/// use lagrange_runtime::taylor::sqr_rest;
 /// let mut a = [0.0; 33];
-/// for j in 0..7 { a[j] = 1.0 + j as f64; }
-/// let [m] = sqrs_mid([&a], 6);
-/// assert_eq!(sqr_rest(m, &a, 6), sqr(&a, 6));
+/// (a[0], a[1], a[2]) = (3.0, 2.0, 1.0);
+/// assert_eq!([sqr_rest(0.0, &a, 1), sqr_rest(0.0, &a, 2)], [12.0, 10.0]);
 /// ```
 #[inline(always)]
 pub fn sqr_rest<T: Real>(m: T, a: &RowOf<T>, k: usize) -> T {
-    sqr_finish(sqr_newest(m, a, k), a, k)
+    let h = match k {
+        0 | 1 => T::ZERO,
+        2 => a[1].madd(a[1], m),
+        _ => (a[1] + a[1]).madd(a[k - 1], m),
+    };
+    (a[0] + a[0]).madd(a[k], h)
 }
 
-/// Coefficient k ≥ 1 of f(a) from [`derivs_mid`]'s part m: [`deriv_newest`], then
-/// [`deriv_finish`].
+/// Coefficient k ≥ 1 of c = f(a) from [`derivs_mid`]'s part m: h = m + a₁ d_{k−1} +
+/// (k − 1) a_{k−1} d₁, then h · (1/k) + a_k d₀ (1/k depends on nothing computed, so no division is
+/// on the chain from one order to the next: measured, h / k put one there).
 ///
 /// ```
-/// use lagrange_runtime::taylor::{deriv, deriv_rest, derivs_mid};
+/// use lagrange_runtime::taylor::deriv_rest;
 /// let (mut a, mut d) = ([0.0; 33], [0.0; 33]);
-/// for j in 0..7 { (a[j], d[j]) = (1.0 + j as f64, 2.0 - j as f64); }
-/// let [m] = derivs_mid([&a], [&d], 6);
-/// assert_eq!(deriv_rest(m, &a, &d, 6), deriv(&a, &d, 6));
+/// (a[1], d[0]) = (2.0, 0.5);
+/// assert_eq!(deriv_rest(0.0, &a, &d, 1), 1.0);
 /// ```
 #[inline(always)]
 pub fn deriv_rest<T: Real>(m: T, a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    deriv_finish(deriv_newest(m, a, d, k), a, d, k)
+    let h = newest(m, a, d, k, true);
+    a[k].madd(d[0], h * (1.0 / k as f64))
 }
 
-/// Coefficient k ≥ 1 of a / b from [`muls_mid`]'s part m of b and c, a_k and r = 1 / b₀:
-/// [`mul_newest`], then [`div_finish`].
+/// Coefficient k ≥ 1 of c = a / b from [`muls_mid`]'s part m of b and c, a_k and r = 1 / b₀ (one
+/// division per series, none on the chain of an order): h = m + b₁ c_{k−1} + b_{k−1} c₁, then
+/// (a_k − (h + b_k c₀)) · r (a_k, the numerator, is the value that arrives last).
 ///
 /// ```
 /// use lagrange_runtime::taylor::{div_rest, muls_mid};
@@ -543,11 +368,12 @@ pub fn deriv_rest<T: Real>(m: T, a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn div_rest<T: Real>(m: T, a_k: T, b: &RowOf<T>, c: &RowOf<T>, r: T, k: usize) -> T {
-    div_finish(mul_newest(m, b, c, k), a_k, b, c, r, k)
+    let h = newest(m, b, c, k, false);
+    (a_k - b[k].madd(c[0], h)) * r
 }
 
-/// The mass tail Σ_{j=1..k} m_j a_{k−j} from [`muls_mid`]'s part `mid` of m and a:
-/// [`mul_newest`], then [`tail_finish`].
+/// The mass tail Σ_{j=1..k} m_j a_{k−j} (k ≥ 1) from [`muls_mid`]'s part `mid` of m and a:
+/// + m₁ a_{k−1} + m_{k−1} a₁, then + m_k a₀.
 ///
 /// ```
 /// use lagrange_runtime::taylor::{mass_tail, muls_mid, tail_rest};
@@ -558,7 +384,8 @@ pub fn div_rest<T: Real>(m: T, a_k: T, b: &RowOf<T>, c: &RowOf<T>, r: T, k: usiz
 /// ```
 #[inline(always)]
 pub fn tail_rest<T: Real>(mid: T, m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
-    tail_finish(mul_newest(mid, m, a, k), m, a, k)
+    let h = newest(mid, m, a, k, false);
+    m[k].madd(a[0], h)
 }
 
 /// M₀'s upper triangle from the rows of `c` at order 0: entry (i, l) is `c[slots[i][l]][0]`, zero
@@ -826,8 +653,8 @@ pub fn mul<T: Real>(a: &RowOf<T>, b: &RowOf<T>, k: usize) -> T {
     if k == 0 {
         return a[0] * b[0];
     }
-    let [h] = muls_known([a], [b], k);
-    mul_finish(h, a, b, k)
+    let [m] = muls_mid([a], [b], k);
+    mul_rest(m, a, b, k)
 }
 
 /// Coefficient k of a²: Σ_{j=0..k} a_j a_{k−j}, the symmetric terms once.
@@ -843,8 +670,8 @@ pub fn sqr<T: Real>(a: &RowOf<T>, k: usize) -> T {
     if k == 0 {
         return a[0] * a[0];
     }
-    let [h] = sqrs_known([a], k);
-    sqr_finish(h, a, k)
+    let [m] = sqrs_mid([a], k);
+    sqr_rest(m, a, k)
 }
 
 /// Coefficient k of c = a / b, given c's coefficients 0..k: (a_k − Σ_{j=1..k} b_j c_{k−j}) / b₀.
@@ -862,8 +689,8 @@ pub fn div<T: Real>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -> T {
     if k == 0 {
         return a[0] / b[0];
     }
-    let [h] = muls_known([b], [c], k);
-    div_finish(h, a[k], b, c, T::from(1.0) / b[0], k)
+    let [m] = muls_mid([b], [c], k);
+    div_rest(m, a[k], b, c, T::from(1.0) / b[0], k)
 }
 
 /// Coefficient k ≥ 1 of c = f(a) from the series d = f′(a): (1/k) Σ_{j=1..k} j a_j d_{k−j}
@@ -879,8 +706,8 @@ pub fn div<T: Real>(a: &RowOf<T>, b: &RowOf<T>, c: &RowOf<T>, k: usize) -> T {
 /// ```
 #[inline(always)]
 pub fn deriv<T: Real>(a: &RowOf<T>, d: &RowOf<T>, k: usize) -> T {
-    let [h] = derivs_known([a], [d], k);
-    deriv_finish(h, a, d, k)
+    let [m] = derivs_mid([a], [d], k);
+    deriv_rest(m, a, d, k)
 }
 
 /// Coefficient k ≥ 1 of c = f(y, x) from the series p = ∂f/∂y and q = ∂f/∂x:
@@ -930,8 +757,8 @@ pub fn mass_tail<T: Real>(m: &RowOf<T>, a: &RowOf<T>, k: usize) -> T {
     if k == 0 {
         return T::ZERO;
     }
-    let [h] = muls_known([m], [a], k);
-    tail_finish(h, m, a, k)
+    let [mid] = muls_mid([m], [a], k);
+    tail_rest(mid, m, a, k)
 }
 
 #[cfg(test)]
@@ -975,43 +802,44 @@ mod tests {
         }
     }
 
-    /// The known parts side by side, finished, are the one-at-a-time kernels bit for bit, at
-    /// every order, in `f64` and in lanes (the generated series compute every known part of an
-    /// order first, then finish node by node); each lane of a lanes kernel is its `f64` kernel.
+    /// The middle sums side by side, completed by the `_rest` kernels, are the one-at-a-time
+    /// kernels bit for bit, at every order, in `f64` and in lanes (the generated series computes
+    /// every middle sum of an order in groups, then finishes node by node); each lane of a lanes
+    /// kernel is its `f64` kernel.
     #[test]
-    fn known_parts_finished_equal_the_single_kernels_bit_for_bit() {
+    fn middle_sums_side_by_side_completed_equal_the_single_kernels_bit_for_bit() {
         use crate::lanes::Lanes;
         let row = |seed: usize| -> Row {
             core::array::from_fn(|j| (((j * seed + 3) % 17) as f64 - 8.0) / (1.0 + j as f64).sqrt())
         };
         let (a, b, c, d) = (row(5), row(7), row(11), row(13));
         for k in 1..=MAX_ORDER {
-            let [h0, h1, h2] = muls_known([&a, &b, &c], [&d, &c, &a], k);
+            let [m0, m1, m2] = muls_mid([&a, &b, &c], [&d, &c, &a], k);
             assert_eq!(
                 [
-                    mul_finish(h0, &a, &d, k),
-                    mul_finish(h1, &b, &c, k),
-                    mul_finish(h2, &c, &a, k)
+                    mul_rest(m0, &a, &d, k),
+                    mul_rest(m1, &b, &c, k),
+                    mul_rest(m2, &c, &a, k)
                 ]
                 .map(f64::to_bits),
                 [mul(&a, &d, k), mul(&b, &c, k), mul(&c, &a, k)].map(f64::to_bits),
                 "muls, k = {k}"
             );
-            let [h0, h1] = sqrs_known([&a, &b], k);
+            let [m0, m1] = sqrs_mid([&a, &b], k);
             assert_eq!(
-                [sqr_finish(h0, &a, k), sqr_finish(h1, &b, k)].map(f64::to_bits),
+                [sqr_rest(m0, &a, k), sqr_rest(m1, &b, k)].map(f64::to_bits),
                 [sqr(&a, k), sqr(&b, k)].map(f64::to_bits),
                 "sqrs, k = {k}"
             );
-            let [h0, h1] = derivs_known([&a, &b], [&c, &d], k);
+            let [m0, m1] = derivs_mid([&a, &b], [&c, &d], k);
             assert_eq!(
-                [deriv_finish(h0, &a, &c, k), deriv_finish(h1, &b, &d, k)].map(f64::to_bits),
+                [deriv_rest(m0, &a, &c, k), deriv_rest(m1, &b, &d, k)].map(f64::to_bits),
                 [deriv(&a, &c, k), deriv(&b, &d, k)].map(f64::to_bits),
                 "derivs, k = {k}"
             );
-            let [h0, h1] = muls_known([&a, &d], [&b, &c], k);
+            let [m0, m1] = muls_mid([&a, &d], [&b, &c], k);
             assert_eq!(
-                [tail_finish(h0, &a, &b, k), tail_finish(h1, &d, &c, k)].map(f64::to_bits),
+                [tail_rest(m0, &a, &b, k), tail_rest(m1, &d, &c, k)].map(f64::to_bits),
                 [mass_tail(&a, &b, k), mass_tail(&d, &c, k)].map(f64::to_bits),
                 "mass_tails, k = {k}"
             );

@@ -484,7 +484,7 @@ impl Program<'_> {
         // Order 0: the straight-line values of every needed node.
         let stmts0 = codegen::emit_as(dag, &d.fields, &d.conds, ids, Some(&num)).values;
         let mut set0 = TokenStream::new();
-        // 1 / b₀ of each quotient a / b the orders ≥ 1 compute (`taylor::div_finish`; by a constant
+        // 1 / b₀ of each quotient a / b the orders ≥ 1 compute (`taylor::div_rest`; by a constant
         // b, each coefficient is a_k · (1 / b)): a multiplication on the chain of an order where
         // a division was (measured: the heavy top's θ̈ = f_θ / I⊥ ended each order in a divsd).
         let per_order_kernels: &[Id] = self.explicit.map_or(kernels, |e| &e.kernels);
@@ -628,7 +628,7 @@ impl Program<'_> {
             let mut finish = TokenStream::new();
             // When each node's coefficient k is ready, in additions' latencies from the start of
             // the order (a product's is one multiply-add after its later operand): a product
-            // finishes with the later operand's a_k b₀ last (`taylor::mul_finish`), so the chain
+            // finishes with the later operand's a_k b₀ last (`taylor::mul_rest`), so the chain
             // through it is one multiply-add.
             let mut ready: std::collections::HashMap<Id, u32> = std::collections::HashMap::new();
             for &id in list {
