@@ -40,6 +40,7 @@ use std::io::Write;
 use std::marker::PhantomData;
 use std::ops::Range;
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
@@ -47,7 +48,7 @@ use crate::constraints::Holonomic;
 pub use crate::integrate::lanes::Simd;
 #[doc(hidden)]
 pub use crate::integrate::lanes::accelerations as lane_accelerations;
-use crate::integrate::lanes::{Out, run_lanes};
+use crate::integrate::lanes::{Out, Queue, run_lanes};
 use crate::integrate::{Simulation, SimulationError, Trajectory};
 use crate::lagrangian::Lagrangian;
 
@@ -110,10 +111,16 @@ pub type Params = Vec<(&'static str, f64)>;
 type Configure<'c, L, const N: usize> =
     Box<dyn for<'s> Fn(Simulation<'s, L, N>) -> Simulation<'s, L, N> + Sync + 'c>;
 
-/// The lanes engine's entry: members in order, each result to the sink as the member ends, on
-/// the path the [`Simd`] resolves to.
+/// The lanes engine's entry: members as its lanes free (from a queue its thread shares with the
+/// others), each result to the sink as the member ends, on the path the [`Simd`] resolves to.
 type LanesFn<L, const N: usize> =
-    for<'s, 'o> fn(&mut [Simulation<'s, L, N>], &mut Out<'o, N>, Simd);
+    for<'q, 'p, 's, 'o> fn(&mut Queue<'q, 'p, 's, L, N>, &mut Out<'o, N>, Simd);
+
+/// The members per thread in one round of a lanes ensemble: the threads share the round's members
+/// from one queue, and each keeps the runs it took until the round ends (a few hundred bytes
+/// each), so a round bounds that memory; each round ends in one drain per thread (its lanes
+/// emptying), under 1 % of a round of tops.
+const ROUND_PER_THREAD: usize = 4096;
 
 /// How the members of an ensemble run: [`Plain`] (as they are; DOP853 and Taylor members share
 /// SIMD lanes) or [`Constrained`] (the constrained run of their system). A type parameter of
@@ -233,7 +240,8 @@ pub struct Ensemble<'c, L, F, const N: usize, E = Plain> {
 /// its result (its typed error in its slot if it failed: the others are not affected). A member
 /// whose closures or system code panic gets [`SimulationError::MemberPanicked`] with the panic's
 /// message (and no parameters if its member closure panicked); with lanes, a panic in the
-/// system's code is that of every member of its block still running.
+/// system's code is that of every member then in the engine's lanes (the engine starts again on
+/// the members left).
 #[derive(Debug)]
 pub struct Results<R> {
     /// The members' indices (all of them, or the shard's block).
@@ -650,21 +658,20 @@ where
         let width = simd.width();
         let lanes = E::lanes().filter(|_| width >= 2);
         let out: Vec<(Params, Result<R, SimulationError>)> = if let Some(engine) = lanes {
-            // Blocks of members, each run by the lanes engine in one thread.
+            // Rounds of members, each shared by the threads' lanes engines from one queue.
             let threads = self
                 .threads
                 .unwrap_or_else(rayon::current_num_threads)
                 .max(1);
-            let block = (range.len().div_ceil(threads.saturating_mul(4))).max(16 * width);
-            let blocks: Vec<Range<usize>> = range
-                .clone()
-                .step_by(block)
-                .map(|a| a..(a + block).min(range.end))
-                .collect();
-            let one = |r: Range<usize>| self.lanes_block(r, engine, simd, &keep, &bar);
-            let parts: Vec<Vec<(Params, Result<R, SimulationError>)>> =
-                self.in_threads(blocks, one);
-            parts.into_iter().flatten().collect()
+            let round = ROUND_PER_THREAD.saturating_mul(threads);
+            let mut out = Vec::with_capacity(range.len());
+            let mut a = range.start;
+            while a < range.end {
+                let b = a + round.min(range.end - a);
+                out.extend(self.lanes_round(a..b, threads, engine, simd, &keep, &bar));
+                a = b;
+            }
+            out
         } else {
             let one = |i: usize| {
                 let out = match isolated(i, || (self.member)(i)) {
@@ -702,93 +709,199 @@ where
         in_threads(self.threads, items, &f)
     }
 
-    /// The members of `range` on the lanes engine, `width` per vector, in member order. A panic
-    /// in a member's closures is that member's [`SimulationError::MemberPanicked`]; a panic in
-    /// the engine (the system's code) is that of every member of the block not yet ended.
-    fn lanes_block<R>(
+    /// The members of `range` on `threads` lanes engines, one per thread, that take them from one
+    /// shared queue as their lanes free; in member order.
+    fn lanes_round<R: Send>(
         &self,
         range: Range<usize>,
+        threads: usize,
         engine: LanesFn<L, N>,
         simd: Simd,
         keep: &(impl Fn(Trajectory<N>) -> R + Sync),
         bar: &Bar,
     ) -> Vec<(Params, Result<R, SimulationError>)> {
-        let start = range.start;
-        let mut members: Vec<Option<Member<L, N>>> = Vec::with_capacity(range.len());
-        let mut slots: Vec<Option<Result<R, SimulationError>>> = Vec::with_capacity(range.len());
-        for i in range {
-            match isolated(i, || (self.member)(i)) {
-                Ok(m) => {
-                    members.push(Some(m));
-                    slots.push(None);
-                }
-                Err(e) => {
-                    members.push(None);
-                    slots.push(Some(Err(e)));
-                }
+        let next = AtomicUsize::new(range.start);
+        let one = |_: usize| self.lanes_share(range.clone(), &next, engine, simd, keep, bar);
+        let parts = self.in_threads((0..threads).collect(), one);
+        let mut slots: Vec<(Params, Option<Result<R, SimulationError>>)> =
+            range.clone().map(|_| (Vec::new(), None)).collect();
+        for part in parts {
+            for (pos, params) in part.params {
+                slots[pos - range.start].0 = params;
+            }
+            for (pos, r) in part.results {
+                slots[pos - range.start].1 = Some(r);
             }
         }
-        {
-            // The members made and configured, with their positions in the block.
-            let mut at: Vec<usize> = Vec::new();
-            let mut sims: Vec<Simulation<'_, L, N>> = Vec::new();
-            for (pos, m) in members.iter().enumerate() {
-                let Some(m) = m else { continue };
-                let sim = isolated(start + pos, || {
-                    (self.configure)(Simulation::new(&m.system, m.q0, m.qdot0))
-                });
-                match sim {
-                    Ok(sim) => {
-                        at.push(pos);
-                        sims.push(sim);
-                    }
-                    Err(e) => slots[pos] = Some(Err(e)),
-                }
-            }
-            let mut out = |k: usize, r: Result<Trajectory<N>, SimulationError>| {
-                let pos = at[k];
-                let r = isolated(start + pos, || r.map(keep)).and_then(|r| r);
-                slots[pos] = Some(r);
-                bar.inc();
-            };
-            if let Err(e) = isolated(start, || engine(&mut sims, &mut out, simd)) {
-                let message = match e {
-                    SimulationError::MemberPanicked { message, .. } => message,
-                    other => other.to_string(),
-                };
-                for &pos in &at {
-                    if slots[pos].is_none() {
-                        slots[pos] = Some(Err(SimulationError::MemberPanicked {
-                            member: start + pos,
-                            message: format!(
-                                "{message} (in the lanes engine, running members {start}.. \
-                                 together: the system's code panicked for one of them)"
-                            ),
-                        }));
-                    }
-                }
-            }
-        }
-        members
+        slots
             .into_iter()
-            .zip(slots)
-            .map(|(m, r)| {
-                // The engine ends every member it is given; a slot left empty would be a bug,
-                // reported in the member's slot rather than as a panic.
+            .map(|(params, r)| {
+                // Every member is taken and ended; a slot left empty would be a bug, reported in
+                // the member's slot rather than as a panic.
                 let r = r.unwrap_or_else(|| {
                     Err(SimulationError::InvalidOptions {
                         message: "the lanes engine did not run this member (a bug in lagrange)"
                             .to_string(),
                     })
                 });
-                (m.map_or_else(Vec::new, |m| m.params), r)
+                (params, r)
             })
             .collect()
     }
+
+    /// One thread's share of a round: its lanes engine runs members taken from `next` until the
+    /// round runs dry. A panic in a member's closures is that member's
+    /// [`SimulationError::MemberPanicked`]; a panic in the engine (the system's code) is that of
+    /// every member then in this engine's lanes, and the engine starts again on the members left.
+    fn lanes_share<R>(
+        &self,
+        range: Range<usize>,
+        next: &AtomicUsize,
+        engine: LanesFn<L, N>,
+        simd: Simd,
+        keep: &(impl Fn(Trajectory<N>) -> R + Sync),
+        bar: &Bar,
+    ) -> Share<R> {
+        // Room for every member of the round (this thread may take any of them), filled as taken.
+        let mut members: Vec<Option<Member<L, N>>> = range.clone().map(|_| None).collect();
+        let mut sims: Vec<Option<Simulation<'_, L, N>>> = range.clone().map(|_| None).collect();
+        let mut queue = Taking {
+            ensemble: self,
+            next,
+            end: range.end,
+            start: range.start,
+            dry: false,
+            at: 0,
+            members: members.iter_mut(),
+            sims: sims.iter_mut(),
+            bar,
+            taken: Vec::new(),
+            params: Vec::new(),
+            failed: Vec::new(),
+        };
+        let mut results: Vec<(usize, Result<R, SimulationError>)> = Vec::new();
+        loop {
+            let before = queue.taken.len();
+            let run = {
+                let mut out = |pos: usize, r: Result<Trajectory<N>, SimulationError>| {
+                    let r = isolated(pos, || r.map(keep)).and_then(|r| r);
+                    results.push((pos, r));
+                    bar.inc();
+                };
+                isolated(range.start, || engine(&mut queue, &mut out, simd))
+            };
+            let Err(e) = run else { break };
+            let message = match e {
+                SimulationError::MemberPanicked { message, .. } => message,
+                other => other.to_string(),
+            };
+            let ended: std::collections::HashSet<usize> =
+                results.iter().map(|&(pos, _)| pos).collect();
+            for &pos in &queue.taken[before..] {
+                if !ended.contains(&pos) {
+                    results.push((
+                        pos,
+                        Err(SimulationError::MemberPanicked {
+                            member: pos,
+                            message: format!(
+                                "{message} (in the lanes engine, running this member together \
+                                 with others: the system's code panicked for one of them)"
+                            ),
+                        }),
+                    ));
+                    bar.inc();
+                }
+            }
+            if queue.taken.len() == before || queue.dry {
+                break;
+            }
+        }
+        let Taking {
+            mut params, failed, ..
+        } = queue;
+        for (pos, made, e) in failed {
+            params.push((pos, made));
+            results.push((pos, Err(e)));
+        }
+        Share { params, results }
+    }
 }
 
-/// `f()`, or the member's [`SimulationError::MemberPanicked`] with the panic's message if it
-/// panicked: one member's panic does not take the others' results with it.
+/// What one thread's lanes engine did in a round: the parameters of the members it made and the
+/// results of those it ended (member indices).
+struct Share<R> {
+    params: Vec<(usize, Params)>,
+    results: Vec<(usize, Result<R, SimulationError>)>,
+}
+
+/// The queue a thread's lanes engine takes members from: the next index of the round from the
+/// counter all threads share, made (the member closure) and configured here, kept in this
+/// thread's room for the round. A member whose closures panic is its failure, not taken.
+struct Taking<'e, 'm, 'p, 'c, L, F, E, const N: usize> {
+    ensemble: &'e Ensemble<'c, L, F, N, E>,
+    next: &'e AtomicUsize,
+    end: usize,
+    start: usize,
+    /// The counter passed the round's end (no more calls to it).
+    dry: bool,
+    /// The room's slots passed so far.
+    at: usize,
+    members: core::slice::IterMut<'m, Option<Member<L, N>>>,
+    sims: core::slice::IterMut<'p, Option<Simulation<'m, L, N>>>,
+    bar: &'e Bar,
+    /// The members given to the engine, in order.
+    taken: Vec<usize>,
+    params: Vec<(usize, Params)>,
+    /// Members whose closures panicked (made or configured), with what was made of them.
+    failed: Vec<(usize, Params, SimulationError)>,
+}
+
+impl<'e, 'm, 'p, L, F, E, const N: usize> Iterator for Taking<'e, 'm, 'p, '_, L, F, E, N>
+where
+    L: Lagrangian<N>,
+    F: Fn(usize) -> Member<L, N>,
+{
+    type Item = (usize, &'p mut Simulation<'m, L, N>);
+
+    fn next(&mut self) -> Option<Self::Item> {
+        while !self.dry {
+            let i = self.next.fetch_add(1, Ordering::Relaxed);
+            if i >= self.end {
+                self.dry = true;
+                break;
+            }
+            // This thread's room for member i (the counter only grows, so the rooms ahead).
+            let skip = i - self.start - self.at;
+            self.at = i - self.start + 1;
+            let (Some(room), Some(run)) = (self.members.nth(skip), self.sims.nth(skip)) else {
+                self.dry = true;
+                break;
+            };
+            let ensemble = self.ensemble;
+            let made = match isolated(i, || (ensemble.member)(i)) {
+                Ok(mut m) => {
+                    let params = core::mem::take(&mut m.params);
+                    let m: &'m Member<L, N> = room.insert(m);
+                    match isolated(i, || {
+                        (ensemble.configure)(Simulation::new(&m.system, m.q0, m.qdot0))
+                    }) {
+                        Ok(sim) => {
+                            self.params.push((i, params));
+                            self.taken.push(i);
+                            return Some((i, run.insert(sim)));
+                        }
+                        Err(e) => (params, e),
+                    }
+                }
+                Err(e) => (Vec::new(), e),
+            };
+            self.failed.push((i, made.0, made.1));
+            self.bar.inc();
+        }
+        None
+    }
+}
+
 /// `f` of every item, in order, on `threads` threads (rayon's pool where `None`): `f` as a trait
 /// object, so rayon's machinery is compiled once per item and result type, not once per ensemble
 /// closure (one indirect call per member).
@@ -808,6 +921,8 @@ fn in_threads<I: Send, T: Send>(
     }
 }
 
+/// `f()`, or the member's [`SimulationError::MemberPanicked`] with the panic's message if it
+/// panicked: one member's panic does not take the others' results with it.
 fn isolated<T>(member: usize, f: impl FnOnce() -> T) -> Result<T, SimulationError> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|payload| {
         let message = if let Some(s) = payload.downcast_ref::<&str>() {
@@ -1291,7 +1406,7 @@ mod limits {
             &r.results[5],
             Err(SimulationError::MemberPanicked { member: 5, message }) if message.contains("x left the table")
         ));
-        // With lanes a panic in the system's code fails the members of its block not yet ended;
+        // With lanes a panic in the system's code fails the members then in the engine's lanes;
         // the run returns, with every slot filled.
         let r = Ensemble::new(6, |i| {
             Member::new(Fragile { limit: 2.0 }, [1.0], [i as f64])
@@ -1308,5 +1423,31 @@ mod limits {
                 message.contains("x left the table"),
             Err(_) => false,
         }));
+        // The engine starts again after a panic: one member that panics (member 2, v = 3) fails
+        // at most the members sharing its lanes (4 for DOP853), and the members taken after it
+        // run to their end, on one thread and on two.
+        for threads in [1, 2] {
+            let r = Ensemble::new(40, |i| {
+                let v = if i == 2 { 3.0 } else { 0.5 };
+                Member::new(Fragile { limit: 2.0 }, [1.0], [v])
+            })
+            .configure(|sim| sim.until(1.0))
+            .lanes(4)
+            .simd(Simd::Exact)
+            .threads(threads)
+            .run();
+            assert!(matches!(
+                &r.results[2],
+                Err(SimulationError::MemberPanicked { member: 2, message }) if message.contains("x left the table")
+            ));
+            assert!(
+                (1..=4 * threads).contains(&r.failures()),
+                "threads {threads}"
+            );
+            assert!(
+                r.results[8..].iter().all(Result::is_ok),
+                "threads {threads}"
+            );
+        }
     }
 }

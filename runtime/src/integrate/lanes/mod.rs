@@ -109,7 +109,13 @@ fn cpu() -> (bool, bool) {
     }
 }
 
-/// Runs `sims` (in order) on the path `simd` resolves to on this CPU, calling
+/// The members a lanes engine takes, one at a time as its lanes free: (position, run). An
+/// ensemble's threads share one such queue, so each thread's lanes stay full until the whole
+/// ensemble runs dry (one drain per thread, not one per block of members).
+pub(crate) type Queue<'q, 'p, 'a, L, const N: usize> =
+    dyn Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)> + 'q;
+
+/// Runs the members of `queue` on the path `simd` resolves to on this CPU, calling
 /// `out(position, result)` as each member ends (not in order): DOP853 and Taylor members without
 /// constraints in lanes, any other member on the scalar driver.
 ///
@@ -123,7 +129,7 @@ fn cpu() -> (bool, bool) {
 /// each path is a copy of both engines for every system in every build. Other architectures run
 /// the exact engines as their own vector code.
 pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize>(
-    sims: &mut [Simulation<'_, L, N>],
+    queue: &mut Queue<'_, '_, '_, L, N>,
     out: &mut Out<'_, N>,
     simd: Simd,
 ) {
@@ -133,24 +139,24 @@ pub(crate) fn run_lanes<L: Lagrangian<N>, const N: usize>(
         // feature its function enables.
         #[allow(unsafe_code)]
         match simd.resolved() {
-            Simd::Avx2Fma => unsafe { run_lanes_avx2_fma::<L, N>(sims, out) },
-            Simd::Exact => unsafe { run_lanes_avx2::<L, N>(sims, out) },
-            Simd::Off | Simd::Native => one_at_a_time(sims, out),
+            Simd::Avx2Fma => unsafe { run_lanes_avx2_fma::<L, N>(queue, out) },
+            Simd::Exact => unsafe { run_lanes_avx2::<L, N>(queue, out) },
+            Simd::Off | Simd::Native => one_at_a_time(queue, out),
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
     match simd {
-        Simd::Off => one_at_a_time(sims, out),
-        _ => run_lanes_here::<L, N, false>(sims, out),
+        Simd::Off => one_at_a_time(queue, out),
+        _ => run_lanes_here::<L, N, false>(queue, out),
     }
 }
 
-/// Every member on the scalar driver, in order.
+/// Every member on the scalar driver, in the queue's order.
 fn one_at_a_time<L: Lagrangian<N>, const N: usize>(
-    sims: &mut [Simulation<'_, L, N>],
+    queue: &mut Queue<'_, '_, '_, L, N>,
     out: &mut Out<'_, N>,
 ) {
-    for (pos, sim) in sims.iter_mut().enumerate() {
+    for (pos, sim) in queue {
         out(pos, sim.prepare().and_then(scalar));
     }
 }
@@ -159,20 +165,47 @@ fn one_at_a_time<L: Lagrangian<N>, const N: usize>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn run_lanes_avx2<L: Lagrangian<N>, const N: usize>(
-    sims: &mut [Simulation<'_, L, N>],
+    queue: &mut Queue<'_, '_, '_, L, N>,
     out: &mut Out<'_, N>,
 ) {
-    run_lanes_here::<L, N, false>(sims, out)
+    run_lanes_here::<L, N, false>(queue, out)
 }
 
 /// [`run_lanes_here`] compiled for AVX2 and FMA, fused ([`Simd::Avx2Fma`]).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn run_lanes_avx2_fma<L: Lagrangian<N>, const N: usize>(
-    sims: &mut [Simulation<'_, L, N>],
+    queue: &mut Queue<'_, '_, '_, L, N>,
     out: &mut Out<'_, N>,
 ) {
-    run_lanes_here::<L, N, true>(sims, out)
+    run_lanes_here::<L, N, true>(queue, out)
+}
+
+/// The members of one method taken from a queue for its engine; members of any other method met
+/// on the way are set aside in `rest` (for a later pass), so an engine never runs a member of
+/// another method on the scalar driver while its lanes wait.
+struct Taken<'r, 'p, 'a, I: Iterator, L, M, const N: usize> {
+    queue: &'r mut core::iter::Peekable<I>,
+    rest: &'r mut Vec<(usize, &'p mut Simulation<'a, L, N>)>,
+    ours: M,
+}
+
+impl<'p, 'a, I, L, M, const N: usize> Iterator for Taken<'_, 'p, 'a, I, L, M, N>
+where
+    I: Iterator<Item = (usize, &'p mut Simulation<'a, L, N>)>,
+    M: Fn(&Method) -> bool,
+{
+    type Item = (usize, &'p mut Simulation<'a, L, N>);
+
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            let (pos, sim) = self.queue.next()?;
+            if (self.ours)(&sim.o.method) {
+                return Some((pos, sim));
+            }
+            self.rest.push((pos, sim));
+        }
+    }
 }
 
 /// Declares the engines' files and [`run_lanes_here`] from the list of `method.rs`.
@@ -180,25 +213,43 @@ macro_rules! engines {
     ($($variant:ident => $file:ident, $w:literal lanes),* $(,)?) => {
         $(mod $file;)*
 
-        /// The engines, for the instruction set of their caller: each method's members on its
-        /// engine, in the order of the list; every other member (a method without an engine) on
-        /// the scalar driver, in order. A constrained member's engine hands it to the scalar
-        /// driver too.
+        /// The engines, for the instruction set of their caller: passes over the queue, each
+        /// taking every member of the method of the first member left, on its engine (a method
+        /// without an engine: that member on the scalar driver); the members of other methods
+        /// met on the way make the next pass's queue. A constrained member's engine hands it to
+        /// the scalar driver.
         #[inline(always)]
         fn run_lanes_here<L: Lagrangian<N>, const N: usize, const F: bool>(
-            sims: &mut [Simulation<'_, L, N>],
+            queue: &mut Queue<'_, '_, '_, L, N>,
             out: &mut Out<'_, N>,
         ) {
-            $(
-                let ours = |s: &Simulation<'_, L, N>| matches!(s.o.method, Method::$variant { .. });
-                if sims.iter().any(ours) {
-                    let queue = sims.iter_mut().enumerate().filter(|(_, s)| ours(s));
-                    $file::run::<L, N, $w, F>(queue, out);
+            let mut rest = Vec::new();
+            pass::<L, N, F>(queue, &mut rest, out);
+            while !rest.is_empty() {
+                let mut again = core::mem::take(&mut rest).into_iter();
+                pass::<L, N, F>(&mut again, &mut rest, out);
+            }
+        }
+
+        /// One pass of [`run_lanes_here`] over `queue`, the members set aside to `rest`.
+        #[inline(always)]
+        fn pass<'p, 'a, L: Lagrangian<N>, const N: usize, const F: bool>(
+            queue: &mut Queue<'_, 'p, 'a, L, N>,
+            rest: &mut Vec<(usize, &'p mut Simulation<'a, L, N>)>,
+            out: &mut Out<'_, N>,
+        ) {
+            let mut queue = queue.peekable();
+            while let Some(method) = queue.peek().map(|(_, s)| s.o.method) {
+                $(
+                    if matches!(method, Method::$variant { .. }) {
+                        let ours = |m: &Method| matches!(m, Method::$variant { .. });
+                        $file::run::<L, N, $w, F>(Taken { queue: &mut queue, rest, ours }, out);
+                        continue;
+                    }
+                )*
+                if let Some((pos, sim)) = queue.next() {
+                    out(pos, sim.prepare().and_then(scalar));
                 }
-            )*
-            let engine = |s: &Simulation<'_, L, N>| false $(|| matches!(s.o.method, Method::$variant { .. }))*;
-            for (pos, sim) in sims.iter_mut().enumerate().filter(|(_, s)| !engine(s)) {
-                out(pos, sim.prepare().and_then(scalar));
             }
         }
     };
@@ -231,7 +282,7 @@ mod tests {
     /// Runs `sims` through `engine`, the results in member order.
     fn collect(
         systems: &[Duffing],
-        engine: impl FnOnce(&mut [Simulation<'_, Duffing, 1>], &mut Out<'_, 1>),
+        engine: impl FnOnce(&mut Queue<'_, '_, '_, Duffing, 1>, &mut Out<'_, 1>),
     ) -> Vec<Result<Trajectory<1>, SimulationError>> {
         let mut sims: Vec<Simulation<'_, Duffing, 1>> = systems
             .iter()
@@ -248,7 +299,9 @@ mod tests {
             .collect();
         let mut slots: Vec<Option<Result<Trajectory<1>, SimulationError>>> =
             systems.iter().map(|_| None).collect();
-        engine(&mut sims, &mut |pos, r| slots[pos] = Some(r));
+        engine(&mut sims.iter_mut().enumerate(), &mut |pos, r| {
+            slots[pos] = Some(r)
+        });
         slots
             .into_iter()
             .map(|r| r.expect("every member ends"))
