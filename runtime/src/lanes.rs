@@ -25,17 +25,27 @@ use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAss
 /// W `f64`s operated on lane by lane (see the module docs). `FUSED`: whether
 /// [`madd`](Lanes::madd) (x · a + b) rounds once, as a fused multiply-add (the ensemble engines'
 /// paths for CPUs with FMA), or twice, as the single run computes it (`false`, the default).
+/// Aligned to 32 bytes, an AVX2 vector, wherever it is stored: no load of a buffer of them
+/// straddles two cache lines.
 ///
 /// ```
 /// # use lagrange_runtime::lanes::Lanes;
 /// assert_eq!(Lanes::<2>::splat(1.5).0, [1.5, 1.5]);
+/// let series = vec![Lanes::<8>::splat(0.0); 21];
+/// assert_eq!((core::mem::align_of::<Lanes<8>>(), series.as_ptr() as usize % 32), (32, 0));
 /// let x = 1.0 + f64::EPSILON;
 /// // (1 + ε)(1 + ε) − (1 + 2ε) = ε²: lost to the rounding of the product unless it is fused.
 /// assert_eq!(Lanes::<1>::splat(x).madd(Lanes::<1>([x]), Lanes::<1>([-1.0 - 2.0 * f64::EPSILON])).0, [0.0]);
 /// let fused: Lanes<1, true> = Lanes([x]);
 /// assert_eq!(fused.madd(Lanes([x]), Lanes([-1.0 - 2.0 * f64::EPSILON])).0, [f64::EPSILON * f64::EPSILON]);
 /// ```
+// Aligned to an AVX2 vector (32 bytes): without it a buffer of them starts wherever the
+// allocator puts it (16-byte aligned), and at 16 or 48 bytes into a cache line every other
+// 32-byte load of the Taylor series (8 lanes: 64 bytes an entry) straddles two lines — one
+// run in two slower by 10–25 % by the luck of its heap layout (BENCHMARKS.md, "Two threads at
+// 1.97×: the lanes aligned").
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(align(32))]
 pub struct Lanes<const W: usize, const FUSED: bool = false>(pub [f64; W]);
 
 /// W booleans, one per lane: what a comparison of [`Lanes`] gives and [`Lanes::select`] takes.
