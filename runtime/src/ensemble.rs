@@ -912,13 +912,40 @@ fn in_threads<I: Send, T: Send>(
 ) -> Vec<T> {
     match threads {
         Some(1) => items.into_iter().map(f).collect(),
-        Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
-            Ok(pool) => pool.install(|| items.into_par_iter().map(f).collect()),
+        Some(n) => match pool(n) {
+            Some(pool) => pool.install(|| items.into_par_iter().map(f).collect()),
             // No threads to be had: the calling thread runs them all.
-            Err(_) => items.into_iter().map(f).collect(),
+            None => items.into_iter().map(f).collect(),
         },
         None => items.into_par_iter().map(f).collect(),
     }
+}
+
+/// The pool of `n` threads, made at the first ensemble that asks for `n` and kept for the
+/// process (as rayon keeps its global pool): a pool made per run starts its threads again each
+/// time, and new threads take the allocator's arenas anew — two of them now and then sharing one,
+/// their members' buffers then side by side in memory, a run of two threads 10–20 % slower by
+/// the luck of the draw (measured: BENCHMARKS.md, "Two threads at 1.97×"). `None` where the
+/// threads cannot be started.
+fn pool(n: usize) -> Option<std::sync::Arc<rayon::ThreadPool>> {
+    use std::sync::{Arc, Mutex, OnceLock};
+    /// The pools made so far, by their number of threads.
+    type Pools = Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>>;
+    static POOLS: OnceLock<Pools> = OnceLock::new();
+    let pools = POOLS.get_or_init(|| Mutex::new(Vec::new()));
+    // A panic elsewhere while the lock was held leaves the list as it was: still usable.
+    let mut pools = pools.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, p)) = pools.iter().find(|(m, _)| *m == n) {
+        return Some(Arc::clone(p));
+    }
+    let p = Arc::new(
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .ok()?,
+    );
+    pools.push((n, Arc::clone(&p)));
+    Some(p)
 }
 
 /// `f()`, or the member's [`SimulationError::MemberPanicked`] with the panic's message if it
