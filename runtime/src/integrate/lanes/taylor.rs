@@ -133,10 +133,13 @@ pub(super) fn run<
                 tau.0[l] = h;
             }
         }
-        let y1 = plans
-            .iter()
-            .any(Option::is_some)
-            .then(|| crate::integrate::taylor::horner(&series[..=p], tau));
+        // An `if`, not `bool::then` with a closure: the closure was not inlined, so the sum ran
+        // as baseline SSE2 code outside the engine's AVX2 function (7.7 % of an ensemble).
+        let y1 = if plans.iter().any(Option::is_some) {
+            Some(crate::integrate::taylor::horner(&series[..=p], tau))
+        } else {
+            None
+        };
         for l in 0..W {
             let Some(s) = slots[l].as_mut() else { continue };
             let r = &mut s.run;
