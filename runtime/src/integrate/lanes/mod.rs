@@ -223,11 +223,18 @@ macro_rules! engines {
             queue: &mut Queue<'_, '_, '_, L, N>,
             out: &mut Out<'_, N>,
         ) {
+            // One call of `pass` (inlined with both engines: a second call site would compile
+            // every engine twice over).
             let mut rest = Vec::new();
-            pass::<L, N, F>(queue, &mut rest, out);
-            while !rest.is_empty() {
-                let mut again = core::mem::take(&mut rest).into_iter();
-                pass::<L, N, F>(&mut again, &mut rest, out);
+            let mut again: std::vec::IntoIter<(usize, &mut Simulation<'_, L, N>)>;
+            let mut source: &mut Queue<'_, '_, '_, L, N> = queue;
+            loop {
+                pass::<L, N, F>(source, &mut rest, out);
+                if rest.is_empty() {
+                    return;
+                }
+                again = core::mem::take(&mut rest).into_iter();
+                source = &mut again;
             }
         }
 
