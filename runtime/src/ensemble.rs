@@ -118,9 +118,10 @@ type LanesFn<L, const N: usize> =
 
 /// The members per thread in one round of a lanes ensemble: the threads share the round's members
 /// from one queue, and each keeps the runs it took until the round ends (a few hundred bytes
-/// each), so a round bounds that memory; each round ends in one drain per thread (its lanes
-/// emptying), under 1 % of a round of tops.
-const ROUND_PER_THREAD: usize = 4096;
+/// each) in a room of twice its even share (a faster thread takes more), so that memory is
+/// about 2 · 1024 runs per thread whatever the number of threads; each round ends in one drain
+/// per thread (its lanes emptying), under 1 % of a round of tops.
+const ROUND_PER_THREAD: usize = 1024;
 
 /// How the members of an ensemble run: [`Plain`] (as they are; DOP853 and Taylor members share
 /// SIMD lanes) or [`Constrained`] (the constrained run of their system). A type parameter of
@@ -721,7 +722,8 @@ where
         bar: &Bar,
     ) -> Vec<(Params, Result<R, SimulationError>)> {
         let next = AtomicUsize::new(range.start);
-        let one = |_: usize| self.lanes_share(range.clone(), &next, engine, simd, keep, bar);
+        let one =
+            |_: usize| self.lanes_share(range.clone(), threads, &next, engine, simd, keep, bar);
         let parts = self.in_threads((0..threads).collect(), one);
         let mut slots: Vec<(Params, Option<Result<R, SimulationError>>)> =
             range.clone().map(|_| (Vec::new(), None)).collect();
@@ -753,25 +755,27 @@ where
     /// round runs dry. A panic in a member's closures is that member's
     /// [`SimulationError::MemberPanicked`]; a panic in the engine (the system's code) is that of
     /// every member then in this engine's lanes, and the engine starts again on the members left.
+    #[allow(clippy::too_many_arguments)]
     fn lanes_share<R>(
         &self,
         range: Range<usize>,
+        threads: usize,
         next: &AtomicUsize,
         engine: LanesFn<L, N>,
         simd: Simd,
         keep: &(impl Fn(Trajectory<N>) -> R + Sync),
         bar: &Bar,
     ) -> Share<R> {
-        // Room for every member of the round (this thread may take any of them), filled as taken.
-        let mut members: Vec<Option<Member<L, N>>> = range.clone().map(|_| None).collect();
-        let mut sims: Vec<Option<Simulation<'_, L, N>>> = range.clone().map(|_| None).collect();
+        // Room for twice this thread's even share of the round (filled in the order taken): the
+        // threads' rooms hold the round twice over, so every member finds one.
+        let room = range.len().min(2 * range.len().div_ceil(threads) + 64);
+        let mut members: Vec<Option<Member<L, N>>> = (0..room).map(|_| None).collect();
+        let mut sims: Vec<Option<Simulation<'_, L, N>>> = (0..room).map(|_| None).collect();
         let mut queue = Taking {
             ensemble: self,
             next,
             end: range.end,
-            start: range.start,
             dry: false,
-            at: 0,
             members: members.iter_mut(),
             sims: sims.iter_mut(),
             bar,
@@ -836,16 +840,14 @@ struct Share<R> {
 
 /// The queue a thread's lanes engine takes members from: the next index of the round from the
 /// counter all threads share, made (the member closure) and configured here, kept in this
-/// thread's room for the round. A member whose closures panic is its failure, not taken.
+/// thread's room for the round. A member whose closures panic is its failure, not taken. A
+/// thread whose room is full takes no more (the others take the rest).
 struct Taking<'e, 'm, 'p, 'c, L, F, E, const N: usize> {
     ensemble: &'e Ensemble<'c, L, F, N, E>,
     next: &'e AtomicUsize,
     end: usize,
-    start: usize,
-    /// The counter passed the round's end (no more calls to it).
+    /// The counter passed the round's end, or the room is full (no more calls to it).
     dry: bool,
-    /// The room's slots passed so far.
-    at: usize,
     members: core::slice::IterMut<'m, Option<Member<L, N>>>,
     sims: core::slice::IterMut<'p, Option<Simulation<'m, L, N>>>,
     bar: &'e Bar,
@@ -865,15 +867,17 @@ where
 
     fn next(&mut self) -> Option<Self::Item> {
         while !self.dry {
+            // The room first: an index taken is a member this thread runs.
+            if self.members.len() == 0 || self.sims.len() == 0 {
+                self.dry = true;
+                break;
+            }
             let i = self.next.fetch_add(1, Ordering::Relaxed);
             if i >= self.end {
                 self.dry = true;
                 break;
             }
-            // This thread's room for member i (the counter only grows, so the rooms ahead).
-            let skip = i - self.start - self.at;
-            self.at = i - self.start + 1;
-            let (Some(room), Some(run)) = (self.members.nth(skip), self.sims.nth(skip)) else {
+            let (Some(room), Some(run)) = (self.members.next(), self.sims.next()) else {
                 self.dry = true;
                 break;
             };
@@ -1342,6 +1346,32 @@ mod limits {
         const AUTONOMOUS: bool = true;
         fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
             (v[0] * v[0] - q[0] * q[0]) * 0.5
+        }
+    }
+
+    /// Lanes over several rounds (one thread: 1024 members a round) and over more threads than
+    /// cores (8 threads sharing one round, each room holding 2 · 625 + 64 members: the threads
+    /// that start first fill theirs and the others take the rest) lose no member and change
+    /// none: every result equals its single run bit for bit on the exact lanes.
+    #[test]
+    fn rounds_and_full_rooms_lose_no_member() {
+        let sweep = |lanes: usize, threads: usize| {
+            Ensemble::new(5000, |i| Member::new(Osc, [1.0], [i as f64 * 1e-3]))
+                .configure(|sim| sim.until(0.5))
+                .lanes(lanes)
+                .simd(Simd::Exact)
+                .threads(threads)
+                .reduce(&["x"], |tr| tr.q[tr.q.len() - 1][0])
+        };
+        let one = sweep(1, 1);
+        for threads in [1, 8] {
+            let r = sweep(4, threads);
+            assert_eq!(r.index, (0..5000).collect::<Vec<_>>());
+            assert_eq!(r.failures(), 0, "threads {threads}");
+            for (i, (a, b)) in one.results.iter().zip(&r.results).enumerate() {
+                let (a, b) = (a.as_ref().unwrap(), b.as_ref().unwrap());
+                assert_eq!(a.to_bits(), b.to_bits(), "member {i}, threads {threads}");
+            }
         }
     }
 
