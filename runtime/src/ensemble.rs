@@ -427,7 +427,9 @@ where
     /// Runs on `n` threads (default: rayon's global pool, one thread per core). `n = 1` runs in
     /// the calling thread; `n = 0` is taken as 1, and `n` above 4 × the available parallelism
     /// ([`std::thread::available_parallelism`]) as that bound ([`MAX_THREADS_PER_CORE`]): more
-    /// threads than that only cost their start (5000 took 15 s) and memory.
+    /// threads than that only cost their start (5000 took 15 s) and memory. The pool of `n`
+    /// threads is made by the first ensemble that asks for it and kept for the process (idle
+    /// between ensembles), as rayon keeps its global pool.
     ///
     /// ```
     /// # use lagrange_runtime::ensemble::{Ensemble, Member};
