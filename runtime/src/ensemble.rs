@@ -781,13 +781,12 @@ where
             members: members.iter_mut(),
             sims: sims.iter_mut(),
             bar,
-            taken: Vec::new(),
             params: Vec::new(),
             failed: Vec::new(),
         };
         let mut results: Vec<(usize, Result<R, SimulationError>)> = Vec::new();
         loop {
-            let before = queue.taken.len();
+            let before = queue.params.len();
             let run = {
                 let mut out = |pos: usize, r: Result<Trajectory<N>, SimulationError>| {
                     let r = isolated(pos, || r.map(keep)).and_then(|r| r);
@@ -803,7 +802,7 @@ where
             };
             let ended: std::collections::HashSet<usize> =
                 results.iter().map(|&(pos, _)| pos).collect();
-            for &pos in &queue.taken[before..] {
+            for &(pos, _) in &queue.params[before..] {
                 if !ended.contains(&pos) {
                     results.push((
                         pos,
@@ -818,7 +817,7 @@ where
                     bar.inc();
                 }
             }
-            if queue.taken.len() == before || queue.dry {
+            if queue.params.len() == before || queue.dry {
                 break;
             }
         }
@@ -853,8 +852,7 @@ struct Taking<'e, 'm, 'p, 'c, L, F, E, const N: usize> {
     members: core::slice::IterMut<'m, Option<Member<L, N>>>,
     sims: core::slice::IterMut<'p, Option<Simulation<'m, L, N>>>,
     bar: &'e Bar,
-    /// The members given to the engine, in order.
-    taken: Vec<usize>,
+    /// The members given to the engine, in order, with their parameters.
     params: Vec<(usize, Params)>,
     /// Members whose closures panicked (made or configured), with what was made of them.
     failed: Vec<(usize, Params, SimulationError)>,
@@ -893,7 +891,6 @@ where
                     }) {
                         Ok(sim) => {
                             self.params.push((i, params));
-                            self.taken.push(i);
                             return Some((i, run.insert(sim)));
                         }
                         Err(e) => (params, e),
