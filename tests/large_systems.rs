@@ -1,8 +1,12 @@
-//! Regressions of the adversarial review (issue 33) on large systems: every method at 32 and 64
-//! coordinates, and RATTLE with 16 constraints, inside a spawned thread with the default 2 MiB
-//! stack (a 32-link chain's variational step overflowed it and aborted the process).
+//! Large systems on a spawned thread with the default 2 MiB stack: every method at 32 and 64
+//! coordinates (Radau5 at 64), RATTLE with 16 constraints, and every path that forms a Jacobian
+//! (linearize, eigenvalues, equilibrium, linearize_on_constraints, Radau5 alone and in an
+//! ensemble, sensitivities, shooting, Lyapunov) at 64 coordinates. A 32-link chain's variational step, and
+//! from 24 coordinates every Jacobian path (its jets carried the whole (2N)² Hessian and its
+//! rate per number), overflowed such a stack and aborted the process.
 
 use lagrange::prelude::*;
+use nalgebra::Complex;
 
 /// An N-link pendulum chain written with `Coords<N>` and a loop.
 macro_rules! chain {
@@ -179,6 +183,187 @@ fn constrained_runs_with_16_constraints_on_a_2_mib_stack() {
             Ok(Some(p)) => assert!(p < 1e-9, "{method:?}: |g| = {p:e}"),
             other => panic!("{method:?}: {other:?}"),
         }
+    }
+}
+
+const CHAIN: Chain64 = Chain64 {
+    m: 1.0,
+    l: 0.1,
+    g: 9.81,
+};
+
+/// A bent initial shape of the 64-link chain.
+fn bent() -> [f64; 64] {
+    core::array::from_fn(|i| 0.05 * (1.0 + (i as f64 * 0.37).sin()))
+}
+
+/// 64 unit oscillators, the last two held together (q₆₃ = q₆₂): 64 coordinates, one constraint.
+#[derive(Clone, Copy)]
+pub struct Held64;
+
+#[lagrangian]
+impl Held64 {
+    fn lagrangian(&self, (q, q_dot): Coords<64>) -> Scalar {
+        let mut lag = 0.0;
+        for k in 0..q.len() {
+            lag += 0.5 * (q_dot[k] * q_dot[k] - q[k] * q[k]);
+        }
+        lag
+    }
+    fn constraints(&self, (q, _q_dot): Coords<64>) -> [Scalar; 1] {
+        [q[63] - q[62]]
+    }
+}
+
+/// The largest |real part| of eigenvalues against their largest size.
+fn worst_real_part(l: &[Complex<f64>]) -> f64 {
+    let size = l.iter().fold(0.0_f64, |m, z| m.max(z.norm()));
+    l.iter().fold(0.0_f64, |m, z| m.max(z.re.abs())) / size
+}
+
+/// The linearization, its eigenvalues and the equilibrium of a 64-link chain: the hanging chain
+/// is a centre (2N imaginary eigenvalues), found again from a bent guess.
+#[test]
+fn linearize_and_equilibrium_of_a_64_link_chain_on_a_2_mib_stack() {
+    let (worst, q, n) = in_thread(|| {
+        let lin = CHAIN.linearize(&[0.0; 64], &[0.0; 64], 0.0).unwrap();
+        let l = lin.eigenvalues().unwrap();
+        let q = equilibrium(&CHAIN, &bent(), 0.0).unwrap();
+        (worst_real_part(&l), q, l.len())
+    });
+    assert_eq!(n, 128);
+    assert!(worst < 1e-9, "hanging chain: relative real part {worst:e}");
+    assert!(q.iter().all(|x| x.abs() < 1e-10), "{q:?}");
+}
+
+/// `linearize_on_constraints` of 64 coordinates with one constraint: the 63 independent
+/// coordinates oscillate at ω = 1.
+#[test]
+fn linearize_on_constraints_of_a_64_coordinate_chain_on_a_2_mib_stack() {
+    let l = in_thread(|| {
+        let lin = Held64
+            .linearize_on_constraints(&[0.0; 64], &[0.0; 64], 0.0)
+            .unwrap();
+        let names = &Held64::COORDINATES[..63];
+        lin.eigenvalues(names, names).unwrap()
+    });
+    // ±i for the 62 free oscillators and for the held pair (its mass and stiffness both double).
+    assert_eq!(l.len(), 126);
+    for z in &l {
+        assert!(z.re.abs() < 1e-12 && (z.im.abs() - 1.0).abs() < 1e-12, "{z}");
+    }
+}
+
+/// Φ of a 64-link chain (DOP853 with the variational equations): its first column against the
+/// difference of two runs.
+#[test]
+fn sensitivities_of_a_64_link_chain_on_a_2_mib_stack() {
+    let (column, fd) = in_thread(|| {
+        let method = Method::Dop853 {
+            rtol: 1e-11,
+            atol: 1e-11,
+        };
+        let until = 0.02;
+        let run = Simulation::new(&CHAIN, bent(), [0.0; 64])
+            .method(method)
+            .until(until)
+            .sensitivity()
+            .run()
+            .unwrap();
+        let phi = run.final_phi();
+        let column: Vec<f64> = (0..128).map(|i| phi[(i, 0)]).collect();
+        let h = 1e-6;
+        let end = |dq: f64| {
+            let mut q0 = bent();
+            q0[0] += dq;
+            let tr = Simulation::new(&CHAIN, q0, [0.0; 64])
+                .method(method)
+                .until(until)
+                .run()
+                .unwrap();
+            let (q, v) = (*tr.q.last().unwrap(), *tr.qdot.last().unwrap());
+            q.into_iter().chain(v).collect::<Vec<f64>>()
+        };
+        let (up, down) = (end(h), end(-h));
+        let fd: Vec<f64> = up.iter().zip(&down).map(|(a, b)| (a - b) / (2.0 * h)).collect();
+        (column, fd)
+    });
+    let size = fd.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    for (i, (a, b)) in column.iter().zip(&fd).enumerate() {
+        assert!((a - b).abs() <= 1e-6 * size, "Φ[{i}, 0] = {a} against {b}");
+    }
+}
+
+/// Lyapunov exponents and one shooting iteration of the 64-link chain: they run (a shooting
+/// iteration that does not converge is a typed error, not an abort).
+#[test]
+fn lyapunov_and_shooting_of_a_64_link_chain_on_a_2_mib_stack() {
+    use lagrange::sensitivity::{Lyapunov, Shooting};
+    let (exponents, shooting) = in_thread(|| {
+        let s = Lyapunov::new(&CHAIN, bent(), [0.0; 64])
+            .duration(0.02)
+            .renormalize_every(0.01)
+            .directions(2)
+            .tolerances(1e-8, 1e-8)
+            .compute()
+            .unwrap();
+        let shooting = Shooting::autonomous(&CHAIN, bent(), [0.0; 64], 0.02)
+            .method(Method::Dop853 {
+                rtol: 1e-6,
+                atol: 1e-6,
+            })
+            .max_iterations(1)
+            .find()
+            .map(|o| o.period)
+            .map_err(|e| e.to_string());
+        (s.exponents, shooting)
+    });
+    assert!(
+        exponents.len() == 2 && exponents[0] >= exponents[1] && exponents[1].is_finite(),
+        "{exponents:?}"
+    );
+    if let Err(e) = shooting {
+        assert!(e.contains("iteration") || e.contains("converge"), "{e}");
+    }
+}
+
+/// Radau5 on the 64-link chain, alone on a 2 MiB thread and as an ensemble of members on two
+/// threads (rayon's threads have the default stack: one member's Newton matrix aborted the
+/// whole process).
+#[test]
+fn radau5_runs_a_64_link_chain_alone_and_in_an_ensemble() {
+    let drift = in_thread(|| {
+        Simulation::new(&CHAIN, bent(), [0.0; 64])
+            .method(Method::Radau5 {
+                rtol: 1e-8,
+                atol: 1e-8,
+            })
+            .until(0.02)
+            .run()
+            .map(|tr| tr.invariants().energy.map(|d| d.max_rel))
+            .map_err(|e| e.to_string())
+    });
+    let drift = drift.unwrap().unwrap();
+    assert!(drift < 1e-4, "energy drift {drift:e}");
+    use lagrange::ensemble::{Ensemble, Member};
+    let r = Ensemble::new(2, |i| {
+        let mut q0 = bent();
+        q0[0] += 0.01 * i as f64;
+        Member::new(CHAIN, q0, [0.0; 64])
+    })
+    .configure(|s| {
+        s.method(Method::Radau5 {
+            rtol: 1e-8,
+            atol: 1e-8,
+        })
+        .until(0.02)
+    })
+    .threads(2)
+    .run();
+    for tr in &r.results {
+        let tr = tr.as_ref().expect("a regular run");
+        let drift = tr.invariants().energy.map(|d| d.max_rel).unwrap();
+        assert!(drift < 1e-4, "energy drift {drift:e}");
     }
 }
 

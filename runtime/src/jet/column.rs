@@ -27,18 +27,18 @@ pub const HESSIAN_BY_COLUMNS_ABOVE: usize = 16;
 /// ```
 #[derive(Clone, Copy, Debug)]
 pub struct ColumnJet<const N: usize> {
-    v: f64,
-    gq: [f64; N],
-    gv: [f64; N],
+    pub(super) v: f64,
+    pub(super) gq: [f64; N],
+    pub(super) gv: [f64; N],
     /// The derivative along the chosen variable.
-    s: f64,
+    pub(super) s: f64,
     /// The derivative of the gradient along the chosen variable.
-    cq: [f64; N],
-    cv: [f64; N],
+    pub(super) cq: [f64; N],
+    pub(super) cv: [f64; N],
 }
 
 impl<const N: usize> ColumnJet<N> {
-    const ZERO: Self = ColumnJet {
+    pub(super) const ZERO: Self = ColumnJet {
         v: 0.0,
         gq: [0.0; N],
         gv: [0.0; N],

@@ -11,7 +11,7 @@
 //!   assemble the Hessian (2N evaluations, each O(N) numbers: see [`HESSIAN_BY_COLUMNS_ABOVE`]).
 //! - [`LinJet`]: the gradient and Hessian in (q, q̇) and their derivative along one direction in
 //!   (q, q̇, t) (third derivatives contracted with that direction), for the linearization about a
-//!   steady motion.
+//!   steady motion; [`LinColumnJet`], one column of it, for large systems.
 //! - [`ConstraintJet`]: the gradient of a holonomic constraint g(q, t) and its first and second
 //!   derivatives along the motion, for the constraint rows.
 
@@ -22,6 +22,7 @@ mod constraint;
 mod el;
 mod hessian;
 mod lin;
+mod lin_column;
 mod timed;
 
 pub use column::{ColumnJet, HESSIAN_BY_COLUMNS_ABOVE};
@@ -29,7 +30,27 @@ pub use constraint::ConstraintJet;
 pub use el::ElJet;
 pub use hessian::HessianJet;
 pub use lin::LinJet;
+pub use lin_column::LinColumnJet;
 pub use timed::{Timed, timed_state};
+
+/// Runs `f`, an evaluation of L (or of the constraints) in jets of `jet_bytes` bytes each over
+/// `n` coordinates, where the stack has room for it: on the caller's stack when enough of it is
+/// left, else on a segment of twice the estimate (stacker's, on the same thread). The estimate is
+/// 16 copies of the 2N seeded numbers (the seeds, the body's bindings of `Coords<N>` and the
+/// temporaries a body keeps) plus 256 KiB: a 64-link chain's linearization by columns took a
+/// 1.5 MB frame on a 2 MiB thread.
+///
+/// ```
+/// use lagrange_runtime::jet::with_jet_stack;
+/// assert_eq!(with_jet_stack(64, 4128, || [1.0_f64; 100_000].iter().sum::<f64>()), 1e5);
+/// ```
+pub fn with_jet_stack<R>(n: usize, jet_bytes: usize, f: impl FnOnce() -> R) -> R {
+    let need = 16usize
+        .saturating_mul(2 * n)
+        .saturating_mul(jet_bytes)
+        .saturating_add(256 << 10);
+    stacker::maybe_grow(need, need.saturating_mul(2), f)
+}
 
 /// The jets carry derivatives in (q, q̇), not a rate along the motion: their `velocity` is NaN
 /// (a body that reads rates is evaluated in [`Timed`] jets).
@@ -38,12 +59,13 @@ macro_rules! no_rate {
         impl<const N: usize> crate::scalar::Velocity for $T<N> {
             #[inline(always)]
             fn velocity(&self) -> Self {
+                crate::scalar::note_unseen_rate();
                 JetCalculus::constant(f64::NAN)
             }
         }
     )*};
 }
-no_rate!(ColumnJet, ConstraintJet, ElJet, HessianJet, LinJet);
+no_rate!(ColumnJet, ConstraintJet, ElJet, HessianJet, LinJet, LinColumnJet);
 
 /// The calculus primitives a jet type provides; everything else is generated from them.
 ///

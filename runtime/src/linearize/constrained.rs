@@ -26,7 +26,7 @@ use nalgebra::{Complex, DMatrix, SMatrix};
 
 use crate::constraints::Holonomic;
 use crate::error::DynamicsError;
-use crate::jet::LinJet;
+use crate::jet::{LinColumnJet, LinJet};
 use crate::linalg::lu_solve_dyn;
 
 use super::{Linearization, LinearizationError, eigenvalues_of, linearize_along};
@@ -34,6 +34,10 @@ use super::{Linearization, LinearizationError, eigenvalues_of, linearize_along};
 /// The relative size below which a singular value counts as zero (ranks, null spaces) and
 /// below which the unnamed directions' drive of the named rows counts as none.
 const RANK_TOL: f64 = 1e-9;
+
+/// How far off its constraints a reference state may be, relative to each constraint's scale
+/// (as a constrained run's initial state: round-off is ~1e-16, a mistake ≫ 1e-10).
+const OFF_CONSTRAINTS: f64 = 1e-10;
 
 /// A constrained system's linearization about a reference motion, before reduction: the
 /// Jacobian of its constrained first-order system and the constraints' tangent rows.
@@ -119,34 +123,53 @@ where
                 .into(),
         ));
     }
+    // The reference must be on the constraints: off them the tangent space, λ and the reduction
+    // are those of a state the system cannot be in (a pendulum linearized 10 % off its rod gave
+    // ±2.21i for ±3.13i).
+    let rows = sys.constraint_rows(q, qdot, t);
+    for j in 0..K {
+        let g = &rows.jacobian[j];
+        let size = g.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let sp: f64 = (0..N).map(|i| (g[i] * q[i]).abs()).sum::<f64>() + size;
+        let sv: f64 = (0..N).map(|i| (g[i] * qdot[i]).abs()).sum::<f64>() + size;
+        let (p, v) = (rows.value[j].abs() / sp, rows.rate[j].abs() / sv);
+        if !(p <= OFF_CONSTRAINTS && v <= OFF_CONSTRAINTS) {
+            return Err(refuse(format!(
+                "the reference state is off constraint {j}: its residual is {:e} (positions) \
+                 and {:e} (velocities), relative to the constraint's scale; linearize about a \
+                 state on the constraints (g(q) = 0, G q̇ = 0, A q̇ = 0), e.g. the projection a \
+                 constrained run starts from (`Simulation::constrained(..).project_initial_state()`)",
+                rows.value[j], rows.rate[j]
+            )));
+        }
+    }
     let (a0, lambda) = sys.constrained_accelerations(q, qdot, t)?;
     let lin = linearize_along(sys, q, qdot, t, &a0)?;
     let kh = K - H::VELOCITY_ROWS;
-    // Every constraint in the LinJet along (q̇₀, a₀): gradients and Hessians in (q, q̇) and the
-    // Hessians' rate along the motion.
-    let (qj, vj, tj) = LinJet::seed(q, qdot, t, qdot, &a0, 1.0);
-    let values = sys.constraint_values(&qj, &vj, tj);
+    // Every constraint's gradients and Hessians in (q, q̇) and the Hessians' rate along
+    // (q̇₀, a₀).
+    let by_columns = N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE;
+    let values = constraint_seconds(sys, q, qdot, t, &a0, by_columns);
     let mut g_rows = DMatrix::zeros(K, N);
     let mut hq = DMatrix::zeros(K, N);
     let mut hv = DMatrix::zeros(K, N);
     let mut tangent = DMatrix::zeros(2 * kh + H::VELOCITY_ROWS, 2 * N);
     let mut k_tilde = lin.k;
     for (j, c) in values.iter().enumerate() {
-        let (b, d) = (c.base(), c.along());
-        let (gq, gv) = (b.grad_q(), b.grad_qdot());
-        let (hqq, hqv, hvv) = (b.hess_qq(), b.hess_qqdot(), b.hess_qdotqdot());
+        let (gq, gv) = (&c.gq, &c.gv);
+        let (hqq, hqv, hvv) = (&c.hqq, &c.hqv, &c.hvv);
         if j < kh {
             // g(q): G = ∇g, g̈ = ∇g·q̈ + q̇ᵀ∇²g q̇, so ∂g̈/∂q = ∇²g a₀ + (∇³g·q̇) q̇ and
             // ∂g̈/∂q̇ = 2 ∇²g q̇; δ(Gᵀλ) = λ ∇²g δq.
-            let third = d.hess_qq();
+            let third = &c.third_qq;
             for k in 0..N {
                 g_rows[(j, k)] = gq[k];
                 let (mut sq, mut sv, mut rate) = (0.0, 0.0, 0.0);
                 for i in 0..N {
-                    sq += hqq[k][i] * a0[i] + third[k][i] * qdot[i];
-                    sv += 2.0 * hqq[k][i] * qdot[i];
-                    rate += hqq[k][i] * qdot[i];
-                    k_tilde[(i, k)] -= lambda[j] * hqq[i][k];
+                    sq += hqq[(k, i)] * a0[i] + third[(k, i)] * qdot[i];
+                    sv += 2.0 * hqq[(k, i)] * qdot[i];
+                    rate += hqq[(k, i)] * qdot[i];
+                    k_tilde[(i, k)] -= lambda[j] * hqq[(i, k)];
                 }
                 hq[(j, k)] = sq;
                 hv[(j, k)] = sv;
@@ -163,9 +186,9 @@ where
                 g_rows[(j, k)] = gv[k];
                 let (mut sq, mut sv) = (0.0, gq[k]);
                 for i in 0..N {
-                    sq += hqq[i][k] * qdot[i] + hqv[k][i] * a0[i];
-                    sv += hqv[i][k] * qdot[i] + hvv[i][k] * a0[i];
-                    k_tilde[(i, k)] -= lambda[j] * hqv[k][i];
+                    sq += hqq[(i, k)] * qdot[i] + hqv[(k, i)] * a0[i];
+                    sv += hqv[(i, k)] * qdot[i] + hvv[(i, k)] * a0[i];
+                    k_tilde[(i, k)] -= lambda[j] * hqv[(k, i)];
                 }
                 hq[(j, k)] = sq;
                 hv[(j, k)] = sv;
@@ -554,5 +577,143 @@ impl<const N: usize> ConstrainedLinearization<N> {
             v.copy_from_slice(&x[..N]);
         }
         Ok(vs)
+    }
+}
+
+/// One constraint's derivatives in (q, q̇) at the reference: gradient, Hessian blocks (indexed
+/// as the [`HessianJet`](crate::jet::HessianJet)'s: `hqv[(i, k)]` is ∂²c/∂qᵢ∂q̇ₖ) and the rate of
+/// its q-block along (q̇₀, a₀, 1), on the heap whatever N.
+struct Second {
+    gq: Vec<f64>,
+    gv: Vec<f64>,
+    hqq: DMatrix<f64>,
+    hqv: DMatrix<f64>,
+    hvv: DMatrix<f64>,
+    third_qq: DMatrix<f64>,
+}
+
+/// Every constraint's [`Second`] from one evaluation in [`LinJet`]s, or, `by_columns` (above
+/// [`HESSIAN_BY_COLUMNS_ABOVE`](crate::jet::HESSIAN_BY_COLUMNS_ABOVE) coordinates), from 2N
+/// evaluations in [`LinColumnJet`]s (O(N) numbers each on the stack instead of O(N²)).
+#[inline(never)]
+fn constraint_seconds<H, const N: usize, const K: usize>(
+    sys: &H,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+    a0: &[f64; N],
+    by_columns: bool,
+) -> Vec<Second>
+where
+    H: Holonomic<N, K> + ?Sized,
+{
+    let mut out: Vec<Second> = (0..K)
+        .map(|_| Second {
+            gq: vec![0.0; N],
+            gv: vec![0.0; N],
+            hqq: DMatrix::zeros(N, N),
+            hqv: DMatrix::zeros(N, N),
+            hvv: DMatrix::zeros(N, N),
+            third_qq: DMatrix::zeros(N, N),
+        })
+        .collect();
+    if by_columns {
+        for col in 0..2 * N {
+            let values = crate::jet::with_jet_stack(
+                N,
+                core::mem::size_of::<LinColumnJet<N>>(),
+                || {
+                    let (qj, vj, tj) = LinColumnJet::seed_boxed(q, qdot, t, qdot, a0, 1.0, col);
+                    Box::new(sys.constraint_values(&*qj, &*vj, tj))
+                },
+            );
+            for (c, v) in out.iter_mut().zip(values.iter()) {
+                let (b, d) = (v.base(), v.along());
+                let (cq, cv, dq) = (b.column_q(), b.column_qdot(), d.column_q());
+                if col == 0 {
+                    c.gq.copy_from_slice(&b.grad_q());
+                    c.gv.copy_from_slice(&b.grad_qdot());
+                }
+                for i in 0..N {
+                    if col < N {
+                        // The column of q_col: ∂²c/∂qᵢ∂q_col and ∂²c/∂q̇ᵢ∂q_col.
+                        c.hqq[(i, col)] = cq[i];
+                        c.hqv[(col, i)] = cv[i];
+                        c.third_qq[(i, col)] = dq[i];
+                    } else {
+                        c.hvv[(i, col - N)] = cv[i];
+                    }
+                }
+            }
+        }
+        return out;
+    }
+    let (qj, vj, tj) = LinJet::seed(q, qdot, t, qdot, a0, 1.0);
+    let values = sys.constraint_values(&qj, &vj, tj);
+    for (c, v) in out.iter_mut().zip(values.iter()) {
+        let (b, d) = (v.base(), v.along());
+        c.gq.copy_from_slice(&b.grad_q());
+        c.gv.copy_from_slice(&b.grad_qdot());
+        let (hqq, hqv, hvv, third) = (b.hess_qq(), b.hess_qqdot(), b.hess_qdotqdot(), d.hess_qq());
+        for i in 0..N {
+            for k in 0..N {
+                c.hqq[(i, k)] = hqq[i][k];
+                c.hqv[(i, k)] = hqv[i][k];
+                c.hvv[(i, k)] = hvv[i][k];
+                c.third_qq[(i, k)] = third[i][k];
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::constraint_seconds;
+    use crate::{Holonomic, Lagrangian, Scalar};
+
+    /// Two coordinates, a curved holonomic constraint and a velocity constraint with a
+    /// q-dependent A(q).
+    struct Curved;
+    impl Lagrangian<3> for Curved {
+        const COORDINATES: [&'static str; 3] = ["x", "y", "z"];
+        const CYCLIC: [bool; 3] = [false; 3];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, _q: &[S; 3], v: &[S; 3], _t: S) -> S {
+            (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
+        }
+    }
+    impl Holonomic<3, 2> for Curved {
+        const VELOCITY_ROWS: usize = 1;
+        fn constraints<S: Scalar>(&self, q: &[S; 3], _t: S) -> [S; 2] {
+            [q[0] * q[0] * q[1] + q[2].sin() - 1.0, S::constant(0.0)]
+        }
+        fn constraint_values<S: Scalar>(&self, q: &[S; 3], v: &[S; 3], t: S) -> [S; 2] {
+            let g = self.constraints(q, t)[0];
+            [g, v[0] * q[2].cos() - v[1] * (q[0] * q[1]).exp() + v[2] * q[1]]
+        }
+    }
+
+    /// The constraints' second derivatives assembled column by column (the path of systems
+    /// above 16 coordinates) equal the ones from whole Hessians, to round-off.
+    #[test]
+    fn columns_equal_the_whole_constraint_hessians() {
+        let (q, v, a0) = ([0.7, 1.1, -0.4], [0.3, -0.9, 1.2], [0.2, 0.5, -0.6]);
+        let whole = constraint_seconds(&Curved, &q, &v, 0.0, &a0, false);
+        let cols = constraint_seconds(&Curved, &q, &v, 0.0, &a0, true);
+        let close = |a: &[f64], b: &[f64]| {
+            a.iter()
+                .zip(b)
+                .all(|(x, y)| (x - y).abs() <= 1e-14 * x.abs().max(1.0))
+        };
+        for (w, c) in whole.iter().zip(&cols) {
+            assert!(close(&w.gq, &c.gq) && close(&w.gv, &c.gv));
+            assert!(close(w.hqq.as_slice(), c.hqq.as_slice()), "{} {}", w.hqq, c.hqq);
+            assert!(close(w.hqv.as_slice(), c.hqv.as_slice()), "{} {}", w.hqv, c.hqv);
+            assert!(close(w.hvv.as_slice(), c.hvv.as_slice()), "{} {}", w.hvv, c.hvv);
+            assert!(close(w.third_qq.as_slice(), c.third_qq.as_slice()));
+            assert!(w.hqq.iter().any(|x| *x != 0.0) && w.third_qq.iter().any(|x| *x != 0.0));
+        }
+        assert!(whole[1].hqv.iter().any(|x| *x != 0.0));
     }
 }
