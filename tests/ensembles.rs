@@ -16,4 +16,5 @@ mod contacts;
 mod ensemble;
 mod ensemble_lanes;
 mod impacts;
+mod limits;
 mod stiff;

@@ -280,6 +280,11 @@ pub fn generate(
     } else {
         quote!(#rest)
     };
+    let declares_contacts = if decl.contacts.is_some() {
+        quote!(const DECLARES_CONTACTS: bool = true;)
+    } else {
+        quote!()
+    };
     quote! {
         #rest
 
@@ -290,6 +295,7 @@ pub fn generate(
             const CYCLIC: [bool; #n] = [#(#cyclic),*];
             const AUTONOMOUS: bool = #autonomous;
             #conserved
+            #declares_contacts
 
             #lagrangian_method
             #(#extras)*

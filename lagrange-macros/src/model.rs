@@ -70,7 +70,13 @@ impl CoordParam {
     /// The COORDINATES names of this parameter's slots: `theta`, or `r.x`, `r.y`, `r.z`, or
     /// `q[0]` … `q[K-1]`.
     pub fn slot_names(&self) -> Vec<String> {
-        let base = unraw(&self.name);
+        // `(_x, x_dot)` marks a coordinate L does not read (rustc's unused-variable
+        // convention): its name is `x`, not `_x`, in COORDINATES, the equations and the CSV.
+        let raw = unraw(&self.name);
+        let base = match raw.strip_prefix('_') {
+            Some(rest) if !rest.is_empty() => rest.to_string(),
+            _ => raw,
+        };
         match self.kind {
             CoordKind::Scalar => vec![base],
             CoordKind::Vector3 => ["x", "y", "z"]

@@ -476,6 +476,37 @@ where
         self
     }
 
+    /// [`shard`](Ensemble::shard), checked: the k-th of n blocks exists only for n ≥ 1 and
+    /// k < n (`shard(3, 2)` and `shard(0, 0)` run no member at all), else
+    /// [`SimulationError::InvalidOptions`] saying so.
+    ///
+    /// ```
+    /// # use lagrange_runtime::ensemble::{Ensemble, Member};
+    /// # use lagrange_runtime::{Lagrangian, Scalar, SimulationError};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// let e = || Ensemble::new(10, |_| Member::new(Free, [0.0], [1.0]));
+    /// assert_eq!(e().try_shard(2, 3).unwrap().members(), 6..10);
+    /// assert!(matches!(e().try_shard(3, 2), Err(SimulationError::InvalidOptions { .. })));
+    /// assert!(e().try_shard(0, 0).is_err());
+    /// ```
+    pub fn try_shard(self, k: usize, n: usize) -> Result<Self, SimulationError> {
+        if n == 0 || k >= n {
+            return Err(SimulationError::InvalidOptions {
+                message: format!(
+                    "shard({k}, {n}): the members split into n ≥ 1 blocks numbered 0 to n − 1, \
+                     so block {k} of {n} does not exist (it would run no member); give k < n"
+                ),
+            });
+        }
+        Ok(self.shard(k, n))
+    }
+
     /// Shows a progress bar on standard error while the members run (with the `progress`
     /// feature, on by default; hidden where standard error is not a terminal).
     ///
@@ -1107,11 +1138,11 @@ impl Results<Vec<f64>> {
             row.extend(names.iter().map(|n| {
                 p.iter()
                     .find(|(m, _)| m == n)
-                    .map_or(String::new(), |(_, v)| format!("{v:e}"))
+                    .map_or(String::new(), |(_, v)| csv_number(*v))
             }));
             match r {
                 Ok(vals) => {
-                    row.extend(vals.iter().map(|v| format!("{v:e}")));
+                    row.extend(vals.iter().map(|&v| csv_number(v)));
                     row.push(String::new());
                 }
                 Err(e) => {
@@ -1123,6 +1154,18 @@ impl Results<Vec<f64>> {
             rows.push(row);
         }
         Ok(rows)
+    }
+}
+
+/// A number as a CSV cell that spreadsheets read and that reads back to the same f64: an
+/// integer as an integer (19, not 1.9e1), other values in plain decimals where that is short
+/// (2.006066806131417, 0.0005), in exponent form only outside 1e-5 … 1e16 (1e-20).
+fn csv_number(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-5..1e16).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -1276,8 +1319,9 @@ mod tests {
         let text = std::fs::read_to_string(&path).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines[0], "member,a,\"b,c\",\"d\"\"q\",x,\"y, z\",error");
-        assert_eq!(lines[1], "0,1e0,2e0,,5e0,6e0,");
-        assert!(lines[2].starts_with("1,4e0,,3e0,,,\""), "{}", lines[2]);
+        // Counts as integers, not 1e0 (spreadsheets read both, people only the first).
+        assert_eq!(lines[1], "0,1,2,,5,6,");
+        assert!(lines[2].starts_with("1,4,,3,,,\""), "{}", lines[2]);
         assert!(lines[2].contains("said \"\"no\"\" then"), "{}", lines[2]);
         assert_eq!(lines.len(), 3);
         // A shard without its header has the same columns.
@@ -1291,6 +1335,25 @@ mod tests {
                 .collect::<String>()
         );
         let _ = std::fs::remove_dir_all(temp(""));
+    }
+
+    /// CSV numbers: integers as integers, others as the shortest decimal that reads back to the
+    /// same f64, in exponent form only far from 1.
+    #[test]
+    fn csv_numbers_read_back_exactly() {
+        for (v, text) in [
+            (19.0, "19"),
+            (-3.0, "-3"),
+            (2.006066806131417, "2.006066806131417"),
+            (0.000125, "0.000125"),
+            (1e-20, "1e-20"),
+            (6.02e23, "6.02e23"),
+            (0.0, "0"),
+        ] {
+            assert_eq!(super::csv_number(v), text);
+            assert_eq!(text.parse::<f64>().unwrap(), v);
+        }
+        assert_eq!(super::csv_number(f64::NAN), "NaN");
     }
 
     /// A reduction that returned fewer or more values than its columns is refused with

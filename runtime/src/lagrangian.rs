@@ -155,7 +155,23 @@ pub trait Lagrangian<const N: usize> {
         qdot: &[f64; N],
         t: f64,
     ) -> Result<[f64; N], DynamicsError> {
-        eom::solve(&self.pieces(q, qdot, t), Self::COORDINATES, q, qdot, t)
+        crate::scalar::take_unseen_rate();
+        let pieces = self.pieces(q, qdot, t);
+        if crate::scalar::take_unseen_rate() {
+            return Err(DynamicsError::NonFinite {
+                t,
+                q: q.to_vec(),
+                qdot: qdot.to_vec(),
+                message: "the body reads `velocity(…)` of a number that carries no rate: a \
+                          helper function outside the #[lagrangian] impl calls `velocity`, which \
+                          the macro cannot see, so L was evaluated in jets without rates and the \
+                          rate is NaN (a `min` or `max` may have hidden it). Call `velocity` in \
+                          the impl's own body (the macro then evaluates it with rates), or pass \
+                          the helper the rate it needs as an argument"
+                    .into(),
+            });
+        }
+        eom::solve(&pieces, Self::COORDINATES, q, qdot, t)
     }
 
     /// The mass matrix M = ∂²L/∂q̇∂q̇ (from [`pieces`](Self::pieces)).
@@ -206,6 +222,25 @@ pub trait Lagrangian<const N: usize> {
     /// assert!(!Osc::COMPILED.lanes && Osc::COMPILED.not_analytic.is_none());
     /// ```
     const COMPILED: Compiled = Compiled::NONE;
+
+    /// Whether the system declares unilateral contacts (`fn contacts` under `#[lagrangian]`, which
+    /// sets it): a run built with [`Simulation::new`](crate::Simulation::new), which would step
+    /// the motion as if there were none, is then refused and pointed to
+    /// [`Simulation::contacts`](crate::Simulation::contacts). A hand-written `impl Unilateral`
+    /// should set it too.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar};
+    /// struct Osc;
+    /// impl Lagrangian<1> for Osc {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
+    /// }
+    /// assert!(!Osc::DECLARES_CONTACTS);
+    /// ```
+    const DECLARES_CONTACTS: bool = false;
 
     /// q̈ by the compiled kernel over any [`Real`] width: lane l for `members[l]` at (q, q̇, t)
     /// of lane l, with the lanes whose pivot tests passed and whose values are finite (a lane
@@ -316,7 +351,7 @@ pub struct Compiled {
     /// Whether the system declares holonomic constraints (`fn constraints` under
     /// `#[lagrangian]`): [`Linearize::linearize`](crate::Linearize::linearize), which linearizes
     /// the unconstrained L, then refuses with
-    /// [`DynamicsError::Constrained`](crate::DynamicsError::Constrained). A hand-written
+    /// [`DynamicsError::Constrained`]. A hand-written
     /// `impl Holonomic` should set it too.
     pub constrained: bool,
 }

@@ -90,8 +90,31 @@ pub trait Velocity: Sized {
 impl Velocity for f64 {
     #[inline(always)]
     fn velocity(&self) -> Self {
+        note_unseen_rate();
         f64::NAN
     }
+}
+
+std::thread_local! {
+    /// Whether a number without a rate was asked for its `velocity` since the last
+    /// [`take_unseen_rate`] on this thread.
+    static UNSEEN_RATE: core::cell::Cell<bool> = const { core::cell::Cell::new(false) };
+}
+
+/// Notes that `velocity()` was read from a number that carries no rate (it returns NaN): a
+/// helper outside the `#[lagrangian]` impl reads a rate the macro did not see, so the body was
+/// not evaluated in the jets that carry rates. [`Lagrangian::accelerations`](crate::Lagrangian::accelerations)
+/// turns it into an error that names `velocity` (a NaN that `min` or `max` swallowed would
+/// otherwise give a wrong q̈ silently).
+#[inline(never)]
+#[cold]
+pub(crate) fn note_unseen_rate() {
+    UNSEEN_RATE.with(|c| c.set(true));
+}
+
+/// Whether a rate was read unseen since the last call (and clears the note).
+pub(crate) fn take_unseen_rate() -> bool {
+    UNSEEN_RATE.with(|c| c.replace(false))
 }
 
 impl<S: Scalar> Velocity for Vector3<S> {

@@ -358,7 +358,13 @@ pub fn solve_constrained<const N: usize, const K: usize>(
     for (j, row) in g.iter().enumerate() {
         let n2: f64 = row.iter().map(|x| x * x).sum();
         if n2 == 0.0 {
-            return Err(dependent(j, "its gradient ∂g/∂q is zero here", q, qdot, t));
+            return Err(dependent(
+                j,
+                "its row (∂g/∂q of a holonomic constraint, A of a velocity constraint A q̇ + b = 0) is zero here",
+                q,
+                qdot,
+                t,
+            ));
         }
         gscale = gscale.max(n2);
     }
@@ -443,7 +449,7 @@ pub fn solve_constrained<const N: usize, const K: usize>(
         Err(SolveFailure::Singular { row, .. }) => {
             return Err(dependent(
                 row,
-                "its row of G = ∂g/∂q is (nearly) a combination of the rows before it",
+                "its row (∂g/∂q of a holonomic constraint, A of a velocity constraint A q̇ + b = 0) is (nearly) a combination of the rows before it",
                 q,
                 qdot,
                 t,
@@ -552,10 +558,14 @@ fn dependent<const N: usize>(
         q: q.to_vec(),
         qdot: qdot.to_vec(),
         message: format!(
-            "constraint {j} (counting from 0, in the order `constraints` returns them) is dependent: \
-             {why}, so the multipliers are not determined. Try: remove the redundant constraint \
-             (a closed chain often repeats one), or write it in a form whose gradient does not \
-             vanish on the constraint (g = x² − a² rather than g = (x − a)²)."
+            "constraint {j} (counting from 0: the holonomic constraints in the order \
+             `constraints` returns them, then the velocity constraints of \
+             `velocity_constraints`) is dependent: {why}, so the multipliers are not determined. \
+             Try: remove the redundant constraint (a closed chain often repeats one; a velocity \
+             constraint may repeat what a holonomic one implies, or a rolling condition written \
+             twice), or write a holonomic one in a form whose gradient does not vanish on it \
+             (g = x² − a² rather than g = (x − a)²) and a velocity one with a row A(q) that \
+             does not vanish where the system goes."
         ),
     }
 }

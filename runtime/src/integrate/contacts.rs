@@ -17,7 +17,7 @@ use crate::lagrangian::Lagrangian;
 use crate::linalg::lu_solve_dyn;
 use crate::scalar::Scalar;
 
-use super::events::Event;
+use super::events::{Event, Jump};
 use super::manifold::{Manifold, Rows, least_norm_dyn};
 use super::newton::inf_norm;
 use super::simulation::{Simulation, Sys};
@@ -116,33 +116,89 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
                 anchor: Cell::new([0.0; K]),
             }),
         };
-        let rows = sys.contact_rows(q0, qdot0, t0);
+        view.start(q0, qdot0, t0)?;
+        Ok(view)
+    }
+
+    /// Sets the view up for a run that starts at (q0, q̇0, t0), at the run's own start time
+    /// (a moving gap is read there): the contacts whose gap and rate vanish close, and the state
+    /// is put exactly on them (a gap within 1e-9 of its scale is a contact, not an error); a
+    /// contact that touches and approaches (gap 0, ġ < 0) is an impact at t0, whose jump is
+    /// returned with the state after it. Errors name the contact (not finite, penetrating).
+    pub(crate) fn start(
+        &self,
+        q0: &[f64; N],
+        qdot0: &[f64; N],
+        t0: f64,
+    ) -> Result<(Y<N>, Option<Jump<N>>), String> {
+        self.state.closed.set([false; K]);
+        self.state.anchor.set([0.0; K]);
+        let rows = self.sys.contact_rows(q0, qdot0, t0);
         let mut closed = [false; K];
+        let mut approaching = None;
         for j in 0..K {
             let (gs, vs) = scales(&rows, j, q0, qdot0);
             if !(rows.gap[j].is_finite() && rows.normal_rate[j].is_finite()) {
                 return Err(format!(
-                    "contact {} is not finite at the start (gap {}, rate {})",
-                    view.name(&rows, j),
+                    "contact {} is not finite at the start t0 = {t0} (gap {}, rate {})",
+                    self.name(&rows, j),
                     rows.gap[j],
                     rows.normal_rate[j]
                 ));
             }
             if rows.gap[j] < -1e-9 * gs {
                 return Err(format!(
-                    "contact {} penetrates at the start: its gap is {} at q0 = {}; start with \
-                     every gap g ≥ 0",
-                    view.name(&rows, j),
+                    "contact {} penetrates at the start: its gap is {} at t0 = {t0}, q0 = {}; \
+                     start with every gap g ≥ 0",
+                    self.name(&rows, j),
                     Short(rows.gap[j]),
                     Short(&q0[..])
                 ));
             }
-            closed[j] = rows.gap[j].abs() <= 1e-9 * gs && rows.normal_rate[j].abs() <= 1e-9 * vs;
+            if let Some(message) = bad_restitution(rows.restitution[j]) {
+                return Err(format!(
+                    "contact {}: {message} (at the start t0 = {t0})",
+                    self.name(&rows, j)
+                ));
+            }
+            let touching = rows.gap[j].abs() <= 1e-9 * gs;
+            closed[j] = touching && rows.normal_rate[j].abs() <= 1e-9 * vs;
+            if touching && rows.normal_rate[j] < -1e-9 * vs && approaching.is_none() {
+                approaching = Some(j);
+            }
         }
-        view.close(closed, &rows);
-        view.anchor_at(q0, t0);
-        view.release(q0, qdot0, t0).map_err(|e| e.to_string())?;
-        Ok(view)
+        self.close(closed, &rows);
+        self.anchor_at(q0, t0);
+        self.release(q0, qdot0, t0).map_err(|e| e.to_string())?;
+        let mut y = [*q0, *qdot0];
+        let mut jump = None;
+        if let Some(j) = approaching {
+            // An impact at t0: every contact touching and approaching takes its impulse (the
+            // transition takes them all), as if the run had arrived here.
+            let after = self
+                .transition(j, false, t0, q0, qdot0)
+                .map_err(|e| e.to_string())?;
+            let (e0, e1) = (
+                self.sys.energy(q0, qdot0, t0),
+                self.sys.energy(&after[0], &after[1], t0),
+            );
+            jump = Some(Jump {
+                event: self.name(&rows, j),
+                t: t0,
+                before: (*q0, *qdot0),
+                after: (after[0], after[1]),
+                energy_change: e1 - e0,
+            });
+            y = after;
+        }
+        // On the closed contacts exactly: a gap of 1e-12 taken for a contact is one.
+        self.project(t0, &mut y).map_err(|f| {
+            format!(
+                "the initial state could not be put on the contacts that touch at t0 = {t0} \
+                 ({f:?}): start with the touching contacts' gaps at 0"
+            )
+        })?;
+        Ok((y, jump))
     }
 
     /// Which contacts are closed now.
@@ -396,6 +452,16 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
             })?;
             return Ok(y);
         }
+        for &i in &idx {
+            if let Some(message) = bad_restitution(rows.restitution[i]) {
+                return Err(DynamicsError::Impact {
+                    t,
+                    q: q.to_vec(),
+                    qdot: qdot.to_vec(),
+                    message: format!("contact {}: {message}", self.name(&rows, i)),
+                });
+            }
+        }
         let cands: Vec<Candidate<N>> = idx
             .iter()
             .map(|&i| Candidate {
@@ -522,6 +588,18 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
             })
             .collect()
     }
+}
+
+/// Why a restitution coefficient is refused, if it is: Newton's law ġ⁺ = −e ġ⁻ takes
+/// 0 ≤ e ≤ 1 (e < 0 would send the body on into the surface, e > 1 make energy).
+fn bad_restitution(e: f64) -> Option<String> {
+    (!(0.0..=1.0).contains(&e)).then(|| {
+        format!(
+            "its restitution e = {e} is outside [0, 1]: an impact leaves at ġ⁺ = −e ġ⁻, so e < 0 \
+             would go on into the surface and e > 1 would make energy; give 0 (plastic) to 1 \
+             (elastic) with `.restitution(e)`"
+        )
+    })
 }
 
 /// A slice of length N as an array (for messages).
@@ -744,28 +822,20 @@ where
     /// assert!((tr.lambda.last().unwrap()[0] - 9.81).abs() < 1e-9); // λ = m g
     /// ```
     pub fn contacts(system: &'a U, q0: [f64; N], qdot0: [f64; N]) -> Self {
-        match ContactView::new(system, &q0, &qdot0, 0.0) {
-            Ok(view) => {
-                let events = view.events(&q0, 0.0);
-                let mut sim = Self::with(Sys::Owned(Box::new(view.clone())), q0, qdot0);
-                sim.o.manifold = Some(Box::new(view));
-                sim.o.events = events;
-                sim.o.contact_run = Some(Ok(()));
-                sim
-            }
-            Err(message) => {
-                // The builder keeps the message; `run` reports it.
-                let view = ContactView {
-                    sys: system,
-                    state: Rc::new(ContactState {
-                        closed: Cell::new([false; K]),
-                        anchor: Cell::new([0.0; K]),
-                    }),
-                };
-                let mut sim = Self::with(Sys::Owned(Box::new(view)), q0, qdot0);
-                sim.o.contact_run = Some(Err(message));
-                sim
-            }
-        }
+        let view = ContactView {
+            sys: system,
+            state: Rc::new(ContactState {
+                closed: Cell::new([false; K]),
+                anchor: Cell::new([0.0; K]),
+            }),
+        };
+        let events = view.events(&q0, 0.0);
+        let mut sim = Self::with(Sys::Owned(Box::new(view.clone())), q0, qdot0);
+        // The view is set up when the run starts, at its start time and initial state.
+        let start = view.clone();
+        sim.o.contact_start = Some(Box::new(move |q, v, t| start.start(q, v, t)));
+        sim.o.manifold = Some(Box::new(view));
+        sim.o.events = events;
+        sim
     }
 }

@@ -2,6 +2,7 @@
 //! the end time, records the samples, locates the events and turns a stepper's fault into the
 //! error that holds the trajectory so far.
 
+use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 
 use super::dense::{Dense, Kind};
@@ -529,14 +530,32 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
     }
 
     /// After a jump to (t, y): the events' values start afresh from the state after it (the
-    /// event that fired is on its zero, exactly 0: neither direction's crossing starts there),
-    /// and the cap on the next step. Apart from `drive`, to keep its loop short.
+    /// event that fired, where the jump left it on its zero, exactly 0: neither direction's
+    /// crossing starts there), and the cap on the next step. Apart from `drive`, to keep its loop short.
     fn restart(&mut self, p: &mut Progress, t: f64, y: &Y<N>) -> Option<f64> {
         for (g, e) in p.g_old.iter_mut().zip(self.events) {
             *g = e.value(t, &y[0], &y[1]);
         }
+        // The event that fired: where the jump left it on its zero (an impact keeps the gap,
+        // up to the round-off of the located root; a contact's function changes meaning at its
+        // transition), exactly 0, so that neither direction's crossing starts there; where a
+        // reset moved it off (a reset to x = 1e-6 still moving in), its value after the jump,
+        // so that its next crossing is seen.
         if let Some(&(_, i, _)) = p.hits.iter().find(|h| h.0 == t) {
-            p.g_old[i] = 0.0;
+            let ev = &self.events[i];
+            let before = self
+                .traj
+                .jumps
+                .last()
+                .filter(|j| j.t == t)
+                .map(|j| ev.value(t, &j.before.0, &j.before.1));
+            let moved_off = match before {
+                Some(b) if !ev.is_contact() => p.g_old[i].abs() > 16.0 * b.abs(),
+                _ => false,
+            };
+            if !moved_off {
+                p.g_old[i] = 0.0;
+            }
         }
         self.first_step_after_jump(t, y)
     }
@@ -671,6 +690,20 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
             }
             for (i, ev) in self.events.iter().enumerate() {
                 g_new[i] = ev.value(t_b, &yb[0], &yb[1]);
+                if g_new[i].is_nan() && !ev.is_contact() {
+                    return Err(Fault::Dynamics(DynamicsError::NonFinite {
+                        t: t_b,
+                        q: yb[0].to_vec(),
+                        qdot: yb[1].to_vec(),
+                        message: format!(
+                            "the function of event \"{}\" is NaN at this state, so its zero \
+                             crossings cannot be found (it would never fire): check its formula \
+                             where it divides or takes roots, or end the run before it leaves \
+                             its domain with a terminal event",
+                            ev.name()
+                        ),
+                    }));
+                }
                 let mut prev = (t_a, g_old[i]);
                 for k in 0..4 {
                     let next = match inner.get(k) {
@@ -815,7 +848,17 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
             }
         }
         if after.iter().flatten().any(|x| !x.is_finite()) {
-            return Err(Fault::NonFinite);
+            return Err(Fault::Dynamics(DynamicsError::NonFinite {
+                t: tz,
+                q: before[0].to_vec(),
+                qdot: before[1].to_vec(),
+                message: format!(
+                    "the reset map of event \"{name}\" returned a state that is not finite \
+                     (q⁺ = {:?}, q̇⁺ = {:?}) from this state: check the reset's formula where \
+                     it divides or takes roots",
+                    after[0], after[1]
+                ),
+            }));
         }
         let e0 = self.sys.energy(&before[0], &before[1], tz);
         let e1 = self.sys.energy(&after[0], &after[1], tz);

@@ -8,10 +8,25 @@
 /// the two kinds apart).
 ///
 /// ```
-/// use lagrange_runtime::Method;
+/// use lagrange::prelude::*;
+///
+/// /// A pendulum of length 1 under g = 9.81.
+/// pub struct Pendulum;
+///
+/// #[lagrangian]
+/// impl Pendulum {
+///     fn lagrangian(&self, (theta, theta_dot): Coord) -> Scalar {
+///         0.5 * theta_dot * theta_dot + 9.81 * theta.cos()
+///     }
+/// }
+///
+/// // The same swing by an adaptive and a symplectic fixed-step method.
 /// let m = Method::Dop853 { rtol: 1e-10, atol: 1e-12 };
 /// assert!(!m.is_fixed_step());
 /// assert!(Method::VariationalMidpoint { dt: 1e-3 }.is_fixed_step());
+/// let swing = |m| Simulation::new(&Pendulum, [0.5], [0.0]).method(m).until(1.0).run().unwrap();
+/// let (a, b) = (swing(m), swing(Method::VariationalMidpoint { dt: 1e-3 }));
+/// assert!((a.q.last().unwrap()[0] - b.q.last().unwrap()[0]).abs() < 1e-5);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]

@@ -73,6 +73,7 @@ pub use events::{Direction, Event, EventHit, Jump, Zeno};
 pub use method::Method;
 pub use report::NamedInvariants;
 pub use sensitivity::{EventSensitivity, Sensitivities, Sensitivity};
+pub(crate) use sensitivity::parameter_scale;
 pub use simulation::Simulation;
 pub use state::Stats;
 pub use stiffness::Stiffness;

@@ -7,11 +7,17 @@ use crate::lagrangian::Lagrangian;
 
 use super::driver::{self, RunOptions, Sampling};
 use super::error::SimulationError;
-use super::events::Event;
+use super::events::{Event, Jump};
 use super::manifold::Manifold;
 use super::method::Method;
 use super::system::System;
 use super::trajectory::{Sample, Trajectory};
+
+/// The set-up of a contacts run at its start (see `Options::contact_start`).
+pub(super) type ContactStart<'a, const N: usize> = Box<
+    dyn Fn(&[f64; N], &[f64; N], f64) -> Result<(super::state::Y<N>, Option<Jump<N>>), String>
+        + 'a,
+>;
 
 /// The observer of [`Simulation::observe`]: called with every recorded sample.
 type Observer<'a, const N: usize> = Box<dyn FnMut(&Sample<N>) + 'a>;
@@ -74,8 +80,11 @@ pub(super) struct Options<'a, const N: usize> {
     pub(super) keep_samples: bool,
     /// Whether the trajectory keeps the dense output ([`Simulation::keep_dense_output`]).
     pub(super) keep_dense: bool,
-    /// A run of [`Simulation::contacts`]: `Err` says why its initial state was refused.
-    pub(super) contact_run: Option<Result<(), String>>,
+    /// A run of [`Simulation::contacts`]: sets its contacts up at the run's start (t0, q0, q̇0)
+    /// and gives the state the run starts from (on the touching contacts, after an impact at t0
+    /// where one touches and approaches) with that impact's jump, or says why the initial state
+    /// is refused.
+    pub(super) contact_start: Option<ContactStart<'a, N>>,
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
@@ -126,7 +135,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
                 keep_samples: true,
                 keep_dense: false,
                 max_step: None,
-                contact_run: None,
+                contact_start: None,
             },
         }
     }
@@ -459,9 +468,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// ```
     pub fn run(mut self) -> Result<Trajectory<N>, SimulationError> {
         let p = self.prepare()?;
-        driver::run(
-            p.sys, p.manifold, p.events, p.method, p.y0, p.hmax, &p.opts, p.observer,
-        )
+        run_prepared(p)
     }
 
     /// Checks the options and gathers what the driver needs (the lanes engine of an ensemble
@@ -472,6 +479,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
         let ready = o.prepare(sys)?;
         Ok(Prepared {
             sys,
+            start_jump: ready.start_jump,
             manifold: ready.manifold,
             events: ready.events,
             method: ready.method,
@@ -512,7 +520,7 @@ impl<'a, const N: usize> Options<'a, N> {
             .validate(sys)
             .and_then(|until| self.check_cyclic(sys).map(|()| until))
             .map_err(|message| SimulationError::InvalidOptions { message })?;
-        let y0 = self.initial_state()?;
+        let (y0, start_jump) = self.initial_state()?;
         let hmax = self.max_step.unwrap_or(until - self.t0);
         let max_samples = self.max_samples_bound();
         let dense_budget = self.keep_dense.then(|| self.dense_budget());
@@ -540,6 +548,7 @@ impl<'a, const N: usize> Options<'a, N> {
             dense_budget,
         };
         Ok(Ready {
+            start_jump,
             manifold: self.manifold.as_deref(),
             events: &self.events,
             method: self.method,
@@ -554,8 +563,24 @@ impl<'a, const N: usize> Options<'a, N> {
     }
 }
 
+/// The run of a prepared simulation on the scalar driver.
+pub(super) fn run_prepared<L: Lagrangian<N>, const N: usize>(
+    p: Prepared<'_, '_, L, N>,
+) -> Result<Trajectory<N>, SimulationError> {
+    let start_jump = p.start_jump;
+    let mut tr = driver::run(
+        p.sys, p.manifold, p.events, p.method, p.y0, p.hmax, &p.opts, p.observer,
+    )?;
+    // An impact at t0 (a contact touching and approaching at the start) comes first.
+    if let Some(jump) = start_jump {
+        tr.jumps.insert(0, jump);
+    }
+    Ok(tr)
+}
+
 /// [`Prepared`] without the system.
 struct Ready<'p, 'a, const N: usize> {
+    start_jump: Option<Jump<N>>,
     manifold: Option<&'p (dyn Manifold<N> + 'a)>,
     events: &'p [Event<'a, N>],
     method: Method,
@@ -567,6 +592,8 @@ struct Ready<'p, 'a, const N: usize> {
 
 pub(super) struct Prepared<'p, 'a, L, const N: usize> {
     pub(super) sys: &'p L,
+    /// The jump of an impact at t0 (a contacts run), recorded first.
+    pub(super) start_jump: Option<Jump<N>>,
     pub(super) manifold: Option<&'p (dyn Manifold<N> + 'a)>,
     pub(super) events: &'p [Event<'a, N>],
     pub(super) method: Method,
@@ -596,10 +623,14 @@ impl<L> core::ops::Deref for Sys<'_, L> {
 impl<const N: usize> Options<'_, N> {
     /// y0 = (q0, q̇0), on the constraints of a constrained run: checked, or projected there when
     /// asked.
-    fn initial_state(&self) -> Result<[[f64; N]; 2], SimulationError> {
+    fn initial_state(&self) -> Result<([[f64; N]; 2], Option<Jump<N>>), SimulationError> {
+        if let Some(start) = &self.contact_start {
+            return start(&self.q0, &self.qdot0, self.t0)
+                .map_err(|message| SimulationError::InvalidOptions { message });
+        }
         let mut y0 = [self.q0, self.qdot0];
         let Some(m) = self.manifold.as_deref() else {
-            return Ok(y0);
+            return Ok((y0, None));
         };
         let t0 = self.t0;
         if self.project_initial {
@@ -611,7 +642,7 @@ impl<const N: usize> Options<'_, N> {
                         self.q0, self.qdot0
                     ),
                 })?;
-            return Ok(y0);
+            return Ok((y0, None));
         }
         // Each residual against its own scale: |g_j| against Σ_i |∂g_j/∂q_i · q_i| (the size
         // of the terms that cancel in g_j), |ġ_j| against Σ_i |∂g_j/∂q_i · q̇_i| + |∂g_j/∂t|.
@@ -642,7 +673,7 @@ impl<const N: usize> Options<'_, N> {
                 worst: worst.0,
             });
         }
-        Ok(y0)
+        Ok((y0, None))
     }
 }
 
@@ -669,23 +700,21 @@ where
     /// is asked for.
     ///
     /// ```
-    /// use lagrange_runtime::{Holonomic, Lagrangian, Scalar, Simulation};
+    /// use lagrange::prelude::*;
+    ///
     /// /// A plane pendulum in x, y: L = m|v|²/2 − m g y, x² + y² = l².
-    /// struct Pendulum;
-    /// impl Lagrangian<2> for Pendulum {
-    ///     const COORDINATES: [&'static str; 2] = ["x", "y"];
-    ///     const CYCLIC: [bool; 2] = [true, false];
-    ///     const AUTONOMOUS: bool = true;
-    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
-    ///         (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
+    /// pub struct Pendulum;
+    ///
+    /// #[lagrangian]
+    /// impl Pendulum {
+    ///     fn lagrangian(&self, (_x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+    ///         0.5 * (x_dot * x_dot + y_dot * y_dot) - 9.81 * y
+    ///     }
+    ///     fn constraints(&self, (x, _): Coord, (y, _): Coord) -> [Scalar; 1] {
+    ///         [x * x + y * y - 1.0]
     ///     }
     /// }
-    /// impl Holonomic<2, 1> for Pendulum {
-    ///     const SCLERONOMIC: bool = true;
-    ///     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] {
-    ///         [q[0] * q[0] + q[1] * q[1] - 1.0]
-    ///     }
-    /// }
+    ///
     /// let tr = Simulation::constrained(&Pendulum, [1.0, 0.0], [0.0, 0.0]).until(5.0).run().unwrap();
     /// let inv = tr.invariants();
     /// assert!(inv.constraints.unwrap().position < 1e-14);
@@ -713,7 +742,7 @@ where
                 project_initial: mine.project_initial | plain.project_initial,
                 q0: mine.q0,
                 qdot0: mine.qdot0,
-                contact_run: mine.contact_run,
+                contact_start: mine.contact_start,
                 ..plain
             },
         }

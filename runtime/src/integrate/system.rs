@@ -52,6 +52,10 @@ pub(crate) struct Flags<const N: usize> {
     pub(crate) autonomous: bool,
     pub(crate) momentum_conserved: [bool; N],
     pub(crate) energy_conserved: bool,
+    /// Whether the system declares holonomic or velocity constraints ([`Compiled::constrained`](crate::lagrangian::Compiled::constrained)).
+    pub(crate) constrained: bool,
+    /// Whether the system declares contacts ([`Lagrangian::DECLARES_CONTACTS`]).
+    pub(crate) contacts: bool,
 }
 
 impl<L: Lagrangian<N>, const N: usize> System<N> for L {
@@ -95,6 +99,8 @@ impl<L: Lagrangian<N>, const N: usize> System<N> for L {
             autonomous: L::AUTONOMOUS,
             momentum_conserved: L::MOMENTUM_CONSERVED,
             energy_conserved: L::ENERGY_CONSERVED,
+            constrained: L::COMPILED.constrained,
+            contacts: L::DECLARES_CONTACTS,
         }
     }
     fn not_analytic(&self) -> Option<&'static str> {

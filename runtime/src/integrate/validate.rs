@@ -36,10 +36,24 @@ impl<const N: usize> Options<'_, N> {
                 self.q0, self.qdot0
             ));
         }
-        if let Some(Err(message)) = &self.contact_run {
-            return Err(message.clone());
+        // What the system declares is never dropped: a plain run of a system with constraints
+        // or contacts would step its unconstrained motion (a pendulum in x, y falling off its
+        // rod, two masses passing through each other) and answer wrongly without a word.
+        let flags = sys.flags();
+        if self.manifold.is_none() && flags.constrained {
+            return Err("this system declares constraints (`fn constraints` or \
+                 `fn velocity_constraints`), which a run built with Simulation::new would drop \
+                 (it steps the unconstrained motion): build the run with \
+                 Simulation::constrained(&system, q0, q̇0) (the same options follow)"
+                .to_string());
         }
-        if self.contact_run.is_some() {
+        if self.manifold.is_none() && flags.contacts {
+            return Err("this system declares contacts (`fn contacts`), which a run built with \
+                 Simulation::new would drop (bodies would pass through each other): build the \
+                 run with Simulation::contacts(&system, q0, q̇0) (the same options follow)"
+                .to_string());
+        }
+        if self.contact_start.is_some() {
             if let Method::VariationalMidpoint { .. }
             | Method::Taylor { .. }
             | Method::Radau5 { .. } = self.method
@@ -186,6 +200,21 @@ impl<const N: usize> Options<'_, N> {
                     return Err(format!(
                         "rtol = {rtol:e} is below what double precision can deliver; use rtol ≥ 1e-15 \
                          (1e-13 is a practical floor)"
+                    ));
+                }
+                // The time resolution: a run shorter than 1024 adjacent f64 times cannot be cut
+                // into steps (t + h rounds to t), whatever the dynamics (t0 = 1e15: times are
+                // 0.125 apart); the step would underflow and look like stiffness.
+                let far = self.t0.abs().max(until.abs());
+                let spacing = far * f64::EPSILON;
+                if until - self.t0 < 1024.0 * spacing {
+                    return Err(format!(
+                        "the run from t0 = {:e} to {until:e} is below the time resolution: near \
+                         t = {far:e} adjacent f64 times differ by about {spacing:.1e}, so the run \
+                         of {:.1e} cannot be cut into steps. Shift the time origin (start at \
+                         t0 = 0 and add the offset inside your forces or L if they read t)",
+                        self.t0,
+                        until - self.t0
                     ));
                 }
                 if matches!(self.method, Method::Radau5 { .. }) && self.manifold.is_some() {

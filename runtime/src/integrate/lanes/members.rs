@@ -3,7 +3,7 @@
 //! busy slots ([`lanes_of`]), q̈ of the lanes with the per-lane fallback ([`accelerations`]) and the
 //! end of a run ([`retire`]); and the scalar driver for the runs the engines do not take ([`scalar`]).
 
-use crate::integrate::driver::{self, Driver, Progress, RunOptions};
+use crate::integrate::driver::{Driver, Progress, RunOptions};
 use crate::integrate::error::SimulationError;
 use crate::integrate::method::Method;
 use crate::integrate::simulation::{Prepared, Simulation};
@@ -285,7 +285,5 @@ impl<S: Stepper<N>, const N: usize> Entered<'_, '_, S, N> {
 pub(super) fn scalar<L: Lagrangian<N>, const N: usize>(
     p: Prepared<'_, '_, L, N>,
 ) -> Result<Trajectory<N>, SimulationError> {
-    driver::run(
-        p.sys, p.manifold, p.events, p.method, p.y0, p.hmax, &p.opts, p.observer,
-    )
+    super::super::simulation::run_prepared(p)
 }

@@ -87,7 +87,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// `|g| Pendulum { g, ..pendulum }` for a field `g`): ∂(q, q̇)/∂p at every sample
     /// ([`Sensitivities::dparams`](crate::Sensitivities::dparams)) and dt*/dp at every event.
     /// ∂q̈/∂p comes from a fourth-order central difference of the accelerations of the systems
-    /// `build` gives at p ± h, p ± 2h (h = ε^(1/5) max(|p|, 1)): accurate to about 1e-12
+    /// `build` gives at p ± h, p ± 2h (h = ε^(1/5) |p|, within the parameter's own scale; ε^(1/5) at p = 0): accurate to about 1e-12
     /// relative for a smooth dependence, exact to round-off for one linear in p.
     ///
     /// ```
@@ -153,9 +153,10 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         let cols = n2 + self.params.len();
         let sim = &mut self.sim;
         let mut p = sim.prepare()?;
+        // A sample of this run holds its variations too.
+        let bytes = sample_bytes(N, 0) + 8 * n2 * cols;
         if p.opts.max_samples_default {
             // The default budget holds the samples with their variations.
-            let bytes = sample_bytes(N, 0) + 8 * n2 * cols;
             p.opts.max_samples = (SAMPLE_BUDGET_BYTES / bytes).max(2);
         }
         let (t0, until, method, y0, hmax) = (p.opts.t0, p.opts.until, p.method, p.y0, p.hmax);
@@ -201,7 +202,28 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                     message: unsupported_method(method),
                 });
             }
-        }?;
+        }
+        .map_err(|e| match e {
+            // The limit's message counts the bytes of a sample with its variations.
+            SimulationError::MaxSamples {
+                t,
+                q,
+                qdot,
+                max_samples,
+                default_limit,
+                partial,
+                ..
+            } => SimulationError::MaxSamples {
+                t,
+                q,
+                qdot,
+                max_samples,
+                sample_bytes: bytes,
+                default_limit,
+                partial,
+            },
+            e => e,
+        })?;
         let log = log.into_inner();
         // Φ and S at the samples the trajectory kept: the log has every sample recorded (a
         // repeated time once more, all of them where the trajectory keeps the first and the
@@ -260,7 +282,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         ) {
             return Some(unsupported_method(sim.o.method));
         }
-        if sim.o.contact_run.is_some() {
+        if sim.o.contact_start.is_some() {
             return Some(
                 "sensitivities of a run with contacts are not covered yet (the flow jumps at \
                  the impacts): run the phases between impacts as separate sensitivity runs"

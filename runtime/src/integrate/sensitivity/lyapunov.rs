@@ -1,14 +1,15 @@
 //! Lyapunov exponents of a motion by QR re-orthonormalization of the state transition matrix
 //! (Benettin et al. 1980; Shimada & Nagashima 1979).
 //!
-//! k orthonormal directions Q₀ (the first k columns of the identity) are carried by the
-//! variational equations, Φ(t) Q, together with the motion (DOP853 over the augmented state).
-//! Every interval Δ the carried directions are factored W = Q R (modified Gram–Schmidt), the
+//! k orthonormal directions Q₀ in general position (a fixed quasi-random basis: unit vectors
+//! would stay in the invariant subspaces of a decoupled system and never find the largest
+//! exponents) are carried by the variational equations, Φ(t) Q, together with the motion
+//! (DOP853 over the augmented state). Every interval Δ — and sooner, after any step where the
+//! directions' lengths have separated by more than a factor 100, so that their orthogonal parts
+//! are not lost — the carried directions are factored W = Q R (modified Gram–Schmidt), the
 //! logarithms ln R_ii are summed and the run goes on from Q. After time t the i-th exponent is
 //! λ_i ≈ (1/t) Σ ln R_ii; the first k exponents, largest first, come out (k = 2N: the whole
 //! spectrum, whose sum is the mean of tr J, −⟨tr M⁻¹C⟩: −b/(m l²) for a pendulum with friction b).
-
-use nalgebra::DMatrix;
 
 use crate::lagrangian::Lagrangian;
 
@@ -176,8 +177,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
         self
     }
 
-    /// Re-orthonormalize every `dt` (default 1; short enough that the directions do not all
-    /// collapse onto the fastest one in between: e^{(λ₁ − λ_k) dt} well below 1/ε).
+    /// Re-orthonormalize at least every `dt` (default 1), and sooner, after any step where the
+    /// directions' lengths have separated by more than a factor 100 (fast growth: e^{(λ₁ − λ_k) dt}
+    /// large), so they never collapse onto the fastest one in between.
     ///
     /// ```
     /// # use lagrange_runtime::{Lagrangian, Scalar};
@@ -313,9 +315,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
         let mut z0 = vec![0.0; n2 * (1 + k)];
         z0[..N].copy_from_slice(&q);
         z0[N..n2].copy_from_slice(&v);
-        for j in 0..k {
-            z0[n2 * (1 + j) + j] = 1.0;
-        }
+        z0[n2..].copy_from_slice(&generic_directions(n2, k));
         let mut stats = Stats::default();
         let t_start = t;
         let t_stop = t_start + self.duration;
@@ -352,31 +352,52 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
         let mut history = Vec::new();
         let total = (self.duration / self.every).ceil().max(1.0) as usize;
         let thin = total.div_ceil(1000).max(1);
-        let mut count = 0;
+        // Orthonormalizations made, and intervals of `every` done (the grid the history is on).
+        let (mut count, mut intervals) = (0, 0);
         while s.node_time() < t_stop {
-            let target = (t_start + (count + 1) as f64 * self.every).min(t_stop);
+            let target = (t_start + (intervals + 1) as f64 * self.every).min(t_stop);
             let target = if t_stop - target < 1e-9 * self.every {
                 t_stop
             } else {
                 target
             };
-            while s.node_time() < target {
+            loop {
                 s.step(target, &mut stats).map_err(|f| fail(f, &s))?;
+                let at_target = s.node_time() >= target;
+                // The directions as they stand: orthonormalized at the interval's end, or
+                // sooner where they separate by more than SEPARATION (their orthogonal parts
+                // would be lost to round-off and to the error control, which is relative to
+                // the aligned part: at λ = ±20 and an interval of 1, by e⁴⁰).
+                let mut cols = s.state()[n2..n2 * (1 + k)].to_vec();
+                let r = orthonormalize(&mut cols, n2);
+                let spread = separation(&r);
+                if !(spread <= MAX_SEPARATION) {
+                    let z = s.state();
+                    return Err(separated(s.node_time(), &z[..N], &z[N..n2], spread));
+                }
+                if at_target || spread > SEPARATION {
+                    for (sum, ri) in sums.iter_mut().zip(&r) {
+                        *sum += ri.ln();
+                    }
+                    s.set_columns(&cols);
+                    count += 1;
+                }
+                if at_target {
+                    break;
+                }
             }
-            let z = s.state();
-            let w = DMatrix::from_column_slice(n2, k, &z[n2..n2 * (1 + k)]);
-            let (qm, r) = gram_schmidt(w);
-            for (i, sum) in sums.iter_mut().enumerate() {
-                *sum += r[i].ln();
-            }
-            s.set_columns(qm.as_slice());
-            count += 1;
             let elapsed = s.node_time() - t_start;
-            if count % thin == 0 || s.node_time() >= t_stop {
+            intervals += 1;
+            if intervals % thin == 0 || s.node_time() >= t_stop {
                 history.push((elapsed, sums.iter().map(|x| x / elapsed).collect()));
             }
         }
-        let exponents: Vec<f64> = sums.iter().map(|x| x / self.duration).collect();
+        // Largest first: the directions start generic, so the orthonormalization orders them
+        // as the run converges; the sort makes the order hold for a run too short for that.
+        let exponents: Vec<f64> = descending(sums.iter().map(|x| x / self.duration).collect());
+        for (_, h) in history.iter_mut() {
+            *h = descending(core::mem::take(h));
+        }
         if exponents.iter().any(|x| !x.is_finite()) {
             let z = s.state();
             return Err(SimulationError::NonFinite {
@@ -395,22 +416,82 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
     }
 }
 
-/// W = Q R by modified Gram–Schmidt: Q (orthonormal columns) and the diagonal of R (the
-/// lengths, ≥ 0).
-fn gram_schmidt(mut w: DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>) {
-    let k = w.ncols();
+/// Re-orthonormalize where the carried directions' lengths separate by more than this factor
+/// (its logarithm) within an interval: their orthogonal parts then keep about
+/// ε·e^SEPARATION / rtol·e^SEPARATION of their size (relative).
+const SEPARATION: f64 = 4.605_170_185_988_091; // ln 100
+
+/// A separation within one accepted step beyond this (ln 1e8) cannot be resolved by
+/// re-orthonormalizing more often: the run is refused.
+const MAX_SEPARATION: f64 = 18.420_680_743_952_367; // ln 1e8
+
+/// ln(max R_ii / min R_ii): how far the directions separated since the last orthonormalization
+/// (infinite, or NaN, where one collapsed or is not finite).
+fn separation(r: &[f64]) -> f64 {
+    let (lo, hi) = r
+        .iter()
+        .fold((f64::INFINITY, 0.0_f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+    (hi / lo).ln()
+}
+
+/// The refusal of a run whose directions separate too fast for its steps.
+fn separated(t: f64, q: &[f64], qdot: &[f64], spread: f64) -> SimulationError {
+    SimulationError::InvalidOptions {
+        message: format!(
+            "the Lyapunov directions separate by a factor e^{spread:.1} within one step at t = \
+             {t}: their orthogonal parts are lost to round-off before they can be \
+             re-orthonormalized. Tighten the tolerances (.tolerances(rtol, atol)) so the steps \
+             are shorter; q = {q:?}, q̇ = {qdot:?}"
+        ),
+    }
+}
+
+/// The values sorted largest first (NaN last).
+fn descending(mut v: Vec<f64>) -> Vec<f64> {
+    v.sort_by(|a, b| b.total_cmp(a));
+    v
+}
+
+/// k orthonormal directions in 2N dimensions in general position (none in an invariant
+/// subspace of a decoupled system, as the unit vectors are), the same for every run: a fixed
+/// quasi-random matrix (the additive recurrence of the plastic number), orthonormalized.
+fn generic_directions(n2: usize, k: usize) -> Vec<f64> {
+    const A1: f64 = 0.754_877_666_246_693; // 1/ρ, ρ the plastic number
+    const A2: f64 = 0.569_840_290_998_053; // 1/ρ²
+    let mut cols: Vec<f64> = (0..n2 * k)
+        .map(|idx| {
+            let (i, j) = ((idx % n2) as f64, (idx / n2) as f64);
+            let u = (0.5 + A1 * (i + 1.0) + A2 * (j + 1.0) * (j + 2.0)).fract();
+            // A dominant diagonal keeps the columns far from dependent.
+            u - 0.5 + if idx % n2 == idx / n2 { 2.0 } else { 0.0 }
+        })
+        .collect();
+    orthonormalize(&mut cols, n2);
+    cols
+}
+
+/// The k columns of length n2 stored one after the other in `cols` (W) replaced by Q of W = Q R
+/// (modified Gram–Schmidt, in place); returns the diagonal of R (the lengths, ≥ 0).
+fn orthonormalize(cols: &mut [f64], n2: usize) -> Vec<f64> {
+    let k = cols.len() / n2;
     let mut r = vec![0.0; k];
     for j in 0..k {
+        let (done, rest) = cols.split_at_mut(j * n2);
+        let cj = &mut rest[..n2];
         for i in 0..j {
-            let d = w.column(i).dot(&w.column(j));
-            let ci = w.column(i).clone_owned();
-            w.column_mut(j).axpy(-d, &ci, 1.0);
+            let ci = &done[i * n2..(i + 1) * n2];
+            let d: f64 = ci.iter().zip(cj.iter()).map(|(a, b)| a * b).sum();
+            for (x, y) in cj.iter_mut().zip(ci) {
+                *x -= d * y;
+            }
         }
-        let n = w.column(j).norm();
+        let n = cj.iter().map(|x| x * x).sum::<f64>().sqrt();
         r[j] = n;
         if n > 0.0 {
-            w.column_mut(j).scale_mut(1.0 / n);
+            for x in cj.iter_mut() {
+                *x /= n;
+            }
         }
     }
-    (w, r)
+    r
 }

@@ -229,22 +229,28 @@ impl std::error::Error for OrbitError {
 }
 
 /// A shooting solver for a periodic orbit of `sys` from a guess (q₀, q̇₀, T); configure, then
-/// [`find`](Shooting::find). See the [module documentation](self) for the method.
+/// [`find`](Shooting::find). See the [module documentation](crate::sensitivity) for the method.
 ///
 /// ```
-/// use lagrange_runtime::{Lagrangian, Scalar, Method};
-/// use lagrange_runtime::sensitivity::{OrbitStability, Shooting};
+/// use lagrange::prelude::*;
+/// use lagrange::sensitivity::{OrbitStability, Shooting};
+///
 /// /// ẍ + ẋ + x = cos t: the periodic response x = sin t, asymptotically stable.
-/// struct Forced;
-/// impl Lagrangian<1> for Forced {
-///     const COORDINATES: [&'static str; 1] = ["x"];
-///     const CYCLIC: [bool; 1] = [false];
-///     const AUTONOMOUS: bool = true;
-///     const ENERGY_CONSERVED: bool = false;
-///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { (v[0] * v[0] - q[0] * q[0]) * 0.5 }
-///     fn dissipation<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
-///     fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] { [t.cos()] }
+/// pub struct Forced;
+///
+/// #[lagrangian]
+/// impl Forced {
+///     fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+///         0.5 * (x_dot * x_dot - x * x)
+///     }
+///     fn dissipation(&self, (_x, x_dot): Coord) -> Scalar {
+///         0.5 * x_dot * x_dot
+///     }
+///     fn forces(&self, (_x, _x_dot): Coord, t: Time) -> [Scalar; 1] {
+///         [t.cos()]
+///     }
 /// }
+///
 /// let orbit = Shooting::forced(&Forced, [0.3], [0.5], 2.0 * std::f64::consts::PI)
 ///     .method(Method::Dop853 { rtol: 1e-12, atol: 1e-12 })
 ///     .find()

@@ -23,8 +23,9 @@ use super::CHUNK;
 /// A parameter the run differentiates the motion with respect to: its name, its value in the
 /// system of the run, and the systems at p + h, p − h, p + 2h, p − 2h (built once, at
 /// [`Parameter::new`]) for the fourth-order central difference in p ([`central`]),
-/// h = ε^(1/5) max(|p|, 1): truncation O(h⁴), round-off O(ε/h), both near 1e-13 relative for a
-/// smooth dependence.
+/// h = ε^(1/5) |p| (ε^(1/5) at p = 0): truncation O(h⁴), round-off O(ε/h), both near 1e-13
+/// relative for a smooth dependence. The step is the parameter's own scale, so the stencil never
+/// leaves it (a mass of 1e-6 is never evaluated at a negative mass).
 pub(crate) struct Parameter<L> {
     pub(crate) name: String,
     pub(crate) value: f64,
@@ -35,13 +36,25 @@ pub(crate) struct Parameter<L> {
 impl<L> Parameter<L> {
     /// The parameter `name` at `value`, its neighbouring systems from `build`.
     pub(crate) fn new(name: String, value: f64, build: impl Fn(f64) -> L) -> Self {
-        let h = f64::EPSILON.powf(0.2) * value.abs().max(1.0);
+        let h = f64::EPSILON.powf(0.2) * parameter_scale(value);
         Parameter {
             name,
             value,
             h,
             neighbours: [h, -h, 2.0 * h, -2.0 * h].map(|dp| build(value + dp)),
         }
+    }
+}
+
+/// The scale of a parameter's difference step: |p|, or 1 at p = 0 (no scale to keep).
+///
+/// A floor of 1 would put the stencil of a small parameter across zero: at a mass of 1e-3 the
+/// step 7e-4 · 2 evaluates a negative mass.
+pub(crate) fn parameter_scale(value: f64) -> f64 {
+    if value == 0.0 || !value.is_finite() {
+        1.0
+    } else {
+        value.abs()
     }
 }
 

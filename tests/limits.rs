@@ -1,0 +1,508 @@
+//! Runs at the limits of what they take, each against its closed form: contacts that touch at
+//! the start (approaching, at rest, a hair above the floor) and that start late on a moving
+//! floor; parameter sensitivities and input matrices of parameters far below 1; Lyapunov spectra
+//! of decoupled saddles (sorted, the k largest) and of fast ones (λ = 20 and 100 against the
+//! renormalization interval); a reset that leaves the state just off its surface; and hit times
+//! that shrink as a power law, which are not a Zeno accumulation.
+
+use lagrange::prelude::*;
+use lagrange::sensitivity::Lyapunov;
+use lagrange_examples::contact_systems::Ball;
+
+const G: f64 = 9.81;
+
+fn tight() -> Method {
+    Method::Dop853 {
+        rtol: 1e-12,
+        atol: 1e-14,
+    }
+}
+
+/// A ball that touches the floor at t0 moving into it (y = 0, ẏ = −2) bounces at t0: the jump
+/// is the first of the run, ẏ⁺ = −e ẏ⁻ = 1, and the next impact comes 2ẏ⁺/g later; the ball
+/// never goes below the floor.
+#[test]
+fn a_contact_touching_and_approaching_at_the_start_is_an_impact_there() {
+    let ball = Ball { m: 1.0, g: G, e: 0.5 };
+    let tr = Simulation::contacts(&ball, [0.0, 0.0], [0.3, -2.0])
+        .method(tight())
+        .until(0.3)
+        .sample_every(0.001)
+        .run()
+        .unwrap();
+    assert!(tr.jumps.len() >= 2, "{} jumps", tr.jumps.len());
+    let first = &tr.jumps[0];
+    assert_eq!(first.t, 0.0);
+    assert!((first.after.1[1] - 1.0).abs() < 1e-12, "{:?}", first.after);
+    assert!((first.energy_change + 0.5 * (4.0 - 1.0)).abs() < 1e-12);
+    assert!((tr.jumps[1].t - 2.0 / G).abs() < 1e-9, "{}", tr.jumps[1].t);
+    assert_eq!(tr.qdot[0][1], 1.0, "the run starts after the impact");
+    let lowest = tr.q.iter().fold(f64::INFINITY, |m, q| m.min(q[1]));
+    assert!(lowest > -1e-12, "below the floor: {lowest:e}");
+}
+
+/// A ball at rest a hair above the floor (gap 1e-16 … 1e-10) is on the floor: the run rests
+/// there with λ = m g (no "off the constraints" refusal, no advice to project).
+#[test]
+fn a_contact_within_round_off_of_touching_rests() {
+    let ball = Ball { m: 2.0, g: G, e: 0.5 };
+    for gap in [1e-16, 1e-13, 1e-10] {
+        let tr = Simulation::contacts(&ball, [0.0, gap], [0.0, 0.0])
+            .until(1.0)
+            .run()
+            .unwrap_or_else(|e| panic!("gap {gap:e}: {e}"));
+        let l = tr.lambda.last().unwrap()[0];
+        assert!((l - 2.0 * G).abs() < 1e-9, "gap {gap:e}: λ = {l}");
+        assert!(tr.q.last().unwrap()[1].abs() < 1e-9);
+    }
+}
+
+/// A floor rising at u = 0.5: y_floor = u t, written with the time the contact is read at.
+struct RisingFloor;
+
+impl Lagrangian<1> for RisingFloor {
+    const COORDINATES: [&'static str; 1] = ["y"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        v[0] * v[0] * 0.5 - q[0] * G
+    }
+}
+
+impl Unilateral<1, 1> for RisingFloor {
+    fn contacts<S: Scalar>(&self, q: &[S; 1], t: S) -> [Contact<S>; 1] {
+        [Contact::gap(q[0] - t * 0.5).named("floor")]
+    }
+}
+
+/// `.start_time(t0)` sets the contacts up at t0: a ball riding the rising floor from t0 = 2
+/// (y = 1, ẏ = 0.5) rides it (y = t/2, λ = m g), and a ball below the floor at t0 = 2 (y = 0.5,
+/// above where the floor was at t = 0) is refused as penetrating.
+#[test]
+fn contacts_are_set_up_at_the_start_time() {
+    let tr = Simulation::contacts(&RisingFloor, [1.0], [0.5])
+        .method(tight())
+        .start_time(2.0)
+        .until(4.0)
+        .sample_every(0.5)
+        .run()
+        .unwrap();
+    for (t, q) in tr.t.iter().zip(&tr.q) {
+        assert!((q[0] - 0.5 * t).abs() < 1e-9, "t = {t}: y = {}", q[0]);
+    }
+    assert!((tr.lambda.last().unwrap()[0] - G).abs() < 1e-9);
+    let err = Simulation::contacts(&RisingFloor, [0.5], [0.5])
+        .start_time(2.0)
+        .until(3.0)
+        .run()
+        .unwrap_err();
+    assert!(err.to_string().contains("penetrates"), "{err}");
+}
+
+/// A spring of stiffness k and a small mass m from x₀ = 1 at rest: x = cos(ωt), ω = √(k/m),
+/// ∂x/∂m = x₀ sin(ωt) ω t / (2m).
+struct SmallMass {
+    m: f64,
+    k: f64,
+}
+
+impl Lagrangian<1> for SmallMass {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        (v[0] * v[0] * self.m - q[0] * q[0] * self.k) * 0.5
+    }
+}
+
+/// ∂x/∂m for masses from 1e-3 to 1e-9 (the difference step stays within the mass's own scale:
+/// with a floor of 1 the stencil evaluated a negative mass, 3× off at 1e-3, the wrong sign at
+/// 1e-6), against the closed form to 1e-8.
+#[test]
+fn parameter_sensitivities_of_small_masses() {
+    for m in [1e-3, 1e-6, 1e-9] {
+        let sys = SmallMass { m, k: m };
+        let t = 1.0;
+        let run = Simulation::new(&sys, [1.0], [0.0])
+            .method(tight())
+            .until(t)
+            .sensitivity()
+            .parameter("m", m, |m| SmallMass { m, k: sys.k })
+            .run()
+            .unwrap();
+        let got = run.dparams.last().unwrap()[(0, 0)];
+        let want = t.sin() * t / (2.0 * m);
+        assert!(
+            (got - want).abs() <= 1e-8 * want.abs(),
+            "m = {m:e}: ∂x/∂m = {got} against {want}"
+        );
+    }
+}
+
+/// A force Q = 1/u: B = ∂Q/∂u = −1/u², at u from 1e-4 to 1e4.
+struct Inverse {
+    u: f64,
+}
+
+impl Lagrangian<1> for Inverse {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [true];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        v[0] * v[0] * 0.5
+    }
+    fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], _t: S) -> [S; 1] {
+        [S::constant(1.0 / self.u)]
+    }
+}
+
+#[test]
+fn input_matrix_of_small_and_large_parameters() {
+    use lagrange::linearize::input_matrix;
+    for u in [1e-4, 1e-2, 1.0, 1e4] {
+        let b = input_matrix(|p: &[f64; 1]| Inverse { u: p[0] }, &[u], &[0.0], &[0.0], 0.0)
+            .unwrap()[(0, 0)];
+        let want = -1.0 / (u * u);
+        assert!((b - want).abs() <= 1e-9 * want.abs(), "u = {u:e}: B = {b} against {want}");
+    }
+}
+
+/// Two decoupled saddles, ẍ = a² x and ÿ = b² y: exponents ±a, ±b.
+struct Saddles {
+    a: f64,
+    b: f64,
+}
+
+impl Lagrangian<2> for Saddles {
+    const COORDINATES: [&'static str; 2] = ["x", "y"];
+    const CYCLIC: [bool; 2] = [false, false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+        (v[0] * v[0] + v[1] * v[1] + q[0] * q[0] * (self.a * self.a)
+            + q[1] * q[1] * (self.b * self.b))
+            * 0.5
+    }
+}
+
+/// Exponents 2, 1, −1, −2 come out sorted (over 300 time units: a finite-time exponent is off by
+/// about ln(the start's projection)/T), and `directions(1)` and `directions(2)` are the largest
+/// ones (the carried directions start in general position: unit vectors stay in the
+/// invariant planes of decoupled saddles, and gave [1, 2, −1, −2] with `directions(1)` = 1).
+#[test]
+fn lyapunov_spectra_are_sorted_and_directions_are_the_largest() {
+    let sys = Saddles { a: 1.0, b: 2.0 };
+    let spectrum = |k: usize| {
+        Lyapunov::new(&sys, [0.0, 0.0], [0.0, 0.0])
+            .duration(300.0)
+            .directions(k)
+            .compute()
+            .unwrap()
+            .exponents
+    };
+    let all = spectrum(4);
+    for (got, want) in all.iter().zip([2.0, 1.0, -1.0, -2.0]) {
+        assert!((got - want).abs() < 2e-2, "{all:?}");
+    }
+    assert!(all.windows(2).all(|w| w[0] >= w[1]), "{all:?}");
+    let one = spectrum(1);
+    assert!((one[0] - 2.0).abs() < 2e-2, "{one:?}");
+    let two = spectrum(2);
+    assert!((two[0] - 2.0).abs() < 2e-2 && (two[1] - 1.0).abs() < 2e-2, "{two:?}");
+}
+
+/// Saddles growing by e²⁰ and e¹⁰⁰ per renormalization interval of 1: the directions are
+/// re-orthonormalized as often as they need, so the spectrum is ±λ and sums to 0 (Liouville;
+/// before: 4.07 at λ = 20, [100.4, 63.9] at 100).
+#[test]
+fn lyapunov_spectra_of_fast_saddles() {
+    for a in [20.0, 100.0] {
+        let sys = Saddles { a, b: 0.5 };
+        let s = Lyapunov::new(&sys, [0.0, 0.0], [0.0, 0.0])
+            .duration(200.0)
+            .compute()
+            .unwrap();
+        let e = &s.exponents;
+        assert!((e[0] - a).abs() < 2e-3 * a, "{e:?}");
+        assert!((e[3] + a).abs() < 2e-3 * a, "{e:?}");
+        assert!((e[1] - 0.5).abs() < 0.05 && (e[2] + 0.5).abs() < 0.05, "{e:?}");
+        assert!(s.sum().abs() < 1e-6 * a, "Σλ = {} for {e:?}", s.sum());
+    }
+}
+
+/// A particle moving in at ẋ = −1 reset to x = 1e-6 each time it crosses x = 0 (its velocity
+/// kept): it crosses again 1e-6 later, so over 10.5e-6 it jumps 10 times (the first crossing at
+/// t = 1e-6 from x₀ = 1e-6, then every 1e-6). Before, the fired event's value was set to 0
+/// after the jump and the next crossing, from 1e-6, was missed.
+#[test]
+fn a_reset_just_off_its_surface_crosses_again() {
+    struct Drift;
+    impl Lagrangian<1> for Drift {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [true];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            v[0] * v[0] * 0.5
+        }
+    }
+    let tr = Simulation::new(&Drift, [1e-6], [-1.0])
+        .event(
+            Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0])
+                .falling()
+                .reset(|_t, _q, v| ([1e-6], *v)),
+        )
+        .until(10.5e-6)
+        .run()
+        .unwrap();
+    assert_eq!(tr.jumps.len(), 10, "{:?}", tr.jumps.iter().map(|j| j.t).collect::<Vec<_>>());
+    for (k, j) in tr.jumps.iter().enumerate() {
+        assert!((j.t - (k + 1) as f64 * 1e-6).abs() < 1e-12, "jump {k} at {}", j.t);
+    }
+    assert!(tr.zeno.is_none());
+}
+
+/// A ball dropped from y = 1 and lifted by 0.1 each time it falls through y = 0.5: the hits
+/// come ever faster as √k, never accumulating, so the run goes to its end (before: "Zeno,
+/// accumulating at t = 1.96", stopped at t = 0.99).
+#[test]
+fn hits_shrinking_as_a_power_law_are_not_zeno() {
+    struct Fall;
+    impl Lagrangian<1> for Fall {
+        const COORDINATES: [&'static str; 1] = ["y"];
+        const CYCLIC: [bool; 1] = [false];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            v[0] * v[0] * 0.5 - q[0] * G
+        }
+    }
+    let tr = Simulation::new(&Fall, [1.0], [0.0])
+        .method(tight())
+        .event(
+            Event::zero_crossing("line", |_t, q: &[f64; 1], _v| q[0] - 0.5)
+                .falling()
+                .reset(|_t, q, v| ([q[0] + 0.1], *v)),
+        )
+        .until(1.5)
+        .run()
+        .unwrap();
+    assert!(tr.zeno.is_none(), "{:?}", tr.zeno);
+    assert_eq!(*tr.t.last().unwrap(), 1.5);
+    // The hit times follow the closed form: from speed v, the next hit after (√(v² + 2g·0.1) − v)/g.
+    let mut t = (2.0 * 0.5 / G).sqrt();
+    let mut v = G * t;
+    for j in &tr.jumps {
+        assert!((j.t - t).abs() < 1e-9, "{} against {t}", j.t);
+        let d = ((v * v + 2.0 * G * 0.1).sqrt() - v) / G;
+        t += d;
+        v += G * d;
+    }
+    assert!(tr.jumps.len() > 60, "{} hits", tr.jumps.len());
+}
+
+/// Newton's cradle of three unit point masses on a line, gaps x₂ − x₁ and x₃ − x₂, elastic.
+struct Cradle;
+
+impl Lagrangian<3> for Cradle {
+    const COORDINATES: [&'static str; 3] = ["x1", "x2", "x3"];
+    const CYCLIC: [bool; 3] = [true; 3];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, _q: &[S; 3], v: &[S; 3], _t: S) -> S {
+        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * 0.5
+    }
+}
+
+impl Unilateral<3, 2> for Cradle {
+    const SCLERONOMIC: bool = true;
+    fn contacts<S: Scalar>(&self, q: &[S; 3], _t: S) -> [Contact<S>; 2] {
+        [
+            Contact::gap(q[1] - q[0]).restitution(1.0).named("1-2"),
+            Contact::gap(q[2] - q[1]).restitution(1.0).named("2-3"),
+        ]
+    }
+}
+
+/// The README's cradle: touching balls take their impulses together, (−1/3, 2/3, 2/3) (the
+/// simultaneous law: ġ⁺ = −ġ⁻ on both rows), energy kept; with gaps of 1e-6 the impacts come one
+/// at a time and pass the velocity down the row, (0, 0, 1). (Gaps within 1e-9 of the contacts'
+/// scale count as touching.)
+#[test]
+fn newtons_cradle_simultaneous_and_sequential() {
+    let tr = Simulation::contacts(&Cradle, [0.0, 0.0, 0.0], [1.0, 0.0, 0.0])
+        .method(tight())
+        .until(1.0)
+        .run()
+        .unwrap();
+    let v = tr.qdot.last().unwrap();
+    for (got, want) in v.iter().zip([-1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0]) {
+        assert!((got - want).abs() < 1e-12, "{v:?}");
+    }
+    assert!(tr.jumps[0].t == 0.0 && tr.jumps[0].energy_change.abs() < 1e-14);
+    let tr = Simulation::contacts(&Cradle, [0.0, 1e-6, 2e-6], [1.0, 0.0, 0.0])
+        .method(tight())
+        .until(1.0)
+        .run()
+        .unwrap();
+    let v = tr.qdot.last().unwrap();
+    for (got, want) in v.iter().zip([0.0, 0.0, 1.0]) {
+        assert!((got - want).abs() < 1e-12, "{v:?}");
+    }
+    assert_eq!(tr.jumps.len(), 2);
+}
+
+/// A reset map that returns NaN is named in the error (not "a smaller dt" a step later).
+#[test]
+fn a_reset_returning_nan_is_named() {
+    struct Fall;
+    impl Lagrangian<1> for Fall {
+        const COORDINATES: [&'static str; 1] = ["y"];
+        const CYCLIC: [bool; 1] = [false];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            v[0] * v[0] * 0.5 - q[0] * G
+        }
+    }
+    let err = Simulation::new(&Fall, [1.0], [0.0])
+        .event(
+            Event::zero_crossing("floor", |_t, q: &[f64; 1], _v| q[0])
+                .falling()
+                .reset(|_t, q, _v| (*q, [f64::NAN])),
+        )
+        .until(2.0)
+        .run()
+        .unwrap_err();
+    let text = err.to_string();
+    assert!(text.contains("reset map of event \"floor\""), "{text}");
+}
+
+/// Bad input refused with a typed error: restitution outside [0, 1] or NaN, an event function
+/// that turns NaN, an impossible shard, a run at t0 = 1e15 (below the time resolution), and
+/// `linearize_on_constraints` off the constraints.
+#[test]
+fn bad_input_is_a_typed_error() {
+    for e in [-0.5, 1.5, f64::NAN] {
+        let ball = Ball { m: 1.0, g: G, e };
+        let err = Simulation::contacts(&ball, [0.0, 1.0], [0.0, 0.0])
+            .until(1.0)
+            .run()
+            .unwrap_err();
+        assert!(
+            matches!(err, SimulationError::InvalidOptions { .. })
+                && err.to_string().contains("restitution"),
+            "e = {e}: {err}"
+        );
+    }
+    struct Free;
+    impl Lagrangian<1> for Free {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [true];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            v[0] * v[0] * 0.5
+        }
+    }
+    let err = Simulation::new(&Free, [1.0], [-1.0])
+        .event(Event::zero_crossing("root", |_t, q: &[f64; 1], _v| q[0].sqrt() - 0.5))
+        .until(3.0)
+        .run()
+        .unwrap_err();
+    assert!(err.to_string().contains("event \"root\""), "{err}");
+    let err = Simulation::new(&Free, [1.0], [-1.0])
+        .start_time(1e15)
+        .until(1e15 + 10.0)
+        .run()
+        .unwrap_err();
+    assert!(err.to_string().contains("time resolution"), "{err}");
+    use lagrange::ensemble::Ensemble;
+    let e = || Ensemble::new(3, |_| Member::new(Free, [0.0], [1.0]));
+    assert!(e().try_shard(3, 2).is_err() && e().try_shard(0, 0).is_err());
+    assert_eq!(e().try_shard(1, 2).unwrap().members(), 1..3);
+    // A pendulum in x, y on the circle of radius 2, linearized 10 % off it.
+    struct Rod;
+    impl Lagrangian<2> for Rod {
+        const COORDINATES: [&'static str; 2] = ["x", "y"];
+        const CYCLIC: [bool; 2] = [true, false];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+            (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * G
+        }
+    }
+    impl Holonomic<2, 1> for Rod {
+        const SCLERONOMIC: bool = true;
+        fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] {
+            [q[0] * q[0] + q[1] * q[1] - 4.0]
+        }
+    }
+    let on = Rod.linearize_on_constraints(&[0.0, -2.0], &[0.0, 0.0], 0.0).unwrap();
+    let l = on.eigenvalues(&["x"], &["x"]).unwrap();
+    assert!((l[0].im.abs() - (G / 2.0).sqrt()).abs() < 1e-12, "{l:?}");
+    let off = Rod.linearize_on_constraints(&[0.0, -2.2], &[0.0, 0.0], 0.0);
+    assert!(
+        matches!(&off, Err(DynamicsError::Constrained { message, .. }) if message.contains("off constraint")),
+        "{off:?}"
+    );
+}
+
+/// (A, B) of ẋ = A x + B u for a cart pushed by u: the state order (x, ẋ) and B = [0; 1/m].
+#[test]
+fn state_space_of_a_pushed_cart() {
+    struct Cart {
+        push: f64,
+    }
+    impl Lagrangian<1> for Cart {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [true];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            v[0] * v[0] * 2.0
+        }
+        fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], _t: S) -> [S; 1] {
+            [S::constant(self.push)]
+        }
+    }
+    let (a, b) = lagrange::linearize::state_space(
+        |u: &[f64; 1]| Cart { push: u[0] },
+        &[0.3],
+        &[1.0],
+        &[0.5],
+        0.0,
+    )
+    .unwrap();
+    assert_eq!(a.shape(), (2, 2));
+    assert_eq!((a[(0, 0)], a[(0, 1)], a[(1, 0)], a[(1, 1)]), (0.0, 1.0, 0.0, 0.0));
+    // The input's difference quotient: exact but for round-off (a force affine in u).
+    assert!(b[(0, 0)] == 0.0 && (b[(1, 0)] - 0.25).abs() < 1e-12, "{b}");
+}
+
+/// A helper outside the impl that reads a rate: the macro cannot see the call, and `max` would
+/// swallow the NaN rate of numbers without one.
+fn hidden_rate<S: Scalar + Velocity>(x: S) -> S {
+    x.velocity().max(S::constant(0.0)) * x
+}
+
+pub struct HiddenRate;
+
+#[lagrangian(mode = "jets")]
+impl HiddenRate {
+    fn lagrangian(&self, (x, x_dot): Coord) -> Scalar {
+        0.5 * x_dot * x_dot - 0.5 * x * x + hidden_rate(x)
+    }
+}
+
+/// Jets mode: a `velocity` read by a helper the macro cannot see is an error that names it, not
+/// a q̈ computed with the NaN rate dropped by `max`.
+#[test]
+fn a_rate_read_outside_the_impl_is_named() {
+    let err = HiddenRate.accelerations(&[1.0], &[0.5], 0.0).unwrap_err();
+    assert!(err.to_string().contains("velocity"), "{err}");
+    let err = Simulation::new(&HiddenRate, [1.0], [0.5])
+        .until(1.0)
+        .run()
+        .unwrap_err();
+    assert!(err.to_string().contains("velocity"), "{err}");
+}
+
+/// `(_x, x_dot)` (a coordinate L does not read, named as rustc's unused-variable convention
+/// asks) names the coordinate `x`, not `_x`.
+#[test]
+fn a_leading_underscore_is_not_part_of_the_coordinate_name() {
+    assert_eq!(<Ball as Lagrangian<2>>::COORDINATES, ["x", "y"]);
+}
