@@ -250,7 +250,10 @@ fn linearize_on_constraints_of_a_64_coordinate_chain_on_a_2_mib_stack() {
     // ±i for the 62 free oscillators and for the held pair (its mass and stiffness both double).
     assert_eq!(l.len(), 126);
     for z in &l {
-        assert!(z.re.abs() < 1e-12 && (z.im.abs() - 1.0).abs() < 1e-12, "{z}");
+        assert!(
+            z.re.abs() < 1e-12 && (z.im.abs() - 1.0).abs() < 1e-12,
+            "{z}"
+        );
     }
 }
 
@@ -285,7 +288,11 @@ fn sensitivities_of_a_64_link_chain_on_a_2_mib_stack() {
             q.into_iter().chain(v).collect::<Vec<f64>>()
         };
         let (up, down) = (end(h), end(-h));
-        let fd: Vec<f64> = up.iter().zip(&down).map(|(a, b)| (a - b) / (2.0 * h)).collect();
+        let fd: Vec<f64> = up
+            .iter()
+            .zip(&down)
+            .map(|(a, b)| (a - b) / (2.0 * h))
+            .collect();
         (column, fd)
     });
     let size = fd.iter().fold(0.0_f64, |m, x| m.max(x.abs()));

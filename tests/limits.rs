@@ -23,7 +23,11 @@ fn tight() -> Method {
 /// never goes below the floor.
 #[test]
 fn a_contact_touching_and_approaching_at_the_start_is_an_impact_there() {
-    let ball = Ball { m: 1.0, g: G, e: 0.5 };
+    let ball = Ball {
+        m: 1.0,
+        g: G,
+        e: 0.5,
+    };
     let tr = Simulation::contacts(&ball, [0.0, 0.0], [0.3, -2.0])
         .method(tight())
         .until(0.3)
@@ -45,7 +49,11 @@ fn a_contact_touching_and_approaching_at_the_start_is_an_impact_there() {
 /// there with λ = m g (no "off the constraints" refusal, no advice to project).
 #[test]
 fn a_contact_within_round_off_of_touching_rests() {
-    let ball = Ball { m: 2.0, g: G, e: 0.5 };
+    let ball = Ball {
+        m: 2.0,
+        g: G,
+        e: 0.5,
+    };
     for gap in [1e-16, 1e-13, 1e-10] {
         let tr = Simulation::contacts(&ball, [0.0, gap], [0.0, 0.0])
             .until(1.0)
@@ -160,10 +168,19 @@ impl Lagrangian<1> for Inverse {
 fn input_matrix_of_small_and_large_parameters() {
     use lagrange::linearize::input_matrix;
     for u in [1e-4, 1e-2, 1.0, 1e4] {
-        let b = input_matrix(|p: &[f64; 1]| Inverse { u: p[0] }, &[u], &[0.0], &[0.0], 0.0)
-            .unwrap()[(0, 0)];
+        let b = input_matrix(
+            |p: &[f64; 1]| Inverse { u: p[0] },
+            &[u],
+            &[0.0],
+            &[0.0],
+            0.0,
+        )
+        .unwrap()[(0, 0)];
         let want = -1.0 / (u * u);
-        assert!((b - want).abs() <= 1e-9 * want.abs(), "u = {u:e}: B = {b} against {want}");
+        assert!(
+            (b - want).abs() <= 1e-9 * want.abs(),
+            "u = {u:e}: B = {b} against {want}"
+        );
     }
 }
 
@@ -178,7 +195,9 @@ impl Lagrangian<2> for Saddles {
     const CYCLIC: [bool; 2] = [false, false];
     const AUTONOMOUS: bool = true;
     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
-        (v[0] * v[0] + v[1] * v[1] + q[0] * q[0] * (self.a * self.a)
+        (v[0] * v[0]
+            + v[1] * v[1]
+            + q[0] * q[0] * (self.a * self.a)
             + q[1] * q[1] * (self.b * self.b))
             * 0.5
     }
@@ -207,7 +226,10 @@ fn lyapunov_spectra_are_sorted_and_directions_are_the_largest() {
     let one = spectrum(1);
     assert!((one[0] - 2.0).abs() < 2e-2, "{one:?}");
     let two = spectrum(2);
-    assert!((two[0] - 2.0).abs() < 2e-2 && (two[1] - 1.0).abs() < 2e-2, "{two:?}");
+    assert!(
+        (two[0] - 2.0).abs() < 2e-2 && (two[1] - 1.0).abs() < 2e-2,
+        "{two:?}"
+    );
 }
 
 /// Saddles growing by e²⁰ and e¹⁰⁰ per renormalization interval of 1: the directions are
@@ -224,7 +246,10 @@ fn lyapunov_spectra_of_fast_saddles() {
         let e = &s.exponents;
         assert!((e[0] - a).abs() < 2e-3 * a, "{e:?}");
         assert!((e[3] + a).abs() < 2e-3 * a, "{e:?}");
-        assert!((e[1] - 0.5).abs() < 0.05 && (e[2] + 0.5).abs() < 0.05, "{e:?}");
+        assert!(
+            (e[1] - 0.5).abs() < 0.05 && (e[2] + 0.5).abs() < 0.05,
+            "{e:?}"
+        );
         assert!(s.sum().abs() < 1e-6 * a, "Σλ = {} for {e:?}", s.sum());
     }
 }
@@ -253,9 +278,18 @@ fn a_reset_just_off_its_surface_crosses_again() {
         .until(10.5e-6)
         .run()
         .unwrap();
-    assert_eq!(tr.jumps.len(), 10, "{:?}", tr.jumps.iter().map(|j| j.t).collect::<Vec<_>>());
+    assert_eq!(
+        tr.jumps.len(),
+        10,
+        "{:?}",
+        tr.jumps.iter().map(|j| j.t).collect::<Vec<_>>()
+    );
     for (k, j) in tr.jumps.iter().enumerate() {
-        assert!((j.t - (k + 1) as f64 * 1e-6).abs() < 1e-12, "jump {k} at {}", j.t);
+        assert!(
+            (j.t - (k + 1) as f64 * 1e-6).abs() < 1e-12,
+            "jump {k} at {}",
+            j.t
+        );
     }
     assert!(tr.zeno.is_none());
 }
@@ -400,7 +434,9 @@ fn bad_input_is_a_typed_error() {
         }
     }
     let err = Simulation::new(&Free, [1.0], [-1.0])
-        .event(Event::zero_crossing("root", |_t, q: &[f64; 1], _v| q[0].sqrt() - 0.5))
+        .event(Event::zero_crossing("root", |_t, q: &[f64; 1], _v| {
+            q[0].sqrt() - 0.5
+        }))
         .until(3.0)
         .run()
         .unwrap_err();
@@ -431,7 +467,9 @@ fn bad_input_is_a_typed_error() {
             [q[0] * q[0] + q[1] * q[1] - 4.0]
         }
     }
-    let on = Rod.linearize_on_constraints(&[0.0, -2.0], &[0.0, 0.0], 0.0).unwrap();
+    let on = Rod
+        .linearize_on_constraints(&[0.0, -2.0], &[0.0, 0.0], 0.0)
+        .unwrap();
     let l = on.eigenvalues(&["x"], &["x"]).unwrap();
     assert!((l[0].im.abs() - (G / 2.0).sqrt()).abs() < 1e-12, "{l:?}");
     let off = Rod.linearize_on_constraints(&[0.0, -2.2], &[0.0, 0.0], 0.0);
@@ -467,7 +505,10 @@ fn state_space_of_a_pushed_cart() {
     )
     .unwrap();
     assert_eq!(a.shape(), (2, 2));
-    assert_eq!((a[(0, 0)], a[(0, 1)], a[(1, 0)], a[(1, 1)]), (0.0, 1.0, 0.0, 0.0));
+    assert_eq!(
+        (a[(0, 0)], a[(0, 1)], a[(1, 0)], a[(1, 1)]),
+        (0.0, 1.0, 0.0, 0.0)
+    );
     // The input's difference quotient: exact but for round-off (a force affine in u).
     assert!(b[(0, 0)] == 0.0 && (b[(1, 0)] - 0.25).abs() < 1e-12, "{b}");
 }

@@ -281,7 +281,9 @@ pub fn generate(
         quote!(#rest)
     };
     let declares_contacts = if decl.contacts.is_some() {
-        quote!(const DECLARES_CONTACTS: bool = true;)
+        quote!(
+            const DECLARES_CONTACTS: bool = true;
+        )
     } else {
         quote!()
     };

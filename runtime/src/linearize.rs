@@ -1127,7 +1127,10 @@ mod column_tests {
             ("K", whole.k, cols.k),
         ] {
             for (x, y) in a.iter().zip(b.iter()) {
-                assert!((x - y).abs() <= 1e-14 * x.abs().max(1.0), "{name}: {a} against {b}");
+                assert!(
+                    (x - y).abs() <= 1e-14 * x.abs().max(1.0),
+                    "{name}: {a} against {b}"
+                );
             }
             assert!(a.iter().any(|x| *x != 0.0), "{name} is not all zero");
         }

@@ -552,7 +552,10 @@ mod tests {
         let r: f64 = 0.99;
         let geometric: Vec<f64> = (0..8).map(|k| (1.0 - r.powi(k)) / (1.0 - r)).collect();
         let (ratio, t_acc) = zeno(&geometric).unwrap();
-        assert!((ratio - r).abs() < 1e-12 && (t_acc - 100.0).abs() < 1e-9, "{ratio} {t_acc}");
+        assert!(
+            (ratio - r).abs() < 1e-12 && (t_acc - 100.0).abs() < 1e-9,
+            "{ratio} {t_acc}"
+        );
     }
 
     #[test]

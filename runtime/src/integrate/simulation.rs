@@ -15,8 +15,7 @@ use super::trajectory::{Sample, Trajectory};
 
 /// The set-up of a contacts run at its start (see `Options::contact_start`).
 pub(super) type ContactStart<'a, const N: usize> = Box<
-    dyn Fn(&[f64; N], &[f64; N], f64) -> Result<(super::state::Y<N>, Option<Jump<N>>), String>
-        + 'a,
+    dyn Fn(&[f64; N], &[f64; N], f64) -> Result<(super::state::Y<N>, Option<Jump<N>>), String> + 'a,
 >;
 
 /// The observer of [`Simulation::observe`]: called with every recorded sample.

@@ -48,10 +48,12 @@ impl<const N: usize> Options<'_, N> {
                 .to_string());
         }
         if self.manifold.is_none() && flags.contacts {
-            return Err("this system declares contacts (`fn contacts`), which a run built with \
+            return Err(
+                "this system declares contacts (`fn contacts`), which a run built with \
                  Simulation::new would drop (bodies would pass through each other): build the \
                  run with Simulation::contacts(&system, q0, q̇0) (the same options follow)"
-                .to_string());
+                    .to_string(),
+            );
         }
         if self.contact_start.is_some() {
             if let Method::VariationalMidpoint { .. }

@@ -65,7 +65,14 @@ macro_rules! no_rate {
         }
     )*};
 }
-no_rate!(ColumnJet, ConstraintJet, ElJet, HessianJet, LinJet, LinColumnJet);
+no_rate!(
+    ColumnJet,
+    ConstraintJet,
+    ElJet,
+    HessianJet,
+    LinJet,
+    LinColumnJet
+);
 
 /// The calculus primitives a jet type provides; everything else is generated from them.
 ///

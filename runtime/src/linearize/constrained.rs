@@ -619,14 +619,11 @@ where
         .collect();
     if by_columns {
         for col in 0..2 * N {
-            let values = crate::jet::with_jet_stack(
-                N,
-                core::mem::size_of::<LinColumnJet<N>>(),
-                || {
+            let values =
+                crate::jet::with_jet_stack(N, core::mem::size_of::<LinColumnJet<N>>(), || {
                     let (qj, vj, tj) = LinColumnJet::seed_boxed(q, qdot, t, qdot, a0, 1.0, col);
                     Box::new(sys.constraint_values(&*qj, &*vj, tj))
-                },
-            );
+                });
             for (c, v) in out.iter_mut().zip(values.iter()) {
                 let (b, d) = (v.base(), v.along());
                 let (cq, cv, dq) = (b.column_q(), b.column_qdot(), d.column_q());
@@ -690,7 +687,10 @@ mod tests {
         }
         fn constraint_values<S: Scalar>(&self, q: &[S; 3], v: &[S; 3], t: S) -> [S; 2] {
             let g = self.constraints(q, t)[0];
-            [g, v[0] * q[2].cos() - v[1] * (q[0] * q[1]).exp() + v[2] * q[1]]
+            [
+                g,
+                v[0] * q[2].cos() - v[1] * (q[0] * q[1]).exp() + v[2] * q[1],
+            ]
         }
     }
 
@@ -708,9 +708,24 @@ mod tests {
         };
         for (w, c) in whole.iter().zip(&cols) {
             assert!(close(&w.gq, &c.gq) && close(&w.gv, &c.gv));
-            assert!(close(w.hqq.as_slice(), c.hqq.as_slice()), "{} {}", w.hqq, c.hqq);
-            assert!(close(w.hqv.as_slice(), c.hqv.as_slice()), "{} {}", w.hqv, c.hqv);
-            assert!(close(w.hvv.as_slice(), c.hvv.as_slice()), "{} {}", w.hvv, c.hvv);
+            assert!(
+                close(w.hqq.as_slice(), c.hqq.as_slice()),
+                "{} {}",
+                w.hqq,
+                c.hqq
+            );
+            assert!(
+                close(w.hqv.as_slice(), c.hqv.as_slice()),
+                "{} {}",
+                w.hqv,
+                c.hqv
+            );
+            assert!(
+                close(w.hvv.as_slice(), c.hvv.as_slice()),
+                "{} {}",
+                w.hvv,
+                c.hvv
+            );
             assert!(close(w.third_qq.as_slice(), c.third_qq.as_slice()));
             assert!(w.hqq.iter().any(|x| *x != 0.0) && w.third_qq.iter().any(|x| *x != 0.0));
         }

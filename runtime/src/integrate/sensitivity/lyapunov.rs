@@ -428,9 +428,9 @@ const MAX_SEPARATION: f64 = 18.420_680_743_952_367; // ln 1e8
 /// ln(max R_ii / min R_ii): how far the directions separated since the last orthonormalization
 /// (infinite, or NaN, where one collapsed or is not finite).
 fn separation(r: &[f64]) -> f64 {
-    let (lo, hi) = r
-        .iter()
-        .fold((f64::INFINITY, 0.0_f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+    let (lo, hi) = r.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &x| {
+        (lo.min(x), hi.max(x))
+    });
     (hi / lo).ln()
 }
 
