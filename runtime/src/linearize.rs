@@ -624,7 +624,7 @@ where
     let column = |j: usize| {
         crate::jet::with_jet_stack(N, core::mem::size_of::<LinColumnJet<N>>(), || {
             let (qj, vj, tj) = LinColumnJet::seed_boxed(q, qdot, t, qdot, a0, 1.0, j);
-            sys.lagrangian(&*qj, &*vj, tj)
+            sys.lagrangian(&qj, &vj, tj)
         })
     };
     for j in 0..N {

@@ -622,7 +622,7 @@ where
             let values =
                 crate::jet::with_jet_stack(N, core::mem::size_of::<LinColumnJet<N>>(), || {
                     let (qj, vj, tj) = LinColumnJet::seed_boxed(q, qdot, t, qdot, a0, 1.0, col);
-                    Box::new(sys.constraint_values(&*qj, &*vj, tj))
+                    Box::new(sys.constraint_values(&qj, &vj, tj))
                 });
             for (c, v) in out.iter_mut().zip(values.iter()) {
                 let (b, d) = (v.base(), v.along());

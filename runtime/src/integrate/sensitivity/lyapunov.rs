@@ -371,7 +371,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
                 let mut cols = s.state()[n2..n2 * (1 + k)].to_vec();
                 let r = orthonormalize(&mut cols, n2);
                 let spread = separation(&r);
-                if !(spread <= MAX_SEPARATION) {
+                if spread.is_nan() || spread > MAX_SEPARATION {
                     let z = s.state();
                     return Err(separated(s.node_time(), &z[..N], &z[N..n2], spread));
                 }
