@@ -1186,7 +1186,7 @@ impl core::fmt::Display for Results<Vec<f64>> {
     /// let r = Ensemble::new(2, |i| Member::new(Free, [0.0], [i as f64]).param("v", i as f64))
     ///     .configure(|s| s.until(1.0))
     ///     .reduce(&["v0"], |tr| vec![tr.qdot[0][0]]);
-    /// assert_eq!(r.to_string(), "member  v    v0   error\n0       0e0  0e0  \n1       1e0  1e0  \n");
+    /// assert_eq!(r.to_string(), "member  v  v0  error\n0       0  0   \n1       1  1   \n");
     /// ```
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let rows = self.cells(true).map_err(|_| core::fmt::Error)?;
