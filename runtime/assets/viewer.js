@@ -139,6 +139,8 @@ function start(gltf) {
       frames,
     });
     document.title = 'lagrange-ready';
+    // Keep showing the last time asked for (a screenshot is taken of the composited page).
+    renderer.setAnimationLoop(render);
     return;
   }
 

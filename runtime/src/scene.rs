@@ -6,15 +6,15 @@
 //!
 //! ```
 //! use lagrange_runtime::geometry::Rotation;
-//! use lagrange_runtime::scene::{Color, Scene};
+//! use lagrange_runtime::scene::{Rgb, Scene};
 //! use lagrange_runtime::Vector3;
 //! let theta = 0.3_f64;
 //! let bob = Rotation::about_z(theta) * Vector3::new(0.0, -1.0, 0.0);
 //! let scene = Scene::new()
 //!     .up(Vector3::y())
-//!     .rod("rod", Vector3::zeros(), bob, 0.02, Color::GREY)
-//!     .sphere("bob", bob, 0.1, Color::ORANGE)
-//!     .trace("path", bob, Color::RED);
+//!     .rod("rod", Vector3::zeros(), bob, 0.02, Rgb::GREY)
+//!     .sphere("bob", bob, 0.1, Rgb::ORANGE)
+//!     .trace("path", bob, Rgb::RED);
 //! assert_eq!(scene.shapes.len(), 3);
 //! assert_eq!(scene.shapes[1].position, bob);
 //! ```
@@ -26,11 +26,11 @@ use nalgebra::Matrix3;
 /// A colour: red, green and blue in 0 … 1 (sRGB, as colour pickers give them).
 ///
 /// ```
-/// use lagrange_runtime::scene::Color;
-/// assert_eq!(Color::rgb(1.0, 0.5, 0.0).g, 0.5);
+/// use lagrange_runtime::scene::Rgb;
+/// assert_eq!(Rgb::new(1.0, 0.5, 0.0).g, 0.5);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Color {
+pub struct Rgb {
     /// Red, 0 … 1.
     pub r: f64,
     /// Green, 0 … 1.
@@ -39,36 +39,36 @@ pub struct Color {
     pub b: f64,
 }
 
-impl Color {
+impl Rgb {
     /// A colour from its red, green and blue, each 0 … 1.
     ///
     /// ```
-    /// use lagrange_runtime::scene::Color;
-    /// assert_eq!(Color::rgb(0.0, 0.0, 1.0), Color::BLUE);
+    /// use lagrange_runtime::scene::Rgb;
+    /// assert_eq!(Rgb::new(0.0, 0.0, 1.0), Rgb::BLUE);
     /// ```
-    pub const fn rgb(r: f64, g: f64, b: f64) -> Self {
-        Color { r, g, b }
+    pub const fn new(r: f64, g: f64, b: f64) -> Self {
+        Rgb { r, g, b }
     }
     /// Red.
-    pub const RED: Color = Color::rgb(0.85, 0.15, 0.12);
+    pub const RED: Rgb = Rgb::new(0.85, 0.15, 0.12);
     /// Green.
-    pub const GREEN: Color = Color::rgb(0.2, 0.65, 0.25);
+    pub const GREEN: Rgb = Rgb::new(0.2, 0.65, 0.25);
     /// Blue.
-    pub const BLUE: Color = Color::rgb(0.0, 0.0, 1.0);
+    pub const BLUE: Rgb = Rgb::new(0.0, 0.0, 1.0);
     /// Orange.
-    pub const ORANGE: Color = Color::rgb(0.95, 0.55, 0.1);
+    pub const ORANGE: Rgb = Rgb::new(0.95, 0.55, 0.1);
     /// Yellow.
-    pub const YELLOW: Color = Color::rgb(0.95, 0.85, 0.2);
+    pub const YELLOW: Rgb = Rgb::new(0.95, 0.85, 0.2);
     /// Purple.
-    pub const PURPLE: Color = Color::rgb(0.55, 0.3, 0.75);
+    pub const PURPLE: Rgb = Rgb::new(0.55, 0.3, 0.75);
     /// Grey.
-    pub const GREY: Color = Color::rgb(0.55, 0.55, 0.58);
+    pub const GREY: Rgb = Rgb::new(0.55, 0.55, 0.58);
     /// Near black.
-    pub const BLACK: Color = Color::rgb(0.08, 0.08, 0.08);
+    pub const BLACK: Rgb = Rgb::new(0.08, 0.08, 0.08);
     /// White.
-    pub const WHITE: Color = Color::rgb(1.0, 1.0, 1.0);
+    pub const WHITE: Rgb = Rgb::new(1.0, 1.0, 1.0);
     /// Steel blue.
-    pub const STEEL: Color = Color::rgb(0.27, 0.51, 0.71);
+    pub const STEEL: Rgb = Rgb::new(0.27, 0.51, 0.71);
 }
 
 /// What a shape is and its sizes (metres, or the model's length unit). Each is drawn in its own
@@ -168,9 +168,9 @@ impl Geometry {
 /// One shape of a scene: its name, what it is, where it is and how it is turned, its colour.
 ///
 /// ```
-/// use lagrange_runtime::scene::{Color, Scene};
+/// use lagrange_runtime::scene::{Rgb, Scene};
 /// use lagrange_runtime::Vector3;
-/// let s = Scene::new().sphere("bob", Vector3::new(1.0, 0.0, 0.0), 0.1, Color::RED);
+/// let s = Scene::new().sphere("bob", Vector3::new(1.0, 0.0, 0.0), 0.1, Rgb::RED);
 /// assert_eq!(s.shapes[0].name, "bob");
 /// ```
 #[derive(Clone, Debug, PartialEq)]
@@ -184,16 +184,16 @@ pub struct Shape {
     /// Its frame's orientation: the columns are its x, y and z axes in space.
     pub rotation: Matrix3<f64>,
     /// Its colour.
-    pub color: Color,
+    pub color: Rgb,
 }
 
 /// Shapes placed in space: what [`Visual::scene`] returns at each state of a run.
 ///
 /// ```
-/// use lagrange_runtime::scene::{Color, Scene};
+/// use lagrange_runtime::scene::{Rgb, Scene};
 /// use lagrange_runtime::Vector3;
 /// let s = Scene::new().cuboid("floor", lagrange_runtime::geometry::Rotation::identity(),
-///     Vector3::new(0.0, 0.0, -0.05), Vector3::new(4.0, 4.0, 0.1), Color::GREY);
+///     Vector3::new(0.0, 0.0, -0.05), Vector3::new(4.0, 4.0, 0.1), Rgb::GREY);
 /// assert_eq!(s.up, Vector3::z());
 /// ```
 #[derive(Clone, Debug, PartialEq)]
@@ -257,10 +257,10 @@ impl Scene {
     /// Adds a shape as it is.
     ///
     /// ```
-    /// use lagrange_runtime::scene::{Color, Geometry, Scene, Shape};
+    /// use lagrange_runtime::scene::{Rgb, Geometry, Scene, Shape};
     /// use lagrange_runtime::Vector3;
     /// let s = Scene::new().shape(Shape { name: "b".into(), geometry: Geometry::Sphere { radius: 1.0 },
-    ///     position: Vector3::zeros(), rotation: nalgebra::Matrix3::identity(), color: Color::RED });
+    ///     position: Vector3::zeros(), rotation: nalgebra::Matrix3::identity(), color: Rgb::RED });
     /// assert_eq!(s.shapes.len(), 1);
     /// ```
     pub fn shape(mut self, shape: Shape) -> Self {
@@ -274,7 +274,7 @@ impl Scene {
         geometry: Geometry,
         position: Vector3<f64>,
         rotation: Matrix3<f64>,
-        color: Color,
+        color: Rgb,
     ) -> Self {
         self.shape(Shape {
             name: name.to_owned(),
@@ -288,11 +288,11 @@ impl Scene {
     /// A ball of radius `radius` about `center`.
     ///
     /// ```
-    /// use lagrange_runtime::scene::{Color, Geometry, Scene};
-    /// let s = Scene::new().sphere("ball", lagrange_runtime::Vector3::zeros(), 0.5, Color::RED);
+    /// use lagrange_runtime::scene::{Rgb, Geometry, Scene};
+    /// let s = Scene::new().sphere("ball", lagrange_runtime::Vector3::zeros(), 0.5, Rgb::RED);
     /// assert_eq!(s.shapes[0].geometry, Geometry::Sphere { radius: 0.5 });
     /// ```
-    pub fn sphere(self, name: &str, center: Vector3<f64>, radius: f64, color: Color) -> Self {
+    pub fn sphere(self, name: &str, center: Vector3<f64>, radius: f64, color: Rgb) -> Self {
         self.add(
             name,
             Geometry::Sphere { radius },
@@ -305,9 +305,9 @@ impl Scene {
     /// A rod (a cylinder of radius `radius`) from `from` to `to`.
     ///
     /// ```
-    /// use lagrange_runtime::scene::{Color, Geometry, Scene};
+    /// use lagrange_runtime::scene::{Rgb, Geometry, Scene};
     /// use lagrange_runtime::Vector3;
-    /// let s = Scene::new().rod("rod", Vector3::zeros(), Vector3::new(0.0, 2.0, 0.0), 0.1, Color::GREY);
+    /// let s = Scene::new().rod("rod", Vector3::zeros(), Vector3::new(0.0, 2.0, 0.0), 0.1, Rgb::GREY);
     /// assert_eq!(s.shapes[0].geometry, Geometry::Cylinder { radius: 0.1, length: 2.0 });
     /// assert_eq!(s.shapes[0].position, Vector3::new(0.0, 1.0, 0.0));
     /// assert!((s.shapes[0].rotation * Vector3::z() - Vector3::y()).norm() < 1e-15);
@@ -318,7 +318,7 @@ impl Scene {
         from: Vector3<f64>,
         to: Vector3<f64>,
         radius: f64,
-        color: Color,
+        color: Rgb,
     ) -> Self {
         let d = to - from;
         self.add(
@@ -337,8 +337,8 @@ impl Scene {
     /// axis of `frame`.
     ///
     /// ```
-    /// use lagrange_runtime::{geometry::Rotation, scene::{Color, Scene}, Vector3};
-    /// let s = Scene::new().cylinder("axle", Rotation::about_x(0.5), Vector3::zeros(), 0.1, 1.0, Color::GREY);
+    /// use lagrange_runtime::{geometry::Rotation, scene::{Rgb, Scene}, Vector3};
+    /// let s = Scene::new().cylinder("axle", Rotation::about_x(0.5), Vector3::zeros(), 0.1, 1.0, Rgb::GREY);
     /// assert_eq!(s.shapes[0].rotation, Rotation::about_x(0.5).matrix());
     /// ```
     pub fn cylinder(
@@ -348,7 +348,7 @@ impl Scene {
         center: Vector3<f64>,
         radius: f64,
         length: f64,
-        color: Color,
+        color: Rgb,
     ) -> Self {
         self.add(
             name,
@@ -362,8 +362,8 @@ impl Scene {
     /// A box of full lengths `size` (along the axes of `frame`) centred on `center`.
     ///
     /// ```
-    /// use lagrange_runtime::{geometry::Rotation, scene::{Color, Geometry, Scene}, Vector3};
-    /// let s = Scene::new().cuboid("block", Rotation::identity(), Vector3::zeros(), Vector3::new(1.0, 2.0, 3.0), Color::RED);
+    /// use lagrange_runtime::{geometry::Rotation, scene::{Rgb, Geometry, Scene}, Vector3};
+    /// let s = Scene::new().cuboid("block", Rotation::identity(), Vector3::zeros(), Vector3::new(1.0, 2.0, 3.0), Rgb::RED);
     /// assert_eq!(s.shapes[0].geometry, Geometry::Cuboid { size: [1.0, 2.0, 3.0] });
     /// ```
     pub fn cuboid(
@@ -372,7 +372,7 @@ impl Scene {
         frame: Rotation<f64>,
         center: Vector3<f64>,
         size: Vector3<f64>,
-        color: Color,
+        color: Rgb,
     ) -> Self {
         self.add(
             name,
@@ -389,8 +389,8 @@ impl Scene {
     /// axis the z axis of `frame`.
     ///
     /// ```
-    /// use lagrange_runtime::{geometry::Rotation, scene::{Color, Geometry, Scene}, Vector3};
-    /// let s = Scene::new().disc("wheel", Rotation::identity(), Vector3::zeros(), 0.3, 0.02, Color::BLACK);
+    /// use lagrange_runtime::{geometry::Rotation, scene::{Rgb, Geometry, Scene}, Vector3};
+    /// let s = Scene::new().disc("wheel", Rotation::identity(), Vector3::zeros(), 0.3, 0.02, Rgb::BLACK);
     /// assert_eq!(s.shapes[0].geometry, Geometry::Disc { radius: 0.3, thickness: 0.02 });
     /// ```
     pub fn disc(
@@ -400,7 +400,7 @@ impl Scene {
         center: Vector3<f64>,
         radius: f64,
         thickness: f64,
-        color: Color,
+        color: Rgb,
     ) -> Self {
         self.add(
             name,
@@ -415,11 +415,11 @@ impl Scene {
     /// page draws it up to the time shown).
     ///
     /// ```
-    /// use lagrange_runtime::scene::{Color, Geometry, Scene};
-    /// let s = Scene::new().trace("tip", lagrange_runtime::Vector3::x(), Color::RED);
+    /// use lagrange_runtime::scene::{Rgb, Geometry, Scene};
+    /// let s = Scene::new().trace("tip", lagrange_runtime::Vector3::x(), Rgb::RED);
     /// assert_eq!(s.shapes[0].geometry, Geometry::Trace);
     /// ```
-    pub fn trace(self, name: &str, point: Vector3<f64>, color: Color) -> Self {
+    pub fn trace(self, name: &str, point: Vector3<f64>, color: Rgb) -> Self {
         self.add(name, Geometry::Trace, point, Matrix3::identity(), color)
     }
 }
@@ -428,12 +428,12 @@ impl Scene {
 /// `#[lagrangian]` writes it from `fn scene`; by hand:
 ///
 /// ```
-/// use lagrange_runtime::scene::{Color, Scene, Visual};
+/// use lagrange_runtime::scene::{Rgb, Scene, Visual};
 /// use lagrange_runtime::Vector3;
 /// struct Ball;
 /// impl Visual<1> for Ball {
 ///     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
-///         Scene::new().sphere("ball", Vector3::new(0.0, 0.0, q[0]), 0.1, Color::RED)
+///         Scene::new().sphere("ball", Vector3::new(0.0, 0.0, q[0]), 0.1, Rgb::RED)
 ///     }
 /// }
 /// assert_eq!(Ball.scene(&[2.0], 0.0).shapes[0].position.z, 2.0);

@@ -94,7 +94,7 @@ impl fmt::Display for AnimationError {
             AnimationError::NoShapes => write!(
                 f,
                 "the scene has no shapes: add some in `fn scene` (`Scene::new().sphere(\"bob\", \
-                 p, 0.1, Color::RED)`)"
+                 p, 0.1, Rgb::RED)`)"
             ),
             AnimationError::BadSize {
                 shape,
@@ -193,7 +193,7 @@ impl Camera {
 ///
 /// ```
 /// use lagrange_runtime::animation::Animation;
-/// use lagrange_runtime::scene::{Color, Scene, Visual};
+/// use lagrange_runtime::scene::{Rgb, Scene, Visual};
 /// use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
 /// struct Free;
 /// impl Lagrangian<1> for Free {
@@ -204,7 +204,7 @@ impl Camera {
 /// }
 /// impl Visual<1> for Free {
 ///     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
-///         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Color::RED)
+///         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
 ///     }
 /// }
 /// let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.01 }).until(10.0).run().unwrap();
@@ -399,7 +399,7 @@ impl<const N: usize> Trajectory<N> {
     /// and any glTF viewer open it.
     ///
     /// ```
-    /// use lagrange_runtime::scene::{Color, Scene, Visual};
+    /// use lagrange_runtime::scene::{Rgb, Scene, Visual};
     /// use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
     /// struct Free;
     /// impl Lagrangian<1> for Free {
@@ -410,7 +410,7 @@ impl<const N: usize> Trajectory<N> {
     /// }
     /// impl Visual<1> for Free {
     ///     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
-    ///         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Color::RED)
+    ///         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
     ///     }
     /// }
     /// let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
@@ -432,7 +432,7 @@ impl<const N: usize> Trajectory<N> {
     /// [`Trajectory::write_gltf`]'s.
     ///
     /// ```
-    /// use lagrange_runtime::scene::{Color, Scene, Visual};
+    /// use lagrange_runtime::scene::{Rgb, Scene, Visual};
     /// use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
     /// struct Free;
     /// impl Lagrangian<1> for Free {
@@ -443,7 +443,7 @@ impl<const N: usize> Trajectory<N> {
     /// }
     /// impl Visual<1> for Free {
     ///     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
-    ///         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Color::RED)
+    ///         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
     ///     }
     /// }
     /// let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
@@ -623,7 +623,7 @@ fn default_camera(scenes: &[Scene], up: &UnitQuaternion<f64>) -> Camera {
     let center = 0.5 * (lo + hi);
     let radius = (0.5 * (hi - lo).norm()).max(1e-3);
     let fov_y_deg: f64 = 40.0;
-    let distance = 1.15 * radius / (fov_y_deg.to_radians() / 2.0).sin();
+    let distance = 1.02 * radius / (fov_y_deg.to_radians() / 2.0).sin();
     let dir = Vector3::new(0.55, 0.45, 1.0).normalize();
     let eye = center + distance * dir;
     Camera {
