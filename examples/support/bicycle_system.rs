@@ -355,6 +355,22 @@ impl Bicycle {
     /// assert_eq!(tr.t.len(), 11);
     /// ```
     pub fn watch(&self, v: f64, until: f64) -> Result<Trajectory<8>, SimulationError> {
+        self.watch_every(v, until, 0.01)
+    }
+
+    /// [`Bicycle::watch`] with a sample every `dt` seconds.
+    ///
+    /// ```
+    /// use lagrange_examples::bicycle_system::Bicycle;
+    /// let tr = Bicycle::benchmark().watch_every(5.0, 0.1, 0.05).unwrap();
+    /// assert_eq!(tr.t.len(), 3);
+    /// ```
+    pub fn watch_every(
+        &self,
+        v: f64,
+        until: f64,
+        dt: f64,
+    ) -> Result<Trajectory<8>, SimulationError> {
         let (q0, mut v0) = self.upright(v);
         v0[3] = 0.3;
         Simulation::constrained(self, q0, v0)
@@ -364,7 +380,7 @@ impl Bicycle {
                 atol: 1e-11,
             })
             .until(until)
-            .sample_every(0.01)
+            .sample_every(dt)
             .run()
     }
 }

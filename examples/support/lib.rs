@@ -10,6 +10,8 @@
 
 #[cfg(feature = "test-models")]
 pub mod bench_top;
+#[cfg(feature = "test-models")]
+pub mod animations;
 pub mod bicycle_system;
 pub mod cli;
 pub mod contact_systems;

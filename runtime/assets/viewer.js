@@ -58,7 +58,8 @@ function start(gltf) {
   const traceSelect = document.getElementById('trace');
   for (const tr of traces) {
     const opt = document.createElement('option');
-    opt.value = opt.textContent = tr.name;
+    opt.value = tr.name;
+    opt.textContent = tr.userData.lagrange_name;
     traceSelect.appendChild(opt);
   }
   const lineOf = (o) => { let line = null; o.traverse((m) => { if (m.isLine) line = m; }); return line; };
@@ -129,7 +130,7 @@ function start(gltf) {
         o.getWorldPosition(p);
         const world = p.toArray();
         p.project(camera);
-        at[o.name] = { world, pixel: [(p.x + 1) / 2 * w, (1 - p.y) / 2 * h] };
+        at[o.userData.lagrange_name] = { world, pixel: [(p.x + 1) / 2 * w, (1 - p.y) / 2 * h] };
       }
       frames.push({ t, drawn: drawn / (w * h), hash, shapes: at });
     }
@@ -137,6 +138,7 @@ function start(gltf) {
       width: w, height: h,
       camera: { position: camera.position.toArray(), target: controls.target.toArray(), fov_y_deg: camera.fov, aspect: camera.aspect, near: camera.near, far: camera.far },
       frames,
+      errors: window.lagrangeErrors || [],
     });
     document.title = 'lagrange-ready';
     // Keep showing the last time asked for (a screenshot is taken of the composited page).

@@ -227,7 +227,12 @@ pub(super) fn document(anim: &Animation) -> String {
             weights: None,
         });
         let is_trace = matches!(shape.geometry, Geometry::Trace);
-        let extras = serde_json::json!({ "lagrange_kind": shape.geometry.kind() });
+        // The kind, for the page, and the name as written (three.js turns spaces in node names
+        // into underscores).
+        let extras = serde_json::json!({
+            "lagrange_kind": shape.geometry.kind(),
+            "lagrange_name": shape.name,
+        });
         let node = b.root.push(json::Node {
             mesh: Some(mesh),
             name: Some(shape.name.clone()),

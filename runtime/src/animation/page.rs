@@ -82,6 +82,14 @@ canvas {{ display: block; }}
 #clock {{ min-width: 7em; font-variant-numeric: tabular-nums; }}
 #title {{ position: fixed; left: 12px; top: 8px; color: #333; }}
 </style>
+<script>
+// Errors of the page, for its test report (#lagrange-test); they still reach the console.
+window.lagrangeErrors = [];
+addEventListener('error', (e) => lagrangeErrors.push(String(e.message || e)));
+addEventListener('unhandledrejection', (e) => lagrangeErrors.push(String(e.reason)));
+const lagrangeConsoleError = console.error.bind(console);
+console.error = (...a) => {{ lagrangeErrors.push(a.map(String).join(' ')); lagrangeConsoleError(...a); }};
+</script>
 <script type="importmap">{import_map}</script>
 </head>
 <body>
