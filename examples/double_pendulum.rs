@@ -99,11 +99,6 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
         .until(20.0)
         .sample_every(0.01)
         .run()?;
-    cli::write_animation(
-        "out/double_pendulum.svg",
-        "double pendulum",
-        &watch,
-        &p,
-    )?;
+    cli::write_animation("out/double_pendulum.svg", "double pendulum", &watch, &p)?;
     Ok(())
 }

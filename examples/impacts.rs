@@ -251,7 +251,12 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
 
     // To watch, next to the figure: the rocking block's run, and the wheel's first 12 s.
     let stem = out.strip_suffix(".svg").unwrap_or(&out);
-    cli::write_animation(&format!("{stem}_block.svg"), "rocking block", &block_run, &block)?;
+    cli::write_animation(
+        &format!("{stem}_block.svg"),
+        "rocking block",
+        &block_run,
+        &block,
+    )?;
     let wheel_watch = Simulation::contacts(&wheel, q0, v0)
         .until(12.0)
         .sample_every(0.01)

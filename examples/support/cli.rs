@@ -65,7 +65,9 @@ pub fn write_animation<V: lagrange::scene::Visual<N> + ?Sized, const N: usize>(
             "html" => anim.write_html(&path)?,
             _ => anim.write_gltf(&path)?,
         }
-        let kib = std::fs::metadata(&path).map(|m| m.len() / 1024).unwrap_or(0);
+        let kib = std::fs::metadata(&path)
+            .map(|m| m.len() / 1024)
+            .unwrap_or(0);
         println!(
             "wrote {} ({kib} KiB, {} keyframes)",
             path.display(),

@@ -81,7 +81,11 @@ impl Block {
                 Vector3::new(2.0 * self.b, 2.0 * self.h, 2.0 * self.b),
                 Rgb::STEEL,
             )
-            .trace("top", centre + body * Vector3::new(0.0, self.h, 0.0), Rgb::RED)
+            .trace(
+                "top",
+                centre + body * Vector3::new(0.0, self.h, 0.0),
+                Rgb::RED,
+            )
     }
 }
 

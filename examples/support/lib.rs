@@ -9,9 +9,9 @@
 //! the heavy top the benchmarks time ([`bench_top`]). Nothing includes these files by path.
 
 #[cfg(feature = "test-models")]
-pub mod bench_top;
-#[cfg(feature = "test-models")]
 pub mod animations;
+#[cfg(feature = "test-models")]
+pub mod bench_top;
 pub mod bicycle_system;
 pub mod cli;
 pub mod contact_systems;

@@ -137,7 +137,11 @@ impl Geometry {
             Geometry::Sphere { radius } => vec![("radius", radius)],
             Geometry::Cylinder { radius, length } => vec![("radius", radius), ("length", length)],
             Geometry::Cuboid { size } => {
-                vec![("size x", size[0]), ("size y", size[1]), ("size z", size[2])]
+                vec![
+                    ("size x", size[0]),
+                    ("size y", size[1]),
+                    ("size z", size[2]),
+                ]
             }
             Geometry::Disc { radius, thickness } => {
                 vec![("radius", radius), ("thickness", thickness)]

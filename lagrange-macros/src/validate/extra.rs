@@ -223,7 +223,7 @@ pub(super) fn check_extra(
                 fail(
                     errors,
                     ty,
-                    format!("`fn scene` returns a `Scene`: the shapes placed in space at a state (`Scene::new().sphere(\"bob\", p, 0.1, Color::RED)`); write `-> Scene`: `{hint}`"),
+                    format!("`fn scene` returns a `Scene`: the shapes placed in space at a state (`Scene::new().sphere(\"bob\", p, 0.1, Rgb::RED)`); write `-> Scene`: `{hint}`"),
                 );
             }
             ty.span()

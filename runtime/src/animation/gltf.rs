@@ -66,7 +66,12 @@ impl Builder {
         })
     }
 
-    fn vec3(&mut self, v: &[[f32; 3]], target: Option<json::buffer::Target>, bounds: bool) -> json::Index<json::Accessor> {
+    fn vec3(
+        &mut self,
+        v: &[[f32; 3]],
+        target: Option<json::buffer::Target>,
+        bounds: bool,
+    ) -> json::Index<json::Accessor> {
         let data: Vec<u8> = v.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
         let min_max = bounds.then(|| {
             let mut lo = [f32::INFINITY; 3];
@@ -268,7 +273,11 @@ pub(super) fn document(anim: &Animation) -> String {
             rotations.push([q.i as f32, q.j as f32, q.k as f32, q.w as f32]);
         }
         let t_out = b.vec3(&translations, None, false);
-        let r_bytes: Vec<u8> = rotations.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        let r_bytes: Vec<u8> = rotations
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
         let r_out = b.accessor(
             &r_bytes,
             rotations.len(),
@@ -377,7 +386,10 @@ pub(super) fn document(anim: &Animation) -> String {
 
 /// The orientation of a glTF camera (looking down its −z, y up) at `eye` looking at `target`.
 fn look_at(eye: [f64; 3], target: [f64; 3]) -> UnitQuaternion<f64> {
-    let (eye, target) = (nalgebra::Vector3::from(eye), nalgebra::Vector3::from(target));
+    let (eye, target) = (
+        nalgebra::Vector3::from(eye),
+        nalgebra::Vector3::from(target),
+    );
     let back = (eye - target).normalize();
     let right = nalgebra::Vector3::y().cross(&back).normalize();
     let up = back.cross(&right);

@@ -70,7 +70,8 @@ fn cylinder(r: f64, length: f64, segments: usize) -> Mesh {
     }
     for j in 0..segments as u16 {
         let a = 2 * j;
-        m.indices.extend_from_slice(&[a, a + 2, a + 1, a + 1, a + 2, a + 3]);
+        m.indices
+            .extend_from_slice(&[a, a + 2, a + 1, a + 1, a + 2, a + 3]);
     }
     // The caps: a fan about each centre.
     for (z, nz) in [(-h, -1.0), (h, 1.0)] {
@@ -110,8 +111,14 @@ fn cuboid(size: [f64; 3]) -> Mesh {
                 p[v] = b * h[v];
                 m.vertex(p, n);
             }
-            m.indices
-                .extend_from_slice(&[first, first + 1, first + 2, first, first + 2, first + 3]);
+            m.indices.extend_from_slice(&[
+                first,
+                first + 1,
+                first + 2,
+                first,
+                first + 2,
+                first + 3,
+            ]);
         }
     }
     m
@@ -136,7 +143,8 @@ mod tests {
         ] {
             let m = of(&g).expect("a mesh");
             for tri in m.indices.chunks(3) {
-                let p = tri.map(|i| nalgebra::Vector3::from(m.positions[i as usize].map(f64::from)));
+                let p =
+                    tri.map(|i| nalgebra::Vector3::from(m.positions[i as usize].map(f64::from)));
                 let n = (p[1] - p[0]).cross(&(p[2] - p[0]));
                 let avg: nalgebra::Vector3<f64> = tri
                     .iter()

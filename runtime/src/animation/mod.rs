@@ -239,8 +239,24 @@ impl<V: Visual<N> + ?Sized, const N: usize> AnimationBuilder<'_, V, N> {
     /// come on top). Default [`DEFAULT_MAX_FRAMES`].
     ///
     /// ```
-    /// # use lagrange_runtime::animation::DEFAULT_MAX_FRAMES;
-    /// assert_eq!(DEFAULT_MAX_FRAMES / 60, 50); // 50 s at 60 frames per second
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).max_frames(2).build().unwrap();
+    /// assert_eq!(anim.times(), &[0.0, 1.0]);
     /// ```
     pub fn max_frames(mut self, n: usize) -> Self {
         self.max_frames = n.max(2);
@@ -250,7 +266,24 @@ impl<V: Visual<N> + ?Sized, const N: usize> AnimationBuilder<'_, V, N> {
     /// The page's title (default "lagrange").
     ///
     /// ```
-    /// assert_eq!("lagrange".len(), 8);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).title("free particle").build().unwrap();
+    /// assert!(anim.html().contains("<title>free particle</title>"));
     /// ```
     pub fn title(mut self, title: &str) -> Self {
         self.title = title.to_owned();
@@ -260,8 +293,24 @@ impl<V: Visual<N> + ?Sized, const N: usize> AnimationBuilder<'_, V, N> {
     /// Evaluates the scene at the kept samples and checks it.
     ///
     /// ```
-    /// # use lagrange_runtime::animation::AnimationError;
-    /// assert!(matches!(AnimationError::NoShapes, AnimationError::NoShapes));
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).build().unwrap();
+    /// assert_eq!(anim.scenes().len(), 3);
     /// ```
     pub fn build(self) -> Result<Animation, AnimationError> {
         let frames = keyframes(self.traj, self.max_frames);
@@ -291,8 +340,24 @@ impl Animation {
     /// The animation of run `traj` of system `sys`, to be configured and built.
     ///
     /// ```
-    /// # use lagrange_runtime::animation::DEFAULT_MAX_FRAMES;
-    /// # assert_eq!(DEFAULT_MAX_FRAMES, 3000);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).build().unwrap();
+    /// assert_eq!(anim.times().len(), tr.t.len());
     /// ```
     pub fn of<'a, V: Visual<N> + ?Sized, const N: usize>(
         traj: &'a Trajectory<N>,
@@ -309,7 +374,24 @@ impl Animation {
     /// The keyframes' times (the run's).
     ///
     /// ```
-    /// assert!(true);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).build().unwrap();
+    /// assert_eq!(anim.times(), &[0.0, 0.5, 1.0]);
     /// ```
     pub fn times(&self) -> &[f64] {
         &self.times
@@ -318,7 +400,24 @@ impl Animation {
     /// The scene at each keyframe.
     ///
     /// ```
-    /// assert!(true);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).build().unwrap();
+    /// assert_eq!(anim.scenes()[2].shapes[0].position.x, tr.q[2][0]);
     /// ```
     pub fn scenes(&self) -> &[Scene] {
         &self.scenes
@@ -327,7 +426,25 @@ impl Animation {
     /// The default camera.
     ///
     /// ```
-    /// assert!(true);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).build().unwrap();
+    /// // It looks at the middle of the motion: x from 0 to 1, z up turned to glTF's y up.
+    /// assert!((anim.camera().target[0] - 0.5).abs() < 1e-12);
     /// ```
     pub fn camera(&self) -> Camera {
         self.camera
@@ -337,7 +454,26 @@ impl Animation {
     /// rotation, which takes the scene's up direction to +y.
     ///
     /// ```
-    /// assert!(true);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).build().unwrap();
+    /// // z up in the model is y up in the glTF world.
+    /// let w = anim.to_world(Vector3::z());
+    /// assert!((w[1] - 1.0).abs() < 1e-15 && w[2].abs() < 1e-15);
     /// ```
     pub fn to_world(&self, p: Vector3<f64>) -> [f64; 3] {
         let w = self.up * p;
@@ -347,7 +483,24 @@ impl Animation {
     /// The glTF 2.0 document (JSON, the buffer embedded as a base64 `data:` URI).
     ///
     /// ```
-    /// assert!(true);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).build().unwrap();
+    /// assert!(anim.gltf_json().contains("\"version\":\"2.0\""));
     /// ```
     pub fn gltf_json(&self) -> String {
         gltf::document(self)
@@ -356,7 +509,24 @@ impl Animation {
     /// The web page that plays the animation (three.js embedded; no network needed).
     ///
     /// ```
-    /// assert!(true);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let anim = Animation::of(&tr, &Free).build().unwrap();
+    /// assert!(anim.html().contains("<script type=\"importmap\">"));
     /// ```
     pub fn html(&self) -> String {
         page::html(self, &self.gltf_json())
@@ -365,7 +535,25 @@ impl Animation {
     /// Writes the glTF file (missing parent folders are created).
     ///
     /// ```
-    /// assert!(true);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let path = std::env::temp_dir().join("lagrange_doctest_anim.gltf");
+    /// Animation::of(&tr, &Free).build().unwrap().write_gltf(&path).unwrap();
+    /// assert!(std::fs::read_to_string(&path).unwrap().starts_with('{'));
     /// ```
     pub fn write_gltf(&self, path: impl AsRef<Path>) -> Result<(), AnimationError> {
         write(path.as_ref(), &self.gltf_json())
@@ -374,7 +562,25 @@ impl Animation {
     /// Writes the web page (missing parent folders are created).
     ///
     /// ```
-    /// assert!(true);
+    /// # use lagrange_runtime::animation::Animation;
+    /// # use lagrange_runtime::scene::{Rgb, Scene, Visual};
+    /// # use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation, Vector3};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     const COORDINATES: [&'static str; 1] = ["x"];
+    /// #     const CYCLIC: [bool; 1] = [true];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+    /// # }
+    /// # impl Visual<1> for Free {
+    /// #     fn scene(&self, q: &[f64; 1], _t: f64) -> Scene {
+    /// #         Scene::new().sphere("ball", Vector3::new(q[0], 0.0, 0.0), 0.1, Rgb::RED)
+    /// #     }
+    /// # }
+    /// # let tr = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: 0.5 }).until(1.0).run().unwrap();
+    /// let path = std::env::temp_dir().join("lagrange_doctest_anim.html");
+    /// Animation::of(&tr, &Free).build().unwrap().write_html(&path).unwrap();
+    /// assert!(std::fs::read_to_string(&path).unwrap().starts_with("<!DOCTYPE html>"));
     /// ```
     pub fn write_html(&self, path: impl AsRef<Path>) -> Result<(), AnimationError> {
         write(path.as_ref(), &self.html())
@@ -604,14 +810,18 @@ fn up_rotation(up: Vector3<f64>) -> UnitQuaternion<f64> {
     if (up - Vector3::z()).norm() < 1e-12 {
         return UnitQuaternion::from_axis_angle(&Vector3::x_axis(), -std::f64::consts::FRAC_PI_2);
     }
-    UnitQuaternion::rotation_between(&up, &Vector3::y())
-        .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI))
+    UnitQuaternion::rotation_between(&up, &Vector3::y()).unwrap_or_else(|| {
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+    })
 }
 
 /// A camera that sees every shape at every keyframe: looking at the centre of their bounding
 /// box from above and to the side, far enough for the bounding sphere to fit.
 fn default_camera(scenes: &[Scene], up: &UnitQuaternion<f64>) -> Camera {
-    let (mut lo, mut hi) = (Vector3::repeat(f64::INFINITY), Vector3::repeat(f64::NEG_INFINITY));
+    let (mut lo, mut hi) = (
+        Vector3::repeat(f64::INFINITY),
+        Vector3::repeat(f64::NEG_INFINITY),
+    );
     for scene in scenes {
         for s in &scene.shapes {
             let p = up * s.position;

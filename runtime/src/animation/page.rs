@@ -45,7 +45,9 @@ fn modules() -> [(&'static str, String); 5] {
 
 /// Escapes text for HTML element content.
 fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 /// The page of `anim`, its glTF document `gltf`.
@@ -121,9 +123,18 @@ mod tests {
     #[test]
     fn relative_imports_are_mapped() {
         for (name, source) in modules() {
-            assert!(!source.contains("from\"./"), "{name} imports a relative path");
-            assert!(!source.contains("from './"), "{name} imports a relative path");
-            assert!(!source.contains("from '../"), "{name} imports a relative path");
+            assert!(
+                !source.contains("from\"./"),
+                "{name} imports a relative path"
+            );
+            assert!(
+                !source.contains("from './"),
+                "{name} imports a relative path"
+            );
+            assert!(
+                !source.contains("from '../"),
+                "{name} imports a relative path"
+            );
         }
         assert!(THREE_MODULE.contains("\"./three.core.min.js\""));
         assert!(GLTF_LOADER.contains("'../utils/BufferGeometryUtils.js'"));
