@@ -218,7 +218,7 @@ impl Default for Scene {
 /// The rotation that takes the z axis to the direction of `d` (the identity for d = 0).
 fn z_to(d: Vector3<f64>) -> Matrix3<f64> {
     let n = d.norm();
-    if !(n > 0.0) || !n.is_finite() {
+    if n.is_nan() || n <= 0.0 || !n.is_finite() {
         return Matrix3::identity();
     }
     let z = d / n;

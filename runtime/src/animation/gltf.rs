@@ -31,7 +31,7 @@ impl Builder {
         target: Option<json::buffer::Target>,
         min_max: Option<(serde_json::Value, serde_json::Value)>,
     ) -> json::Index<json::Accessor> {
-        while self.bytes.len() % 4 != 0 {
+        while !self.bytes.len().is_multiple_of(4) {
             self.bytes.push(0);
         }
         let offset = self.bytes.len();
@@ -264,10 +264,8 @@ pub(super) fn document(anim: &Animation) -> String {
         let mut previous: Option<UnitQuaternion<f64>> = None;
         for s in &anim.scenes {
             let mut q = quaternion(&s.shapes[i].rotation);
-            if let Some(p) = previous {
-                if p.coords.dot(&q.coords) < 0.0 {
-                    q = UnitQuaternion::new_unchecked(-q.into_inner());
-                }
+            if previous.is_some_and(|p| p.coords.dot(&q.coords) < 0.0) {
+                q = UnitQuaternion::new_unchecked(-q.into_inner());
             }
             previous = Some(q);
             rotations.push([q.i as f32, q.j as f32, q.k as f32, q.w as f32]);
@@ -369,7 +367,7 @@ pub(super) fn document(anim: &Animation) -> String {
         nodes: vec![model, camera_node],
     });
     b.root.scene = Some(scene);
-    while b.bytes.len() % 4 != 0 {
+    while !b.bytes.len().is_multiple_of(4) {
         b.bytes.push(0);
     }
     let data = base64::engine::general_purpose::STANDARD.encode(&b.bytes);

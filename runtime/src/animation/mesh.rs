@@ -143,8 +143,9 @@ mod tests {
         ] {
             let m = of(&g).expect("a mesh");
             for tri in m.indices.chunks(3) {
-                let p =
-                    tri.map(|i| nalgebra::Vector3::from(m.positions[i as usize].map(f64::from)));
+                let at =
+                    |k: usize| nalgebra::Vector3::from(m.positions[tri[k] as usize].map(f64::from));
+                let p = [at(0), at(1), at(2)];
                 let n = (p[1] - p[0]).cross(&(p[2] - p[0]));
                 let avg: nalgebra::Vector3<f64> = tri
                     .iter()

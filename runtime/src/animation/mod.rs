@@ -666,10 +666,10 @@ impl<const N: usize> Trajectory<N> {
     }
 }
 
-/// The states kept: at most `max_frames` samples, the first, the last and those at least
-/// (duration / (max_frames − 1)) after the previous kept one, and at every jump the state
-/// before it (and the state after it, a hair later, if the positions jump). Times strictly
-/// increase in f32 (glTF's time type).
+/// The states kept: the first and the last sample and, for each of `max_frames` times evenly
+/// spread over the run, the first sample at or after it (so at most `max_frames`), and at every
+/// jump the state before it (and the state after it, a hair later, if the positions jump). The
+/// times since the start strictly increase in f32 (glTF's time type).
 pub(crate) fn keyframes<const N: usize>(
     traj: &Trajectory<N>,
     max_frames: usize,
@@ -680,34 +680,38 @@ pub(crate) fn keyframes<const N: usize>(
     }
     let (t0, t1) = (traj.t[0], traj.t[n - 1]);
     let spacing = (t1 - t0) / (max_frames.max(2) - 1) as f64;
+    let since = |t: f64| (t - t0) as f32;
     let mut kept: Vec<(f64, [f64; N])> = Vec::new();
-    let mut jumps = traj.jumps.iter().peekable();
     let push = |kept: &mut Vec<(f64, [f64; N])>, t: f64, q: [f64; N]| {
-        if let Some(last) = kept.last_mut() {
-            if (t as f32) <= (last.0 as f32) {
-                if t == last.0 {
-                    // The same instant again (a sample at a jump): the later state wins.
-                    last.1 = q;
-                }
-                return;
+        if let Some(last) = kept.last_mut()
+            && since(t) <= since(last.0)
+        {
+            if t == last.0 {
+                // The same instant again (a sample at a jump): the later state wins.
+                last.1 = q;
             }
+            return;
         }
         kept.push((t, q));
     };
-    let mut last_t = f64::NEG_INFINITY;
+    let mut jumps = traj.jumps.iter().peekable();
+    let mut target = 0_usize;
     for k in 0..n {
         let t = traj.t[k];
         while let Some(j) = jumps.next_if(|j| j.t <= t) {
             push(&mut kept, j.t, j.before.0);
             if j.after.0 != j.before.0 {
-                let later = f64::from(next_f32_up(j.t as f32));
+                let later = t0 + f64::from(next_f32_up(since(j.t)));
                 push(&mut kept, later, j.after.0);
             }
-            last_t = j.t;
         }
-        if k == 0 || k == n - 1 || t - last_t >= spacing * (1.0 - 1e-9) {
+        let due = t - t0 >= (target as f64 * spacing) * (1.0 - 1e-12);
+        if k == 0 || k == n - 1 || due {
             push(&mut kept, t, traj.q[k]);
-            last_t = t;
+            // The next time not yet reached.
+            while (target as f64) * spacing <= t - t0 {
+                target += 1;
+            }
         }
     }
     kept
