@@ -352,7 +352,11 @@ fn console_errors(stderr: &str) -> Vec<&str> {
 #[test]
 fn pages_play_in_a_browser() {
     let Some(bin) = chromium() else {
-        eprintln!(
+        // Written to the process's stderr, not through `eprintln!`, which the test harness
+        // captures (and shows only for a failing test).
+        use std::io::Write;
+        let _ = writeln!(
+            std::io::stderr(),
             "pages_play_in_a_browser: skipped, no Chromium found. Install it (Debian: `apt-get \
              install chromium`) or point LAGRANGE_CHROMIUM at a Chrome or Chromium binary, then \
              run `cargo test --test ensembles animation::`"

@@ -705,11 +705,13 @@ pub(crate) fn keyframes<const N: usize>(
                 push(&mut kept, later, j.after.0);
             }
         }
-        let due = t - t0 >= (target as f64 * spacing) * (1.0 - 1e-12);
-        if k == 0 || k == n - 1 || due {
+        // Whether the run has reached target time `m` (a sample a rounding error short of it
+        // counts).
+        let reached = |m: usize| t - t0 >= (m as f64 * spacing) * (1.0 - 1e-12);
+        if k == 0 || k == n - 1 || reached(target) {
             push(&mut kept, t, traj.q[k]);
             // The next time not yet reached.
-            while (target as f64) * spacing <= t - t0 {
+            while target < max_frames && reached(target) {
                 target += 1;
             }
         }
