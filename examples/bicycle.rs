@@ -252,5 +252,14 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
         .draw()?;
     root.present()?;
     println!("figure: {}", o.out);
+
+    // To watch, next to the figure: from a lean rate of 0.3 rad/s, the weave growing at 3 m/s
+    // and decaying at 5 m/s.
+    let stem = o.out.strip_suffix(".svg").unwrap_or(&o.out).to_owned();
+    for (v, until, what) in [(3.0, 4.5, "weave"), (5.0, 8.0, "decay")] {
+        let tr = bike.watch(v, until)?;
+        let title = format!("Whipple bicycle at {v} m/s ({what})");
+        cli::write_animation(&format!("{stem}_{v}ms.svg"), &title, &tr, &bike)?;
+    }
     Ok(())
 }

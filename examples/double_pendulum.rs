@@ -94,5 +94,11 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
             e.initial, e.max_rel
         );
     }
+    // The first 20 s of the chaotic run, to watch.
+    let watch = Simulation::new(&p, [2.0, -1.0], [0.0, 3.0])
+        .until(20.0)
+        .sample_every(0.01)
+        .run()?;
+    cli::write_animation("out/double_pendulum.svg", "double pendulum", &watch, &p)?;
     Ok(())
 }

@@ -131,6 +131,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
 
     plot(&o.out, &fb, &tr)?;
     println!("\nwrote {}", o.out);
+    cli::write_animation(&o.out, "four-bar crank–rocker", &tr, &fb)?;
     Ok(())
 }
 

@@ -272,6 +272,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     }
     plot(&o.svg, &traj, th_min, th_max, &c, motion, period)?;
     println!("wrote {}", o.svg);
+    cli::write_animation(&o.svg, "heavy top (eq. 92)", &traj, &top)?;
     Ok(())
 }
 

@@ -248,5 +248,24 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     root.present()?;
     println!("figure: {out}");
+
+    // To watch, next to the figure: the rocking block's run, and the wheel's first 12 s.
+    let stem = out.strip_suffix(".svg").unwrap_or(&out);
+    cli::write_animation(
+        &format!("{stem}_block.svg"),
+        "rocking block",
+        &block_run,
+        &block,
+    )?;
+    let wheel_watch = Simulation::contacts(&wheel, q0, v0)
+        .until(12.0)
+        .sample_every(0.01)
+        .run()?;
+    cli::write_animation(
+        &format!("{stem}_rimless_wheel.svg"),
+        "rimless wheel",
+        &wheel_watch,
+        &wheel,
+    )?;
     Ok(())
 }

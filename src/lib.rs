@@ -485,10 +485,19 @@
 /// unilateral contacts, each from its gap g(q, t) ≥ 0 (`Contact::gap(g)`, with
 /// `.restitution(e)`, `.sticking(s)`, `.named(..)`), and makes the macro emit
 /// `impl Unilateral<N, K>`, which `Simulation::contacts` runs (see the crate docs).
+///
+/// # Scene
+///
+/// An optional `fn scene(&self, (x, _): Coord, ..., t: Time) -> Scene` says what the system
+/// looks like at a state: shapes placed from the positions with `Rotation` and `Vector3`
+/// (`Scene::new().rod("arm", a, b, 0.02, Rgb::GREY).sphere("bob", b, 0.1, Rgb::RED)`). It takes
+/// `lagrangian`'s coordinates with the velocities as `_`, like `fn constraints`, and makes the
+/// macro emit `impl Visual<N>`, which `Trajectory::write_gltf` and `Trajectory::write_html`
+/// animate (README, "Seeing it move").
 pub use lagrange_macros::lagrangian;
 
 // What users build with, in the index.
-pub use lagrange_runtime::{ensemble, geometry, linearize, rigid, theory};
+pub use lagrange_runtime::{animation, ensemble, geometry, linearize, rigid, scene, theory};
 pub use lagrange_runtime::{
     equilibrium, ConstrainedLinearization, Linearization, LinearizationError, Linearize,
     LinearizeConstrained, Mode, Stability,
@@ -548,6 +557,7 @@ pub mod prelude {
     pub use lagrange_runtime::geometry::{
         angular_velocity, body_angular_velocity, velocity, Rotation,
     };
+    pub use lagrange_runtime::scene::{Rgb, Scene, Visual};
     pub use lagrange_runtime::{
         equilibrium, Linearization, LinearizationError, Linearize, LinearizeConstrained, Stability,
     };
@@ -567,6 +577,7 @@ pub mod __private {
     pub use lagrange_runtime::lagrangian::{kernel_params, Compiled};
     pub use lagrange_runtime::mix::*;
     pub use lagrange_runtime::real::Real;
+    pub use lagrange_runtime::scene::{Scene, Visual};
     pub use lagrange_runtime::Nonholonomic;
     pub use lagrange_runtime::{eom, linalg, taylor};
     pub use lagrange_runtime::{solve_mass_matrix, DynamicsError, Holonomic, Lagrangian};

@@ -11,6 +11,7 @@
 
 mod support;
 
+mod animation;
 mod bicycle;
 mod contacts;
 mod ensemble;

@@ -302,4 +302,85 @@ impl Bicycle {
             velocity(c_f) + angular_velocity(&(fork * Rotation::about_y(theta_f))).cross(&down_f);
         [slip_r.x, slip_r.y, slip_f.x, slip_f.y]
     }
+
+    /// What it looks like (z down, as the paper's axes): the wheels (a mark on each rim shows
+    /// it turn), the rear frame from the rear axle to the head and to the rider, the fork from
+    /// the head to the front axle, the rider's mass as a ball, and the two contacts' paths.
+    #[allow(clippy::too_many_arguments)]
+    fn scene(
+        &self,
+        (x, _): Coord,
+        (y, _): Coord,
+        (psi, _): Coord,
+        (phi, _): Coord,
+        (theta, _): Coord,
+        (delta, _): Coord,
+        (theta_r, _): Coord,
+        (theta_f, _): Coord,
+    ) -> Scene {
+        let (_, rear, fork, c_r, s) = self.frames(x, y, psi, phi, theta, delta);
+        let c_f = s + fork * Vector3::new(-self.c, 0.0, -self.r_f);
+        let rider = c_r + rear * Vector3::new(self.x_b, 0.0, self.z_b + self.r_r);
+        // The steer axis, tilted back by λ, from its ground point up to the head.
+        let axis = rear * Vector3::new(self.lambda.sin(), 0.0, self.lambda.cos());
+        let head = s - axis * (1.4 * self.r_f / self.lambda.cos());
+        // A wheel's plane has the axle (its frame's y) as normal: the disc's z is the axle.
+        let side = Rotation::about_x(-std::f64::consts::FRAC_PI_2);
+        let rim_r = c_r + rear * Rotation::about_y(theta_r) * Vector3::new(0.0, 0.0, self.r_r);
+        let rim_f = c_f + fork * Rotation::about_y(theta_f) * Vector3::new(0.0, 0.0, self.r_f);
+        let ground = |p: Vector3<f64>| Vector3::new(p.x, p.y, 0.0);
+        Scene::new()
+            .up(-Vector3::z())
+            .disc("rear wheel", rear * side, c_r, self.r_r, 0.04, Rgb::BLACK)
+            .disc("front wheel", fork * side, c_f, self.r_f, 0.04, Rgb::BLACK)
+            .sphere("rear mark", rim_r, 0.05, Rgb::YELLOW)
+            .sphere("front mark", rim_f, 0.05, Rgb::YELLOW)
+            .rod("frame", c_r, head, 0.03, Rgb::STEEL)
+            .rod("seat post", c_r, rider, 0.03, Rgb::STEEL)
+            .rod("fork", head, c_f, 0.03, Rgb::GREY)
+            .sphere("rider", rider, 0.25, Rgb::ORANGE)
+            .trace("rear contact", ground(c_r), Rgb::RED)
+            .trace("front contact", ground(c_f), Rgb::BLUE)
+    }
+}
+
+impl Bicycle {
+    /// A run to watch: from upright straight running at `v` m/s with a lean rate of 0.3 rad/s,
+    /// `until` seconds, a sample every 10 ms (at 3 m/s it weaves and grows, at 5 m/s it
+    /// decays).
+    ///
+    /// ```
+    /// use lagrange_examples::bicycle_system::Bicycle;
+    /// let tr = Bicycle::benchmark().watch(5.0, 0.1).unwrap();
+    /// assert_eq!(tr.t.len(), 11);
+    /// ```
+    pub fn watch(&self, v: f64, until: f64) -> Result<Trajectory<8>, SimulationError> {
+        self.watch_every(v, until, 0.01)
+    }
+
+    /// [`Bicycle::watch`] with a sample every `dt` seconds.
+    ///
+    /// ```
+    /// use lagrange_examples::bicycle_system::Bicycle;
+    /// let tr = Bicycle::benchmark().watch_every(5.0, 0.1, 0.05).unwrap();
+    /// assert_eq!(tr.t.len(), 3);
+    /// ```
+    pub fn watch_every(
+        &self,
+        v: f64,
+        until: f64,
+        dt: f64,
+    ) -> Result<Trajectory<8>, SimulationError> {
+        let (q0, mut v0) = self.upright(v);
+        v0[3] = 0.3;
+        Simulation::constrained(self, q0, v0)
+            .project_initial_state()
+            .method(Method::Dop853 {
+                rtol: 1e-9,
+                atol: 1e-11,
+            })
+            .until(until)
+            .sample_every(dt)
+            .run()
+    }
 }

@@ -41,3 +41,38 @@ pub fn run_or_exit(body: fn() -> Result<(), Box<dyn std::error::Error>>) {
         std::process::exit(1);
     }
 }
+
+/// Writes a run's animation next to its figure: `PATH.html` (the page that plays it) and
+/// `PATH.gltf` (the glTF 2.0 file), `PATH` the figure's path without its extension; prints both.
+///
+/// ```
+/// let p = std::path::Path::new("out/top.svg");
+/// assert_eq!(p.with_extension("html"), std::path::Path::new("out/top.html"));
+/// ```
+pub fn write_animation<V: lagrange::scene::Visual<N> + ?Sized, const N: usize>(
+    figure: &str,
+    title: &str,
+    traj: &lagrange::Trajectory<N>,
+    sys: &V,
+) -> Result<(), lagrange::animation::AnimationError> {
+    let figure = std::path::Path::new(figure);
+    let anim = lagrange::animation::Animation::of(traj, sys)
+        .title(title)
+        .build()?;
+    for ext in ["html", "gltf"] {
+        let path = figure.with_extension(ext);
+        match ext {
+            "html" => anim.write_html(&path)?,
+            _ => anim.write_gltf(&path)?,
+        }
+        let kib = std::fs::metadata(&path)
+            .map(|m| m.len() / 1024)
+            .unwrap_or(0);
+        println!(
+            "wrote {} ({kib} KiB, {} keyframes)",
+            path.display(),
+            anim.times().len()
+        );
+    }
+    Ok(())
+}

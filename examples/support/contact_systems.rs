@@ -60,6 +60,33 @@ impl Block {
             Contact::gap(yl).sticking(xl).named("left corner"),
         ]
     }
+    /// What it looks like (x to the right, y up): the floor, the block, and the path of the
+    /// middle of its top face.
+    fn scene(&self, (x, _): Coord, (y, _): Coord, (theta, _): Coord) -> Scene {
+        let body = Rotation::about_z(theta);
+        let centre = Vector3::new(x, y, 0.0);
+        Scene::new()
+            .up(Vector3::y())
+            .cuboid(
+                "floor",
+                Rotation::identity(),
+                Vector3::new(0.0, -0.025 * self.h, 0.0),
+                Vector3::new(8.0 * self.b, 0.05 * self.h, 4.0 * self.b),
+                Rgb::GREY,
+            )
+            .cuboid(
+                "block",
+                body,
+                centre,
+                Vector3::new(2.0 * self.b, 2.0 * self.h, 2.0 * self.b),
+                Rgb::STEEL,
+            )
+            .trace(
+                "top",
+                centre + body * Vector3::new(0.0, self.h, 0.0),
+                Rgb::RED,
+            )
+    }
 }
 
 /// The number of spokes of [`RimlessWheel`]: 2α = 2π/8 apart.
@@ -106,6 +133,29 @@ impl RimlessWheel {
             spoke(6.0),
             spoke(7.0),
         ]
+    }
+    /// What it looks like, gravity down (the slope's frame turned by γ): the hub, the spokes,
+    /// a stretch of the slope under the hub (it follows the hub: the run's length is not known
+    /// here), and the hub's path.
+    fn scene(&self, (x, _): Coord, (y, _): Coord, (theta, _): Coord) -> Scene {
+        let hub = Vector3::new(x, y, 0.0);
+        let up = Vector3::new(-self.slope.sin(), self.slope.cos(), 0.0);
+        let mut scene = Scene::new()
+            .up(up)
+            .cuboid(
+                "slope",
+                Rotation::identity(),
+                Vector3::new(x, -0.025 * self.l, 0.0),
+                Vector3::new(6.0 * self.l, 0.05 * self.l, 1.5 * self.l),
+                Rgb::GREY,
+            )
+            .sphere("hub", hub, 0.1 * self.l, Rgb::ORANGE);
+        for k in 0..SPOKES {
+            let phi = theta + k as f64 * std::f64::consts::PI / 4.0;
+            let tip = hub + Vector3::new(self.l * phi.sin(), -self.l * phi.cos(), 0.0);
+            scene = scene.rod(&format!("spoke {k}"), hub, tip, 0.025 * self.l, Rgb::STEEL);
+        }
+        scene.trace("hub's path", hub, Rgb::RED)
     }
 }
 

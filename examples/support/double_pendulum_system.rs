@@ -27,4 +27,19 @@ impl DoublePendulum {
             + (m1 + m2) * g * l1 * th1.cos()
             + m2 * g * l2 * th2.cos()
     }
+
+    /// What it looks like (x to the right, y up): the rods, the bobs, and the lower bob's path.
+    fn scene(&self, (th1, _): Coord, (th2, _): Coord) -> Scene {
+        let p1 = Vector3::new(self.l1 * th1.sin(), -self.l1 * th1.cos(), 0.0);
+        let p2 = p1 + Vector3::new(self.l2 * th2.sin(), -self.l2 * th2.cos(), 0.0);
+        let r = 0.06 * (self.l1 + self.l2);
+        Scene::new()
+            .up(Vector3::y())
+            .sphere("pivot", Vector3::zeros(), 0.4 * r, Rgb::BLACK)
+            .rod("upper rod", Vector3::zeros(), p1, 0.15 * r, Rgb::GREY)
+            .rod("lower rod", p1, p2, 0.15 * r, Rgb::GREY)
+            .sphere("upper bob", p1, r, Rgb::STEEL)
+            .sphere("lower bob", p2, r, Rgb::ORANGE)
+            .trace("lower bob's path", p2, Rgb::RED)
+    }
 }

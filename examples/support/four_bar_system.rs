@@ -141,3 +141,26 @@ impl Holonomic<3, 2> for FourBar {
         ]
     }
 }
+
+/// What the linkage looks like (x to the right, y up), written by hand as `#[lagrangian]`'s
+/// `fn scene` would be: the ground pivots, the three bars, the coupler point's curve.
+impl Visual<3> for FourBar {
+    fn scene(&self, q: &[f64; 3], _t: f64) -> Scene {
+        let at = |x: f64, y: f64| Vector3::new(x, y, 0.0);
+        let (a, d) = (at(0.0, 0.0), at(self.l0, 0.0));
+        let b = at(self.l1 * q[0].cos(), self.l1 * q[0].sin());
+        let c = b + at(self.l2 * q[1].cos(), self.l2 * q[1].sin());
+        // The coupler point of the example's figure: halfway from B to C, 0.4 l2 to its left.
+        let (px, py) = self.coupler_point(q, 0.5, 0.4);
+        let r = 0.04 * self.l0;
+        Scene::new()
+            .up(Vector3::y())
+            .sphere("pivot A", a, r, Rgb::BLACK)
+            .sphere("pivot D", d, r, Rgb::BLACK)
+            .rod("crank", a, b, 0.5 * r, Rgb::ORANGE)
+            .rod("coupler", b, c, 0.5 * r, Rgb::STEEL)
+            .rod("rocker", d, c, 0.5 * r, Rgb::GREEN)
+            .sphere("coupler point", at(px, py), 0.7 * r, Rgb::RED)
+            .trace("coupler curve", at(px, py), Rgb::RED)
+    }
+}

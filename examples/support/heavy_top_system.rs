@@ -26,4 +26,17 @@ impl HeavyTop {
             + self.i_par / 2.0 * (psi_dot + phi_dot * theta.cos()).powi(2)
             - self.mgl * theta.cos()
     }
+
+    /// What the top looks like: its axis from the fixed point, a disc across it with a mark on
+    /// its rim (the spin), and the trace of the axis's tip (the nutation's waves or loops).
+    fn scene(&self, (theta, _): Coord, (phi, _): Coord, (psi, _): Coord) -> Scene {
+        let body = Rotation::about_z(phi) * Rotation::about_x(theta) * Rotation::about_z(psi);
+        let along = |s: f64, x: f64| body * Vector3::new(x, 0.0, s);
+        Scene::new()
+            .sphere("pivot", Vector3::zeros(), 0.05, Rgb::BLACK)
+            .rod("axis", Vector3::zeros(), along(1.2, 0.0), 0.025, Rgb::GREY)
+            .disc("body", body, along(0.8, 0.0), 0.4, 0.1, Rgb::ORANGE)
+            .sphere("mark", along(0.8, 0.4), 0.05, Rgb::STEEL)
+            .trace("axis tip", along(1.2, 0.0), Rgb::RED)
+    }
 }

@@ -9,6 +9,8 @@
 //! the heavy top the benchmarks time ([`bench_top`]). Nothing includes these files by path.
 
 #[cfg(feature = "test-models")]
+pub mod animations;
+#[cfg(feature = "test-models")]
 pub mod bench_top;
 pub mod bicycle_system;
 pub mod cli;

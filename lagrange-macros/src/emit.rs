@@ -58,6 +58,8 @@ pub struct Fallback {
     /// K of the (first) `fn velocity_constraints`, when its return type says it: the stub then
     /// implements `Nonholonomic<N, K>`, and `Holonomic` with these rows added.
     velocity_hint: Option<usize>,
+    /// Whether the impl block has a `fn scene`: the stub then implements `Visual<N>`.
+    scene: bool,
 }
 
 impl Fallback {
@@ -95,6 +97,7 @@ impl Fallback {
             k_hint,
             contacts_hint,
             velocity_hint,
+            scene: !split.scene.is_empty(),
         }
     }
 }
@@ -259,6 +262,10 @@ pub fn generate(
         (Some(f), Some(body)) => unilateral_impl(decl, analysis, f, body),
         _ => quote!(),
     };
+    let visual = match &decl.scene {
+        Some(f) => visual_impl(decl, analysis, f),
+        None => quote!(),
+    };
 
     let n = proc_macro2::Literal::usize_unsuffixed(n);
     let allow = crate::names::allow_generated();
@@ -306,6 +313,7 @@ pub fn generate(
         #timed_impl
         #holonomic
         #unilateral
+        #visual
         #symbolic_consts
     }
 }
@@ -493,6 +501,43 @@ fn unilateral_impl(decl: &Decl, analysis: &Facts<'_>, f: &Func, body: &syn::Bloc
     }
 }
 
+/// `impl Visual<N>` from `fn scene`: its body as written, evaluated in `f64` (a scene is
+/// drawn, not differentiated), the user's names bound to the positions and the time.
+fn visual_impl(decl: &Decl, analysis: &Facts<'_>, f: &Func) -> TokenStream {
+    let self_ty = &decl.rest.self_ty;
+    let params = crate::names::Params::jets();
+    let coords: Vec<(Option<&Ident>, Option<&Ident>)> =
+        f.bindings.iter().map(|(c, _)| (c.as_ref(), None)).collect();
+    let (bindings, [q_pat, _, t_pat]) = bind_slots(
+        decl,
+        &coords,
+        f.time.as_ref(),
+        &analysis.func_used(f),
+        &params,
+    );
+    let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
+    let ret = quote_spanned!(f.ret_span=> ::lagrange::__private::Scene);
+    let attrs = &f.fn_attrs;
+    let self_token = &f.self_token;
+    let ident = &f.fn_ident;
+    let stmts = &f.body.stmts;
+    let allow = crate::names::allow_generated();
+    quote! {
+        #[automatically_derived]
+        #allow
+        impl ::lagrange::__private::Visual<#n> for #self_ty {
+            #(#attrs)*
+            fn #ident(&#self_token, #q_pat: &[f64; #n], #t_pat: f64) -> #ret {
+                // The body's number type: a scene is evaluated in `f64`.
+                #[allow(dead_code)]
+                type Scalar = f64;
+                #(#bindings)*
+                #(#stmts)*
+            }
+        }
+    }
+}
+
 /// `let` bindings of the user's names (those `used` mentions) to the slots of the generated
 /// parameters `params`, and the patterns of the three parameters (`_` for one nothing reads).
 /// `coords` has one entry per coordinate parameter of `decl`: the coordinate and velocity
@@ -584,6 +629,8 @@ fn jets_func(
             let k = proc_macro2::Literal::usize_unsuffixed(f.k);
             quote_spanned!(f.ret_span=> [Scalar; #k])
         }
+        // Emitted by `visual_impl`, in `f64`, never as a generic method.
+        FuncKind::Scene => quote_spanned!(f.ret_span=> ::lagrange::__private::Scene),
     };
     // `fn constraints(&self, q, t)` and `fn contacts(&self, q, t)` have no velocities.
     let qdot_param = if f.kind.positions_only() {
@@ -684,7 +731,20 @@ fn stub_impl(rest: &syn::ItemImpl, fallback: &Fallback) -> TokenStream {
         },
         None => quote!(),
     };
+    let visual = if fallback.scene {
+        quote! {
+            #[automatically_derived]
+            impl ::lagrange::__private::Visual<#n> for #self_ty {
+                fn scene(&self, _: &[f64; #n], _: f64) -> ::lagrange::__private::Scene {
+                    ::core::unreachable!("`#[lagrangian]` reported errors for this impl")
+                }
+            }
+        }
+    } else {
+        quote!()
+    };
     quote! {
+        #visual
         #[automatically_derived]
         impl ::lagrange::__private::Lagrangian<#n> for #self_ty {
             const COORDINATES: [&'static str; #n] = [#(#names),*];

@@ -51,6 +51,18 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
             return emit::stub(&errors, &fallback);
         }
     }
+    // A rate in `fn scene`: shapes are placed from the positions.
+    if let Some(f) = &decl.scene {
+        if let Some(at) = crate::front::timed::reads_rates(&f.body, &decl.rest) {
+            errors.push(syn::Error::new(
+                at,
+                "a velocity in `fn scene`: a scene places shapes from the positions (and \
+                 `t: Time`) only, and the animation poses them at each state's positions; write \
+                 the shapes' places without `velocity` or an angular velocity",
+            ));
+            return emit::stub(&errors, &fallback);
+        }
+    }
     let front = front::Front::of(&decl);
     let mut analysis = analyze::analyze(&decl, &front);
     let callables = &front.callables;

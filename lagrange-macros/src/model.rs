@@ -102,6 +102,9 @@ pub enum FuncKind {
     /// `fn velocity_constraints(&self, ...) -> [Scalar; K]`: the nonholonomic constraints
     /// A(q, t) q̇ + b(q, t) = 0.
     VelocityConstraints,
+    /// `fn scene(&self, ...) -> Scene`: what the system looks like at a state, from the
+    /// positions (and the time).
+    Scene,
 }
 
 impl FuncKind {
@@ -113,6 +116,7 @@ impl FuncKind {
             FuncKind::Constraints => "constraints",
             FuncKind::Contacts => "contacts",
             FuncKind::VelocityConstraints => "velocity_constraints",
+            FuncKind::Scene => "scene",
         }
     }
     /// The trait method it becomes (of `Lagrangian`, or of `Holonomic` for constraints).
@@ -123,12 +127,16 @@ impl FuncKind {
             FuncKind::Constraints => "constraints",
             FuncKind::Contacts => "contacts",
             FuncKind::VelocityConstraints => "velocity_constraints",
+            FuncKind::Scene => "scene",
         }
     }
-    /// Whether its body depends on the positions (and the time) only: `fn constraints` and
-    /// `fn contacts`.
+    /// Whether its body depends on the positions (and the time) only: `fn constraints`,
+    /// `fn contacts` and `fn scene`.
     pub fn positions_only(self) -> bool {
-        matches!(self, FuncKind::Constraints | FuncKind::Contacts)
+        matches!(
+            self,
+            FuncKind::Constraints | FuncKind::Contacts | FuncKind::Scene
+        )
     }
 }
 
@@ -196,6 +204,9 @@ pub struct Decl {
     /// `fn velocity_constraints`, if the impl block has one (emitted as
     /// `impl Nonholonomic<N, K>`, its rows folded into `impl Holonomic`).
     pub velocity_constraints: Option<Func>,
+    /// `fn scene`, if the impl block has one (emitted as `impl Visual<N>`, its body evaluated
+    /// in `f64` at the states of a run).
+    pub scene: Option<Func>,
 }
 
 impl Decl {

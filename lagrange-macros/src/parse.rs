@@ -89,6 +89,8 @@ pub struct Split {
     pub contacts: Vec<ImplItemFn>,
     /// Every `fn velocity_constraints` found.
     pub velocity_constraints: Vec<ImplItemFn>,
+    /// Every `fn scene` found.
+    pub scene: Vec<ImplItemFn>,
 }
 
 /// Parses the annotated item as an impl block and takes out `fn lagrangian`, `fn dissipation`,
@@ -103,6 +105,7 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
     let (mut funcs, mut dissipation, mut forces, mut constraints, mut contacts) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut velocity_constraints = Vec::new();
+    let mut scene = Vec::new();
     let items = std::mem::take(&mut rest.items);
     for item in items {
         match item {
@@ -111,6 +114,7 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
             ImplItem::Fn(f) if f.sig.ident == "forces" => forces.push(f),
             ImplItem::Fn(f) if f.sig.ident == "constraints" => constraints.push(f),
             ImplItem::Fn(f) if f.sig.ident == "contacts" => contacts.push(f),
+            ImplItem::Fn(f) if f.sig.ident == "scene" => scene.push(f),
             ImplItem::Fn(f) if f.sig.ident == "velocity_constraints" => {
                 velocity_constraints.push(f)
             }
@@ -125,5 +129,6 @@ pub fn split(input: TokenStream) -> syn::Result<Split> {
         constraints,
         contacts,
         velocity_constraints,
+        scene,
     })
 }

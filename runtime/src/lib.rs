@@ -8,6 +8,7 @@
 // Numeric kernels over fixed-size arrays index several arrays at once and read as the math.
 #![allow(clippy::needless_range_loop)]
 
+pub mod animation;
 pub mod constraints;
 pub mod contact;
 pub mod ensemble;
@@ -26,6 +27,7 @@ pub mod mix;
 pub mod real;
 pub mod rigid;
 mod scalar;
+pub mod scene;
 pub mod tangent;
 pub mod taylor;
 pub mod theory;

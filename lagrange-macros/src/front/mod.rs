@@ -92,6 +92,7 @@ impl<'a> Front<'a> {
             &decl.constraints,
             &decl.velocity_constraints,
             &decl.contacts,
+            &decl.scene,
         ]
         .into_iter()
         .flatten()

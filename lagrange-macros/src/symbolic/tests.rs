@@ -72,6 +72,7 @@ fn decl(coords: &[(&str, &str, bool)], time: Option<&str>, body: &str) -> Decl {
         constraints: None,
         contacts: None,
         velocity_constraints: None,
+        scene: None,
     }
 }
 

@@ -17,6 +17,9 @@ pub(super) const CONTACTS_RULE: &str = "the coordinate parameters of `contacts` 
 /// The rule for the parameters of `fn velocity_constraints`, quoted by every error about them.
 pub(super) const VELOCITY_RULE: &str = "the coordinate parameters of `velocity_constraints` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` and names may differ; each entry c(q, q̇, t) = A(q, t) q̇ + b(q, t) is affine in the velocities; `t: Time` is optional";
 
+/// The rule for the parameters of `fn scene`, quoted by every error about them.
+pub(super) const SCENE_RULE: &str = "the coordinate parameters of `scene` are `lagrangian`'s, all of them, in the same order and of the same kinds (`Coord`, `Coord3`, `Coords<K>`); any binding may be `_` and names may differ; a scene places shapes from the positions only, so bind each velocity as `_` (`(x, _): Coord`); `t: Time` is optional";
+
 /// The parameter rule quoted for `kind`.
 pub(super) fn extra_rule(kind: FuncKind) -> &'static str {
     match kind {
@@ -24,6 +27,7 @@ pub(super) fn extra_rule(kind: FuncKind) -> &'static str {
         FuncKind::Constraints => CONSTRAINTS_RULE,
         FuncKind::Contacts => CONTACTS_RULE,
         FuncKind::VelocityConstraints => VELOCITY_RULE,
+        FuncKind::Scene => SCENE_RULE,
     }
 }
 
@@ -65,6 +69,7 @@ pub(super) fn extra_hint(
             Some(k) => format!("[Scalar; {k}]"),
             None => "[Scalar; K]".to_owned(),
         },
+        FuncKind::Scene => "Scene".to_owned(),
     };
     format!(
         "fn {}(&self, {}) -> {ret}",
@@ -210,6 +215,16 @@ pub(super) fn check_extra(
                     ty,
                     format!("`fn contacts` returns an array of contacts, one entry per contact, each made from its gap g(q, t) ≥ 0 (`Contact::gap(y).restitution(self.e)`, `.sticking(x)` for a contact point that does not slide): write `-> [Contact; K]` with K the number of contacts: `{hint}`"),
                 ),
+            }
+            ty.span()
+        }
+        (ReturnType::Type(_, ty), FuncKind::Scene) => {
+            if !is_ident_type(ty, "Scene") {
+                fail(
+                    errors,
+                    ty,
+                    format!("`fn scene` returns a `Scene`: the shapes placed in space at a state (`Scene::new().sphere(\"bob\", p, 0.1, Rgb::RED)`); write `-> Scene`: `{hint}`"),
+                );
             }
             ty.span()
         }
@@ -367,7 +382,11 @@ pub(super) fn check_extra(
                 let with_time = extra_hint(kind, lag_coords, true, declared_k)
                     .replace("t: Time", &format!("{cand}: Time"));
                 let msg = if kind.positions_only() {
-                    format!("`{cand}` is used in `fn {name}`, which has no `{cand}: Time` parameter: a moving (rheonomic) {} g(q, t) declares the time, so add `{cand}: Time` to its parameters: `{with_time}`", if kind == FuncKind::Contacts { "contact" } else { "constraint" })
+                    if kind == FuncKind::Scene {
+                        format!("`{cand}` is used in `fn scene`, which has no `{cand}: Time` parameter: a scene that moves with the time declares it, so add `{cand}: Time` to its parameters: `{with_time}`")
+                    } else {
+                        format!("`{cand}` is used in `fn {name}`, which has no `{cand}: Time` parameter: a moving (rheonomic) {} g(q, t) declares the time, so add `{cand}: Time` to its parameters: `{with_time}`", if kind == FuncKind::Contacts { "contact" } else { "constraint" })
+                    }
                 } else {
                     format!("`{cand}` is used in `fn {name}`, which has no `{cand}: Time` parameter: add `{cand}: Time` to its parameters (`t: Time` is optional in each of `lagrangian`, `dissipation` and `forces`, and each one whose body uses the time declares it): `{with_time}`")
                 };
@@ -435,6 +454,7 @@ pub fn contact_count(output: &ReturnType) -> Option<Result<usize, &syn::Expr>> {
 fn declared_count(kind: FuncKind, output: &ReturnType) -> Option<Result<usize, &syn::Expr>> {
     match kind {
         FuncKind::Contacts => contact_count(output),
+        FuncKind::Scene => None,
         _ => constraint_count(output),
     }
 }
@@ -482,6 +502,13 @@ pub(super) fn check_constraints_body(
             let x = coordinate
                 .as_ref()
                 .map_or_else(|| "x".to_owned(), crate::model::unraw);
+            if kind == FuncKind::Scene {
+                errors.at(
+                    &at,
+                    format!("`{velocity}` is a velocity, and `fn scene` places shapes from the positions (and `t: Time`) only: the animation poses them at each state's positions, and a velocity has no place in space. If `{velocity}` is here by mistake, bind it as `_`, `({x}, _)`: `{hint}`"),
+                );
+                continue;
+            }
             if kind == FuncKind::Contacts {
                 errors.at(
                     &at,

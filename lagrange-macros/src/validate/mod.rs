@@ -40,6 +40,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         constraints,
         contacts,
         velocity_constraints,
+        scene,
     } = split;
     if let Some((_, for_token)) = &rest.trait_ {
         errors.at(
@@ -89,6 +90,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         (&constraints, FuncKind::Constraints),
         (&contacts, FuncKind::Contacts),
         (&velocity_constraints, FuncKind::VelocityConstraints),
+        (&scene, FuncKind::Scene),
     ] {
         for extra in list.iter().skip(1) {
             let what = match kind {
@@ -97,6 +99,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
                 FuncKind::Constraints => "a system has one `fn constraints`: put every constraint g(q, t) = 0 into its own entry of the one array it returns",
                 FuncKind::Contacts => "a system has one `fn contacts`: put every contact into its own entry of the one array it returns",
                 FuncKind::VelocityConstraints => "a system has one `fn velocity_constraints`: put every velocity constraint into its own entry of the one array it returns",
+                FuncKind::Scene => "a system has one `fn scene`: add every shape to the one `Scene` it returns",
             };
             errors.at(
                 &extra.sig.ident,
@@ -127,6 +130,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
         (constraints, FuncKind::Constraints),
         (contacts, FuncKind::Contacts),
         (velocity_constraints, FuncKind::VelocityConstraints),
+        (scene, FuncKind::Scene),
     ] {
         let Some(f) = list.into_iter().next() else {
             continue;
@@ -138,6 +142,7 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
             FuncKind::Constraints => decl.constraints = checked,
             FuncKind::Contacts => decl.contacts = checked,
             FuncKind::VelocityConstraints => decl.velocity_constraints = checked,
+            FuncKind::Scene => decl.scene = checked,
         }
     }
     if errors.is_empty() {
@@ -352,6 +357,7 @@ fn check_fn(
         constraints: None,
         contacts: None,
         velocity_constraints: None,
+        scene: None,
     })
 }
 

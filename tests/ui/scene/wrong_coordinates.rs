@@ -1,0 +1,17 @@
+use lagrange::prelude::*;
+
+pub struct Planar {
+    pub m: f64,
+}
+
+#[lagrangian]
+impl Planar {
+    fn lagrangian(&self, (x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
+        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) - 9.81 * self.m * y
+    }
+    fn scene(&self, (r, _): Coord3) -> Scene {
+        Scene::new().sphere("ball", r, 0.1, Rgb::RED)
+    }
+}
+
+fn main() {}
