@@ -466,7 +466,8 @@ pub fn hessian_jet<L, const N: usize>(
 where
     L: Lagrangian<N> + ?Sized,
 {
-    if N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE {
+    // An inline const: each system instantiates only the path its N takes.
+    if const { N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE } {
         hessian_by_columns(sys, q, qdot, t)
     } else {
         hessian_whole(sys, q, qdot, t)
@@ -660,7 +661,8 @@ pub fn applied_jacobian<L, const N: usize>(
 where
     L: Lagrangian<N> + ?Sized,
 {
-    if N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE {
+    // An inline const: each system instantiates only the path its N takes.
+    if const { N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE } {
         applied_by_columns(sys, q, qdot, t)
     } else {
         applied_whole(sys, q, qdot, t)

@@ -552,7 +552,10 @@ pub(crate) fn linearize_along<L, const N: usize>(
 where
     L: Lagrangian<N> + ?Sized,
 {
-    let lin = if N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE {
+    // An inline const: each system instantiates only the path its N takes (the column path's
+    // jet for every small system, or the LinJet of 200 KB per number for the large ones, would
+    // otherwise be compiled and never run).
+    let lin = if const { N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE } {
         linearize_by_columns(sys, q, qdot, t, a0)
     } else {
         linearize_whole(sys, q, qdot, t, a0)

@@ -148,8 +148,12 @@ where
     let kh = K - H::VELOCITY_ROWS;
     // Every constraint's gradients and Hessians in (q, q̇) and the Hessians' rate along
     // (q̇₀, a₀).
-    let by_columns = N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE;
-    let values = constraint_seconds(sys, q, qdot, t, &a0, by_columns);
+    // An inline const: each system instantiates only the path its N takes.
+    let values = if const { N > crate::jet::HESSIAN_BY_COLUMNS_ABOVE } {
+        seconds_by_columns(sys, q, qdot, t, &a0)
+    } else {
+        seconds_whole(sys, q, qdot, t, &a0)
+    };
     let mut g_rows = DMatrix::zeros(K, N);
     let mut hq = DMatrix::zeros(K, N);
     let mut hv = DMatrix::zeros(K, N);
@@ -592,10 +596,9 @@ struct Second {
     third_qq: DMatrix<f64>,
 }
 
-/// Every constraint's [`Second`] from one evaluation in [`LinJet`]s, or, `by_columns` (above
-/// [`HESSIAN_BY_COLUMNS_ABOVE`](crate::jet::HESSIAN_BY_COLUMNS_ABOVE) coordinates), from 2N
-/// evaluations in [`LinColumnJet`]s (O(N) numbers each on the stack instead of O(N²)).
-#[inline(never)]
+/// Every constraint's [`Second`] from one evaluation in [`LinJet`]s, or, `by_columns`, from 2N
+/// evaluations in [`LinColumnJet`]s (the two paths side by side, for the test that compares them).
+#[cfg(test)]
 fn constraint_seconds<H, const N: usize, const K: usize>(
     sys: &H,
     q: &[f64; N],
@@ -607,44 +610,82 @@ fn constraint_seconds<H, const N: usize, const K: usize>(
 where
     H: Holonomic<N, K> + ?Sized,
 {
-    let mut out: Vec<Second> = (0..K)
-        .map(|_| Second {
-            gq: vec![0.0; N],
-            gv: vec![0.0; N],
-            hqq: DMatrix::zeros(N, N),
-            hqv: DMatrix::zeros(N, N),
-            hvv: DMatrix::zeros(N, N),
-            third_qq: DMatrix::zeros(N, N),
-        })
-        .collect();
     if by_columns {
-        for col in 0..2 * N {
-            let values =
-                crate::jet::with_jet_stack(N, core::mem::size_of::<LinColumnJet<N>>(), || {
-                    let (qj, vj, tj) = LinColumnJet::seed_boxed(q, qdot, t, qdot, a0, 1.0, col);
-                    Box::new(sys.constraint_values(&qj, &vj, tj))
-                });
-            for (c, v) in out.iter_mut().zip(values.iter()) {
-                let (b, d) = (v.base(), v.along());
-                let (cq, cv, dq) = (b.column_q(), b.column_qdot(), d.column_q());
-                if col == 0 {
-                    c.gq.copy_from_slice(&b.grad_q());
-                    c.gv.copy_from_slice(&b.grad_qdot());
-                }
-                for i in 0..N {
-                    if col < N {
-                        // The column of q_col: ∂²c/∂qᵢ∂q_col and ∂²c/∂q̇ᵢ∂q_col.
-                        c.hqq[(i, col)] = cq[i];
-                        c.hqv[(col, i)] = cv[i];
-                        c.third_qq[(i, col)] = dq[i];
-                    } else {
-                        c.hvv[(i, col - N)] = cv[i];
-                    }
+        seconds_by_columns(sys, q, qdot, t, a0)
+    } else {
+        seconds_whole(sys, q, qdot, t, a0)
+    }
+}
+
+/// Zeroed [`Second`]s for K constraints in N coordinates.
+fn zero_seconds(n: usize, k: usize) -> Vec<Second> {
+    (0..k)
+        .map(|_| Second {
+            gq: vec![0.0; n],
+            gv: vec![0.0; n],
+            hqq: DMatrix::zeros(n, n),
+            hqv: DMatrix::zeros(n, n),
+            hvv: DMatrix::zeros(n, n),
+            third_qq: DMatrix::zeros(n, n),
+        })
+        .collect()
+}
+
+/// Every constraint's [`Second`] from 2N evaluations in [`LinColumnJet`]s (above
+/// [`HESSIAN_BY_COLUMNS_ABOVE`](crate::jet::HESSIAN_BY_COLUMNS_ABOVE) coordinates: O(N) numbers
+/// each on the stack instead of the [`LinJet`]'s O(N²)).
+#[inline(never)]
+fn seconds_by_columns<H, const N: usize, const K: usize>(
+    sys: &H,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+    a0: &[f64; N],
+) -> Vec<Second>
+where
+    H: Holonomic<N, K> + ?Sized,
+{
+    let mut out = zero_seconds(N, K);
+    for col in 0..2 * N {
+        let values = crate::jet::with_jet_stack(N, core::mem::size_of::<LinColumnJet<N>>(), || {
+            let (qj, vj, tj) = LinColumnJet::seed_boxed(q, qdot, t, qdot, a0, 1.0, col);
+            Box::new(sys.constraint_values(&qj, &vj, tj))
+        });
+        for (c, v) in out.iter_mut().zip(values.iter()) {
+            let (b, d) = (v.base(), v.along());
+            let (cq, cv, dq) = (b.column_q(), b.column_qdot(), d.column_q());
+            if col == 0 {
+                c.gq.copy_from_slice(&b.grad_q());
+                c.gv.copy_from_slice(&b.grad_qdot());
+            }
+            for i in 0..N {
+                if col < N {
+                    // The column of q_col: ∂²c/∂qᵢ∂q_col and ∂²c/∂q̇ᵢ∂q_col.
+                    c.hqq[(i, col)] = cq[i];
+                    c.hqv[(col, i)] = cv[i];
+                    c.third_qq[(i, col)] = dq[i];
+                } else {
+                    c.hvv[(i, col - N)] = cv[i];
                 }
             }
         }
-        return out;
     }
+    out
+}
+
+/// Every constraint's [`Second`] from one evaluation in [`LinJet`]s.
+#[inline(never)]
+fn seconds_whole<H, const N: usize, const K: usize>(
+    sys: &H,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+    a0: &[f64; N],
+) -> Vec<Second>
+where
+    H: Holonomic<N, K> + ?Sized,
+{
+    let mut out = zero_seconds(N, K);
     let (qj, vj, tj) = LinJet::seed(q, qdot, t, qdot, a0, 1.0);
     let values = sys.constraint_values(&qj, &vj, tj);
     for (c, v) in out.iter_mut().zip(values.iter()) {
