@@ -547,3 +547,142 @@ fn a_rate_read_outside_the_impl_is_named() {
 fn a_leading_underscore_is_not_part_of_the_coordinate_name() {
     assert_eq!(<Ball as Lagrangian<2>>::COORDINATES, ["x", "y"]);
 }
+
+/// A particle moving out at ẋ = −1 from x = 1, reset to x = 1 each time it crosses x = 0: the
+/// jump at t = 1 caps the next step at 0.01 (a hundredth of ‖y‖/‖ẏ‖), and a run that ends
+/// right after that capped step (until = 1.01 + k ulp-sized slivers) ends there. Before, the
+/// capped step stopped a sliver short of the end and the next one underflowed.
+#[test]
+fn a_run_ending_one_capped_step_after_a_jump_ends() {
+    struct Drift;
+    impl Lagrangian<1> for Drift {
+        const COORDINATES: [&'static str; 1] = ["x"];
+        const CYCLIC: [bool; 1] = [true];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            v[0] * v[0] * 0.5
+        }
+    }
+    for k in 0..40 {
+        let until = 1.01 + f64::from(k) * 1e-16;
+        for method in [
+            tight(),
+            Method::DormandPrince {
+                rtol: 1e-8,
+                atol: 1e-8,
+            },
+        ] {
+            let tr = Simulation::new(&Drift, [1.0], [-1.0])
+                .method(method)
+                .event(
+                    Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0])
+                        .falling()
+                        .reset(|_t, _q, v| ([1.0], *v)),
+                )
+                .until(until)
+                .run()
+                .unwrap_or_else(|e| panic!("until 1.01 + {k}e-16 ({method:?}): {e}"));
+            assert_eq!(tr.jumps.len(), 1);
+            assert_eq!(*tr.t.last().unwrap(), until);
+            let x = tr.q.last().unwrap()[0];
+            assert!((x - (1.0 - (until - tr.jumps[0].t))).abs() < 1e-12, "{x}");
+        }
+    }
+}
+
+/// A ball with restitution 0.9995 dropped from 1 mm: its bounces shrink by 0.9995 each (a
+/// ratio too close to 1 for the 6-interval Zeno test) and accumulate at t∞ = t₁ (1 + e)/(1 − e)
+/// with t₁ = √(2 y₀/g); there the run goes on resting on the floor with λ = m g. Before, the
+/// bounces shrank until the step underflowed.
+#[test]
+fn a_nearly_elastic_ball_comes_to_rest() {
+    let e = 0.9995;
+    let ball = Ball { m: 1.0, g: G, e };
+    let y0 = 1e-3;
+    let t1 = (2.0 * y0 / G).sqrt();
+    let t_inf = t1 * (1.0 + e) / (1.0 - e);
+    let tr = Simulation::contacts(&ball, [0.0, y0], [0.0, 0.0])
+        .until(t_inf + 1.0)
+        .sample_every(0.5)
+        .run()
+        .unwrap();
+    let z = tr.zeno.as_ref().expect("the bounces accumulate");
+    assert!(z.resting, "{z:?}");
+    assert!(
+        (z.t_accumulation - t_inf).abs() < 1e-6 * t_inf,
+        "accumulates at {} against {t_inf}",
+        z.t_accumulation
+    );
+    // The ratio from the last 6 intervals, each within 1e3 location tolerances: 1e-3 of an
+    // interval each at worst, so the mean ratio to a few 1e-4.
+    assert!((z.ratio - e).abs() < 1e-4, "ratio {}", z.ratio);
+    let (y, v) = (tr.q.last().unwrap()[1], tr.qdot.last().unwrap()[1]);
+    assert!(y.abs() < 1e-12 && v.abs() < 1e-12, "y {y:e}, ẏ {v:e}");
+    let l = tr.lambda.last().unwrap()[0];
+    assert!((l - G).abs() < 1e-9, "λ = {l}");
+}
+
+/// The pendulum θ̈ = −sin θ.
+struct Pendulum;
+
+impl Lagrangian<1> for Pendulum {
+    const COORDINATES: [&'static str; 1] = ["theta"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        v[0] * v[0] * 0.5 + q[0].cos()
+    }
+}
+
+/// The period of the pendulum's libration of amplitude a: 4 K(sin(a/2)), K by the
+/// arithmetic–geometric mean, K(k) = π / (2 AGM(1, √(1 − k²))).
+fn libration_period(a: f64) -> f64 {
+    let k = (a / 2.0).sin();
+    let (mut x, mut y) = (1.0_f64, (1.0 - k * k).sqrt());
+    for _ in 0..20 {
+        (x, y) = (0.5 * (x + y), (x * y).sqrt());
+    }
+    4.0 * std::f64::consts::PI / (2.0 * x)
+}
+
+/// A small libration (amplitude 0.1: T = 2π (1 + 0.000625 + …), nearly isochronous) from a
+/// period guess 5 % off: pinned at its amplitude or its energy, shooting finds the orbit of that
+/// amplitude, T = 4 K(sin 0.05) to 1e-9. Unpinned, the least-norm Newton step runs down the
+/// family towards the equilibrium; where it ends there, the error names the pins.
+#[test]
+fn shooting_pinned_to_an_amplitude_or_an_energy() {
+    use lagrange::sensitivity::Shooting;
+    let a = 0.1;
+    let want = libration_period(a);
+    let guess = 1.05 * want;
+    let by_amplitude = Shooting::autonomous(&Pendulum, [a], [0.0], guess)
+        .pin_amplitude(0)
+        .find()
+        .unwrap();
+    assert!((by_amplitude.q0[0] - a).abs() < 1e-12);
+    assert!(by_amplitude.qdot0[0].abs() < 1e-12);
+    assert!(
+        (by_amplitude.period - want).abs() < 1e-9,
+        "{} against {want}",
+        by_amplitude.period
+    );
+    let by_energy = Shooting::autonomous(&Pendulum, [0.9 * a], [0.0], guess)
+        .pin_energy(-a.cos())
+        .find()
+        .unwrap();
+    assert!(
+        (by_energy.period - want).abs() < 1e-9,
+        "{} against {want}",
+        by_energy.period
+    );
+    let e = Pendulum.energy(&by_energy.q0, &by_energy.qdot0, 0.0);
+    assert!((e + a.cos()).abs() < 1e-12, "{e}");
+    match Shooting::autonomous(&Pendulum, [a], [0.0], guess).find() {
+        Err(e) => assert!(e.to_string().contains("pin_amplitude"), "{e}"),
+        Ok(o) => assert!(o.q0[0].hypot(o.qdot0[0]) > 1e-3, "{o:?}"),
+    }
+    let bad = Shooting::autonomous(&Pendulum, [a], [0.0], guess)
+        .pin_amplitude(1)
+        .find();
+    assert!(bad.unwrap_err().to_string().contains("numbered 0 to 0"));
+}

@@ -9,7 +9,9 @@ use super::dense::{Dense, Kind};
 use super::dop853::Dop853;
 use super::dopri5::Dopri5;
 use super::error::{PartialTrajectory, SimulationError};
-use super::events::{Direction, Event, EventHit, Jump, ZENO_INTERVALS, Zeno, brent, zeno};
+use super::events::{
+    Direction, Event, EventHit, Jump, ZENO_INTERVALS, Zeno, brent, location_tol, zeno,
+};
 use super::manifold::Manifold;
 use super::method::Method;
 use super::radau5::Radau5;
@@ -515,7 +517,16 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
         let mut cap: Option<f64> = None;
         while s.t() < o.until {
             self.check_budget(o)?;
-            let t_end = cap.map_or(o.until, |h| o.until.min(s.t() + h));
+            // A capped step that would end within 1 % of the run's end is stretched to it, as
+            // the steppers stretch their own last step: it must not leave a sliver below the
+            // time resolution.
+            let t_end = cap.map_or(o.until, |h| {
+                if s.t() + 1.01 * h >= o.until {
+                    o.until
+                } else {
+                    s.t() + h
+                }
+            });
             s.advance(t_end, &mut self.stats)?;
             cap = cap.map(|h| 8.0 * h).filter(|&h| s.t() + h < o.until);
             if self.after_step(&mut **s, o, &mut p)? {
@@ -711,7 +722,7 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
                         None => (t_b, g_new[i]),
                     };
                     if let Some(dir) = ev.crosses(prev.1, next.1) {
-                        let tol = 1e-12_f64.max(4.0 * f64::EPSILON * t_b.abs());
+                        let tol = location_tol(t_b);
                         let stats = &mut self.stats;
                         let tz = brent(
                             &mut |t| {

@@ -20,6 +20,11 @@
 //! does not reduce the residual is halved (up to 30 times). Newton that ends on an equilibrium
 //! (periodic with any period) is refused with [`OrbitError::NoConvergence`].
 //!
+//! A pin picks one orbit of a family: [`Shooting::pin_amplitude`] (the orbit turns in coordinate
+//! i at the guess's q_i: the rows Δq_i = q₀ᵢ − q_i and Δq̇_i = −q̇_i, the latter in place of the
+//! phase condition) or [`Shooting::pin_energy`] (the row ∇E·Δx = e − E(x)); the family's
+//! direction is then no longer cut.
+//!
 //! The multipliers are the eigenvalues of the monodromy matrix Φ(T) (from the real Schur form).
 
 use core::fmt;
@@ -139,7 +144,9 @@ pub struct PeriodicOrbit<const N: usize> {
     pub multipliers: Vec<Complex<f64>>,
     /// The verdict from the multipliers.
     pub stability: OrbitStability,
-    /// |x(t₀ + T) − x₀| (Euclidean, over the 2N components) at the orbit returned.
+    /// |x(t₀ + T) − x₀| (Euclidean, over the 2N components) at the orbit returned; with a pin
+    /// ([`Shooting::pin_amplitude`], [`Shooting::pin_energy`]), with the pin's residuals as more
+    /// components.
     pub closure: f64,
     /// Newton iterations taken.
     pub iterations: usize,
@@ -268,6 +275,17 @@ pub struct Shooting<'a, L, const N: usize> {
     method: Method,
     tolerance: f64,
     max_iterations: usize,
+    pin: Option<Pin>,
+}
+
+/// What picks one orbit out of an autonomous system's family (the energy, or the coordinate the
+/// orbit passes through), as a Newton row of its own.
+#[derive(Clone, Copy, Debug)]
+enum Pin {
+    /// The orbit turns in coordinate i at the guess's value: q_i(t₀) = q₀[i], q̇_i(t₀) = 0.
+    Amplitude(usize),
+    /// The energy (Jacobi integral) at t₀.
+    Energy(f64),
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
@@ -302,6 +320,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             },
             tolerance: 1e-10,
             max_iterations: 30,
+            pin: None,
         }
     }
 
@@ -415,6 +434,107 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         self
     }
 
+    /// Pins the orbit's amplitude in coordinate i: the orbit turns (q̇_i = 0) at q_i = q₀[i] at
+    /// t₀, the guess's value. This replaces the phase condition (the turning point fixes the
+    /// phase) and picks one orbit out of a family (an autonomous conservative system has one
+    /// through every energy). Without a pin Newton takes the least-norm step, which for small,
+    /// nearly isochronous oscillations and a period guess a few per cent off runs down the family
+    /// to the equilibrium.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Shooting;
+    /// # struct P;
+    /// # impl Lagrangian<1> for P {
+    /// #     const COORDINATES: [&'static str; 1] = ["theta"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
+    /// # }
+    /// // The pendulum's libration of amplitude 1, from a period guess 5 % off.
+    /// let orbit = Shooting::autonomous(&P, [1.0], [0.0], 7.0).pin_amplitude(0).find().unwrap();
+    /// assert!((orbit.q0[0] - 1.0).abs() < 1e-12 && orbit.qdot0[0].abs() < 1e-12);
+    /// assert!((orbit.period - 6.69998).abs() < 1e-5); // 4 K(sin ½)
+    /// ```
+    pub fn pin_amplitude(mut self, i: usize) -> Self {
+        self.pin = Some(Pin::Amplitude(i));
+        self
+    }
+
+    /// Pins the orbit's energy (the Jacobi integral q̇·p − L at t₀) to `energy`: of a family of
+    /// orbits, the one at that energy.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Shooting;
+    /// # struct P;
+    /// # impl Lagrangian<1> for P {
+    /// #     const COORDINATES: [&'static str; 1] = ["theta"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
+    /// # }
+    /// // E = −cos 1: the libration of amplitude 1, from a guess at amplitude 0.9.
+    /// let orbit = Shooting::autonomous(&P, [0.9], [0.0], 6.6)
+    ///     .pin_energy(-(1.0_f64).cos())
+    ///     .find()
+    ///     .unwrap();
+    /// assert!((orbit.period - 6.69998).abs() < 1e-5); // 4 K(sin ½)
+    /// ```
+    pub fn pin_energy(mut self, energy: f64) -> Self {
+        self.pin = Some(Pin::Energy(energy));
+        self
+    }
+
+    /// The pin's residual at x and its gradient (a Newton row), if pinned.
+    fn pin_row(&self, x: &[f64]) -> Option<(f64, Vec<f64>)> {
+        let n2 = 2 * N;
+        match self.pin? {
+            Pin::Amplitude(i) => {
+                let mut g = vec![0.0; n2];
+                g[i] = 1.0;
+                Some((x[i] - self.q0[i], g))
+            }
+            Pin::Energy(e) => {
+                let energy = |x: &[f64]| {
+                    let q: [f64; N] = core::array::from_fn(|i| x[i]);
+                    let v: [f64; N] = core::array::from_fn(|i| x[N + i]);
+                    self.sys.energy(&q, &v, self.t0)
+                };
+                // The gradient by central differences (a Newton row: its error slows the
+                // iteration, never moves the orbit, whose energy is the residual's).
+                let mut g = vec![0.0; n2];
+                let mut xt = x.to_vec();
+                for j in 0..n2 {
+                    let h = f64::EPSILON.cbrt() * x[j].abs().max(1.0);
+                    xt[j] = x[j] + h;
+                    let up = energy(&xt);
+                    xt[j] = x[j] - h;
+                    let down = energy(&xt);
+                    xt[j] = x[j];
+                    g[j] = (up - down) / (2.0 * h);
+                }
+                Some((energy(x) - e, g))
+            }
+        }
+    }
+
+    /// The closure |x(T) − x₀| and, pinned, the pin's residuals: the size Newton drives to 0.
+    fn residual(&self, s: &Shot, x: &[f64]) -> f64 {
+        let closure = s
+            .end
+            .iter()
+            .zip(x)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum::<f64>();
+        let pin = self.pin_row(x).map_or(0.0, |(r, _)| r * r);
+        let turn = match self.pin {
+            Some(Pin::Amplitude(i)) => x[N + i] * x[N + i],
+            _ => 0.0,
+        };
+        (closure + pin + turn).sqrt()
+    }
+
     /// x(t₀ + T), Φ(t₀ + T) and f at both ends, from a sensitivity run from x.
     fn shoot(&self, x: &[f64], period: f64) -> Result<Shot, OrbitError> {
         let q: [f64; N] = core::array::from_fn(|i| x[i]);
@@ -493,18 +613,35 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 message: format!("the tolerance is {}: give a positive one", self.tolerance),
             });
         }
+        match self.pin {
+            Some(Pin::Amplitude(i)) if i >= N => {
+                return Err(OrbitError::InvalidOptions {
+                    message: format!(
+                        "pin_amplitude({i}): the system's coordinates are numbered 0 to {}",
+                        N - 1
+                    ),
+                });
+            }
+            Some(Pin::Energy(e)) if !e.is_finite() => {
+                return Err(OrbitError::InvalidOptions {
+                    message: format!("pin_energy({e}): give a finite energy"),
+                });
+            }
+            Some(_) if self.fixed_period => {
+                return Err(OrbitError::InvalidOptions {
+                    message: "a pin picks an orbit out of an autonomous system's family; a \
+                              forced system's period is fixed and its orbits isolated: use \
+                              Shooting::autonomous, or drop the pin"
+                        .into(),
+                });
+            }
+            _ => {}
+        }
         let n2 = 2 * N;
         let mut x: Vec<f64> = self.q0.iter().chain(self.qdot0.iter()).copied().collect();
         let mut period = self.period;
         let mut shot = self.shoot(&x, period)?;
-        let norm = |s: &Shot, x: &[f64]| -> f64 {
-            s.end
-                .iter()
-                .zip(x)
-                .map(|(a, b)| (a - b) * (a - b))
-                .sum::<f64>()
-                .sqrt()
-        };
+        let norm = |s: &Shot, x: &[f64]| -> f64 { self.residual(s, x) };
         let mut closure = norm(&shot, &x);
         let mut iterations = 0;
         // A NaN closure (a run that blew up) keeps iterating until the budget ends.
@@ -566,7 +703,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 &x,
                 period,
                 "Newton went to an equilibrium (f(x₀) = 0 there), which is periodic with any \
-                 period: start farther from it",
+                 period: pin the orbit looked for (`pin_amplitude(i)` from a turning point, or \
+                 `pin_energy(e)`), or start farther from the equilibrium",
             ));
         }
         let multipliers = multipliers(&shot.phi)?;
@@ -587,10 +725,11 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     /// The least-norm Newton step (Δx, ΔT) (ΔT absent for a fixed period).
     fn newton_step(&self, shot: &Shot, x: &[f64], closure: f64) -> Result<Vec<f64>, OrbitError> {
         let n2 = 2 * N;
+        let pin = self.pin_row(x);
         let (rows, cols) = if self.fixed_period {
             (n2, n2)
         } else {
-            (n2 + 1, n2 + 1)
+            (n2 + 1 + usize::from(pin.is_some()), n2 + 1)
         };
         let mut a = DMatrix::zeros(rows, cols);
         let mut b = DVector::zeros(rows);
@@ -604,6 +743,19 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             for i in 0..n2 {
                 a[(i, n2)] = shot.f_end[i];
                 a[(n2, i)] = shot.f_start[i];
+            }
+            // An amplitude's turning point fixes the phase: q̇_i(t₀) = 0 replaces f(x₀)·Δx = 0.
+            if let Some(Pin::Amplitude(i)) = self.pin {
+                for j in 0..n2 {
+                    a[(n2, j)] = if j == N + i { 1.0 } else { 0.0 };
+                }
+                b[n2] = -x[N + i];
+            }
+            if let Some((r, g)) = &pin {
+                for (i, gi) in g.iter().enumerate() {
+                    a[(n2 + 1, i)] = *gi;
+                }
+                b[n2 + 1] = -r;
             }
         }
         let svd = nalgebra::SVD::try_new(a, true, true, f64::EPSILON, 10_000).ok_or_else(|| {
@@ -623,7 +775,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         // keeps the direction it needs.
         let smax = svd.singular_values.max();
         let size = x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
-        let families = !self.fixed_period || L::CYCLIC.iter().any(|&c| c);
+        // A pin takes the family's direction out (the energy's, for an autonomous system).
+        let families = (!self.fixed_period && pin.is_none()) || L::CYCLIC.iter().any(|&c| c);
         let cutoff = if families {
             (closure / size).clamp(1e-9, 1e-2)
         } else {
