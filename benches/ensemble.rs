@@ -310,7 +310,7 @@ fn main() {
         rtol: 1e-11,
         atol: 1e-13,
     };
-    // Every lanes path this CPU has (issue 41: the exact AVX2 lanes, AVX2 with FMA), each method
+    // Every lanes path this CPU has (the exact AVX2 lanes, AVX2 with FMA), each method
     // at each accuracy, in one run.
     let paths: Vec<(Simd, &str)> = [
         (Simd::Exact, "lanes AVX2 exact"),

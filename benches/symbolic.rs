@@ -98,7 +98,7 @@ fn heavy_top(c: &mut Criterion) {
         b.iter(|| black_box(&jets).accelerations(black_box(&q), black_box(&v), 0.0))
     });
     // The same top written from its body angular velocity under R_z(φ) R_x(θ) R_z(ψ): ψ leaves L
-    // through sin²ψ + cos²ψ = 1 (issue 36's target: within 1.1× of `symbolic`).
+    // through sin²ψ + cos²ψ = 1 (target: within 1.1× of `symbolic`).
     let rotation = RotationTop {
         i_perp: top.i_perp,
         i_par: top.i_par,
@@ -108,7 +108,7 @@ fn heavy_top(c: &mut Criterion) {
         b.iter(|| black_box(&rotation).accelerations(black_box(&q), black_box(&v), 0.0))
     });
     // Written from the rotation matrix itself (`Rotation`, `body_angular_velocity`): the macro
-    // derives ω (issue 36's contract; target: within 1.1× of `symbolic`).
+    // derives ω (target: within 1.1× of `symbolic`).
     let geometry = GeometryTop {
         i_perp: top.i_perp,
         i_par: top.i_par,

@@ -242,7 +242,7 @@ fn main() {
     // The long run: at tol 1e-16 (≈ ε) the truncation error of each step (≈ tol·|y|, one
     // sign) still adds up over 10⁶ steps. (Tol 1e-20, where round-off is left, would need
     // segments of 0.09: 1.3·10⁶ restarts; not run.) Since the time-resolution
-    // check (issue 33) a run refuses a tol finer than rounding each step's end time near
+    // check a run refuses a tol finer than rounding each step's end time near
     // t = 1.1e5 allows (the refusal is printed); the refusal's advice is taken: the top is
     // autonomous, so the run is cut into segments each started at t = 0 from the previous end
     // state, short enough for the tol. The drift is that of every step against the first state

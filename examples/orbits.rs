@@ -1,4 +1,4 @@
-//! Sensitivities and periodic orbits (issue 38): the variational equations integrated with the
+//! Sensitivities and periodic orbits: the variational equations integrated with the
 //! motion give the state transition matrix Φ = ∂(q, q̇)(t)/∂(q₀, q̇₀), the sensitivity of an
 //! event's time and of the motion to a parameter, the monodromy matrix of a periodic orbit found
 //! by shooting, its Floquet multipliers, and Lyapunov exponents.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Beyond one machine, tested for real (issue 41, item 5): runs the bifurcation sweep as a Slurm
+# Beyond one machine, tested for real: runs the bifurcation sweep as a Slurm
 # job array of 4 shards (`--shard K/4`) on a one-node Slurm cluster started on this machine,
 # concatenates the shard CSVs in shard order and compares the result byte for byte with the same
 # sweep run here without sharding. Prints PASS or FAIL; exits non-zero on a difference.

@@ -512,7 +512,7 @@ pub use lagrange_runtime::{
     Unilateral, Velocity,
 };
 pub use lagrange_runtime::{SMatrix, Vector3};
-// Sensitivities, periodic orbits and Lyapunov exponents (issue 38).
+// Sensitivities, periodic orbits and Lyapunov exponents.
 pub use lagrange_runtime::sensitivity;
 pub use lagrange_runtime::{DMatrix, EventSensitivity, Sensitivities, Sensitivity};
 // First-order forward mode through the compiled kernels (`Tangent<K>`), what the sensitivities

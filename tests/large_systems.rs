@@ -374,7 +374,7 @@ fn radau5_runs_a_64_link_chain_alone_and_in_an_ensemble() {
     }
 }
 
-/// A system above 300 generated operations has no lanes code (issue 33, item 6): every
+/// A system above 300 generated operations has no lanes code: every
 /// `Ensemble` instantiates the lanes engines, which inlined a 12-link chain's lanes code at each
 /// DOP853 stage and took its release build from 11 s to 123 s. Small systems keep theirs.
 #[test]

@@ -1,4 +1,4 @@
-//! Stiff mechanics (issue 39): `Method::Radau5` against closed forms and against the explicit
+//! Stiff mechanics: `Method::Radau5` against closed forms and against the explicit
 //! methods on stiff systems (two masses joined by a stiff spring, the stiff spring pendulum, a
 //! heavily damped driven oscillator), its accuracy on a non-stiff one (the heavy top), its dense
 //! output under events and samples, its refusal of constraints, and the stiffness diagnosis that

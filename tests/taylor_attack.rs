@@ -1,4 +1,4 @@
-//! Regressions of the adversarial review (issue 33) on the Taylor method: every function of the
+//! Regressions of an adversarial review of the Taylor method: every function of the
 //! table and `powi(n)` for n = −3 … 8, in L and in M, against DOP853 (scalar and lanes); bodies
 //! that are not analytic are refused; coefficients that vanish at the start bound the step; the
 //! work integral carries the step's accuracy.

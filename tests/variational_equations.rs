@@ -1,4 +1,4 @@
-//! The variational equations (issue 38): Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) from
+//! The variational equations: Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) from
 //! `Simulation::sensitivity` against finite differences of runs, Liouville's formula for the
 //! damped driven pendulum, and the sensitivity of an event's time against the pendulum's closed
 //! form through K(k) and E(k).

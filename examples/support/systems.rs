@@ -170,7 +170,7 @@ use lagrange::Vector3;
 
 twins! {
     /// The heavy top written from its rotation R = R_z(φ) R_x(θ) R_z(ψ) and
-    /// `body_angular_velocity` (issue 36's contract): the macro derives ω, and the symbolic mode
+    /// `body_angular_velocity`: the macro derives ω, and the symbolic mode
     /// simplifies it to eq. 92.
     GeometryTop, GeometryTopJets { i_perp: f64, i_par: f64, mgl: f64 }
     fn lagrangian(

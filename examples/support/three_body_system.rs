@@ -1,6 +1,6 @@
 //! Three bodies in a plane under Newtonian gravity, as the `orbits` example and the
 //! variational-equation tests declare them, with the figure-eight choreography's initial data
-//! (Chenciner & Montgomery 2000; the numbers of Simó's search, as quoted in issue 38).
+//! (Chenciner & Montgomery 2000; the numbers of Simó's search).
 
 use lagrange::prelude::*;
 

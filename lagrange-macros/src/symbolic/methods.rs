@@ -72,7 +72,6 @@ pub struct SymbolicOutput {
     /// A rustdoc section (Markdown) presenting the equations, for the user's type.
     pub doc: String,
     /// Size of the generated code: `let` statements over all the bodies.
-    #[cfg_attr(not(test), allow(dead_code))]
     pub generated_lets: usize,
 }
 

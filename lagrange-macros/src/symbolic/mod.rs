@@ -51,5 +51,27 @@ pub fn expand(
     errors: &mut Errors,
 ) -> Option<SymbolicOutput> {
     let d = derive::derive(decl, front, errors)?;
-    Some(methods::output(&d, decl))
+    let out = methods::output(&d, decl);
+    if out.generated_lets > MAX_GENERATED_LETS {
+        errors.at(
+            &decl.body,
+            format!(
+                "the symbolic mode would emit {} operations of straight-line code for this body's \
+                 equations (the limit is {MAX_GENERATED_LETS}; a 64-link chain takes 31 000, and \
+                 each rotation composed in a loop and differentiated by \
+                 `body_angular_velocity` about 2 000), which rustc would compile in tens of \
+                 seconds and gigabytes; use `#[lagrangian(mode = \"jets\")]` on this impl \
+                 block, which evaluates the body as written",
+                out.generated_lets
+            ),
+        );
+        return None;
+    }
+    Some(out)
 }
+
+/// The most operations (`let`s over all the generated bodies) the symbolic mode emits for one
+/// impl block. A 64-link chain emits 31 000 (rustc builds them in seconds); a rotation composed
+/// of 60 pairs of elementary rotations, differentiated by `body_angular_velocity`, about 130 000,
+/// which took rustc 41 s and 4 GB (the jets mode: 0.9 s and 0.2 GB).
+pub const MAX_GENERATED_LETS: usize = 65_536;

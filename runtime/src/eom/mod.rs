@@ -605,7 +605,7 @@ mod tests {
     use super::{ConstraintRows, Pieces, solve_constrained};
 
     /// A constraint of gradient 1e-200 (its squared norm underflows to 0) is a constraint, not a
-    /// zero gradient (issue 33): the mass on the line x = y pushed by (2, 0) accelerates at
+    /// zero gradient: the mass on the line x = y pushed by (2, 0) accelerates at
     /// (1, 1), and λ = −1e200 (Gᵀλ = (−1, 1)); 1e200 likewise (its square overflows).
     #[test]
     fn tiny_and_huge_constraint_gradients_are_scaled_not_refused() {
