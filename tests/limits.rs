@@ -254,21 +254,24 @@ fn lyapunov_spectra_of_fast_saddles() {
     }
 }
 
+/// A free particle on a line.
+struct Drift;
+
+impl Lagrangian<1> for Drift {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [true];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        v[0] * v[0] * 0.5
+    }
+}
+
 /// A particle moving in at ẋ = −1 reset to x = 1e-6 each time it crosses x = 0 (its velocity
 /// kept): it crosses again 1e-6 later, so over 10.5e-6 it jumps 10 times (the first crossing at
 /// t = 1e-6 from x₀ = 1e-6, then every 1e-6). Before, the fired event's value was set to 0
 /// after the jump and the next crossing, from 1e-6, was missed.
 #[test]
 fn a_reset_just_off_its_surface_crosses_again() {
-    struct Drift;
-    impl Lagrangian<1> for Drift {
-        const COORDINATES: [&'static str; 1] = ["x"];
-        const CYCLIC: [bool; 1] = [true];
-        const AUTONOMOUS: bool = true;
-        fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
-            v[0] * v[0] * 0.5
-        }
-    }
     let tr = Simulation::new(&Drift, [1e-6], [-1.0])
         .event(
             Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0])
@@ -548,21 +551,12 @@ fn a_leading_underscore_is_not_part_of_the_coordinate_name() {
     assert_eq!(<Ball as Lagrangian<2>>::COORDINATES, ["x", "y"]);
 }
 
-/// A particle moving out at ẋ = −1 from x = 1, reset to x = 1 each time it crosses x = 0: the
+/// A particle moving in at ẋ = −1 from x = 1, reset to x = 1 each time it crosses x = 0: the
 /// jump at t = 1 caps the next step at 0.01 (a hundredth of ‖y‖/‖ẏ‖), and a run that ends
 /// right after that capped step (until = 1.01 + k ulp-sized slivers) ends there. Before, the
 /// capped step stopped a sliver short of the end and the next one underflowed.
 #[test]
 fn a_run_ending_one_capped_step_after_a_jump_ends() {
-    struct Drift;
-    impl Lagrangian<1> for Drift {
-        const COORDINATES: [&'static str; 1] = ["x"];
-        const CYCLIC: [bool; 1] = [true];
-        const AUTONOMOUS: bool = true;
-        fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
-            v[0] * v[0] * 0.5
-        }
-    }
     for k in 0..40 {
         let until = 1.01 + f64::from(k) * 1e-16;
         for method in [
