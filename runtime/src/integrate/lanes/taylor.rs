@@ -194,11 +194,17 @@ fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
     Some(Slot { pos, run, own: () })
 }
 
-/// The lanes' series ([`Lagrangian::series_in`]), out of the engine's function and compiled for
-/// its features: AVX2, and FMA for the fused lanes (`F`). Inlined into the engine (the series is
-/// `#[inline(always)]`), an 8-link chain's series made each of the two engine functions 590 KB of
-/// code that LLVM took 150 s to optimize (5.5 min of one test's build); on its own it builds in
-/// seconds. One call per step.
+/// Above this many coordinates the lanes' series runs out of the engine's function
+/// ([`lane_series`]).
+const SERIES_INLINE_MAX_N: usize = 6;
+
+/// The lanes' series ([`Lagrangian::series_in`]): inlined into the engine for a system of at most
+/// [`SERIES_INLINE_MAX_N`] coordinates (the heavy top's 64-member Taylor ensemble takes 1.15 %
+/// more instructions with the call), else out of the engine's function and compiled for its
+/// features: AVX2, and FMA for the fused lanes (`F`). Inlined (the series is `#[inline(always)]`),
+/// an 8-link chain's series made each of the two engine functions 590 KB of code that LLVM took
+/// 150 s to optimize (5.5 min of one test's build); on its own it builds in seconds. One call per
+/// step.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn lane_series<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
@@ -208,6 +214,9 @@ fn lane_series<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
     out: &mut [YOf<Lanes<W, F>, N>],
     buf: &mut SeriesBuf<Lanes<W, F>>,
 ) -> Option<Result<Mask<W>, DynamicsError>> {
+    if const { N <= SERIES_INLINE_MAX_N } {
+        return L::series_in(members, params, t, out, buf);
+    }
     // SAFETY: on x86-64 the lanes engines run only inside `run_lanes_avx2` and
     // `run_lanes_avx2_fma` (`lanes::run_lanes`), which are called only where the CPU has AVX2,
     // and FMA for the fused engine (F = true).
