@@ -196,15 +196,16 @@ fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
 
 /// Above this many coordinates the lanes' series runs out of the engine's function
 /// ([`lane_series`]).
-const SERIES_INLINE_MAX_N: usize = 6;
+const SERIES_INLINE_MAX_N: usize = 3;
 
 /// The lanes' series ([`Lagrangian::series_in`]): inlined into the engine for a system of at most
 /// [`SERIES_INLINE_MAX_N`] coordinates (the heavy top's 64-member Taylor ensemble takes 1.15 %
 /// more instructions with the call), else out of the engine's function and compiled for its
 /// features: AVX2, and FMA for the fused lanes (`F`). Inlined (the series is `#[inline(always)]`),
 /// an 8-link chain's series made each of the two engine functions 590 KB of code that LLVM took
-/// 150 s to optimize (5.5 min of one test's build); on its own it builds in seconds. One call per
-/// step.
+/// 150 s to optimize (5.5 min of one test's build), a 4-coordinate system's with high powers 38 s
+/// each; on its own the series builds in seconds. One call per step, where the series of four or
+/// more coordinates is the larger part of the work.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn lane_series<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
