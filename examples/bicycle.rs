@@ -164,7 +164,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
         let (q0, mut v0) = bike.upright(v);
         v0[3] = 1e-3;
         let until = if v < 4.0 { 3.0 } else { 8.0 };
-        let tr = Simulation::constrained(&bike, q0, v0)
+        let tr = Simulation::new(&bike, q0, v0)
             .project_initial_state()
             .method(Method::Dop853 {
                 rtol: 1e-10,

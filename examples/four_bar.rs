@@ -74,7 +74,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     // Events at twelve crank angles of the second revolution, for the table of λ; a terminal
     // event after `turns` revolutions.
     let table: Vec<f64> = (0..12).map(|k| TAU * (1.0 + k as f64 / 12.0)).collect();
-    let mut sim = Simulation::constrained(&fb, q0, v0)
+    let mut sim = Simulation::new(&fb, q0, v0)
         .method(Method::Dop853 {
             rtol: 1e-12,
             atol: 1e-12,

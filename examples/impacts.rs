@@ -1,6 +1,6 @@
 //! Impacts and unilateral contact, each system written as its Lagrangian and its contact gaps
 //! (`fn contacts`), the impact law derived from M and the gaps' gradients
-//! (`Simulation::contacts`): a bouncing ball whose impacts accumulate (Zeno) into resting
+//! (`Simulation::new` runs them with their contacts): a bouncing ball whose impacts accumulate (Zeno) into resting
 //! contact, a rocking block losing Housner's ratio 1 − (3/2) sin²α of its angular velocity at
 //! each plastic impact, and a rimless wheel walking down a slope to its limit cycle
 //! ω* = cot 2α √(4 (g/l) sin α sin γ). Each against its closed form; the work column against the
@@ -73,7 +73,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     );
     let t1 = (2.0 * h / g).sqrt();
     let t_inf = t1 * (1.0 + e) / (1.0 - e);
-    let ball_run = Simulation::contacts(&ball, [0.0, h], [vx, 0.0])
+    let ball_run = Simulation::new(&ball, [0.0, h], [vx, 0.0])
         .method(tight)
         .until(t_inf + 1.0)
         .sample_every(0.002)
@@ -106,7 +106,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
         b * th0.cos() - hb * th0.sin(),
         b * th0.sin() + hb * th0.cos(),
     );
-    let block_run = Simulation::contacts(&block, [x0, y0, th0], [0.0; 3])
+    let block_run = Simulation::new(&block, [x0, y0, th0], [0.0; 3])
         .method(tight)
         .until(2.5)
         .sample_every(0.002)
@@ -135,7 +135,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     let w0 = 1.2 * w_star;
     let q0 = [-l * alpha_w.sin(), l * alpha_w.cos(), alpha_w];
     let v0 = [l * w0 * alpha_w.cos(), l * w0 * alpha_w.sin(), -w0];
-    let wheel_run = Simulation::contacts(&wheel, q0, v0)
+    let wheel_run = Simulation::new(&wheel, q0, v0)
         .method(Method::Dop853 {
             rtol: 1e-13,
             atol: 1e-15,
@@ -257,7 +257,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
         &block_run,
         &block,
     )?;
-    let wheel_watch = Simulation::contacts(&wheel, q0, v0)
+    let wheel_watch = Simulation::new(&wheel, q0, v0)
         .until(12.0)
         .sample_every(0.01)
         .run()?;

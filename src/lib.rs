@@ -238,7 +238,7 @@
 //! unilateral contacts, each from its gap g(q, t) ≥ 0 written from the positions
 //! ([`Contact::gap`], with `.restitution(e)`, `.sticking(s)` for a contact point that does not
 //! slide, `.named(..)`), and makes the macro also emit `impl Unilateral<N, K>`.
-//! [`Simulation::contacts`] runs it: impacts by the impact law derived from M and the gaps'
+//! [`Simulation::new`] runs it with them: impacts by the impact law derived from M and the gaps'
 //! gradients, contacts at rest acting as constraints with a normal force λ ≥ 0 until it
 //! vanishes, a Zeno accumulation of impacts resolved to resting contact (README "Impacts").
 //!
@@ -259,7 +259,7 @@
 //! }
 //!
 //! let ball = Ball { m: 1.0, g: 9.81, e: 0.5 };
-//! let tr = Simulation::contacts(&ball, [1.0], [0.0]).until(2.0).run().unwrap();
+//! let tr = Simulation::new(&ball, [1.0], [0.0]).until(2.0).run().unwrap();
 //! // First impact at t₁ = √(2h/g), leaving at e times the speed it arrived with.
 //! let t1 = (2.0 / 9.81_f64).sqrt();
 //! assert!((tr.jumps[0].t - t1).abs() < 1e-10);
@@ -453,7 +453,7 @@
 /// slipping: the velocities are bound (and `velocity`, the angular velocities may be used), each
 /// entry must be affine in them (checked at the token). The macro emits
 /// `impl Nonholonomic<N, K>` and folds the rows into `impl Holonomic<N, KH + K>` after those of
-/// `fn constraints` (`VELOCITY_ROWS = K`), so `Simulation::constrained` runs both.
+/// `fn constraints` (`VELOCITY_ROWS = K`), so `Simulation::new` runs both.
 ///
 /// ```
 /// use lagrange::prelude::*;
@@ -484,7 +484,7 @@
 /// An optional `fn contacts(&self, (x, _): Coord, ..., t: Time) -> [Contact; K]` declares K
 /// unilateral contacts, each from its gap g(q, t) ≥ 0 (`Contact::gap(g)`, with
 /// `.restitution(e)`, `.sticking(s)`, `.named(..)`), and makes the macro emit
-/// `impl Unilateral<N, K>`, which `Simulation::contacts` runs (see the crate docs).
+/// `impl Unilateral<N, K>`; `Simulation::new` runs the system with them (see the crate docs).
 ///
 /// # Scene
 ///
@@ -512,6 +512,8 @@ pub use lagrange_runtime::{
     Unilateral, Velocity,
 };
 pub use lagrange_runtime::{SMatrix, Vector3};
+// How a hand-written impl with constraints or contacts says so (`Lagrangian::declared`).
+pub use lagrange_runtime::lagrangian::Declared;
 // Sensitivities, periodic orbits and Lyapunov exponents.
 pub use lagrange_runtime::sensitivity;
 pub use lagrange_runtime::{DMatrix, EventSensitivity, Sensitivities, Sensitivity};
@@ -574,7 +576,7 @@ pub mod __private {
     // What the generated code names, and nothing else (each path is used by `lagrange-macros`).
     pub use lagrange_runtime::constraints::{jet_constraint_rows, splice_velocity_rows};
     pub use lagrange_runtime::jet::{timed_state, Timed};
-    pub use lagrange_runtime::lagrangian::{kernel_params, Compiled};
+    pub use lagrange_runtime::lagrangian::{kernel_params, Compiled, Declared};
     pub use lagrange_runtime::mix::*;
     pub use lagrange_runtime::real::Real;
     pub use lagrange_runtime::scene::{Scene, Visual};

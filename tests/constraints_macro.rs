@@ -467,3 +467,111 @@ fn linearize_refuses_a_constrained_system() {
     };
     assert!(hand.linearize(&q, &v, 0.0).is_ok());
 }
+
+twins! {
+    /// A Chaplygin sleigh: mass m, inertia i about its centre (x, y), heading φ, on a blade a
+    /// behind the centre that does not slide sideways. No coordinate is in L.
+    SleighXy, SleighXyJets { m: f64, i: f64, a: f64 }
+    fn lagrangian(&self, (_x, x_dot): Coord, (_y, y_dot): Coord, (_phi, phi_dot): Coord) -> Scalar {
+        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) + 0.5 * self.i * phi_dot * phi_dot
+    }
+    fn velocity_constraints(&self, (_, x_dot): Coord, (_, y_dot): Coord, (phi, phi_dot): Coord) -> [Scalar; 1] {
+        [y_dot * phi.cos() - x_dot * phi.sin() - self.a * phi_dot]
+    }
+}
+
+twins! {
+    /// A bead on the vertical line x = c, free along y and in z: the constraint reads x only.
+    BeadOnLine, BeadOnLineJets { m: f64, c: f64 }
+    fn lagrangian(&self, (_x, x_dot): Coord, (_y, y_dot): Coord, (_z, z_dot): Coord) -> Scalar {
+        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot + z_dot * z_dot)
+    }
+    fn constraints(&self, (x, _): Coord, (_y, _): Coord, (_z, _): Coord) -> [Scalar; 1] {
+        [x - self.c]
+    }
+}
+
+/// The flags are those of the constrained motion: a coordinate the constraints read is neither
+/// cyclic nor has a conserved momentum (the sleigh's blade pushes on x, y and φ, none of them in
+/// its L: its momenta change, as the run shows), and a coordinate no constraint reads keeps
+/// what L gives it (the bead's y and z).
+#[test]
+fn flags_are_those_of_the_constrained_motion() {
+    assert_eq!(<SleighXy as Lagrangian<3>>::CYCLIC, [false; 3]);
+    assert_eq!(<SleighXyJets as Lagrangian<3>>::CYCLIC, [false; 3]);
+    assert_eq!(<SleighXy as Lagrangian<3>>::MOMENTUM_CONSERVED, [false; 3]);
+    assert_eq!(
+        <SleighXyJets as Lagrangian<3>>::MOMENTUM_CONSERVED,
+        [false; 3]
+    );
+    const { assert!(<SleighXy as Lagrangian<3>>::ENERGY_CONSERVED) };
+    assert_eq!(<BeadOnLine as Lagrangian<3>>::CYCLIC, [false, true, true]);
+    assert_eq!(
+        <BeadOnLineJets as Lagrangian<3>>::CYCLIC,
+        [false, true, true]
+    );
+    assert_eq!(
+        <BeadOnLine as Lagrangian<3>>::MOMENTUM_CONSERVED,
+        [false, true, true]
+    );
+    // The sleigh's momentum p_x = m ẋ changes along its run (the flag is not a convention).
+    let s = SleighXy {
+        m: 2.0,
+        i: 0.3,
+        a: 0.4,
+    };
+    let tr = Simulation::new(&s, [0.0; 3], [0.2, 0.6, 1.5])
+        .until(2.0)
+        .run()
+        .unwrap();
+    let px = |k: usize| s.momenta(&tr.q[k], &tr.qdot[k], tr.t[k])[0];
+    assert!((px(tr.t.len() - 1) - px(0)).abs() > 0.1);
+    assert!(tr.invariants().momenta.iter().all(|m| m.is_none()));
+}
+
+/// `EQUATIONS` of a constrained system shows the constraint forces on each coordinate it acts
+/// on and the constraints themselves: the bead's x line carries λ·∂g/∂x, its y and z lines
+/// nothing; the sleigh's three lines carry λ·∂c/∂q̇ and its constraint follows.
+#[test]
+fn equations_show_the_constraint_forces_and_the_constraints() {
+    let bead = BeadOnLine::EQUATIONS;
+    let lines: Vec<&str> = bead.lines().collect();
+    assert_eq!(lines.len(), 4, "{bead}");
+    assert!(
+        lines[0].starts_with("x: ") && lines[0].ends_with(" + λ·∂g/∂x"),
+        "{bead}"
+    );
+    assert!(!lines[1].contains('λ') && !lines[2].contains('λ'), "{bead}");
+    assert_eq!(
+        lines[3],
+        "with g(q, t) = [x - c] = 0 (fn constraints; λ its multipliers)"
+    );
+    let sleigh = SleighXy::EQUATIONS;
+    let lines: Vec<&str> = sleigh.lines().collect();
+    assert_eq!(lines.len(), 4, "{sleigh}");
+    for (line, name) in lines.iter().zip(["x", "y", "phi"]) {
+        assert!(
+            line.contains(&format!(" + λ·∂c/∂{name}\u{307}")),
+            "{sleigh}"
+        );
+    }
+    assert!(
+        lines[3].starts_with(
+            "with c(q, q̇, t) = [y_dot * phi.cos() - x_dot * phi.sin() - a * phi_dot] = 0"
+        ),
+        "{sleigh}"
+    );
+    let latex = BeadOnLine::EQUATIONS_LATEX;
+    assert!(
+        latex
+            .lines()
+            .next()
+            .unwrap()
+            .ends_with(" + \\lambda \\cdot \\partial g / \\partial q_{0}"),
+        "{latex}"
+    );
+    assert!(
+        latex.ends_with("\\text{with } g(q, t) = [\\texttt{x - c}] = 0"),
+        "{latex}"
+    );
+}

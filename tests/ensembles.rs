@@ -18,4 +18,5 @@ mod ensemble;
 mod ensemble_lanes;
 mod impacts;
 mod limits;
+mod one_run;
 mod stiff;

@@ -79,7 +79,7 @@ pub fn all() -> Result<Vec<Watched>, Box<dyn std::error::Error>> {
         h: 0.6,
     };
     let (b, h, th0): (f64, f64, f64) = (0.2, 0.6, 0.2);
-    let block_run = Simulation::contacts(
+    let block_run = Simulation::new(
         &block,
         [
             b * th0.cos() - h * th0.sin(),
@@ -99,7 +99,7 @@ pub fn all() -> Result<Vec<Watched>, Box<dyn std::error::Error>> {
     };
     let alpha = std::f64::consts::PI / crate::contact_systems::SPOKES as f64;
     let w0 = 1.2 * crate::contact_systems::omega_star(&wheel);
-    let wheel_run = Simulation::contacts(
+    let wheel_run = Simulation::new(
         &wheel,
         [-alpha.sin(), alpha.cos(), alpha],
         [w0 * alpha.cos(), w0 * alpha.sin(), -w0],
@@ -120,7 +120,7 @@ pub fn all() -> Result<Vec<Watched>, Box<dyn std::error::Error>> {
         .run()?;
     let four_bar = FourBar::crank_rocker();
     let (q0, v0) = four_bar.closed_state(0.0, std::f64::consts::TAU);
-    let four_bar_run = Simulation::constrained(&four_bar, q0, v0)
+    let four_bar_run = Simulation::new(&four_bar, q0, v0)
         .until(4.0)
         .sample_every(0.01)
         .run()?;

@@ -373,7 +373,7 @@ impl Bicycle {
     ) -> Result<Trajectory<8>, SimulationError> {
         let (q0, mut v0) = self.upright(v);
         v0[3] = 0.3;
-        Simulation::constrained(self, q0, v0)
+        Simulation::new(self, q0, v0)
             .project_initial_state()
             .method(Method::Dop853 {
                 rtol: 1e-9,

@@ -129,6 +129,11 @@ impl Lagrangian<3> for FourBar {
             + q[2].sin() * (m3 * l3 / 2.0);
         kinetic - height * self.g
     }
+
+    /// Runs take the two loop-closure constraints (`Simulation::new` runs the linkage on them).
+    fn declared<'s, V: lagrange::Declared<'s, Self, 3>>(&'s self, v: V) -> V::Output {
+        v.constrained::<2>(self)
+    }
 }
 
 impl Holonomic<3, 2> for FourBar {

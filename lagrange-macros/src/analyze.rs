@@ -120,6 +120,20 @@ fn is_literal_zero(e: &Expr) -> bool {
 }
 
 impl Analysis {
+    /// The flags of the constrained motion: a coordinate the constraints read (holonomic or
+    /// velocity: the constraint forces Gᵀλ, Aᵀλ act along it, and the constrained
+    /// accelerations change with it) is neither cyclic nor has a conserved momentum, whatever
+    /// L says (a sleigh's x, y and heading, all absent from its L). Applied last, after
+    /// [`Analysis::refine`].
+    pub fn constrain(&mut self) {
+        for (i, &c) in self.constrained.iter().enumerate() {
+            if c {
+                self.cyclic[i] = false;
+                self.momentum_conserved[i] = false;
+            }
+        }
+    }
+
     /// The flags ORed with those the symbolic mode read from the derived expressions (a
     /// coordinate that leaves L only through an identity is cyclic there): both rules only say
     /// true where it holds.

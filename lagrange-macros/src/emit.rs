@@ -175,7 +175,13 @@ pub fn generate(
     let self_token = &decl.self_token;
     let constrained = decl.constraints.is_some() || decl.velocity_constraints.is_some();
     let (symbolic_methods, symbolic_consts) = match symbolic {
-        Some(out) => crate::symbolic::methods(out, n, self_ty, constrained),
+        Some(out) => crate::symbolic::methods(
+            out,
+            n,
+            self_ty,
+            &constraint_terms(decl, analysis),
+            &decl.coordinate_names(),
+        ),
         // The jets mode compiles nothing of its own; a constrained system says so (its
         // `linearize` refuses).
         None if constrained => (
@@ -287,12 +293,38 @@ pub fn generate(
     } else {
         quote!(#rest)
     };
-    let declares_contacts = if decl.contacts.is_some() {
-        quote!(
-            const DECLARES_CONTACTS: bool = true;
-        )
-    } else {
-        quote!()
+    // A run takes what the system declares (`Simulation::new` hands the run to this method):
+    // its K constraints (holonomic, then velocity rows) or its K contacts.
+    let lit = proc_macro2::Literal::usize_unsuffixed;
+    let declared_run = |visit: TokenStream| {
+        quote! {
+            #[inline]
+            fn declared<'__lagrange_s, __LagrangeV>(&'__lagrange_s self, v: __LagrangeV) -> __LagrangeV::Output
+            where
+                __LagrangeV: ::lagrange::__private::Declared<'__lagrange_s, Self, #n>,
+            {
+                #visit
+            }
+        }
+    };
+    let declares_contacts = match (
+        &decl.contacts,
+        &decl.constraints,
+        &decl.velocity_constraints,
+    ) {
+        (Some(f), _, _) => {
+            let k = lit(f.k);
+            let method = declared_run(quote!(v.contacts::<#k>(self)));
+            quote! {
+                const DECLARES_CONTACTS: bool = true;
+                #method
+            }
+        }
+        (None, holo, vel) if holo.is_some() || vel.is_some() => {
+            let k = lit(holo.as_ref().map_or(0, |f| f.k) + vel.as_ref().map_or(0, |f| f.k));
+            declared_run(quote!(v.constrained::<#k>(self)))
+        }
+        _ => quote!(),
     };
     quote! {
         #rest
@@ -315,6 +347,51 @@ pub fn generate(
         #unilateral
         #visual
         #symbolic_consts
+    }
+}
+
+/// The constraint forces' terms and the constraints the printed equations of a constrained
+/// system show: which slots the constraints read (positions for `fn constraints`, velocities
+/// for `fn velocity_constraints`) and their entries as written.
+fn constraint_terms(decl: &Decl, analysis: &Facts<'_>) -> crate::symbolic::ConstraintTerms {
+    let reads = |kind, seed| {
+        analysis
+            .front
+            .func(kind)
+            .is_some_and(|b: &crate::front::Body<'_>| b.reads(seed))
+    };
+    let per_slot = |kind, seed: fn(usize) -> crate::front::Seed| -> Vec<bool> {
+        decl.coords
+            .iter()
+            .enumerate()
+            .flat_map(|(p, c)| std::iter::repeat_n(reads(kind, seed(p)), c.width()))
+            .collect()
+    };
+    let entries = |f: &Option<Func>| f.as_ref().map(|f| written_entries(&f.body));
+    crate::symbolic::ConstraintTerms {
+        holonomic: per_slot(FuncKind::Constraints, crate::front::Seed::Coord),
+        velocity: per_slot(FuncKind::VelocityConstraints, crate::front::Seed::Velocity),
+        g: entries(&decl.constraints),
+        c: entries(&decl.velocity_constraints),
+    }
+}
+
+/// The entries of the array a constraint function returns, as written (`self.` left out); the
+/// function's name where its body is more than that array.
+fn written_entries(body: &syn::Block) -> Vec<String> {
+    let tidy = |s: String| {
+        s.replace(" . ", ".")
+            .replace("self.", "")
+            .replace(" (", "(")
+            .replace("( ", "(")
+            .replace(" )", ")")
+            .replace(" ,", ",")
+    };
+    match crate::analyze::tail_array(body) {
+        Some(elems) if body.stmts.len() == 1 => {
+            elems.iter().map(|e| tidy(quote!(#e).to_string())).collect()
+        }
+        _ => vec!["… as the function computes it".to_owned()],
     }
 }
 

@@ -99,6 +99,7 @@ pub fn expand(args: TokenStream, input: TokenStream) -> TokenStream {
     if let Some(s) = &symbolic {
         analysis.refine(&s.symmetry);
     }
+    analysis.constrain();
     let jets = emit::JetsBodies {
         rest,
         body,

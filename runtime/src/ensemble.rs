@@ -180,6 +180,12 @@ impl<L: Lagrangian<N>, const N: usize> Engine<L, N> for Plain {
     }
 
     fn lanes() -> Option<LanesFn<L, N>> {
+        // Members whose system declares constraints or contacts run one at a time, as
+        // `Simulation::run` runs them (the lanes step the unconstrained motion); the branch is
+        // decided per system when it compiles, so their lanes engine is not built.
+        if L::COMPILED.constrained || L::DECLARES_CONTACTS {
+            return None;
+        }
         // One width per instruction set is compiled (the engine is large and generic in the
         // system): `Simd`'s paths.
         Some(run_lanes::<L, N>)

@@ -224,10 +224,10 @@ pub trait Lagrangian<const N: usize> {
     const COMPILED: Compiled = Compiled::NONE;
 
     /// Whether the system declares unilateral contacts (`fn contacts` under `#[lagrangian]`, which
-    /// sets it): a run built with [`Simulation::new`](crate::Simulation::new), which would step
-    /// the motion as if there were none, is then refused and pointed to
-    /// [`Simulation::contacts`](crate::Simulation::contacts). A hand-written `impl Unilateral`
-    /// should set it too.
+    /// sets it): a run that would step the motion as if there were none (an analysis that does
+    /// not take contacts yet, or a hand-written impl whose [`declared`](Self::declared) does not
+    /// name them) is then refused instead, and an [`Ensemble`](crate::Ensemble) runs its members
+    /// one at a time. A hand-written `impl Unilateral` should set it too.
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Scalar};
@@ -322,11 +322,92 @@ pub trait Lagrangian<const N: usize> {
         None
     }
 
+    /// Hands `v` the run of this system as it declares itself: as it is
+    /// ([`Declared::plain`], the default), with its `K` holonomic and velocity constraints
+    /// ([`Declared::constrained`]) or with its `K` contacts ([`Declared::contacts`]). This is how
+    /// [`Simulation::new`](crate::Simulation::new) and the members of an
+    /// [`Ensemble`](crate::Ensemble) take everything the system declares: the number of
+    /// constraints is a type parameter that only the system's impl knows. `#[lagrangian]`
+    /// writes it for a system with `fn constraints`, `fn velocity_constraints` or
+    /// `fn contacts`; a hand-written `impl Holonomic` or `impl Unilateral` writes the one line
+    /// (as below), else runs it with `Simulation::constrained` or `Simulation::contacts`.
+    ///
+    /// ```
+    /// use lagrange_runtime::lagrangian::Declared;
+    /// use lagrange_runtime::{Holonomic, Lagrangian, Scalar, Simulation, Unilateral};
+    /// /// A particle on the unit circle, written in x, y.
+    /// struct Ring;
+    /// impl Lagrangian<2> for Ring {
+    ///     const COORDINATES: [&'static str; 2] = ["x", "y"];
+    ///     const CYCLIC: [bool; 2] = [true, true];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, _q: &[S; 2], v: &[S; 2], _t: S) -> S { (v[0] * v[0] + v[1] * v[1]) * 0.5 }
+    ///     fn declared<'s, V: Declared<'s, Self, 2>>(&'s self, v: V) -> V::Output {
+    ///         v.constrained::<1>(self)
+    ///     }
+    /// }
+    /// impl Holonomic<2, 1> for Ring {
+    ///     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] { [q[0] * q[0] + q[1] * q[1] - 1.0] }
+    /// }
+    /// let tr = Simulation::new(&Ring, [1.0, 0.0], [0.0, 1.0]).until(10.0).run().unwrap();
+    /// let [x, y] = *tr.q.last().unwrap();
+    /// assert!((x - 10.0_f64.cos()).abs() < 1e-8 && (y - 10.0_f64.sin()).abs() < 1e-8);
+    /// // M q̈ = Gᵀλ with G = (2x, 2y) and q̈ = −q: the ring pulls with λ = −1/2.
+    /// assert!((tr.lambda.last().unwrap()[0] + 0.5).abs() < 1e-8);
+    /// ```
+    #[inline(always)]
+    fn declared<'s, V: Declared<'s, Self, N>>(&'s self, v: V) -> V::Output
+    where
+        Self: Sized,
+    {
+        v.plain(self)
+    }
+
     /// The energy (Jacobi integral) h = q̇·p − L.
     fn energy(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> f64 {
         // Not through `energy_and_momenta`: an override of that one may call this.
         jet_energy_and_momenta(self, q, qdot, t).0
     }
+}
+
+/// What is done with a system according to what it declares: the visitor of
+/// [`Lagrangian::declared`], which calls exactly one of these methods (the run of a
+/// [`Simulation`](crate::Simulation) is one such visitor).
+///
+/// ```
+/// use lagrange_runtime::lagrangian::Declared;
+/// use lagrange_runtime::{Holonomic, Lagrangian, Scalar, Unilateral};
+/// # struct Free;
+/// # impl Lagrangian<1> for Free {
+/// #     const COORDINATES: [&'static str; 1] = ["x"];
+/// #     const CYCLIC: [bool; 1] = [true];
+/// #     const AUTONOMOUS: bool = true;
+/// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
+/// # }
+/// /// How many constraints or contacts a system declares.
+/// struct Count;
+/// impl<'s, L: Lagrangian<1> + 's> Declared<'s, L, 1> for Count {
+///     type Output = (usize, usize);
+///     fn plain(self, _: &'s L) -> (usize, usize) { (0, 0) }
+///     fn constrained<const K: usize>(self, _: &'s L) -> (usize, usize) where L: Holonomic<1, K> { (K, 0) }
+///     fn contacts<const K: usize>(self, _: &'s L) -> (usize, usize) where L: Unilateral<1, K> { (0, K) }
+/// }
+/// assert_eq!(Free.declared(Count), (0, 0));
+/// ```
+pub trait Declared<'s, L: Lagrangian<N> + 's, const N: usize> {
+    /// What the visitor gives.
+    type Output;
+    /// The system as it is: no constraints, no contacts.
+    fn plain(self, sys: &'s L) -> Self::Output;
+    /// The system with its `K` holonomic and velocity constraints ([`Holonomic`](crate::Holonomic),
+    /// the velocity rows last).
+    fn constrained<const K: usize>(self, sys: &'s L) -> Self::Output
+    where
+        L: crate::constraints::Holonomic<N, K>;
+    /// The system with its `K` unilateral contacts ([`Unilateral`](crate::Unilateral)).
+    fn contacts<const K: usize>(self, sys: &'s L) -> Self::Output
+    where
+        L: crate::contact::Unilateral<N, K>;
 }
 
 /// What `#[lagrangian]` compiled for a system beyond the trait's methods:

@@ -655,14 +655,123 @@ fn module_prefix(self_ty: &syn::Type) -> String {
     format!("__lagrange_{ident}_{:08x}", h.finish() as u32)
 }
 
+/// What the printed equations of a constrained system add to L's: per coordinate slot, whether
+/// the holonomic constraints read its position (a term λ·∂g/∂q of the constraint force Gᵀλ) and
+/// whether the velocity constraints read its velocity (λ·∂c/∂q̇ of Aᵀλ), and the constraints
+/// as written.
+#[derive(Default)]
+pub struct ConstraintTerms {
+    /// Per slot: G's column is not zero.
+    pub holonomic: Vec<bool>,
+    /// Per slot: A's column is not zero.
+    pub velocity: Vec<bool>,
+    /// The entries of `fn constraints`, as written (`None` without it).
+    pub g: Option<Vec<String>>,
+    /// The entries of `fn velocity_constraints`, as written.
+    pub c: Option<Vec<String>>,
+}
+
+impl ConstraintTerms {
+    /// The equations (one line per coordinate, `label: lhs = rhs` or in LaTeX `lhs = rhs`, the
+    /// coordinates' `labels` in slot order) with the constraint forces' terms on the right and
+    /// the constraints after them; unchanged without constraints.
+    pub fn apply(&self, equations: &str, labels: &[String], latex: bool) -> String {
+        if self.g.is_none() && self.c.is_none() {
+            return equations.to_owned();
+        }
+        let both = self.g.is_some() && self.c.is_some();
+        let (lg, lc) = match (both, latex) {
+            (true, false) => ("λ_g", "λ_c"),
+            (true, true) => ("\\lambda_g", "\\lambda_c"),
+            (false, false) => ("λ", "λ"),
+            (false, true) => ("\\lambda", "\\lambda"),
+        };
+        let mut out = String::new();
+        let mut lines = equations.lines();
+        for (i, label) in labels.iter().enumerate() {
+            let Some(line) = lines.next() else { break };
+            out.push_str(line);
+            // A coordinate's line (not "… more equations, too large to print").
+            let coordinate = latex || line.starts_with(&format!("{label}: "));
+            if coordinate && self.holonomic.get(i) == Some(&true) {
+                out.push_str(&if latex {
+                    format!(" + {lg} \\cdot \\partial g / \\partial q_{{{i}}}")
+                } else {
+                    format!(" + {lg}·∂g/∂{label}")
+                });
+            }
+            if coordinate && self.velocity.get(i) == Some(&true) {
+                out.push_str(&if latex {
+                    format!(" + {lc} \\cdot \\partial c / \\partial \\dot q_{{{i}}}")
+                } else {
+                    format!(" + {lc}·∂c/∂{label}\u{307}")
+                });
+            }
+            out.push('\n');
+        }
+        for line in lines {
+            out.push_str(line);
+            out.push('\n');
+        }
+        let list = |entries: &[String]| entries.join(", ");
+        if let Some(g) = &self.g {
+            out.push_str(&if latex {
+                format!(
+                    "\\text{{with }} g(q, t) = [\\texttt{{{}}}] = 0",
+                    latex_text(&list(g))
+                )
+            } else {
+                format!(
+                    "with g(q, t) = [{}] = 0 (fn constraints; {lg} its multipliers)",
+                    list(g)
+                )
+            });
+            out.push('\n');
+        }
+        if let Some(c) = &self.c {
+            out.push_str(&if latex {
+                format!(
+                    "\\text{{with }} c(q, \\dot q, t) = [\\texttt{{{}}}] = 0",
+                    latex_text(&list(c))
+                )
+            } else {
+                format!(
+                    "with c(q, q̇, t) = [{}] = 0 (fn velocity_constraints; {lc} its multipliers)",
+                    list(c)
+                )
+            });
+            out.push('\n');
+        }
+        out.trim_end().to_owned()
+    }
+}
+
+/// Source text inside LaTeX's `\texttt`: its special characters escaped.
+fn latex_text(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '_' | '&' | '%' | '$' | '#' | '{' | '}' => {
+                out.push('\\');
+                out.push(ch);
+            }
+            _ => out.push(ch),
+        }
+    }
+    out
+}
+
 /// The generated `Lagrangian` methods (inside the trait impl) and the inherent impl with
-/// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty`.
+/// `EQUATIONS` / `EQUATIONS_LATEX` for `self_ty` (with the constraint forces' terms and the
+/// constraints of `terms`).
 pub fn methods(
     out: &SymbolicOutput,
     n: usize,
     self_ty: &syn::Type,
-    constrained: bool,
+    terms: &ConstraintTerms,
+    labels: &[String],
 ) -> (TokenStream, TokenStream) {
+    let constrained = terms.g.is_some() || terms.c.is_some();
     let names::Params { q, qdot, t } = names::Params::symbolic();
     let nn = Literal::usize_unsuffixed(n);
     let SymbolicOutput {
@@ -675,7 +784,7 @@ pub fn methods(
         momenta,
         energy,
         energy_and_momenta,
-        equations,
+        equations: plain_equations,
         equations_latex,
         doc,
         has_applied,
@@ -800,15 +909,25 @@ pub fn methods(
             }
         }
     });
+    let equations = terms.apply(plain_equations, labels, false);
+    let equations_latex = terms.apply(equations_latex, labels, true);
+    let doc = doc.replace(plain_equations.as_str(), &equations);
     let form = if *has_applied {
         "`Σₖ Mᵢₖ q̈ₖ = fᵢ + Qᵢ − ∂D/∂q̇ᵢ` (accelerations on the left; on the right the terms of L, \
          then the generalized forces Q, then the dissipative forces −∂D/∂q̇, each as its own group)"
     } else {
         "`Σₖ Mᵢₖ q̈ₖ = fᵢ` (accelerations on the left)"
     };
+    let with = if constrained {
+        ", plus the constraint forces (λ·∂g/∂q for `fn constraints`, λ·∂c/∂q̇ for \
+         `fn velocity_constraints`, with λ the multipliers a run records) and the constraints \
+         after the equations"
+    } else {
+        ""
+    };
     let eq_doc = format!(
         "The Euler–Lagrange equations, derived at compile time by `#[lagrangian]`: one line per \
-         coordinate, {form}.\n\n```text\n{equations}\n```"
+         coordinate, {form}{with}.\n\n```text\n{equations}\n```"
     );
     let latex_doc = "The Euler–Lagrange equations in LaTeX, one line per coordinate (the same \
                      equations as `EQUATIONS`).";

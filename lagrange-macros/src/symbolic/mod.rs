@@ -41,7 +41,7 @@ mod tests;
 use crate::errors::Errors;
 use crate::model::Decl;
 pub use derive::Symmetry;
-pub use methods::{methods, SymbolicOutput};
+pub use methods::{methods, ConstraintTerms, SymbolicOutput};
 
 /// Lowers, differentiates and emits the symbolic implementation of `decl`; `None` (with every
 /// reason pushed to `errors`) when the body cannot be derived symbolically.

@@ -782,7 +782,10 @@ where
     U: Unilateral<N, K>,
 {
     /// A run of a system with unilateral contacts from (q0, q̇0): the same builder as
-    /// [`Simulation::new`], with the explicit methods (DOP853, Dormand–Prince, RK4).
+    /// [`Simulation::new`], with the explicit methods (DOP853, Dormand–Prince, RK4). It is the
+    /// run `Simulation::new` gives a system that declares its contacts
+    /// ([`Lagrangian::declared`]: every `#[lagrangian]` impl with `fn contacts`); this
+    /// constructor names K for a hand-written `impl Unilateral<N, K>` that does not.
     ///
     /// Each contact is an event: while open, its gap falling through zero is an impact, and the
     /// state jumps by the impact map derived from M and the contacts' gradients

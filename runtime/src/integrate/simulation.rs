@@ -3,7 +3,8 @@
 //! driver.
 
 use crate::constraints::{Constrained, Holonomic};
-use crate::lagrangian::Lagrangian;
+use crate::contact::Unilateral;
+use crate::lagrangian::{Declared, Lagrangian};
 
 use super::driver::{self, RunOptions, Sampling};
 use super::error::SimulationError;
@@ -142,6 +143,37 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// The initial state (q0, q̇0) as given.
     pub(crate) fn initial(&self) -> ([f64; N], [f64; N]) {
         (self.o.q0, self.o.qdot0)
+    }
+
+    /// Start from the projection of (q0, q̇0) onto the constraints (the nearest q with
+    /// g(q, t0) = 0, then the nearest q̇ with G q̇ + ∂g/∂t = 0) instead of rejecting an initial
+    /// state that is off them (a system without constraints starts from (q0, q̇0) as given).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Holonomic, Lagrangian, Scalar, Simulation, SimulationError};
+    /// # struct Pendulum;
+    /// # impl Lagrangian<2> for Pendulum {
+    /// #     const COORDINATES: [&'static str; 2] = ["x", "y"];
+    /// #     const CYCLIC: [bool; 2] = [true, false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+    /// #         (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
+    /// #     }
+    /// # }
+    /// # impl Holonomic<2, 1> for Pendulum {
+    /// #     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] {
+    /// #         [q[0] * q[0] + q[1] * q[1] - 1.0]
+    /// #     }
+    /// # }
+    /// let off = || Simulation::constrained(&Pendulum, [1.1, 0.0], [0.2, 0.3]).until(1.0);
+    /// let err = off().run().unwrap_err();
+    /// assert!(matches!(err, SimulationError::OffConstraints { .. }));
+    /// let tr = off().project_initial_state().run().unwrap();
+    /// assert!((tr.q[0][0] - 1.0).abs() < 1e-15 && tr.qdot[0] == [0.0, 0.3]); // nearest tangent velocity
+    /// ```
+    pub fn project_initial_state(mut self) -> Self {
+        self.o.project_initial = true;
+        self
     }
 
     /// The integration method.
@@ -465,9 +497,10 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// let err = Simulation::new(&Free, [0.0], [1.0]).method(Method::Rk4 { dt: -0.1 }).until(1.0).run().unwrap_err();
     /// assert!(matches!(err, SimulationError::InvalidOptions { .. }));
     /// ```
-    pub fn run(mut self) -> Result<Trajectory<N>, SimulationError> {
-        let p = self.prepare()?;
-        run_prepared(p)
+    pub fn run(self) -> Result<Trajectory<N>, SimulationError> {
+        let Simulation { sys, o } = self;
+        // The run the system declares: as it is, or with its constraints or its contacts.
+        sys.declared(Run(o))
     }
 
     /// Checks the options and gathers what the driver needs (the lanes engine of an ensemble
@@ -559,6 +592,62 @@ impl<'a, const N: usize> Options<'a, N> {
                 .as_mut()
                 .map(|f| &mut **f as &mut dyn FnMut(&Sample<N>)),
         })
+    }
+}
+
+/// The run of a system as it declares itself ([`Lagrangian::declared`]) with these options: a
+/// system with constraints or contacts runs as [`Simulation::constrained`] or
+/// [`Simulation::contacts`] would run it, with every option of the builder.
+struct Run<'a, const N: usize>(Options<'a, N>);
+
+impl<'s, 'a: 's, L: Lagrangian<N> + 's, const N: usize> Declared<'s, L, N> for Run<'a, N> {
+    type Output = Result<Trajectory<N>, SimulationError>;
+
+    #[inline(always)]
+    fn plain(self, sys: &'s L) -> Self::Output {
+        let mut sim = Simulation {
+            sys: Sys::Borrowed(sys),
+            o: self.0,
+        };
+        let p = sim.prepare()?;
+        run_prepared(p)
+    }
+
+    fn constrained<const K: usize>(self, sys: &'s L) -> Self::Output
+    where
+        L: Holonomic<N, K>,
+    {
+        let mut sim = Simulation::constrained(sys, self.0.q0, self.0.qdot0);
+        sim.o = sim.o.adopt(self.0);
+        sim.run()
+    }
+
+    fn contacts<const K: usize>(self, sys: &'s L) -> Self::Output
+    where
+        L: Unilateral<N, K>,
+    {
+        let mut sim = Simulation::contacts(sys, self.0.q0, self.0.qdot0);
+        sim.o = sim.o.adopt(self.0);
+        sim.run()
+    }
+}
+
+impl<'a, const N: usize> Options<'a, N> {
+    /// These options of a constrained or contacts run (its constraints, its contact set-up and
+    /// events, its initial state) with every option the user gave on the builder (`plain`):
+    /// method, times, samples, events (after the contacts' own), observer, limits.
+    pub(super) fn adopt(self, plain: Options<'a, N>) -> Options<'a, N> {
+        let mut events = self.events;
+        events.extend(plain.events);
+        Options {
+            manifold: self.manifold,
+            project_initial: self.project_initial | plain.project_initial,
+            q0: self.q0,
+            qdot0: self.qdot0,
+            contact_start: self.contact_start,
+            events,
+            ..plain
+        }
     }
 }
 
@@ -685,7 +774,10 @@ where
     H: Holonomic<N, K>,
 {
     /// A run of a system with holonomic constraints from (q0, q̇0): the same builder and methods
-    /// as [`Simulation::new`].
+    /// as [`Simulation::new`], and the same run as `Simulation::new` gives a system that declares
+    /// its constraints ([`Lagrangian::declared`]: every `#[lagrangian]` impl with
+    /// `fn constraints` or `fn velocity_constraints`); this constructor names K for a
+    /// hand-written `impl Holonomic<N, K>` that does not.
     ///
     /// The explicit methods integrate M q̈ = f + Gᵀλ, G q̈ = −g̈|_{q̈=0} and project (q, q̇) back
     /// onto g = 0 and G q̇ + ∂g/∂t = 0 after every accepted step (and every recorded sample);
@@ -731,50 +823,9 @@ where
     /// observer, limits): how an ensemble gives its members' constrained runs the options it was
     /// configured with on the plain builder.
     pub(crate) fn options_from<M>(self, plain: Simulation<'a, M, N>) -> Self {
-        let (mine, plain) = (self.o, plain.o);
         Simulation {
             sys: self.sys,
-            // The constrained run's own: its constraints and initial state; every other option
-            // is the plain builder's.
-            o: Options {
-                manifold: mine.manifold,
-                project_initial: mine.project_initial | plain.project_initial,
-                q0: mine.q0,
-                qdot0: mine.qdot0,
-                contact_start: mine.contact_start,
-                ..plain
-            },
+            o: self.o.adopt(plain.o),
         }
-    }
-
-    /// Start from the projection of (q0, q̇0) onto the constraints (the nearest q with
-    /// g(q, t0) = 0, then the nearest q̇ with G q̇ + ∂g/∂t = 0) instead of rejecting an initial
-    /// state that is off them.
-    ///
-    /// ```
-    /// # use lagrange_runtime::{Holonomic, Lagrangian, Scalar, Simulation, SimulationError};
-    /// # struct Pendulum;
-    /// # impl Lagrangian<2> for Pendulum {
-    /// #     const COORDINATES: [&'static str; 2] = ["x", "y"];
-    /// #     const CYCLIC: [bool; 2] = [true, false];
-    /// #     const AUTONOMOUS: bool = true;
-    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
-    /// #         (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
-    /// #     }
-    /// # }
-    /// # impl Holonomic<2, 1> for Pendulum {
-    /// #     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] {
-    /// #         [q[0] * q[0] + q[1] * q[1] - 1.0]
-    /// #     }
-    /// # }
-    /// let off = || Simulation::constrained(&Pendulum, [1.1, 0.0], [0.2, 0.3]).until(1.0);
-    /// let err = off().run().unwrap_err();
-    /// assert!(matches!(err, SimulationError::OffConstraints { .. }));
-    /// let tr = off().project_initial_state().run().unwrap();
-    /// assert!((tr.q[0][0] - 1.0).abs() < 1e-15 && tr.qdot[0] == [0.0, 0.3]); // nearest tangent velocity
-    /// ```
-    pub fn project_initial_state(mut self) -> Self {
-        self.o.project_initial = true;
-        self
     }
 }

@@ -36,22 +36,30 @@ impl<const N: usize> Options<'_, N> {
                 self.q0, self.qdot0
             ));
         }
-        // What the system declares is never dropped: a plain run of a system with constraints
-        // or contacts would step its unconstrained motion (a pendulum in x, y falling off its
-        // rod, two masses passing through each other) and answer wrongly without a word.
+        // What the system declares is never dropped: a run that reaches here without its
+        // constraints or contacts would step the unconstrained motion (a pendulum in x, y
+        // falling off its rod, two masses passing through each other) and answer wrongly
+        // without a word. `Simulation::run` takes them from the system (`Lagrangian::declared`);
+        // what comes here without them is an analysis that does not take them yet, or a
+        // hand-written impl that does not say how many it has.
         let flags = sys.flags();
         if self.manifold.is_none() && flags.constrained {
             return Err("this system declares constraints (`fn constraints` or \
-                 `fn velocity_constraints`), which a run built with Simulation::new would drop \
-                 (it steps the unconstrained motion): build the run with \
-                 Simulation::constrained(&system, q0, q̇0) (the same options follow)"
+                 `fn velocity_constraints`), which this run would drop (it would step the \
+                 unconstrained motion): Lyapunov exponents and periodic orbits (Shooting) do not \
+                 take constraints yet, so write the system in coordinates that satisfy them; a \
+                 hand-written `impl Holonomic<N, K>` runs with Simulation::constrained(&system, \
+                 q0, q̇0), or with Simulation::new once its `Lagrangian::declared` says \
+                 `v.constrained::<K>(self)`"
                 .to_string());
         }
         if self.manifold.is_none() && flags.contacts {
             return Err(
-                "this system declares contacts (`fn contacts`), which a run built with \
-                 Simulation::new would drop (bodies would pass through each other): build the \
-                 run with Simulation::contacts(&system, q0, q̇0) (the same options follow)"
+                "this system declares contacts (`fn contacts`), which this run would drop \
+                 (bodies would pass through each other): Lyapunov exponents and periodic orbits \
+                 (Shooting) do not take contacts yet; a hand-written `impl Unilateral<N, K>` \
+                 runs with Simulation::contacts(&system, q0, q̇0), or with Simulation::new once \
+                 its `Lagrangian::declared` says `v.contacts::<K>(self)`"
                     .to_string(),
             );
         }

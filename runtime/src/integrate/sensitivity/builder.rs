@@ -12,6 +12,7 @@ use super::super::error::SimulationError;
 use super::super::method::Method;
 use super::super::simulation::Simulation;
 use super::super::stepper::FixedGrid;
+use super::super::system::System;
 use super::super::trajectory::{SAMPLE_BUDGET_BYTES, sample_bytes};
 use super::Log;
 use super::dop853::VarDop853;
@@ -282,14 +283,16 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         ) {
             return Some(unsupported_method(sim.o.method));
         }
-        if sim.o.contact_start.is_some() {
+        // What the system declares (`Simulation::run` takes it) counts as what the run has.
+        let declares = System::flags(&*sim.sys);
+        if sim.o.contact_start.is_some() || declares.contacts {
             return Some(
                 "sensitivities of a run with contacts are not covered yet (the flow jumps at \
                  the impacts): run the phases between impacts as separate sensitivity runs"
                     .into(),
             );
         }
-        if sim.o.manifold.is_some() {
+        if sim.o.manifold.is_some() || declares.constrained {
             return Some(
                 "sensitivities of a constrained run are not covered yet (the variations would \
                  have to stay tangent to the constraints): write the system in independent \
