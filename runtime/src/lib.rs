@@ -40,8 +40,9 @@ pub use error::DynamicsError;
 pub use integrate::sensitivity;
 pub use integrate::{
     ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, EventSensitivity,
-    INVARIANT_FLOOR, Invariants, Jump, Method, NamedInvariants, PartialTrajectory, Sample,
-    Sensitivities, Sensitivity, Simulation, SimulationError, Stats, Stiffness, Trajectory, Zeno,
+    INVARIANT_FLOOR, Invariants, Jump, Method, MethodSpec, NamedInvariants, PartialTrajectory,
+    Sample, Sensitivities, Sensitivity, Simulation, SimulationError, Stats, Stiffness, Trajectory,
+    Zeno,
 };
 pub use lagrangian::{Lagrangian, el_jet, hessian_jet};
 pub use linearize::{

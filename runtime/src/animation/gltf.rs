@@ -124,6 +124,170 @@ fn linear(c: f64) -> f32 {
     l as f32
 }
 
+impl Builder {
+    /// The mesh primitive of shape `i` of `anim` with its `material`: a body's triangles, or a
+    /// trace's line strip through the point's kept positions.
+    fn primitive(
+        &mut self,
+        anim: &Animation,
+        i: usize,
+        material: json::Index<json::Material>,
+    ) -> json::mesh::Primitive {
+        match mesh::of(&anim.scenes[0].shapes[i].geometry) {
+            Some(m) => {
+                let positions =
+                    self.vec3(&m.positions, Some(json::buffer::Target::ArrayBuffer), true);
+                let normals = self.vec3(&m.normals, Some(json::buffer::Target::ArrayBuffer), false);
+                let index_bytes: Vec<u8> = m.indices.iter().flat_map(|x| x.to_le_bytes()).collect();
+                let indices = self.accessor(
+                    &index_bytes,
+                    m.indices.len(),
+                    json::accessor::ComponentType::U16,
+                    json::accessor::Type::Scalar,
+                    Some(json::buffer::Target::ElementArrayBuffer),
+                    None,
+                );
+                json::mesh::Primitive {
+                    attributes: [
+                        (Valid(json::mesh::Semantic::Positions), positions),
+                        (Valid(json::mesh::Semantic::Normals), normals),
+                    ]
+                    .into_iter()
+                    .collect(),
+                    extensions: None,
+                    extras: Default::default(),
+                    indices: Some(indices),
+                    material: Some(material),
+                    mode: Valid(json::mesh::Mode::Triangles),
+                    targets: None,
+                }
+            }
+            None => {
+                // A trace: the point's kept positions, a line strip in the model's coordinates.
+                let points: Vec<[f32; 3]> = anim
+                    .scenes
+                    .iter()
+                    .map(|s| s.shapes[i].position.map(|x| x as f32).into())
+                    .collect();
+                let positions = self.vec3(&points, Some(json::buffer::Target::ArrayBuffer), true);
+                json::mesh::Primitive {
+                    attributes: [(Valid(json::mesh::Semantic::Positions), positions)]
+                        .into_iter()
+                        .collect(),
+                    extensions: None,
+                    extras: Default::default(),
+                    indices: None,
+                    material: Some(material),
+                    mode: Valid(json::mesh::Mode::LineStrip),
+                    targets: None,
+                }
+            }
+        }
+    }
+
+    /// The keyframes of shape `i` of `anim` (its node `node`, on the key times `input`): a
+    /// sampler and a channel each for its translations and its rotations.
+    fn keyframes(
+        &mut self,
+        anim: &Animation,
+        i: usize,
+        (input, node): (json::Index<json::Accessor>, json::Index<json::Node>),
+        (samplers, channels): (
+            &mut Vec<json::animation::Sampler>,
+            &mut Vec<json::animation::Channel>,
+        ),
+    ) {
+        // Keyframes: the translations and the rotations (each quaternion on the side of the
+        // previous one, so that every viewer interpolates the short way).
+        let translations: Vec<[f32; 3]> = anim
+            .scenes
+            .iter()
+            .map(|s| s.shapes[i].position.map(|x| x as f32).into())
+            .collect();
+        let mut rotations: Vec<[f32; 4]> = Vec::with_capacity(anim.scenes.len());
+        let mut previous: Option<UnitQuaternion<f64>> = None;
+        for s in &anim.scenes {
+            let mut q = quaternion(&s.shapes[i].rotation);
+            if previous.is_some_and(|p| p.coords.dot(&q.coords) < 0.0) {
+                q = UnitQuaternion::new_unchecked(-q.into_inner());
+            }
+            previous = Some(q);
+            rotations.push([q.i as f32, q.j as f32, q.k as f32, q.w as f32]);
+        }
+        let t_out = self.vec3(&translations, None, false);
+        let r_bytes: Vec<u8> = rotations
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        let r_out = self.accessor(
+            &r_bytes,
+            rotations.len(),
+            json::accessor::ComponentType::F32,
+            json::accessor::Type::Vec4,
+            None,
+            None,
+        );
+        for (out, path) in [
+            (t_out, json::animation::Property::Translation),
+            (r_out, json::animation::Property::Rotation),
+        ] {
+            let sampler = json::Index::new(samplers.len() as u32);
+            samplers.push(json::animation::Sampler {
+                extensions: None,
+                extras: Default::default(),
+                input,
+                interpolation: Valid(json::animation::Interpolation::Linear),
+                output: out,
+            });
+            channels.push(json::animation::Channel {
+                sampler,
+                target: json::animation::Target {
+                    extensions: None,
+                    extras: Default::default(),
+                    node,
+                    path: Valid(path),
+                },
+                extensions: None,
+                extras: Default::default(),
+            });
+        }
+    }
+
+    /// The default camera of `anim`, as a camera node (Blender and other viewers offer it).
+    fn camera(&mut self, anim: &Animation) -> json::Index<json::Node> {
+        let c = anim.camera;
+        let camera = self.root.push(json::Camera {
+            name: Some("default".to_owned()),
+            orthographic: None,
+            perspective: Some(json::camera::Perspective {
+                aspect_ratio: None,
+                yfov: c.fov_y_deg.to_radians() as f32,
+                zfar: Some(c.far as f32),
+                znear: c.near as f32,
+                extensions: None,
+                extras: Default::default(),
+            }),
+            type_: Valid(json::camera::Type::Perspective),
+            extensions: None,
+            extras: Default::default(),
+        });
+        let look = look_at(c.position, c.target);
+        self.root.push(json::Node {
+            name: Some("camera".to_owned()),
+            camera: Some(camera),
+            translation: Some(c.position.map(|x| x as f32)),
+            rotation: Some(json::scene::UnitQuaternion([
+                look.i as f32,
+                look.j as f32,
+                look.k as f32,
+                look.w as f32,
+            ])),
+            ..Default::default()
+        })
+    }
+}
+
 /// The glTF JSON of `anim`.
 pub(super) fn document(anim: &Animation) -> String {
     let mut root = json::Root {
@@ -175,55 +339,7 @@ pub(super) fn document(anim: &Animation) -> String {
             double_sided: !is_mesh(&shape.geometry),
             ..Default::default()
         });
-        let primitive = match mesh::of(&shape.geometry) {
-            Some(m) => {
-                let positions = b.vec3(&m.positions, Some(json::buffer::Target::ArrayBuffer), true);
-                let normals = b.vec3(&m.normals, Some(json::buffer::Target::ArrayBuffer), false);
-                let index_bytes: Vec<u8> = m.indices.iter().flat_map(|x| x.to_le_bytes()).collect();
-                let indices = b.accessor(
-                    &index_bytes,
-                    m.indices.len(),
-                    json::accessor::ComponentType::U16,
-                    json::accessor::Type::Scalar,
-                    Some(json::buffer::Target::ElementArrayBuffer),
-                    None,
-                );
-                json::mesh::Primitive {
-                    attributes: [
-                        (Valid(json::mesh::Semantic::Positions), positions),
-                        (Valid(json::mesh::Semantic::Normals), normals),
-                    ]
-                    .into_iter()
-                    .collect(),
-                    extensions: None,
-                    extras: Default::default(),
-                    indices: Some(indices),
-                    material: Some(material),
-                    mode: Valid(json::mesh::Mode::Triangles),
-                    targets: None,
-                }
-            }
-            None => {
-                // A trace: the point's kept positions, a line strip in the model's coordinates.
-                let points: Vec<[f32; 3]> = anim
-                    .scenes
-                    .iter()
-                    .map(|s| s.shapes[i].position.map(|x| x as f32).into())
-                    .collect();
-                let positions = b.vec3(&points, Some(json::buffer::Target::ArrayBuffer), true);
-                json::mesh::Primitive {
-                    attributes: [(Valid(json::mesh::Semantic::Positions), positions)]
-                        .into_iter()
-                        .collect(),
-                    extensions: None,
-                    extras: Default::default(),
-                    indices: None,
-                    material: Some(material),
-                    mode: Valid(json::mesh::Mode::LineStrip),
-                    targets: None,
-                }
-            }
-        };
+        let primitive = b.primitive(anim, i, material);
         let mesh = b.root.push(json::Mesh {
             extensions: None,
             extras: Default::default(),
@@ -253,61 +369,7 @@ pub(super) fn document(anim: &Animation) -> String {
         if is_trace {
             continue;
         }
-        // Keyframes: the translations and the rotations (each quaternion on the side of the
-        // previous one, so that every viewer interpolates the short way).
-        let translations: Vec<[f32; 3]> = anim
-            .scenes
-            .iter()
-            .map(|s| s.shapes[i].position.map(|x| x as f32).into())
-            .collect();
-        let mut rotations: Vec<[f32; 4]> = Vec::with_capacity(anim.scenes.len());
-        let mut previous: Option<UnitQuaternion<f64>> = None;
-        for s in &anim.scenes {
-            let mut q = quaternion(&s.shapes[i].rotation);
-            if previous.is_some_and(|p| p.coords.dot(&q.coords) < 0.0) {
-                q = UnitQuaternion::new_unchecked(-q.into_inner());
-            }
-            previous = Some(q);
-            rotations.push([q.i as f32, q.j as f32, q.k as f32, q.w as f32]);
-        }
-        let t_out = b.vec3(&translations, None, false);
-        let r_bytes: Vec<u8> = rotations
-            .iter()
-            .flatten()
-            .flat_map(|x| x.to_le_bytes())
-            .collect();
-        let r_out = b.accessor(
-            &r_bytes,
-            rotations.len(),
-            json::accessor::ComponentType::F32,
-            json::accessor::Type::Vec4,
-            None,
-            None,
-        );
-        for (out, path) in [
-            (t_out, json::animation::Property::Translation),
-            (r_out, json::animation::Property::Rotation),
-        ] {
-            let sampler = json::Index::new(samplers.len() as u32);
-            samplers.push(json::animation::Sampler {
-                extensions: None,
-                extras: Default::default(),
-                input,
-                interpolation: Valid(json::animation::Interpolation::Linear),
-                output: out,
-            });
-            channels.push(json::animation::Channel {
-                sampler,
-                target: json::animation::Target {
-                    extensions: None,
-                    extras: Default::default(),
-                    node,
-                    path: Valid(path),
-                },
-                extensions: None,
-                extras: Default::default(),
-            });
-        }
+        b.keyframes(anim, i, (input, node), (&mut samplers, &mut channels));
     }
     let up = anim.up;
     let model = b.root.push(json::Node {
@@ -321,36 +383,7 @@ pub(super) fn document(anim: &Animation) -> String {
         children: Some(children),
         ..Default::default()
     });
-    // The default camera, as a camera node (Blender and other viewers offer it).
-    let c = anim.camera;
-    let camera = b.root.push(json::Camera {
-        name: Some("default".to_owned()),
-        orthographic: None,
-        perspective: Some(json::camera::Perspective {
-            aspect_ratio: None,
-            yfov: c.fov_y_deg.to_radians() as f32,
-            zfar: Some(c.far as f32),
-            znear: c.near as f32,
-            extensions: None,
-            extras: Default::default(),
-        }),
-        type_: Valid(json::camera::Type::Perspective),
-        extensions: None,
-        extras: Default::default(),
-    });
-    let look = look_at(c.position, c.target);
-    let camera_node = b.root.push(json::Node {
-        name: Some("camera".to_owned()),
-        camera: Some(camera),
-        translation: Some(c.position.map(|x| x as f32)),
-        rotation: Some(json::scene::UnitQuaternion([
-            look.i as f32,
-            look.j as f32,
-            look.k as f32,
-            look.w as f32,
-        ])),
-        ..Default::default()
-    });
+    let camera_node = b.camera(anim);
     if !channels.is_empty() {
         b.root.push(json::Animation {
             extensions: None,

@@ -307,37 +307,8 @@ pub fn solve_constrained<const N: usize, const K: usize>(
     if !(all_finite(g.as_flattened()) && all_finite(c)) {
         return Err(non_finite(q, qdot, t));
     }
-    // A row whose squared norm leaves f64's normal range (a constraint 1e-200 (x − 1) has a
-    // gradient that squares to 0, and was called a zero gradient) is scaled by a power of two to
-    // order one, exactly, and its multiplier scaled back; other systems do not pass here.
-    let out_of_range = |row: &[f64; N]| {
-        let n2: f64 = row.iter().map(|x| x * x).sum();
-        !n2.is_normal() && row.iter().any(|x| *x != 0.0)
-    };
-    if g.iter().any(out_of_range) {
-        let mut scaled = *rows;
-        let mut s = [1.0; K];
-        for j in 0..K {
-            let m = g[j].iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            if m > 0.0 {
-                s[j] = power_of_two_ratio(1.0, m);
-                for x in &mut scaled.jacobian[j] {
-                    *x *= s[j];
-                }
-                scaled.curvature[j] *= s[j];
-                scaled.rate[j] *= s[j];
-                scaled.value[j] *= s[j];
-            }
-        }
-        // (Scaled to its largest entry, a non-zero row's squared norm is in [1, N].)
-        if !scaled.jacobian.iter().any(out_of_range) {
-            let (a, lambda) = solve_constrained(pieces, &scaled, names, q, qdot, t)?;
-            let mut out = lambda;
-            for j in 0..K {
-                out[j] *= s[j];
-            }
-            return Ok((a, out));
-        }
+    if let Some(out) = solve_rescaled(pieces, rows, names, q, qdot, t) {
+        return out;
     }
     if K == 1
         && N + K <= SADDLE_MAX
@@ -412,12 +383,80 @@ pub fn solve_constrained<const N: usize, const K: usize>(
     if let Some((a, lambda)) = constrained_fast(&mt, &bt, g, c) {
         return Ok((a, lambda.map(|l| l * back)));
     }
+    constrained_careful(&mt, &bt, g, c, back, (&names, q, qdot, t))
+}
+
+/// What [`solve_constrained`] gives: (q̈, λ) or why not.
+type Solved<const N: usize, const K: usize> = Result<([f64; N], [f64; K]), DynamicsError>;
+
+/// [`solve_constrained`] of rows whose squared norms leave f64's normal range, scaled first;
+/// `None` for other rows (every system in practice).
+#[inline(always)]
+fn solve_rescaled<const N: usize, const K: usize>(
+    pieces: &Pieces<N>,
+    rows: &ConstraintRows<N, K>,
+    names: [&'static str; N],
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> Option<Solved<N, K>> {
+    // A row whose squared norm leaves f64's normal range (a constraint 1e-200 (x − 1) has a
+    // gradient that squares to 0, and was called a zero gradient) is scaled by a power of two to
+    // order one, exactly, and its multiplier scaled back; other systems do not pass here.
+    let out_of_range = |row: &[f64; N]| {
+        let n2: f64 = row.iter().map(|x| x * x).sum();
+        !n2.is_normal() && row.iter().any(|x| *x != 0.0)
+    };
+    if !rows.jacobian.iter().any(out_of_range) {
+        return None;
+    }
+    let mut scaled = *rows;
+    let mut s = [1.0; K];
+    for j in 0..K {
+        let m = rows.jacobian[j].iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        if m > 0.0 {
+            s[j] = power_of_two_ratio(1.0, m);
+            for x in &mut scaled.jacobian[j] {
+                *x *= s[j];
+            }
+            scaled.curvature[j] *= s[j];
+            scaled.rate[j] *= s[j];
+            scaled.value[j] *= s[j];
+        }
+    }
+    // (Scaled to its largest entry, a non-zero row's squared norm is in [1, N].)
+    if !scaled.jacobian.iter().any(out_of_range) {
+        return Some(
+            solve_constrained(pieces, &scaled, names, q, qdot, t).map(|(a, lambda)| {
+                let mut out = lambda;
+                for j in 0..K {
+                    out[j] *= s[j];
+                }
+                (a, out)
+            }),
+        );
+    }
+    None
+}
+
+/// The careful path of [`solve_constrained`] (where the fast one declined): one factorization
+/// of M̃ (LDLᵀ, LU where M̃ is indefinite) for z = M̃⁻¹ b̃ and Y_j = M̃⁻¹ G_jᵀ, then
+/// (G M̃⁻¹ Gᵀ) λ = −c − G z; says what went wrong, at (q, q̇, t) of `at`. λ is scaled by `back`.
+#[inline(always)]
+fn constrained_careful<const N: usize, const K: usize>(
+    mt: &[[f64; N]; N],
+    bt: &[f64; N],
+    g: &[[f64; N]; K],
+    c: &[f64; K],
+    back: f64,
+    (names, q, qdot, t): (&[&'static str; N], &[f64; N], &[f64; N], f64),
+) -> Result<([f64; N], [f64; K]), DynamicsError> {
     // z = M̃⁻¹ b̃ and Y_j = M̃⁻¹ G_jᵀ, from one factorization.
     let singular = |row: usize, relative_pivot: f64| {
-        singular_constrained(names, row, relative_pivot, q, qdot, t)
+        singular_constrained(*names, row, relative_pivot, q, qdot, t)
     };
-    let (z, y) = match Ldlt::factor(&mt) {
-        Ok(fac) => (fac.solve(&bt), core::array::from_fn(|j| fac.solve(&g[j]))),
+    let (z, y) = match Ldlt::factor(mt) {
+        Ok(fac) => (fac.solve(bt), core::array::from_fn(|j| fac.solve(&g[j]))),
         Err(SolveFailure::NonFinite) => return Err(non_finite(q, qdot, t)),
         Err(SolveFailure::Singular {
             row,
@@ -425,7 +464,7 @@ pub fn solve_constrained<const N: usize, const K: usize>(
         }) if relative_pivot > 0.0 => return Err(singular(row, relative_pivot)),
         Err(SolveFailure::Singular { .. }) => {
             // Indefinite M̃ (an M that is not positive semi-definite): LU for each column.
-            let lu = |b: &[f64; N]| match solve_symmetric(&mt, b) {
+            let lu = |b: &[f64; N]| match solve_symmetric(mt, b) {
                 Ok(x) => Ok(x),
                 Err(SolveFailure::NonFinite) => Err(non_finite(q, qdot, t)),
                 Err(SolveFailure::Singular {
@@ -433,7 +472,7 @@ pub fn solve_constrained<const N: usize, const K: usize>(
                     relative_pivot,
                 }) => Err(singular(row, relative_pivot)),
             };
-            let z = lu(&bt)?;
+            let z = lu(bt)?;
             let mut y = [[0.0; N]; K];
             for j in 0..K {
                 y[j] = lu(&g[j])?;

@@ -269,8 +269,7 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
             pending: None,
             stats: Stats::default(),
             manifold,
-            project_steps: manifold.is_some()
-                && !matches!(method, Method::VariationalMidpoint { .. }),
+            project_steps: manifold.is_some() && method.spec().projects,
         }
     }
 
@@ -690,59 +689,7 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
         // Events: sign changes of g over the step, located on the interpolant. g is read at
         // three interior points too, so a g that turns around inside one step (a ball up and
         // back down within one long polynomial step) is found.
-        hits.clear();
-        if !self.events.is_empty() {
-            let yb = s.node(&mut self.stats)?;
-            let h = t_b - t_a;
-            let mut inner = [(0.0, [[0.0; N]; 2]); 3];
-            for (k, slot) in inner.iter_mut().enumerate() {
-                let t = t_a + h * (k + 1) as f64 / 4.0;
-                *slot = (t, s.interp(t, &mut self.stats)?);
-            }
-            for (i, ev) in self.events.iter().enumerate() {
-                g_new[i] = ev.value(t_b, &yb[0], &yb[1]);
-                if g_new[i].is_nan() && !ev.is_contact() {
-                    return Err(Fault::Dynamics(DynamicsError::NonFinite {
-                        t: t_b,
-                        q: yb[0].to_vec(),
-                        qdot: yb[1].to_vec(),
-                        message: format!(
-                            "the function of event \"{}\" is NaN at this state, so its zero \
-                             crossings cannot be found (it would never fire): check its formula \
-                             where it divides or takes roots, or end the run before it leaves \
-                             its domain with a terminal event",
-                            ev.name()
-                        ),
-                    }));
-                }
-                let mut prev = (t_a, g_old[i]);
-                for k in 0..4 {
-                    let next = match inner.get(k) {
-                        Some((t, y)) => (*t, ev.value(*t, &y[0], &y[1])),
-                        None => (t_b, g_new[i]),
-                    };
-                    if let Some(dir) = ev.crosses(prev.1, next.1) {
-                        let tol = location_tol(t_b);
-                        let stats = &mut self.stats;
-                        let tz = brent(
-                            &mut |t| {
-                                let y = s.interp(t, stats)?;
-                                Ok::<f64, Fault>(ev.value(t, &y[0], &y[1]))
-                            },
-                            prev.0,
-                            next.0,
-                            prev.1,
-                            next.1,
-                            tol,
-                        )?;
-                        hits.push((tz, i, dir));
-                    }
-                    prev = next;
-                }
-            }
-            g_old.copy_from_slice(g_new);
-            hits.sort_by(|a, b| a.0.total_cmp(&b.0));
-        }
+        self.locate_events(s, (t_a, t_b), g_old, g_new, hits)?;
         // The run stops at its first terminal hit; the stepper stops at the first jump.
         let stopping = hits
             .iter()
@@ -751,6 +698,122 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
         let stop = stopping.map(|(t, _)| t);
         let t_stop = stop.unwrap_or(t_b);
         // Samples in (t_a, t_stop], then the events up to t_stop.
+        self.record_samples(s, o, t_b, stop, (next_sample, next_time))?;
+        for &(tz, i, dir) in hits.iter() {
+            if tz > t_stop {
+                break;
+            }
+            let y = s.interp(tz, &mut self.stats)?;
+            self.traj.events.push(EventHit {
+                name: self.events[i].name().to_string(),
+                t: tz,
+                q: y[0],
+                qdot: y[1],
+                direction: dir,
+            });
+            s.event_located(tz, i, &mut self.stats)?;
+        }
+        if let Some((tz, i)) = stopping {
+            let y = s.interp(tz, &mut self.stats)?;
+            if let Some(d) = self.traj.dense_mut() {
+                d.stop_at(tz, y);
+            }
+            let w = self.work_at(s, tz)?;
+            self.push(tz, &y, w)?;
+            s.recorded(tz, tz, &mut self.stats)?;
+            let ev = &self.events[i];
+            match ev.try_reset(tz, &y[0], &y[1]) {
+                Some(after) if !ev.is_terminal() => self.jump(i, tz, y, after?, w)?,
+                _ => self.traj.terminated_by = Some(ev.name().to_string()),
+            }
+            return Ok(true);
+        }
+        Ok(false)
+    }
+
+    /// The events' sign changes over the step (t_a, t_b] of `s`, located on its interpolant into
+    /// `hits` in time order; g is read at three interior points too, so a g that turns around
+    /// inside one step (a ball up and back down within one long polynomial step) is found.
+    /// `g_old` holds g at t_a on entry and at t_b on return.
+    #[inline]
+    fn locate_events(
+        &mut self,
+        s: &mut dyn Stepper<N>,
+        (t_a, t_b): (f64, f64),
+        g_old: &mut [f64],
+        g_new: &mut [f64],
+        hits: &mut Vec<(f64, usize, Direction)>,
+    ) -> Result<(), Fault> {
+        hits.clear();
+        if self.events.is_empty() {
+            return Ok(());
+        }
+        let yb = s.node(&mut self.stats)?;
+        let h = t_b - t_a;
+        let mut inner = [(0.0, [[0.0; N]; 2]); 3];
+        for (k, slot) in inner.iter_mut().enumerate() {
+            let t = t_a + h * (k + 1) as f64 / 4.0;
+            *slot = (t, s.interp(t, &mut self.stats)?);
+        }
+        for (i, ev) in self.events.iter().enumerate() {
+            g_new[i] = ev.value(t_b, &yb[0], &yb[1]);
+            if g_new[i].is_nan() && !ev.is_contact() {
+                return Err(Fault::Dynamics(DynamicsError::NonFinite {
+                    t: t_b,
+                    q: yb[0].to_vec(),
+                    qdot: yb[1].to_vec(),
+                    message: format!(
+                        "the function of event \"{}\" is NaN at this state, so its zero \
+                         crossings cannot be found (it would never fire): check its formula \
+                         where it divides or takes roots, or end the run before it leaves \
+                         its domain with a terminal event",
+                        ev.name()
+                    ),
+                }));
+            }
+            let mut prev = (t_a, g_old[i]);
+            for k in 0..4 {
+                let next = match inner.get(k) {
+                    Some((t, y)) => (*t, ev.value(*t, &y[0], &y[1])),
+                    None => (t_b, g_new[i]),
+                };
+                if let Some(dir) = ev.crosses(prev.1, next.1) {
+                    let tol = location_tol(t_b);
+                    let stats = &mut self.stats;
+                    let tz = brent(
+                        &mut |t| {
+                            let y = s.interp(t, stats)?;
+                            Ok::<f64, Fault>(ev.value(t, &y[0], &y[1]))
+                        },
+                        prev.0,
+                        next.0,
+                        prev.1,
+                        next.1,
+                        tol,
+                    )?;
+                    hits.push((tz, i, dir));
+                }
+                prev = next;
+            }
+        }
+        g_old.copy_from_slice(g_new);
+        hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Ok(())
+    }
+
+    /// Records the samples of the step ending at t_b up to the run's terminal time `stop` (if
+    /// a terminal or resetting event stops it in this step): the grid's times (advancing
+    /// `next_sample`, and `next_time` to the next grid time past the step), or the node.
+    #[inline]
+    fn record_samples(
+        &mut self,
+        s: &mut dyn Stepper<N>,
+        o: &RunOptions,
+        t_b: f64,
+        stop: Option<f64>,
+        (next_sample, next_time): (&mut usize, &mut f64),
+    ) -> Result<(), Fault> {
+        let t_stop = stop.unwrap_or(t_b);
         match o.sampling {
             Sampling::Every(_) | Sampling::At { .. } => {
                 // A time within `snap` past this node is this node (grid rounding), unless a
@@ -785,36 +848,7 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
                 }
             }
         }
-        for &(tz, i, dir) in hits.iter() {
-            if tz > t_stop {
-                break;
-            }
-            let y = s.interp(tz, &mut self.stats)?;
-            self.traj.events.push(EventHit {
-                name: self.events[i].name().to_string(),
-                t: tz,
-                q: y[0],
-                qdot: y[1],
-                direction: dir,
-            });
-            s.event_located(tz, i, &mut self.stats)?;
-        }
-        if let Some((tz, i)) = stopping {
-            let y = s.interp(tz, &mut self.stats)?;
-            if let Some(d) = self.traj.dense_mut() {
-                d.stop_at(tz, y);
-            }
-            let w = self.work_at(s, tz)?;
-            self.push(tz, &y, w)?;
-            s.recorded(tz, tz, &mut self.stats)?;
-            let ev = &self.events[i];
-            match ev.try_reset(tz, &y[0], &y[1]) {
-                Some(after) if !ev.is_terminal() => self.jump(i, tz, y, after?, w)?,
-                _ => self.traj.terminated_by = Some(ev.name().to_string()),
-            }
-            return Ok(true);
-        }
-        Ok(false)
+        Ok(())
     }
 
     /// The jump of resetting event `i` at tz from `before` to `after`, W(tz) being `w`: recorded,

@@ -449,56 +449,49 @@ impl fmt::Display for SimulationError {
                 residual,
                 reason,
                 ..
-            } if reason.starts_with(PROJECTION) => write!(
-                f,
-                "the projection onto the constraints failed after the step from t = {t} (q = {q}, \
-                 q̇ = {qdot}): {reason}; {iterations} iterations, residual {residual:e}. Try: a \
-                 tighter tolerance or a smaller max_step (the step left the constraints too far), \
-                 or Method::VariationalMidpoint (RATTLE). The trajectory up to t is kept \
-                 (partial_trajectory()).",
-                t = Short(*t),
-                q = Short(&q[..]),
-                qdot = Short(&qdot[..])
-            ),
-            SimulationError::NewtonFailed {
-                t,
-                q,
-                qdot,
-                iterations,
-                residual,
-                reason,
-                ..
-            } if reason.starts_with(RADAU) => write!(
-                f,
-                "the implicit step after t = {t} (q = {q}, q̇ = {qdot}) failed: {reason}; \
-                 {iterations} iterations, last scaled Newton increment {residual:e}, after the \
-                 step was halved down to the round-off limit. Try: Method::Dop853 to see whether \
-                 the motion itself is singular here (a state where the mass matrix degenerates, \
-                 a force that blows up), or a smaller max_step. The trajectory up to t is kept \
-                 (partial_trajectory()).",
-                t = Short(*t),
-                q = Short(&q[..]),
-                qdot = Short(&qdot[..])
-            ),
-            SimulationError::NewtonFailed {
-                t,
-                q,
-                qdot,
-                iterations,
-                residual,
-                reason,
-                ..
-            } => write!(
-                f,
-                "the variational integrator's Newton solve failed in the step after t = {t} (q = {q}, \
-                 q̇ = {qdot}): {reason}; {iterations} iterations, residual {residual:e}. Try: a smaller \
-                 dt, or an explicit method (Dop853) to see whether the motion itself is singular here. \
-                 The trajectory up to t is kept (partial_trajectory()).",
-                t = Short(*t),
-                q = Short(&q[..]),
-                qdot = Short(&qdot[..])
-            ),
+            } => newton_failed(f, *t, q, qdot, (*iterations, *residual, reason)),
         }
+    }
+}
+
+/// The message of [`SimulationError::NewtonFailed`]: which solve failed (a constrained run's
+/// projection, Radau5's stage equations, the variational integrator's step), where, and what
+/// to try.
+fn newton_failed(
+    f: &mut fmt::Formatter<'_>,
+    t: f64,
+    q: &[f64],
+    qdot: &[f64],
+    (iterations, residual, reason): (usize, f64, &str),
+) -> fmt::Result {
+    let (t, q, qdot) = (Short(t), Short(q), Short(qdot));
+    if reason.starts_with(PROJECTION) {
+        write!(
+            f,
+            "the projection onto the constraints failed after the step from t = {t} (q = {q}, \
+             q̇ = {qdot}): {reason}; {iterations} iterations, residual {residual:e}. Try: a \
+             tighter tolerance or a smaller max_step (the step left the constraints too far), \
+             or Method::VariationalMidpoint (RATTLE). The trajectory up to t is kept \
+             (partial_trajectory())."
+        )
+    } else if reason.starts_with(RADAU) {
+        write!(
+            f,
+            "the implicit step after t = {t} (q = {q}, q̇ = {qdot}) failed: {reason}; \
+             {iterations} iterations, last scaled Newton increment {residual:e}, after the \
+             step was halved down to the round-off limit. Try: Method::Dop853 to see whether \
+             the motion itself is singular here (a state where the mass matrix degenerates, \
+             a force that blows up), or a smaller max_step. The trajectory up to t is kept \
+             (partial_trajectory())."
+        )
+    } else {
+        write!(
+            f,
+            "the variational integrator's Newton solve failed in the step after t = {t} (q = \
+             {q}, q̇ = {qdot}): {reason}; {iterations} iterations, residual {residual:e}. Try: a \
+             smaller dt, or an explicit method (Dop853) to see whether the motion itself is \
+             singular here. The trajectory up to t is kept (partial_trajectory())."
+        )
     }
 }
 

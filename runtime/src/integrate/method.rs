@@ -128,11 +128,166 @@ impl Method {
     /// assert!(lagrange_runtime::Method::Rk4 { dt: 0.1 }.is_fixed_step());
     /// ```
     pub fn is_fixed_step(&self) -> bool {
-        matches!(
-            self,
-            Method::Rk4 { .. } | Method::VariationalMidpoint { .. }
-        )
+        self.spec().fixed_dt.is_some()
     }
+
+    /// What the method is and what it takes, from one table: the facts the option checks, the
+    /// driver, the sampling, the stiffness diagnosis and the refusals read (a refusal names the
+    /// methods that do take what a run has, from the same table).
+    ///
+    /// ```
+    /// use lagrange_runtime::Method;
+    /// let s = Method::Dop853 { rtol: 1e-10, atol: 1e-12 }.spec();
+    /// assert_eq!((s.name, s.fixed_dt, s.dense_order), ("Method::Dop853", None, Some(7)));
+    /// assert!(s.constraints && s.contacts && s.sensitivities);
+    /// let r = Method::Radau5 { rtol: 1e-8, atol: 1e-10 }.spec();
+    /// assert!(!r.explicit && !r.constraints);
+    /// assert_eq!(Method::Rk4 { dt: 0.25 }.spec().fixed_dt, Some(0.25));
+    /// ```
+    pub fn spec(&self) -> MethodSpec {
+        // Every method takes velocity constraints where it takes constraints by projection.
+        const EXPLICIT: MethodSpec = MethodSpec {
+            name: "",
+            fixed_dt: None,
+            tolerances: None,
+            dense_order: None,
+            explicit: true,
+            constraints: true,
+            projects: true,
+            velocity_constraints: true,
+            contacts: true,
+            resets: true,
+            sensitivities: true,
+            stability_limit: None,
+        };
+        match *self {
+            Method::Rk4 { dt } => MethodSpec {
+                name: "Method::Rk4",
+                fixed_dt: Some(dt),
+                dense_order: Some(3),
+                stability_limit: Some(super::stiffness::RK4_LIMIT),
+                ..EXPLICIT
+            },
+            Method::DormandPrince { rtol, atol } => MethodSpec {
+                name: "Method::DormandPrince",
+                tolerances: Some((rtol, atol)),
+                dense_order: Some(4),
+                ..EXPLICIT
+            },
+            Method::Dop853 { rtol, atol } => MethodSpec {
+                name: "Method::Dop853",
+                tolerances: Some((rtol, atol)),
+                dense_order: Some(7),
+                ..EXPLICIT
+            },
+            Method::Taylor { .. } => MethodSpec {
+                name: "Method::Taylor",
+                constraints: false,
+                velocity_constraints: false,
+                contacts: false,
+                ..EXPLICIT
+            },
+            Method::VariationalMidpoint { dt } => MethodSpec {
+                name: "Method::VariationalMidpoint",
+                fixed_dt: Some(dt),
+                dense_order: Some(3),
+                explicit: false,
+                // RATTLE: its nodes satisfy the constraints, nothing to project.
+                projects: false,
+                velocity_constraints: false,
+                contacts: false,
+                sensitivities: false,
+                ..EXPLICIT
+            },
+            Method::Radau5 { rtol, atol } => MethodSpec {
+                name: "Method::Radau5",
+                tolerances: Some((rtol, atol)),
+                dense_order: Some(3),
+                explicit: false,
+                constraints: false,
+                velocity_constraints: false,
+                contacts: false,
+                sensitivities: false,
+                ..EXPLICIT
+            },
+        }
+    }
+
+    /// The names of the methods whose [`spec`](Method::spec) has `takes`, for a refusal's
+    /// advice ("use Method::Dop853, Method::DormandPrince or Method::Rk4").
+    ///
+    /// ```
+    /// use lagrange_runtime::Method;
+    /// assert_eq!(Method::takers(|s| s.contacts), "Method::Dop853, Method::DormandPrince or Method::Rk4");
+    /// ```
+    pub fn takers(takes: impl Fn(&MethodSpec) -> bool) -> String {
+        let all = [
+            Method::Dop853 {
+                rtol: 1.0,
+                atol: 1.0,
+            },
+            Method::DormandPrince {
+                rtol: 1.0,
+                atol: 1.0,
+            },
+            Method::Rk4 { dt: 1.0 },
+            Method::Taylor { tol: 1.0 },
+            Method::VariationalMidpoint { dt: 1.0 },
+            Method::Radau5 {
+                rtol: 1.0,
+                atol: 1.0,
+            },
+        ];
+        let names: Vec<&str> = all
+            .iter()
+            .map(Method::spec)
+            .filter(|s| takes(s))
+            .map(|s| s.name)
+            .collect();
+        match names.split_last() {
+            None => String::new(),
+            Some((last, [])) => (*last).to_string(),
+            Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        }
+    }
+}
+
+/// What a [`Method`] is and what it takes ([`Method::spec`]).
+///
+/// ```
+/// let s = lagrange_runtime::Method::VariationalMidpoint { dt: 1e-3 }.spec();
+/// assert!(s.constraints && !s.projects && !s.velocity_constraints);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct MethodSpec {
+    /// The method as the user writes it (`"Method::Dop853"`).
+    pub name: &'static str,
+    /// The step of a fixed-step method (samples and events are tied to its grid).
+    pub fixed_dt: Option<f64>,
+    /// (rtol, atol) of a method with error control on them.
+    pub tolerances: Option<(f64, f64)>,
+    /// The order of its dense output (`None`: it varies, the Taylor method's series).
+    pub dense_order: Option<u32>,
+    /// An explicit method: its step is bounded by the fastest mode (the stiffness diagnosis
+    /// applies to its failures).
+    pub explicit: bool,
+    /// Whether it runs holonomic constraints.
+    pub constraints: bool,
+    /// Whether a constrained run projects its state back onto the constraints after each step
+    /// (the explicit methods), rather than stepping on them (RATTLE).
+    pub projects: bool,
+    /// Whether it runs velocity (nonholonomic) constraints.
+    pub velocity_constraints: bool,
+    /// Whether it runs contacts (impacts, resting contact, lift-off).
+    pub contacts: bool,
+    /// Whether it runs events that reset the state.
+    pub resets: bool,
+    /// Whether sensitivity runs integrate their variations with it.
+    pub sensitivities: bool,
+    /// Its stability limit on h·ω for an undamped oscillation, for a fixed-step explicit method
+    /// (the diagnosis compares the step against it).
+    pub stability_limit: Option<f64>,
 }
 
 /// The methods that run in SIMD lanes in an ensemble, each with its engine's file under

@@ -70,7 +70,7 @@ pub use contacts::ContactView;
 pub use dense::DenseOutputError;
 pub use error::{PartialTrajectory, SimulationError};
 pub use events::{Direction, Event, EventHit, Jump, Zeno};
-pub use method::Method;
+pub use method::{Method, MethodSpec};
 pub use report::NamedInvariants;
 pub(crate) use sensitivity::parameter_scale;
 pub use sensitivity::{EventSensitivity, Sensitivities, Sensitivity};

@@ -561,10 +561,7 @@ impl<'a, const N: usize> Options<'a, N> {
                 times,
                 // A fixed-step method records the node a sample time lands on (the grid test of
                 // `validate` allows 1e-9 of a step); the adaptive ones interpolate any other time.
-                snap: match self.method {
-                    Method::Rk4 { dt } | Method::VariationalMidpoint { dt } => 1e-9 * dt,
-                    _ => 0.0,
-                },
+                snap: self.method.spec().fixed_dt.map_or(0.0, |dt| 1e-9 * dt),
             },
             (None, Some(ds)) => Sampling::Every(ds),
             (None, None) => Sampling::Steps,

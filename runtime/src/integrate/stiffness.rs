@@ -99,13 +99,12 @@ pub(crate) fn diagnose<const N: usize>(
     if constrained || !y.iter().flatten().all(|x| x.is_finite()) {
         return None;
     }
-    let (fixed, limit) = match method {
-        Method::Rk4 { dt } => (Some(dt), Some(RK4_LIMIT)),
-        Method::DormandPrince { .. } | Method::Dop853 { .. } | Method::Taylor { .. } => {
-            (None, None)
-        }
-        _ => return None,
-    };
+    // The explicit methods' steps are bounded by the fastest mode; an implicit one's are not.
+    let spec = method.spec();
+    if !spec.explicit {
+        return None;
+    }
+    let (fixed, limit) = (spec.fixed_dt, spec.stability_limit);
     let sizes = sys.mode_sizes(&y[0], &y[1], t)?;
     let omega_max = sizes.iter().copied().fold(0.0, f64::max);
     if !(omega_max.is_finite() && omega_max > 0.0) {

@@ -99,13 +99,14 @@ pub trait LinearizeConstrained<const N: usize, const K: usize>: Holonomic<N, K> 
 
 impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> LinearizeConstrained<N, K> for H {}
 
-/// The default of [`LinearizeConstrained::linearize_on_constraints`] (see the module docs).
-fn constrained_linearization<H, const N: usize, const K: usize>(
+/// Whether [`constrained_linearization`] takes the reference (q, q̇, t) of `sys`: constraints
+/// that do not move, and a state on them.
+fn check_reference<H, const N: usize, const K: usize>(
     sys: &H,
     q: &[f64; N],
     qdot: &[f64; N],
     t: f64,
-) -> Result<ConstrainedLinearization<N>, DynamicsError>
+) -> Result<(), DynamicsError>
 where
     H: Holonomic<N, K> + ?Sized,
 {
@@ -138,11 +139,31 @@ where
                 "the reference state is off constraint {j}: its residual is {:e} (positions) \
                  and {:e} (velocities), relative to the constraint's scale; linearize about a \
                  state on the constraints (g(q) = 0, G q̇ = 0, A q̇ = 0), e.g. the projection a \
-                 constrained run starts from (`Simulation::constrained(..).project_initial_state()`)",
+                 constrained run starts from (`Simulation::new(..).project_initial_state()`)",
                 rows.value[j], rows.rate[j]
             )));
         }
     }
+    Ok(())
+}
+
+/// The default of [`LinearizeConstrained::linearize_on_constraints`] (see the module docs).
+fn constrained_linearization<H, const N: usize, const K: usize>(
+    sys: &H,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> Result<ConstrainedLinearization<N>, DynamicsError>
+where
+    H: Holonomic<N, K> + ?Sized,
+{
+    check_reference(sys, q, qdot, t)?;
+    let refuse = |message: String| DynamicsError::Constrained {
+        t,
+        q: q.to_vec(),
+        qdot: qdot.to_vec(),
+        message,
+    };
     let (a0, lambda) = sys.constrained_accelerations(q, qdot, t)?;
     let lin = linearize_along(sys, q, qdot, t, &a0)?;
     let kh = K - H::VELOCITY_ROWS;

@@ -274,13 +274,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// Why this run cannot carry its variations (what it does not cover yet), if so.
     fn refusal(&self) -> Option<String> {
         let sim = &self.sim;
-        if !matches!(
-            sim.o.method,
-            Method::Dop853 { .. }
-                | Method::DormandPrince { .. }
-                | Method::Rk4 { .. }
-                | Method::Taylor { .. }
-        ) {
+        if !sim.o.method.spec().sensitivities {
             return Some(unsupported_method(sim.o.method));
         }
         // What the system declares (`Simulation::run` takes it) counts as what the run has.
@@ -321,9 +315,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
 /// The refusal of a method the sensitivity runs do not take.
 fn unsupported_method(method: Method) -> String {
     format!(
-        "sensitivity runs integrate the variational equations with the explicit methods \
-         (Method::Dop853, Method::DormandPrince, Method::Taylor, Method::Rk4); {method:?} is not \
+        "sensitivity runs integrate the variational equations with {}; {method:?} is not \
          covered yet: use Method::Dop853 {{ rtol, atol }} (the default, adaptive, with dense \
-         output for samples and events)"
+         output for samples and events)",
+        Method::takers(|s| s.sensitivities)
     )
 }

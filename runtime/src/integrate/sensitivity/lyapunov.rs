@@ -259,31 +259,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
     /// ```
     pub fn compute(self) -> Result<Spectrum, SimulationError> {
         let n2 = 2 * N;
-        let bad = |message: String| Err(SimulationError::InvalidOptions { message });
-        if self.directions == 0 || self.directions > n2 {
-            return bad(format!(
-                "directions({}): follow 1 to 2N = {n2} directions",
-                self.directions
-            ));
-        }
-        let positive = self.duration > 0.0 && self.every > 0.0 && self.transient >= 0.0;
-        if !positive || !self.duration.is_finite() || !self.transient.is_finite() {
-            return bad(format!(
-                "duration {}, renormalize_every {}, transient {}: give a positive finite \
-                 duration and interval and a finite transient ≥ 0",
-                self.duration, self.every, self.transient
-            ));
-        }
-        if !(self.rtol > 0.0 && self.atol >= 0.0) {
-            return bad(format!(
-                "tolerances rtol = {}, atol = {}: give rtol > 0 and atol ≥ 0",
-                self.rtol, self.atol
-            ));
-        }
-        let method = super::super::method::Method::Dop853 {
-            rtol: self.rtol,
-            atol: self.atol,
-        };
+        let method = self.checked()?;
         // The transient: a plain run.
         let (mut q, mut v, mut t) = (self.q0, self.qdot0, self.t0);
         if self.transient > 0.0 {
@@ -319,29 +295,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
         let mut stats = Stats::default();
         let t_start = t;
         let t_stop = t_start + self.duration;
-        let fail = |f: Fault, s: &VarDop853<'_, '_, L, N>| -> SimulationError {
-            let z = s.state();
-            let (t, q, qdot) = (s.node_time(), z[..N].to_vec(), z[N..n2].to_vec());
-            let message = format!("{f:?}");
-            SimulationError::Dynamics {
-                source: Box::new(match f {
-                    Fault::Dynamics(e) => e,
-                    _ => crate::error::DynamicsError::NonFinite {
-                        t,
-                        q: q.clone(),
-                        qdot: qdot.clone(),
-                        message: format!(
-                            "the Lyapunov run could not go on ({message}): tighten the \
-                             tolerances or shorten the interval between re-orthonormalizations"
-                        ),
-                    },
-                }),
-                t,
-                q,
-                qdot,
-                partial: super::super::error::PartialTrajectory::none(),
-            }
-        };
+        let fail =
+            |f: Fault, s: &VarDop853<'_, '_, L, N>| fault_error::<N>(f, s.node_time(), s.state());
         let mut s = VarDop853::new(
             var, t, z0, self.rtol, self.atol, self.every, None, &mut stats,
         )
@@ -413,6 +368,60 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
             duration: self.duration,
             renormalizations: count,
         })
+    }
+
+    /// The options checked: the method the run takes, or why they are refused.
+    fn checked(&self) -> Result<super::super::method::Method, SimulationError> {
+        let n2 = 2 * N;
+        let bad = |message: String| Err(SimulationError::InvalidOptions { message });
+        if self.directions == 0 || self.directions > n2 {
+            return bad(format!(
+                "directions({}): follow 1 to 2N = {n2} directions",
+                self.directions
+            ));
+        }
+        let positive = self.duration > 0.0 && self.every > 0.0 && self.transient >= 0.0;
+        if !positive || !self.duration.is_finite() || !self.transient.is_finite() {
+            return bad(format!(
+                "duration {}, renormalize_every {}, transient {}: give a positive finite \
+                 duration and interval and a finite transient ≥ 0",
+                self.duration, self.every, self.transient
+            ));
+        }
+        if !(self.rtol > 0.0 && self.atol >= 0.0) {
+            return bad(format!(
+                "tolerances rtol = {}, atol = {}: give rtol > 0 and atol ≥ 0",
+                self.rtol, self.atol
+            ));
+        }
+        Ok(super::super::method::Method::Dop853 {
+            rtol: self.rtol,
+            atol: self.atol,
+        })
+    }
+}
+
+/// The error of a Lyapunov run that could not go on at (t, z).
+fn fault_error<const N: usize>(f: Fault, t: f64, z: &[f64]) -> SimulationError {
+    let (q, qdot) = (z[..N].to_vec(), z[N..2 * N].to_vec());
+    let message = format!("{f:?}");
+    SimulationError::Dynamics {
+        source: Box::new(match f {
+            Fault::Dynamics(e) => e,
+            _ => crate::error::DynamicsError::NonFinite {
+                t,
+                q: q.clone(),
+                qdot: qdot.clone(),
+                message: format!(
+                    "the Lyapunov run could not go on ({message}): tighten the \
+                     tolerances or shorten the interval between re-orthonormalizations"
+                ),
+            },
+        }),
+        t,
+        q,
+        qdot,
+        partial: super::super::error::PartialTrajectory::none(),
     }
 }
 
