@@ -14,7 +14,7 @@
 use std::f64::consts::PI;
 
 use lagrange::prelude::*;
-use lagrange::theory::heavy_top::{fast_top_cos_theta, fast_top_precession_rate, Constants, Top};
+use lagrange_theory::heavy_top::{fast_top_cos_theta, fast_top_precession_rate, Constants, Top};
 use plotters::prelude::*;
 
 // The top of eq. 92, declared with `#[lagrangian]` exactly as the equation reads; shared by the

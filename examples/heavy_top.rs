@@ -9,14 +9,14 @@
 //! Declares the top with `#[lagrangian]` exactly as eq. 92 reads, integrates it, and prints the
 //! derived constants (Ω, p0, ω0, p_E, the roots of eq. 96), the nutation period measured from the
 //! located turning points against eq. 97, the mean precession rate measured against the precise
-//! quadrature of `lagrange::theory::heavy_top`, and the drift of the invariants. Writes an SVG
+//! quadrature of `lagrange_theory::heavy_top`, and the drift of the invariants. Writes an SVG
 //! figure (θ(t), the trace of the symmetry axis seen from above, the drift) and, on request, CSV.
 
 use std::f64::consts::PI;
 use std::time::Instant;
 
 use lagrange::prelude::*;
-use lagrange::theory::heavy_top::{Constants, Motion, Top};
+use lagrange_theory::heavy_top::{Constants, Motion, Top};
 use plotters::prelude::*;
 
 // The top of eq. 92, declared with `#[lagrangian]` exactly as the equation reads; shared by the

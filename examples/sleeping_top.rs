@@ -19,7 +19,7 @@
 use std::time::Instant;
 
 use lagrange::prelude::*;
-use lagrange::theory::heavy_top::sleeping_top_lowest_cos;
+use lagrange_theory::heavy_top::sleeping_top_lowest_cos;
 use plotters::prelude::*;
 
 // The top of eq. 92 in unit quaternions, declared with `#[lagrangian]` and `fn constraints`;

@@ -497,7 +497,7 @@
 pub use lagrange_macros::lagrangian;
 
 // What users build with, in the index.
-pub use lagrange_runtime::{animation, ensemble, geometry, linearize, rigid, scene, theory};
+pub use lagrange_runtime::{animation, ensemble, geometry, linearize, rigid, scene};
 pub use lagrange_runtime::{
     equilibrium, ConstrainedLinearization, Linearization, LinearizationError, Linearize,
     LinearizeConstrained, Mode, Stability,

@@ -1,7 +1,7 @@
 //! The heavy symmetric top of the reference text (section D, eqs. 92–102), end to end: the top is
 //! declared with `#[lagrangian]` as eq. 92 reads (once, in examples/support/systems.rs), integrated
 //! with DOP853, and every equation is checked against the simulation and against
-//! `lagrange::theory::heavy_top`.
+//! `lagrange_theory::heavy_top`.
 //!
 //! Where the text is wrong (eq. 102; the names of θ and φ in section D's first paragraph) the
 //! tests assert the correct physics; `docs/ERRATA.md`, section D, records the difference.
@@ -10,11 +10,11 @@
 //! and non-unit parameters, a slow top with large nutation, a fast oblate top.
 
 use lagrange::prelude::*;
-use lagrange::theory::heavy_top::{
+use lagrange::Direction;
+use lagrange_theory::heavy_top::{
     fast_top_cos_theta, fast_top_precession_rate, sleeping_top_lowest_cos, sleeping_top_max_angle,
     Constants, Motion, Nutation,
 };
-use lagrange::Direction;
 
 // The symmetric heavy top, eq. 92: the shared `#[lagrangian]` declaration.
 use crate::support::systems::HeavyTop;

@@ -5,7 +5,7 @@
 //! eq. 98 from exactly upright.
 
 use lagrange::prelude::*;
-use lagrange::theory::heavy_top::{sleeping_top_lowest_cos, Constants, Top};
+use lagrange_theory::heavy_top::{sleeping_top_lowest_cos, Constants, Top};
 
 use crate::support::quaternion_top::{axis, axis_z_rate, from_euler, tilt, QuaternionTop};
 use crate::support::systems::HeavyTop;

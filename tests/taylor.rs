@@ -4,8 +4,8 @@
 //! output and events against DOP853; forces with explicit time; what it refuses, and how.
 
 use lagrange::prelude::*;
-use lagrange::theory::heavy_top::Constants;
 use lagrange::{taylor::TaylorBuf, SimulationError};
+use lagrange_theory::heavy_top::Constants;
 
 use crate::heavy_top::regimes;
 use crate::support::systems::{Chain16, Chain8, HeavyTop, HeavyTopJets, Kepler};

@@ -101,9 +101,9 @@ impl HeavyTop {
         self.m * self.g * self.l
     }
 
-    /// The same top for the closed forms of `lagrange::theory::heavy_top`.
-    pub fn theory(&self) -> lagrange::theory::heavy_top::Top {
-        lagrange::theory::heavy_top::Top {
+    /// The same top for the closed forms of `lagrange_theory::heavy_top`.
+    pub fn theory(&self) -> lagrange_theory::heavy_top::Top {
+        lagrange_theory::heavy_top::Top {
             i_perp: self.i_perp,
             i_par: self.i_par,
             mgl: self.mgl(),

@@ -30,7 +30,6 @@ mod scalar;
 pub mod scene;
 pub mod tangent;
 pub mod taylor;
-pub mod theory;
 
 pub use constraints::{Holonomic, Nonholonomic};
 pub use contact::{Contact, Unilateral};

@@ -29,7 +29,7 @@
 //! φ̇ ≈ (mgl/L∥)(1 − cos Ωt), so ⟨φ̇⟩ ≈ mgl/L∥, not the printed mgl/(2L∥)).
 //!
 //! ```
-//! use lagrange_runtime::theory::heavy_top::{Constants, Motion, Top};
+//! use lagrange_theory::heavy_top::{Constants, Motion, Top};
 //! let top = Top { i_perp: 1.0, i_par: 0.6, mgl: 1.0 };
 //! // θ0 = 1, φ̇0 = −0.5, ψ̇0 = 8: loops (φ̇ changes sign during a nutation).
 //! let c = Constants::from_state(&top, &[1.0, 0.0, 0.0], &[0.0, -0.5, 8.0]).unwrap();
@@ -48,7 +48,7 @@ use std::fmt;
 /// the fixed point and m g l.
 ///
 /// ```
-/// let top = lagrange_runtime::theory::heavy_top::Top { i_perp: 1.0, i_par: 0.5, mgl: 2.0 };
+/// let top = lagrange_theory::heavy_top::Top { i_perp: 1.0, i_par: 0.5, mgl: 2.0 };
 /// assert_eq!(top.omega0(), 2.0_f64.sqrt());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,7 +66,7 @@ impl Top {
     /// ω0 = √(mgl/I⊥), the small-oscillation frequency of the non-spinning top hanging down.
     ///
     /// ```
-    /// let top = lagrange_runtime::theory::heavy_top::Top { i_perp: 4.0, i_par: 1.0, mgl: 1.0 };
+    /// let top = lagrange_theory::heavy_top::Top { i_perp: 4.0, i_par: 1.0, mgl: 1.0 };
     /// assert_eq!(top.omega0(), 0.5);
     /// ```
     pub fn omega0(&self) -> f64 {
@@ -90,7 +90,7 @@ impl Top {
 /// Why a theoretical quantity could not be computed.
 ///
 /// ```
-/// use lagrange_runtime::theory::heavy_top::{Constants, TheoryError, Top};
+/// use lagrange_theory::heavy_top::{Constants, TheoryError, Top};
 /// let top = Top { i_perp: 1.0, i_par: 1.0, mgl: 1.0 };
 /// // No spin about the axis: p0 = L_φ / L∥ is undefined.
 /// let err = Constants::from_state(&top, &[1.0, 0.0, 0.0], &[0.0, 0.0, 0.0]).unwrap_err();
@@ -140,7 +140,7 @@ impl std::error::Error for TheoryError {}
 /// The conserved quantities of a heavy-top state and the reduced constants of its nutation.
 ///
 /// ```
-/// use lagrange_runtime::theory::heavy_top::{Constants, Top};
+/// use lagrange_theory::heavy_top::{Constants, Top};
 /// let top = Top { i_perp: 2.0, i_par: 1.0, mgl: 3.0 };
 /// let c = Constants::from_state(&top, &[0.5, 0.1, 0.2], &[0.3, 0.4, 5.0]).unwrap();
 /// let (s, k) = 0.5_f64.sin_cos();
@@ -168,7 +168,7 @@ impl Constants {
     /// equal L_φ/L∥ and (E − L∥²/2I∥)/mgl without their cancellations.
     ///
     /// ```
-    /// use lagrange_runtime::theory::heavy_top::{Constants, Top};
+    /// use lagrange_theory::heavy_top::{Constants, Top};
     /// let top = Top { i_perp: 1.0, i_par: 0.5, mgl: 4.0 };
     /// // Released from rest (θ̇ = φ̇ = 0): p0 = p_E = cos θ (Example 2 of the text).
     /// let c = Constants::from_state(&top, &[0.7, 0.0, 0.0], &[0.0, 0.0, 30.0]).unwrap();
@@ -233,7 +233,7 @@ impl Constants {
 /// of eq. 96.
 ///
 /// ```
-/// use lagrange_runtime::theory::heavy_top::Nutation;
+/// use lagrange_theory::heavy_top::Nutation;
 /// let n = Nutation::new(10.0, 0.5, 1.0, 0.5).unwrap();
 /// assert_eq!(n.f(0.5), 0.0); // released from rest at p = p0 = p_E
 /// ```
@@ -370,7 +370,7 @@ impl Shifted {
 /// The roots p1 ≤ p2 ≤ p3 of the cubic of eq. 96; the axis nutates between p1 and p2.
 ///
 /// ```
-/// use lagrange_runtime::theory::heavy_top::Nutation;
+/// use lagrange_theory::heavy_top::Nutation;
 /// // Example 1 of the text: p0 = p_E = 1, Ω = ω0: roots −1/2 (= Ω²/2ω0² − 1) and a double 1.
 /// let r = Nutation::new(1.0, 1.0, 1.0, 1.0).unwrap().roots().unwrap();
 /// assert!((r.p1 + 0.5).abs() < 1e-12 && (r.p2 - 1.0).abs() < 1e-7);
@@ -389,7 +389,7 @@ impl Roots {
     /// The nutation range (θ_min, θ_max) = (acos p2, acos p1), clamped to [0, π].
     ///
     /// ```
-    /// use lagrange_runtime::theory::heavy_top::Roots;
+    /// use lagrange_theory::heavy_top::Roots;
     /// let r = Roots { p1: 0.0, p2: 1.0, p3: 2.0 };
     /// assert_eq!(r.theta_range(), (0.0, std::f64::consts::FRAC_PI_2));
     /// ```
@@ -404,7 +404,7 @@ impl Roots {
 /// The shape of the trace of the symmetry axis seen from above.
 ///
 /// ```
-/// use lagrange_runtime::theory::heavy_top::{Motion, Nutation};
+/// use lagrange_theory::heavy_top::{Motion, Nutation};
 /// // Released from rest: φ̇ = 0 at the top turning point, the trace has cusps.
 /// assert_eq!(Nutation::new(5.0, 0.3, 1.0, 0.3).unwrap().motion().unwrap(), Motion::Cusps);
 /// ```
@@ -424,7 +424,7 @@ impl Nutation {
     /// The nutation of reduced constants Ω, p0, ω0 (> 0) and p_E, as printed in eqs. 94–96.
     ///
     /// ```
-    /// use lagrange_runtime::theory::heavy_top::Nutation;
+    /// use lagrange_theory::heavy_top::Nutation;
     /// let n = Nutation::new(3.0, 0.2, 1.5, 0.4).unwrap();
     /// assert_eq!((n.omega, n.p0, n.omega0, n.p_e), (3.0, 0.2, 1.5, 0.4));
     /// assert!(Nutation::new(3.0, 0.2, 0.0, 0.4).is_err());
@@ -465,7 +465,7 @@ impl Nutation {
     /// The right-hand side of eq. 96: ṗ² = f(p) = 2ω0²(1 − p²)(p_E − p) − Ω²(p0 − p)².
     ///
     /// ```
-    /// use lagrange_runtime::theory::heavy_top::Nutation;
+    /// use lagrange_theory::heavy_top::Nutation;
     /// let n = Nutation::new(2.0, 0.5, 1.0, 0.8).unwrap();
     /// assert!((n.f(0.0) - (2.0 * 0.8 - 4.0 * 0.25)).abs() < 1e-15);
     /// ```
@@ -477,7 +477,7 @@ impl Nutation {
     /// The precession rate at cos θ = p (eq. 94): φ̇ = Ω(p0 − p)/(1 − p²).
     ///
     /// ```
-    /// use lagrange_runtime::theory::heavy_top::Nutation;
+    /// use lagrange_theory::heavy_top::Nutation;
     /// let n = Nutation::new(2.0, 0.5, 1.0, 0.8).unwrap();
     /// assert_eq!(n.precession_rate(0.0), 1.0);
     /// assert_eq!(n.precession_rate(0.5), 0.0);
@@ -492,7 +492,7 @@ impl Nutation {
     /// root (regular precession, or the separatrix of Example 1) is returned twice.
     ///
     /// ```
-    /// use lagrange_runtime::theory::heavy_top::Nutation;
+    /// use lagrange_theory::heavy_top::Nutation;
     /// let n = Nutation::new(4.0, 0.6, 1.0, 0.6).unwrap();
     /// let r = n.roots().unwrap();
     /// for p in [r.p1, r.p2, r.p3] { assert!(n.f(p).abs() < 1e-13); }
@@ -514,7 +514,7 @@ impl Nutation {
     /// Infinite when p2 = p3 (the separatrix: the axis approaches p2 asymptotically).
     ///
     /// ```
-    /// use lagrange_runtime::theory::heavy_top::Nutation;
+    /// use lagrange_theory::heavy_top::Nutation;
     /// // A fast top released from rest: T → 2π/√(Ω² − 4ω0²p0) as Ω/ω0 → ∞.
     /// let n = Nutation::new(100.0, 0.5, 1.0, 0.5).unwrap();
     /// let t = n.period().unwrap();
@@ -536,7 +536,7 @@ impl Nutation {
     /// by adaptive Gauss–Kronrod quadrature after the substitution p = p1 + (p2 − p1) sin²u.
     ///
     /// ```
-    /// use lagrange_runtime::theory::heavy_top::Nutation;
+    /// use lagrange_theory::heavy_top::Nutation;
     /// // Fast top released from rest: ⟨φ̇⟩ → ω0²/Ω = mgl/L∥ (not mgl/2L∥, see docs/ERRATA.md).
     /// let n = Nutation::new(100.0, 0.5, 1.0, 0.5).unwrap();
     /// let rate = n.mean_precession_rate().unwrap();
@@ -565,7 +565,7 @@ impl Nutation {
     /// (p0 within 1e-9 (p2 − p1) of a turning point) or loops.
     ///
     /// ```
-    /// use lagrange_runtime::theory::heavy_top::{Motion, Nutation};
+    /// use lagrange_theory::heavy_top::{Motion, Nutation};
     /// assert_eq!(Nutation::new(5.0, 0.3, 1.0, 0.5).unwrap().motion().unwrap(), Motion::Loops);
     /// assert_eq!(Nutation::new(5.0, 0.3, 1.0, 0.29).unwrap().motion().unwrap(), Motion::Wavy);
     /// ```
@@ -589,7 +589,7 @@ impl Nutation {
 /// rest (θ̇ = φ̇ = 0) from cos θ = p0; the error is O((ω0/Ω)²) relative to the amplitude.
 ///
 /// ```
-/// use lagrange_runtime::theory::heavy_top::fast_top_cos_theta;
+/// use lagrange_theory::heavy_top::fast_top_cos_theta;
 /// let pi = std::f64::consts::PI;
 /// assert_eq!(fast_top_cos_theta(0.5, 1.0, 10.0, 0.0), 0.5);
 /// assert!((fast_top_cos_theta(0.5, 1.0, 10.0, pi / 10.0) - (0.5 - 2.0 * 0.01 * 0.75)).abs() < 1e-15);
@@ -602,7 +602,7 @@ pub fn fast_top_cos_theta(p0: f64, omega0: f64, omega: f64, t: f64) -> f64 {
 /// released at rest, so ⟨φ̇⟩ ≈ mgl/L∥ (the text prints (mgl/L∥)(cos Ωt − 1) and mgl/2L∥).
 ///
 /// ```
-/// use lagrange_runtime::theory::heavy_top::fast_top_precession_rate;
+/// use lagrange_theory::heavy_top::fast_top_precession_rate;
 /// let pi = std::f64::consts::PI;
 /// assert_eq!(fast_top_precession_rate(2.0, 40.0, 0.0), 0.0);
 /// assert!((fast_top_precession_rate(2.0, 40.0, pi / 40.0) - 0.2).abs() < 1e-15);
@@ -615,7 +615,7 @@ pub fn fast_top_precession_rate(omega0: f64, omega: f64, t: f64) -> f64 {
 /// `None` when Ω ≥ 2ω0 (it stays up).
 ///
 /// ```
-/// use lagrange_runtime::theory::heavy_top::sleeping_top_lowest_cos;
+/// use lagrange_theory::heavy_top::sleeping_top_lowest_cos;
 /// assert_eq!(sleeping_top_lowest_cos(1.0, 1.0), Some(-0.5));
 /// assert_eq!(sleeping_top_lowest_cos(2.5, 1.0), None);
 /// ```
@@ -627,7 +627,7 @@ pub fn sleeping_top_lowest_cos(omega: f64, omega0: f64) -> Option<f64> {
 /// θ_max ≈ θ0 Ω/√(Ω² − 4ω0²) (small-oscillation bound, error O(θ0²) relative); `None` for Ω ≤ 2ω0.
 ///
 /// ```
-/// use lagrange_runtime::theory::heavy_top::sleeping_top_max_angle;
+/// use lagrange_theory::heavy_top::sleeping_top_max_angle;
 /// assert_eq!(sleeping_top_max_angle(1e-3, 5.0, 1.5), Some(1.25e-3));
 /// assert_eq!(sleeping_top_max_angle(1e-3, 1.0, 1.0), None);
 /// ```
