@@ -45,8 +45,10 @@ fn a_contact_touching_and_approaching_at_the_start_is_an_impact_there() {
     assert!(lowest > -1e-12, "below the floor: {lowest:e}");
 }
 
-/// A ball at rest a hair above the floor (gap 1e-16 … 1e-10) is on the floor: the run rests
-/// there with λ = m g (no "off the constraints" refusal, no advice to project).
+/// A ball at rest a hair above the floor (gap 1e-16 … 1e-10) ends on the floor: the run rests
+/// there with λ = m g (no "off the constraints" refusal, no advice to project). Above the
+/// round-off of the gap it first falls and bounces (1e-10 m: impacts from 4.5 µs, accumulating
+/// by 14 µs), which ends in the same resting contact.
 #[test]
 fn a_contact_within_round_off_of_touching_rests() {
     let ball = Ball {
@@ -679,4 +681,172 @@ fn shooting_pinned_to_an_amplitude_or_an_energy() {
         .pin_amplitude(1)
         .find();
     assert!(bad.unwrap_err().to_string().contains("numbered 0 to 0"));
+}
+
+/// A ball on a floor at height h0 (gap y − h0).
+struct HighFloor {
+    h0: f64,
+}
+
+impl Lagrangian<1> for HighFloor {
+    const COORDINATES: [&'static str; 1] = ["y"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    const DECLARES_CONTACTS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        v[0] * v[0] * 0.5 - q[0] * G
+    }
+    fn declared<'s, V: lagrange::Declared<'s, Self, 1>>(&'s self, v: V) -> V::Output {
+        v.contacts::<1>(self)
+    }
+}
+
+impl Unilateral<1, 1> for HighFloor {
+    const SCLERONOMIC: bool = true;
+    fn contacts<S: Scalar>(&self, q: &[S; 1], _t: S) -> [Contact<S>; 1] {
+        [Contact::gap(q[0] - self.h0).restitution(0.5)]
+    }
+}
+
+/// A drop from just above the floor is a drop whatever the units and wherever the origin: the
+/// first impact comes at t₁ = √(2d/g) for a height d of 5e-10 above a floor at 0 and of 5e-4
+/// above a floor at 10⁶ (both were taken for touching, against the gradient's scale, and the
+/// ball rested from t0), while a gap within the round-off of computing it (1e-10 at 10⁶, where
+/// adjacent numbers are 1.2e-10 apart) is touching.
+#[test]
+fn a_small_drop_is_a_drop_in_any_units() {
+    for (h0, d) in [(0.0, 5e-10), (1e6, 5e-4), (0.0, 1e-7)] {
+        let t1 = (2.0 * d / G).sqrt();
+        let tr = Simulation::new(&HighFloor { h0 }, [h0 + d], [0.0])
+            .method(tight())
+            .until(2.0 * t1)
+            .run()
+            .unwrap();
+        assert!(!tr.jumps.is_empty(), "floor {h0}, drop {d:e}: no impact");
+        let rel = (tr.jumps[0].t - t1).abs() / t1;
+        assert!(
+            rel < 1e-6,
+            "floor {h0}, drop {d:e}: impact at {} against {t1}",
+            tr.jumps[0].t
+        );
+        assert!((tr.jumps[0].after.1[0] - 0.5 * G * t1).abs() < 1e-6 * G * t1);
+    }
+    let tr = Simulation::new(&HighFloor { h0: 1e6 }, [1e6 + 1e-10], [0.0])
+        .until(1.0)
+        .run()
+        .unwrap();
+    assert!(tr.jumps.is_empty() && (tr.lambda.last().unwrap()[0] - G).abs() < 1e-9);
+}
+
+/// A pendulum about an offset angle: L = ẋ²/2 + cos(x − x₀).
+struct Offset {
+    x0: f64,
+}
+
+impl Lagrangian<1> for Offset {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        v[0] * v[0] * 0.5 + (q[0] - self.x0).cos()
+    }
+}
+
+/// An oscillator driven at frequency ω: ẍ + x = cos ωt.
+struct Driven {
+    w: f64,
+}
+
+impl Lagrangian<1> for Driven {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = false;
+    const ENERGY_CONSERVED: bool = false;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        (v[0] * v[0] - q[0] * q[0]) * 0.5
+    }
+    fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], t: S) -> [S; 1] {
+        [(t * self.w).cos()]
+    }
+}
+
+/// A force sin u of an input u.
+struct SineInput {
+    u: f64,
+}
+
+impl Lagrangian<1> for SineInput {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [true];
+    const AUTONOMOUS: bool = true;
+    const MOMENTUM_CONSERVED: [bool; 1] = [false];
+    const ENERGY_CONSERVED: bool = false;
+    fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        v[0] * v[0] * 0.5
+    }
+    fn generalized_forces<S: Scalar>(&self, _q: &[S; 1], _v: &[S; 1], _t: S) -> [S; 1] {
+        [S::constant(self.u.sin())]
+    }
+}
+
+/// Parameters whose dependence is not on the scale of their value: an offset x₀ = 100 or 1000
+/// (the motion moves with x and x₀ together, so ∂x/∂x₀ = 1 − Φ₀₀ from the same run; a step of
+/// ε^(1/5)|x₀| = 0.74 was 1 % off), and a drive frequency ω = 50 (from rest,
+/// x = (cos ωt − cos t)/(1 − ω²), so ∂x/∂ω = −t sin ωt/(1 − ω²) + 2ω (cos ωt − cos t)/(1 − ω²)²;
+/// 6.4e-4 off before); `input_matrix` of sin u at u = 100 and 10⁴ (cos u; the wrong sign at 10⁴
+/// before). Tolerances: 1e-9 for the offset (the run's own Φ against its ∂x/∂x₀, both at rtol
+/// 1e-12), 1e-6 relative for ω (the fourth-order stencil's truncation along t = 10 with h = 7e-4
+/// is 5e-7 relative), 1e-9 for B plus the rounding of u ± h at u's resolution.
+#[test]
+fn parameters_that_vary_on_another_scale_than_their_value() {
+    for x0 in [100.0, 1000.0] {
+        let run = Simulation::new(&Offset { x0 }, [x0 + 1.0], [0.0])
+            .method(tight())
+            .until(5.0)
+            .sensitivity()
+            .parameter("x0", x0, |x0| Offset { x0 })
+            .run()
+            .unwrap();
+        let (phi, dp) = (run.final_phi(), run.dparams.last().unwrap());
+        let want = 1.0 - phi[(0, 0)];
+        assert!(
+            (dp[(0, 0)] - want).abs() < 1e-9,
+            "x0 = {x0}: {} against {want}",
+            dp[(0, 0)]
+        );
+    }
+    let (w, t) = (50.0_f64, 10.0_f64);
+    let run = Simulation::new(&Driven { w }, [0.0], [0.0])
+        .method(tight())
+        .until(t)
+        .sensitivity()
+        .parameter("w", w, |w| Driven { w })
+        .run()
+        .unwrap();
+    let d = 1.0 - w * w;
+    let want = -t * (w * t).sin() / d + 2.0 * w * ((w * t).cos() - t.cos()) / (d * d);
+    let got = run.dparams.last().unwrap()[(0, 0)];
+    assert!(
+        (got - want).abs() < 1e-6 * want.abs(),
+        "∂x/∂ω = {got} against {want}"
+    );
+    for u in [100.0_f64, 1e4] {
+        let b = lagrange::linearize::input_matrix(
+            |p: &[f64; 1]| SineInput { u: p[0] },
+            &[u],
+            &[0.0],
+            &[0.0],
+            0.0,
+        )
+        .unwrap()[(0, 0)];
+        // The stencil's arguments u ± h, u ± 2h are rounded to u's own resolution (ε u / 2
+        // each); the difference carries 20 of them over 12 h (h = ε^(1/5) = 7.4e-4): 5e-9 at
+        // u = 10⁴, below 1e-13 at 100.
+        let tol = 1e-9 + 20.0 * f64::EPSILON * u / (12.0 * 7.4e-4);
+        assert!(
+            (b - u.cos()).abs() < tol,
+            "u = {u}: B = {b} against {}",
+            u.cos()
+        );
+    }
 }

@@ -161,7 +161,13 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
                     self.name(&rows, j)
                 ));
             }
-            let touching = rows.gap[j].abs() <= 1e-9 * gs;
+            // Touching: a gap within the round-off of computing it (the terms of g that cancel),
+            // or a small penetration (accepted above, put on the surface below). A positive gap
+            // above round-off is a drop, however small (a ball 5e-10 above the floor falls for
+            // 1e-5 s before its first impact; measured against the gradient's scale it was
+            // taken for touching, which made the answer depend on the units and on where the
+            // origin is).
+            let touching = rows.gap[j] <= gap_roundoff(&rows, j, q0);
             closed[j] = touching && rows.normal_rate[j].abs() <= 1e-9 * vs;
             if touching && rows.normal_rate[j] < -1e-9 * vs && approaching.is_none() {
                 approaching = Some(j);
@@ -605,6 +611,18 @@ fn bad_restitution(e: f64) -> Option<String> {
 /// A slice of length N as an array (for messages).
 fn q_arr<const N: usize>(v: &[f64]) -> [f64; N] {
     core::array::from_fn(|i| v.get(i).copied().unwrap_or(f64::NAN))
+}
+
+/// The round-off of contact j's gap at q: 64 ε (Σ|∂g/∂q_i q_i| + |g|), the size of the terms
+/// that cancel in g (a gap y − 10⁶ at y ≈ 10⁶ carries about 10⁻¹⁰ of it, one at q = 0 none).
+fn gap_roundoff<const N: usize, const K: usize>(
+    rows: &ContactRows<N, K>,
+    j: usize,
+    q: &[f64; N],
+) -> f64 {
+    let n = &rows.normal[j];
+    let terms: f64 = (0..N).map(|i| (n[i] * q[i]).abs()).sum::<f64>() + rows.gap[j].abs();
+    64.0 * f64::EPSILON * terms
 }
 
 /// The scales contact j's gap and rate are measured against: Σ|∂g/∂q_i q_i| and

@@ -22,10 +22,8 @@ use super::CHUNK;
 
 /// A parameter the run differentiates the motion with respect to: its name, its value in the
 /// system of the run, and the systems at p + h, p − h, p + 2h, p − 2h (built once, at
-/// [`Parameter::new`]) for the fourth-order central difference in p ([`central`]),
-/// h = ε^(1/5) |p| (ε^(1/5) at p = 0): truncation O(h⁴), round-off O(ε/h), both near 1e-13
-/// relative for a smooth dependence. The step is the parameter's own scale, so the stencil never
-/// leaves it (a mass of 1e-6 is never evaluated at a negative mass).
+/// [`Parameter::new`]) for the fourth-order central difference in p ([`central`]), with the step
+/// h of [`difference_step`].
 pub(crate) struct Parameter<L> {
     pub(crate) name: String,
     pub(crate) value: f64,
@@ -34,9 +32,9 @@ pub(crate) struct Parameter<L> {
 }
 
 impl<L> Parameter<L> {
-    /// The parameter `name` at `value`, its neighbouring systems from `build`.
-    pub(crate) fn new(name: String, value: f64, build: impl Fn(f64) -> L) -> Self {
-        let h = f64::EPSILON.powf(0.2) * parameter_scale(value);
+    /// The parameter `name` at `value` with the difference step h, its neighbouring systems
+    /// from `build`.
+    pub(crate) fn new(name: String, value: f64, h: f64, build: impl Fn(f64) -> L) -> Self {
         Parameter {
             name,
             value,
@@ -46,16 +44,51 @@ impl<L> Parameter<L> {
     }
 }
 
-/// The scale of a parameter's difference step: |p|, or 1 at p = 0 (no scale to keep).
-///
-/// A floor of 1 would put the stencil of a small parameter across zero: at a mass of 1e-3 the
-/// step 7e-4 · 2 evaluates a negative mass.
-pub(crate) fn parameter_scale(value: f64) -> f64 {
-    if value == 0.0 || !value.is_finite() {
-        1.0
-    } else {
-        value.abs()
+/// The step h = ε^(1/5) s of a fourth-order central difference of `f` (a vector function of one
+/// parameter, `None` where it fails) at p: truncation O(h⁴) and round-off O(ε/h) both near
+/// 1e-13 relative when s is the scale on which f varies with p. That scale is not always |p|:
+/// a mass of 1e-6 varies on 1e-6 (a step of 7e-4 would evaluate a negative mass), an offset
+/// x₀ = 1000 in cos(x − x₀) on 1 (a step of 0.74 was 1 % off), a stiffness of 10⁸ on 10⁸ (a step
+/// of 7e-4 is round-off). So both s = |p| and s = 1 are tried at the state given, each with its
+/// Richardson error estimate |D(h) − D(h/2)|, and the one with the clearly smaller estimate is
+/// taken; on a tie (both exact, or a dependence that vanishes at this state) the smaller step.
+pub(crate) fn difference_step(p: f64, f: impl Fn(f64) -> Option<Vec<f64>>) -> f64 {
+    let root = f64::EPSILON.powf(0.2);
+    // |p|, or 1 at p = 0 (no scale to keep).
+    let mut scales = [p.abs(), 1.0];
+    if !(scales[0] > 0.0 && scales[0].is_finite()) {
+        scales[0] = 1.0;
     }
+    scales.sort_by(f64::total_cmp);
+    // The fourth-order difference at step h, or None where an evaluation failed.
+    let d4 = |h: f64| -> Option<Vec<f64>> {
+        let v = [h, -h, 2.0 * h, -2.0 * h].map(|dp| f(p + dp));
+        let [Some(a), Some(b), Some(c), Some(d)] = v else {
+            return None;
+        };
+        let d: Vec<f64> = (0..a.len())
+            .map(|i| central(h, [a[i], b[i], c[i], d[i]]))
+            .collect();
+        d.iter().all(|x| x.is_finite()).then_some(d)
+    };
+    let estimate = |h: f64| -> f64 {
+        match (d4(h), d4(0.5 * h)) {
+            (Some(a), Some(b)) => a
+                .iter()
+                .zip(&b)
+                .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs())),
+            _ => f64::INFINITY,
+        }
+    };
+    let mut best = (root * scales[0], estimate(root * scales[0]));
+    if scales[1] != scales[0] {
+        let h = root * scales[1];
+        let e = estimate(h);
+        if e < 0.5 * best.1 {
+            best = (h, e);
+        }
+    }
+    best.0
 }
 
 /// The fourth-order central difference from the values at p + h, p − h, p + 2h, p − 2h.
