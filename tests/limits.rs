@@ -850,3 +850,37 @@ fn parameters_that_vary_on_another_scale_than_their_value() {
         );
     }
 }
+
+/// Directions that grow fast without separating: one followed direction at λ = 600 and 1000
+/// (e^600 per renormalization interval of 1: past 1e154 the squares overflowed, and the run
+/// ended in "separate by a factor e^NaN … tighten the tolerances", advice that did not help),
+/// and two followed directions growing alike (a = b = 800). The largest exponent over a run of
+/// T = 5 is a + ln(c)/T for the initial direction's share c of the unstable one: within 0.5 % of
+/// a. An infinite renormalization interval is refused.
+#[test]
+fn lyapunov_directions_growing_fast_together() {
+    for a in [600.0, 1000.0] {
+        let s = Lyapunov::new(&Saddles { a, b: 0.5 }, [0.0, 0.0], [0.0, 0.0])
+            .duration(5.0)
+            .directions(1)
+            .compute()
+            .unwrap();
+        assert!((s.exponents[0] - a).abs() < 5e-3 * a, "{:?}", s.exponents);
+    }
+    let s = Lyapunov::new(&Saddles { a: 800.0, b: 800.0 }, [0.0, 0.0], [0.0, 0.0])
+        .duration(5.0)
+        .directions(2)
+        .compute()
+        .unwrap();
+    for e in &s.exponents {
+        assert!((e - 800.0).abs() < 4.0, "{:?}", s.exponents);
+    }
+    let err = Lyapunov::new(&Saddles { a: 1.0, b: 0.5 }, [0.0, 0.0], [0.0, 0.0])
+        .renormalize_every(f64::INFINITY)
+        .compute()
+        .unwrap_err();
+    assert!(
+        matches!(err, SimulationError::InvalidOptions { .. }),
+        "{err}"
+    );
+}

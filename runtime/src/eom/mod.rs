@@ -512,7 +512,7 @@ fn constrained_careful<const N: usize, const K: usize>(
 /// constrained solve's critical path (the weight w of M + w GᵀG only sets the conditioning, and
 /// scaling by a power of two is exact). Falls back to a / b outside the normal range.
 #[inline(always)]
-fn power_of_two_ratio(a: f64, b: f64) -> f64 {
+pub(crate) fn power_of_two_ratio(a: f64, b: f64) -> f64 {
     let exponent = |x: f64| ((x.to_bits() >> 52) & 0x7ff) as i64;
     let e = exponent(a) - exponent(b) + 1023;
     if a.is_normal() && b.is_normal() && (1..=2046).contains(&e) {

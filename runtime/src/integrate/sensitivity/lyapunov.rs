@@ -323,16 +323,19 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
                 // sooner where they separate by more than SEPARATION (their orthogonal parts
                 // would be lost to round-off and to the error control, which is relative to
                 // the aligned part: at λ = ±20 and an interval of 1, by e⁴⁰).
+                // And sooner where they grow by more than GROWTH (one fast direction, or several
+                // growing alike, have no spread; past e^709 their entries overflow).
                 let mut cols = s.state()[n2..n2 * (1 + k)].to_vec();
-                let r = orthonormalize(&mut cols, n2);
-                let spread = separation(&r);
+                let ln_r = orthonormalize(&mut cols, n2);
+                let spread = separation(&ln_r);
                 if spread.is_nan() || spread > MAX_SEPARATION {
                     let z = s.state();
                     return Err(separated(s.node_time(), &z[..N], &z[N..n2], spread));
                 }
-                if at_target || spread > SEPARATION {
-                    for (sum, ri) in sums.iter_mut().zip(&r) {
-                        *sum += ri.ln();
+                let grown = ln_r.iter().any(|&l| l > GROWTH);
+                if at_target || spread > SEPARATION || grown {
+                    for (sum, ln) in sums.iter_mut().zip(&ln_r) {
+                        *sum += ln;
                     }
                     s.set_columns(&cols);
                     count += 1;
@@ -381,7 +384,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
             ));
         }
         let positive = self.duration > 0.0 && self.every > 0.0 && self.transient >= 0.0;
-        if !positive || !self.duration.is_finite() || !self.transient.is_finite() {
+        let finite =
+            self.duration.is_finite() && self.every.is_finite() && self.transient.is_finite();
+        if !positive || !finite {
             return bad(format!(
                 "duration {}, renormalize_every {}, transient {}: give a positive finite \
                  duration and interval and a finite transient ≥ 0",
@@ -434,13 +439,23 @@ const SEPARATION: f64 = 4.605_170_185_988_091; // ln 100
 /// re-orthonormalizing more often: the run is refused.
 const MAX_SEPARATION: f64 = 18.420_680_743_952_367; // ln 1e8
 
-/// ln(max R_ii / min R_ii): how far the directions separated since the last orthonormalization
-/// (infinite, or NaN, where one collapsed or is not finite).
-fn separation(r: &[f64]) -> f64 {
-    let (lo, hi) = r.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &x| {
-        (lo.min(x), hi.max(x))
-    });
-    (hi / lo).ln()
+/// Re-orthonormalize where a direction has grown by more than this factor (its logarithm,
+/// ln 1e40) since the last orthonormalization: far from f64's overflow at e^709 whatever one
+/// step adds.
+const GROWTH: f64 = 92.103_403_719_761_84; // ln 1e40
+
+/// ln(max R_ii / min R_ii) from the logarithms ln R_ii: how far the directions separated since
+/// the last orthonormalization (infinite, or NaN, where one collapsed or is not finite).
+fn separation(ln_r: &[f64]) -> f64 {
+    let (lo, hi) = ln_r
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+    if lo.is_nan() || hi.is_nan() {
+        return f64::NAN;
+    }
+    hi - lo
 }
 
 /// The refusal of a run whose directions separate too fast for its steps.
@@ -449,8 +464,9 @@ fn separated(t: f64, q: &[f64], qdot: &[f64], spread: f64) -> SimulationError {
         message: format!(
             "the Lyapunov directions separate by a factor e^{spread:.1} within one step at t = \
              {t}: their orthogonal parts are lost to round-off before they can be \
-             re-orthonormalized. Tighten the tolerances (.tolerances(rtol, atol)) so the steps \
-             are shorter; q = {q:?}, q̇ = {qdot:?}"
+             re-orthonormalized. Shorten the steps: .renormalize_every(Δ) with a smaller Δ (it \
+             also bounds the step), or tighter tolerances (.tolerances(rtol, atol)); q = {q:?}, \
+             q̇ = {qdot:?}"
         ),
     }
 }
@@ -480,13 +496,25 @@ fn generic_directions(n2: usize, k: usize) -> Vec<f64> {
 }
 
 /// The k columns of length n2 stored one after the other in `cols` (W) replaced by Q of W = Q R
-/// (modified Gram–Schmidt, in place); returns the diagonal of R (the lengths, ≥ 0).
+/// (modified Gram–Schmidt, in place); returns the logarithms of R's diagonal (the lengths,
+/// whose own values may exceed f64's range: a direction grown by e^800 in one interval).
 fn orthonormalize(cols: &mut [f64], n2: usize) -> Vec<f64> {
     let k = cols.len() / n2;
-    let mut r = vec![0.0; k];
+    let mut ln_r = vec![0.0; k];
     for j in 0..k {
         let (done, rest) = cols.split_at_mut(j * n2);
         let cj = &mut rest[..n2];
+        // Scaled to its largest entry first (exactly, by a power of two), so that neither the
+        // projections nor the norm overflow for a direction grown beyond 1e154.
+        let big = cj.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let scale = if big > 0.0 && big.is_finite() {
+            crate::eom::power_of_two_ratio(1.0, big)
+        } else {
+            1.0
+        };
+        for x in cj.iter_mut() {
+            *x *= scale;
+        }
         for i in 0..j {
             let ci = &done[i * n2..(i + 1) * n2];
             let d: f64 = ci.iter().zip(cj.iter()).map(|(a, b)| a * b).sum();
@@ -495,12 +523,12 @@ fn orthonormalize(cols: &mut [f64], n2: usize) -> Vec<f64> {
             }
         }
         let n = cj.iter().map(|x| x * x).sum::<f64>().sqrt();
-        r[j] = n;
+        ln_r[j] = n.ln() - scale.ln();
         if n > 0.0 {
             for x in cj.iter_mut() {
                 *x /= n;
             }
         }
     }
-    r
+    ln_r
 }
