@@ -884,3 +884,53 @@ fn lyapunov_directions_growing_fast_together() {
         "{err}"
     );
 }
+
+/// A harmonic oscillator, ẍ = −x (period 2π).
+struct Unit;
+
+impl Lagrangian<1> for Unit {
+    const COORDINATES: [&'static str; 1] = ["x"];
+    const CYCLIC: [bool; 1] = [false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+        (v[0] * v[0] - q[0] * q[0]) * 0.5
+    }
+}
+
+/// Shooting at the scales of its tolerance: an orbit of amplitude 1e-8 pinned at its turning
+/// point is found (T = 2π to 1e-9) when the tolerance resolves it (1e-20), and refused with
+/// advice to lower the tolerance when it does not (the default 1e-10, which "converged" with T
+/// off by 5e-5); it was refused as an equilibrium in both cases. An energy below the pendulum's
+/// minimum (−1) ends in a typed error within the iteration budget (each backtracking shot was
+/// taken over an enormous period: no answer after 120 s).
+#[test]
+fn shooting_small_orbits_and_unreachable_energies() {
+    use lagrange::sensitivity::{OrbitError, Shooting};
+    let guess = 1.02 * std::f64::consts::TAU;
+    let orbit = Shooting::autonomous(&Unit, [1e-8], [0.0], guess)
+        .method(Method::Dop853 {
+            rtol: 1e-12,
+            atol: 1e-22,
+        })
+        .tolerance(1e-20)
+        .pin_amplitude(0)
+        .find()
+        .unwrap();
+    assert!(
+        (orbit.period - std::f64::consts::TAU).abs() < 1e-9,
+        "T = {}",
+        orbit.period
+    );
+    let err = Shooting::autonomous(&Unit, [1e-8], [0.0], guess)
+        .pin_amplitude(0)
+        .find()
+        .unwrap_err();
+    assert!(matches!(err, OrbitError::NoConvergence { .. }), "{err}");
+    assert!(err.to_string().contains(".tolerance("), "{err}");
+    let err = Shooting::autonomous(&Pendulum, [0.1], [0.0], 6.3)
+        .pin_energy(-2.0)
+        .find()
+        .unwrap_err();
+    assert!(matches!(err, OrbitError::NoConvergence { .. }), "{err}");
+    assert!(err.to_string().contains("no orbit of that energy"), "{err}");
+}

@@ -659,8 +659,20 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             }
             iterations += 1;
             let step = self.newton_step(&shot, &x, closure)?;
-            // Backtracking: halve the step until the residual falls.
-            let mut lambda = 1.0;
+            // Backtracking: halve the step until the residual falls, from a step that changes
+            // the period by at most half and the state by at most 10 times its size (a trust
+            // region: where the linear model asks for more, as near an extremum of the energy
+            // pinned to a value it does not reach, a full step would shoot over an enormous
+            // period or from an enormous state, and each of the halvings runs a long shot).
+            let dx = step[..n2].iter().map(|v| v * v).sum::<f64>().sqrt();
+            let room = 10.0 * x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
+            let mut lambda = (room / dx).min(1.0);
+            if !self.fixed_period {
+                lambda = lambda.min(0.5 * period / step[n2].abs());
+            }
+            if lambda.is_nan() || lambda <= 0.0 {
+                lambda = 1.0;
+            }
             let mut accepted = None;
             for _ in 0..30 {
                 let xt: Vec<f64> = (0..n2).map(|i| x[i] + lambda * step[i]).collect();
@@ -686,25 +698,46 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                     closure,
                     &x,
                     period,
-                    "no step along \
-                    Newton's direction reduces |x(T) − x₀| (the runs' error is reached, or the \
-                    guess is too far): loosen the tolerance or start nearer the orbit",
+                    match self.pin {
+                        Some(Pin::Energy(_)) => {
+                            "no step along Newton's direction reduces |x(T) − x₀| and the energy's \
+                             residual: no orbit of that energy near the guess (is it beyond the \
+                             energy's extremum, below a potential's minimum?), or the runs' error \
+                             is reached: check the energy, start nearer the orbit, or loosen the \
+                             tolerance"
+                        }
+                        _ => {
+                            "no step along Newton's direction reduces |x(T) − x₀| (the runs' \
+                             error is reached, or the guess is too far): loosen the tolerance or \
+                             start nearer the orbit"
+                        }
+                    },
                 ));
             };
             (x, period, shot, closure) = (xt, pt, s, c);
         }
-        // An equilibrium is periodic with any period: not the orbit looked for.
+        // An equilibrium is periodic with any period: not the orbit looked for. Told apart by
+        // the orbit's excursion, about |f(x₀)| T, against what the closure resolves: an orbit of
+        // amplitude 1e-8 is one at a tolerance of 1e-20 (not against a size of 1: it was
+        // refused as an equilibrium), and is not resolved at the default 1e-10.
         let speed = shot.f_start.iter().map(|f| f * f).sum::<f64>().sqrt();
-        let size = x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
-        if !self.fixed_period && speed * period <= 1e-6 * size {
+        if !self.fixed_period && speed * period <= 1e3 * self.tolerance.max(closure) {
             return Err(self.no_convergence(
                 iterations,
                 closure,
                 &x,
                 period,
-                "Newton went to an equilibrium (f(x₀) = 0 there), which is periodic with any \
-                 period: pin the orbit looked for (`pin_amplitude(i)` from a turning point, or \
-                 `pin_energy(e)`), or start farther from the equilibrium",
+                &format!(
+                    "Newton ended where the motion's excursion over a period, |f(x₀)| T = {:.1e}, \
+                     is within 1000 times the closure tolerance {:.1e}: an equilibrium (f(x₀) = 0, \
+                     periodic with any period) or an orbit too small to resolve. For a small \
+                     orbit lower .tolerance(..) below its amplitude / 1000 (with an atol to \
+                     match); to leave the equilibrium pin the orbit looked for \
+                     (`pin_amplitude(i)` from a turning point, or `pin_energy(e)`), or start \
+                     farther from it",
+                    speed * period,
+                    self.tolerance
+                ),
             ));
         }
         let multipliers = multipliers(&shot.phi)?;
