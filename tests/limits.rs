@@ -934,3 +934,89 @@ fn shooting_small_orbits_and_unreachable_energies() {
     assert!(matches!(err, OrbitError::NoConvergence { .. }), "{err}");
     assert!(err.to_string().contains("no orbit of that energy"), "{err}");
 }
+
+/// A reset that puts the state d in front of the wall it crossed, still moving in: each next
+/// crossing is a hit. At d = 1e-11 the hits are resolved (11 hits d apart after the first at
+/// t = 1, to the location's tolerance 1e-12); at d = 1e-12 and 3e-13, about the located root's
+/// own residual, the run either resolves them or reports their accumulation (Zeno: the location
+/// cannot tell them apart), and never goes through the wall by more than the location's error
+/// (it went through after 6 and 2 hits, with no error: x = −0.01 at t = 1.01).
+#[test]
+fn a_reset_within_the_location_error_of_its_surface_crosses_again() {
+    let run = |d: f64, until: f64| {
+        Simulation::new(&Drift, [1.0], [-1.0])
+            .method(tight())
+            .event(
+                Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0])
+                    .falling()
+                    .reset(move |_t, _q, v| ([d], *v)),
+            )
+            .until(until)
+            .run()
+            .unwrap()
+    };
+    let d = 1e-11;
+    let tr = run(d, 1.0 + 10.5 * d);
+    let times: Vec<f64> = tr.jumps.iter().map(|j| j.t).collect();
+    assert_eq!(times.len(), 11, "{times:?}");
+    for (k, t) in times.iter().enumerate() {
+        assert!((t - (1.0 + k as f64 * d)).abs() < 1e-12, "hit {k} at {t}");
+    }
+    for d in [1e-12, 3e-13] {
+        let tr = run(d, 1.0 + 1e-9);
+        let lowest = tr.q.iter().fold(f64::INFINITY, |m, q| m.min(q[0]));
+        // Within 10 location tolerances (1e-12 in time, at unit speed) of the wall.
+        assert!(
+            lowest > -1e-11,
+            "d = {d:e}: through the wall, x = {lowest:e}"
+        );
+        assert!(
+            tr.zeno.is_some() || *tr.t.last().unwrap() == 1.0 + 1e-9,
+            "d = {d:e}: {:?}",
+            tr.t.last()
+        );
+    }
+}
+
+/// A ball dropped from 10⁴ m that is kicked up by 0.1 m/s at each bounce (ẏ⁺ = −0.8 ẏ⁻ + 0.1)
+/// settles into a steady bouncing at ẏ⁺ = 0.5 m/s, a hit every 0.102 s: nothing accumulates
+/// (it was reported as Zeno at t = 407 after 7 hits, the run stopped at 312). The hit times
+/// against the recurrence v ← 0.8 v + 0.1, Δt = 2v/g from the first impact at √(2·10⁴/g),
+/// to 1e-9 relative.
+#[test]
+fn bounces_settling_into_a_steady_cycle_are_not_zeno() {
+    struct Fall;
+    impl Lagrangian<1> for Fall {
+        const COORDINATES: [&'static str; 1] = ["y"];
+        const CYCLIC: [bool; 1] = [false];
+        const AUTONOMOUS: bool = true;
+        fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+            v[0] * v[0] * 0.5 - q[0] * G
+        }
+    }
+    let until = 600.0;
+    let tr = Simulation::new(&Fall, [1e4], [0.0])
+        .method(tight())
+        .event(
+            Event::zero_crossing("floor", |_t, q: &[f64; 1], _v| q[0])
+                .falling()
+                .reset(|_t, q, v| (*q, [-0.8 * v[0] + 0.1])),
+        )
+        .until(until)
+        .run()
+        .unwrap();
+    assert!(tr.zeno.is_none(), "{:?}", tr.zeno);
+    let mut t = (2.0 * 1e4 / G).sqrt();
+    let mut v = G * t;
+    let mut want = Vec::new();
+    while t <= until {
+        want.push(t);
+        v = 0.8 * v + 0.1;
+        t += 2.0 * v / G;
+    }
+    let got: Vec<f64> = tr.jumps.iter().map(|j| j.t).collect();
+    assert_eq!(got.len(), want.len());
+    for (a, b) in got.iter().zip(&want) {
+        assert!((a - b).abs() < 1e-9 * b, "{a} against {b}");
+    }
+}

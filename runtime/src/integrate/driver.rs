@@ -549,8 +549,8 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
         // The event that fired: where the jump left it on its zero (an impact keeps the gap,
         // up to the round-off of the located root; a contact's function changes meaning at its
         // transition), exactly 0, so that neither direction's crossing starts there; where a
-        // reset moved it off (a reset to x = 1e-6 still moving in), its value after the jump,
-        // so that its next crossing is seen.
+        // reset moved it (a reset to x = 1e-6, or 1e-12, still moving in), its value after the
+        // jump, so that its next crossing is seen.
         if let Some(&(_, i, _)) = p.hits.iter().find(|h| h.0 == t) {
             let ev = &self.events[i];
             let before = self
@@ -559,8 +559,16 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
                 .last()
                 .filter(|j| j.t == t)
                 .map(|j| ev.value(t, &j.before.0, &j.before.1));
+            // Moved: the reset changed the event's value (beyond its round-off); a reset that
+            // leaves the state where it crossed (a bounce reverses the velocity only) keeps the
+            // located root, whose residual is the location's error, not a new start. A reset to
+            // 1e-12 in front of a wall, about the root's own residual, is a move (it was taken for
+            // one within 16 residuals, and its next crossing was missed: through the wall).
             let moved_off = match before {
-                Some(b) if !ev.is_contact() => p.g_old[i].abs() > 16.0 * b.abs(),
+                Some(b) if !ev.is_contact() => {
+                    let a = p.g_old[i];
+                    (a - b).abs() > 8.0 * f64::EPSILON * a.abs().max(b.abs())
+                }
                 _ => false,
             };
             if !moved_off {
