@@ -124,7 +124,9 @@ pub trait Lagrangian<const N: usize> {
     /// Lagrangian part of the right-hand side, f_L = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t (see
     /// [`eom`], where they are assembled and solved).
     ///
-    /// The default derives them from L with the jets; `#[lagrangian]` in symbolic mode emits
+    /// The default derives them from L with the jets ([`jet_pieces`]: one evaluation in the
+    /// [`ElJet`], by columns above [`EL_BY_COLUMNS_ABOVE`](crate::jet::EL_BY_COLUMNS_ABOVE)
+    /// coordinates); `#[lagrangian]` in symbolic mode emits
     /// straight-line code; a hand-written impl may supply them directly.
     ///
     /// ```
@@ -182,7 +184,12 @@ pub trait Lagrangian<const N: usize> {
 
     /// The generalized momenta p = ∂L/∂q̇.
     fn momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> [f64; N] {
-        el_jet(self, q, qdot, t).grad_qdot()
+        // An inline const: each system instantiates only the path its N takes.
+        if const { N > crate::jet::EL_BY_COLUMNS_ABOVE } {
+            value_and_momenta_by_column(self, q, qdot, t).1
+        } else {
+            el_jet(self, q, qdot, t).grad_qdot()
+        }
     }
 
     /// The energy h = q̇·p − L and the momenta p together (what an integrator records at every
@@ -494,9 +501,13 @@ fn jet_energy_and_momenta<L, const N: usize>(
 where
     L: Lagrangian<N> + ?Sized,
 {
-    let l = el_jet(sys, q, qdot, t);
-    let p = l.grad_qdot();
-    let mut h = -l.value();
+    let (l, p) = if const { N > crate::jet::EL_BY_COLUMNS_ABOVE } {
+        value_and_momenta_by_column(sys, q, qdot, t)
+    } else {
+        let l = el_jet(sys, q, qdot, t);
+        (l.value(), l.grad_qdot())
+    };
+    let mut h = -l;
     for i in 0..N {
         h += qdot[i] * p[i];
     }
@@ -504,6 +515,10 @@ where
 }
 
 /// L evaluated in the Euler–Lagrange jet at (q, q̇, t): value, ∂L/∂q, ∂L/∂q̇, M and the mixed term.
+///
+/// Each number of the evaluation carries N² + 3N + 3 values and the seeds are 2N of them: above
+/// [`EL_BY_COLUMNS_ABOVE`](crate::jet::EL_BY_COLUMNS_ABOVE) coordinates this needs more stack
+/// than a 2 MiB thread has (the trait's defaults take [`jet_pieces`] by columns there).
 ///
 /// ```
 /// use lagrange_runtime::{el_jet, Lagrangian, Scalar};
@@ -523,6 +538,27 @@ where
 {
     let (qj, vj, tj) = ElJet::seed(q, qdot, t);
     sys.lagrangian(&qj, &vj, tj)
+}
+
+/// L and p = ∂L/∂q̇ from one evaluation in [`ColumnJet`](crate::jet::ColumnJet)s (no column):
+/// the momenta and the energy of a system above
+/// [`EL_BY_COLUMNS_ABOVE`](crate::jet::EL_BY_COLUMNS_ABOVE) coordinates.
+#[inline(never)]
+fn value_and_momenta_by_column<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> (f64, [f64; N])
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    use crate::jet::ColumnJet;
+    crate::jet::with_jet_stack(N, core::mem::size_of::<ColumnJet<N>>(), || {
+        let (qj, vj) = ColumnJet::seed(q, qdot, None);
+        let l = sys.lagrangian(&qj, &vj, ColumnJet::from(t));
+        (l.value(), l.grad_qdot())
+    })
 }
 
 /// L evaluated in the dense Hessian jet at (q, q̇) and fixed t: gradient and full Hessian in (q, q̇).
@@ -585,8 +621,10 @@ where
 // ---- The jets defaults of the trait: M, f_L, Q − ∂D/∂q̇, the power and the Jacobians of the
 // applied forces derived from L, D and Q with the run-time jets. ----
 
-/// The pieces derived by the run-time jets: one evaluation of L in the Euler–Lagrange jet, and
-/// the applied forces from [`jet_applied_forces`]. The default of [`Lagrangian::pieces`].
+/// The pieces derived by the run-time jets: one evaluation of L and of D in the Euler–Lagrange
+/// jet ([`jet_pieces_whole`]) up to [`EL_BY_COLUMNS_ABOVE`](crate::jet::EL_BY_COLUMNS_ABOVE)
+/// coordinates, N + 1 evaluations of L in column jets above ([`jet_pieces_by_columns`], whose
+/// numbers are O(N) instead of O(N²)). The default of [`Lagrangian::pieces`].
 ///
 /// ```
 /// use lagrange_runtime::{lagrangian::jet_pieces, Lagrangian, Scalar};
@@ -608,6 +646,42 @@ pub fn jet_pieces<L, const N: usize>(sys: &L, q: &[f64; N], qdot: &[f64; N], t: 
 where
     L: Lagrangian<N> + ?Sized,
 {
+    // An inline const: each system instantiates only the path its N takes.
+    if const { N > crate::jet::EL_BY_COLUMNS_ABOVE } {
+        jet_pieces_by_columns(sys, q, qdot, t)
+    } else {
+        jet_pieces_whole(sys, q, qdot, t)
+    }
+}
+
+/// [`jet_pieces`] from one evaluation of L in the [`ElJet`]: what it is at or below
+/// [`EL_BY_COLUMNS_ABOVE`](crate::jet::EL_BY_COLUMNS_ABOVE) coordinates. At any N (a test
+/// compares it with [`jet_pieces_by_columns`]), but its stack grows as N³: 9 MiB at N = 64.
+///
+/// ```
+/// use lagrange_runtime::{lagrangian::jet_pieces_whole, Lagrangian, Scalar};
+/// struct Osc;
+/// impl Lagrangian<1> for Osc {
+///     const COORDINATES: [&'static str; 1] = ["x"];
+///     const CYCLIC: [bool; 1] = [false];
+///     const AUTONOMOUS: bool = true;
+///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+///         v[0] * v[0] * 1.0 - q[0] * q[0] * 2.0
+///     }
+/// }
+/// let p = jet_pieces_whole(&Osc, &[1.5], &[0.0], 0.0);
+/// assert_eq!((p.mass, p.lagrangian_force), ([[2.0]], [-6.0]));
+/// ```
+#[inline(always)]
+pub fn jet_pieces_whole<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> Pieces<N>
+where
+    L: Lagrangian<N> + ?Sized,
+{
     // One seeding serves L and D.
     let (qj, vj, tj) = ElJet::seed(q, qdot, t);
     let l = sys.lagrangian(&qj, &vj, tj);
@@ -625,6 +699,79 @@ where
     }
     let applied = applied_from(sys, &qj, &vj, tj, q, qdot, t);
     Pieces::new(mass, f).with_applied(applied)
+}
+
+/// [`jet_pieces`] column by column: what it is above
+/// [`EL_BY_COLUMNS_ABOVE`](crate::jet::EL_BY_COLUMNS_ABOVE) coordinates. L is evaluated N + 1
+/// times in [`ColumnJet`](crate::jet::ColumnJet)s of 4N + 2 numbers each: column k of M along
+/// q̇ₖ, and once along the direction (q̇, 0, 1) in (q, q̇, t), whose gradient in q is ∂L/∂q and
+/// whose column in q̇ is (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t; D once, on the latter's seeds, for ∂D/∂q̇
+/// (Q in `f64`, as in [`jet_pieces_whole`]). Run where the stack has room for it
+/// ([`with_jet_stack`](crate::jet::with_jet_stack)).
+///
+/// ```
+/// use lagrange_runtime::lagrangian::{jet_pieces_by_columns, jet_pieces_whole};
+/// use lagrange_runtime::{Lagrangian, Scalar};
+/// /// L = (1 + q₀²) q̇₀²/2 + q̇₀ q̇₁ t − cos q₁, D = q₀² q̇₁²/2.
+/// struct S;
+/// impl Lagrangian<2> for S {
+///     const COORDINATES: [&'static str; 2] = ["a", "b"];
+///     const CYCLIC: [bool; 2] = [false, false];
+///     const AUTONOMOUS: bool = false;
+///     fn lagrangian<S2: Scalar>(&self, q: &[S2; 2], v: &[S2; 2], t: S2) -> S2 {
+///         (q[0] * q[0] + 1.0) * v[0] * v[0] * 0.5 + v[0] * v[1] * t - q[1].cos()
+///     }
+///     fn dissipation<S2: Scalar>(&self, q: &[S2; 2], v: &[S2; 2], _t: S2) -> S2 {
+///         q[0] * q[0] * v[1] * v[1] * 0.5
+///     }
+/// }
+/// let (q, v) = ([0.3, -0.7], [1.1, 0.4]);
+/// let (a, b) = (jet_pieces_by_columns(&S, &q, &v, 2.0), jet_pieces_whole(&S, &q, &v, 2.0));
+/// for i in 0..2 {
+///     assert!((a.lagrangian_force[i] - b.lagrangian_force[i]).abs() < 1e-15);
+///     assert!((a.applied[i] - b.applied[i]).abs() < 1e-15);
+///     for k in i..2 {
+///         assert!((a.mass[i][k] - b.mass[i][k]).abs() < 1e-15);
+///     }
+/// }
+/// ```
+#[inline(never)]
+pub fn jet_pieces_by_columns<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> Pieces<N>
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    use crate::jet::ColumnJet;
+    crate::jet::with_jet_stack(N, core::mem::size_of::<ColumnJet<N>>(), || {
+        let mut mass = [[0.0; N]; N];
+        let tj = ColumnJet::from(t);
+        for k in 0..N {
+            let (qj, vj) = ColumnJet::seed(q, qdot, Some(N + k));
+            let cv = sys.lagrangian(&qj, &vj, tj).column_qdot();
+            // The upper triangle: M[i][k] = ∂²L/∂q̇ᵢ∂q̇ₖ for i ≤ k.
+            for (row, c) in mass.iter_mut().zip(cv).take(k + 1) {
+                row[k] = c;
+            }
+        }
+        // One seeding along (q̇, 0, 1) serves L and D.
+        let (qj, vj, tj) = ColumnJet::seed_along(q, qdot, t, qdot, 1.0);
+        let l = sys.lagrangian(&qj, &vj, tj);
+        let (gq, mixed) = (l.grad_q(), l.column_qdot());
+        let mut f = [0.0; N];
+        for i in 0..N {
+            f[i] = gq[i] - mixed[i];
+        }
+        let mut applied = sys.generalized_forces(q, qdot, t);
+        let dd = sys.dissipation(&qj, &vj, tj).grad_qdot();
+        for (a, d) in applied.iter_mut().zip(dd) {
+            *a -= d;
+        }
+        Pieces::new(mass, f).with_applied(applied)
+    })
 }
 
 /// Q − ∂D/∂q̇ with D evaluated on jets already seeded at (q, q̇, t).
@@ -677,8 +824,37 @@ pub fn jet_applied_forces<L, const N: usize>(
 where
     L: Lagrangian<N> + ?Sized,
 {
-    let (qj, vj, tj) = ElJet::seed(q, qdot, t);
-    applied_from(sys, &qj, &vj, tj, q, qdot, t)
+    // An inline const: each system instantiates only the path its N takes.
+    if const { N > crate::jet::EL_BY_COLUMNS_ABOVE } {
+        applied_forces_by_column(sys, q, qdot, t)
+    } else {
+        let (qj, vj, tj) = ElJet::seed(q, qdot, t);
+        applied_from(sys, &qj, &vj, tj, q, qdot, t)
+    }
+}
+
+/// [`jet_applied_forces`] above [`EL_BY_COLUMNS_ABOVE`](crate::jet::EL_BY_COLUMNS_ABOVE)
+/// coordinates: ∂D/∂q̇ from one evaluation of D in [`ColumnJet`](crate::jet::ColumnJet)s.
+#[inline(never)]
+fn applied_forces_by_column<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> [f64; N]
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    use crate::jet::ColumnJet;
+    let mut applied = sys.generalized_forces(q, qdot, t);
+    let dd = crate::jet::with_jet_stack(N, core::mem::size_of::<ColumnJet<N>>(), || {
+        let (qj, vj) = ColumnJet::seed(q, qdot, None);
+        sys.dissipation(&qj, &vj, ColumnJet::from(t)).grad_qdot()
+    });
+    for (a, d) in applied.iter_mut().zip(dd) {
+        *a -= d;
+    }
+    applied
 }
 
 /// The power dh/dt = (Q − ∂D/∂q̇)·q̇ − ∂L/∂t from the jets: the default of
@@ -707,10 +883,34 @@ where
         p += applied[i] * qdot[i];
     }
     if !L::AUTONOMOUS {
-        let (qj, vj, tj) = ElJet::seed_time(q, qdot, t);
-        p -= sys.lagrangian(&qj, &vj, tj).directional();
+        p -= if const { N > crate::jet::EL_BY_COLUMNS_ABOVE } {
+            time_derivative_by_column(sys, q, qdot, t)
+        } else {
+            let (qj, vj, tj) = ElJet::seed_time(q, qdot, t);
+            sys.lagrangian(&qj, &vj, tj).directional()
+        };
     }
     p
+}
+
+/// ∂L/∂t from one evaluation of L in [`ColumnJet`](crate::jet::ColumnJet)s seeded along
+/// (0, 0, 1): [`jet_power`] above [`EL_BY_COLUMNS_ABOVE`](crate::jet::EL_BY_COLUMNS_ABOVE)
+/// coordinates.
+#[inline(never)]
+fn time_derivative_by_column<L, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> f64
+where
+    L: Lagrangian<N> + ?Sized,
+{
+    use crate::jet::ColumnJet;
+    crate::jet::with_jet_stack(N, core::mem::size_of::<ColumnJet<N>>(), || {
+        let (qj, vj, tj) = ColumnJet::seed_along(q, qdot, t, &[0.0; N], 1.0);
+        sys.lagrangian(&qj, &vj, tj).slope()
+    })
 }
 
 /// The applied forces F = Q − ∂D/∂q̇ at a state with their derivatives, exact from the Hessian

@@ -72,6 +72,48 @@ impl<const N: usize> ColumnJet<N> {
         (qj, vj)
     }
 
+    /// Seeds q, q̇ and t with the direction (`dq`, 0, `dt`) in (q, q̇, t) instead of one
+    /// variable: the "column" is then the derivative of the gradient along that direction, and
+    /// [`slope`](Self::slope) the derivative of the value. Along (q̇, 0, 1) the column's q̇ part
+    /// is (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t, what [`ElJet::mixed`](super::ElJet::mixed) gives; along
+    /// (0, 0, 1) the slope is ∂L/∂t.
+    ///
+    /// ```
+    /// use lagrange_runtime::jet::ColumnJet;
+    /// // L = q q̇ t at q = 2, q̇ = 3, t = 5 along (q̇, 0, 1):
+    /// let (q, v, t) = ColumnJet::<1>::seed_along(&[2.0], &[3.0], 5.0, &[3.0], 1.0);
+    /// let l = q[0] * v[0] * t;
+    /// assert_eq!(l.column_qdot(), [3.0 * 5.0 + 2.0]); // ∂²L/∂q̇∂q q̇ + ∂²L/∂q̇∂t = t q̇ + q
+    /// assert_eq!(l.slope(), 3.0 * 3.0 * 5.0 + 2.0 * 3.0); // (∂L/∂q) q̇ + ∂L/∂t
+    /// ```
+    pub fn seed_along(
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+        dq: &[f64; N],
+        dt: f64,
+    ) -> ([Self; N], [Self; N], Self) {
+        let (mut qj, vj) = Self::seed(q, qdot, None);
+        for (x, d) in qj.iter_mut().zip(dq) {
+            x.s = *d;
+        }
+        let mut tj = Self::ZERO;
+        tj.v = t;
+        tj.s = dt;
+        (qj, vj, tj)
+    }
+
+    /// The derivative of the value along the seeded variable or direction.
+    ///
+    /// ```
+    /// use lagrange_runtime::jet::ColumnJet;
+    /// let (q, _) = ColumnJet::<1>::seed(&[3.0], &[0.0], Some(0));
+    /// assert_eq!((q[0] * q[0]).slope(), 6.0);
+    /// ```
+    pub fn slope(&self) -> f64 {
+        self.s
+    }
+
     /// The value.
     ///
     /// ```

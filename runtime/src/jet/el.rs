@@ -6,6 +6,29 @@ const DQ: u8 = 1; // depends on q or t: gq, gd may be non-zero
 const DV: u8 = 2; // depends on q̇: gv may be non-zero
 const NL: u8 = 4; // non-linear in q̇: hvv may be non-zero
 
+/// Above this many coordinates the jets' defaults of [`Lagrangian`](crate::Lagrangian) (the
+/// pieces, hence `accelerations` and `mass_matrix`; the momenta, the energy, the power and the
+/// applied forces) evaluate L in [`ColumnJet`](super::ColumnJet)s (4N + 2 numbers each: N + 1
+/// evaluations for the pieces, one for the rest) instead of once in an [`ElJet`]
+/// (N² + 3N + 3 numbers: 8.8 KB at N = 32, 33 KB at 64, and the seeds alone are 2N of them).
+/// At or below it the defaults are what they always were, bit for bit.
+///
+/// Measured (`accelerations` of a hand-written chain in `ElJet`s, the least thread stack it ran
+/// on; opt-level 2 / opt-level 0): N = 16 191 / 511 KiB, 20 343 / 871 KiB, 24 567 / 1383 KiB,
+/// 32 1255 / 2935 KiB, 48 3951 / 8829 KiB, 64 9061 / 19739 KiB. The stack grows as N³ (2N
+/// seeds of N² numbers), and at 16 a debug build keeps three quarters of a 2 MiB thread for
+/// its caller and for a body's own bindings. By columns the same evaluations need 63 / 183 KiB
+/// at 17 and 607 / 2359 KiB at 64, and they run in
+/// [`with_jet_stack`](super::with_jet_stack), on a segment of their own when the stack is
+/// short: `accelerations` at 64 then ran on a thread of 143 / 535 KiB. By columns costs
+/// N + 1 evaluations in numbers of 4N + 2 values: 3 to 8 times the time of the `ElJet`
+/// (95 µs against 28 µs at 17, 7 to 11 ms against 1.5 ms at 64, opt-level 2).
+///
+/// ```
+/// assert_eq!(lagrange_runtime::jet::EL_BY_COLUMNS_ABOVE, 16);
+/// ```
+pub const EL_BY_COLUMNS_ABOVE: usize = 16;
+
 /// A packed second-order forward-mode jet for the Euler–Lagrange equations of an `N`-coordinate
 /// system.
 ///

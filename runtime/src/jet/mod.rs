@@ -27,7 +27,7 @@ mod timed;
 
 pub use column::{ColumnJet, HESSIAN_BY_COLUMNS_ABOVE};
 pub use constraint::ConstraintJet;
-pub use el::ElJet;
+pub use el::{EL_BY_COLUMNS_ABOVE, ElJet};
 pub use hessian::HessianJet;
 pub use lin::LinJet;
 pub use lin_column::LinColumnJet;
@@ -49,7 +49,16 @@ pub fn with_jet_stack<R>(n: usize, jet_bytes: usize, f: impl FnOnce() -> R) -> R
         .saturating_mul(2 * n)
         .saturating_mul(jet_bytes)
         .saturating_add(256 << 10);
-    stacker::maybe_grow(need, need.saturating_mul(2), f)
+    // `f` in a frame of its own: inlined into this one, its jets would be reserved on the
+    // caller's stack on entry, before the test of the room left (a 64-coordinate evaluation
+    // overflowed a 2 MiB thread with the segment never entered).
+    stacker::maybe_grow(need, need.saturating_mul(2), || own_frame(f))
+}
+
+/// Calls `f` in a frame that is not the caller's (see [`with_jet_stack`]).
+#[inline(never)]
+fn own_frame<R>(f: impl FnOnce() -> R) -> R {
+    f()
 }
 
 /// The jets carry derivatives in (q, q̇), not a rate along the motion: their `velocity` is NaN
