@@ -716,6 +716,31 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             };
             (x, period, shot, closure) = (xt, pt, s, c);
         }
+        self.not_an_equilibrium(&shot, &x, period, (iterations, closure))?;
+        let multipliers = multipliers(&shot.phi)?;
+        let stability = classify(&multipliers, !self.fixed_period);
+        Ok(PeriodicOrbit {
+            t0: self.t0,
+            q0: core::array::from_fn(|i| x[i]),
+            qdot0: core::array::from_fn(|i| x[N + i]),
+            period,
+            monodromy: shot.phi,
+            multipliers,
+            stability,
+            closure,
+            iterations,
+        })
+    }
+
+    /// Refuses an orbit that the closure cannot tell from an equilibrium (periodic with any
+    /// period: not the orbit looked for).
+    fn not_an_equilibrium(
+        &self,
+        shot: &Shot,
+        x: &[f64],
+        period: f64,
+        (iterations, closure): (usize, f64),
+    ) -> Result<(), OrbitError> {
         // An equilibrium is periodic with any period: not the orbit looked for. Told apart by
         // the orbit's excursion, about |f(x₀)| T, against what the closure resolves: an orbit of
         // amplitude 1e-8 is one at a tolerance of 1e-20 (not against a size of 1: it was
@@ -725,7 +750,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             return Err(self.no_convergence(
                 iterations,
                 closure,
-                &x,
+                x,
                 period,
                 &format!(
                     "Newton ended where the motion's excursion over a period, |f(x₀)| T = {:.1e}, \
@@ -740,19 +765,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 ),
             ));
         }
-        let multipliers = multipliers(&shot.phi)?;
-        let stability = classify(&multipliers, !self.fixed_period);
-        Ok(PeriodicOrbit {
-            t0: self.t0,
-            q0: core::array::from_fn(|i| x[i]),
-            qdot0: core::array::from_fn(|i| x[N + i]),
-            period,
-            monodromy: shot.phi,
-            multipliers,
-            stability,
-            closure,
-            iterations,
-        })
+        Ok(())
     }
 
     /// The least-norm Newton step (Δx, ΔT) (ΔT absent for a fixed period).
