@@ -1460,12 +1460,244 @@ fn b_bad_options() -> R {
     r("typed Err for each", got.join("; "), ok)
 }
 
+
+// ============================ round 2: corrections and follow-ups ============================
+
+/// Inverted pendulum written so the upright state is exact in floating point: θ̈ = sin θ at θ = 0.
+fn f_upright() -> R {
+    let s = Lyapunov::new(&Pendulum { g: -1.0 }, [0.0], [0.0]).duration(200.0).compute();
+    lyap_check("upright (exact)", s, &[1.0, -1.0], 2e-2, Some((0.0, 1e-8)))
+}
+/// Hénon–Heiles E = 1/8 (a regular orbit): exponents → 0, sum 0.
+fn f_henon() -> R {
+    match Lyapunov::new(&HenonHeiles, [0.0, 0.0], [0.5, 0.0]).duration(500.0).compute() {
+        Err(e) => r("sum 0, all |λ| < 0.02", format!("Err: {e}"), false),
+        Ok(s) => {
+            let e = &s.exponents;
+            r("sum 0 (1e-8), all |λ| < 0.02, sorted", format!("{} sum {:.2e}", fmt_v(e), s.sum()), s.sum().abs() < 1e-8 && e.iter().all(|x| x.abs() < 0.02) && e.windows(2).all(|w| w[0] >= w[1]))
+        }
+    }
+}
+/// A terminal event active after t = 1 only (x − 5e-7 falling): after the jump at t = 1 to
+/// x = 1e-6 moving in, it fires 5e-7 later.
+fn f_terminal_after() -> R {
+    let res = Simulation::new(&Drift, [1.0], [-1.0])
+        .method(tight())
+        .event(Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0]).falling().reset(|_t, _q, v| ([1e-6], *v)))
+        .event(Event::zero_crossing("stop", |t, q: &[f64; 1], _v| if t > 1.0 { q[0] - 5e-7 } else { 1.0 }).falling().terminal())
+        .until(3.0)
+        .run();
+    match res {
+        Err(e) => r("stop at 1 + 5e-7", format!("Err: {e}"), false),
+        Ok(tr) => {
+            let t_end = *tr.t.last().unwrap();
+            r("stop at 1.0000005 after 1 jump", format!("end {t_end:.12}, jumps {}, by {:?}", tr.jumps.len(), tr.terminated_by), (t_end - (1.0 + 5e-7)).abs() < 1e-12 && tr.jumps.len() == 1)
+        }
+    }
+}
+/// λ = 1000, one direction, following the refusal's advice (tighter tolerances).
+fn f_fast1000_tight() -> R {
+    let s = Lyapunov::new(&Saddles { a: 1000.0, b: 0.5 }, [0.0; 2], [0.0; 2]).duration(5.0).directions(1).tolerances(1e-13, 1e-13).compute();
+    lyap_check("λ=1000 k=1 tolerances 1e-13", s, &[1000.0], 1.0, None)
+}
+/// … and with a shorter interval (what the growth per interval needs).
+fn f_fast1000_every() -> R {
+    let s = Lyapunov::new(&Saddles { a: 1000.0, b: 0.5 }, [0.0; 2], [0.0; 2]).duration(5.0).directions(1).renormalize_every(0.1).compute();
+    lyap_check("λ=1000 k=1 every 0.1", s, &[1000.0], 1.0, None)
+}
+/// λ = 600, one direction, default interval 1: e^600 < f64::MAX: should work.
+fn f_fast600_one() -> R {
+    let s = Lyapunov::new(&Saddles { a: 600.0, b: 0.5 }, [0.0; 2], [0.0; 2]).duration(5.0).directions(1).compute();
+    lyap_check("λ=600 k=1", s, &[600.0], 1.0, None)
+}
+/// λ = 800, full spectrum (directions separate: the early renormalization triggers).
+fn f_fast800_full() -> R {
+    let s = Lyapunov::new(&Saddles { a: 800.0, b: 0.5 }, [0.0; 2], [0.0; 2]).duration(5.0).compute();
+    lyap_check("λ=800 full", s, &[800.0, 0.5, -0.5, -800.0], 2.0, Some((0.0, 1e-3)))
+}
+/// The 1/k² accumulation in detail: where the run is after π²/6.
+fn f_power2_detail() -> R {
+    let k = Cell::new(1u64);
+    let res = Simulation::new(&Drift, [1.0], [-1.0])
+        .method(tight())
+        .event(Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0]).falling().reset(|_t, _q, v| {
+            k.set(k.get() + 1);
+            let kk = k.get() as f64;
+            ([1.0 / (kk * kk)], *v)
+        }))
+        .until(2.0)
+        .sample_every(0.05)
+        .max_steps(5_000_000)
+        .run();
+    let acc = PI * PI / 6.0;
+    match res {
+        Err(e) => r("zeno report / stop at π²/6", format!("Err: {e}"), false),
+        Ok(tr) => {
+            let last = tr.jumps.last().map(|j| (j.t, j.after.0[0])).unwrap();
+            let past: Vec<(f64, f64)> = tr.t.iter().zip(&tr.q).filter(|(t, _)| **t > acc).map(|(t, q)| (*t, q[0])).take(4).collect();
+            let minx = tr.q.iter().fold(f64::INFINITY, |m, q| m.min(q[0]));
+            r(format!("no motion past t∞ = {acc:.6} (zeno report), x ≥ 0"), format!("{} jumps, last jump {last:?}, samples past t∞ {past:?}, min x {minx:e}, zeno {:?}", tr.jumps.len(), tr.zeno), false)
+        }
+    }
+}
+/// A kicked ball from h = 1e4 m: ẏ⁺ = −0.8 ẏ⁻ + 0.1; the bounce speed tends to 0.5 m/s
+/// (bounce height 1.27 cm, period 0.102 s) for ever: no accumulation.
+fn f_kicked_big() -> R {
+    let res = Simulation::new(&Fall, [1e4], [0.0])
+        .method(tight())
+        .event(Event::zero_crossing("floor", |_t, q: &[f64; 1], _v| q[0]).falling().reset(|_t, q, v| (*q, [-0.8 * v[0] + 0.1])))
+        .until(600.0)
+        .run();
+    // Closed-form bounce sequence: v_{k+1} = 0.8 v_k + 0.1 (speeds after), intervals 2 v/g.
+    let mut t = (2.0f64 * 1e4 / G).sqrt();
+    let mut v = G * t;
+    let mut n = 1;
+    let mut ts = vec![t];
+    while t < 600.0 {
+        v = 0.8 * v + 0.1;
+        t += 2.0 * v / G;
+        ts.push(t);
+        n += 1;
+    }
+    match res {
+        Err(e) => r(format!("{n} hits to t=600, no zeno"), format!("Err: {e}"), false),
+        Ok(tr) => {
+            let z = tr.zeno.as_ref().map(|z| (z.t_accumulation, z.hits, z.ratio));
+            r(format!("{} hits before t=600, no zeno (bounces settle at 0.5 m/s, period 0.102 s)", ts.len() - 1), format!("{} hits, zeno {z:?}, end {}", tr.jumps.len(), tr.t.last().unwrap()), z.is_none() && *tr.t.last().unwrap() == 600.0)
+        }
+    }
+}
+/// pin_energy below the pendulum's minimum: how long per iteration.
+fn f_energy_below_min_iters() -> R {
+    let mut got = vec![];
+    for it in [1usize, 2, 4] {
+        let start = std::time::Instant::now();
+        let res = Shooting::autonomous(&Pendulum { g: 1.0 }, [0.1], [0.0], 6.3).pin_energy(-2.0).max_iterations(it).find();
+        got.push(format!("max_it {it}: {:.1}s {}", start.elapsed().as_secs_f64(), match res { Err(e) => e.to_string().chars().take(160).collect::<String>(), Ok(o) => format!("Ok T {}", o.period) }));
+    }
+    r("a quick typed Err", got.join(" || "), false)
+}
+/// Tiny orbit with the default tolerance (1e-10, absolute) and pin: what comes back.
+fn f_tiny_default() -> R {
+    match Shooting::autonomous(&Osc { w: 1.0 }, [1e-8], [0.0], 1.02 * 2.0 * PI).pin_amplitude(0).find() {
+        Err(e) => r("T = 2π", format!("Err: {}", e.to_string().chars().take(250).collect::<String>()), false),
+        Ok(o) => r("T = 2π", format!("T {:.12}, its {}", o.period, o.iterations), (o.period - 2.0 * PI).abs() < 1e-6),
+    }
+}
+/// A conveyor: sticking contact whose tangential coordinate moves in time, s = x − u t (belt at
+/// u = 2); the particle dropped from y = 1 at ẋ = 0 lands plastically at t1 = √(2/g) and then
+/// moves with the belt: x(t) = u (t − t1) for t > t1.
+struct Conveyor;
+impl Lagrangian<2> for Conveyor {
+    const COORDINATES: [&'static str; 2] = ["x", "y"];
+    const CYCLIC: [bool; 2] = [true, false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+        (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * G
+    }
+}
+impl Unilateral<2, 1> for Conveyor {
+    fn contacts<S: Scalar>(&self, q: &[S; 2], t: S) -> [Contact<S>; 1] {
+        [Contact::gap(q[1]).sticking(q[0] - t * 2.0).named("belt")]
+    }
+}
+fn f_conveyor() -> R {
+    let t1 = (2.0f64 / G).sqrt();
+    match Simulation::contacts(&Conveyor, [0.0, 1.0], [0.0, 0.0]).method(tight()).until(2.0).run() {
+        Err(e) => r("x(2) = 2 (2 − t1), ẋ = 2", format!("Err: {e}"), false),
+        Ok(tr) => {
+            let (x, v) = (tr.q.last().unwrap()[0], tr.qdot.last().unwrap()[0]);
+            let want = 2.0 * (2.0 - t1);
+            r(format!("x(2) = {want:.9}, ẋ = 2"), format!("x {x:.9}, ẋ {v:.9}, jumps {}", short(&jump_times(&tr), 3)), (x - want).abs() < 1e-8 && (v - 2.0).abs() < 1e-9)
+        }
+    }
+}
+/// The same conveyor touching at t0 = 3 (on the belt, at rest: approaching in tangent only):
+/// starts closed? The tangential rate ṡ = −2 ≠ 0: the contact should take a sticking impact
+/// at t0 (ẋ → 2) or start closed with ẋ = 2; either way ẋ = 2 afterwards and x = 2 (t − 3).
+fn f_conveyor_t0() -> R {
+    match Simulation::contacts(&Conveyor, [0.0, 0.0], [0.0, 0.0]).method(tight()).start_time(3.0).until(4.0).run() {
+        Err(e) => r("ẋ = 2 after t0, x(4) = 2", format!("Err: {e}"), false),
+        Ok(tr) => {
+            let (x, v) = (tr.q.last().unwrap()[0], tr.qdot.last().unwrap()[0]);
+            r("ẋ = 2 after t0, x(4) = 2 (or a clear refusal)", format!("x {x:.9}, ẋ {v:.9}, jumps {}, λ {:?}", tr.jumps.len(), tr.lambda.last()), (x - 2.0).abs() < 1e-8 && (v - 2.0).abs() < 1e-9)
+        }
+    }
+}
+/// Macro-declared rising floor, ball at rest on it at t0 = 2: impact at t0 (ẏ⁺ = 0.75).
+fn f_macro_rising_rest() -> R {
+    let s = MRising { u: 0.5, e: 0.5 };
+    match Simulation::new(&s, [1.0], [0.0]).method(tight()).start_time(2.0).until(2.04).run() {
+        Err(e) => r("jump at 2 to 0.75", format!("Err: {e}"), false),
+        Ok(tr) => {
+            let f = tr.jumps.first().map(|j| (j.t, j.after.1[0]));
+            r("jump at t0 = 2 to ẏ⁺ = 0.75", format!("{f:?}"), f.map_or(false, |(t, v)| t == 2.0 && (v - 0.75).abs() < 1e-12))
+        }
+    }
+}
+/// The nanometre drop in rescaled units (lengths in nm: y0 = 0.5, g = 9.81e9 nm/s²): the
+/// same physics, t1 = 1.0096e-5 s. Shows the snap in k_small_drop is a unit dependence.
+fn f_small_drop_nm() -> R {
+    let ball = Ball { e: 0.5, g: 9.81e9 };
+    let t1 = (2.0 * 0.5 / 9.81e9f64).sqrt();
+    match Simulation::contacts(&ball, [0.5], [0.0]).method(tight()).until(1.5 * t1).run() {
+        Err(e) => r(format!("first impact at {t1:.6e}"), format!("Err: {e}"), false),
+        Ok(tr) => {
+            let j = jump_times(&tr);
+            r(format!("first impact at {t1:.6e}"), format!("jumps {}", short(&j, 2)), j.first().map_or(false, |t| rel(*t, t1) < 1e-6))
+        }
+    }
+}
+
+/// A reset that lands d ahead of the wall, still moving in (ẋ = −1), from x = 1: hits at
+/// t = 1, 1 + d, 1 + 2d, … (10 over 1 + 9.5 d); never x < 0. Or a typed error.
+fn reset_sweep(d: f64) -> R {
+    let res = Simulation::new(&Drift, [1.0], [-1.0])
+        .method(tight())
+        .event(Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0]).falling().reset(move |_t, _q, v| ([d], *v)))
+        .until(1.0 + 9.5 * d)
+        .sample_at((1..38).map(move |k| 1.0 + k as f64 * d / 4.0))
+        .run();
+    match res {
+        Err(e) => r(format!("10 hits, x ≥ 0 (d = {d:e})"), format!("Err: {}", e.to_string().chars().take(200).collect::<String>()), true),
+        Ok(tr) => {
+            let minx = tr.q.iter().fold(f64::INFINITY, |m, q| m.min(q[0]));
+            let xe = tr.q.last().unwrap()[0];
+            r(format!("10 hits, x ≥ 0 (d = {d:e})"), format!("{} hits, min x {minx:e}, x_end {xe:e}, zeno {:?}", tr.jumps.len(), tr.zeno.as_ref().map(|z| z.t_accumulation)), tr.jumps.len() == 10 && minx >= -1e-15)
+        }
+    }
+}
+fn f_reset_1e10() -> R { reset_sweep(1e-10) }
+fn f_reset_1e11() -> R { reset_sweep(1e-11) }
+fn f_reset_3e12() -> R { reset_sweep(3e-12) }
+fn f_reset_1e12() -> R { reset_sweep(1e-12) }
+fn f_reset_3e13() -> R { reset_sweep(3e-13) }
+
+
+/// d = 1e-12 over a long run: where is the particle at t = 2?
+fn f_reset_1e12_long() -> R {
+    let res = Simulation::new(&Drift, [1.0], [-1.0])
+        .method(tight())
+        .event(Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0]).falling().reset(|_t, _q, v| ([1e-12], *v)))
+        .until(2.0)
+        .max_steps(100_000_000)
+        .run();
+    match res {
+        Err(e) => r("x ≥ 0 throughout (or zeno/typed Err)", format!("Err: {}", e.to_string().chars().take(200).collect::<String>()), true),
+        Ok(tr) => r("x ≥ 0 throughout (or zeno/typed Err)", format!("{} hits, x_end {}, zeno {:?}", tr.jumps.len(), tr.q.last().unwrap()[0], tr.zeno.as_ref().map(|z| z.t_accumulation)), tr.q.last().unwrap()[0] >= 0.0),
+    }
+}
+
+fn f_lyap_unit_nm() -> R { r("", "", true) }
+
+
 fn main() {
     macro_rules! p {
         ($c:expr, $f:ident, $w:expr) => {
             Probe { class: $c, name: stringify!($f), what: $w, f: $f }
         };
     }
+    let _ = f_lyap_unit_nm;
     let probes = vec![
         p!("2-touch", c2_dp, "touching+approaching at t0, DormandPrince"),
         p!("2-touch", c2_rk4, "touching+approaching at t0, Rk4 dt 1e-4"),
@@ -1567,6 +1799,28 @@ fn main() {
         p!("shoot", s_radau_refused, "shooting with Radau5"),
         p!("shoot", s_pendulum_large, "pendulum amplitude 2.5 pinned"),
         p!("input", b_bad_options, "bad simulation options"),
+        // The second round of probes (its table: REPORT_TABLE.md).
+        p!("5-lyap", f_upright, "upright pendulum (exact equilibrium) ±1"),
+        p!("5-lyap", f_henon, "Hénon–Heiles E=1/8 regular: sum 0, → 0"),
+        p!("7-reset", f_terminal_after, "terminal event 5e-7 after a reset"),
+        p!("6-fast", f_fast1000_tight, "λ=1000 k=1 with the advised tighter tolerances"),
+        p!("6-fast", f_fast1000_every, "λ=1000 k=1 with renormalize_every(0.1)"),
+        p!("6-fast", f_fast600_one, "λ=600 k=1 default interval"),
+        p!("6-fast", f_fast800_full, "λ=800 full spectrum"),
+        p!("8-zeno", f_power2_detail, "1/k² accumulation: the state past t∞"),
+        p!("8-zeno", f_kicked_big, "kicked ball settling at 0.5 m/s bounces"),
+        p!("shoot", f_energy_below_min_iters, "pin_energy below minimum, per iteration budget"),
+        p!("shoot", f_tiny_default, "tiny orbit, default tolerance, pinned"),
+        p!("contact", f_conveyor, "sticking on a moving belt (tangent depends on t)"),
+        p!("3-start", f_conveyor_t0, "on the belt at rest at t0=3"),
+        p!("3-start", f_macro_rising_rest, "macro rising floor, at rest on it at t0=2"),
+        p!("scale", f_small_drop_nm, "nanometre drop in nm units"),
+        p!("7-reset", f_reset_1e10, "reset 1e-10 ahead of the wall, moving in"),
+        p!("7-reset", f_reset_1e11, "reset 1e-11 ahead"),
+        p!("7-reset", f_reset_3e12, "reset 3e-12 ahead"),
+        p!("7-reset", f_reset_1e12, "reset 1e-12 ahead"),
+        p!("7-reset", f_reset_3e13, "reset 3e-13 ahead"),
+        p!("7-reset", f_reset_1e12_long, "reset 1e-12 ahead, run to t = 2"),
     ];
     main_with(probes);
 }
