@@ -542,3 +542,69 @@ fn a_sensitivity_run_moves_as_the_plain_run() {
         }
     }
 }
+
+/// With `motion_steps` a sensitivity run is the plain run plus its variations: the same stepper
+/// over a problem that carries the columns, the steps chosen on the motion alone, q̈ from the
+/// plain kernel. Its motion, samples, events and counters of accepted and rejected steps are the
+/// plain run's bit for bit, for every explicit method; and Φ is still the derivative of the flow
+/// (against the default run's, which also controls Φ's error).
+#[test]
+fn a_sensitivity_run_on_the_motions_steps_is_the_plain_run_bit_for_bit() {
+    let top = crate::support::systems::HeavyTop {
+        i_perp: 1.0,
+        i_par: 0.5,
+        m: 1.0,
+        g: 9.81,
+        l: 0.5,
+    };
+    let (q0, v0) = ([0.6, 0.0, 0.0], [0.0, 1.0, 20.0]);
+    for method in [
+        Method::Rk4 { dt: 1e-3 },
+        Method::Dop853 {
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+        Method::DormandPrince {
+            rtol: 1e-10,
+            atol: 1e-12,
+        },
+    ] {
+        let sim = || {
+            Simulation::new(&top, q0, v0)
+                .method(method)
+                .until(2.0)
+                .sample_every(0.25)
+                .event(Event::zero_crossing("θ̇ = 0", |_t, _q, v: &[f64; 3]| {
+                    v[0]
+                }))
+        };
+        let plain = sim().run().unwrap();
+        let same = sim().sensitivity().motion_steps().run().unwrap();
+        let tr = &same.trajectory;
+        assert_eq!(tr.t, plain.t, "{method:?}");
+        assert_eq!(tr.q, plain.q, "{method:?}");
+        assert_eq!(tr.qdot, plain.qdot, "{method:?}");
+        assert_eq!(
+            (tr.stats.steps, tr.stats.rejected, tr.stats.rhs_evals),
+            (
+                plain.stats.steps,
+                plain.stats.rejected,
+                plain.stats.rhs_evals
+            ),
+            "{method:?}"
+        );
+        let times = |t: &Trajectory<3>| t.events.iter().map(|e| e.t).collect::<Vec<_>>();
+        assert!(!plain.events.is_empty());
+        assert_eq!(times(tr), times(&plain), "{method:?}");
+        // Φ of the fixed steps against Φ with its own error controlled: the same to the
+        // tolerance's order (1e-6 relative to Φ's size, which grows to about 60 here).
+        let controlled = sim().sensitivity().run().unwrap();
+        let (a, b) = (same.final_phi(), controlled.final_phi());
+        let scale = b.amax();
+        assert!(
+            (a - b).amax() < 1e-6 * scale,
+            "{method:?}: {}",
+            (a - b).amax() / scale
+        );
+    }
+}

@@ -6,10 +6,11 @@
 
 use core::fmt;
 
+use super::explicit::Tableau;
 use super::method::Method;
 use super::state::{Fault, Stats, Y};
 use super::stepper::Stepper;
-use super::{dop853, dopri5, radau5, rk4, taylor, variational};
+use super::{dop853::Dop853, dopri5::Dopri5, radau5, rk4::Rk4, taylor, variational};
 
 /// Which interpolant the rows of a step hold: the method's own (one per run).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -169,10 +170,22 @@ impl<const N: usize> Dense<N> {
         };
         let stop = self.steps.get(k + 1).map_or(self.rows.len(), |s| s.start);
         let r = &self.rows[start..stop];
+        // A tableau's rows (up to 8) as its `eval` reads them.
+        let rows = || core::array::from_fn(|j| r.get(j).copied().unwrap_or(r[0]));
+        let mut y = r[0];
         Ok(match self.kind {
-            Kind::Dop853 => dop853::eval_dense(&core::array::from_fn(|j| r[j]), (t - t0) / h),
-            Kind::Dopri5 => dopri5::eval_dense(&core::array::from_fn(|j| r[j]), (t - t0) / h),
-            Kind::Hermite => rk4::hermite(&r[0], &r[1], &r[2], &r[3], h, (t - t0) / h),
+            Kind::Dop853 => {
+                Dop853::eval(&rows(), h, (t - t0) / h, &mut y);
+                y
+            }
+            Kind::Dopri5 => {
+                Dopri5::eval(&rows(), h, (t - t0) / h, &mut y);
+                y
+            }
+            Kind::Hermite => {
+                Rk4::eval(&rows(), h, (t - t0) / h, &mut y);
+                y
+            }
             Kind::Variational => variational::across_step(t0, h, &r[0], &r[1], t),
             Kind::Taylor => taylor::horner(r, t - t0),
             Kind::Radau5 => radau5::eval_dense(&core::array::from_fn(|j| r[j]), (t - t0) / h),

@@ -6,17 +6,16 @@ use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 
 use super::dense::{Dense, Kind};
-use super::dop853::Dop853;
-use super::dopri5::Dopri5;
 use super::error::{PartialTrajectory, SimulationError};
 use super::events::{
     Direction, Event, EventHit, Jump, ZENO_INTERVALS, Zeno, brent, location_tol, zeno,
 };
+use super::explicit::Explicit;
 use super::manifold::Manifold;
 use super::method::Method;
+use super::problem::Plain;
 use super::radau5::Radau5;
 use super::rattle::Rattle;
-use super::rk4::Rk4;
 use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
@@ -44,10 +43,12 @@ pub(super) fn run<L: Lagrangian<N>, const N: usize>(
     let (t0, until) = (o.t0, o.until);
     // Each method's stepper from a state (t, y): at the start, and again after each jump of a
     // resetting event.
+    if let Some(e) = Explicit::of(method) {
+        return driver.run_boxed(o, t0, y0, &mut |t, y, stats| {
+            e.stepper(Plain { sys }, t, y, until, hmax, stats)
+        });
+    }
     match method {
-        Method::Rk4 { dt } => driver.run(o, t0, y0, |t, y, stats| {
-            Rk4::new(sys, FixedGrid::new(t, dt, until), y, stats)
-        }),
         Method::VariationalMidpoint { dt } => {
             // Check the dynamics at the start (a singular mass matrix is reported up front).
             if let Err(e) = sys.accelerations(&y0[0], &y0[1], t0) {
@@ -67,18 +68,16 @@ pub(super) fn run<L: Lagrangian<N>, const N: usize>(
                 }),
             }
         }
-        Method::DormandPrince { rtol, atol } => driver.run(o, t0, y0, |t, y, stats| {
-            Dopri5::new(sys, t, y, rtol, atol, hmax, stats)
-        }),
-        Method::Dop853 { rtol, atol } => driver.run(o, t0, y0, |t, y, stats| {
-            Dop853::new(sys, t, y, rtol, atol, hmax, stats)
-        }),
         Method::Taylor { tol } => {
             driver.run(o, t0, y0, |t, y, _| Ok(Taylor::new(sys, t, y, tol, hmax)))
         }
         Method::Radau5 { rtol, atol } => driver.run(o, t0, y0, |t, y, stats| {
             Radau5::new(sys, t, y, rtol, atol, hmax, stats)
         }),
+        // Taken by the factory above.
+        Method::Rk4 { .. } | Method::DormandPrince { .. } | Method::Dop853 { .. } => {
+            Err(driver.fail(Fault::NonFinite, t0, y0))
+        }
     }
 }
 
@@ -487,7 +486,7 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
 
     /// [`Driver::run`] on a boxed stepper: the loop is compiled once per N, not per system and
     /// method (one indirect call per step).
-    fn run_boxed(
+    pub(super) fn run_boxed(
         mut self,
         o: &RunOptions,
         t0: f64,

@@ -1,9 +1,8 @@
 //! What every method shares: the first-order state y = (q, q̇), the faults a stepper reports, the
 //! right-hand side, and the linear combinations of stages of the explicit Runge–Kutta methods
-//! (the `stages!` macro).
+//! (`combine`, `weighted`).
 
 use crate::error::DynamicsError;
-use crate::lagrangian::Lagrangian;
 
 /// The first-order state y = (q, q̇): `y[0]` = q, `y[1]` = q̇.
 pub(crate) type Y<const N: usize> = [[f64; N]; 2];
@@ -80,35 +79,6 @@ pub(crate) fn rhs<L: super::system::System<N> + ?Sized, const N: usize>(
     Ok([y[1], a])
 }
 
-/// Evaluates the listed stages of the tableau `(A, C)` into `k`, unrolled so that each stage's
-/// sum has a constant length: `k[s] = f(t + C[s] h, y + h Σ_{j<s} A[s][j] k[j])`, returning the
-/// fault of a failing right-hand side from the enclosing function.
-///
-/// The stage positions of cyclic coordinates are not formed (see [`hold_cyclic`]).
-macro_rules! stages {
-    (($a:ident, $c:ident), $sys:ident, $t:ident, $y:ident, $h:ident, $k:ident, $stats:ident;
-     $($s:literal)*) => {$(
-        let mut ys = $crate::integrate::state::combine::<$s, _, _, _, _>($y, $h, &$a[$s], $k);
-        $crate::integrate::state::hold_cyclic($sys, $y, &mut ys);
-        $k[$s] = $crate::integrate::state::rhs($sys, $t + $c[$s] * $h, &ys, $stats)?;
-    )*};
-}
-pub(crate) use stages;
-
-/// Sets the stage positions of the cyclic coordinates back to the step's start.
-///
-/// q̈ does not depend on a coordinate absent from L, and a stage's position enters nothing but the
-/// right-hand side (its slope in q is the stage velocity, formed in full), so these positions
-/// need not be formed: after inlining, their sums are dead code (a measurable saving on a
-/// heavy-top DOP853 run, where 2 of 3 coordinates are cyclic). y₁ and the error estimate still
-/// integrate every position. `Simulation::run` checks the declaration before the first step.
-#[inline(always)]
-pub(crate) fn hold_cyclic<L: Lagrangian<N>, const N: usize>(_sys: &L, y: &Y<N>, ys: &mut Y<N>) {
-    let cyclic: [bool; N] = const { L::CYCLIC };
-    let held: [f64; N] = core::array::from_fn(|i| if cyclic[i] { y[0][i] } else { ys[0][i] });
-    ys[0] = held;
-}
-
 /// y + h Σ_{j<S} a_j k_j. `S` is a constant, so the loops unroll and the 2N components
 /// vectorise; the rows of a tableau can be longer than S (padded with the later stages'
 /// coefficients or zeros).
@@ -127,13 +97,27 @@ pub(crate) fn combine<const S: usize, const N: usize, const R: usize, const K: u
     k: &[YOf<T, N>; K],
 ) -> YOf<T, N> {
     const { assert!(S >= 1 && S <= R && S <= K) };
-    let mut last = S - 1;
+    combine_by(S, y, h, a, |j| &k[j])
+}
+
+/// [`combine`] with the terms k_j taken from `k` (a state's motion), for 1 ≤ s ≤ R (a constant
+/// after inlining).
+#[inline(always)]
+pub(crate) fn combine_by<'k, const N: usize, const R: usize, T: Real + 'k>(
+    s: usize,
+    y: &YOf<T, N>,
+    h: T,
+    a: &[f64; R],
+    k: impl Fn(usize) -> &'k YOf<T, N>,
+) -> YOf<T, N> {
+    let mut last = s - 1;
     while last > 0 && a[last] == 0.0 {
         last -= 1;
     }
     let mut base = *y;
-    if last > 0 {
-        let w = weighted_to(last, a, k);
+    // Leading zeros skipped too (RK4's rows): the sum then starts at the first term.
+    if a[..last].iter().any(|&aj| aj != 0.0) {
+        let w = weighted_by(last, a, &k);
         for r in 0..2 {
             for i in 0..N {
                 base[r][i] = h.madd(w[r][i], base[r][i]);
@@ -141,10 +125,11 @@ pub(crate) fn combine<const S: usize, const N: usize, const R: usize, const K: u
         }
     }
     let hl = h * T::from(a[last]);
+    let kl = k(last);
     let mut out = [[T::from(0.0); N]; 2];
     for r in 0..2 {
         for i in 0..N {
-            out[r][i] = hl.madd(k[last][r][i], base[r][i]);
+            out[r][i] = hl.madd(kl[r][i], base[r][i]);
         }
     }
     out
@@ -167,21 +152,39 @@ fn weighted_to<const N: usize, const R: usize, const K: usize, T: Real>(
     a: &[f64; R],
     k: &[YOf<T, N>; K],
 ) -> YOf<T, N> {
+    weighted_by(s, a, |j| &k[j])
+}
+
+/// Σ_{j<s} a_j k(j) for 1 ≤ s ≤ R, the terms taken from `k` (a state's motion: the tableaux'
+/// error estimates over the motion of any state), from the first non-zero a_j on (a_0 k(0) if
+/// every a_j is zero).
+#[inline(always)]
+pub(crate) fn weighted_by<'k, const N: usize, const R: usize, T: Real + 'k>(
+    s: usize,
+    a: &[f64; R],
+    k: impl Fn(usize) -> &'k YOf<T, N>,
+) -> YOf<T, N> {
+    let mut first = 0;
+    while first + 1 < s && a[first] == 0.0 {
+        first += 1;
+    }
     let mut w = [[T::from(0.0); N]; 2];
+    let k0 = k(first);
     for r in 0..2 {
         for i in 0..N {
-            w[r][i] = T::from(a[0]) * k[0][r][i];
+            w[r][i] = T::from(a[first]) * k0[r][i];
         }
     }
-    for j in 1..s {
+    for j in first + 1..s {
         // The tableaux are constants and s is too: after inlining this test is decided at
         // compile time, so the zeros of the tableau cost nothing.
         if a[j] == 0.0 {
             continue;
         }
+        let kj = k(j);
         for r in 0..2 {
             for i in 0..N {
-                w[r][i] = T::from(a[j]).madd(k[j][r][i], w[r][i]);
+                w[r][i] = T::from(a[j]).madd(kj[r][i], w[r][i]);
             }
         }
     }

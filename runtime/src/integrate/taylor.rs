@@ -45,8 +45,9 @@ fn series<L: Lagrangian<N>, const N: usize>(
     L::series_in(&[sys], params, t, out, buf)
 }
 
-/// The Taylor stepper.
-pub(crate) struct Taylor<'a, L, const N: usize> {
+/// The Taylor stepper of the motion and what a problem carries with it ([`Carried`]: nothing
+/// for a plain run).
+pub(crate) struct Taylor<'a, L, const N: usize, C = ()> {
     sys: &'a L,
     /// The order from the tolerance (the series may be wider for one step, see the module docs).
     p: usize,
@@ -64,11 +65,52 @@ pub(crate) struct Taylor<'a, L, const N: usize> {
     buf: TaylorBuf,
     /// The series kernel's copy of the system's parameters (loaded at the first call).
     params: Vec<f64>,
+    /// What the problem carries (taken out while it steps the motion).
+    carried: Option<C>,
+}
+
+/// What a Taylor run carries along with the motion, problem-side: nothing for a plain run
+/// (`()`); a sensitivity run's columns of variations, whose series come from the same generated
+/// code and are summed at the motion's step. The stepper ([`Taylor`]'s `Stepper`) is written
+/// once; a problem says here how its step goes and what it records.
+pub(crate) trait Carried<L: Lagrangian<N>, const N: usize>: Sized {
+    /// Takes the next step of the motion `m`, not beyond `t_end`, with what is carried.
+    fn advance(
+        &mut self,
+        m: &mut Taylor<'_, L, N, Self>,
+        t_end: f64,
+        stats: &mut Stats,
+    ) -> Result<(), Fault>;
+    /// The driver recorded a sample at time `t` whose state is the motion's at `at`.
+    fn recorded(&mut self, _m: &Taylor<'_, L, N, Self>, _t: f64, _at: f64) {}
+    /// The driver located a hit of event `event` at time `t`.
+    fn event_located(&mut self, _m: &Taylor<'_, L, N, Self>, _t: f64, _event: usize) {}
+}
+
+/// A plain run carries nothing: the motion's step.
+impl<L: Lagrangian<N>, const N: usize> Carried<L, N> for () {
+    #[inline(always)]
+    fn advance(
+        &mut self,
+        m: &mut Taylor<'_, L, N, ()>,
+        t_end: f64,
+        stats: &mut Stats,
+    ) -> Result<(), Fault> {
+        let (h, t1) = m.plan(t_end, stats)?;
+        m.take(h, t1, stats)
+    }
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
-    /// Starts at (t0, y0).
+    /// Starts a plain run at (t0, y0).
     pub(crate) fn new(sys: &'a L, t0: f64, y0: Y<N>, tol: f64, hmax: f64) -> Self {
+        Taylor::carrying(sys, t0, y0, tol, hmax, ())
+    }
+}
+
+impl<'a, L: Lagrangian<N>, const N: usize, C> Taylor<'a, L, N, C> {
+    /// Starts at (t0, y0) carrying `carried`.
+    pub(crate) fn carrying(sys: &'a L, t0: f64, y0: Y<N>, tol: f64, hmax: f64, carried: C) -> Self {
         let p = order(tol);
         Taylor {
             sys,
@@ -83,6 +125,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Taylor<'a, L, N> {
             old: vec![y0; p + 1],
             buf: TaylorBuf::new(),
             params: Vec::new(),
+            carried: Some(carried),
         }
     }
 
@@ -369,7 +412,7 @@ pub(crate) fn horner<R: Real, const N: usize>(series: &[YOf<R, N>], tau: R) -> Y
     even
 }
 
-impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Taylor<'_, L, N> {
+impl<L: Lagrangian<N>, const N: usize, C: Carried<L, N>> Stepper<N> for Taylor<'_, L, N, C> {
     fn t(&self) -> f64 {
         self.t
     }
@@ -385,8 +428,27 @@ impl<L: Lagrangian<N>, const N: usize> Stepper<N> for Taylor<'_, L, N> {
         Ok(())
     }
     fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
-        let (h, t1) = self.plan(t_end, stats)?;
-        self.take(h, t1, stats)
+        // Out while it steps the motion; always back (it is missing only inside this call).
+        let Some(mut c) = self.carried.take() else {
+            return Err(Fault::NonFinite);
+        };
+        let r = c.advance(self, t_end, stats);
+        self.carried = Some(c);
+        r
+    }
+    fn recorded(&mut self, t: f64, at: f64, _stats: &mut Stats) -> Result<(), Fault> {
+        if let Some(mut c) = self.carried.take() {
+            c.recorded(self, t, at);
+            self.carried = Some(c);
+        }
+        Ok(())
+    }
+    fn event_located(&mut self, t: f64, event: usize, _stats: &mut Stats) -> Result<(), Fault> {
+        if let Some(mut c) = self.carried.take() {
+            c.event_located(self, t, event);
+            self.carried = Some(c);
+        }
+        Ok(())
     }
     /// The step's polynomial has degree p (up to 31 widened): ⌈(p + 1)/2⌉ points integrate a
     /// power of that degree exactly, so the work carries the step's own error (4 points left

@@ -1,8 +1,12 @@
 //! Unit tests of the single steps and interpolants: convergence orders with fixed steps.
 
+use super::dop853::Dop853;
+use super::dopri5::Dopri5;
+use super::explicit::{Counted, Tableau, attempt};
+use super::problem::Plain;
+use super::rk4::Rk4;
 use super::state::Stats;
 use super::state::Y;
-use super::{dop853, dopri5, rk4};
 use crate::lagrangian::Lagrangian;
 use crate::scalar::Scalar;
 
@@ -57,6 +61,56 @@ fn dist<const N: usize>(a: &Y<N>, b: &Y<N>) -> f64 {
     m
 }
 
+/// One step of the tableau T of size h from (t, y) with f = F(t, y): y₁, ln err for the
+/// tolerances `tol`, and the stages.
+#[allow(clippy::too_many_arguments)]
+fn tab_step<T: Tableau, L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    t: f64,
+    y: &Y<N>,
+    f: &Y<N>,
+    h: f64,
+    tol: (f64, f64),
+    stats: &mut Stats,
+) -> (Y<N>, f64, [Y<N>; 16]) {
+    let p = Plain { sys };
+    let mut k = [*f; 16];
+    let (mut arg, mut y1) = (*y, *y);
+    let mut c = Counted { p: &p, stats };
+    let ln_err =
+        attempt::<T, _, _, N>(&mut c, L::CYCLIC, t, y, &mut k, h, tol, &mut arg, &mut y1).unwrap();
+    (y1, ln_err, k)
+}
+
+/// One step of T on the oscillator and its dense output at θ: (y₁, the output).
+fn tab_dense<T: Tableau>(
+    t0: f64,
+    y0: &Y<1>,
+    f0: &Y<1>,
+    h: f64,
+    th: f64,
+    stats: &mut Stats,
+) -> (Y<1>, Y<1>) {
+    let (y1, _, mut k) = tab_step::<T, _, 1>(&Osc, t0, y0, f0, h, (1e-6, 1e-6), stats);
+    k[T::STAGES] = super::state::rhs(&Osc, t0 + h, &y1, stats).unwrap();
+    let p = Plain { sys: &Osc };
+    let mut rows = [*y0; 8];
+    T::dense(
+        &mut Counted { p: &p, stats },
+        [false],
+        t0,
+        y0,
+        &y1,
+        &mut k,
+        h,
+        &mut rows,
+    )
+    .unwrap();
+    let mut out = *y0;
+    T::eval(&rows, h, th, &mut out);
+    (y1, out)
+}
+
 /// Integrates over one Kepler period with n fixed steps of the given single-step method.
 fn kepler_period<F>(n: usize, mut step: F) -> f64
 where
@@ -79,7 +133,7 @@ fn rk4_fixed_step_is_order_4_on_kepler() {
         .iter()
         .map(|&n| {
             let e = kepler_period(n, |t, y, f, h, s| {
-                rk4::step(&Kepler, t, y, f, h, s).unwrap()
+                tab_step::<Rk4, _, 2>(&Kepler, t, y, f, h, (0.0, 0.0), s).0
             });
             (1.0 / n as f64, e)
         })
@@ -94,8 +148,7 @@ fn dopri5_fixed_step_is_order_5_on_kepler() {
         .iter()
         .map(|&n| {
             let e = kepler_period(n, |t, y, f, h, s| {
-                let mut k = [*f; 7];
-                dopri5::step(&Kepler, t, y, &mut k, h, s).unwrap().0
+                tab_step::<Dopri5, _, 2>(&Kepler, t, y, f, h, (1e-6, 1e-6), s).0
             });
             (1.0 / n as f64, e)
         })
@@ -110,10 +163,7 @@ fn dop853_fixed_step_is_order_8_on_kepler() {
         .iter()
         .map(|&n| {
             let e = kepler_period(n, |t, y, f, h, s| {
-                let mut k = [*f; 16];
-                dop853::step(&Kepler, t, y, &mut k, h, 1e-6, 1e-6, s)
-                    .unwrap()
-                    .0
+                tab_step::<Dop853, _, 2>(&Kepler, t, y, f, h, (1e-6, 1e-6), s).0
             });
             (1.0 / n as f64, e)
         })
@@ -129,18 +179,8 @@ fn dense_local_error(h: f64, which: &str) -> f64 {
     let f0 = super::state::rhs(&Osc, t0, &y0, &mut stats).unwrap();
     let th = 0.37;
     let got = match which {
-        "dopri5" => {
-            let mut k = [f0; 7];
-            let (y1, _) = dopri5::step(&Osc, t0, &y0, &mut k, h, &mut stats).unwrap();
-            dopri5::eval_dense(&dopri5::dense(&y0, &y1, &k, h), th)
-        }
-        _ => {
-            let mut k = [f0; 16];
-            let (y1, _) = dop853::step(&Osc, t0, &y0, &mut k, h, 1e-6, 1e-6, &mut stats).unwrap();
-            k[12] = super::state::rhs(&Osc, t0 + h, &y1, &mut stats).unwrap();
-            let r = dop853::dense(&Osc, t0, &y0, &y1, &mut k, h, &mut stats).unwrap();
-            dop853::eval_dense(&r, th)
-        }
+        "dopri5" => tab_dense::<Dopri5>(t0, &y0, &f0, h, th, &mut stats).1,
+        _ => tab_dense::<Dop853>(t0, &y0, &f0, h, th, &mut stats).1,
     };
     let t = t0 + th * h;
     dist(&got, &[[t.cos()], [-t.sin()]])
@@ -171,11 +211,10 @@ fn dense_outputs_hit_both_ends_exactly() {
     let mut stats = Stats::default();
     let y0 = [[1.0], [0.2]];
     let f0 = super::state::rhs(&Osc, 0.0, &y0, &mut stats).unwrap();
-    let mut k = [f0; 7];
-    let (y1, _) = dopri5::step(&Osc, 0.0, &y0, &mut k, 0.3, &mut stats).unwrap();
-    let r = dopri5::dense(&y0, &y1, &k, 0.3);
-    assert!(dist(&dopri5::eval_dense(&r, 0.0), &y0) < 1e-15);
-    assert!(dist(&dopri5::eval_dense(&r, 1.0), &y1) < 1e-15);
+    let (y1, at0) = tab_dense::<Dopri5>(0.0, &y0, &f0, 0.3, 0.0, &mut stats);
+    let (_, at1) = tab_dense::<Dopri5>(0.0, &y0, &f0, 0.3, 1.0, &mut stats);
+    assert!(dist(&at0, &y0) < 1e-15);
+    assert!(dist(&at1, &y1) < 1e-15);
 }
 
 #[test]
@@ -187,9 +226,8 @@ fn dop853_error_estimate_scales_like_h8() {
     let pts: Vec<_> = [0.08, 0.04, 0.02]
         .iter()
         .map(|&h| {
-            let mut k = [f0; 16];
-            let (_, ln_err) =
-                dop853::step(&Kepler, 0.0, &y0, &mut k, h, 0.0, 1e-6, &mut stats).unwrap();
+            let (_, ln_err, _) =
+                tab_step::<Dop853, _, 2>(&Kepler, 0.0, &y0, &f0, h, (0.0, 1e-6), &mut stats);
             (h, ln_err.exp())
         })
         .collect();

@@ -16,7 +16,9 @@
 //! The member plumbing (`enter`, `Slot`, `fill`, `retire`) is `members`, shared with the Taylor
 //! engine; members of another method, and constrained ones, run the scalar driver.
 
-use crate::integrate::dop853::{step_of, Accelerations, Attempt, Attempted, Dop853};
+use crate::integrate::dop853::Dop853;
+use crate::integrate::explicit::{attempt, ExplicitRk, Slopes};
+use crate::integrate::problem::Plain;
 use crate::integrate::method::Method;
 use crate::integrate::simulation::Simulation;
 use crate::integrate::state::{Fault, Stats, YOf, Y};
@@ -38,7 +40,10 @@ struct Attempting {
 }
 
 /// A DOP853 member in a lane.
-type DopSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, Dop853<'p, L, N>, Attempting, N>;
+type DopSlot<'p, 'a, L, const N: usize> = Slot<'p, 'a, Member<'p, L, N>, Attempting, N>;
+
+/// A member's scalar DOP853 stepper.
+type Member<'p, L, const N: usize> = ExplicitRk<Plain<'p, L>, Dop853, N>;
 
 /// The DOP853 engine over the members of `queue` (see the module docs).
 #[inline(always)]
@@ -65,7 +70,7 @@ pub(super) fn run<
         if refreshed {
             params.clear();
         }
-        let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.sys());
+        let members: [&L; W] = core::array::from_fn(|l| lane[l].run.stepper.problem().sys);
         // Gather: t, h, tolerances, y and f at the node (k₀) of every lane.
         let mut t = Lanes::ZERO;
         let mut h = Lanes::ZERO;
@@ -73,7 +78,7 @@ pub(super) fn run<
         let mut atol = Lanes::ZERO;
         let mut y = [[Lanes::<W, F>::ZERO; N]; 2];
         for (l, s) in lane.iter().enumerate() {
-            let (tl, yl) = s.run.stepper.node_state();
+            let (tl, yl) = s.run.stepper.node();
             let (r, a) = s.run.stepper.tolerances();
             let k0 = &s.run.stepper.stages()[0];
             (t.0[l], h.0[l], rtol.0[l], atol.0[l]) = (tl, s.own.h, r, a);
@@ -103,7 +108,7 @@ pub(super) fn run<
                 _ => None,
             };
             let clean = v.finite.0[l] == 0.0 && f1l.is_none_or(|a| a.iter().all(|x| x.is_finite()));
-            let attempt: Attempt<N> = if clean {
+            let attempt = if clean {
                 let stats = s.run.driver.stats();
                 stats.rhs_evals += 11;
                 let y1: Y<N> = core::array::from_fn(|c| core::array::from_fn(|i| v.y1[c][i].0[l]));
@@ -121,14 +126,16 @@ pub(super) fn run<
                         }
                     }
                 }
-                Ok((y1, v.ln_err.0[l], f1))
+                s.run.stepper.take_attempt(y1, f1);
+                Ok(v.ln_err.0[l])
             } else {
                 // Something was not finite in this lane: the scalar attempt says what.
                 redo(&mut s.run.stepper, s.own.h, s.run.driver.stats())
             };
             let until = s.run.opts.until;
             let (h, last) = (s.own.h, s.own.last);
-            if s.run
+            // An adaptive step's fault is its retry, never the run's end (`Ok`).
+            if let Ok(true) = s.run
                 .stepper
                 .settle(h, last, until, attempt, s.run.driver.stats())
             {
@@ -150,10 +157,10 @@ pub(super) fn run<
 /// the scalar step inlined into every instantiation of the engine would only cost build time).
 #[inline(never)]
 fn redo<L: Lagrangian<N>, const N: usize>(
-    stepper: &mut Dop853<'_, L, N>,
+    stepper: &mut Member<'_, L, N>,
     h: f64,
     stats: &mut Stats,
-) -> Attempt<N> {
+) -> Result<f64, Fault> {
     stepper.attempt(h, stats)
 }
 
@@ -171,7 +178,9 @@ fn start<'p, 'a, L: Lagrangian<N>, const N: usize>(
             Method::Dop853 { rtol, atol } => Some((rtol, atol)),
             _ => None,
         },
-        |sys, (rtol, atol), t0, y0, hmax, stats| Dop853::new(sys, t0, y0, rtol, atol, hmax, stats),
+        |sys, tol, t0, y0, hmax, stats| {
+            Member::new(Plain { sys }, t0, y0, tol, 0.0, 0.0, hmax, stats)
+        },
     )?;
     Some(Slot {
         pos,
@@ -201,24 +210,45 @@ fn pending<L: Lagrangian<N>, const N: usize>(s: &mut DopSlot<'_, '_, L, N>) -> R
     Ok(true)
 }
 
-/// The accelerations of W members (see [`accelerations`]).
+/// The accelerations of W members (see [`accelerations`]), with the sum that is 0 in the lanes
+/// where every one was finite (NaN elsewhere).
 struct Members<'a, L, const W: usize, const F: bool> {
     members: &'a [&'a L; W],
     params: &'a mut Vec<Lanes<W, F>>,
+    finite: Lanes<W, F>,
 }
 
-impl<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool> Accelerations<Lanes<W, F>, N>
-    for Members<'_, L, W, F>
+impl<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>
+    Slopes<YOf<Lanes<W, F>, N>, N> for Members<'_, L, W, F>
 {
     type Error = core::convert::Infallible;
     #[inline(always)]
-    fn at(&mut self, t: Lanes<W, F>, y: &YOf<Lanes<W, F>, N>) -> Result<[Lanes<W, F>; N], Self::Error> {
-        Ok(accelerations(self.members, self.params, &y[0], &y[1], t))
+    fn slope(
+        &mut self,
+        t: Lanes<W, F>,
+        y: &YOf<Lanes<W, F>, N>,
+        out: &mut YOf<Lanes<W, F>, N>,
+    ) -> Result<(), Self::Error> {
+        let a = accelerations(self.members, self.params, &y[0], &y[1], t);
+        // 0 · x is 0 for finite x and NaN otherwise.
+        for ai in &a {
+            self.finite += *ai * 0.0;
+        }
+        *out = [y[1], a];
+        Ok(())
     }
 }
 
+/// What [`vector_step`] gives for every lane: y₁, ln err, and the sum that is 0 where every
+/// stage and y₁ was finite.
+struct Attempted<R, const N: usize> {
+    y1: YOf<R, N>,
+    ln_err: R,
+    finite: R,
+}
+
 /// The stages 1..=11 and y₁ of DOP853 for every lane, and each lane's ln err: the single run's
-/// [`step_of`] at width W.
+/// [`attempt`] at width W.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
@@ -231,7 +261,26 @@ fn vector_step<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
     rtol: Lanes<W, F>,
     atol: Lanes<W, F>,
 ) -> Attempted<Lanes<W, F>, N> {
-    let f = Members { members, params };
-    let Ok(out) = step_of(L::CYCLIC, f, t, y, k, h, rtol, atol);
-    out
+    let mut f = Members {
+        members,
+        params,
+        finite: Lanes::ZERO,
+    };
+    let (mut arg, mut y1) = (*y, *y);
+    let Ok(ln_err) = attempt::<Dop853, _, _, N>(
+        &mut f,
+        L::CYCLIC,
+        t,
+        y,
+        k,
+        h,
+        (rtol, atol),
+        &mut arg,
+        &mut y1,
+    );
+    let mut finite = f.finite;
+    for x in y1.iter().flatten() {
+        finite += *x * 0.0;
+    }
+    Attempted { y1, ln_err, finite }
 }

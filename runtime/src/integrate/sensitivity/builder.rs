@@ -9,18 +9,16 @@ use crate::lagrangian::Lagrangian;
 
 use super::super::driver::Driver;
 use super::super::error::SimulationError;
+use super::super::explicit::Explicit;
 use super::super::method::Method;
 use super::super::simulation::Simulation;
-use super::super::stepper::FixedGrid;
 use super::super::system::System;
 use super::super::trajectory::{SAMPLE_BUDGET_BYTES, sample_bytes};
 use super::Log;
-use super::dop853::VarDop853;
-use super::dopri5::VarDopri5;
+use super::augmented::Variational;
 use super::event_time::at_event;
 use super::result::Sensitivities;
-use super::rk4::VarRk4;
-use super::taylor::VarTaylor;
+use super::taylor::VarSeries;
 use super::variation::{Parameter, Variation, difference_step};
 
 /// A run that also integrates the variational equations: built by
@@ -51,6 +49,7 @@ use super::variation::{Parameter, Variation, difference_step};
 pub struct Sensitivity<'a, L, const N: usize> {
     sim: Simulation<'a, L, N>,
     params: Vec<Parameter<L>>,
+    motion_steps: bool,
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
@@ -78,6 +77,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
         Sensitivity {
             sim: self,
             params: Vec::new(),
+            motion_steps: false,
         }
     }
 }
@@ -130,6 +130,33 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         self
     }
 
+    /// Take the plain run's steps: the error control of an adaptive method weighs the motion
+    /// alone (by default it weighs the variations too, and the larger error decides). The
+    /// motion is then the plain run's bit for bit, and Φ the exact derivative of that run's
+    /// discrete flow (its steps held fixed): what a gradient of the computed trajectory needs.
+    /// Φ's own error is then not controlled: at an equilibrium, where the motion allows any
+    /// step, it can be large. The Taylor method always takes the motion's steps.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar, Simulation};
+    /// /// A pendulum, θ̈ = −sin θ.
+    /// struct Pendulum;
+    /// impl Lagrangian<1> for Pendulum {
+    ///     const COORDINATES: [&'static str; 1] = ["theta"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
+    /// }
+    /// let plain = Simulation::new(&Pendulum, [1.0], [0.0]).until(5.0).run().unwrap();
+    /// let with = Simulation::new(&Pendulum, [1.0], [0.0]).until(5.0).sensitivity().motion_steps().run().unwrap();
+    /// assert_eq!(with.trajectory.q, plain.q);
+    /// assert_eq!(with.trajectory.stats.steps, plain.stats.steps);
+    /// ```
+    pub fn motion_steps(mut self) -> Self {
+        self.motion_steps = true;
+        self
+    }
+
     /// Runs the motion with its variational equations.
     ///
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
@@ -179,34 +206,36 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             phi_cols: n2,
             phi_unit: true,
             kernel: Default::default(),
+            plain_motion: self.motion_steps,
         };
-        // The augmented initial state: y0, Φ(t0) = I, S(t0) = 0.
-        let mut z0 = vec![0.0; n2 * (1 + cols)];
-        z0[..N].copy_from_slice(&y0[0]);
-        z0[N..n2].copy_from_slice(&y0[1]);
+        // The columns at the start: Φ(t0) = I, S(t0) = 0.
+        let mut cols0 = vec![0.0; n2 * cols];
         for j in 0..n2 {
-            z0[n2 * (1 + j) + j] = 1.0;
+            cols0[n2 * j + j] = 1.0;
         }
         let log = RefCell::new(Log::default());
         let driver = Driver::new(p.sys, None, p.events, method, &p.opts, p.observer);
-        let traj = match method {
-            Method::Dop853 { rtol, atol } => driver.run(&p.opts, t0, y0, |t, _y, stats| {
-                VarDop853::new(var(), t, z0.clone(), rtol, atol, hmax, Some(&log), stats)
+        let problem = || Variational {
+            var: var(),
+            log: Some(&log),
+            control: !self.motion_steps,
+        };
+        let traj = match (Explicit::of(method), method) {
+            (Some(e), _) => driver.run_boxed(&p.opts, t0, y0, &mut |t, y, stats| {
+                let p = problem();
+                let x0 = p.state(y, cols0.clone());
+                e.stepper(p, t, x0, until, hmax, stats)
             }),
-            Method::DormandPrince { rtol, atol } => driver.run(&p.opts, t0, y0, |t, _y, stats| {
-                VarDopri5::new(var(), t, z0.clone(), rtol, atol, hmax, Some(&log), stats)
-            }),
-            Method::Taylor { tol } => driver.run(&p.opts, t0, y0, |t, _y, _stats| {
-                Ok(VarTaylor::new(var(), t, &z0, tol, hmax, Some(&log)))
-            }),
-            Method::Rk4 { dt } => driver.run(&p.opts, t0, y0, |t, _y, stats| {
-                VarRk4::new(
+            (None, Method::Taylor { tol }) => driver.run(&p.opts, t0, y0, |t, y, _stats| {
+                Ok(VarSeries::stepper(
                     var(),
-                    FixedGrid::new(t, dt, until),
-                    z0.clone(),
+                    t,
+                    y,
+                    &cols0,
+                    tol,
+                    hmax,
                     Some(&log),
-                    stats,
-                )
+                ))
             }),
             // Refused above.
             _ => {

@@ -13,10 +13,13 @@
 
 use crate::lagrangian::Lagrangian;
 
+use super::super::dop853::Dop853;
 use super::super::error::SimulationError;
+use super::super::explicit::ExplicitRk;
 use super::super::simulation::Simulation;
 use super::super::state::{Fault, Stats};
-use super::dop853::VarDop853;
+use super::super::stepper::Stepper;
+use super::augmented::Variational;
 use super::variation::Variation;
 
 /// The Lyapunov spectrum of a motion and how it converged ([`Lyapunov::compute`]).
@@ -287,18 +290,36 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
             phi_cols: k,
             phi_unit: false,
             kernel: Default::default(),
+            plain_motion: false,
         };
-        let mut z0 = vec![0.0; n2 * (1 + k)];
-        z0[..N].copy_from_slice(&q);
-        z0[N..n2].copy_from_slice(&v);
-        z0[n2..].copy_from_slice(&generic_directions(n2, k));
+        // The directions take part in the error control: at an equilibrium the motion alone
+        // would allow any step.
+        let problem = Variational {
+            var,
+            log: None,
+            control: true,
+        };
+        let x0 = problem.state([q, v], generic_directions(n2, k));
         let mut stats = Stats::default();
         let t_start = t;
         let t_stop = t_start + self.duration;
-        let fail =
-            |f: Fault, s: &VarDop853<'_, '_, L, N>| fault_error::<N>(f, s.node_time(), s.state());
-        let mut s = VarDop853::new(
-            var, t, z0, self.rtol, self.atol, self.every, None, &mut stats,
+        // The node's motion then its columns, as the errors report them.
+        let flat = |s: &ExplicitRk<Variational<'_, '_, L, N>, Dop853, N>| -> Vec<f64> {
+            let x = s.node().1;
+            x.y.iter().flatten().chain(&x.cols).copied().collect()
+        };
+        let fail = |f: Fault, s: &ExplicitRk<Variational<'_, '_, L, N>, Dop853, N>| {
+            fault_error::<N>(f, s.t(), &flat(s))
+        };
+        let mut s = ExplicitRk::<_, Dop853, N>::new(
+            problem,
+            t,
+            x0,
+            (self.rtol, self.atol),
+            0.0,
+            t_stop,
+            self.every,
+            &mut stats,
         )
         .map_err(|f| SimulationError::InvalidOptions {
             message: format!("the Lyapunov run could not start at t = {t}: {f:?}"),
@@ -309,7 +330,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
         let thin = total.div_ceil(1000).max(1);
         // Orthonormalizations made, and intervals of `every` done (the grid the history is on).
         let (mut count, mut intervals) = (0, 0);
-        while s.node_time() < t_stop {
+        while s.t() < t_stop {
             let target = (t_start + (intervals + 1) as f64 * self.every).min(t_stop);
             let target = if t_stop - target < 1e-9 * self.every {
                 t_stop
@@ -317,36 +338,38 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
                 target
             };
             loop {
-                s.step(target, &mut stats).map_err(|f| fail(f, &s))?;
-                let at_target = s.node_time() >= target;
+                s.advance(target, &mut stats).map_err(|f| fail(f, &s))?;
+                let at_target = s.t() >= target;
                 // The directions as they stand: orthonormalized at the interval's end, or
                 // sooner where they separate by more than SEPARATION (their orthogonal parts
                 // would be lost to round-off and to the error control, which is relative to
                 // the aligned part: at λ = ±20 and an interval of 1, by e⁴⁰).
                 // And sooner where they grow by more than GROWTH (one fast direction, or several
                 // growing alike, have no spread; past e^709 their entries overflow).
-                let mut cols = s.state()[n2..n2 * (1 + k)].to_vec();
+                let mut cols = s.node().1.cols.clone();
                 let ln_r = orthonormalize(&mut cols, n2);
                 let spread = separation(&ln_r);
                 if spread.is_nan() || spread > MAX_SEPARATION {
-                    let z = s.state();
-                    return Err(separated(s.node_time(), &z[..N], &z[N..n2], spread));
+                    let y = s.node().1.y;
+                    return Err(separated(s.t(), &y[0], &y[1], spread));
                 }
                 let grown = ln_r.iter().any(|&l| l > GROWTH);
                 if at_target || spread > SEPARATION || grown {
                     for (sum, ln) in sums.iter_mut().zip(&ln_r) {
                         *sum += ln;
                     }
-                    s.set_columns(&cols);
+                    let mut x = s.node().1.clone();
+                    x.cols = cols;
+                    s.replace_node(x, &mut stats).map_err(|f| fail(f, &s))?;
                     count += 1;
                 }
                 if at_target {
                     break;
                 }
             }
-            let elapsed = s.node_time() - t_start;
+            let elapsed = s.t() - t_start;
             intervals += 1;
-            if intervals % thin == 0 || s.node_time() >= t_stop {
+            if intervals % thin == 0 || s.t() >= t_stop {
                 history.push((elapsed, sums.iter().map(|x| x / elapsed).collect()));
             }
         }
@@ -357,11 +380,11 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
             *h = descending(core::mem::take(h));
         }
         if exponents.iter().any(|x| !x.is_finite()) {
-            let z = s.state();
+            let y = s.node().1.y;
             return Err(SimulationError::NonFinite {
-                t: s.node_time(),
-                q: z[..N].to_vec(),
-                qdot: z[N..n2].to_vec(),
+                t: s.t(),
+                q: y[0].to_vec(),
+                qdot: y[1].to_vec(),
                 partial: super::super::error::PartialTrajectory::none(),
             });
         }

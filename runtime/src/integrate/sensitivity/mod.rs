@@ -18,19 +18,18 @@
 //! from a fourth-order central difference in p of the accelerations of the systems the
 //! parameter's closure builds.
 //!
-//! **How it is integrated.** The motion and its 2N + P columns of variations form one state of
-//! 2N(1 + 2N + P) numbers, stepped as one by the chosen method: DOP853 or Dormand–Prince (with
-//! their error estimates over the motion and, separately, over the variations, the larger of the
-//! two deciding the step, and their dense output for samples and events) or RK4 (on its grid,
-//! Hermite interpolation). Rust's stable const generics cannot size that state from N, so these steppers
-//! keep it in `Vec`s and reuse the methods' tableaux (`dop853_coefficients`) rather than the
-//! const-sized kernels of the plain methods; they plug into the same driver (samples, events,
-//! work, observer, dense output), which tells them through two hooks of its stepper trait when it
-//! records a sample or locates an event, so Φ is recorded exactly there. The variations are the
-//! method applied to the variational equations with the motion's steps: the exact derivative of
-//! the discrete flow, accurate like the motion.
+//! **How it is integrated.** A sensitivity run is a problem, not a method: the motion and its
+//! 2N + P columns of variations form one state (`augmented::Aug`) with the variational
+//! equations as its right-hand side, and the same explicit Runge–Kutta stepper that runs a plain
+//! run (`explicit::ExplicitRk`, any tableau: DOP853, Dormand–Prince, RK4) steps it, with its
+//! dense output for samples and events; the driver tells the problem through two hooks when it
+//! records a sample or locates an event, so Φ is recorded exactly there. The error control is
+//! the motion's (as CVODES does by default): the steps, and so the motion, are the plain run's
+//! bit for bit, and the variations are the method applied to the variational equations with
+//! those steps — the exact derivative of the discrete flow, of the motion's order.
 //!
-//! **The Taylor method** (`Method::Taylor`, systems with a compiled series) takes the generated
+//! **The Taylor method** (`Method::Taylor`, systems with a compiled series) steps the motion as in
+//! a plain run, carrying the columns (`taylor`'s `VarSeries`): it takes the generated
 //! series of the motion in tangents whose order-0 slopes are the columns at the node: the slopes
 //! of the k-th coefficients are the k-th Taylor coefficients of the variations, so the
 //! variational equations get their Taylor series from the same generated code (N columns per
@@ -68,15 +67,12 @@
 //! assert!((phi[(0, 0)] - 2.0_f64.cos()).abs() < 1e-9 && (phi[(0, 1)] - 2.0_f64.sin()).abs() < 1e-9);
 //! ```
 
-mod arith;
+mod augmented;
 mod builder;
-mod dop853;
-mod dopri5;
 mod event_time;
 mod lyapunov;
 mod periodic;
 mod result;
-mod rk4;
 mod taylor;
 mod variation;
 

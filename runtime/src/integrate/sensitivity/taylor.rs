@@ -20,7 +20,7 @@ use crate::taylor::{SeriesBuf, TaylorBuf};
 
 use super::super::state::{Fault, Stats, Y};
 use super::super::stepper::Stepper;
-use super::super::taylor::Taylor;
+use super::super::taylor::{Carried, Taylor};
 use super::variation::{Variation, central};
 use super::{CHUNK, Log};
 
@@ -32,10 +32,10 @@ struct Neighbours<const N: usize> {
     series: [Vec<Y<N>>; 4],
 }
 
-/// The Taylor stepper of the motion and its variations.
-pub(crate) struct VarTaylor<'s, 'l, L, const N: usize> {
+/// What a Taylor sensitivity run carries with the motion: the columns and their series (the
+/// Taylor stepper steps it as it steps a plain run, see [`Carried`]).
+pub(crate) struct VarSeries<'s, 'l, L, const N: usize> {
     var: Variation<'s, L, N>,
-    motion: Taylor<'s, L, N>,
     /// The columns at the current node (each 2N: δq then δq̇).
     cols: Vec<f64>,
     /// The columns' series at the current node (order k: every column's k-th coefficients).
@@ -52,23 +52,25 @@ pub(crate) struct VarTaylor<'s, 'l, L, const N: usize> {
     log: Option<&'l RefCell<Log>>,
 }
 
-impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'l, L, N> {
-    /// Starts at (t0, z0) (z0 the augmented state: y0 then the columns).
-    pub(crate) fn new(
+/// The Taylor stepper of a sensitivity run.
+pub(crate) type VarTaylor<'s, 'l, L, const N: usize> = Taylor<'s, L, N, VarSeries<'s, 'l, L, N>>;
+
+impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarSeries<'s, 'l, L, N> {
+    /// The Taylor stepper of the motion from (t0, y0) carrying the columns `cols0`.
+    pub(crate) fn stepper(
         var: Variation<'s, L, N>,
         t0: f64,
-        z0: &[f64],
+        y0: Y<N>,
+        cols0: &[f64],
         tol: f64,
         hmax: f64,
         log: Option<&'l RefCell<Log>>,
-    ) -> Self {
-        let n2 = 2 * N;
-        let y0 = super::arith::y_of::<N>(z0);
+    ) -> VarTaylor<'s, 'l, L, N> {
         let neighbours = var.params.iter().map(|_| Neighbours::default()).collect();
-        VarTaylor {
-            motion: Taylor::new(var.sys, t0, y0, tol, hmax),
+        let sys = var.sys;
+        let carried = VarSeries {
             var,
-            cols: z0[n2..].to_vec(),
+            cols: cols0.to_vec(),
             series: Vec::new(),
             old: Vec::new(),
             out: Vec::new(),
@@ -77,19 +79,21 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'l, L, N> {
             neighbours,
             fbuf: TaylorBuf::new(),
             log,
-        }
+        };
+        Taylor::carrying(sys, t0, y0, tol, hmax, carried)
     }
 
     /// The columns' series at the current node with `rows` orders; the first evaluation's
     /// values are the motion's series, handed to the motion's stepper where `install`.
     fn column_series(
         &mut self,
+        motion: &mut Taylor<'_, L, N, Self>,
         rows: usize,
         install: bool,
         stats: &mut Stats,
     ) -> Result<(), Fault> {
         let n2 = 2 * N;
-        let (t, y) = self.motion.node_state();
+        let (t, y) = motion.node_state();
         let ncols = self.cols.len() / n2;
         self.series.resize(rows, Vec::new());
         for row in &mut self.series {
@@ -148,7 +152,7 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'l, L, N> {
                     .out
                     .iter()
                     .map(|row| row.map(|part| part.map(Tangent::value)));
-                self.motion.install(values);
+                motion.install(values);
             }
             first_chunk = false;
             for (row, out) in self.series.iter_mut().zip(&self.out) {
@@ -202,11 +206,11 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarTaylor<'s, 'l, L, N> {
     }
 
     /// The columns at t in [t_prev, t].
-    fn cols_at(&self, t: f64) -> Vec<f64> {
-        if t >= self.motion.t() || self.old.is_empty() {
+    fn cols_at(&self, motion: &Taylor<'_, L, N, Self>, t: f64) -> Vec<f64> {
+        if t >= motion.t() || self.old.is_empty() {
             return self.cols.clone();
         }
-        sum(&self.old, t - self.motion.t_prev())
+        sum(&self.old, t - motion.t_prev())
     }
 }
 
@@ -221,60 +225,41 @@ fn sum(series: &[Vec<f64>], tau: f64) -> Vec<f64> {
     y
 }
 
-impl<L: Lagrangian<N>, const N: usize> Stepper<N> for VarTaylor<'_, '_, L, N> {
-    fn t(&self) -> f64 {
-        self.motion.t()
-    }
-    fn t_prev(&self) -> f64 {
-        self.motion.t_prev()
-    }
-    fn last_state(&self) -> Y<N> {
-        self.motion.last_state()
-    }
-    fn set_node(&mut self, y: Y<N>, stats: &mut Stats) -> Result<(), Fault> {
-        // Not reached: sensitivity runs refuse constraints, whose projection calls this.
-        self.motion.set_node(y, stats)
-    }
-    fn advance(&mut self, t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
+impl<'s, 'l, L: Lagrangian<N>, const N: usize> Carried<L, N> for VarSeries<'s, 'l, L, N> {
+    fn advance(
+        &mut self,
+        motion: &mut Taylor<'_, L, N, Self>,
+        t_end: f64,
+        stats: &mut Stats,
+    ) -> Result<(), Fault> {
         // The variations' series first: its first evaluation's values are the motion's series
         // (so the motion's own is not computed); where the motion widens its series (its top
         // coefficients vanish), the variations' are taken again to its length.
-        self.column_series(self.motion.order() + 1, true, stats)?;
-        let (h, t1) = self.motion.plan(t_end, stats)?;
-        let rows = self.motion.node_series().len();
+        self.column_series(motion, motion.order() + 1, true, stats)?;
+        let (h, t1) = motion.plan(t_end, stats)?;
+        let rows = motion.node_series().len();
         if rows != self.series.len() {
-            self.column_series(rows, false, stats)?;
+            self.column_series(motion, rows, false, stats)?;
         }
         let cols = sum(&self.series, h);
         if !cols.iter().all(|x| x.is_finite()) {
             return Err(Fault::NonFinite);
         }
-        self.motion.take(h, t1, stats)?;
+        motion.take(h, t1, stats)?;
         self.cols = cols;
         core::mem::swap(&mut self.old, &mut self.series);
         Ok(())
     }
-    fn gauss_points(&self) -> usize {
-        self.motion.gauss_points()
-    }
-    fn interp(&mut self, t: f64, stats: &mut Stats) -> Result<Y<N>, Fault> {
-        self.motion.interp(t, stats)
-    }
-    fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, stats: &mut Stats) -> Result<f64, Fault> {
-        self.motion.dense_rows(rows, stats)
-    }
-    fn recorded(&mut self, t: f64, at: f64, _stats: &mut Stats) -> Result<(), Fault> {
+    fn recorded(&mut self, motion: &Taylor<'_, L, N, Self>, t: f64, at: f64) {
         if let Some(log) = self.log {
-            let cols = self.cols_at(at);
+            let cols = self.cols_at(motion, at);
             log.borrow_mut().samples.push((t, cols));
         }
-        Ok(())
     }
-    fn event_located(&mut self, t: f64, event: usize, _stats: &mut Stats) -> Result<(), Fault> {
+    fn event_located(&mut self, motion: &Taylor<'_, L, N, Self>, t: f64, event: usize) {
         if let Some(log) = self.log {
-            let cols = self.cols_at(t);
+            let cols = self.cols_at(motion, t);
             log.borrow_mut().events.push((t, event, cols));
         }
-        Ok(())
     }
 }

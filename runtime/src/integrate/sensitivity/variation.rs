@@ -17,7 +17,7 @@ use crate::linalg::{Ldlt, solve_symmetric};
 use crate::linearize::jet_linearize;
 use crate::tangent::Tangent;
 
-use super::super::state::{Fault, Stats};
+use super::super::state::{Fault, Stats, Y};
 use super::CHUNK;
 
 /// A parameter the run differentiates the motion with respect to: its name, its value in the
@@ -137,69 +137,60 @@ pub(crate) struct Variation<'s, L, const N: usize> {
     pub(crate) phi_unit: bool,
     /// The compiled kernels' parameters in tangents (loaded at the first call).
     pub(crate) kernel: RefCell<Vec<Tangent<CHUNK>>>,
+    /// Whether the motion's q̈ comes from the plain kernel (the run takes the plain run's
+    /// steps: its motion is then that run's bit for bit), not from the tangent kernel's values.
+    pub(crate) plain_motion: bool,
 }
 
 impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
-    /// The length of the augmented state.
-    pub(crate) fn len(&self) -> usize {
-        2 * N * (1 + self.phi_cols + self.params.len())
-    }
-
-    /// F(t, z) into `out` (both [`len`](Self::len) long), with the Jacobian at y. One
-    /// evaluation counts once in `stats.rhs_evals`.
+    /// F(t, x) for the motion y and its columns (`cols`, 2N each) into `out_y` and `out_cols`.
+    /// One evaluation counts once in `stats.rhs_evals`.
     pub(crate) fn eval(
         &self,
         t: f64,
-        z: &[f64],
-        out: &mut [f64],
+        y: &Y<N>,
+        cols: &[f64],
+        out_y: &mut Y<N>,
+        out_cols: &mut [f64],
         stats: &mut Stats,
-    ) -> Result<Jacobian<N>, Fault> {
+    ) -> Result<(), Fault> {
         stats.rhs_evals += 1;
-        let q: [f64; N] = core::array::from_fn(|i| z[i]);
-        let v: [f64; N] = core::array::from_fn(|i| z[N + i]);
-        let (a, jac) = match compiled(self.sys, &mut self.kernel.borrow_mut(), &q, &v, t) {
+        let [q, v] = y;
+        let (a, jac) = match compiled(self.sys, &mut self.kernel.borrow_mut(), q, v, t) {
+            // q̈ from the plain kernel where the motion must be the plain run's bit for bit
+            // (the tangent kernel orders its operations differently: the last bits differ).
+            Some((_, jac)) if self.plain_motion => (self.sys.accelerations(q, v, t)?, jac),
             Some(both) => both,
             None => (
-                self.sys.accelerations(&q, &v, t)?,
-                jacobian(self.sys, &q, &v, t)?,
+                self.sys.accelerations(q, v, t)?,
+                jacobian(self.sys, q, v, t)?,
             ),
         };
-        out[..N].copy_from_slice(&v);
-        out[N..2 * N].copy_from_slice(&a);
+        *out_y = [*v, a];
         let n2 = 2 * N;
         for c in 0..self.phi_cols {
-            let at = n2 * (1 + c);
+            let at = n2 * c;
             if self.frozen(c) {
-                out[at..at + n2].fill(0.0);
+                out_cols[at..at + n2].fill(0.0);
             } else {
-                jac.apply(&z[at..at + n2], &mut out[at..at + n2]);
+                jac.apply(&cols[at..at + n2], &mut out_cols[at..at + n2]);
             }
         }
         for (p, par) in self.params.iter().enumerate() {
-            let at = n2 * (1 + self.phi_cols + p);
-            jac.apply(&z[at..at + n2], &mut out[at..at + n2]);
-            let dp = d_accel_d_param(par, &q, &v, t)?;
+            let at = n2 * (self.phi_cols + p);
+            jac.apply(&cols[at..at + n2], &mut out_cols[at..at + n2]);
+            let dp = d_accel_d_param(par, q, v, t)?;
             for i in 0..N {
-                out[at + N + i] += dp[i];
+                out_cols[at + N + i] += dp[i];
             }
         }
-        Ok(jac)
+        Ok(())
     }
 
     /// Whether column c is a cyclic coordinate's column of Φ, constant e_c.
     #[inline]
     pub(crate) fn frozen(&self, c: usize) -> bool {
         self.phi_unit && c < N && L::CYCLIC[c]
-    }
-
-    /// The columns' slopes J x at a state whose Jacobian is known (after the columns were
-    /// replaced: a Lyapunov run's re-orthonormalization), into `out`'s columns.
-    pub(crate) fn refresh_columns(&self, jac: &Jacobian<N>, z: &[f64], out: &mut [f64]) {
-        let n2 = 2 * N;
-        for c in 0..self.phi_cols {
-            let at = n2 * (1 + c);
-            jac.apply(&z[at..at + n2], &mut out[at..at + n2]);
-        }
     }
 }
 
