@@ -978,6 +978,52 @@ fn a_reset_within_the_location_error_of_its_surface_crosses_again() {
     }
 }
 
+/// A reset that puts the state d = 3e-13 … 3e-12 in front of the wall, closer than the
+/// location's tolerance (1e-12): after each jump the next crossing is located to round-off, so
+/// every hit is seen, d apart, and nothing passes the wall or looks like an accumulation. Before,
+/// the root right after a jump was taken at the jump's own instant, where the reset changed
+/// nothing: at d = 3e-13, 2 hits then through the wall (x = −2.55e-12, no error); at 1e-12 and
+/// 3e-12 the located times' noise (1e-13) was read as hits shrinking: Zeno after 6 or 7 hits.
+#[test]
+fn resets_closer_than_the_location_tolerance_are_each_resolved() {
+    for d in [3e-13, 1e-12, 3e-12] {
+        let until = 1.0 + 9.5 * d;
+        let tr = Simulation::new(&Drift, [1.0], [-1.0])
+            .method(tight())
+            .event(
+                Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0])
+                    .falling()
+                    .reset(move |_t, _q, v| ([d], *v)),
+            )
+            .until(until)
+            .run()
+            .unwrap();
+        let times: Vec<f64> = tr.jumps.iter().map(|j| j.t).collect();
+        let lowest = tr.q.iter().fold(f64::INFINITY, |m, q| m.min(q[0]));
+        assert_eq!(
+            times.len(),
+            10,
+            "d = {d:e}: {times:?} {:?} {:?} {lowest:e} {:?}",
+            tr.zeno,
+            tr.t.last(),
+            tr.q.last()
+        );
+        for w in times.windows(2) {
+            // d apart to a few ulps of t ≈ 1 (2.2e-16).
+            assert!((w[1] - w[0] - d).abs() < 1e-15, "d = {d:e}: {times:?}");
+        }
+        assert!(tr.zeno.is_none(), "d = {d:e}: {:?}", tr.zeno);
+        assert_eq!(*tr.t.last().unwrap(), until);
+        let lowest = tr.q.iter().fold(f64::INFINITY, |m, q| m.min(q[0]));
+        assert!(
+            lowest >= -1e-15,
+            "d = {d:e}: through the wall, x = {lowest:e}"
+        );
+        let x_end = tr.q.last().unwrap()[0];
+        assert!((x_end - 0.5 * d).abs() < 1e-15, "d = {d:e}: x = {x_end:e}");
+    }
+}
+
 /// A ball dropped from 10⁴ m that is kicked up by 0.1 m/s at each bounce (ẏ⁺ = −0.8 ẏ⁻ + 0.1)
 /// settles into a steady bouncing at ẏ⁺ = 0.5 m/s, a hit every 0.102 s: nothing accumulates
 /// (it was reported as Zeno at t = 407 after 7 hits, the run stopped at 312). The hit times

@@ -785,7 +785,13 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
                     None => (t_b, g_new[i]),
                 };
                 if let Some(dir) = ev.crosses(prev.1, next.1) {
-                    let tol = location_tol(t_b);
+                    // Right after a jump the next crossing can be closer than the location's
+                    // tolerance (a reset to 3e-13 in front of a wall, still moving in: the
+                    // root was taken at the jump's own instant, where the reset then changed
+                    // nothing, and the next crossings were missed: through the wall); in the
+                    // step that starts at a jump the crossings are located to round-off.
+                    let after_jump = self.traj.jumps.last().is_some_and(|j| j.t == t_a);
+                    let tol = if after_jump { 0.0 } else { location_tol(t_b) };
                     let stats = &mut self.stats;
                     let tz = brent(
                         &mut |t| {
