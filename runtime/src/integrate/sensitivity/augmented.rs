@@ -102,22 +102,9 @@ impl<const N: usize> Space<N> for Aug<N> {
                 }
             }
         }
-        for (lo, hi) in x.shape.still(x.cols.len()) {
-            out.cols[lo..hi].copy_from_slice(&x.cols[lo..hi]);
-        }
-        for &(lo, hi) in &x.shape.moving {
-            let o = &mut out.cols[lo..hi];
-            o.copy_from_slice(&x.cols[lo..hi]);
-            for (j, &aj) in a[..S].iter().enumerate() {
-                if aj == 0.0 {
-                    continue;
-                }
-                let ha = h * aj;
-                for (o, kj) in o.iter_mut().zip(&k[j].cols[lo..hi]) {
-                    *o += ha * kj;
-                }
-            }
-        }
+        // A constant column is the same in every state of the run (they all start as copies of
+        // the first): it is not written.
+        combine_columns(&mut out.cols, &x.cols, h, &a[..S], k, &x.shape.moving);
     }
     fn weighted<const S: usize>(out: &mut Self, a: &[f64; 16], k: &[Self; 16]) {
         out.y = weighted_by(S, a, |j| &k[j].y);
@@ -176,24 +163,24 @@ impl<const N: usize> Space<N> for Aug<N> {
         }
         let n2 = 2 * N;
         let mut sums = [0.0; 2];
+        // Each estimate Σ_j E_j k_j over a column, stage by stage (as the stage sums go).
+        let mut e = vec![0.0; n2];
         for &(lo, hi) in &x.shape.moving {
             for col in (lo..hi).step_by(n2) {
                 let r = col..col + n2;
-                let scale = x.cols[r.clone()]
-                    .iter()
-                    .chain(&x1.cols[r.clone()])
-                    .fold(0.0_f64, |m, v| m.max(v.abs()));
+                let largest = |c: &[f64]| c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                let scale = largest(&x.cols[r.clone()]).max(largest(&x1.cols[r.clone()]));
                 let inv = 1.0 / (atol + rtol * scale);
                 for (est, sum) in T::ERROR_ROWS[..T::ESTIMATES].iter().zip(&mut sums) {
-                    for i in r.clone() {
-                        let mut e = 0.0;
-                        for (j, &c) in est.iter().enumerate() {
-                            if c != 0.0 {
-                                e += c * k[j].cols[i];
+                    e.fill(0.0);
+                    for (&c, kj) in est.iter().zip(k) {
+                        if c != 0.0 {
+                            for (e, k) in e.iter_mut().zip(&kj.cols[r.clone()]) {
+                                *e += c * k;
                             }
                         }
-                        *sum += (e * inv) * (e * inv);
                     }
+                    *sum += e.iter().map(|e| (e * inv) * (e * inv)).sum::<f64>();
                 }
             }
         }
@@ -209,6 +196,30 @@ impl<const N: usize> Space<N> for Aug<N> {
             .flatten()
             .chain(&self.cols)
             .all(|x| x.is_finite())
+    }
+}
+
+/// out = x + Σ_j (h a_j) k_j over the ranges of the columns that move, zeros skipped.
+fn combine_columns<const N: usize>(
+    out: &mut [f64],
+    x: &[f64],
+    h: f64,
+    a: &[f64],
+    k: &[Aug<N>; 16],
+    moving: &[(usize, usize)],
+) {
+    for &(lo, hi) in moving {
+        let o = &mut out[lo..hi];
+        o.copy_from_slice(&x[lo..hi]);
+        for (j, &aj) in a.iter().enumerate() {
+            if aj == 0.0 {
+                continue;
+            }
+            let ha = h * aj;
+            for (o, kj) in o.iter_mut().zip(&k[j].cols[lo..hi]) {
+                *o += ha * kj;
+            }
+        }
     }
 }
 
