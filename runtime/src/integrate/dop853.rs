@@ -4,7 +4,7 @@
 
 use super::control::Controller;
 use super::dop853_coefficients::{A, C, D, E3, E5};
-use super::explicit::{Slopes, Tableau};
+use super::explicit::{Slopes, Step, Tableau};
 use super::problem::Space;
 use super::rk4::pad_row;
 use super::state::{Fault, Real, weighted_by};
@@ -77,14 +77,17 @@ impl Tableau for Dop853 {
     #[inline(always)]
     fn dense<S: Space<N, R = f64>, F: Slopes<S, N, Error = Fault>, const N: usize>(
         f: &mut F,
-        cyclic: [bool; N],
-        t: f64,
-        x: &S,
-        x1: &S,
-        k: &mut [S; 16],
-        h: f64,
+        step: Step<'_, S, N>,
         rows: &mut [S; 8],
     ) -> Result<(), Fault> {
+        let Step {
+            cyclic,
+            t,
+            h,
+            x,
+            x1,
+            k,
+        } = step;
         let mut arg = x.clone();
         S::combine::<13>(&mut arg, x, h, &A[13], k, Some(&cyclic));
         f.slope(t + C[13] * h, &arg, &mut k[13])?;

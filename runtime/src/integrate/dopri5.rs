@@ -3,7 +3,7 @@
 //! continuous extension of Dormand & Prince / Shampine.
 
 use super::control::Controller;
-use super::explicit::{Slopes, Tableau};
+use super::explicit::{Slopes, Step, Tableau};
 use super::problem::Space;
 use super::rk4::{pad, pad_row};
 use super::state::{Fault, Real, weighted_by};
@@ -109,14 +109,10 @@ impl Tableau for Dopri5 {
     #[inline(always)]
     fn dense<S: Space<N, R = f64>, F: Slopes<S, N, Error = Fault>, const N: usize>(
         _f: &mut F,
-        _cyclic: [bool; N],
-        _t: f64,
-        x: &S,
-        x1: &S,
-        k: &mut [S; 16],
-        h: f64,
+        step: Step<'_, S, N>,
         rows: &mut [S; 8],
     ) -> Result<(), Fault> {
+        let Step { h, x, x1, k, .. } = step;
         let mut d = x.clone();
         S::weighted::<7>(&mut d, &D, k);
         let [r0, r1, r2, r3, r4, ..] = rows;

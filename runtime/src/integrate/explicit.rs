@@ -58,15 +58,9 @@ pub(crate) trait Tableau: 'static {
     /// The dense-output rows of the step of size h from (t, x) to x₁ (its stages in `k`, with
     /// `k[STAGES]` = F at x₁), into `rows` (as many as [`eval`](Self::eval) reads); extra
     /// stages through `f`.
-    #[allow(clippy::too_many_arguments)]
     fn dense<S: Space<N, R = f64>, F: Slopes<S, N, Error = Fault>, const N: usize>(
         f: &mut F,
-        cyclic: [bool; N],
-        t: f64,
-        x: &S,
-        x1: &S,
-        k: &mut [S; 16],
-        h: f64,
+        step: Step<'_, S, N>,
         rows: &mut [S; 8],
     ) -> Result<(), Fault>;
     /// How many of the rows [`dense`](Self::dense) fills.
@@ -76,6 +70,18 @@ pub(crate) trait Tableau: 'static {
     /// Moves eagerly formed rows so that they end at the node moved from `old` to `new` (a
     /// projection onto constraints). Nothing for lazily formed rows.
     fn shift<S: Space<N, R = f64>, const N: usize>(_rows: &mut [S; 8], _old: &S, _new: &S) {}
+}
+
+/// An accepted step as its dense output reads it: from (t, x) to x₁ with size h, its stages
+/// (`k[STAGES]` = F at x₁; extra stages go after it) and the coordinates whose stage positions
+/// are held.
+pub(crate) struct Step<'a, S, const N: usize> {
+    pub(crate) cyclic: [bool; N],
+    pub(crate) t: f64,
+    pub(crate) h: f64,
+    pub(crate) x: &'a S,
+    pub(crate) x1: &'a S,
+    pub(crate) k: &'a mut [S; 16],
 }
 
 /// The slopes F a stage evaluates: the problem's (a single run, a sensitivity run), or the
@@ -376,16 +382,15 @@ impl<P: Problem<N>, T: Tableau, const N: usize> ExplicitRk<P, T, N> {
         if T::EAGER_DENSE {
             let cyclic = const { <P::Sys as Lagrangian<N>>::CYCLIC };
             let mut f = self.p.slopes(self.p.sys(), stats);
-            T::dense(
-                &mut f,
+            let step = Step {
                 cyclic,
-                self.t,
-                &self.x,
-                &self.x1,
-                &mut self.k,
+                t: self.t,
                 h,
-                &mut self.rows,
-            )?;
+                x: &self.x,
+                x1: &self.x1,
+                k: &mut self.k,
+            };
+            T::dense(&mut f, step, &mut self.rows)?;
             self.formed = true;
         }
         self.t_old = self.t;
@@ -401,16 +406,15 @@ impl<P: Problem<N>, T: Tableau, const N: usize> ExplicitRk<P, T, N> {
         if !self.formed {
             let cyclic = const { <P::Sys as Lagrangian<N>>::CYCLIC };
             let mut f = self.p.slopes(self.p.sys(), stats);
-            T::dense(
-                &mut f,
+            let step = Step {
                 cyclic,
-                self.t_old,
-                &self.x_old,
-                &self.x,
-                &mut self.k,
-                self.h_old,
-                &mut self.rows,
-            )?;
+                t: self.t_old,
+                h: self.h_old,
+                x: &self.x_old,
+                x1: &self.x,
+                k: &mut self.k,
+            };
+            T::dense(&mut f, step, &mut self.rows)?;
             self.formed = true;
         }
         Ok(&self.rows)

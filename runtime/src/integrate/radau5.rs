@@ -141,27 +141,15 @@ enum Attempt {
     Retry(f64, Fault),
 }
 
-/// What Radau5 asks of the system: f, its exact Jacobian and the first step. Object-safe, so
-/// the stepper is compiled once per number of coordinates rather than once per system (every
-/// system a crate runs instantiates every method of the driver; this one is large).
-pub(crate) trait Dynamics<const N: usize> {
+/// What Radau5 asks of the system besides what every run does (the first step): f and its
+/// exact Jacobian. Object-safe, so the stepper is compiled once per number of coordinates
+/// rather than once per system (every system a crate runs instantiates every method of the
+/// driver; this one is large).
+pub(crate) trait Dynamics<const N: usize>: super::system::System<N> {
     /// f(t, y) = (q̇, q̈).
     fn rhs(&self, t: f64, y: &Y<N>, stats: &mut Stats) -> Result<Y<N>, DynamicsError>;
     /// J = ∂f/∂y at (t, y), from the jets.
     fn jacobian(&self, t: f64, y: &Y<N>) -> Result<DMatrix<f64>, Fault>;
-    /// The first step (Hairer's estimate, as the explicit methods take it).
-    #[allow(clippy::too_many_arguments)]
-    fn initial_step(
-        &self,
-        t: f64,
-        y: &Y<N>,
-        f0: &Y<N>,
-        order: i32,
-        rtol: f64,
-        atol: f64,
-        hmax: f64,
-        stats: &mut Stats,
-    ) -> Result<f64, DynamicsError>;
 }
 
 impl<L: Lagrangian<N>, const N: usize> Dynamics<N> for L {
@@ -179,19 +167,6 @@ impl<L: Lagrangian<N>, const N: usize> Dynamics<N> for L {
                          accelerations does not exist",
             },
         })
-    }
-    fn initial_step(
-        &self,
-        t: f64,
-        y: &Y<N>,
-        f0: &Y<N>,
-        order: i32,
-        rtol: f64,
-        atol: f64,
-        hmax: f64,
-        stats: &mut Stats,
-    ) -> Result<f64, DynamicsError> {
-        initial_step(self, t, y, f0, order, rtol, atol, hmax, stats)
     }
 }
 
@@ -248,7 +223,17 @@ impl<'a, const N: usize> Radau5<'a, N> {
         stats: &mut Stats,
     ) -> Result<Self, Fault> {
         let f0 = sys.rhs(t0, &y0, stats)?;
-        let h = sys.initial_step(t0, &y0, &f0, 5, rtol, effective_atol(atol), hmax, stats)?;
+        let h = initial_step(
+            sys,
+            t0,
+            &y0,
+            &f0,
+            5,
+            rtol,
+            effective_atol(atol),
+            hmax,
+            stats,
+        )?;
         let rt = 0.1 * rtol.powf(2.0 / 3.0);
         let at = effective_atol(rt * (atol / rtol));
         Ok(Radau5 {

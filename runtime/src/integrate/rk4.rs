@@ -1,7 +1,7 @@
 //! The classical 4th-order Runge–Kutta method as a [`Tableau`]: a fixed step, and cubic Hermite
 //! interpolation between nodes (from x and F = ẋ at both ends) for samples and events.
 
-use super::explicit::{Slopes, Tableau};
+use super::explicit::{Slopes, Step, Tableau};
 use super::problem::Space;
 use super::state::Fault;
 
@@ -70,14 +70,10 @@ impl Tableau for Rk4 {
     #[inline(always)]
     fn dense<S: Space<N, R = f64>, F: Slopes<S, N, Error = Fault>, const N: usize>(
         _f: &mut F,
-        _cyclic: [bool; N],
-        _t: f64,
-        x: &S,
-        x1: &S,
-        k: &mut [S; 16],
-        _h: f64,
+        step: Step<'_, S, N>,
         rows: &mut [S; 8],
     ) -> Result<(), Fault> {
+        let Step { x, x1, k, .. } = step;
         rows[0] = x.clone();
         rows[1] = k[0].clone();
         rows[2] = x1.clone();

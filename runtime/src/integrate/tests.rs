@@ -95,17 +95,15 @@ fn tab_dense<T: Tableau>(
     k[T::STAGES] = super::state::rhs(&Osc, t0 + h, &y1, stats).unwrap();
     let p = Plain { sys: &Osc };
     let mut rows = [*y0; 8];
-    T::dense(
-        &mut Counted { p: &p, stats },
-        [false],
-        t0,
-        y0,
-        &y1,
-        &mut k,
+    let step = super::explicit::Step {
+        cyclic: [false],
+        t: t0,
         h,
-        &mut rows,
-    )
-    .unwrap();
+        x: y0,
+        x1: &y1,
+        k: &mut k,
+    };
+    T::dense(&mut Counted { p: &p, stats }, step, &mut rows).unwrap();
     let mut out = *y0;
     T::eval(&rows, h, th, &mut out);
     (y1, out)
