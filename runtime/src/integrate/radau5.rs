@@ -157,6 +157,10 @@ impl<L: Lagrangian<N>, const N: usize> Dynamics<N> for L {
         rhs(self, t, y, stats)
     }
     fn jacobian(&self, t: f64, y: &Y<N>) -> Result<DMatrix<f64>, Fault> {
+        // The sensitivity runs' Jacobian (the compiled q̈ in tangents), else the jets'.
+        if let Some(j) = super::sensitivity::compiled_state_jacobian(self, &y[0], &y[1], t) {
+            return Ok(j);
+        }
         let lin = jet_linearize(self, &y[0], &y[1], t)?;
         lin.state_matrix().map_err(|e| match e {
             crate::linearize::LinearizationError::Dynamics(d) => Fault::Dynamics(d),

@@ -83,7 +83,7 @@ pub use periodic::{
     multipliers,
 };
 pub use result::{EventSensitivity, Sensitivities};
-pub(crate) use variation::{central, difference_step};
+pub(crate) use variation::{central, compiled_state_jacobian, difference_step};
 
 /// How many directions one evaluation of the compiled kernels in [`Tangent`]s carries (the
 /// Jacobian's, the Taylor method's columns). Φ's column of a cyclic coordinate is constant and

@@ -243,6 +243,28 @@ fn compiled<L: Lagrangian<N>, const N: usize>(
     Some((a, Jacobian { d_q, d_qdot }))
 }
 
+/// J = ∂f/∂y = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]] of f = (q̇, q̈) at y, from the compiled q̈ in
+/// tangents where the system has one (as the sensitivity runs take it: Radau5's Newton matrix
+/// comes from here); `None` where it has none or the kernel declines at this state (the caller
+/// takes the jets).
+pub(crate) fn compiled_state_jacobian<L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    v: &[f64; N],
+    t: f64,
+) -> Option<nalgebra::DMatrix<f64>> {
+    let (_, jac) = compiled(sys, &mut Vec::new(), q, v, t)?;
+    let mut j = nalgebra::DMatrix::zeros(2 * N, 2 * N);
+    for i in 0..N {
+        j[(i, N + i)] = 1.0;
+        for k in 0..N {
+            j[(N + i, k)] = jac.d_q[(i, k)];
+            j[(N + i, N + k)] = jac.d_qdot[(i, k)];
+        }
+    }
+    Some(j)
+}
+
 /// ∂q̈/∂q and ∂q̈/∂q̇ at (q, q̇, t): −M⁻¹K and −M⁻¹C of the linearization about the motion
 /// through the state.
 pub(crate) fn jacobian<L: Lagrangian<N>, const N: usize>(
