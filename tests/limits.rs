@@ -1024,6 +1024,32 @@ fn resets_closer_than_the_location_tolerance_are_each_resolved() {
     }
 }
 
+/// A run that reaches its sample limit while a reset keeps the state 1e-12 in front of a wall
+/// reports the last stored sample, as `MaxSamples` documents: it reported the stepper's node, a
+/// step past it and beyond a crossing not yet applied (x = −0.01 at t = 1.01, a state the run
+/// never reaches).
+#[test]
+fn the_sample_limit_reports_the_last_stored_sample() {
+    let err = Simulation::new(&Drift, [1.0], [-1.0])
+        .method(tight())
+        .event(
+            Event::zero_crossing("wall", |_t, q: &[f64; 1], _v| q[0])
+                .falling()
+                .reset(|_t, _q, v| ([1e-12], *v)),
+        )
+        .until(2.0)
+        .max_samples(1000)
+        .run()
+        .unwrap_err();
+    let SimulationError::MaxSamples { t, q, .. } = &err else {
+        panic!("{err}");
+    };
+    let kept = err.partial_trajectory::<1>().unwrap();
+    assert_eq!(*t, *kept.t.last().unwrap(), "{err}");
+    assert_eq!(q[0], kept.q.last().unwrap()[0]);
+    assert!(q[0] >= -1e-15 && *t < 1.0 + 1e-8, "{err}");
+}
+
 /// A ball dropped from 10⁴ m that is kicked up by 0.1 m/s at each bounce (ẏ⁺ = −0.8 ẏ⁻ + 0.1)
 /// settles into a steady bouncing at ẏ⁺ = 0.5 m/s, a hit every 0.102 s: nothing accumulates
 /// (it was reported as Zeno at t = 407 after 7 hits, the run stopped at 312). The hit times

@@ -946,8 +946,19 @@ impl<'s, 'a, 'o, const N: usize> Driver<'s, 'a, 'o, N> {
                 Ok(self.traj)
             }
             Err(f) => {
-                // Report the last accepted node (its velocity from the stepper's own state).
-                let (t, y) = (s.t(), s.last_state());
+                // Report the last accepted node (its velocity from the stepper's own state); for
+                // the sample limit the last stored sample, as `MaxSamples` documents (the node
+                // can be a step past it, beyond a crossing not yet applied: a state the run
+                // never reaches).
+                let last = (
+                    self.traj.t.last(),
+                    self.traj.q.last(),
+                    self.traj.qdot.last(),
+                );
+                let (t, y) = match (&f, last) {
+                    (Fault::MaxSamples(_), (Some(&t), Some(q), Some(v))) => (t, [*q, *v]),
+                    _ => (s.t(), s.last_state()),
+                };
                 Err(self.fail(f, t, y))
             }
         }
