@@ -4,9 +4,9 @@
 
 use super::control::Controller;
 use super::dop853_coefficients::{A, C, D, E3, E5};
-use super::explicit::{Slopes, Step, Tableau};
-use super::problem::Space;
-use super::rk4::pad_row;
+use super::explicit::pad_row;
+use super::explicit::{Step, Tableau};
+use super::problem::{Slopes, Space};
 use super::state::{Fault, Real, weighted_by};
 
 /// The DOP853 tableau.

@@ -3,9 +3,9 @@
 //! continuous extension of Dormand & Prince / Shampine.
 
 use super::control::Controller;
-use super::explicit::{Slopes, Step, Tableau};
-use super::problem::Space;
-use super::rk4::{pad, pad_row};
+use super::explicit::{Step, Tableau};
+use super::explicit::{pad, pad_row};
+use super::problem::{Slopes, Space};
 use super::state::{Fault, Real, weighted_by};
 
 /// The Dormand–Prince 5(4) tableau.

@@ -10,7 +10,7 @@ use super::error::{PartialTrajectory, SimulationError};
 use super::events::{
     Direction, Event, EventHit, Jump, ZENO_INTERVALS, Zeno, brent, location_tol, zeno,
 };
-use super::explicit::Explicit;
+use super::factory::Explicit;
 use super::manifold::Manifold;
 use super::method::Method;
 use super::problem::Plain;

@@ -8,7 +8,7 @@ use core::marker::PhantomData;
 
 use super::control::{Controller, StepControl, effective_atol, initial_step};
 
-use super::problem::{Problem, Space};
+use super::problem::{Problem, Slopes, Space};
 use super::state::{Fault, Real, Stats, Y};
 use super::stepper::{FixedGrid, Stepper};
 use crate::lagrangian::Lagrangian;
@@ -72,6 +72,26 @@ pub(crate) trait Tableau: 'static {
     fn shift<S: Space<N, R = f64>, const N: usize>(_rows: &mut [S; 8], _old: &S, _new: &S) {}
 }
 
+/// Pads a tableau's coefficients to 16 × 16.
+pub(crate) const fn pad<const R: usize, const C: usize>(a: [[f64; C]; R]) -> [[f64; 16]; 16] {
+    let mut out = [[0.0; 16]; 16];
+    let mut i = 0;
+    while i < R {
+        let mut j = 0;
+        while j < C {
+            out[i][j] = a[i][j];
+            j += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
+/// Pads a row to 16.
+pub(crate) const fn pad_row<const C: usize>(a: [f64; C]) -> [f64; 16] {
+    pad([a])[0]
+}
+
 /// An accepted step as its dense output reads it: from (t, x) to x₁ with size h, its stages
 /// (`k[STAGES]` = F at x₁; extra stages go after it) and the coordinates whose stage positions
 /// are held.
@@ -82,15 +102,6 @@ pub(crate) struct Step<'a, S, const N: usize> {
     pub(crate) x: &'a S,
     pub(crate) x1: &'a S,
     pub(crate) k: &'a mut [S; 16],
-}
-
-/// The slopes F a stage evaluates: the problem's (a single run, a sensitivity run), or the
-/// accelerations of W members at once (the lanes).
-pub(crate) trait Slopes<S: Space<N>, const N: usize> {
-    /// Why the evaluation failed.
-    type Error;
-    /// F(t, x) into `out`.
-    fn slope(&mut self, t: S::R, x: &S, out: &mut S) -> Result<(), Self::Error>;
 }
 
 /// A problem's slopes, counted in the run's statistics.
@@ -149,7 +160,11 @@ pub(crate) fn attempt<T: Tableau, S: Space<N>, F: Slopes<S, N>, const N: usize>(
         let ln_err = T::ln_err(x, x1, k, h, tol.0, tol.1);
         // The state's other parts where they take part in the error control (a sensitivity
         // run's columns): the larger norm decides.
-        match S::parts_ln_err::<T>(x, x1, k, h, tol) {
+        let estimate = (
+            &T::ERROR_ROWS[..T::ESTIMATES],
+            T::ln_err_of as fn(_, _, _) -> _,
+        );
+        match S::parts_ln_err((x, x1, k), h, tol, estimate) {
             Some(other) => ln_err.max(other),
             None => ln_err,
         }
@@ -501,64 +516,5 @@ impl<P: Problem<N>, T: Tableau, const N: usize> Stepper<N> for ExplicitRk<P, T, 
             self.p.event_located(t, event, &x);
         }
         Ok(())
-    }
-}
-
-/// The explicit tableaux a [`Method`](super::method::Method) names.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum Tab {
-    Rk4,
-    Dopri5,
-    Dop853,
-}
-
-/// An explicit method as the factory takes it: its tableau, tolerances (adaptive) and step
-/// (fixed).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Explicit {
-    tab: Tab,
-    tol: (f64, f64),
-    dt: f64,
-}
-
-impl Explicit {
-    /// The explicit method `method` names, if it is one.
-    pub(crate) fn of(method: super::method::Method) -> Option<Self> {
-        use super::method::Method;
-        let (tab, tol, dt) = match method {
-            Method::Rk4 { dt } => (Tab::Rk4, (0.0, 0.0), dt),
-            Method::DormandPrince { rtol, atol } => (Tab::Dopri5, (rtol, atol), 0.0),
-            Method::Dop853 { rtol, atol } => (Tab::Dop853, (rtol, atol), 0.0),
-            _ => return None,
-        };
-        Some(Explicit { tab, tol, dt })
-    }
-
-    /// The stepper of this method over the problem `p` from (t, x), up to `until`: the one
-    /// factory of the explicit methods, for plain runs and sensitivity runs alike (a new
-    /// explicit method is a tableau file and one line here).
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn stepper<'s, P: Problem<N> + 's, const N: usize>(
-        self,
-        p: P,
-        t: f64,
-        x: P::State,
-        until: f64,
-        hmax: f64,
-        stats: &mut Stats,
-    ) -> Result<Box<dyn Stepper<N> + 's>, Fault> {
-        use super::{dop853::Dop853, dopri5::Dopri5, rk4::Rk4};
-        let (tol, dt) = (self.tol, self.dt);
-        Ok(match self.tab {
-            Tab::Rk4 => Box::new(ExplicitRk::<P, Rk4, N>::new(
-                p, t, x, tol, dt, until, hmax, stats,
-            )?),
-            Tab::Dopri5 => Box::new(ExplicitRk::<P, Dopri5, N>::new(
-                p, t, x, tol, dt, until, hmax, stats,
-            )?),
-            Tab::Dop853 => Box::new(ExplicitRk::<P, Dop853, N>::new(
-                p, t, x, tol, dt, until, hmax, stats,
-            )?),
-        })
     }
 }

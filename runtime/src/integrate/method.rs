@@ -165,7 +165,7 @@ impl Method {
                 name: "Method::Rk4",
                 fixed_dt: Some(dt),
                 dense_order: Some(3),
-                stability_limit: Some(super::stiffness::RK4_LIMIT),
+                stability_limit: Some(RK4_LIMIT),
                 ..EXPLICIT
             },
             Method::DormandPrince { rtol, atol } => MethodSpec {
@@ -289,6 +289,10 @@ pub struct MethodSpec {
     /// (the diagnosis compares the step against it).
     pub stability_limit: Option<f64>,
 }
+
+/// RK4's stability limit on h·ω for an undamped oscillation (its region meets the imaginary axis
+/// at ±2√2).
+pub(crate) const RK4_LIMIT: f64 = 2.0 * core::f64::consts::SQRT_2;
 
 /// The methods that run in SIMD lanes in an ensemble, each with its engine's file under
 /// `integrate/lanes/` (a `pub(super) fn run` over that method's members) and the members it runs

@@ -48,6 +48,8 @@ mod driver;
 mod error;
 mod events;
 mod explicit;
+mod factory;
+mod jacobian;
 pub(crate) mod lanes;
 mod manifold;
 mod method;

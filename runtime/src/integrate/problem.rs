@@ -5,7 +5,6 @@
 //! `sensitivity`) are problems; the explicit Runge–Kutta methods and the Taylor method are
 //! written once over them.
 
-use super::explicit::Slopes;
 use super::state::{Fault, Real, Stats, Y, YOf, combine, rhs, weighted};
 use crate::lagrangian::Lagrangian;
 
@@ -44,15 +43,15 @@ pub(crate) trait Space<const N: usize>: Clone {
         f: impl Fn([Self::R; I]) -> [Self::R; O],
     );
     /// ln of the error norm over the parts of the state other than the motion that take part in
-    /// the error control (a sensitivity run's columns), by the tableau's estimate; `None` where
-    /// only the motion does.
+    /// the error control (a sensitivity run's columns), by a tableau's estimate: its rows of
+    /// error weights and its norm of their sums (`explicit::Tableau`'s `ERROR_ROWS` and
+    /// `ln_err_of`); `None` where only the motion does.
     #[inline(always)]
-    fn parts_ln_err<T: super::explicit::Tableau>(
-        _x: &Self,
-        _x1: &Self,
-        _k: &[Self; 16],
+    fn parts_ln_err(
+        _steps: (&Self, &Self, &[Self; 16]),
         _h: Self::R,
         _tol: (Self::R, Self::R),
+        _estimate: Estimate<'_>,
     ) -> Option<Self::R> {
         None
     }
@@ -128,6 +127,19 @@ impl<R: Real, const N: usize> Space<N> for YOf<R, N> {
         R::WIDTH > 1 || self.iter().flatten().all(|x| R::all(x.finite()))
     }
 }
+
+/// The slopes F a stage evaluates: the problem's (a single run, a sensitivity run), or the
+/// accelerations of W members at once (the lanes).
+pub(crate) trait Slopes<S: Space<N>, const N: usize> {
+    /// Why the evaluation failed.
+    type Error;
+    /// F(t, x) into `out`.
+    fn slope(&mut self, t: S::R, x: &S, out: &mut S) -> Result<(), Self::Error>;
+}
+
+/// A tableau's error estimate for the parts of a state besides the motion: its rows of error
+/// weights and its norm of their sums of squares, ln err(sums, h, count).
+pub(crate) type Estimate<'a> = (&'a [[f64; 16]], fn([f64; 2], f64, usize) -> f64);
 
 /// A right-hand side the methods step, with what the driver tells it.
 pub(crate) trait Problem<const N: usize> {

@@ -158,7 +158,7 @@ impl<L: Lagrangian<N>, const N: usize> Dynamics<N> for L {
     }
     fn jacobian(&self, t: f64, y: &Y<N>) -> Result<DMatrix<f64>, Fault> {
         // The sensitivity runs' Jacobian (the compiled q̈ in tangents), else the jets'.
-        if let Some(j) = super::sensitivity::compiled_state_jacobian(self, &y[0], &y[1], t) {
+        if let Some(j) = super::jacobian::compiled_state_jacobian(self, &y[0], &y[1], t) {
             return Ok(j);
         }
         let lin = jet_linearize(self, &y[0], &y[1], t)?;

@@ -1,32 +1,12 @@
 //! The classical 4th-order Runge–Kutta method as a [`Tableau`]: a fixed step, and cubic Hermite
 //! interpolation between nodes (from x and F = ẋ at both ends) for samples and events.
 
-use super::explicit::{Slopes, Step, Tableau};
-use super::problem::Space;
+use super::explicit::{Step, Tableau, pad, pad_row};
+use super::problem::{Slopes, Space};
 use super::state::Fault;
 
 /// The classical RK4 tableau.
 pub(crate) struct Rk4;
-
-/// Pads a tableau's coefficients to 16 × 16.
-pub(crate) const fn pad<const R: usize, const C: usize>(a: [[f64; C]; R]) -> [[f64; 16]; 16] {
-    let mut out = [[0.0; 16]; 16];
-    let mut i = 0;
-    while i < R {
-        let mut j = 0;
-        while j < C {
-            out[i][j] = a[i][j];
-            j += 1;
-        }
-        i += 1;
-    }
-    out
-}
-
-/// Pads a row to 16.
-pub(crate) const fn pad_row<const C: usize>(a: [f64; C]) -> [f64; 16] {
-    pad([a])[0]
-}
 
 impl Tableau for Rk4 {
     const STAGES: usize = 4;

@@ -9,10 +9,6 @@ use core::fmt;
 use super::method::Method;
 use super::state::Y;
 
-/// RK4's stability limit on h·ω for an undamped oscillation (its region meets the imaginary axis
-/// at ±2√2).
-pub const RK4_LIMIT: f64 = 2.0 * core::f64::consts::SQRT_2;
-
 /// The spread of the spectrum above which the system counts as stiff: the fastest mode at least
 /// this many times faster than the slowest non-static one.
 pub const STIFF_RATIO: f64 = 100.0;

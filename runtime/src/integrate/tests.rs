@@ -570,7 +570,7 @@ fn stiffness_is_diagnosed_where_it_stops_a_run() {
     let s = err
         .stiffness()
         .expect("a fixed step above the limit is diagnosed");
-    assert_eq!(s.limit, Some(super::stiffness::RK4_LIMIT));
+    assert_eq!(s.limit, Some(super::method::RK4_LIMIT));
     let m = err.to_string();
     assert!(
         m.contains("dt < 2.000e-4")

@@ -17,7 +17,8 @@
 //! engine; members of another method, and constrained ones, run the scalar driver.
 
 use crate::integrate::dop853::Dop853;
-use crate::integrate::explicit::{attempt, ExplicitRk, Slopes};
+use crate::integrate::explicit::{attempt, ExplicitRk};
+use crate::integrate::problem::Slopes;
 use crate::integrate::problem::Plain;
 use crate::integrate::method::Method;
 use crate::integrate::simulation::Simulation;

@@ -16,8 +16,8 @@ use std::rc::Rc;
 
 use crate::lagrangian::Lagrangian;
 
-use super::super::explicit::{Counted, Tableau};
-use super::super::problem::{Problem, Space};
+use super::super::explicit::Counted;
+use super::super::problem::{Estimate, Problem, Space};
 use super::super::state::{Fault, Stats, Y, combine_by, weighted_by};
 use super::Log;
 use super::variation::Variation;
@@ -151,12 +151,11 @@ impl<const N: usize> Space<N> for Aug<N> {
     /// direction, held to rtol relative to its length, and a component passing near zero does
     /// not force steps at atol (per-component weights took 22–26 % more steps than the motion
     /// alone on the heavy top, these 12–13 %; BENCHMARKS.md).
-    fn parts_ln_err<T: Tableau>(
-        x: &Self,
-        x1: &Self,
-        k: &[Self; 16],
+    fn parts_ln_err(
+        (x, x1, k): (&Self, &Self, &[Self; 16]),
         h: f64,
         (rtol, atol): (f64, f64),
+        (rows, ln_err_of): Estimate<'_>,
     ) -> Option<f64> {
         if !x.shape.control || x.cols.is_empty() {
             return None;
@@ -171,7 +170,7 @@ impl<const N: usize> Space<N> for Aug<N> {
                 let largest = |c: &[f64]| c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
                 let scale = largest(&x.cols[r.clone()]).max(largest(&x1.cols[r.clone()]));
                 let inv = 1.0 / (atol + rtol * scale);
-                for (est, sum) in T::ERROR_ROWS[..T::ESTIMATES].iter().zip(&mut sums) {
+                for (est, sum) in rows.iter().zip(&mut sums) {
                     e.fill(0.0);
                     for (&c, kj) in est.iter().zip(k) {
                         if c != 0.0 {
@@ -184,7 +183,7 @@ impl<const N: usize> Space<N> for Aug<N> {
                 }
             }
         }
-        Some(T::ln_err_of(sums, h, x.cols.len()))
+        Some(ln_err_of(sums, h, x.cols.len()))
     }
     fn assign(&mut self, from: &Self) {
         self.y = from.y;

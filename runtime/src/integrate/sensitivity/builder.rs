@@ -9,7 +9,7 @@ use crate::lagrangian::Lagrangian;
 
 use super::super::driver::Driver;
 use super::super::error::SimulationError;
-use super::super::explicit::Explicit;
+use super::super::factory::Explicit;
 use super::super::method::Method;
 use super::super::simulation::Simulation;
 use super::super::system::System;

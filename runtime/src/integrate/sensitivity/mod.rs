@@ -83,16 +83,9 @@ pub use periodic::{
     multipliers,
 };
 pub use result::{EventSensitivity, Sensitivities};
-pub(crate) use variation::{central, compiled_state_jacobian, difference_step};
+pub(crate) use variation::{central, difference_step};
 
-/// How many directions one evaluation of the compiled kernels in [`Tangent`]s carries (the
-/// Jacobian's, the Taylor method's columns). Φ's column of a cyclic coordinate is constant and
-/// q̈ does not depend on that coordinate, so the heavy top (two of three cyclic) needs 4
-/// directions: one evaluation of 4 slopes per stage (6.0× a plain DOP853 run with Φ, 4.6× the
-/// Taylor method) against one of 8 (7.2×, 6.6×) or two of 3 (7.0×, 7.4×; BENCHMARKS.md).
-///
-/// [`Tangent`]: crate::tangent::Tangent
-pub(crate) const CHUNK: usize = 4;
+pub(crate) use super::jacobian::CHUNK;
 
 /// What the driver's hooks record while a sensitivity run goes: the variations (the columns
 /// after y, flattened) at each recorded sample, with its time as recorded, and at each event hit

@@ -1,0 +1,158 @@
+//! The Jacobian of the accelerations, ∂q̈/∂(q, q̇), where every method that needs it takes it
+//! (the sensitivity runs' variational equations, Radau5's Newton matrix): the compiled q̈
+//! evaluated in [`Tangent`]s where the system has one (the derivative of the generated code), the
+//! jets otherwise (third derivatives of L: −M⁻¹K and −M⁻¹C).
+
+use nalgebra::SMatrix;
+
+use crate::error::DynamicsError;
+use crate::lagrangian::Lagrangian;
+use crate::linalg::{Ldlt, solve_symmetric};
+use crate::linearize::jet_linearize;
+use crate::tangent::Tangent;
+
+/// How many directions one evaluation of the compiled kernels in [`Tangent`]s carries (the
+/// Jacobian's, the Taylor method's columns). Φ's column of a cyclic coordinate is constant and
+/// q̈ does not depend on that coordinate, so the heavy top (two of three cyclic) needs 4
+/// directions: one evaluation of 4 slopes per stage (6.0× a plain DOP853 run with Φ, 4.6× the
+/// Taylor method) against one of 8 (7.2×, 6.6×) or two of 3 (7.0×, 7.4×; BENCHMARKS.md).
+pub(crate) const CHUNK: usize = 4;
+
+/// The Jacobian blocks of q̈ at a state: ∂q̈/∂q = −M⁻¹K and ∂q̈/∂q̇ = −M⁻¹C.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Jacobian<const N: usize> {
+    pub(crate) d_q: SMatrix<f64, N, N>,
+    pub(crate) d_qdot: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> Jacobian<N> {
+    /// ẋ = J x for one column x = (δq, δq̇) of 2N entries, into `out`.
+    #[inline]
+    pub(crate) fn apply(&self, x: &[f64], out: &mut [f64]) {
+        let (Some(dq), Some(dv)) = (x.first_chunk::<N>(), x[N..].first_chunk::<N>()) else {
+            return;
+        };
+        let (top, bottom) = out.split_at_mut(N);
+        top.copy_from_slice(dv);
+        for (i, o) in bottom.iter_mut().take(N).enumerate() {
+            let mut s = 0.0;
+            for j in 0..N {
+                s += self.d_q[(i, j)] * dq[j] + self.d_qdot[(i, j)] * dv[j];
+            }
+            *o = s;
+        }
+    }
+}
+
+/// q̈ and its Jacobian from the compiled kernel in tangents: the directions q_i of the
+/// coordinates that are not cyclic (q̈ does not depend on a cyclic one: its column is 0, and the
+/// run has checked the declaration), then every q̇_i, [`CHUNK`] per evaluation (one evaluation
+/// for the heavy top: θ, θ̇, φ̇, ψ̇). q̈ is the value of any evaluation. `None` where the system has
+/// no compiled kernel, or where it declines at this state (a pivot test failed, a value or slope
+/// not finite): the caller takes the jets.
+pub(crate) fn compiled<L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    params: &mut Vec<Tangent<CHUNK>>,
+    q: &[f64; N],
+    v: &[f64; N],
+    t: f64,
+) -> Option<([f64; N], Jacobian<N>)> {
+    let t = Tangent::constant(t);
+    let (mut d_q, mut d_qdot) = (SMatrix::zeros(), SMatrix::zeros());
+    let mut a = [0.0; N];
+    let mut dirs = (0..2 * N).filter(|&d| d >= N || !L::CYCLIC[d]).peekable();
+    while dirs.peek().is_some() {
+        // This evaluation's directions (slot k: direction chunk[k]; 2N for an unused slot).
+        let mut chunk = [2 * N; CHUNK];
+        for (slot, d) in chunk.iter_mut().zip(&mut dirs) {
+            *slot = d;
+        }
+        let seed = |x: f64, dir: usize| {
+            Tangent::new(
+                x,
+                core::array::from_fn(|k| f64::from(u8::from(chunk[k] == dir))),
+            )
+        };
+        let tq = core::array::from_fn(|i| seed(q[i], i));
+        let tv = core::array::from_fn(|i| seed(v[i], N + i));
+        let (acc, ok) = L::accelerations_in(&[sys], params, &tq, &tv, t)?;
+        if !ok {
+            return None;
+        }
+        for (k, &dir) in chunk.iter().enumerate() {
+            for (i, x) in acc.iter().enumerate() {
+                if dir < N {
+                    d_q[(i, dir)] = x.slopes()[k];
+                } else if dir < 2 * N {
+                    d_qdot[(i, dir - N)] = x.slopes()[k];
+                }
+            }
+        }
+        a = acc.map(Tangent::value);
+    }
+    Some((a, Jacobian { d_q, d_qdot }))
+}
+
+/// J = ∂f/∂y = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]] of f = (q̇, q̈) at y, from the compiled q̈ in
+/// tangents where the system has one (Radau5's Newton matrix); `None` where it has none or the kernel declines at this state (the caller
+/// takes the jets).
+pub(crate) fn compiled_state_jacobian<L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    v: &[f64; N],
+    t: f64,
+) -> Option<nalgebra::DMatrix<f64>> {
+    let (_, jac) = compiled(sys, &mut Vec::new(), q, v, t)?;
+    let mut j = nalgebra::DMatrix::zeros(2 * N, 2 * N);
+    for i in 0..N {
+        j[(i, N + i)] = 1.0;
+        for k in 0..N {
+            j[(N + i, k)] = jac.d_q[(i, k)];
+            j[(N + i, N + k)] = jac.d_qdot[(i, k)];
+        }
+    }
+    Some(j)
+}
+
+/// ∂q̈/∂q and ∂q̈/∂q̇ at (q, q̇, t): −M⁻¹K and −M⁻¹C of the linearization about the motion
+/// through the state.
+pub(crate) fn jacobian<L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    q: &[f64; N],
+    v: &[f64; N],
+    t: f64,
+) -> Result<Jacobian<N>, DynamicsError> {
+    let lin = jet_linearize(sys, q, v, t)?;
+    let m: [[f64; N]; N] = core::array::from_fn(|i| core::array::from_fn(|j| lin.m[(i, j)]));
+    let ldlt = Ldlt::factor(&m).ok();
+    let solve = |b: [f64; N]| match &ldlt {
+        Some(f) => Ok(f.solve(&b)),
+        None => solve_symmetric(&m, &b),
+    };
+    let mut d_q = SMatrix::<f64, N, N>::zeros();
+    let mut d_qdot = SMatrix::<f64, N, N>::zeros();
+    for j in 0..N {
+        let kj = solve(core::array::from_fn(|i| lin.k[(i, j)]));
+        let cj = solve(core::array::from_fn(|i| lin.c[(i, j)]));
+        match (kj, cj) {
+            (Ok(kj), Ok(cj)) if kj.iter().chain(cj.iter()).all(|x| x.is_finite()) => {
+                for i in 0..N {
+                    d_q[(i, j)] = -kj[i];
+                    d_qdot[(i, j)] = -cj[i];
+                }
+            }
+            _ => {
+                return Err(DynamicsError::NonFinite {
+                    t,
+                    q: q.to_vec(),
+                    qdot: v.to_vec(),
+                    message: "the mass matrix of the linearized motion is singular here, so \
+                              the variational equations have no Jacobian: choose coordinates \
+                              regular along the motion (Euler angles away from sin θ = 0)"
+                        .into(),
+                });
+            }
+        }
+    }
+    Ok(Jacobian { d_q, d_qdot })
+}
