@@ -227,7 +227,8 @@ fn combine_columns<const N: usize>(
 pub(crate) struct Variational<'s, 'l, L, const N: usize> {
     pub(crate) var: Variation<'s, L, N>,
     pub(crate) log: Option<&'l RefCell<Log>>,
-    /// Whether the columns take part in the error control (else the steps are the motion's).
+    /// Whether the columns take part in the error control; else the steps are the motion's and
+    /// its q̈ the plain kernel's, so the motion is the plain run's bit for bit.
     pub(crate) control: bool,
 }
 
@@ -253,8 +254,13 @@ impl<L: Lagrangian<N>, const N: usize> Problem<N> for Variational<'_, '_, L, N> 
         self.var.sys
     }
     fn slope(&self, t: f64, x: &Aug<N>, out: &mut Aug<N>, stats: &mut Stats) -> Result<(), Fault> {
-        self.var
-            .eval(t, &x.y, &x.cols, &mut out.y, &mut out.cols, stats)
+        self.var.eval(
+            t,
+            (&x.y, &x.cols),
+            (&mut out.y, &mut out.cols),
+            !self.control,
+            stats,
+        )
     }
     fn recorded(&self, t: f64, x: &Aug<N>) {
         if let Some(log) = self.log {

@@ -206,7 +206,6 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             phi_cols: n2,
             phi_unit: true,
             kernel: Default::default(),
-            plain_motion: self.motion_steps,
         };
         // The columns at the start: Φ(t0) = I, S(t0) = 0.
         let mut cols0 = vec![0.0; n2 * cols];

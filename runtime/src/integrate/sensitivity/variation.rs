@@ -108,21 +108,20 @@ pub(crate) struct Variation<'s, L, const N: usize> {
     pub(crate) phi_unit: bool,
     /// The compiled kernels' parameters in tangents (loaded at the first call).
     pub(crate) kernel: RefCell<Vec<Tangent<CHUNK>>>,
-    /// Whether the motion's q̈ comes from the plain kernel (the run takes the plain run's
-    /// steps: its motion is then that run's bit for bit), not from the tangent kernel's values.
-    pub(crate) plain_motion: bool,
 }
 
 impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
     /// F(t, x) for the motion y and its columns (`cols`, 2N each) into `out_y` and `out_cols`.
     /// One evaluation counts once in `stats.rhs_evals`.
+    /// With `plain_motion` the motion's q̈ comes from the plain kernel, so that a run on the
+    /// plain run's steps moves as that run bit for bit (the tangent kernel orders its
+    /// operations differently: the last bits differ).
     pub(crate) fn eval(
         &self,
         t: f64,
-        y: &Y<N>,
-        cols: &[f64],
-        out_y: &mut Y<N>,
-        out_cols: &mut [f64],
+        (y, cols): (&Y<N>, &[f64]),
+        (out_y, out_cols): (&mut Y<N>, &mut [f64]),
+        plain_motion: bool,
         stats: &mut Stats,
     ) -> Result<(), Fault> {
         stats.rhs_evals += 1;
@@ -130,7 +129,7 @@ impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
         let (a, jac) = match compiled(self.sys, &mut self.kernel.borrow_mut(), q, v, t) {
             // q̈ from the plain kernel where the motion must be the plain run's bit for bit
             // (the tangent kernel orders its operations differently: the last bits differ).
-            Some((_, jac)) if self.plain_motion => (self.sys.accelerations(q, v, t)?, jac),
+            Some((_, jac)) if plain_motion => (self.sys.accelerations(q, v, t)?, jac),
             Some(both) => both,
             None => (
                 self.sys.accelerations(q, v, t)?,
