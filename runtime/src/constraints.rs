@@ -470,4 +470,14 @@ impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
             .constrained_accelerations(q, qdot, t)
             .map(|(a, _)| a)
     }
+    fn first_order_jacobian(
+        &self,
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> Option<Result<nalgebra::DMatrix<f64>, DynamicsError>> {
+        Some(crate::linearize::constrained_state_jacobian(
+            self.sys, q, qdot, t,
+        ))
+    }
 }

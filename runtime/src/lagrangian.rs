@@ -329,6 +329,46 @@ pub trait Lagrangian<const N: usize> {
         None
     }
 
+    /// J = ∂(q̇, q̈)/∂(q, q̇) of a view of a system whose accelerations are not its L's own (a
+    /// constrained run's: [`Constrained`](crate::constraints::Constrained) gives the Jacobian of
+    /// its constrained accelerations), for Radau5's Newton matrix and the stiffness diagnosis.
+    /// `None` for a system whose J is that of its L (the default: the run takes it from the
+    /// compiled kernel or the jets).
+    ///
+    /// ```
+    /// use lagrange_runtime::{constraints::Constrained, Holonomic, Lagrangian, Scalar};
+    /// /// A pendulum in x, y: the rod x² + y² = 4, g = 9.81.
+    /// struct P;
+    /// impl Lagrangian<2> for P {
+    ///     const COORDINATES: [&'static str; 2] = ["x", "y"];
+    ///     const CYCLIC: [bool; 2] = [true, false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+    ///         (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
+    ///     }
+    /// }
+    /// impl Holonomic<2, 1> for P {
+    ///     const SCLERONOMIC: bool = true;
+    ///     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] {
+    ///         [q[0] * q[0] + q[1] * q[1] - 4.0]
+    ///     }
+    /// }
+    /// assert!(P.first_order_jacobian(&[0.0, -2.0], &[0.0, 0.0], 0.0).is_none());
+    /// let j = Constrained::new(&P).first_order_jacobian(&[0.0, -2.0], &[0.0, 0.0], 0.0);
+    /// let j = j.unwrap().unwrap();
+    /// assert!((j[(2, 0)] + 9.81 / 2.0).abs() < 1e-12); // δẍ = −(g/l) δx at the bottom
+    /// ```
+    #[doc(hidden)]
+    fn first_order_jacobian(
+        &self,
+        q: &[f64; N],
+        qdot: &[f64; N],
+        t: f64,
+    ) -> Option<Result<nalgebra::DMatrix<f64>, DynamicsError>> {
+        let _ = (q, qdot, t);
+        None
+    }
+
     /// Hands `v` the run of this system as it declares itself: as it is
     /// ([`Declared::plain`], the default), with its `K` holonomic and velocity constraints
     /// ([`Declared::constrained`]) or with its `K` contacts ([`Declared::contacts`]). This is how

@@ -40,6 +40,7 @@ use crate::jet::LinJet;
 use crate::lagrangian::{Lagrangian, applied_jacobian};
 
 mod constrained;
+pub(crate) use constrained::constrained_state_jacobian;
 pub use constrained::{ConstrainedLinearization, LinearizeConstrained};
 
 /// Relative tolerance of the stability classification: an eigenvalue counts as on the imaginary

@@ -82,10 +82,12 @@ pub enum Method {
     /// ∂q̈/∂(q, q̇) = −M⁻¹(K, C) from the jets (forces, dissipation and an explicit time
     /// dependence included), kept across steps while Newton converges fast. Dense output (samples,
     /// events, [`keep_dense_output`](crate::Simulation::keep_dense_output)) is the step's
-    /// collocation polynomial (degree 3). Holonomic constraints are refused
-    /// ([`SimulationError::InvalidOptions`](crate::SimulationError::InvalidOptions)): use
-    /// [`Method::VariationalMidpoint`] or [`Method::Dop853`] for a constrained run. On non-stiff
-    /// problems the explicit methods are cheaper per unit of accuracy.
+    /// collocation polynomial (degree 3). Holonomic and velocity constraints are run as by the
+    /// explicit methods (the index-1 equations, projected onto the constraints after each step,
+    /// λ at every sample), with the Newton matrix of the constrained accelerations; contacts are
+    /// refused ([`SimulationError::InvalidOptions`](crate::SimulationError::InvalidOptions)): use
+    /// [`Method::Dop853`]. On non-stiff problems the explicit methods are cheaper per unit of
+    /// accuracy.
     ///
     /// ```
     /// use lagrange_runtime::{Lagrangian, Method, Scalar, Simulation};
@@ -141,7 +143,7 @@ impl Method {
     /// assert_eq!((s.name, s.fixed_dt, s.dense_order), ("Method::Dop853", None, Some(7)));
     /// assert!(s.constraints && s.contacts && s.sensitivities);
     /// let r = Method::Radau5 { rtol: 1e-8, atol: 1e-10 }.spec();
-    /// assert!(!r.explicit && !r.constraints);
+    /// assert!(!r.explicit && r.constraints && !r.contacts);
     /// assert_eq!(Method::Rk4 { dt: 0.25 }.spec().fixed_dt, Some(0.25));
     /// ```
     pub fn spec(&self) -> MethodSpec {
@@ -204,8 +206,9 @@ impl Method {
                 tolerances: Some((rtol, atol)),
                 dense_order: Some(3),
                 explicit: false,
-                constraints: false,
-                velocity_constraints: false,
+                // Constrained runs on the index-1 equations (the constrained accelerations),
+                // projected after each step as the explicit methods are, the Newton matrix that
+                // of the constrained accelerations.
                 contacts: false,
                 sensitivities: false,
                 ..EXPLICIT

@@ -157,7 +157,11 @@ impl<L: Lagrangian<N>, const N: usize> Dynamics<N> for L {
         rhs(self, t, y, stats)
     }
     fn jacobian(&self, t: f64, y: &Y<N>) -> Result<DMatrix<f64>, Fault> {
-        // The sensitivity runs' Jacobian (the compiled q̈ in tangents), else the jets'.
+        // A view's own (a constrained run's), else the sensitivity runs' Jacobian (the
+        // compiled q̈ in tangents), else the jets'.
+        if let Some(j) = self.first_order_jacobian(&y[0], &y[1], t) {
+            return Ok(j?);
+        }
         if let Some(j) = super::jacobian::compiled_state_jacobian(self, &y[0], &y[1], t) {
             return Ok(j);
         }

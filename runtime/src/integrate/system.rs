@@ -89,6 +89,10 @@ impl<L: Lagrangian<N>, const N: usize> System<N> for L {
         crate::lagrangian::blame_applied(self, e)
     }
     fn mode_sizes(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Option<Vec<f64>> {
+        if let Some(j) = self.first_order_jacobian(q, qdot, t) {
+            let eig = j.ok()?.complex_eigenvalues();
+            return Some(eig.iter().map(|l| l.norm()).collect());
+        }
         let eig = jet_linearize(self, q, qdot, t).ok()?.eigenvalues().ok()?;
         Some(eig.iter().map(|l| l.norm()).collect())
     }

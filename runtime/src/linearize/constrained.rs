@@ -158,6 +158,74 @@ where
     H: Holonomic<N, K> + ?Sized,
 {
     check_reference(sys, q, qdot, t)?;
+    first_order(sys, q, qdot, t)
+}
+
+/// The Jacobian of the constrained first-order system at a state, on the constraints or near
+/// them (the Newton matrix of a constrained Radau5 run, taken at its projected nodes): exact from
+/// the jets for constraints that do not move ([`Holonomic::SCLERONOMIC`]) and are independent;
+/// for moving ones, whose acceleration-level rows have terms in t the linearization leaves out,
+/// and for redundant ones, whose saddle-point system is singular, central differences of the constrained accelerations (relative step ε^⅓: ~1e-10 of the Jacobian, far
+/// below what a simplified Newton iteration asks of its matrix).
+pub(crate) fn constrained_state_jacobian<H, const N: usize, const K: usize>(
+    sys: &H,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> Result<DMatrix<f64>, DynamicsError>
+where
+    H: Holonomic<N, K> + ?Sized,
+{
+    // Redundant constraints make the saddle-point system of the exact linearization singular:
+    // differences of the constrained accelerations (least-norm multipliers) then.
+    if H::SCLERONOMIC
+        && let Ok(l) = first_order(sys, q, qdot, t)
+    {
+        return Ok(l.jacobian);
+    }
+    let mut jacobian = DMatrix::zeros(2 * N, 2 * N);
+    for i in 0..N {
+        jacobian[(i, N + i)] = 1.0;
+    }
+    for col in 0..2 * N {
+        let (mut qp, mut vp) = (*q, *qdot);
+        let x = if col < N { q[col] } else { qdot[col - N] };
+        let h = f64::EPSILON.cbrt() * x.abs().max(1.0);
+        let mut at = |d: f64| {
+            if col < N {
+                qp[col] = x + d;
+            } else {
+                vp[col - N] = x + d;
+            }
+            sys.constrained_accelerations(&qp, &vp, t).map(|(a, _)| a)
+        };
+        let (up, down) = (at(h)?, at(-h)?);
+        for i in 0..N {
+            jacobian[(N + i, col)] = (up[i] - down[i]) / (2.0 * h);
+        }
+    }
+    if !jacobian.iter().all(|x| x.is_finite()) {
+        return Err(DynamicsError::NonFinite {
+            t,
+            q: q.to_vec(),
+            qdot: qdot.to_vec(),
+            message: "the Jacobian of the constrained accelerations is not finite here".into(),
+        });
+    }
+    Ok(jacobian)
+}
+
+/// The linearization of the constrained first-order system at (q, q̇, t), the reference unchecked
+/// (see the module docs).
+fn first_order<H, const N: usize, const K: usize>(
+    sys: &H,
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> Result<ConstrainedLinearization<N>, DynamicsError>
+where
+    H: Holonomic<N, K> + ?Sized,
+{
     let refuse = |message: String| DynamicsError::Constrained {
         t,
         q: q.to_vec(),
