@@ -179,7 +179,7 @@ fn hoop_point(h: &HoopAngle, th: f64, w: f64, t: f64) -> ([f64; 3], [f64; 3]) {
     )
 }
 
-/// The plane pendulum's rod twice: `[g, factor·g]` (dependent for any factor).
+/// The plane pendulum's rod twice: `[g, factor·g]` (redundant for any factor).
 struct Twice {
     factor: f64,
 }
@@ -673,33 +673,93 @@ fn an_initial_state_off_the_constraints_is_rejected_with_its_residual_and_can_be
     );
 }
 
+/// Redundant constraints run: the rod twice, [g, f·g], gives the accelerations of the rod once
+/// with the least-norm multipliers of the one force Λ ∇g: λ₀ + f λ₁ = Λ, λ ∥ (1, f), so
+/// λ₀ = Λ/(1 + f²), λ₁ = f Λ/(1 + f²). Closed form at q = (0.6, −0.8), q̇ = (0.8, 0.6) (unit
+/// mass, g = 9.81 along −y, the rod x² + y² = 1): ∇g = 2q, and ∇g·q̈ + 2|q̇|² = 0 with
+/// q̈ = (0, −9.81) + 2Λq gives 2 q·(0, −9.81) + 4Λ + 2 = 0, Λ = −(15.696 + 2)/4 = −4.424,
+/// q̈ = (−5.3088, −2.7316).
 #[test]
-fn dependent_constraints_are_named_by_index() {
+fn redundant_constraints_take_the_least_norm_multipliers() {
+    let (lam, a_exact) = (-4.424, [-5.3088, -2.7316]);
     for factor in [1.0, 2.0] {
         let sys = Twice { factor };
-        let err = sys
+        let (a, lambda) = sys
             .constrained_accelerations(&[0.6, -0.8], &[0.8, 0.6], 0.0)
-            .unwrap_err();
+            .unwrap();
+        let share = 1.0 + factor * factor;
         assert!(
-            matches!(err, DynamicsError::DependentConstraints { .. }),
-            "{err:?}"
+            (a[0] - a_exact[0]).abs() < 1e-12 && (a[1] - a_exact[1]).abs() < 1e-12,
+            "{a:?}"
         );
-        let msg = err.to_string();
-        assert!(msg.contains("constraint 1"), "{msg}");
-        let err = Simulation::constrained(&sys, [0.6, -0.8], [0.8, 0.6])
-            .until(1.0)
+        assert!(
+            (lambda[0] - lam / share).abs() < 1e-12
+                && (lambda[1] - factor * lam / share).abs() < 1e-12,
+            "{lambda:?}"
+        );
+        // A run: the pendulum's energy and its rod kept.
+        let tr = Simulation::constrained(&sys, [0.6, -0.8], [0.8, 0.6])
+            .until(2.0)
             .run()
-            .unwrap_err();
-        match &err {
-            SimulationError::Dynamics { source, .. } => {
-                assert!(
-                    matches!(**source, DynamicsError::DependentConstraints { .. }),
-                    "{source:?}"
-                );
-                assert!(err.to_string().contains("constraint 1"), "{err}");
-            }
-            other => panic!("expected Dynamics, got {other}"),
+            .unwrap();
+        let inv = tr.invariants();
+        assert!(inv.constraints.unwrap().position < 1e-13, "{inv:?}");
+        let energy = |k: usize| {
+            let (q, v) = (tr.q[k], tr.qdot[k]);
+            0.5 * (v[0] * v[0] + v[1] * v[1]) + 9.81 * q[1]
+        };
+        let drift = (energy(tr.t.len() - 1) - energy(0)).abs();
+        assert!(drift < 1e-9, "energy drift {drift:e}");
+    }
+}
+
+/// x held at 0 and at t² together: dependent rows (both ∂g/∂q = (1, 0)) that agree at t = 0 but
+/// ask for ẍ = 0 and ẍ = 2: no motion satisfies both.
+struct Contradict;
+
+impl Lagrangian<2> for Contradict {
+    const COORDINATES: [&'static str; 2] = ["x", "y"];
+    const CYCLIC: [bool; 2] = [true, false];
+    const AUTONOMOUS: bool = true;
+    fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+        (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
+    }
+}
+
+impl Holonomic<2, 2> for Contradict {
+    fn constraints<S: Scalar>(&self, q: &[S; 2], t: S) -> [S; 2] {
+        [q[0], q[0] - t * t]
+    }
+}
+
+/// Dependent constraints that contradict each other are refused, naming both.
+#[test]
+fn inconsistent_constraints_are_named_by_index() {
+    let err = Contradict
+        .constrained_accelerations(&[0.0, 0.0], &[0.0, 0.0], 0.0)
+        .unwrap_err();
+    assert!(
+        matches!(err, DynamicsError::DependentConstraints { .. }),
+        "{err:?}"
+    );
+    let msg = err.to_string();
+    assert!(
+        msg.contains("constraints 0, 1") && msg.contains("inconsistent"),
+        "{msg}"
+    );
+    let err = Simulation::constrained(&Contradict, [0.0, 0.0], [0.0, 0.0])
+        .until(1.0)
+        .run()
+        .unwrap_err();
+    match &err {
+        SimulationError::Dynamics { source, .. } => {
+            assert!(
+                matches!(**source, DynamicsError::DependentConstraints { .. }),
+                "{source:?}"
+            );
+            assert!(err.to_string().contains("constraints 0, 1"), "{err}");
         }
+        other => panic!("expected Dynamics, got {other}"),
     }
 }
 

@@ -1,7 +1,7 @@
 //! Integration tests, part 3 of 3 (one test crate whose modules are files of tests/): ensembles —
 //! sweeps on threads, shards and CSV (`ensemble`), and the SIMD lanes engines of DOP853 and the
 //! Taylor method against single runs (`ensemble_lanes`); and the implicit method on stiff systems
-//! (`stiff`), the resetting events (`impacts`) and contacts (`contacts`), and the Whipple
+//! (`stiff`), redundant constraints (`redundant`), the resetting events (`impacts`) and contacts (`contacts`), and the Whipple
 //! bicycle (`bicycle`). Apart from tests/physics.rs because the lanes
 //! engines and Radau5 are large generic code instantiated per system: the three parts build in
 //! parallel, and the physics part alone had become the build's critical path (340 s of a 6 min
@@ -19,4 +19,5 @@ mod ensemble_lanes;
 mod impacts;
 mod limits;
 mod one_run;
+mod redundant;
 mod stiff;

@@ -485,15 +485,7 @@ fn constrained_careful<const N: usize, const K: usize>(
     let lambda = match solve_symmetric(&s, &r) {
         Ok(l) => l,
         Err(SolveFailure::NonFinite) => return Err(non_finite(q, qdot, t)),
-        Err(SolveFailure::Singular { row, .. }) => {
-            return Err(dependent(
-                row,
-                "its row (∂g/∂q of a holonomic constraint, A of a velocity constraint A q̇ + b = 0) is (nearly) a combination of the rows before it",
-                q,
-                qdot,
-                t,
-            ));
-        }
+        Err(SolveFailure::Singular { row, .. }) => redundant(&s, &r, c, row, (names, q, qdot, t))?,
     };
     let mut a = z;
     for j in 0..K {
@@ -506,6 +498,57 @@ fn constrained_careful<const N: usize, const K: usize>(
     } else {
         Err(non_finite(q, qdot, t))
     }
+}
+
+/// The multipliers of redundant constraints (S = G M̃⁻¹ Gᵀ singular: rows of G that depend on
+/// the others, everywhere or at this configuration): the least-norm λ of S λ = r, which gives
+/// the one constraint force Gᵀλ and accelerations the constraints determine. Fails with
+/// [`DynamicsError::DependentConstraints`] naming the rows when they are inconsistent (r has a
+/// part outside S's range: the dependent rows ask for accelerations that contradict each other,
+/// so no motion satisfies them), or when the least-norm solve itself fails (then naming `row`,
+/// where the pivot test broke down).
+#[inline(never)]
+fn redundant<const N: usize, const K: usize>(
+    s: &[[f64; K]; K],
+    r: &[f64; K],
+    c: &[f64; K],
+    row: usize,
+    (_names, q, qdot, t): (&[&'static str; N], &[f64; N], &[f64; N], f64),
+) -> Result<[f64; K], DynamicsError> {
+    let Some(sol) = crate::linalg::least_norm_symmetric(K, |i, k| s[i][k], r) else {
+        return Err(dependent(
+            row,
+            "its row (∂g/∂q of a holonomic constraint, A of a velocity constraint A q̇ + b = 0) is (nearly) a combination of the rows before it",
+            q,
+            qdot,
+            t,
+        ));
+    };
+    // Consistent rows leave only round-off outside S's range: a few ulps of r and of the
+    // curvature terms it is made of.
+    let size = r
+        .iter()
+        .chain(c.iter())
+        .fold(0.0_f64, |m, x| m.max(x.abs()));
+    if sol.outside > 1e-8 * size {
+        let rows: Vec<String> = sol.rows.iter().map(ToString::to_string).collect();
+        return Err(DynamicsError::DependentConstraints {
+            t,
+            q: q.to_vec(),
+            qdot: qdot.to_vec(),
+            message: format!(
+                "constraints {} (counting from 0: the holonomic constraints in the order \
+                 `fn constraints` returns them, then the velocity constraints) are dependent \
+                 here and inconsistent: they ask for accelerations that contradict each other \
+                 (a part {:.3e} of their right-hand side that no multipliers meet), so no \
+                 motion satisfies them all; remove the constraint that contradicts the others, \
+                 or correct it so that it holds along the motion the others allow",
+                rows.join(", "),
+                sol.outside
+            ),
+        });
+    }
+    Ok(core::array::from_fn(|j| sol.x[j]))
 }
 
 /// A power of two within a factor 2 of a / b (a, b > 0), from the exponents: no division on the

@@ -6,7 +6,7 @@
 //! driver serves constrained and unconstrained runs.
 
 use crate::constraints::{Constrained, Holonomic};
-use crate::linalg::{SolveFailure, lu_solve_dyn, solve_symmetric};
+use crate::linalg::{SolveFailure, least_norm_symmetric, lu_solve_dyn, solve_symmetric};
 
 use super::newton::inf_norm;
 use super::state::{Fault, Y};
@@ -63,11 +63,17 @@ pub(crate) fn least_norm_dyn<const N: usize>(
         }
     }
     let mut mu = r.to_vec();
-    lu_solve_dyn(&mut ggt, &mut mu, big).map_err(|_| Fault::Newton {
-        iterations: 0,
-        residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
-        reason,
-    })?;
+    let gram = ggt.clone();
+    if lu_solve_dyn(&mut ggt, &mut mu, big).is_err() {
+        // Redundant rows: the least-squares correction of least norm.
+        mu = least_norm_symmetric(k, |a, b| gram[a * k + b], r)
+            .ok_or(Fault::Newton {
+                iterations: 0,
+                residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
+                reason,
+            })?
+            .x;
+    }
     let mut d = [0.0; N];
     for a in 0..k {
         for i in 0..N {
@@ -89,15 +95,21 @@ fn least_norm<const N: usize, const K: usize>(
             ggt[a][b] = (0..N).map(|i| g[a][i] * g[b][i]).sum();
         }
     }
-    let mu = solve_symmetric(&ggt, r).map_err(|e| match e {
-        SolveFailure::NonFinite => Fault::NonFinite,
-        SolveFailure::Singular { .. } => Fault::Newton {
-            iterations: 0,
-            residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
-            reason: "projecting onto the constraints: their gradients are dependent or vanish \
-                     here (one constraint repeats the others)",
-        },
-    })?;
+    let mu = match solve_symmetric(&ggt, r) {
+        Ok(mu) => mu,
+        Err(SolveFailure::NonFinite) => return Err(Fault::NonFinite),
+        // Redundant rows (one constraint repeats the others, everywhere or here): the
+        // least-squares correction of least norm, which Newton's iteration takes to the
+        // constraints as it does for independent rows.
+        Err(SolveFailure::Singular { .. }) => {
+            let sol = least_norm_symmetric(K, |a, b| ggt[a][b], r).ok_or(Fault::Newton {
+                iterations: 0,
+                residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
+                reason: "projecting onto the constraints: their gradients vanish here",
+            })?;
+            core::array::from_fn(|j| sol.x[j])
+        }
+    };
     let mut d = [0.0; N];
     for a in 0..K {
         for i in 0..N {

@@ -85,12 +85,14 @@ pub fn all_finite(xs: &[f64]) -> bool {
 
 mod ldlt;
 mod lu;
+mod pseudo;
 mod saddle;
 
 pub(crate) use ldlt::ldlt_solve;
 pub use ldlt::{Ldlt, ldlt_solve_with};
 use lu::lu_solve_upper;
 pub use lu::{lu_solve, lu_solve_dyn};
+pub(crate) use pseudo::least_norm_symmetric;
 pub use saddle::{saddle_solve, saddle_solve_one};
 
 #[cfg(test)]
