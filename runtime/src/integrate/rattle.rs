@@ -21,7 +21,7 @@
 //! when the constrained system is, also where M alone is singular. A coordinate that neither L,
 //! a force nor a constraint depends on keeps its momentum bit for bit.
 
-use crate::linalg::lu_solve_dyn;
+use crate::linalg::{RANK_TOL, lu_solve_dyn};
 
 use super::manifold::Manifold;
 use super::newton::{MAX_NEWTON, inf_norm};
@@ -78,10 +78,34 @@ fn solve_bordered<const N: usize>(
         scale = scale.max(inf_norm(row));
     }
     let mut x: Vec<f64> = rhs_a.iter().chain(rhs_c).copied().collect();
-    lu_solve_dyn(&mut mat, &mut x, scale).map_err(|_| ())?;
+    let bordered = mat.clone();
+    if lu_solve_dyn(&mut mat, &mut x, scale).is_err() {
+        x = least_squares(n, bordered, rhs_a.iter().chain(rhs_c).copied().collect())?;
+    }
     let mut dx = [0.0; N];
     dx.copy_from_slice(&x[..N]);
     Ok((dx, x[N..].to_vec()))
+}
+
+/// The least-norm least-squares solution of the n-square system `mat` x = b (row-major) where
+/// LU found it singular: redundant constraints, whose rows of G depend on the others, leave the
+/// multipliers undetermined while Δx is not; the singular values at or below √ε of the largest
+/// are dropped, so the multipliers are the least-norm ones.
+#[inline(never)]
+fn least_squares(n: usize, mat: Vec<f64>, b: Vec<f64>) -> Result<Vec<f64>, ()> {
+    let a = nalgebra::DMatrix::from_row_slice(n, n, &mat);
+    if !a.iter().chain(&b).all(|x| x.is_finite()) {
+        return Err(());
+    }
+    let svd = a.svd(true, true);
+    let big = svd.singular_values.max();
+    if big <= 0.0 {
+        return Err(());
+    }
+    let x = svd
+        .solve(&nalgebra::DVector::from_vec(b), RANK_TOL * big)
+        .map_err(|_| ())?;
+    Ok(x.iter().copied().collect())
 }
 
 impl<'a, const N: usize> Rattle<'a, N> {

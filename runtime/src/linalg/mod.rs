@@ -92,7 +92,7 @@ pub(crate) use ldlt::ldlt_solve;
 pub use ldlt::{Ldlt, ldlt_solve_with};
 use lu::lu_solve_upper;
 pub use lu::{lu_solve, lu_solve_dyn};
-pub(crate) use pseudo::least_norm_symmetric;
+pub(crate) use pseudo::{RANK_TOL, least_norm_symmetric};
 pub use saddle::{saddle_solve, saddle_solve_one};
 
 #[cfg(test)]
