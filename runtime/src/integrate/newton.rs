@@ -61,6 +61,9 @@ pub(crate) fn solve<const N: usize, J>(
         }
         last_dx = inf_norm(&dx);
         stats.newton_iterations += 1;
+        // Each iteration forms the exact Jacobian and factorizes it.
+        stats.jacobians += 1;
+        stats.decompositions += 1;
     }
     Err(Fault::Newton {
         iterations: MAX_NEWTON,

@@ -520,6 +520,7 @@ impl<const N: usize> Stepper<N> for Radau5<'_, N> {
             }
             if self.need_jac || self.jac.is_none() {
                 self.jac = Some(self.jacobian()?);
+                stats.jacobians += 1;
                 self.jac_current = true;
                 self.need_jac = false;
                 self.factors = None;
@@ -529,6 +530,7 @@ impl<const N: usize> Stepper<N> for Radau5<'_, N> {
                     return Err(Fault::NonFinite);
                 };
                 self.factors = Self::factorize(j, h);
+                stats.decompositions += 1;
                 if self.factors.is_none() {
                     self.retry(
                         h,

@@ -216,6 +216,9 @@ impl<'a, const N: usize> Rattle<'a, N> {
             }
             last_dx = inf_norm(&dq);
             stats.newton_iterations += 1;
+            // Each iteration forms the exact Jacobian and factorizes it.
+            stats.jacobians += 1;
+            stats.decompositions += 1;
         }
         Err(Fault::Newton {
             iterations: MAX_NEWTON,
@@ -293,6 +296,9 @@ impl<'a, const N: usize> Rattle<'a, N> {
             }
             last_dv = inf_norm(&dv);
             stats.newton_iterations += 1;
+            // Each iteration forms the exact Jacobian and factorizes it.
+            stats.jacobians += 1;
+            stats.decompositions += 1;
         }
         Err(Fault::Newton {
             iterations: MAX_NEWTON,

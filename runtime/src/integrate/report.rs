@@ -8,11 +8,14 @@ use super::state::Stats;
 use super::trajectory::{ConstraintResidual, Drift, Invariants};
 
 impl fmt::Display for Stats {
-    /// `412 steps (3 rejected), 4955 evaluations`, with the Newton iterations where there were any.
+    /// `412 steps (3 rejected), 4955 evaluations`, with the Newton iterations, Jacobians and LU
+    /// decompositions where there were any.
     ///
     /// ```
-    /// let s = lagrange_runtime::Stats { steps: 412, rejected: 3, rhs_evals: 4955, newton_iterations: 0 };
+    /// let s = lagrange_runtime::Stats { steps: 412, rejected: 3, rhs_evals: 4955, ..Default::default() };
     /// assert_eq!(s.to_string(), "412 steps (3 rejected), 4955 evaluations");
+    /// let r = lagrange_runtime::Stats { newton_iterations: 900, jacobians: 12, decompositions: 40, ..s };
+    /// assert_eq!(r.to_string(), "412 steps (3 rejected), 4955 evaluations, 900 Newton iterations, 12 Jacobians, 40 LU decompositions");
     /// ```
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
@@ -22,6 +25,13 @@ impl fmt::Display for Stats {
         )?;
         if self.newton_iterations > 0 {
             write!(f, ", {} Newton iterations", self.newton_iterations)?;
+        }
+        if self.jacobians > 0 || self.decompositions > 0 {
+            write!(
+                f,
+                ", {} Jacobians, {} LU decompositions",
+                self.jacobians, self.decompositions
+            )?;
         }
         Ok(())
     }

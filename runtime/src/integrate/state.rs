@@ -26,6 +26,7 @@ pub(crate) use crate::real::Real;
 /// ```
 /// let s = lagrange_runtime::Stats::default();
 /// assert_eq!((s.steps, s.rejected, s.rhs_evals, s.newton_iterations), (0, 0, 0, 0));
+/// assert_eq!((s.jacobians, s.decompositions), (0, 0));
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Stats {
@@ -37,6 +38,13 @@ pub struct Stats {
     pub rhs_evals: usize,
     /// Newton iterations (the implicit methods: variational midpoint, Radau5).
     pub newton_iterations: usize,
+    /// Jacobians formed (the implicit methods: Radau5 forms one when Newton slows down or after
+    /// a rejection; the variational methods one per Newton iteration).
+    pub jacobians: usize,
+    /// LU decompositions of the Newton matrix (Radau5: one per new step size or Jacobian, its
+    /// two matrices I − hA⊗J and I − γhJ counted as one, as `radau5.f`'s NDEC; the variational
+    /// methods one per Newton iteration).
+    pub decompositions: usize,
 }
 
 /// Why a stepper could not go on (the driver adds t, the state and the partial trajectory).
