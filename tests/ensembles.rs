@@ -1,7 +1,7 @@
 //! Integration tests, part 3 of 3 (one test crate whose modules are files of tests/): ensembles —
 //! sweeps on threads, shards and CSV (`ensemble`), and the SIMD lanes engines of DOP853 and the
 //! Taylor method against single runs (`ensemble_lanes`); and the implicit method on stiff systems
-//! (`stiff`), redundant constraints (`redundant`), the resetting events (`impacts`) and contacts (`contacts`), and the Whipple
+//! (`stiff`), redundant constraints (`redundant`), the IVP test set's mechanical problems (`testset`), the resetting events (`impacts`) and contacts (`contacts`), and the Whipple
 //! bicycle (`bicycle`). Apart from tests/physics.rs because the lanes
 //! engines and Radau5 are large generic code instantiated per system: the three parts build in
 //! parallel, and the physics part alone had become the build's critical path (340 s of a 6 min
@@ -21,3 +21,4 @@ mod limits;
 mod one_run;
 mod redundant;
 mod stiff;
+mod testset;
