@@ -316,8 +316,8 @@ fn ensembles_run_what_their_systems_declare() {
     }
 }
 
-/// What a run cannot take yet is refused, naming it, never dropped: the variations of a
-/// constrained run or of one with contacts.
+/// What a run cannot take yet is refused, naming it, never dropped: the parameter
+/// sensitivities of a constrained run, the variations of one with contacts.
 #[test]
 fn what_a_run_cannot_take_is_refused() {
     let p = Spherical {
@@ -329,6 +329,7 @@ fn what_a_run_cannot_take_is_refused() {
     let err = Simulation::new(&p, q0, v0)
         .until(1.0)
         .sensitivity()
+        .parameter("g", p.g, |g| Spherical { m: 0.5, g, l: 1.2 })
         .run()
         .unwrap_err();
     assert!(matches!(err, SimulationError::InvalidOptions { .. }));

@@ -161,8 +161,15 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     ///
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
     /// step) for what it does not cover yet: the implicit methods (`Method::Radau5`,
-    /// `Method::VariationalMidpoint`), a constrained run or one with contacts, an event that resets the state, a
-    /// parameter whose value is not finite. The samples' memory bound
+    /// `Method::VariationalMidpoint`), a run with contacts, parameters of a constrained run, an
+    /// event that resets the state, a parameter whose value is not finite.
+    ///
+    /// A constrained run (holonomic or velocity constraints) integrates the variations with the
+    /// Jacobian of its constrained accelerations. Its Φ(t) maps a perturbation of the start to
+    /// the perturbation of the run started there after projecting it onto the constraints, as
+    /// [`project_initial_state`](Simulation::project_initial_state) does: Φ(t0) = P, the
+    /// derivative of that projection (the identity on perturbations tangent to the
+    /// constraints, zero along their normals), and every column stays tangent to them. The samples' memory bound
     /// ([`Simulation::max_samples`]) counts Φ with each sample: by default as many samples fit
     /// in 256 MiB with their matrices.
     ///
@@ -188,32 +195,62 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         self.refusal().map_or(Ok(()), |message| {
             Err(SimulationError::InvalidOptions { message })
         })?;
+        // A system that declares its constraints runs on its constrained view, as
+        // `Simulation::run` runs it.
+        if self.sim.o.manifold.is_none() && System::flags(&*self.sim.sys).constrained {
+            let Sensitivity {
+                sim: Simulation { sys, o },
+                motion_steps,
+                ..
+            } = self;
+            return (*sys).declared(Declared { o, motion_steps });
+        }
         let n2 = 2 * N;
         let cols = n2 + self.params.len();
         let sim = &mut self.sim;
         let mut p = sim.prepare()?;
         // A sample of this run holds its variations too.
-        let bytes = sample_bytes(N, 0) + 8 * n2 * cols;
+        let bytes = sample_bytes(N, p.manifold.map_or(0, |m| m.count())) + 8 * n2 * cols;
         if p.opts.max_samples_default {
             // The default budget holds the samples with their variations.
             p.opts.max_samples = (SAMPLE_BUDGET_BYTES / bytes).max(2);
         }
         let (t0, until, method, y0, hmax) = (p.opts.t0, p.opts.until, p.method, p.y0, p.hmax);
         let params = &self.params;
+        // The columns at the start: Φ(t0) = I, S(t0) = 0; on constraints, Φ(t0) = P, the
+        // derivative of the projection onto them at y0 (see `tangent_projector`).
+        let mut cols0 = vec![0.0; n2 * cols];
+        let phi_unit = match p.manifold {
+            None => {
+                for j in 0..n2 {
+                    cols0[n2 * j + j] = 1.0;
+                }
+                true
+            }
+            Some(m) => {
+                let projector = tangent_projector(m, t0, &y0).map_err(|fault| {
+                    SimulationError::InvalidOptions {
+                        message: format!(
+                            "the projection onto the constraints near the initial state failed \
+                             ({fault:?}), so the derivative of the run with respect to its start \
+                             is not defined there: start away from where the constraints are \
+                             singular"
+                        ),
+                    }
+                })?;
+                cols0[..n2 * n2].copy_from_slice(&projector);
+                false
+            }
+        };
         let var = || Variation {
             sys: p.sys,
             params,
             phi_cols: n2,
-            phi_unit: true,
+            phi_unit,
             kernel: Default::default(),
         };
-        // The columns at the start: Φ(t0) = I, S(t0) = 0.
-        let mut cols0 = vec![0.0; n2 * cols];
-        for j in 0..n2 {
-            cols0[n2 * j + j] = 1.0;
-        }
         let log = RefCell::new(Log::default());
-        let driver = Driver::new(p.sys, None, p.events, method, &p.opts, p.observer);
+        let driver = Driver::new(p.sys, p.manifold, p.events, method, &p.opts, p.observer);
         let problem = || Variational {
             var: var(),
             log: Some(&log),
@@ -325,11 +362,11 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                     .into(),
             );
         }
-        if sim.o.manifold.is_some() || declares.constrained {
+        if (sim.o.manifold.is_some() || declares.constrained) && !self.params.is_empty() {
             return Some(
-                "sensitivities of a constrained run are not covered yet (the variations would \
-                 have to stay tangent to the constraints): write the system in independent \
-                 coordinates and run `Simulation::new(..).sensitivity()` on it"
+                "parameter sensitivities of a constrained run are not covered yet (Φ is): \
+                 write the system in independent coordinates to differentiate it with respect \
+                 to a parameter"
                     .into(),
             );
         }
@@ -359,4 +396,75 @@ fn unsupported_method(method: Method) -> String {
          output for samples and events)",
         Method::takers(|s| s.sensitivities)
     )
+}
+
+/// The run of a system as it declares itself with these options and its variations: a system
+/// with constraints runs on its constrained view (the one `Simulation::run` takes).
+struct Declared<'a, const N: usize> {
+    o: super::super::simulation::Options<'a, N>,
+    motion_steps: bool,
+}
+
+impl<'s, 'a: 's, L: Lagrangian<N> + 's, const N: usize> crate::lagrangian::Declared<'s, L, N>
+    for Declared<'a, N>
+{
+    type Output = Result<Sensitivities<N>, SimulationError>;
+
+    fn plain(self, sys: &'s L) -> Self::Output {
+        let mut run = Simulation {
+            sys: super::super::simulation::Sys::Borrowed(sys),
+            o: self.o,
+        }
+        .sensitivity();
+        run.motion_steps = self.motion_steps;
+        run.run()
+    }
+
+    fn constrained<const K: usize>(self, sys: &'s L) -> Self::Output
+    where
+        L: crate::constraints::Holonomic<N, K>,
+    {
+        let mut sim = Simulation::constrained(sys, self.o.q0, self.o.qdot0);
+        sim.o = sim.o.adopt(self.o);
+        let mut run = sim.sensitivity();
+        run.motion_steps = self.motion_steps;
+        run.run()
+    }
+
+    fn contacts<const K: usize>(self, _sys: &'s L) -> Self::Output
+    where
+        L: crate::contact::Unilateral<N, K>,
+    {
+        // Refused before: a run that declares contacts does not get here.
+        Err(SimulationError::InvalidOptions {
+            message: "sensitivities of a run with contacts are not covered yet".into(),
+        })
+    }
+}
+
+/// P = ∂π/∂y at y0 for the projection π onto the constraints that a run starts with
+/// ([`Manifold::project`]: q along the rows of G, then q̇), column-major 2N × 2N: central
+/// differences of π over steps ε^⅓ max(|y_k|, 1) (error ~1e-10 of P's entries, which are of
+/// order one: P is a projector).
+fn tangent_projector<const N: usize>(
+    m: &dyn super::super::manifold::Manifold<N>,
+    t0: f64,
+    y0: &super::super::state::Y<N>,
+) -> Result<Vec<f64>, super::super::state::Fault> {
+    let n2 = 2 * N;
+    let mut p = vec![0.0; n2 * n2];
+    for k in 0..n2 {
+        let x = y0[k / N][k % N];
+        let h = f64::EPSILON.cbrt() * x.abs().max(1.0);
+        let at = |d: f64| {
+            let mut y = *y0;
+            y[k / N][k % N] = x + d;
+            m.project(t0, &mut y).map(|_| y)
+        };
+        let (up, down) = (at(h)?, at(-h)?);
+        for i in 0..n2 {
+            p[n2 * k + i] = (up[i / N][i % N] - down[i / N][i % N]) / (2.0 * h);
+        }
+    }
+    Ok(p)
 }

@@ -47,10 +47,16 @@
 //! multipliers and an [`OrbitStability`] verdict); [`Lyapunov`] computes the exponents of a
 //! motion by QR re-orthonormalization of the carried directions.
 //!
+//! **Constrained runs** (holonomic and velocity constraints) integrate the variations with the
+//! Jacobian of the constrained accelerations (the first-order Jacobian of the
+//! constrained view); Φ(t0) is the derivative of the projection onto the constraints, so Φ maps
+//! a perturbation of the start to that of the run started from its projection, and its columns
+//! stay tangent to the constraints.
+//!
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
-//! the implicit methods (Radau5 and the
-//! variational integrator), constrained runs and contacts, and resetting events (the flow jumps
-//! there; its derivative needs the saltation matrix).
+//! the implicit methods (Radau5 and the variational integrator), parameters of a constrained
+//! run, contacts, and resetting events (the flow jumps there; its derivative needs the saltation
+//! matrix).
 //!
 //! ```
 //! use lagrange_runtime::{Lagrangian, Scalar, Simulation};

@@ -9,11 +9,13 @@
 
 use core::cell::RefCell;
 
+use nalgebra::SMatrix;
+
 use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 use crate::tangent::Tangent;
 
-use super::super::jacobian::{compiled, jacobian};
+use super::super::jacobian::{Jacobian, compiled, jacobian};
 use super::super::state::{Fault, Stats, Y};
 use super::CHUNK;
 
@@ -126,12 +128,24 @@ impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
     ) -> Result<(), Fault> {
         stats.rhs_evals += 1;
         let [q, v] = y;
-        let (a, jac) = match compiled(self.sys, &mut self.kernel.borrow_mut(), q, v, t) {
+        // A view whose accelerations are not L's own (a constrained run's) gives its Jacobian.
+        let own = self.sys.first_order_jacobian(q, v, t).map(|j| {
+            j.map(|j| Jacobian {
+                d_q: SMatrix::from_fn(|i, k| j[(N + i, k)]),
+                d_qdot: SMatrix::from_fn(|i, k| j[(N + i, N + k)]),
+            })
+        });
+        let compiled = match own {
+            Some(_) => None,
+            None => compiled(self.sys, &mut self.kernel.borrow_mut(), q, v, t),
+        };
+        let (a, jac) = match (own, compiled) {
+            (Some(jac), _) => (self.sys.accelerations(q, v, t)?, jac?),
             // q̈ from the plain kernel where the motion must be the plain run's bit for bit
             // (the tangent kernel orders its operations differently: the last bits differ).
-            Some((_, jac)) if plain_motion => (self.sys.accelerations(q, v, t)?, jac),
-            Some(both) => both,
-            None => (
+            (None, Some((_, jac))) if plain_motion => (self.sys.accelerations(q, v, t)?, jac),
+            (None, Some(both)) => both,
+            (None, None) => (
                 self.sys.accelerations(q, v, t)?,
                 jacobian(self.sys, q, v, t)?,
             ),

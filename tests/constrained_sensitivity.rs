@@ -1,0 +1,178 @@
+//! Sensitivities through constraints: Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) of a constrained run, the
+//! variations integrated with the Jacobian of the constrained accelerations. Φ(t0) is the
+//! derivative of the projection onto the constraints, so Φ maps a perturbation of the start to
+//! that of the run started from its projection; tested against central differences of runs
+//! started on the constraints (the pendulum in x, y), against differences of runs whose start is
+//! projected (`project_initial_state`), and on the Chaplygin sleigh (velocity constraints)
+//! against the derivative of its closed form.
+
+use lagrange::prelude::*;
+use lagrange_examples::stiff_system::RigidPendulumXy;
+
+/// The pendulum of the tests: m = g = l = 1 from θ₀ = 0.8, θ̇₀ = 0.3, to t = 3.
+const PENDULUM: RigidPendulumXy = RigidPendulumXy {
+    m: 1.0,
+    g: 1.0,
+    l: 1.0,
+};
+
+/// DOP853 at this tolerance for the runs and their differences.
+const TIGHT: Method = Method::Dop853 {
+    rtol: 1e-13,
+    atol: 1e-13,
+};
+
+/// The end state (q, q̇) of a run from (q0, q̇0), projected onto the rod first if asked.
+fn end(q0: [f64; 2], v0: [f64; 2], project: bool) -> [f64; 4] {
+    let mut sim = Simulation::new(&PENDULUM, q0, v0).method(TIGHT).until(3.0);
+    if project {
+        sim = sim.project_initial_state();
+    }
+    let tr = sim.keep_samples(false).run().unwrap();
+    let (q, v) = (tr.q.last().unwrap(), tr.qdot.last().unwrap());
+    [q[0], q[1], v[0], v[1]]
+}
+
+/// Φ(3) of the pendulum in x, y against central differences (h = 1e-4: the differences' error
+/// is h² y‴ ≈ 1e-8 plus the runs' 1e-13 / h = 1e-9; tolerance 1e-6) of runs started on the rod
+/// at θ₀ ± h and θ̇₀ ± h: Φ (∂y₀/∂θ₀) and Φ (∂y₀/∂θ̇₀). A perturbation off the rod (along x) is
+/// projected first: Φ e_x against differences of runs started at y₀ ± h e_x with
+/// `project_initial_state`. Every column of Φ stays tangent to the rod (2 q·δq = 0).
+#[test]
+fn phi_of_a_constrained_run_is_the_derivative_of_the_projected_flow() {
+    let (theta0, rate0) = (0.8, 0.3);
+    let (q0, v0) = PENDULUM.state(theta0, rate0);
+    let run = Simulation::new(&PENDULUM, q0, v0)
+        .method(TIGHT)
+        .until(3.0)
+        .sensitivity()
+        .run()
+        .unwrap();
+    let phi = run.final_phi();
+    let apply = |d: [f64; 4]| -> [f64; 4] {
+        core::array::from_fn(|i| (0..4).map(|k| phi[(i, k)] * d[k]).sum())
+    };
+    let h = 1e-4;
+    let diff = |plus: [f64; 4], minus: [f64; 4]| -> [f64; 4] {
+        core::array::from_fn(|i| (plus[i] - minus[i]) / (2.0 * h))
+    };
+    let on_rod = |theta: f64, rate: f64| {
+        let (q, v) = PENDULUM.state(theta, rate);
+        end(q, v, false)
+    };
+    // ∂y₀/∂θ₀ and ∂y₀/∂θ̇₀ of (l sin θ, −l cos θ, l cos θ θ̇, l sin θ θ̇).
+    let (s, c) = (theta0.sin(), theta0.cos());
+    let d_theta = [c, s, -s * rate0, c * rate0];
+    let d_rate = [0.0, 0.0, c, s];
+    let cases = [
+        (
+            "θ₀",
+            apply(d_theta),
+            diff(on_rod(theta0 + h, rate0), on_rod(theta0 - h, rate0)),
+        ),
+        (
+            "θ̇₀",
+            apply(d_rate),
+            diff(on_rod(theta0, rate0 + h), on_rod(theta0, rate0 - h)),
+        ),
+        (
+            "x₀ (off the rod, projected)",
+            apply([1.0, 0.0, 0.0, 0.0]),
+            diff(
+                end([q0[0] + h, q0[1]], v0, true),
+                end([q0[0] - h, q0[1]], v0, true),
+            ),
+        ),
+        (
+            "ẏ₀ (off the rod, projected)",
+            apply([0.0, 0.0, 0.0, 1.0]),
+            diff(
+                end(q0, [v0[0], v0[1] + h], true),
+                end(q0, [v0[0], v0[1] - h], true),
+            ),
+        ),
+    ];
+    for (name, from_phi, from_runs) in cases {
+        let worst = (0..4).fold(0.0_f64, |m, i| m.max((from_phi[i] - from_runs[i]).abs()));
+        eprintln!("pendulum in x, y: Φ along {name} within {worst:.1e} of the differences");
+        assert!(worst <= 1e-6, "{name}: {from_phi:?} against {from_runs:?}");
+    }
+    // The columns stay tangent: G δq = 2 q·δq = 0 at the end.
+    let q = run.trajectory.q.last().unwrap();
+    for k in 0..4 {
+        let g = 2.0 * (q[0] * phi[(0, k)] + q[1] * phi[(1, k)]);
+        assert!(g.abs() <= 1e-9, "column {k}: G δq = {g:e}");
+    }
+    // The same run through `Simulation::constrained`.
+    let explicit = Simulation::constrained(&PENDULUM, q0, v0)
+        .method(TIGHT)
+        .until(3.0)
+        .sensitivity()
+        .run()
+        .unwrap();
+    assert_eq!(explicit.final_phi(), phi);
+}
+
+/// Velocity constraints: the Chaplygin sleigh of tests/one_run.rs. Its forward speed u and
+/// turning rate ω at t follow in closed form from u₀, ω₀ (derived there); their derivatives by
+/// u₀ and ω₀ (central differences of the closed form, h = 1e-5: error ~1e-10) against Φ(t)
+/// applied to the start's tangent directions ∂y₀/∂u₀ = (0, 0, 0, 1, 0, 0) and
+/// ∂y₀/∂ω₀ = (0, 0, 0, 0, a, 1), with δu = cos φ δẋ + sin φ δẏ + (ẏ cos φ − ẋ sin φ) δφ,
+/// δω = δφ̇; tolerance 1e-7.
+#[test]
+fn phi_through_velocity_constraints_matches_the_sleighs_closed_form() {
+    use crate::one_run::{sleigh_closed_form, sleigh_start, Sleigh};
+    let s = Sleigh {
+        m: 2.0,
+        i: 0.3,
+        a: 0.4,
+    };
+    let (u0, w0) = (0.2, 1.5);
+    let (q0, v0) = sleigh_start(&s, u0, w0);
+    let run = Simulation::new(&s, q0, v0)
+        .method(TIGHT)
+        .until(4.0)
+        .sample_every(1.0)
+        .sensitivity()
+        .run()
+        .unwrap();
+    let h = 1e-5;
+    for (k, &t) in run.trajectory.t.iter().enumerate().skip(1) {
+        let (q, v, phi) = (run.trajectory.q[k], run.trajectory.qdot[k], &run.phi[k]);
+        let (sn, cs) = q[2].sin_cos();
+        for (name, d0, exact) in [
+            (
+                "u₀",
+                [0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+                [
+                    sleigh_closed_form(&s, u0 + h, w0, t),
+                    sleigh_closed_form(&s, u0 - h, w0, t),
+                ],
+            ),
+            (
+                "ω₀",
+                [0.0, 0.0, 0.0, 0.0, s.a, 1.0],
+                [
+                    sleigh_closed_form(&s, u0, w0 + h, t),
+                    sleigh_closed_form(&s, u0, w0 - h, t),
+                ],
+            ),
+        ] {
+            let dy: [f64; 6] = core::array::from_fn(|i| (0..6).map(|j| phi[(i, j)] * d0[j]).sum());
+            let du = cs * dy[3] + sn * dy[4] + (v[1] * cs - v[0] * sn) * dy[2];
+            let dw = dy[5];
+            let (du_exact, dw_exact) = (
+                (exact[0].0 - exact[1].0) / (2.0 * h),
+                (exact[0].1 - exact[1].1) / (2.0 * h),
+            );
+            eprintln!(
+                "sleigh t = {t}: ∂u/∂{name} {du:.10} (closed form {du_exact:.10}), ∂ω/∂{name} \
+                 {dw:.10} ({dw_exact:.10})"
+            );
+            assert!(
+                (du - du_exact).abs() <= 1e-7 && (dw - dw_exact).abs() <= 1e-7,
+                "t = {t}, {name}: ({du}, {dw}) against ({du_exact}, {dw_exact})"
+            );
+        }
+    }
+}
