@@ -585,6 +585,90 @@ fn radau5_follows_a_moving_constraint() {
     assert!(c.position <= 1e-12 && c.velocity <= 1e-10, "{c:?}");
 }
 
+/// Radau5's constrained runs locate events and keep dense output and λ like its plain runs, and
+/// run as ensemble members: the pendulum in x, y from θ = 1 at rest, its passages through the
+/// bottom (x = 0), against DOP853 at rtol 1e-13 (Radau5 at rtol 1e-10 is ≈ 25× that: 2.5e-9).
+#[test]
+fn radau5_constrained_events_dense_output_and_ensembles() {
+    let p = RigidPendulumXy {
+        m: 1.0,
+        g: 1.0,
+        l: 1.0,
+    };
+    let (q0, v0) = p.state(1.0, 0.0);
+    let run = |method: Method| {
+        Simulation::new(&p, q0, v0)
+            .method(method)
+            .until(10.0)
+            .sample_every(0.5)
+            .keep_dense_output(true)
+            .event(Event::zero_crossing("bottom", |_t, q: &[f64; 2], _v| q[0]))
+            .run()
+            .unwrap()
+    };
+    let radau5 = Method::Radau5 {
+        rtol: 1e-10,
+        atol: 1e-12,
+    };
+    let radau = run(radau5);
+    let reference = run(Method::Dop853 {
+        rtol: 1e-13,
+        atol: 1e-13,
+    });
+    // Bottom passages at T/4, 3T/4, 5T/4 (T ≈ 6.7 at 1 rad).
+    assert_eq!(radau.events.len(), 3);
+    assert_eq!(radau.events.len(), reference.events.len());
+    let worst_event = radau
+        .events
+        .iter()
+        .zip(&reference.events)
+        .fold(0.0_f64, |m, (a, b)| m.max((a.t - b.t).abs()));
+    let (mut worst_dense, mut off_rod) = (0.0_f64, 0.0_f64);
+    for k in 0..97 {
+        let t = 0.1031 * k as f64;
+        let ((q, v), (qr, vr)) = (radau.at(t).unwrap(), reference.at(t).unwrap());
+        for i in 0..2 {
+            worst_dense = worst_dense
+                .max((q[i] - qr[i]).abs())
+                .max((v[i] - vr[i]).abs());
+        }
+        off_rod = off_rod.max((q[0] * q[0] + q[1] * q[1] - 1.0).abs());
+    }
+    let worst_lambda = radau
+        .lambda
+        .iter()
+        .zip(&reference.lambda)
+        .fold(0.0_f64, |m, (a, b)| m.max((a[0] - b[0]).abs()));
+    eprintln!(
+        "pendulum in x, y, Radau5 1e-10: {} steps, events within {worst_event:.1e}, dense \
+         output within {worst_dense:.1e} (off the rod by {off_rod:.1e}), λ within \
+         {worst_lambda:.1e}",
+        radau.stats.steps
+    );
+    assert!(worst_event <= 1e-8, "{worst_event:e}");
+    assert!(worst_dense <= 1e-8, "{worst_dense:e}");
+    assert!(off_rod <= 1e-8, "{off_rod:e}");
+    assert!(worst_lambda <= 1e-8, "{worst_lambda:e}");
+    // Three members from θ = 0.5, 1, 1.5: each the single run of its start.
+    let start = |i: usize| p.state(0.5 * (i + 1) as f64, 0.0);
+    let r = Ensemble::new(3, |i| {
+        let (q, v) = start(i);
+        Member::new(p, q, v)
+    })
+    .configure(|sim| sim.method(radau5).until(10.0))
+    .run();
+    for (i, res) in r.results.iter().enumerate() {
+        let tr = res.as_ref().unwrap();
+        let (q, v) = start(i);
+        let single = Simulation::new(&p, q, v)
+            .method(radau5)
+            .until(10.0)
+            .run()
+            .unwrap();
+        assert_eq!(tr.q.last(), single.q.last(), "member {i}");
+    }
+}
+
 /// Radau5 runs velocity constraints: the Chaplygin sleigh of tests/one_run.rs against its
 /// closed form.
 #[test]

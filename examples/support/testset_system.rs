@@ -94,7 +94,9 @@ impl CarAxis {
     /// The reference solution at t = 3 that the test set's later releases and R's `deTestSet`
     /// give (GAMD in quadruple precision): positions, velocities, then λ₁, λ₂. (The
     /// double-precision one of the test set's `carsoln`, 0.4934557842755629e-1, …, differs from
-    /// it by 1e-11 in the velocities and 3.4e-8 in λ₁, relative.)
+    /// it by 1e-11 in the velocities and 3.4e-8 in λ₁, relative.) Quoted with every digit
+    /// published, beyond f64's.
+    #[allow(clippy::excessive_precision)]
     pub const REFERENCE: [f64; 10] = [
         0.493_455_784_275_402_809_122e-1,
         0.496_989_460_230_171_153_861,
@@ -314,7 +316,9 @@ impl Andrews {
     /// The end of the test set's interval, t = 0.03.
     pub const END: f64 = 0.03;
 
-    /// The test set's initial state: the angles of its `andinit`, at rest.
+    /// The test set's initial state: the angles of its `andinit` (to 18 of its 30 digits), at
+    /// rest.
+    #[allow(clippy::excessive_precision)]
     pub fn start(&self) -> ([f64; 7], [f64; 7]) {
         (
             [
@@ -332,7 +336,8 @@ impl Andrews {
 
     /// The test set's reference solution at t = 0.03 (its `andsoln`: PSIDE at tolerance 1e-14 in
     /// Cray double precision): the angles, their rates, then the multipliers in our sign (the
-    /// test set's negated).
+    /// test set's negated), every digit as published.
+    #[allow(clippy::excessive_precision)]
     pub const REFERENCE: [f64; 20] = [
         0.158_107_711_962_990_4e2,
         -0.157_563_710_598_429_8e2,
