@@ -63,10 +63,11 @@ pub(crate) fn least_norm_dyn<const N: usize>(
         }
     }
     let mut mu = r.to_vec();
-    let gram = ggt.clone();
     if lu_solve_dyn(&mut ggt, &mut mu, big).is_err() {
-        // Redundant rows: the least-squares correction of least norm.
-        mu = least_norm_symmetric(k, |a, b| gram[a * k + b], r)
+        // Redundant rows: the least-squares correction of least norm (G Gᵀ from the rows again:
+        // the LU worked in place).
+        let gram = |a: usize, b: usize| (0..N).map(|i| g[a][i] * g[b][i]).sum::<f64>();
+        mu = least_norm_symmetric(k, gram, r)
             .ok_or(Fault::Newton {
                 iterations: 0,
                 residual: r.iter().fold(0.0_f64, |m, x| m.max(x.abs())),

@@ -58,29 +58,29 @@ fn solve_bordered<const N: usize>(
 ) -> Result<([f64; N], Vec<f64>), ()> {
     let k = g_rows.len();
     let n = N + k;
-    let mut mat = vec![0.0; n * n];
-    let mut scale = 0.0_f64;
-    for i in 0..N {
-        for c in 0..N {
-            mat[i * n + c] = a[i][c];
-            scale = scale.max(a[i][c].abs());
+    let bordered = || {
+        let mut mat = vec![0.0; n * n];
+        for i in 0..N {
+            mat[i * n..i * n + N].copy_from_slice(&a[i]);
+            for (j, row) in gt_rows.iter().enumerate() {
+                mat[i * n + N + j] = -row[i];
+            }
         }
-        for (j, row) in gt_rows.iter().enumerate() {
-            mat[i * n + N + j] = -row[i];
+        for (j, row) in g_rows.iter().enumerate() {
+            mat[(N + j) * n..(N + j) * n + N].copy_from_slice(row);
         }
-    }
-    for (j, row) in g_rows.iter().enumerate() {
-        for c in 0..N {
-            mat[(N + j) * n + c] = row[c];
-        }
-    }
-    for row in gt_rows.iter().chain(g_rows) {
-        scale = scale.max(inf_norm(row));
-    }
+        mat
+    };
+    let scale = a
+        .iter()
+        .chain(gt_rows)
+        .chain(g_rows)
+        .fold(0.0_f64, |m, row| m.max(inf_norm(row)));
     let mut x: Vec<f64> = rhs_a.iter().chain(rhs_c).copied().collect();
-    let bordered = mat.clone();
-    if lu_solve_dyn(&mut mat, &mut x, scale).is_err() {
-        x = least_squares(n, bordered, rhs_a.iter().chain(rhs_c).copied().collect())?;
+    if lu_solve_dyn(&mut bordered(), &mut x, scale).is_err() {
+        // The LU worked in place: the matrix again for the least-squares solve (redundant rows
+        // only, so no copy on every iteration).
+        x = least_squares(n, bordered(), rhs_a.iter().chain(rhs_c).copied().collect())?;
     }
     let mut dx = [0.0; N];
     dx.copy_from_slice(&x[..N]);

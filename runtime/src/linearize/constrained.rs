@@ -165,8 +165,9 @@ where
 /// them (the Newton matrix of a constrained Radau5 run, taken at its projected nodes): exact from
 /// the jets for constraints that do not move ([`Holonomic::SCLERONOMIC`]) and are independent;
 /// for moving ones, whose acceleration-level rows have terms in t the linearization leaves out,
-/// and for redundant ones, whose saddle-point system is singular, central differences of the constrained accelerations (relative step ε^⅓: ~1e-10 of the Jacobian, far
-/// below what a simplified Newton iteration asks of its matrix).
+/// and for redundant ones, whose saddle-point system is singular, central differences of the
+/// constrained accelerations (relative step ε^⅓: ~1e-10 of the Jacobian, far below what a
+/// simplified Newton iteration asks of its matrix).
 pub(crate) fn constrained_state_jacobian<H, const N: usize, const K: usize>(
     sys: &H,
     q: &[f64; N],

@@ -129,26 +129,24 @@ impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
         stats.rhs_evals += 1;
         let [q, v] = y;
         // A view whose accelerations are not L's own (a constrained run's) gives its Jacobian.
-        let own = self.sys.first_order_jacobian(q, v, t).map(|j| {
-            j.map(|j| Jacobian {
+        let (a, jac) = if let Some(own) = self.sys.first_order_jacobian(q, v, t) {
+            let j = own?;
+            let jac = Jacobian {
                 d_q: SMatrix::from_fn(|i, k| j[(N + i, k)]),
                 d_qdot: SMatrix::from_fn(|i, k| j[(N + i, N + k)]),
-            })
-        });
-        let compiled = match own {
-            Some(_) => None,
-            None => compiled(self.sys, &mut self.kernel.borrow_mut(), q, v, t),
-        };
-        let (a, jac) = match (own, compiled) {
-            (Some(jac), _) => (self.sys.accelerations(q, v, t)?, jac?),
-            // q̈ from the plain kernel where the motion must be the plain run's bit for bit
-            // (the tangent kernel orders its operations differently: the last bits differ).
-            (None, Some((_, jac))) if plain_motion => (self.sys.accelerations(q, v, t)?, jac),
-            (None, Some(both)) => both,
-            (None, None) => (
-                self.sys.accelerations(q, v, t)?,
-                jacobian(self.sys, q, v, t)?,
-            ),
+            };
+            (self.sys.accelerations(q, v, t)?, jac)
+        } else {
+            match compiled(self.sys, &mut self.kernel.borrow_mut(), q, v, t) {
+                // q̈ from the plain kernel where the motion must be the plain run's bit for bit
+                // (the tangent kernel orders its operations differently: the last bits differ).
+                Some((_, jac)) if plain_motion => (self.sys.accelerations(q, v, t)?, jac),
+                Some(both) => both,
+                None => (
+                    self.sys.accelerations(q, v, t)?,
+                    jacobian(self.sys, q, v, t)?,
+                ),
+            }
         };
         *out_y = [*v, a];
         let n2 = 2 * N;
