@@ -575,6 +575,7 @@ pub mod prelude {
 pub mod __private {
     // What the generated code names, and nothing else (each path is used by `lagrange-macros`).
     pub use lagrange_runtime::constraints::{jet_constraint_rows, splice_velocity_rows};
+    pub use lagrange_runtime::contact::EqualityRows;
     pub use lagrange_runtime::jet::{timed_state, Timed};
     pub use lagrange_runtime::lagrangian::{kernel_params, Compiled, Declared};
     pub use lagrange_runtime::mix::*;

@@ -3,7 +3,8 @@
 //! Taylor method against single runs (`ensemble_lanes`); and the implicit method on stiff systems
 //! (`stiff`), redundant constraints (`redundant`), the IVP test set's mechanical problems
 //! (`testset`), sensitivities through constraints (`constrained_sensitivity`), the resetting
-//! events (`impacts`) and contacts (`contacts`), and the Whipple bicycle (`bicycle`). Apart from
+//! events (`impacts`), contacts (`contacts`) and contacts with constraints (`contact_constraints`),
+//! and the Whipple bicycle (`bicycle`). Apart from
 //! tests/physics.rs because the lanes engines and Radau5 are large generic code instantiated per
 //! system: the three parts build in parallel, and the physics part alone had become the build's
 //! critical path (340 s of a 6 min 43 s test build, 2026-11-27).
@@ -15,6 +16,7 @@ mod support;
 mod animation;
 mod bicycle;
 mod constrained_sensitivity;
+mod contact_constraints;
 mod contacts;
 mod ensemble;
 mod ensemble_lanes;

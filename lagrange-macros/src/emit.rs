@@ -565,15 +565,34 @@ fn unilateral_impl(decl: &Decl, analysis: &Facts<'_>, f: &Func, body: &syn::Bloc
     let self_ty = &decl.rest.self_ty;
     let n = proc_macro2::Literal::usize_unsuffixed(decl.n());
     let k = proc_macro2::Literal::usize_unsuffixed(f.k);
-    let scleronomic = analysis.contacts_scleronomic;
     let method = jets_func(decl, analysis, f, body, &mut Vec::new(), None);
     let allow = crate::names::allow_generated();
+    // Constraints next to the contacts hold throughout the run: the view takes their rows
+    // from the system's `impl Holonomic` (holonomic rows, then velocity rows).
+    let kh = decl.constraints.as_ref().map_or(0, |f| f.k);
+    let kv = decl.velocity_constraints.as_ref().map_or(0, |f| f.k);
+    let (scleronomic, equalities) = if kh + kv == 0 {
+        (analysis.contacts_scleronomic, quote!())
+    } else {
+        let kc = proc_macro2::Literal::usize_unsuffixed(kh + kv);
+        let rows = quote!(::lagrange::__private::EqualityRows);
+        let holonomic = quote!(<Self as ::lagrange::__private::Holonomic<#n, #kc>>);
+        (
+            analysis.contacts_scleronomic && analysis.scleronomic,
+            quote! {
+                fn equality_rows(&self, q: &[f64; #n], qdot: &[f64; #n], t: f64) -> #rows<#n> {
+                    #rows::of(&#holonomic::constraint_rows(self, q, qdot, t), #holonomic::VELOCITY_ROWS)
+                }
+            },
+        )
+    };
     quote! {
         #[automatically_derived]
         #allow
         impl ::lagrange::__private::Unilateral<#n, #k> for #self_ty {
             const SCLERONOMIC: bool = #scleronomic;
             #method
+            #equalities
         }
     }
 }

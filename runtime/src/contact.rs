@@ -32,6 +32,7 @@
 //! assert_eq!((rows.restitution[0], rows.names[0], rows.sticking[0]), (0.8, "floor", false));
 //! ```
 
+use crate::eom::ConstraintRows;
 use crate::jet::ConstraintJet;
 use crate::lagrangian::Lagrangian;
 use crate::scalar::Scalar;
@@ -205,6 +206,44 @@ pub trait Unilateral<const N: usize, const K: usize>: Lagrangian<N> {
     /// The contacts at (q, t).
     fn contacts<S: Scalar>(&self, q: &[S; N], t: S) -> [Contact<S>; K];
 
+    /// The equality constraints that hold throughout a run of this system alongside its
+    /// contacts: its holonomic rows g(q, t) = 0, then its velocity rows A q̇ + b = 0, at
+    /// (q, q̇, t). None by default; `#[lagrangian]` writes it for a system with `fn contacts`
+    /// and `fn constraints` or `fn velocity_constraints`, and a hand-written impl of both
+    /// traits writes the one line below. A contacts run then keeps them at every step, in the
+    /// accelerations, at every impact (the impulse has their rows in it: M Δq̇ = Gᵀ Λ + Aᵀ μ,
+    /// the constraints holding after the jump) and in the projection.
+    ///
+    /// ```
+    /// use lagrange_runtime::contact::EqualityRows;
+    /// use lagrange_runtime::{Contact, Holonomic, Lagrangian, Scalar, Unilateral};
+    /// /// A pendulum in x, y (its rod a constraint) that may strike a wall at x = −0.5.
+    /// struct Pendulum;
+    /// impl Lagrangian<2> for Pendulum {
+    ///     const COORDINATES: [&'static str; 2] = ["x", "y"];
+    ///     const CYCLIC: [bool; 2] = [true, false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 2], v: &[S; 2], _t: S) -> S {
+    ///         (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
+    ///     }
+    /// }
+    /// impl Holonomic<2, 1> for Pendulum {
+    ///     fn constraints<S: Scalar>(&self, q: &[S; 2], _t: S) -> [S; 1] { [q[0] * q[0] + q[1] * q[1] - 1.0] }
+    /// }
+    /// impl Unilateral<2, 1> for Pendulum {
+    ///     fn contacts<S: Scalar>(&self, q: &[S; 2], _t: S) -> [Contact<S>; 1] { [Contact::gap(q[0] + 0.5)] }
+    ///     fn equality_rows(&self, q: &[f64; 2], qdot: &[f64; 2], t: f64) -> EqualityRows<2> {
+    ///         EqualityRows::of(&self.constraint_rows(q, qdot, t), 0)
+    ///     }
+    /// }
+    /// let rows = Pendulum.equality_rows(&[0.0, -1.0], &[1.0, 0.0], 0.0);
+    /// assert_eq!((rows.len(), rows.jacobian[0], rows.curvature[0]), (1, [0.0, -2.0], 2.0));
+    /// ```
+    fn equality_rows(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> EqualityRows<N> {
+        let _ = (q, qdot, t);
+        EqualityRows::default()
+    }
+
     /// The contact rows at (q, q̇, t), from one evaluation of
     /// [`contacts`](Unilateral::contacts) in the [`ConstraintJet`].
     ///
@@ -247,5 +286,75 @@ pub trait Unilateral<const N: usize, const K: usize>: Lagrangian<N> {
             }
         }
         rows
+    }
+}
+
+/// The equality constraints of a system with contacts ([`Unilateral::equality_rows`]): each
+/// row's value g (0 for a velocity row), gradient (∂g/∂q, or A for a velocity row), rate
+/// (ġ, or A q̇ + b) and curvature (its second derivative along the motion at q̈ = 0), the
+/// holonomic rows first and the last [`velocity_rows`](EqualityRows::velocity_rows) of them
+/// velocity constraints.
+///
+/// ```
+/// use lagrange_runtime::contact::EqualityRows;
+/// use lagrange_runtime::eom::ConstraintRows;
+/// let rows = ConstraintRows { value: [0.5, 0.0], jacobian: [[1.0], [2.0]], rate: [3.0, 4.0], curvature: [5.0, 6.0] };
+/// let eq = EqualityRows::of(&rows, 1);
+/// assert_eq!((eq.len(), eq.velocity_rows, eq.value[0], eq.rate[1]), (2, 1, 0.5, 4.0));
+/// assert!(EqualityRows::<1>::default().is_empty());
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EqualityRows<const N: usize> {
+    /// g(q, t) per row (0 for the velocity rows).
+    pub value: Vec<f64>,
+    /// ∂g/∂q (A for a velocity row).
+    pub jacobian: Vec<[f64; N]>,
+    /// ġ (A q̇ + b for a velocity row).
+    pub rate: Vec<f64>,
+    /// The row's second derivative (first, for a velocity row) along the motion at q̈ = 0.
+    pub curvature: Vec<f64>,
+    /// How many of the rows, the last ones, are velocity constraints.
+    pub velocity_rows: usize,
+}
+
+impl<const N: usize> EqualityRows<N> {
+    /// The rows of a [`Holonomic`](crate::Holonomic) system's
+    /// [`constraint_rows`](crate::Holonomic::constraint_rows), the last `velocity_rows` of them
+    /// velocity constraints.
+    ///
+    /// ```
+    /// use lagrange_runtime::contact::EqualityRows;
+    /// use lagrange_runtime::eom::ConstraintRows;
+    /// let rows = ConstraintRows { value: [0.5], jacobian: [[1.0, 0.0]], rate: [3.0], curvature: [5.0] };
+    /// assert_eq!(EqualityRows::of(&rows, 0).jacobian, vec![[1.0, 0.0]]);
+    /// ```
+    pub fn of<const K: usize>(rows: &ConstraintRows<N, K>, velocity_rows: usize) -> Self {
+        EqualityRows {
+            value: rows.value.to_vec(),
+            jacobian: rows.jacobian.to_vec(),
+            rate: rows.rate.to_vec(),
+            curvature: rows.curvature.to_vec(),
+            velocity_rows: velocity_rows.min(K),
+        }
+    }
+
+    /// The number of rows.
+    ///
+    /// ```
+    /// # use lagrange_runtime::contact::EqualityRows;
+    /// assert_eq!(EqualityRows::<3>::default().len(), 0);
+    /// ```
+    pub fn len(&self) -> usize {
+        self.value.len()
+    }
+
+    /// Whether there are no rows.
+    ///
+    /// ```
+    /// # use lagrange_runtime::contact::EqualityRows;
+    /// assert!(EqualityRows::<3>::default().is_empty());
+    /// ```
+    pub fn is_empty(&self) -> bool {
+        self.value.is_empty()
     }
 }

@@ -87,6 +87,40 @@ pub fn resolve<const N: usize>(
     qdot: &[f64; N],
     candidates: &[Candidate<N>],
 ) -> Result<Outcome<N>, Failure> {
+    resolve_constrained(mass, qdot, candidates, &[])
+}
+
+/// An equality constraint that holds through an impact: its row (∂g/∂q, or A of a velocity
+/// constraint A q̇ + b = 0) and its rate before the impact (ġ⁻, or A q̇⁻ + b). After the impact
+/// the rate is zero; its impulse may have either sign.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Equality<const N: usize> {
+    /// ∂g/∂q (or A).
+    pub row: [f64; N],
+    /// ġ before the impact (with ∂g/∂t).
+    pub rate: f64,
+}
+
+/// The impact map with equality constraints holding through it: as [`resolve`], with
+/// M Δq̇ = Σ_j n_j Λ_j + Σ_i G_iᵀ μ_i and every equality's rate zero after the impact (its
+/// impulse μ_i free in sign). The equalities' rows must be independent of each other.
+///
+/// ```
+/// use lagrange_runtime::impact::{resolve_constrained, Candidate, Equality};
+/// // A pendulum of length 1 in x, y at the bottom (0, −1) moving left at 2, striking a wall
+/// // x ≥ 0 there (e = 1): the rod keeps ẏ = 0, and ẋ reverses.
+/// let wall = Candidate { normal: [1.0, 0.0], rate: -2.0, restitution: 1.0, tangent: None };
+/// let rod = Equality { row: [0.0, -2.0], rate: 0.0 };
+/// let out = resolve_constrained(&[[1.0, 0.0], [0.0, 1.0]], &[-2.0, 0.0], &[wall], &[rod]).unwrap();
+/// assert_eq!(out.qdot, [2.0, 0.0]);
+/// assert_eq!(out.impulse, vec![(4.0, 0.0)]);
+/// ```
+pub fn resolve_constrained<const N: usize>(
+    mass: &[[f64; N]; N],
+    qdot: &[f64; N],
+    candidates: &[Candidate<N>],
+    equalities: &[Equality<N>],
+) -> Result<Outcome<N>, Failure> {
     let k = candidates.len();
     if k > MAX_CANDIDATES {
         return Err(Failure::TooMany(k));
@@ -96,6 +130,9 @@ pub fn resolve<const N: usize>(
         .flatten()
         .chain(qdot.iter())
         .all(|x| x.is_finite())
+        && equalities
+            .iter()
+            .all(|e| e.rate.is_finite() && e.row.iter().all(|x| x.is_finite()))
         && candidates.iter().all(|c| {
             c.normal.iter().all(|x| x.is_finite())
                 && c.rate.is_finite()
@@ -123,7 +160,11 @@ pub fn resolve<const N: usize>(
     sets.sort_by_key(|s| (s.count_ones(), *s));
     for set in sets {
         // The rows of this set: (gradient, required change of its rate, candidate, tangential?).
-        let mut rows: Vec<(&[f64; N], f64, usize, bool)> = Vec::new();
+        // The equalities first (index `k`: no candidate), their rates brought to zero.
+        let mut rows: Vec<(&[f64; N], f64, usize, bool)> = equalities
+            .iter()
+            .map(|e| (&e.row, -e.rate, k, false))
+            .collect();
         for (j, c) in candidates.iter().enumerate() {
             if set & (1 << j) == 0 {
                 continue;
@@ -171,7 +212,9 @@ pub fn resolve<const N: usize>(
         let mut ok = true;
         let mut impulse = vec![(0.0, 0.0); k];
         for (m, &(_, _, j, tangential)) in rows.iter().enumerate() {
-            if tangential {
+            if j == k {
+                // An equality's impulse: either sign.
+            } else if tangential {
                 impulse[j].1 = lambda[m];
             } else {
                 impulse[j].0 = lambda[m];

@@ -110,18 +110,6 @@ pub fn validate(split: Split, options: Options, errors: &mut Errors) -> Option<D
             );
         }
     }
-    if let (Some(c), Some(_)) = (contacts.first(), constraints.first()) {
-        errors.at(
-            &c.sig.ident,
-            "`fn contacts` next to `fn constraints`: a run with contacts does not take holonomic constraints yet (Simulation::contacts would leave them out); write the system in coordinates that satisfy the constraints, or model them as contacts that stay closed",
-        );
-    }
-    if let (Some(c), Some(_)) = (contacts.first(), velocity_constraints.first()) {
-        errors.at(
-            &c.sig.ident,
-            "`fn contacts` next to `fn velocity_constraints`: a run with contacts does not take velocity constraints yet (Simulation::contacts would leave them out); a sticking contact (`.sticking(s)`) holds its contact point while closed",
-        );
-    }
     let func = funcs.swap_remove(0);
     let mut decl = check_fn(func, rest, options, errors)?;
     for (list, kind) in [

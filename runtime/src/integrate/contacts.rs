@@ -12,11 +12,12 @@ use nalgebra::SMatrix;
 use crate::contact::{ContactRows, Unilateral};
 use crate::eom::Pieces;
 use crate::error::{DynamicsError, Short};
-use crate::impact::{self, Candidate};
+use crate::impact::{self, Candidate, Equality};
 use crate::lagrangian::Lagrangian;
 use crate::linalg::lu_solve_dyn;
 use crate::scalar::Scalar;
 
+use super::error::SimulationError;
 use super::events::{Event, Jump};
 use super::manifold::{Manifold, Rows, least_norm_dyn};
 use super::newton::inf_norm;
@@ -59,6 +60,9 @@ struct ContactState<const K: usize> {
 pub struct ContactView<'a, U: ?Sized, const N: usize, const K: usize> {
     sys: &'a U,
     state: Rc<ContactState<K>>,
+    /// How many equality constraints hold alongside the contacts
+    /// ([`Unilateral::equality_rows`]), and how many of them (the last) are velocity rows.
+    equalities: (usize, usize),
 }
 
 impl<U: ?Sized, const N: usize, const K: usize> Clone for ContactView<'_, U, N, K> {
@@ -66,6 +70,7 @@ impl<U: ?Sized, const N: usize, const K: usize> Clone for ContactView<'_, U, N, 
         ContactView {
             sys: self.sys,
             state: Rc::clone(&self.state),
+            equalities: self.equalities,
         }
     }
 }
@@ -78,14 +83,17 @@ impl<U: ?Sized, const N: usize, const K: usize> core::fmt::Debug for ContactView
     }
 }
 
-/// One row of a closed contact: its gradient, value (the gap, or the tangential coordinate
-/// minus its anchor), rate and curvature, and its λ slot (2j normal, 2j + 1 tangential).
+/// One row of a closed contact or of an equality constraint: its gradient, value (the gap,
+/// the tangential coordinate minus its anchor, or g), rate and curvature, its λ slot (2j
+/// normal, 2j + 1 tangential, 2K + i for equality i), and whether it is a velocity constraint
+/// (no position part).
 struct Row<const N: usize> {
     grad: [f64; N],
     value: f64,
     rate: f64,
     curvature: f64,
     slot: usize,
+    velocity: bool,
 }
 
 impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactView<'a, U, N, K> {
@@ -109,15 +117,23 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
     /// assert_eq!(ContactView::new(&Ball, &[1.0], &[0.0], 0.0).unwrap().closed(), [false]);
     /// ```
     pub fn new(sys: &'a U, q0: &[f64; N], qdot0: &[f64; N], t0: f64) -> Result<Self, String> {
-        let view = ContactView {
+        let view = Self::of(sys, q0, qdot0, t0);
+        view.start(q0, qdot0, t0, false)
+            .map_err(|e| e.to_string())?;
+        Ok(view)
+    }
+
+    /// The view of `sys` with every contact open, its equality rows counted at (q0, q̇0, t0).
+    fn of(sys: &'a U, q0: &[f64; N], qdot0: &[f64; N], t0: f64) -> Self {
+        let eq = sys.equality_rows(q0, qdot0, t0);
+        ContactView {
             sys,
             state: Rc::new(ContactState {
                 closed: Cell::new([false; K]),
                 anchor: Cell::new([0.0; K]),
             }),
-        };
-        view.start(q0, qdot0, t0)?;
-        Ok(view)
+            equalities: (eq.len(), eq.velocity_rows),
+        }
     }
 
     /// Sets the view up for a run that starts at (q0, q̇0, t0), at the run's own start time
@@ -125,41 +141,52 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
     /// is put exactly on them (a gap within 1e-9 of its scale is a contact, not an error); a
     /// contact that touches and approaches (gap 0, ġ < 0) is an impact at t0, whose jump is
     /// returned with the state after it. Errors name the contact (not finite, penetrating).
+    /// A system with equality constraints must start on them (checked as for a constrained
+    /// run), or is put on them first where `project` (`Simulation::project_initial_state`).
     pub(crate) fn start(
         &self,
         q0: &[f64; N],
         qdot0: &[f64; N],
         t0: f64,
-    ) -> Result<(Y<N>, Option<Jump<N>>), String> {
+        project: bool,
+    ) -> Result<(Y<N>, Option<Jump<N>>), SimulationError> {
         self.state.closed.set([false; K]);
         self.state.anchor.set([0.0; K]);
+        let mut y = [*q0, *qdot0];
+        if self.equalities.0 > 0 {
+            // Every contact is open here: the view's rows are the equalities alone.
+            super::simulation::start_on(self, t0, &mut y, project)?;
+        }
+        let invalid = |message: String| SimulationError::InvalidOptions { message };
+        let on = y;
+        let (q0, qdot0) = (&on[0], &on[1]);
         let rows = self.sys.contact_rows(q0, qdot0, t0);
         let mut closed = [false; K];
         let mut approaching = None;
         for j in 0..K {
             let (gs, vs) = scales(&rows, j, q0, qdot0);
             if !(rows.gap[j].is_finite() && rows.normal_rate[j].is_finite()) {
-                return Err(format!(
+                return Err(invalid(format!(
                     "contact {} is not finite at the start t0 = {t0} (gap {}, rate {})",
                     self.name(&rows, j),
                     rows.gap[j],
                     rows.normal_rate[j]
-                ));
+                )));
             }
             if rows.gap[j] < -1e-9 * gs {
-                return Err(format!(
+                return Err(invalid(format!(
                     "contact {} penetrates at the start: its gap is {} at t0 = {t0}, q0 = {}; \
                      start with every gap g ≥ 0",
                     self.name(&rows, j),
                     Short(rows.gap[j]),
                     Short(&q0[..])
-                ));
+                )));
             }
             if let Some(message) = bad_restitution(rows.restitution[j]) {
-                return Err(format!(
+                return Err(invalid(format!(
                     "contact {}: {message} (at the start t0 = {t0})",
                     self.name(&rows, j)
-                ));
+                )));
             }
             // Touching: a gap within the round-off of computing it (the terms of g that cancel),
             // or a small penetration (accepted above, put on the surface below). A positive gap
@@ -175,15 +202,15 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
         }
         self.close(closed, &rows);
         self.anchor_at(q0, t0);
-        self.release(q0, qdot0, t0).map_err(|e| e.to_string())?;
-        let mut y = [*q0, *qdot0];
+        self.release(q0, qdot0, t0)
+            .map_err(|e| invalid(e.to_string()))?;
         let mut jump = None;
         if let Some(j) = approaching {
             // An impact at t0: every contact touching and approaching takes its impulse (the
             // transition takes them all), as if the run had arrived here.
             let after = self
                 .transition(j, false, t0, q0, qdot0)
-                .map_err(|e| e.to_string())?;
+                .map_err(|e| invalid(e.to_string()))?;
             let (e0, e1) = (
                 self.sys.energy(q0, qdot0, t0),
                 self.sys.energy(&after[0], &after[1], t0),
@@ -199,10 +226,10 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
         }
         // On the closed contacts exactly: a gap of 1e-12 taken for a contact is one.
         self.project(t0, &mut y).map_err(|f| {
-            format!(
+            invalid(format!(
                 "the initial state could not be put on the contacts that touch at t0 = {t0} \
                  ({f:?}): start with the touching contacts' gaps at 0"
-            )
+            ))
         })?;
         Ok((y, jump))
     }
@@ -266,10 +293,26 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
     }
 
     /// The rows of the closed contacts at (q, q̇, t).
+    /// The equality constraints' rows come first (slots 2K + i), so that a contact row that
+    /// repeats them is the one `independent` leaves out.
     fn active_rows(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Vec<Row<N>> {
         let closed = self.state.closed.get();
         let anchor = self.state.anchor.get();
         let mut out = Vec::new();
+        let (e, ev) = self.equalities;
+        if e > 0 {
+            let eq = self.sys.equality_rows(q, qdot, t);
+            for i in 0..eq.len().min(e) {
+                out.push(Row {
+                    grad: eq.jacobian[i],
+                    value: eq.value[i],
+                    rate: eq.rate[i],
+                    curvature: eq.curvature[i],
+                    slot: 2 * K + i,
+                    velocity: i >= e - ev,
+                });
+            }
+        }
         if !closed.iter().any(|&c| c) {
             return out;
         }
@@ -284,6 +327,7 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
                 rate: rows.normal_rate[j],
                 curvature: rows.normal_curvature[j],
                 slot: 2 * j,
+                velocity: false,
             });
             if rows.sticking[j] {
                 // The tangent's value against its anchor (the anchor is the value at closure).
@@ -295,6 +339,7 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
                     rate: rows.tangent_rate[j],
                     curvature: rows.tangent_curvature[j],
                     slot: 2 * j + 1,
+                    velocity: false,
                 });
             }
         }
@@ -310,7 +355,7 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
         t: f64,
     ) -> Result<([f64; N], Vec<f64>), DynamicsError> {
         let rows = independent(self.active_rows(q, qdot, t));
-        let mut lambda = vec![0.0; 2 * K];
+        let mut lambda = vec![0.0; 2 * K + self.equalities.0];
         if rows.is_empty() {
             return Ok((self.sys.accelerations(q, qdot, t)?, lambda));
         }
@@ -343,7 +388,7 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
         lu_solve_dyn(&mut a, &mut x, 1.0).map_err(|_| {
             let (t, q, qdot) = state();
             let names = self.sys.contact_rows(&q_arr(&q), &q_arr(&qdot), t).names;
-            let closed: Vec<String> = (0..K)
+            let mut closed: Vec<String> = (0..K)
                 .filter(|&j| self.closed()[j])
                 .map(|j| {
                     if names[j].is_empty() {
@@ -353,6 +398,12 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
                     }
                 })
                 .collect();
+            if self.equalities.0 > 0 {
+                closed.push(format!(
+                    "and the {} equality constraint(s)",
+                    self.equalities.0
+                ));
+            }
             DynamicsError::DependentConstraints {
                 t,
                 q,
@@ -483,18 +534,29 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
             .collect();
         let m: SMatrix<f64, N, N> = self.sys.mass_matrix(q, qdot, t);
         let mass: [[f64; N]; N] = core::array::from_fn(|i| core::array::from_fn(|k| m[(i, k)]));
-        let out = impact::resolve(&mass, qdot, &cands).map_err(|f| DynamicsError::Impact {
-            t,
-            q: q.to_vec(),
-            qdot: qdot.to_vec(),
-            message: format!(
-                "the impact of {} (with {} contact(s) touching) has no solution ({f:?}): the \
+        // The equality constraints hold through the impact (their independent rows).
+        let equalities: Vec<Equality<N>> = independent(self.active_rows(q, qdot, t))
+            .into_iter()
+            .filter(|r| r.slot >= 2 * K)
+            .map(|r| Equality {
+                row: r.grad,
+                rate: r.rate,
+            })
+            .collect();
+        let out = impact::resolve_constrained(&mass, qdot, &cands, &equalities).map_err(|f| {
+            DynamicsError::Impact {
+                t,
+                q: q.to_vec(),
+                qdot: qdot.to_vec(),
+                message: format!(
+                    "the impact of {} (with {} contact(s) touching) has no solution ({f:?}): the \
                  impact law M Δq̇ = Gᵀ Λ, ġ⁺ = −e ġ⁻ on the rows that take an impulse and \
                  ġ⁺ ≥ −e ġ⁻ on the others cannot be met; check that the contacts' gradients \
-                 are independent where they touch together",
-                self.name(&rows, j),
-                idx.len()
-            ),
+                 are independent where they touch together (and of the equality constraints)",
+                    self.name(&rows, j),
+                    idx.len()
+                ),
+            }
         })?;
         y[1] = out.qdot;
         // Contacts left at rest on their surface (ġ⁺ ≈ 0) close; the ones still moving apart
@@ -648,13 +710,17 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
     for ContactView<'_, U, N, K>
 {
     fn count(&self) -> usize {
-        2 * K
+        2 * K + self.equalities.0
+    }
+    fn velocity_rows(&self) -> usize {
+        self.equalities.1
     }
     fn rows(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> Rows<N> {
+        let n = self.count();
         let mut out = Rows {
-            value: vec![0.0; 2 * K],
-            jacobian: vec![[0.0; N]; 2 * K],
-            rate: vec![0.0; 2 * K],
+            value: vec![0.0; n],
+            jacobian: vec![[0.0; N]; n],
+            rate: vec![0.0; n],
         };
         for r in self.active_rows(q, qdot, t) {
             out.value[r.slot] = r.value;
@@ -669,8 +735,14 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
     fn project(&self, t: f64, y: &mut Y<N>) -> Result<f64, Fault> {
         let zero = [0.0; N];
         let mut moved = 0.0_f64;
-        let mut rows = independent(self.active_rows(&y[0], &zero, t));
-        if rows.is_empty() {
+        // Positions onto the rows that have a position part (not the velocity constraints).
+        let positional = |q: &[f64; N]| {
+            let mut rows = self.active_rows(q, &zero, t);
+            rows.retain(|r| !r.velocity);
+            independent(rows)
+        };
+        let mut rows = positional(&y[0]);
+        if rows.is_empty() && self.equalities.1 == 0 {
             return Ok(0.0);
         }
         for _ in 0..MAX_PROJECTION {
@@ -686,7 +758,7 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Manifold<N>
             if !y[0].iter().all(|x| x.is_finite()) {
                 return Err(Fault::NonFinite);
             }
-            rows = independent(self.active_rows(&y[0], &zero, t));
+            rows = positional(&y[0]);
             if inf_norm(&dq) <= 4.0 * f64::EPSILON * inf_norm(&y[0]) {
                 break;
             }
@@ -787,8 +859,9 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
         qdot: &[f64; N],
         t: f64,
     ) -> Result<[f64; N], DynamicsError> {
-        // With every contact open: the system's own accelerations, nothing allocated.
-        if !self.state.closed.get().iter().any(|&c| c) {
+        // With every contact open and no equality constraints: the system's own accelerations,
+        // nothing allocated.
+        if self.equalities.0 == 0 && !self.state.closed.get().iter().any(|&c| c) {
             return self.sys.accelerations(q, qdot, t);
         }
         self.solve(q, qdot, t).map(|(a, _)| a)
@@ -817,6 +890,13 @@ where
     /// jumps are in [`Trajectory::jumps`](crate::Trajectory::jumps) and the work column carries
     /// the energy they remove.
     ///
+    /// A system with constraints beside its contacts ([`Unilateral::equality_rows`]: every
+    /// `#[lagrangian]` impl with `fn constraints` or `fn velocity_constraints` next to
+    /// `fn contacts`) keeps them throughout: in the accelerations, in the projection and through
+    /// every impact (M Δq̇ = Gᵀ Λ + Aᵀ μ, the constraints' rates zero after it); their
+    /// multipliers follow the contacts' (column 2K + i for constraint i), and the start must be
+    /// on them (or `project_initial_state`), as for a constrained run.
+    ///
     /// A contact is closed at the start where its gap and rate are zero and it presses; a state
     /// that penetrates a contact is refused ([`SimulationError::InvalidOptions`](crate::SimulationError::InvalidOptions)).
     ///
@@ -843,18 +923,14 @@ where
     /// assert!((tr.lambda.last().unwrap()[0] - 9.81).abs() < 1e-9); // λ = m g
     /// ```
     pub fn contacts(system: &'a U, q0: [f64; N], qdot0: [f64; N]) -> Self {
-        let view = ContactView {
-            sys: system,
-            state: Rc::new(ContactState {
-                closed: Cell::new([false; K]),
-                anchor: Cell::new([0.0; K]),
-            }),
-        };
+        let view = ContactView::of(system, &q0, &qdot0, 0.0);
         let events = view.events(&q0, 0.0);
         let mut sim = Self::with(Sys::Owned(Box::new(view.clone())), q0, qdot0);
         // The view is set up when the run starts, at its start time and initial state.
         let start = view.clone();
-        sim.o.contact_start = Some(Box::new(move |q, v, t| start.start(q, v, t)));
+        sim.o.contact_start = Some(Box::new(move |q, v, t, project| {
+            start.start(q, v, t, project)
+        }));
         sim.o.manifold = Some(Box::new(view));
         sim.o.events = events;
         sim

@@ -16,7 +16,13 @@ use super::trajectory::{Sample, Trajectory};
 
 /// The set-up of a contacts run at its start (see `Options::contact_start`).
 pub(super) type ContactStart<'a, const N: usize> = Box<
-    dyn Fn(&[f64; N], &[f64; N], f64) -> Result<(super::state::Y<N>, Option<Jump<N>>), String> + 'a,
+    dyn Fn(
+            &[f64; N],
+            &[f64; N],
+            f64,
+            bool,
+        ) -> Result<(super::state::Y<N>, Option<Jump<N>>), SimulationError>
+        + 'a,
 >;
 
 /// The observer of [`Simulation::observe`]: called with every recorded sample.
@@ -710,24 +716,38 @@ impl<const N: usize> Options<'_, N> {
     /// asked.
     fn initial_state(&self) -> Result<([[f64; N]; 2], Option<Jump<N>>), SimulationError> {
         if let Some(start) = &self.contact_start {
-            return start(&self.q0, &self.qdot0, self.t0)
-                .map_err(|message| SimulationError::InvalidOptions { message });
+            return start(&self.q0, &self.qdot0, self.t0, self.project_initial);
         }
         let mut y0 = [self.q0, self.qdot0];
         let Some(m) = self.manifold.as_deref() else {
             return Ok((y0, None));
         };
-        let t0 = self.t0;
-        if self.project_initial {
-            m.project(t0, &mut y0)
+        start_on(m, self.t0, &mut y0, self.project_initial)?;
+        Ok((y0, None))
+    }
+}
+
+/// Puts an initial state `y0` on the constraints of `m` at t0 where `project`
+/// ([`Simulation::project_initial_state`]), else checks that it is on them: each residual
+/// against its own scale, an [`OffConstraints`](SimulationError::OffConstraints) error beyond
+/// 1e-10 of it.
+pub(super) fn start_on<const N: usize>(
+    m: &dyn Manifold<N>,
+    t0: f64,
+    y0: &mut super::state::Y<N>,
+    project: bool,
+) -> Result<(), SimulationError> {
+    let (q0, qdot0) = (y0[0], y0[1]);
+    {
+        if project {
+            m.project(t0, y0)
                 .map_err(|f| SimulationError::InvalidOptions {
                     message: format!(
                         "projecting the initial state onto the constraints failed at t = {t0}, \
-                     q0 = {:?}, q̇0 = {:?} ({f:?}): start nearer to the constraints",
-                        self.q0, self.qdot0
+                     q0 = {q0:?}, q̇0 = {qdot0:?} ({f:?}): start nearer to the constraints"
                     ),
                 })?;
-            return Ok((y0, None));
+            return Ok(());
         }
         // Each residual against its own scale: |g_j| against Σ_i |∂g_j/∂q_i · q_i| (the size
         // of the terms that cancel in g_j), |ġ_j| against Σ_i |∂g_j/∂q_i · q̇_i| + |∂g_j/∂t|.
@@ -751,14 +771,14 @@ impl<const N: usize> Options<'_, N> {
         if worst.1 > INITIAL_TOLERANCE || !pos.is_finite() || !vel.is_finite() {
             return Err(SimulationError::OffConstraints {
                 t: t0,
-                q: self.q0.to_vec(),
-                qdot: self.qdot0.to_vec(),
+                q: q0.to_vec(),
+                qdot: qdot0.to_vec(),
                 position_residual: pos,
                 velocity_residual: vel,
                 worst: worst.0,
             });
         }
-        Ok((y0, None))
+        Ok(())
     }
 }
 
