@@ -383,7 +383,7 @@ pub fn solve_constrained<const N: usize, const K: usize>(
     if let Some((a, lambda)) = constrained_fast(&mt, &bt, g, c) {
         return Ok((a, lambda.map(|l| l * back)));
     }
-    constrained_careful(&mt, &bt, g, c, back, (&names, q, qdot, t))
+    constrained_careful(&mt, &bt, g, c, back, rows, (&names, q, qdot, t))
 }
 
 /// What [`solve_constrained`] gives: (q̈, λ) or why not.
@@ -449,6 +449,7 @@ fn constrained_careful<const N: usize, const K: usize>(
     g: &[[f64; N]; K],
     c: &[f64; K],
     back: f64,
+    rows: &ConstraintRows<N, K>,
     (names, q, qdot, t): (&[&'static str; N], &[f64; N], &[f64; N], f64),
 ) -> Result<([f64; N], [f64; K]), DynamicsError> {
     // z = M̃⁻¹ b̃ and Y_j = M̃⁻¹ G_jᵀ, from one factorization.
@@ -485,7 +486,9 @@ fn constrained_careful<const N: usize, const K: usize>(
     let lambda = match solve_symmetric(&s, &r) {
         Ok(l) => l,
         Err(SolveFailure::NonFinite) => return Err(non_finite(q, qdot, t)),
-        Err(SolveFailure::Singular { row, .. }) => redundant(&s, &r, c, row, (names, q, qdot, t))?,
+        Err(SolveFailure::Singular { row, .. }) => {
+            redundant(&s, &r, c, row, rows, (names, q, qdot, t))?
+        }
     };
     let mut a = z;
     for j in 0..K {
@@ -507,12 +510,20 @@ fn constrained_careful<const N: usize, const K: usize>(
 /// part outside S's range: the dependent rows ask for accelerations that contradict each other,
 /// so no motion satisfies them), or when the least-norm solve itself fails (then naming `row`,
 /// where the pivot test broke down).
+///
+/// Inconsistency is judged on the constraints only. Off them (a Runge–Kutta stage, Radau5's
+/// Newton iterates, the perturbed states of a difference quotient) dependent rows are
+/// inconsistent to the order of the distance from them — Bricard's linkage asks 5e-6 of
+/// contradiction 6e-6 away — and there λ is the least-norm least-squares one (a smooth
+/// extension of the accelerations off the constraints), the step's projection bringing the
+/// state back. Refusing there had DOP853 reject its steps down to 1/25 of their size.
 #[inline(never)]
 fn redundant<const N: usize, const K: usize>(
     s: &[[f64; K]; K],
     r: &[f64; K],
     c: &[f64; K],
     row: usize,
+    rows: &ConstraintRows<N, K>,
     (_names, q, qdot, t): (&[&'static str; N], &[f64; N], &[f64; N], f64),
 ) -> Result<[f64; K], DynamicsError> {
     let Some(sol) = crate::linalg::least_norm_symmetric(K, |i, k| s[i][k], r) else {
@@ -530,7 +541,7 @@ fn redundant<const N: usize, const K: usize>(
         .iter()
         .chain(c.iter())
         .fold(0.0_f64, |m, x| m.max(x.abs()));
-    if sol.outside > 1e-8 * size {
+    if sol.outside > 1e-8 * size && off_constraints(rows, q, qdot) <= 1e-8 {
         let rows: Vec<String> = sol.rows.iter().map(ToString::to_string).collect();
         return Err(DynamicsError::DependentConstraints {
             t,
@@ -549,6 +560,28 @@ fn redundant<const N: usize, const K: usize>(
         });
     }
     Ok(core::array::from_fn(|j| sol.x[j]))
+}
+
+/// How far (q, q̇) is off the constraints of `rows`, relatively: the largest of |g_j| against
+/// Σ_i |∂g_j/∂q_i q_i| (the terms that cancel in g_j) and |ġ_j| against
+/// Σ_i |∂g_j/∂q_i q̇_i| + |∂g_j/∂t|, each scale plus the row's largest entry (a floor at q = 0
+/// or at rest).
+fn off_constraints<const N: usize, const K: usize>(
+    rows: &ConstraintRows<N, K>,
+    q: &[f64; N],
+    qdot: &[f64; N],
+) -> f64 {
+    (0..K).fold(0.0_f64, |worst, j| {
+        let g = &rows.jacobian[j];
+        let size = g.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let sp: f64 = (0..N).map(|i| (g[i] * q[i]).abs()).sum::<f64>() + size;
+        let gv: f64 = (0..N).map(|i| g[i] * qdot[i]).sum();
+        let sv: f64 =
+            (0..N).map(|i| (g[i] * qdot[i]).abs()).sum::<f64>() + (rows.rate[j] - gv).abs() + size;
+        worst
+            .max(rows.value[j].abs() / sp)
+            .max(rows.rate[j].abs() / sv)
+    })
 }
 
 /// A power of two within a factor 2 of a / b (a, b > 0), from the exponents: no division on the

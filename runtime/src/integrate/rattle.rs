@@ -168,19 +168,28 @@ impl<'a, const N: usize> Rattle<'a, N> {
                     scale = scale.max(term.abs());
                 }
             }
-            // Each constraint against the size of the terms that cancel in it.
-            let mut c_ok = true;
-            for (j, row) in rows1.jacobian.iter().enumerate() {
-                let cs: f64 = (0..N).map(|i| (row[i] * q1[i]).abs()).sum();
-                c_ok &= rows1.value[j].abs() <= 8.0 * f64::EPSILON * cs.max(f64::MIN_POSITIVE);
-            }
+            // Each constraint against the size of the terms that cancel in it, at least its
+            // gradient times max(|q|, 1) (the projection's floor: near q = 0 a loop's closure
+            // j₅ − (0, 0, 1) still carries the rounding of its O(1) terms).
+            // Within `k` roundings of the terms: k = 8 converged, k = 8000 converged if Newton
+            // no longer gains (redundant rows: the least-squares step's own rounding, up to
+            // 1/√ε of ε in the directions it keeps, is a floor above 8 ε).
+            let q_size = inf_norm(&q1).max(1.0);
+            let within = |k: f64| {
+                inf_norm(&r) <= k * f64::EPSILON * scale
+                    && rows1.jacobian.iter().enumerate().all(|(j, row)| {
+                        let cs: f64 = (0..N).map(|i| (row[i] * q1[i]).abs()).sum();
+                        let floor = inf_norm(row) * q_size;
+                        rows1.value[j].abs() <= k * f64::EPSILON * cs.max(floor)
+                    })
+            };
+            let previous = r_norm;
             r_norm = inf_norm(&r).max(inf_norm_slice(&rows1.value));
             if !r_norm.is_finite() {
                 return Err(Fault::NonFinite);
             }
-            if (inf_norm(&r) <= 8.0 * f64::EPSILON * scale && c_ok)
-                || last_dx <= 4.0 * f64::EPSILON * mid.x_scale
-            {
+            let stalled = r_norm > 0.5 * previous && within(8000.0);
+            if within(8.0) || stalled || last_dx <= 4.0 * f64::EPSILON * mid.x_scale {
                 self.nu = nu;
                 let mut p_star = p0;
                 for i in 0..N {
