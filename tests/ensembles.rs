@@ -2,7 +2,8 @@
 //! sweeps on threads, shards and CSV (`ensemble`), and the SIMD lanes engines of DOP853 and the
 //! Taylor method against single runs (`ensemble_lanes`); and the implicit method on stiff systems
 //! (`stiff`), redundant constraints (`redundant`), the IVP test set's mechanical problems
-//! (`testset`), sensitivities through constraints (`constrained_sensitivity`), the resetting
+//! (`testset`), sensitivities through constraints (`constrained_sensitivity`) and jumps
+//! (`jump_sensitivity`), the resetting
 //! events (`impacts`), contacts (`contacts`) and contacts with constraints (`contact_constraints`),
 //! and the Whipple bicycle (`bicycle`). Apart from
 //! tests/physics.rs because the lanes engines and Radau5 are large generic code instantiated per
@@ -21,6 +22,7 @@ mod contacts;
 mod ensemble;
 mod ensemble_lanes;
 mod impacts;
+mod jump_sensitivity;
 mod limits;
 mod one_run;
 mod redundant;

@@ -12,12 +12,14 @@ use super::super::error::SimulationError;
 use super::super::factory::Explicit;
 use super::super::method::Method;
 use super::super::simulation::Simulation;
+use super::super::state::{Fault, Y};
 use super::super::system::System;
 use super::super::trajectory::{SAMPLE_BUDGET_BYTES, sample_bytes};
 use super::Log;
 use super::augmented::Variational;
 use super::event_time::at_event;
 use super::result::Sensitivities;
+use super::saltation::saltation;
 use super::taylor::VarSeries;
 use super::variation::{Parameter, Variation, difference_step};
 
@@ -161,8 +163,13 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     ///
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
     /// step) for what it does not cover yet: the implicit methods (`Method::Radau5`,
-    /// `Method::VariationalMidpoint`), a run with contacts, parameters of a constrained run, an
-    /// event that resets the state, a parameter whose value is not finite.
+    /// `Method::VariationalMidpoint`), a run with contacts, parameters of a constrained run or of
+    /// one with a resetting event, a resetting event with the Taylor method, a parameter whose
+    /// value is not finite.
+    ///
+    /// Through a resetting event Φ jumps with the state: Φ⁺ = S Φ⁻, S the jump's saltation
+    /// matrix (see the [module documentation](crate::sensitivity)); an event that fires grazing
+    /// (crossing zero at zero rate) has none, and is an error.
     ///
     /// A constrained run (holonomic or velocity constraints) integrates the variations with the
     /// Jacobian of its constrained accelerations. Its Φ(t) maps a perturbation of the start to
@@ -242,11 +249,14 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                 false
             }
         };
+        // Φ's columns of the coordinates absent from L stay unit columns until a jump mixes
+        // them (then every column is integrated).
+        let unit = core::cell::Cell::new(phi_unit);
         let var = || Variation {
             sys: p.sys,
             params,
             phi_cols: n2,
-            phi_unit,
+            phi_unit: unit.get(),
             kernel: Default::default(),
         };
         let log = RefCell::new(Log::default());
@@ -256,10 +266,41 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             log: Some(&log),
             control: !self.motion_steps,
         };
+        // The columns a stepper starts from at (t, y): Φ(t0) at the start; after a jump, the
+        // columns just before it times the jump's saltation matrix.
+        let start_cols = |t: f64, y: &Y<N>| -> Result<Vec<f64>, Fault> {
+            let log = log.borrow();
+            let jumped = (0..log.events.len())
+                .rev()
+                .take_while(|&k| log.events[k].0 == t)
+                .find(|&k| p.events[log.events[k].1].is_reset());
+            let Some(k) = jumped.filter(|_| t > t0) else {
+                return Ok(cols0.clone());
+            };
+            let (_, i, cols) = &log.events[k];
+            let state = &log.states[k];
+            if state.len() != n2 {
+                return Err(Fault::NonFinite);
+            }
+            let before: Y<N> = [
+                core::array::from_fn(|j| state[j]),
+                core::array::from_fn(|j| state[N + j]),
+            ];
+            let s = saltation(p.sys, &p.events[*i], t, &before, y)?;
+            unit.set(false);
+            let mut out = vec![0.0; cols.len()];
+            for (c, col) in cols.chunks(n2).enumerate() {
+                for r in 0..n2 {
+                    out[c * n2 + r] = (0..n2).map(|k| s[(r, k)] * col[k]).sum();
+                }
+            }
+            Ok(out)
+        };
         let traj = match (Explicit::of(method), method) {
             (Some(e), _) => driver.run_boxed(&p.opts, t0, y0, &mut |t, y, stats| {
+                let cols = start_cols(t, &y)?;
                 let p = problem();
-                let x0 = p.state(y, cols0.clone());
+                let x0 = p.state(y, cols);
                 e.stepper(p, t, x0, until, hmax, stats)
             }),
             (None, Method::Taylor { tol }) => driver.run(&p.opts, t0, y0, |t, y, _stats| {
@@ -371,12 +412,24 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             );
         }
         if let Some(e) = sim.o.events.iter().find(|e| e.is_reset()) {
-            return Some(format!(
-                "event `{}` resets the state, and the derivative of a flow that jumps needs the \
-                 saltation matrix, not covered yet: make the event terminal and start a new \
-                 sensitivity run from the state after the jump",
-                e.name()
-            ));
+            if matches!(sim.o.method, Method::Taylor { .. }) {
+                return Some(format!(
+                    "event `{}` resets the state: the Taylor method's sensitivity runs do not \
+                     carry Φ through a jump yet (the explicit methods do, with the jump's \
+                     saltation matrix): use Method::Dop853 {{ rtol, atol }}",
+                    e.name()
+                ));
+            }
+            if !self.params.is_empty() {
+                return Some(format!(
+                    "event `{}` resets the state, and this run has parameters: the reset map \
+                     and the event's function are closures the parameters do not reach, so \
+                     the jump's dependence on them is not known; Φ through the jump is (run \
+                     without parameters), or make the event terminal and start a new run from \
+                     the state after it",
+                    e.name()
+                ));
+            }
         }
         if let Some(p) = self.params.iter().find(|p| !p.value.is_finite()) {
             return Some(format!(

@@ -12,7 +12,7 @@ use super::result::EventSensitivity;
 /// h = ε^(1/5) max(|x|, 1) per variable (truncation O(h⁴), round-off O(ε/h): about 1e-13
 /// relative for a smooth g; exact to round-off for a g linear in the variable). Returns
 /// (∂g/∂t, ∂g/∂(q, q̇)).
-fn gradient<const N: usize>(
+pub(super) fn gradient<const N: usize>(
     ev: &Event<'_, N>,
     t: f64,
     q: &[f64; N],
