@@ -1,9 +1,12 @@
 //! Sensitivities through resetting events: Φ carried across each jump by its saltation matrix
 //! S = ∂R/∂y + (f⁺ − ∂R/∂y f⁻ − ∂R/∂t)(∂h/∂y)/ḣ, against a closed form derived here (a ball
 //! bouncing on a floor) and against central differences of runs (a pendulum striking a wall
-//! twice, an oblique bounce that couples the coordinates); the refusals of what is not covered.
+//! twice, an oblique bounce that couples the coordinates); a hybrid periodic orbit found by
+//! shooting through its jumps (the rimless wheel's gait and its step-to-step multiplier
+//! cos² 2α); the refusals of what is not covered.
 
 use lagrange::prelude::*;
+use lagrange::sensitivity::Shooting;
 
 const G: f64 = 9.81;
 
@@ -245,4 +248,95 @@ fn what_a_jump_sensitivity_cannot_take_is_refused() {
         .run()
         .unwrap_err();
     assert!(err.to_string().contains("parameters"), "{err}");
+}
+
+/// A rimless wheel (a hub of mass m on spokes of length l, 2α apart) rolling down a slope γ,
+/// in the angle θ of its stance spoke from the slope's normal: L = ½ m l² θ̇² − m g l cos(θ + γ)
+/// from θ = −α to α, where the next spoke lands (θ⁺ = −α, θ̇⁺ = cos 2α θ̇⁻: the angular
+/// momentum about the new contact kept).
+pub struct Wheel {
+    pub l: f64,
+    pub slope: f64,
+}
+
+#[lagrangian]
+impl Wheel {
+    fn lagrangian(&self, (th, th_dot): Coord) -> Scalar {
+        0.5 * self.l * self.l * th_dot * th_dot - G * self.l * (th + self.slope).cos()
+    }
+}
+
+/// Its gait found by shooting through the spoke's landing: over a step the energy gains
+/// 2 g l sin α sin γ (per unit mass), and the landing keeps cos 2α of θ̇, so the post-impact
+/// rate ω satisfies ω² = cos² 2α (ω² + k), k = 4 (g/l) sin α sin γ: ω* = cot 2α √k, and the
+/// step-to-step map ω ↦ cos 2α √(ω² + k) has the slope cos 2α ω/√(ω² + k) = cos² 2α at ω*
+/// (where √(ω*² + k) = ω*/cos 2α). The orbit found: on the energy of
+/// the gait through ω*, its period the step time T = ∫ dθ/θ̇ from −α to α, and its monodromy's
+/// multipliers {1, cos² 2α} (8 spokes: 1/2), against these closed forms.
+#[test]
+fn rimless_wheel_gait_and_its_multiplier_by_shooting_through_its_impacts() {
+    let (l, slope) = (1.0, 0.2);
+    let alpha = std::f64::consts::PI / 8.0;
+    let sys = Wheel { l, slope };
+    let k = 4.0 * (G / l) * alpha.sin() * slope.sin();
+    let omega = k.sqrt() / (2.0 * alpha).tan();
+    // θ̇ on the gait at θ: ½ θ̇² = ½ ω*² + (g/l)(cos(−α + γ) − cos(θ + γ)).
+    let rate = |th: f64| {
+        (omega * omega + 2.0 * (G / l) * ((slope - alpha).cos() - (th + slope).cos())).sqrt()
+    };
+    // T by composite Gauss–Legendre (5 points, 64 panels) of 1/θ̇, smooth on [−α, α].
+    let (x5, w5) = (
+        [
+            -0.906_179_845_938_664,
+            -0.538_469_310_105_683,
+            0.0,
+            0.538_469_310_105_683,
+            0.906_179_845_938_664,
+        ],
+        [
+            0.236_926_885_056_189,
+            0.478_628_670_499_366,
+            0.568_888_888_888_889,
+            0.478_628_670_499_366,
+            0.236_926_885_056_189,
+        ],
+    );
+    let panels = 64;
+    let h = 2.0 * alpha / panels as f64;
+    let mut period = 0.0;
+    for p in 0..panels {
+        let mid = -alpha + (p as f64 + 0.5) * h;
+        for (x, w) in x5.iter().zip(w5) {
+            period += w * 0.5 * h / rate(mid + 0.5 * h * x);
+        }
+    }
+    let orbit = Shooting::autonomous(&sys, [0.0], [1.05 * rate(0.0)], 1.05 * period)
+        .event(move || {
+            Event::zero_crossing("next spoke", move |_t, q: &[f64; 1], _v| q[0] - alpha)
+                .rising()
+                .reset(move |_t, q, v| ([q[0] - 2.0 * alpha], [(2.0 * alpha).cos() * v[0]]))
+        })
+        .find()
+        .unwrap();
+    let (th0, w0) = (orbit.q0[0], orbit.qdot0[0]);
+    eprintln!(
+        "rimless wheel: T = {} (closed form {period}), start ({th0}, {w0}), multipliers {:?}",
+        orbit.period, orbit.multipliers
+    );
+    assert!(
+        (orbit.period - period).abs() < 1e-9 * period,
+        "T = {}",
+        orbit.period
+    );
+    assert!(
+        (w0 - rate(th0)).abs() < 1e-9,
+        "θ̇ = {w0} at θ = {th0}, gait {}",
+        rate(th0)
+    );
+    let mut mods: Vec<f64> = orbit.multipliers.iter().map(|m| m.norm()).collect();
+    mods.sort_by(f64::total_cmp);
+    let mu = (2.0 * alpha).cos().powi(2);
+    assert!((mods[0] - mu).abs() < 1e-8, "{mods:?} vs {mu}");
+    assert!((mods[1] - 1.0).abs() < 1e-8, "{mods:?}");
+    assert!(orbit.stability.is_stable(), "{:?}", orbit.stability);
 }

@@ -34,6 +34,7 @@ use nalgebra::{Complex, DMatrix, DVector};
 use crate::lagrangian::Lagrangian;
 
 use super::super::error::SimulationError;
+use super::super::events::Event;
 use super::super::method::Method;
 use super::super::simulation::Simulation;
 
@@ -276,7 +277,12 @@ pub struct Shooting<'a, L, const N: usize> {
     tolerance: f64,
     max_iterations: usize,
     pin: Option<Pin>,
+    /// The events of each shot, made afresh for each (an event owns its closures).
+    events: Vec<EventMaker<'a, N>>,
 }
+
+/// What makes one of a shooting's events for each of its runs.
+type EventMaker<'a, const N: usize> = Box<dyn Fn() -> Event<'a, N> + 'a>;
 
 /// What picks one orbit out of an autonomous system's family (the energy, or the coordinate the
 /// orbit passes through), as a Newton row of its own.
@@ -321,6 +327,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             tolerance: 1e-10,
             max_iterations: 30,
             pin: None,
+            events: Vec::new(),
         }
     }
 
@@ -486,6 +493,45 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         self
     }
 
+    /// Adds an event to every run of the shooting, made by `make` for each: a resetting event
+    /// (an impact, a walker's heel strike that swaps its legs) makes the orbit a hybrid one,
+    /// which closes through its jumps; the monodromy carries each jump's saltation matrix (see
+    /// [`Sensitivity::run`](crate::sensitivity::Sensitivity::run)), so its multipliers are those
+    /// of the step-to-step map. Start the shooting away from the jumps, with a period guess that
+    /// takes the same jumps as the orbit.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Event, Lagrangian, Scalar};
+    /// use lagrange_runtime::sensitivity::Shooting;
+    /// /// A rimless wheel (spokes of length 1, angle 2α apart) on a slope γ: θ̈ = sin(θ + γ)
+    /// /// (unit g/l) from θ = −α to α, where the next spoke lands: θ⁺ = −α, θ̇⁺ = cos 2α θ̇⁻.
+    /// struct Wheel;
+    /// impl Lagrangian<1> for Wheel {
+    ///     const COORDINATES: [&'static str; 1] = ["theta"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+    ///         v[0] * v[0] * 0.5 - (q[0] + 0.08).cos()
+    ///     }
+    /// }
+    /// let alpha = std::f64::consts::PI / 8.0;
+    /// let orbit = Shooting::autonomous(&Wheel, [0.0], [0.17], 3.2)
+    ///     .event(move || {
+    ///         Event::zero_crossing("next spoke", move |_t, q: &[f64; 1], _v| q[0] - alpha)
+    ///             .rising()
+    ///             .reset(move |_t, q, v| ([q[0] - 2.0 * alpha], [(2.0 * alpha).cos() * v[0]]))
+    ///     })
+    ///     .find()
+    ///     .unwrap();
+    /// // The step-to-step map's multiplier: cos² 2α = 1/2.
+    /// let mu = orbit.multipliers.iter().map(|m| m.norm()).fold(f64::INFINITY, f64::min);
+    /// assert!((mu - 0.5).abs() < 1e-8);
+    /// ```
+    pub fn event(mut self, make: impl Fn() -> Event<'a, N> + 'a) -> Self {
+        self.events.push(Box::new(make));
+        self
+    }
+
     /// The pin's residual at x and its gradient (a Newton row), if pinned.
     fn pin_row(&self, x: &[f64]) -> Option<(f64, Vec<f64>)> {
         let n2 = 2 * N;
@@ -539,16 +585,17 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     fn shoot(&self, x: &[f64], period: f64) -> Result<Shot, OrbitError> {
         let q: [f64; N] = core::array::from_fn(|i| x[i]);
         let v: [f64; N] = core::array::from_fn(|i| x[N + i]);
-        let run = Simulation::new(self.sys, q, v)
+        let mut sim = Simulation::new(self.sys, q, v)
             .method(self.method)
             .start_time(self.t0)
-            .until(self.t0 + period)
-            .sensitivity()
-            .run()
-            .map_err(|e| OrbitError::Run {
-                period,
-                source: Box::new(e),
-            })?;
+            .until(self.t0 + period);
+        for make in &self.events {
+            sim = sim.event(make());
+        }
+        let run = sim.sensitivity().run().map_err(|e| OrbitError::Run {
+            period,
+            source: Box::new(e),
+        })?;
         let tr = &run.trajectory;
         let (qe, ve) = match (tr.q.last(), tr.qdot.last()) {
             (Some(q), Some(v)) => (q, v),
