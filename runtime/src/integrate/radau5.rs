@@ -217,6 +217,12 @@ pub(crate) struct Radau5<'a, const N: usize> {
     /// The fault behind the latest forced shrink since the last accepted step: reported instead
     /// of a bare underflow when the step then becomes too small.
     last_failure: Option<Fault>,
+    /// A bound on the step after Newton failed: 0.8 of the smallest step it failed at, grown by
+    /// 1.1 with each accepted step whose Newton converged within 3 iterations. Where the error
+    /// estimate is small but a stiff direction turns with the motion (the elastic crank's rod),
+    /// the error controller asks for steps 5–8× longer, at which simplified Newton diverges:
+    /// without the bound every accepted step was followed by one or two failed attempts.
+    newton_cap: f64,
 }
 
 impl<'a, const N: usize> Radau5<'a, N> {
@@ -268,6 +274,7 @@ impl<'a, const N: usize> Radau5<'a, N> {
             h_acc: h,
             err_acc: 1e-2,
             accepted: 0,
+            newton_cap: f64::INFINITY,
             last_failure: None,
         })
     }
@@ -549,6 +556,9 @@ impl<const N: usize> Stepper<N> for Radau5<'_, N> {
             let (z, newt) = match self.newton(h, &sk, stats) {
                 Ok(ok) => ok,
                 Err(Attempt::Retry(factor, fault)) => {
+                    if matches!(fault, Fault::Newton { .. }) {
+                        self.newton_cap = self.newton_cap.min(0.8 * h);
+                    }
                     self.retry(h, factor, fault, stats);
                     continue;
                 }
@@ -625,7 +635,10 @@ impl<const N: usize> Stepper<N> for Radau5<'_, N> {
                 self.first = false;
                 self.jac_current = false;
                 self.last_failure = None;
-                hnew = hnew.min(self.hmax);
+                if newt <= 3 {
+                    self.newton_cap *= 1.1;
+                }
+                hnew = hnew.min(self.hmax).min(self.newton_cap);
                 if self.reject {
                     hnew = hnew.min(h);
                 }
