@@ -357,7 +357,8 @@ fn a_skate_strikes_an_oblique_wall_and_leaves_along_its_blade() {
 }
 
 /// Bad input is refused with a typed error: a start off the rod names the residual (as for a
-/// constrained run), and `project_initial_state` puts it on the rod instead.
+/// constrained run), and `project_initial_state` puts it on the rod instead; the constraints
+/// alone (`Simulation::constrained`) are refused for a system that has contacts too.
 #[test]
 fn a_start_off_the_constraints_is_refused_or_projected() {
     let sys = RodWall {
@@ -381,4 +382,15 @@ fn a_start_off_the_constraints_is_refused_or_projected() {
         .unwrap();
     let q = tr.q[0];
     assert!((q[0] * q[0] + q[1] * q[1] - 1.0).abs() < 1e-14);
+    // `Simulation::constrained` runs the constraints alone: it refuses a system that also has
+    // contacts (it would pass through the wall), naming `Simulation::new`.
+    let err = Simulation::constrained(&sys, [0.6, -0.8], [0.0, 0.0])
+        .until(0.1)
+        .run()
+        .unwrap_err();
+    assert!(
+        matches!(err, SimulationError::InvalidOptions { .. })
+            && err.to_string().contains("Simulation::new"),
+        "{err}"
+    );
 }

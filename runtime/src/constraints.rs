@@ -433,6 +433,8 @@ impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
     const MOMENTUM_CONSERVED: [bool; N] =
         and_not(H::MOMENTUM_CONSERVED, H::CONSTRAINED_COORDINATES);
     const ENERGY_CONSERVED: bool = H::ENERGY_CONSERVED && H::SCLERONOMIC;
+    // A system with contacts as well: the run refuses this view, which would drop them.
+    const DECLARES_CONTACTS: bool = H::DECLARES_CONTACTS;
 
     /// The system's power plus that of the constraint forces, λ·(G q̇) (non-zero only for
     /// constraints that move in time); NaN where the constrained accelerations fail.

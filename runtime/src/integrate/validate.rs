@@ -82,13 +82,15 @@ impl<const N: usize> Options<'_, N> {
                  `v.constrained::<K>(self)`"
                 .to_string());
         }
-        if self.manifold.is_none() && flags.contacts {
+        if self.contact_start.is_none() && flags.contacts {
             return Err(
                 "this system declares contacts (`fn contacts`), which this run would drop \
                  (bodies would pass through each other): Lyapunov exponents and periodic orbits \
-                 (Shooting) do not take contacts yet; a hand-written `impl Unilateral<N, K>` \
-                 runs with Simulation::contacts(&system, q0, q̇0), or with Simulation::new once \
-                 its `Lagrangian::declared` says `v.contacts::<K>(self)`"
+                 (Shooting) do not take contacts yet, and Simulation::constrained runs the \
+                 constraints alone — Simulation::new runs a system's contacts with its \
+                 constraints; a hand-written `impl Unilateral<N, K>` runs with \
+                 Simulation::contacts(&system, q0, q̇0), or with Simulation::new once its \
+                 `Lagrangian::declared` says `v.contacts::<K>(self)`"
                     .to_string(),
             );
         }
