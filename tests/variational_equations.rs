@@ -299,19 +299,7 @@ fn unsupported_runs_are_refused() {
         );
         assert!(err.to_string().contains("Method::Dop853"), "{err}");
     }
-    // A resetting event is carried (the saltation matrix, tests/jump_sensitivity.rs) by the
-    // explicit methods, and refused with the Taylor method's sensitivity runs.
-    let err = Simulation::new(&p, [1.0], [0.0])
-        .until(1.0)
-        .method(Method::Taylor { tol: 1e-12 })
-        .event(
-            Event::zero_crossing("bounce", |_t, q: &[f64; 1], _v| q[0])
-                .reset(|_t, q, v| (*q, [-v[0]])),
-        )
-        .sensitivity()
-        .run()
-        .unwrap_err();
-    assert!(err.to_string().contains("Method::Dop853"), "{err}");
+    // Resetting events are carried (the saltation matrix): tests/jump_sensitivity.rs.
 }
 
 /// The figure-eight choreography of three unit masses (G = 1) from the 8-digit initial data:

@@ -184,6 +184,15 @@ impl<'a, L: Lagrangian<N>, const N: usize, C> Taylor<'a, L, N, C> {
         (self.t, self.y)
     }
 
+    /// y at t within the last step (the node's at or after it): what `interp` gives, by
+    /// reference.
+    pub(crate) fn motion_at(&self, t: f64) -> Y<N> {
+        if t >= self.t || self.old.is_empty() {
+            return self.y;
+        }
+        horner(&self.old, t - self.t_old)
+    }
+
     /// Takes the series at the current node from lane `l` of the lanes engine's series `src`
     /// (whose orders are at least this stepper's), counted as one evaluation as `compute` counts
     /// its own. The caller has checked that the lane's coefficients are finite.
@@ -457,10 +466,7 @@ impl<L: Lagrangian<N>, const N: usize, C: Carried<L, N>> Stepper<N> for Taylor<'
         self.old.len().div_ceil(2).max(4)
     }
     fn interp(&mut self, t: f64, _stats: &mut Stats) -> Result<Y<N>, Fault> {
-        if t >= self.t {
-            return Ok(self.y);
-        }
-        Ok(horner(&self.old, t - self.t_old))
+        Ok(self.motion_at(t))
     }
     /// The series of the last step (p + 1 rows, more where it was widened), in t − t_prev.
     fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, _stats: &mut Stats) -> Result<f64, Fault> {

@@ -164,8 +164,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
     /// step) for what it does not cover yet: the implicit methods (`Method::Radau5`,
     /// `Method::VariationalMidpoint`), a run with contacts, parameters of a constrained run or of
-    /// one with a resetting event, a resetting event with the Taylor method, a parameter whose
-    /// value is not finite.
+    /// one with a resetting event, a parameter whose value is not finite.
     ///
     /// Through a resetting event Φ jumps with the state: Φ⁺ = S Φ⁻, S the jump's saltation
     /// matrix (see the [module documentation](crate::sensitivity)); an event that fires grazing
@@ -304,11 +303,12 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                 e.stepper(p, t, x0, until, hmax, stats)
             }),
             (None, Method::Taylor { tol }) => driver.run(&p.opts, t0, y0, |t, y, _stats| {
+                let cols = start_cols(t, &y)?;
                 Ok(VarSeries::stepper(
                     var(),
                     t,
                     y,
-                    &cols0,
+                    &cols,
                     tol,
                     hmax,
                     Some(&log),
@@ -411,25 +411,17 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                     .into(),
             );
         }
-        if let Some(e) = sim.o.events.iter().find(|e| e.is_reset()) {
-            if matches!(sim.o.method, Method::Taylor { .. }) {
-                return Some(format!(
-                    "event `{}` resets the state: the Taylor method's sensitivity runs do not \
-                     carry Φ through a jump yet (the explicit methods do, with the jump's \
-                     saltation matrix): use Method::Dop853 {{ rtol, atol }}",
-                    e.name()
-                ));
-            }
-            if !self.params.is_empty() {
-                return Some(format!(
-                    "event `{}` resets the state, and this run has parameters: the reset map \
-                     and the event's function are closures the parameters do not reach, so \
-                     the jump's dependence on them is not known; Φ through the jump is (run \
-                     without parameters), or make the event terminal and start a new run from \
-                     the state after it",
-                    e.name()
-                ));
-            }
+        if let Some(e) = sim.o.events.iter().find(|e| e.is_reset())
+            && !self.params.is_empty()
+        {
+            return Some(format!(
+                "event `{}` resets the state, and this run has parameters: the reset map and \
+                 the event's function are closures the parameters do not reach, so the jump's \
+                 dependence on them is not known; Φ through the jump is (run without \
+                 parameters), or make the event terminal and start a new run from the state \
+                 after it",
+                e.name()
+            ));
         }
         if let Some(p) = self.params.iter().find(|p| !p.value.is_finite()) {
             return Some(format!(

@@ -53,7 +53,7 @@
 //! a perturbation of the start to that of the run started from its projection, and its columns
 //! stay tangent to the constraints.
 //!
-//! **Resetting events** (the explicit methods): at a jump y⁺ = R(t*, y⁻) of an event whose
+//! **Resetting events** (the explicit methods and the Taylor method): at a jump y⁺ = R(t*, y⁻) of an event whose
 //! function h crosses zero, Φ jumps to S Φ with the saltation matrix
 //! S = ∂R/∂y + (f⁺ − ∂R/∂y f⁻ − ∂R/∂t)(∂h/∂y)/ḣ (f∓ the flow on either side, ḣ the rate h
 //! crosses zero at; ∂R, ∂h by fourth-order differences): the derivative of the flow that jumps.
@@ -61,7 +61,7 @@
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
 //! the implicit methods (Radau5 and the variational integrator), parameters of a constrained
 //! run or of one with resetting events (the reset and the event's function are closures the
-//! parameters do not reach), resetting events with the Taylor method, and contacts.
+//! parameters do not reach), and contacts.
 //!
 //! ```
 //! use lagrange_runtime::{Lagrangian, Scalar, Simulation};
@@ -106,7 +106,7 @@ pub(crate) use super::jacobian::CHUNK;
 pub(crate) struct Log {
     pub(crate) samples: Vec<(f64, Vec<f64>)>,
     pub(crate) events: Vec<(f64, usize, Vec<f64>)>,
-    /// The state (q, q̇) at each event hit, flattened, where the method gives it there (the
-    /// explicit methods: a jump's saltation matrix needs the state before it); else empty.
+    /// The state (q, q̇) at each event hit, flattened (a jump's saltation matrix needs the
+    /// state before it).
     pub(crate) states: Vec<Vec<f64>>,
 }

@@ -259,9 +259,10 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> Carried<L, N> for VarSeries<'s, '
     fn event_located(&mut self, motion: &Taylor<'_, L, N, Self>, t: f64, event: usize) {
         if let Some(log) = self.log {
             let cols = self.cols_at(motion, t);
+            let y = motion.motion_at(t);
             let mut log = log.borrow_mut();
             log.events.push((t, event, cols));
-            log.states.push(Vec::new());
+            log.states.push(y.iter().flatten().copied().collect());
         }
     }
 }
