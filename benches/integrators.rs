@@ -12,12 +12,14 @@
 //!
 //! Run: `cargo bench --bench integrators`
 
+mod timing;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 use lagrange::Drift;
 use std::hint::black_box;
 use std::process::Command;
-use std::time::Instant;
+use timing::best_of;
 
 /// The heavy top, eq. 92: only L is written, the dynamics come from the jets.
 struct HeavyTop {
@@ -121,17 +123,6 @@ fn report(name: &str, tr: &Trajectory<3>) {
         tr.stats.rhs_evals,
         tr.q.last().map_or(f64::NAN, |q| q[0]),
     );
-}
-
-/// Best of `n` wall times of `f`, in seconds.
-fn best_of(n: usize, mut f: impl FnMut()) -> f64 {
-    (0..n)
-        .map(|_| {
-            let t0 = Instant::now();
-            f();
-            t0.elapsed().as_secs_f64()
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The SciPy peer script.

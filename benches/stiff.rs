@@ -10,12 +10,14 @@
 //!
 //! Run: `cargo bench --bench stiff`
 
+mod timing;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 use lagrange_examples::stiff_system::TwoMasses;
 use std::hint::black_box;
 use std::process::Command;
-use std::time::Instant;
+use timing::best_of;
 
 const SYS: TwoMasses = TwoMasses::STIFF;
 const T_END: f64 = 10.0;
@@ -39,17 +41,6 @@ fn error(tr: &Trajectory<2>) -> f64 {
     (0..2).fold(0.0_f64, |m, i| {
         m.max((q[i] - qe[i]).abs()).max((v[i] - ve[i]).abs())
     })
-}
-
-/// The best wall time of `n` calls, in seconds.
-fn best_of(n: usize, mut f: impl FnMut()) -> f64 {
-    (0..n)
-        .map(|_| {
-            let t0 = Instant::now();
-            f();
-            t0.elapsed().as_secs_f64()
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The SciPy peer script.

@@ -10,12 +10,14 @@
 //!
 //! Run: `cargo bench --bench testset` (the peer: `python3 -m pip install casadi`)
 
+mod timing;
+
 use criterion::{criterion_group, criterion_main, Criterion};
 use lagrange::prelude::*;
 use lagrange_examples::testset_system::{scd, CarAxis};
 use std::hint::black_box;
 use std::process::Command;
-use std::time::Instant;
+use timing::best_of;
 
 /// The car axis run of `method` to t = 3 (final state only).
 fn run(method: Method) -> Trajectory<4> {
@@ -38,17 +40,6 @@ fn digits(tr: &Trajectory<4>) -> (f64, f64, f64) {
         scd(&tr.qdot[last], &r[4..8]),
         scd(&tr.lambda[last], &r[8..]),
     )
-}
-
-/// The best wall time of `n` calls, in seconds.
-fn best_of(n: usize, mut f: impl FnMut()) -> f64 {
-    (0..n)
-        .map(|_| {
-            let t0 = Instant::now();
-            f();
-            t0.elapsed().as_secs_f64()
-        })
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The CasADi peer script.

@@ -9,6 +9,7 @@
 //! - a skate (a knife edge, a velocity constraint) striking an oblique wall: it leaves along its
 //!   own heading at −e times its speed, whatever the wall's angle.
 
+use crate::support::gauss_legendre;
 use lagrange::prelude::*;
 
 const G: f64 = 9.81;
@@ -59,31 +60,9 @@ impl AngleWall {
 /// composite Gauss–Legendre quadrature (5 points on 64 panels: the integrand is smooth and
 /// k ≤ 0.4 here, so the sum is exact to round-off).
 fn elliptic_f(phi: f64, k: f64) -> f64 {
-    const X: [f64; 5] = [
-        -0.906_179_845_938_664,
-        -0.538_469_310_105_683,
-        0.0,
-        0.538_469_310_105_683,
-        0.906_179_845_938_664,
-    ];
-    const W: [f64; 5] = [
-        0.236_926_885_056_189,
-        0.478_628_670_499_366,
-        0.568_888_888_888_889,
-        0.478_628_670_499_366,
-        0.236_926_885_056_189,
-    ];
-    let panels = 64;
-    let h = phi / panels as f64;
-    let mut sum = 0.0;
-    for p in 0..panels {
-        let mid = (p as f64 + 0.5) * h;
-        for (x, w) in X.iter().zip(W) {
-            let s = (mid + 0.5 * h * x).sin();
-            sum += w * 0.5 * h / (1.0 - k * k * s * s).sqrt();
-        }
-    }
-    sum
+    gauss_legendre(0.0, phi, |psi| {
+        1.0 / (1.0 - k * k * psi.sin().powi(2)).sqrt()
+    })
 }
 
 /// The time a pendulum of amplitude a (turning at ±a) takes from the vertical to the angle θ

@@ -5,6 +5,7 @@
 //! shooting through its jumps (the rimless wheel's gait and its step-to-step multiplier
 //! cos² 2α); the refusals of what is not covered.
 
+use crate::support::gauss_legendre;
 use lagrange::prelude::*;
 use lagrange::sensitivity::Shooting;
 
@@ -282,32 +283,8 @@ fn rimless_wheel_gait_and_its_multiplier_by_shooting_through_its_impacts() {
     let rate = |th: f64| {
         (omega * omega + 2.0 * (G / l) * ((slope - alpha).cos() - (th + slope).cos())).sqrt()
     };
-    // T by composite Gauss–Legendre (5 points, 64 panels) of 1/θ̇, smooth on [−α, α].
-    let (x5, w5) = (
-        [
-            -0.906_179_845_938_664,
-            -0.538_469_310_105_683,
-            0.0,
-            0.538_469_310_105_683,
-            0.906_179_845_938_664,
-        ],
-        [
-            0.236_926_885_056_189,
-            0.478_628_670_499_366,
-            0.568_888_888_888_889,
-            0.478_628_670_499_366,
-            0.236_926_885_056_189,
-        ],
-    );
-    let panels = 64;
-    let h = 2.0 * alpha / panels as f64;
-    let mut period = 0.0;
-    for p in 0..panels {
-        let mid = -alpha + (p as f64 + 0.5) * h;
-        for (x, w) in x5.iter().zip(w5) {
-            period += w * 0.5 * h / rate(mid + 0.5 * h * x);
-        }
-    }
+    // T by composite Gauss–Legendre of 1/θ̇, smooth on [−α, α].
+    let period = gauss_legendre(-alpha, alpha, |th| 1.0 / rate(th));
     let orbit = Shooting::autonomous(&sys, [0.0], [1.05 * rate(0.0)], 1.05 * period)
         .event(move || {
             Event::zero_crossing("next spoke", move |_t, q: &[f64; 1], _v| q[0] - alpha)

@@ -738,48 +738,45 @@ pub(super) fn start_on<const N: usize>(
     project: bool,
 ) -> Result<(), SimulationError> {
     let (q0, qdot0) = (y0[0], y0[1]);
-    {
-        if project {
-            m.project(t0, y0)
-                .map_err(|f| SimulationError::InvalidOptions {
-                    message: format!(
-                        "projecting the initial state onto the constraints failed at t = {t0}, \
-                     q0 = {q0:?}, q̇0 = {qdot0:?} ({f:?}): start nearer to the constraints"
-                    ),
-                })?;
-            return Ok(());
-        }
-        // Each residual against its own scale: |g_j| against Σ_i |∂g_j/∂q_i · q_i| (the size
-        // of the terms that cancel in g_j), |ġ_j| against Σ_i |∂g_j/∂q_i · q̇_i| + |∂g_j/∂t|.
-        let rows = m.rows(&y0[0], &y0[1], t0);
-        let still = m.rows(&y0[0], &[0.0; N], t0);
-        let mut worst = (0, 0.0_f64);
-        let (mut pos, mut vel) = (0.0_f64, 0.0_f64);
-        for j in 0..m.count() {
-            let gq = &rows.jacobian[j];
-            let sp: f64 = (0..N).map(|i| (gq[i] * y0[0][i]).abs()).sum();
-            let sv: f64 =
-                (0..N).map(|i| (gq[i] * y0[1][i]).abs()).sum::<f64>() + still.rate[j].abs();
-            let rel = (rows.value[j].abs() / sp.max(f64::MIN_POSITIVE))
-                .max(rows.rate[j].abs() / sv.max(f64::MIN_POSITIVE));
-            pos = pos.max(rows.value[j].abs());
-            vel = vel.max(rows.rate[j].abs());
-            if rel > worst.1 {
-                worst = (j, rel);
-            }
-        }
-        if worst.1 > INITIAL_TOLERANCE || !pos.is_finite() || !vel.is_finite() {
-            return Err(SimulationError::OffConstraints {
-                t: t0,
-                q: q0.to_vec(),
-                qdot: qdot0.to_vec(),
-                position_residual: pos,
-                velocity_residual: vel,
-                worst: worst.0,
-            });
-        }
-        Ok(())
+    if project {
+        m.project(t0, y0)
+            .map_err(|f| SimulationError::InvalidOptions {
+                message: format!(
+                    "projecting the initial state onto the constraints failed at t = {t0}, \
+                 q0 = {q0:?}, q̇0 = {qdot0:?} ({f:?}): start nearer to the constraints"
+                ),
+            })?;
+        return Ok(());
     }
+    // Each residual against its own scale: |g_j| against Σ_i |∂g_j/∂q_i · q_i| (the size
+    // of the terms that cancel in g_j), |ġ_j| against Σ_i |∂g_j/∂q_i · q̇_i| + |∂g_j/∂t|.
+    let rows = m.rows(&y0[0], &y0[1], t0);
+    let still = m.rows(&y0[0], &[0.0; N], t0);
+    let mut worst = (0, 0.0_f64);
+    let (mut pos, mut vel) = (0.0_f64, 0.0_f64);
+    for j in 0..m.count() {
+        let gq = &rows.jacobian[j];
+        let sp: f64 = (0..N).map(|i| (gq[i] * y0[0][i]).abs()).sum();
+        let sv: f64 = (0..N).map(|i| (gq[i] * y0[1][i]).abs()).sum::<f64>() + still.rate[j].abs();
+        let rel = (rows.value[j].abs() / sp.max(f64::MIN_POSITIVE))
+            .max(rows.rate[j].abs() / sv.max(f64::MIN_POSITIVE));
+        pos = pos.max(rows.value[j].abs());
+        vel = vel.max(rows.rate[j].abs());
+        if rel > worst.1 {
+            worst = (j, rel);
+        }
+    }
+    if worst.1 > INITIAL_TOLERANCE || !pos.is_finite() || !vel.is_finite() {
+        return Err(SimulationError::OffConstraints {
+            t: t0,
+            q: q0.to_vec(),
+            qdot: qdot0.to_vec(),
+            position_residual: pos,
+            velocity_residual: vel,
+            worst: worst.0,
+        });
+    }
+    Ok(())
 }
 
 /// How far off its constraints an initial state may be, relative to each constraint's scale

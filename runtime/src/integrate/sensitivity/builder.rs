@@ -287,13 +287,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             ];
             let s = saltation(p.sys, &p.events[*i], t, &before, y)?;
             unit.set(false);
-            let mut out = vec![0.0; cols.len()];
-            for (c, col) in cols.chunks(n2).enumerate() {
-                for r in 0..n2 {
-                    out[c * n2 + r] = (0..n2).map(|k| s[(r, k)] * col[k]).sum();
-                }
-            }
-            Ok(out)
+            let minus = DMatrix::from_column_slice(n2, cols.len() / n2, cols);
+            Ok((s * minus).as_slice().to_vec())
         };
         let traj = match (Explicit::of(method), method) {
             (Some(e), _) => driver.run_boxed(&p.opts, t0, y0, &mut |t, y, stats| {

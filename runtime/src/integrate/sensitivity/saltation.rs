@@ -22,6 +22,7 @@ use crate::lagrangian::Lagrangian;
 
 use super::super::events::Event;
 use super::super::state::{Fault, Y};
+use super::central;
 use super::event_time::gradient;
 
 /// S at the jump of `ev` at t from `before` to `after` (a 2N × 2N matrix, y = (q, q̇)).
@@ -68,7 +69,7 @@ pub(super) fn saltation<L: Lagrangian<N>, const N: usize>(
     let d = |at: &dyn Fn(f64) -> Result<Vec<f64>, Fault>, h: f64| -> Result<Vec<f64>, Fault> {
         let (p1, m1, p2, m2) = (at(h)?, at(-h)?, at(2.0 * h)?, at(-2.0 * h)?);
         Ok((0..n2)
-            .map(|i| (8.0 * (p1[i] - m1[i]) - (p2[i] - m2[i])) / (12.0 * h))
+            .map(|i| central(h, [p1[i], m1[i], p2[i], m2[i]]))
             .collect())
     };
     let step = |x: f64| f64::EPSILON.powf(0.2) * x.abs().max(1.0);
