@@ -152,12 +152,35 @@ pub trait Real:
     functions!(decl);
 }
 
+/// The members of [`Real`] that are the same for every single-run number (`f64`,
+/// [`Tangent`](crate::tangent::Tangent)): width 1, a `bool` for a mask, `select` by that `bool`
+/// and `madd` as written (rounded twice).
+macro_rules! single_run {
+    () => {
+        const WIDTH: usize = 1;
+        type Mask = bool;
+        const EVERY_LANE: bool = true;
+
+        #[inline(always)]
+        fn all(m: bool) -> bool {
+            m
+        }
+        #[inline(always)]
+        fn select(m: bool, a: Self, b: Self) -> Self {
+            if m { a } else { b }
+        }
+        #[inline(always)]
+        fn madd(self, a: Self, b: Self) -> Self {
+            self * a + b
+        }
+    };
+}
+pub(crate) use single_run;
+
 impl Real for f64 {
     const ZERO: Self = 0.0;
     const NAN: Self = f64::NAN;
-    const WIDTH: usize = 1;
-    type Mask = bool;
-    const EVERY_LANE: bool = true;
+    single_run!();
 
     #[inline(always)]
     fn from_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
@@ -182,19 +205,6 @@ impl Real for f64 {
     #[inline(always)]
     fn nonzero(self) -> bool {
         self != 0.0
-    }
-    #[inline(always)]
-    fn all(m: bool) -> bool {
-        m
-    }
-
-    #[inline(always)]
-    fn select(m: bool, a: Self, b: Self) -> Self {
-        if m { a } else { b }
-    }
-    #[inline(always)]
-    fn madd(self, a: Self, b: Self) -> Self {
-        self * a + b
     }
     #[inline(always)]
     fn step(self) -> Self {

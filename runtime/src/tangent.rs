@@ -280,9 +280,7 @@ macro_rules! functions {
 impl<const K: usize> Real for Tangent<K> {
     const ZERO: Self = Tangent::constant(0.0);
     const NAN: Self = Tangent::constant(f64::NAN);
-    const WIDTH: usize = 1;
-    type Mask = bool;
-    const EVERY_LANE: bool = true;
+    crate::real::single_run!();
 
     #[inline(always)]
     fn from_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
@@ -312,18 +310,6 @@ impl<const K: usize> Real for Tangent<K> {
     #[inline(always)]
     fn nonzero(self) -> bool {
         self.v != 0.0
-    }
-    #[inline(always)]
-    fn all(m: bool) -> bool {
-        m
-    }
-    #[inline(always)]
-    fn select(m: bool, a: Self, b: Self) -> Self {
-        if m { a } else { b }
-    }
-    #[inline(always)]
-    fn madd(self, a: Self, b: Self) -> Self {
-        self * a + b
     }
     #[inline(always)]
     fn step(self) -> Self {
