@@ -56,14 +56,7 @@ impl<const N: usize> ColumnJet<N> {
     /// assert_eq!((q[1].value(), v[1].grad_qdot()), (2.0, [0.0, 1.0]));
     /// ```
     pub fn seed(q: &[f64; N], qdot: &[f64; N], column: Option<usize>) -> ([Self; N], [Self; N]) {
-        let mut qj = [Self::ZERO; N];
-        let mut vj = [Self::ZERO; N];
-        for i in 0..N {
-            qj[i].v = q[i];
-            qj[i].gq[i] = 1.0;
-            vj[i].v = qdot[i];
-            vj[i].gv[i] = 1.0;
-        }
+        let (mut qj, mut vj) = seed_variables!(q, qdot);
         match column {
             Some(j) if j < N => qj[j].s = 1.0,
             Some(j) if j < 2 * N => vj[j - N].s = 1.0,
@@ -114,37 +107,7 @@ impl<const N: usize> ColumnJet<N> {
         self.s
     }
 
-    /// The value.
-    ///
-    /// ```
-    /// use lagrange_runtime::jet::ColumnJet;
-    /// assert_eq!(ColumnJet::<1>::from(2.0).value(), 2.0);
-    /// ```
-    pub fn value(&self) -> f64 {
-        self.v
-    }
-
-    /// ∂/∂q.
-    ///
-    /// ```
-    /// use lagrange_runtime::jet::ColumnJet;
-    /// let (q, _) = ColumnJet::<1>::seed(&[3.0], &[0.0], None);
-    /// assert_eq!((q[0] * q[0]).grad_q(), [6.0]);
-    /// ```
-    pub fn grad_q(&self) -> [f64; N] {
-        self.gq
-    }
-
-    /// ∂/∂q̇.
-    ///
-    /// ```
-    /// use lagrange_runtime::jet::ColumnJet;
-    /// let (_, v) = ColumnJet::<1>::seed(&[0.0], &[3.0], None);
-    /// assert_eq!((v[0] * v[0]).grad_qdot(), [6.0]);
-    /// ```
-    pub fn grad_qdot(&self) -> [f64; N] {
-        self.gv
-    }
+    value_and_gradient!(ColumnJet, ", None");
 
     /// ∂²/∂q ∂x along the seeded variable x.
     ///
@@ -167,29 +130,23 @@ impl<const N: usize> ColumnJet<N> {
     pub fn column_qdot(&self) -> [f64; N] {
         self.cv
     }
+
+    /// The gradient and the column, one number after another (what `is_constant` and
+    /// `all_finite` read besides the value and the slope).
+    fn parts(&self) -> impl Iterator<Item = &f64> {
+        self.gq
+            .iter()
+            .chain(&self.gv)
+            .chain(&self.cq)
+            .chain(&self.cv)
+    }
 }
 
 impl<const N: usize> JetCalculus for ColumnJet<N> {
     #[inline(always)]
-    fn constant(x: f64) -> Self {
-        let mut r = Self::ZERO;
-        r.v = x;
-        r
-    }
-    #[inline(always)]
-    fn value(&self) -> f64 {
-        self.v
-    }
-    #[inline(always)]
-    fn with_value(mut self, v: f64) -> Self {
-        self.v = v;
-        self
-    }
-    #[inline(always)]
     fn chain(self, f0: f64, f1: f64, f2: f64) -> Self {
         let a = &self;
-        let mut r = Self::ZERO;
-        r.v = f0;
+        let mut r = Self::constant(f0);
         r.s = f1 * a.s;
         let k = f2 * a.s;
         for i in 0..N {
@@ -213,10 +170,6 @@ impl<const N: usize> JetCalculus for ColumnJet<N> {
             r.cv[i] = a.cv[i] + b.cv[i];
         }
         r
-    }
-    #[inline(always)]
-    fn sub(self, b: Self) -> Self {
-        self.add(b.scale(-1.0))
     }
     #[inline(always)]
     fn mul(self, b: Self) -> Self {
@@ -244,32 +197,14 @@ impl<const N: usize> JetCalculus for ColumnJet<N> {
         }
         self
     }
-    #[inline(always)]
-    fn add_f64(mut self, c: f64) -> Self {
-        self.v += c;
-        self
-    }
     fn is_constant(&self) -> bool {
-        self.s == 0.0
-            && self
-                .gq
-                .iter()
-                .chain(&self.gv)
-                .chain(&self.cq)
-                .chain(&self.cv)
-                .all(|x| *x == 0.0)
+        self.s == 0.0 && self.parts().all(|x| *x == 0.0)
     }
     fn all_finite(&self) -> bool {
-        self.v.is_finite()
-            && self.s.is_finite()
-            && self
-                .gq
-                .iter()
-                .chain(&self.gv)
-                .chain(&self.cq)
-                .chain(&self.cv)
-                .all(|x| x.is_finite())
+        self.v.is_finite() && self.s.is_finite() && self.parts().all(|x| x.is_finite())
     }
+    jet_value_members!(v);
+    sub_by_scale!();
 }
 
 impl_jet_scalar!([const N: usize] ColumnJet<N>);

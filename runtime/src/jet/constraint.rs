@@ -124,19 +124,6 @@ impl<const N: usize> ConstraintJet<N> {
 
 impl<const N: usize> JetCalculus for ConstraintJet<N> {
     #[inline(always)]
-    fn constant(x: f64) -> Self {
-        ConstraintJet { v: x, ..Self::ZERO }
-    }
-    #[inline(always)]
-    fn value(&self) -> f64 {
-        self.v
-    }
-    #[inline(always)]
-    fn with_value(mut self, v: f64) -> Self {
-        self.v = v;
-        self
-    }
-    #[inline(always)]
     fn chain(self, f0: f64, f1: f64, f2: f64) -> Self {
         let mut r = Self::ZERO;
         r.v = f0;
@@ -172,13 +159,15 @@ impl<const N: usize> JetCalculus for ConstraintJet<N> {
     #[inline(always)]
     fn mul(self, b: Self) -> Self {
         let a = &self;
-        let mut r = Self::ZERO;
-        r.v = a.v * b.v;
+        let mut r = ConstraintJet {
+            v: a.v * b.v,
+            d1: a.v * b.d1 + b.v * a.d1,
+            d2: a.v * b.d2 + b.v * a.d2 + 2.0 * a.d1 * b.d1,
+            ..Self::ZERO
+        };
         for i in 0..N {
             r.gq[i] = a.v * b.gq[i] + b.v * a.gq[i];
         }
-        r.d1 = a.v * b.d1 + b.v * a.d1;
-        r.d2 = a.v * b.d2 + b.v * a.d2 + 2.0 * a.d1 * b.d1;
         r
     }
     #[inline(always)]
@@ -191,11 +180,6 @@ impl<const N: usize> JetCalculus for ConstraintJet<N> {
         self.d2 *= c;
         self
     }
-    #[inline(always)]
-    fn add_f64(mut self, c: f64) -> Self {
-        self.v += c;
-        self
-    }
     fn is_constant(&self) -> bool {
         self.gq.iter().all(|x| *x == 0.0) && self.d1 == 0.0 && self.d2 == 0.0
     }
@@ -205,6 +189,7 @@ impl<const N: usize> JetCalculus for ConstraintJet<N> {
             && self.d1.is_finite()
             && self.d2.is_finite()
     }
+    jet_value_members!(v);
 }
 
 impl_jet_scalar!([const N: usize] ConstraintJet<N>);

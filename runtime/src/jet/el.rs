@@ -83,15 +83,10 @@ impl<const N: usize> ElJet<N> {
     /// ```
     #[inline(always)]
     pub fn seed(q: &[f64; N], qdot: &[f64; N], t: f64) -> ([Self; N], [Self; N], Self) {
-        let mut qj = [Self::ZERO; N];
-        let mut vj = [Self::ZERO; N];
+        let (mut qj, mut vj) = seed_variables!(q, qdot);
         for i in 0..N {
-            qj[i].v = q[i];
-            qj[i].gq[i] = 1.0;
             qj[i].gd = qdot[i];
             qj[i].flags = DQ;
-            vj[i].v = qdot[i];
-            vj[i].gv[i] = 1.0;
             vj[i].flags = DV;
         }
         let mut tj = Self::ZERO;
@@ -189,31 +184,21 @@ impl<const N: usize> ElJet<N> {
     pub fn directional(&self) -> f64 {
         self.gd
     }
+
+    /// The gradients, the mixed term and M, one number after another (what `is_constant` and
+    /// `all_finite` read besides the value and the directional derivative).
+    fn parts(&self) -> impl Iterator<Item = &f64> {
+        let gradients = self.gq.iter().chain(&self.gv).chain(&self.hvd);
+        gradients.chain(self.hvv.iter().flatten())
+    }
 }
 
 impl<const N: usize> JetCalculus for ElJet<N> {
     #[inline(always)]
-    fn constant(x: f64) -> Self {
-        let mut r = Self::ZERO;
-        r.v = x;
-        r
-    }
-    #[inline(always)]
-    fn value(&self) -> f64 {
-        self.v
-    }
-    #[inline(always)]
-    fn with_value(mut self, v: f64) -> Self {
-        self.v = v;
-        self
-    }
-
-    #[inline(always)]
     fn chain(self, f0: f64, f1: f64, f2: f64) -> Self {
         let a = &self;
         let flags = a.flags | if a.flags & DV != 0 { NL } else { 0 };
-        let mut r = Self::ZERO;
-        r.v = f0;
+        let mut r = Self::constant(f0);
         r.flags = flags;
         if flags & DQ != 0 {
             for j in 0..N {
@@ -270,11 +255,6 @@ impl<const N: usize> JetCalculus for ElJet<N> {
             }
         }
         r
-    }
-
-    #[inline(always)]
-    fn sub(self, b: Self) -> Self {
-        self.add(b.scale(-1.0))
     }
 
     #[inline(always)]
@@ -339,37 +319,17 @@ impl<const N: usize> JetCalculus for ElJet<N> {
         self
     }
 
-    #[inline(always)]
-    fn add_f64(mut self, c: f64) -> Self {
-        self.v += c;
-        self
-    }
-
     fn is_constant(&self) -> bool {
         // A flagged jet can still have all-zero parts (`t - t`, `q * 0.0`); report it as constant
         // too, so `powf` takes the same (constant-exponent) path as the flag-free HessianJet.
-        self.flags == 0
-            || (self.gd == 0.0
-                && self
-                    .gq
-                    .iter()
-                    .chain(&self.gv)
-                    .chain(&self.hvd)
-                    .chain(self.hvv.iter().flatten())
-                    .all(|x| *x == 0.0))
+        self.flags == 0 || (self.gd == 0.0 && self.parts().all(|x| *x == 0.0))
     }
 
     fn all_finite(&self) -> bool {
-        self.v.is_finite()
-            && self.gd.is_finite()
-            && self
-                .gq
-                .iter()
-                .chain(&self.gv)
-                .chain(&self.hvd)
-                .all(|x| x.is_finite())
-            && self.hvv.iter().flatten().all(|x| x.is_finite())
+        self.v.is_finite() && self.gd.is_finite() && self.parts().all(|x| x.is_finite())
     }
+    jet_value_members!(v);
+    sub_by_scale!();
 }
 
 impl_jet_scalar!([const N: usize] ElJet<N>);

@@ -40,45 +40,9 @@ impl<const N: usize> HessianJet<N> {
     /// assert_eq!((q[1].value(), v[1].grad_qdot()), (2.0, [0.0, 1.0]));
     /// ```
     pub fn seed(q: &[f64; N], qdot: &[f64; N]) -> ([Self; N], [Self; N]) {
-        let mut qj = [Self::ZERO; N];
-        let mut vj = [Self::ZERO; N];
-        for i in 0..N {
-            qj[i].v = q[i];
-            qj[i].gq[i] = 1.0;
-            vj[i].v = qdot[i];
-            vj[i].gv[i] = 1.0;
-        }
-        (qj, vj)
+        seed_variables!(q, qdot)
     }
-    /// The value.
-    ///
-    /// ```
-    /// use lagrange_runtime::jet::HessianJet;
-    /// assert_eq!(HessianJet::<1>::from(2.0).value(), 2.0);
-    /// ```
-    pub fn value(&self) -> f64 {
-        self.v
-    }
-    /// ∂/∂q.
-    ///
-    /// ```
-    /// use lagrange_runtime::jet::HessianJet;
-    /// let (q, _) = HessianJet::<1>::seed(&[3.0], &[0.0]);
-    /// assert_eq!((q[0] * q[0]).grad_q(), [6.0]);
-    /// ```
-    pub fn grad_q(&self) -> [f64; N] {
-        self.gq
-    }
-    /// ∂/∂q̇.
-    ///
-    /// ```
-    /// use lagrange_runtime::jet::HessianJet;
-    /// let (_, v) = HessianJet::<1>::seed(&[0.0], &[3.0]);
-    /// assert_eq!((v[0] * v[0]).grad_qdot(), [6.0]);
-    /// ```
-    pub fn grad_qdot(&self) -> [f64; N] {
-        self.gv
-    }
+    value_and_gradient!(HessianJet, "");
     /// ∂²/∂q_i∂q_k.
     ///
     /// ```
@@ -109,29 +73,20 @@ impl<const N: usize> HessianJet<N> {
     pub fn hess_qdotqdot(&self) -> [[f64; N]; N] {
         self.hvv
     }
+
+    /// The gradient and the Hessian, one number after another (what `is_constant` and
+    /// `all_finite` read besides the value).
+    fn parts(&self) -> impl Iterator<Item = &f64> {
+        let hessian = self.hqq.iter().chain(&self.hqv).chain(&self.hvv).flatten();
+        self.gq.iter().chain(&self.gv).chain(hessian)
+    }
 }
 
 impl<const N: usize> JetCalculus for HessianJet<N> {
     #[inline(always)]
-    fn constant(x: f64) -> Self {
-        let mut r = Self::ZERO;
-        r.v = x;
-        r
-    }
-    #[inline(always)]
-    fn value(&self) -> f64 {
-        self.v
-    }
-    #[inline(always)]
-    fn with_value(mut self, v: f64) -> Self {
-        self.v = v;
-        self
-    }
-    #[inline(always)]
     fn chain(self, f0: f64, f1: f64, f2: f64) -> Self {
         let a = &self;
-        let mut r = Self::ZERO;
-        r.v = f0;
+        let mut r = Self::constant(f0);
         for i in 0..N {
             r.gq[i] = f1 * a.gq[i];
             r.gv[i] = f1 * a.gv[i];
@@ -160,10 +115,6 @@ impl<const N: usize> JetCalculus for HessianJet<N> {
             }
         }
         r
-    }
-    #[inline(always)]
-    fn sub(self, b: Self) -> Self {
-        self.add(b.scale(-1.0))
     }
     #[inline(always)]
     fn mul(self, b: Self) -> Self {
@@ -200,32 +151,14 @@ impl<const N: usize> JetCalculus for HessianJet<N> {
         }
         self
     }
-    #[inline(always)]
-    fn add_f64(mut self, c: f64) -> Self {
-        self.v += c;
-        self
-    }
     fn is_constant(&self) -> bool {
-        self.gq.iter().chain(&self.gv).all(|x| *x == 0.0)
-            && self
-                .hqq
-                .iter()
-                .chain(&self.hqv)
-                .chain(&self.hvv)
-                .flatten()
-                .all(|x| *x == 0.0)
+        self.parts().all(|x| *x == 0.0)
     }
     fn all_finite(&self) -> bool {
-        self.v.is_finite()
-            && self.gq.iter().chain(&self.gv).all(|x| x.is_finite())
-            && self
-                .hqq
-                .iter()
-                .chain(&self.hqv)
-                .chain(&self.hvv)
-                .flatten()
-                .all(|x| x.is_finite())
+        self.v.is_finite() && self.parts().all(|x| x.is_finite())
     }
+    jet_value_members!(v);
+    sub_by_scale!();
 }
 
 impl_jet_scalar!([const N: usize] HessianJet<N>);

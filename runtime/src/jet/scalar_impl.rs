@@ -23,6 +23,101 @@ macro_rules! jet_functions {
     };
 }
 
+/// The [`JetCalculus`](super::JetCalculus) members that every jet writes the same way, given the
+/// field that holds its value (`v`, or `a.v` for a jet that carries a derivative along a
+/// direction): a constant is `Self::ZERO` with that value, and `with_value` and `add_f64` touch
+/// the value alone. Invoked inside the jet's `impl JetCalculus`.
+macro_rules! jet_value_members {
+    ($($v:ident).+) => {
+        #[inline(always)]
+        fn constant(x: f64) -> Self {
+            let mut r = Self::ZERO;
+            r.$($v).+ = x;
+            r
+        }
+        #[inline(always)]
+        fn value(&self) -> f64 {
+            self.$($v).+
+        }
+        #[inline(always)]
+        fn with_value(mut self, v: f64) -> Self {
+            self.$($v).+ = v;
+            self
+        }
+        #[inline(always)]
+        fn add_f64(mut self, c: f64) -> Self {
+            self.$($v).+ += c;
+            self
+        }
+    };
+}
+
+/// `a − b` as `a + (−1)·b`: the difference of the jets whose `add` and `scale` skip structural
+/// zeros (invoked inside the jet's `impl JetCalculus`).
+macro_rules! sub_by_scale {
+    () => {
+        #[inline(always)]
+        fn sub(self, b: Self) -> Self {
+            self.add(b.scale(-1.0))
+        }
+    };
+}
+
+/// The inherent `value`, `grad_q` and `grad_qdot` of a jet with fields `v`, `gq`, `gv` whose
+/// `seed(q, q̇` + `$more` + `)` returns `(qj, vj)` (its doc examples seed one coordinate).
+macro_rules! value_and_gradient {
+    ($Jet:ident, $more:literal) => {
+        /// The value.
+        ///
+        /// ```
+        #[doc = concat!("use lagrange_runtime::jet::", stringify!($Jet), ";")]
+        #[doc = concat!("assert_eq!(", stringify!($Jet), "::<1>::from(2.0).value(), 2.0);")]
+        /// ```
+        pub fn value(&self) -> f64 {
+            self.v
+        }
+
+        /// ∂/∂q.
+        ///
+        /// ```
+        #[doc = concat!("use lagrange_runtime::jet::", stringify!($Jet), ";")]
+        #[doc = concat!("let (q, _) = ", stringify!($Jet), "::<1>::seed(&[3.0], &[0.0]", $more, ");")]
+        /// assert_eq!((q[0] * q[0]).grad_q(), [6.0]);
+        /// ```
+        pub fn grad_q(&self) -> [f64; N] {
+            self.gq
+        }
+
+        /// ∂/∂q̇.
+        ///
+        /// ```
+        #[doc = concat!("use lagrange_runtime::jet::", stringify!($Jet), ";")]
+        #[doc = concat!("let (_, v) = ", stringify!($Jet), "::<1>::seed(&[0.0], &[3.0]", $more, ");")]
+        /// assert_eq!((v[0] * v[0]).grad_qdot(), [6.0]);
+        /// ```
+        pub fn grad_qdot(&self) -> [f64; N] {
+            self.gv
+        }
+    };
+}
+
+/// `(qj, vj)`: the 2N independent variables of a jet with value `v` and gradient parts `gq`,
+/// `gv` (in an `impl` over `const N`): q_i and q̇_i at their values with a unit derivative along
+/// themselves, every other part `Self::ZERO`'s.
+macro_rules! seed_variables {
+    ($q:expr, $qdot:expr) => {{
+        let mut qj = [Self::ZERO; N];
+        let mut vj = [Self::ZERO; N];
+        for i in 0..N {
+            qj[i].v = $q[i];
+            qj[i].gq[i] = 1.0;
+            vj[i].v = $qdot[i];
+            vj[i].gv[i] = 1.0;
+        }
+        (qj, vj)
+    }};
+}
+
 /// Implements the operators, `num_traits`, `approx`, `simba` (`RealField`) and `Scalar` traits for
 /// a jet type that implements `JetCalculus`: `impl_jet_scalar!([<generics>] Type<..>)`, e.g.
 /// `impl_jet_scalar!([const N: usize] ElJet<N>)`.
