@@ -3,6 +3,111 @@
 
 use super::{HessianJet, JetCalculus};
 
+/// What [`LinJet`] and [`LinColumnJet`](super::LinColumnJet) do alike: each is a base jet `a`
+/// (a [`HessianJet`], a [`ColumnJet`](super::ColumnJet)) with its derivative `d` along a seeded
+/// direction, and only its `chain3` depends on what the base carries.
+///
+/// - `along_members!(@seed Base)`, in the inherent impl: `along_direction`, the seeded base
+///   variables with the direction's components as the values of their derivatives, and `time`.
+/// - `along_members!(@calculus Base, #[attributes of mul])`, in the `JetCalculus` impl: every
+///   member but `chain3`, part by part on (a, d); the base's product is bilinear, so the product's
+///   derivative is the product of each factor's derivative with the other factor.
+macro_rules! along_members {
+    (@seed $Base:ident) => {
+        /// q and q̇ from the seeded base variables `(qa, va)`, moving along (`dq`, `dqdot`), and
+        /// t (see [`time`](Self::time)).
+        #[inline(always)]
+        fn along_direction(
+            (qa, va): ([$Base<N>; N], [$Base<N>; N]),
+            dq: &[f64; N],
+            dqdot: &[f64; N],
+            t: Self,
+        ) -> ([Self; N], [Self; N], Self) {
+            let mut qj = [Self::constant(0.0); N];
+            let mut vj = [Self::constant(0.0); N];
+            for i in 0..N {
+                qj[i].a = qa[i];
+                qj[i].d.v = dq[i];
+                vj[i].a = va[i];
+                vj[i].d.v = dqdot[i];
+            }
+            (qj, vj, t)
+        }
+
+        /// t at `t`, moving at `dt` along the direction.
+        #[inline(always)]
+        fn time(t: f64, dt: f64) -> Self {
+            let mut tj = Self::constant(t);
+            tj.d.v = dt;
+            tj
+        }
+    };
+    (@calculus $Base:ident, $(#[$mul:meta])*) => {
+        #[inline(always)]
+        fn constant(x: f64) -> Self {
+            Self {
+                a: $Base::constant(x),
+                d: $Base::ZERO,
+            }
+        }
+        #[inline(always)]
+        fn value(&self) -> f64 {
+            self.a.v
+        }
+        #[inline(always)]
+        fn with_value(mut self, v: f64) -> Self {
+            self.a.v = v;
+            self
+        }
+        #[inline(always)]
+        fn chain(self, f0: f64, f1: f64, f2: f64) -> Self {
+            // Exact only where f‴ = 0: every operator and elementary function of this crate
+            // calls `chain3` instead.
+            self.chain3(f0, f1, f2, 0.0)
+        }
+        #[inline(always)]
+        fn add(self, b: Self) -> Self {
+            Self {
+                a: self.a.add(b.a),
+                d: self.d.add(b.d),
+            }
+        }
+        #[inline(always)]
+        fn sub(self, b: Self) -> Self {
+            Self {
+                a: self.a.sub(b.a),
+                d: self.d.sub(b.d),
+            }
+        }
+        $(#[$mul])*
+        fn mul(self, b: Self) -> Self {
+            Self {
+                a: self.a.mul(b.a),
+                d: self.d.mul(b.a).add(self.a.mul(b.d)),
+            }
+        }
+        #[inline(always)]
+        fn scale(self, c: f64) -> Self {
+            Self {
+                a: self.a.scale(c),
+                d: self.d.scale(c),
+            }
+        }
+        #[inline(always)]
+        fn add_f64(mut self, c: f64) -> Self {
+            self.a.v += c;
+            self
+        }
+        fn all_finite(&self) -> bool {
+            self.a.all_finite() && self.d.all_finite()
+        }
+        fn is_constant(&self) -> bool {
+            self.a.is_constant() && self.d.v == 0.0 && self.d.is_constant()
+        }
+    };
+}
+pub(super) use along_members;
+
 /// A second-order jet in (q, q̇) whose every part also carries its derivative along one seeded
 /// direction z = (δq, δq̇, δt) in (q, q̇, t).
 ///
@@ -43,19 +148,10 @@ impl<const N: usize> LinJet<N> {
         dqdot: &[f64; N],
         dt: f64,
     ) -> ([Self; N], [Self; N], Self) {
-        let (qa, va) = HessianJet::seed(q, qdot);
-        let mut qj = [Self::constant(0.0); N];
-        let mut vj = [Self::constant(0.0); N];
-        for i in 0..N {
-            qj[i].a = qa[i];
-            qj[i].d.v = dq[i];
-            vj[i].a = va[i];
-            vj[i].d.v = dqdot[i];
-        }
-        let mut tj = Self::constant(t);
-        tj.d.v = dt;
-        (qj, vj, tj)
+        Self::along_direction(HessianJet::seed(q, qdot), dq, dqdot, Self::time(t, dt))
     }
+
+    along_members!(@seed HessianJet);
 
     /// The value, gradient and Hessian in (q, q̇).
     ///
@@ -83,28 +179,8 @@ impl<const N: usize> LinJet<N> {
 }
 
 impl<const N: usize> JetCalculus for LinJet<N> {
-    #[inline(always)]
-    fn constant(x: f64) -> Self {
-        LinJet {
-            a: HessianJet::constant(x),
-            d: HessianJet::ZERO,
-        }
-    }
-    #[inline(always)]
-    fn value(&self) -> f64 {
-        self.a.v
-    }
-    #[inline(always)]
-    fn with_value(mut self, v: f64) -> Self {
-        self.a.v = v;
-        self
-    }
-    #[inline(always)]
-    fn chain(self, f0: f64, f1: f64, f2: f64) -> Self {
-        // Exact only where f‴ = 0: every operator and elementary function of this crate calls
-        // `chain3` instead.
-        self.chain3(f0, f1, f2, 0.0)
-    }
+    along_members!(@calculus HessianJet,);
+
     fn chain3(self, f0: f64, f1: f64, f2: f64, f3: f64) -> Self {
         let (x, dx) = (&self.a, &self.d);
         let s = dx.v; // D_z of the argument's value
@@ -120,76 +196,17 @@ impl<const N: usize> JetCalculus for LinJet<N> {
         };
         for i in 0..N {
             for k in 0..N {
-                d.hqq[i][k] = block(
-                    x.hqq[i][k],
-                    dx.hqq[i][k],
-                    x.gq[i],
-                    x.gq[k],
-                    dx.gq[i],
-                    dx.gq[k],
-                );
-                d.hqv[i][k] = block(
-                    x.hqv[i][k],
-                    dx.hqv[i][k],
-                    x.gq[i],
-                    x.gv[k],
-                    dx.gq[i],
-                    dx.gv[k],
-                );
-                d.hvv[i][k] = block(
-                    x.hvv[i][k],
-                    dx.hvv[i][k],
-                    x.gv[i],
-                    x.gv[k],
-                    dx.gv[i],
-                    dx.gv[k],
-                );
+                let (qi, qk, vi, vk) = (x.gq[i], x.gq[k], x.gv[i], x.gv[k]);
+                let (dqi, dqk, dvi, dvk) = (dx.gq[i], dx.gq[k], dx.gv[i], dx.gv[k]);
+                d.hqq[i][k] = block(x.hqq[i][k], dx.hqq[i][k], qi, qk, dqi, dqk);
+                d.hqv[i][k] = block(x.hqv[i][k], dx.hqv[i][k], qi, vk, dqi, dvk);
+                d.hvv[i][k] = block(x.hvv[i][k], dx.hvv[i][k], vi, vk, dvi, dvk);
             }
         }
         LinJet {
             a: self.a.chain(f0, f1, f2),
             d,
         }
-    }
-    #[inline(always)]
-    fn add(self, b: Self) -> Self {
-        LinJet {
-            a: self.a.add(b.a),
-            d: self.d.add(b.d),
-        }
-    }
-    #[inline(always)]
-    fn sub(self, b: Self) -> Self {
-        LinJet {
-            a: self.a.sub(b.a),
-            d: self.d.sub(b.d),
-        }
-    }
-    fn mul(self, b: Self) -> Self {
-        // The second-order product is bilinear in its two factors, so its derivative is the
-        // product of each factor's derivative with the other factor.
-        LinJet {
-            a: self.a.mul(b.a),
-            d: self.d.mul(b.a).add(self.a.mul(b.d)),
-        }
-    }
-    #[inline(always)]
-    fn scale(self, c: f64) -> Self {
-        LinJet {
-            a: self.a.scale(c),
-            d: self.d.scale(c),
-        }
-    }
-    #[inline(always)]
-    fn add_f64(mut self, c: f64) -> Self {
-        self.a.v += c;
-        self
-    }
-    fn all_finite(&self) -> bool {
-        self.a.all_finite() && self.d.all_finite()
-    }
-    fn is_constant(&self) -> bool {
-        self.a.is_constant() && self.d.v == 0.0 && self.d.is_constant()
     }
 }
 

@@ -2,6 +2,7 @@
 //! (q, q̇, t): one column of what a [`LinJet`](super::LinJet) carries whole, for systems too
 //! large for a `LinJet` on the stack.
 
+use super::lin::along_members;
 use super::{ColumnJet, JetCalculus};
 
 /// A [`ColumnJet`] (gradient in (q, q̇) and one column of the Hessian) whose every part also
@@ -47,18 +48,8 @@ impl<const N: usize> LinColumnJet<N> {
         dt: f64,
         column: usize,
     ) -> ([Self; N], [Self; N], Self) {
-        let (qa, va) = ColumnJet::seed(q, qdot, Some(column));
-        let mut qj = [Self::constant(0.0); N];
-        let mut vj = [Self::constant(0.0); N];
-        for i in 0..N {
-            qj[i].a = qa[i];
-            qj[i].d.v = dq[i];
-            vj[i].a = va[i];
-            vj[i].d.v = dqdot[i];
-        }
-        let mut tj = Self::constant(t);
-        tj.d.v = dt;
-        (qj, vj, tj)
+        let base = ColumnJet::seed(q, qdot, Some(column));
+        Self::along_direction(base, dq, dqdot, Self::time(t, dt))
     }
 
     /// [`LinColumnJet::seed`] with the 2N seeded numbers on the heap (2N (8N + 4) · 8 bytes:
@@ -101,10 +92,10 @@ impl<const N: usize> LinColumnJet<N> {
         };
         let qj = boxed((0..N).map(|i| one(q[i], dq[i], i)).collect());
         let vj = boxed((0..N).map(|i| one(qdot[i], dqdot[i], N + i)).collect());
-        let mut tj = Self::constant(t);
-        tj.d.v = dt;
-        (qj, vj, tj)
+        (qj, vj, Self::time(t, dt))
     }
+
+    along_members!(@seed ColumnJet);
 
     /// The value, the gradient in (q, q̇) and the seeded column of the Hessian.
     ///
@@ -131,28 +122,8 @@ impl<const N: usize> LinColumnJet<N> {
 }
 
 impl<const N: usize> JetCalculus for LinColumnJet<N> {
-    #[inline(always)]
-    fn constant(x: f64) -> Self {
-        LinColumnJet {
-            a: ColumnJet::constant(x),
-            d: ColumnJet::ZERO,
-        }
-    }
-    #[inline(always)]
-    fn value(&self) -> f64 {
-        self.a.v
-    }
-    #[inline(always)]
-    fn with_value(mut self, v: f64) -> Self {
-        self.a.v = v;
-        self
-    }
-    #[inline(always)]
-    fn chain(self, f0: f64, f1: f64, f2: f64) -> Self {
-        // Exact only where f‴ = 0: every operator and elementary function of this crate calls
-        // `chain3` instead.
-        self.chain3(f0, f1, f2, 0.0)
-    }
+    along_members!(@calculus ColumnJet, #[inline(never)]);
+
     #[inline(never)]
     fn chain3(self, f0: f64, f1: f64, f2: f64, f3: f64) -> Self {
         let (x, dx) = (&self.a, &self.d);
@@ -178,47 +149,6 @@ impl<const N: usize> JetCalculus for LinColumnJet<N> {
             a: self.a.chain(f0, f1, f2),
             d,
         }
-    }
-    #[inline(always)]
-    fn add(self, b: Self) -> Self {
-        LinColumnJet {
-            a: self.a.add(b.a),
-            d: self.d.add(b.d),
-        }
-    }
-    #[inline(always)]
-    fn sub(self, b: Self) -> Self {
-        LinColumnJet {
-            a: self.a.sub(b.a),
-            d: self.d.sub(b.d),
-        }
-    }
-    #[inline(never)]
-    fn mul(self, b: Self) -> Self {
-        // The column jet's product is bilinear in its two factors, so its derivative is the
-        // product of each factor's derivative with the other factor.
-        LinColumnJet {
-            a: self.a.mul(b.a),
-            d: self.d.mul(b.a).add(self.a.mul(b.d)),
-        }
-    }
-    #[inline(always)]
-    fn scale(self, c: f64) -> Self {
-        LinColumnJet {
-            a: self.a.scale(c),
-            d: self.d.scale(c),
-        }
-    }
-    #[inline(always)]
-    fn add_f64(mut self, c: f64) -> Self {
-        self.a.v += c;
-        self
-    }
-    fn all_finite(&self) -> bool {
-        self.a.all_finite() && self.d.all_finite()
-    }
-    fn is_constant(&self) -> bool {
-        self.a.is_constant() && self.d.v == 0.0 && self.d.is_constant()
     }
 }
 
