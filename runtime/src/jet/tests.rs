@@ -97,39 +97,40 @@ fn base_w<S: Scalar>(q: &[S], v: &[S], t: S) -> S {
     q[1] * v[0] + v[1] * v[1] + v[0] * t
 }
 
-/// α·base_u + β as dense data, its derivatives typed in by hand.
-fn dense_u(s: &State, alpha: f64, beta: f64) -> Dense {
-    let [q0, q1] = s.q;
-    let [v0, v1] = s.v;
-    let t = s.t;
+/// scale·f + shift as dense data, from f's value, gradient and the non-zero entries (i, k, ∂²f)
+/// of its Hessian's upper triangle (mirrored below).
+fn dense_scaled(
+    scale: f64,
+    shift: f64,
+    value: f64,
+    grad: [f64; NV],
+    hess: &[(usize, usize, f64)],
+) -> Dense {
     let mut h = [[Mg::default(); NV]; NV];
-    h[0][3] = Mg::leaf(alpha);
-    h[3][0] = Mg::leaf(alpha);
-    h[2][2] = Mg::leaf(2.0 * alpha);
-    h[1][IT] = Mg::leaf(alpha);
-    h[IT][1] = Mg::leaf(alpha);
+    for &(i, k, x) in hess {
+        h[i][k] = Mg::leaf(scale * x);
+        h[k][i] = Mg::leaf(scale * x);
+    }
     Dense {
-        v: alpha * (q0 * v1 + v0 * v0 + q1 * t) + beta,
-        g: [v1, t, 2.0 * v0, q0, q1].map(|x| Mg::leaf(alpha * x)),
+        v: scale * value + shift,
+        g: grad.map(|x| Mg::leaf(scale * x)),
         h,
     }
 }
+
+/// α·base_u + β as dense data, its derivatives typed in by hand.
+fn dense_u(s: &State, alpha: f64, beta: f64) -> Dense {
+    let ([q0, q1], [v0, v1], t) = (s.q, s.v, s.t);
+    let grad = [v1, t, 2.0 * v0, q0, q1];
+    let hess = [(0, 3, 1.0), (2, 2, 2.0), (1, IT, 1.0)];
+    dense_scaled(alpha, beta, q0 * v1 + v0 * v0 + q1 * t, grad, &hess)
+}
 /// γ·base_w + δ as dense data, its derivatives typed in by hand.
 fn dense_w(s: &State, gamma: f64, delta: f64) -> Dense {
-    let [_q0, q1] = s.q;
-    let [v0, v1] = s.v;
-    let t = s.t;
-    let mut h = [[Mg::default(); NV]; NV];
-    h[1][2] = Mg::leaf(gamma);
-    h[2][1] = Mg::leaf(gamma);
-    h[3][3] = Mg::leaf(2.0 * gamma);
-    h[2][IT] = Mg::leaf(gamma);
-    h[IT][2] = Mg::leaf(gamma);
-    Dense {
-        v: gamma * (q1 * v0 + v1 * v1 + v0 * t) + delta,
-        g: [0.0, v0, q1 + t, 2.0 * v1, v0].map(|x| Mg::leaf(gamma * x)),
-        h,
-    }
+    let ([_q0, q1], [v0, v1], t) = (s.q, s.v, s.t);
+    let grad = [0.0, v0, q1 + t, 2.0 * v1, v0];
+    let hess = [(1, 2, 1.0), (3, 3, 2.0), (2, IT, 1.0)];
+    dense_scaled(gamma, delta, q1 * v0 + v1 * v1 + v0 * t, grad, &hess)
 }
 
 /// Partial derivatives of g(u, w) at a point: g, g_u, g_w, g_uu, g_uw, g_ww.
@@ -179,17 +180,20 @@ fn close(what: &str, got: f64, want: Mg, rel: f64) {
     );
 }
 
+/// Checks a jet's value and gradient in (q, q̇) against the dense reference.
+#[track_caller]
+fn check_gradient(tag: &str, (value, gq, gv): (f64, [f64; 2], [f64; 2]), r: &Dense, rel: f64) {
+    close(&format!("{tag} value"), value, Mg::leaf(r.v), rel);
+    for i in 0..2 {
+        close(&format!("{tag} grad_q[{i}]"), gq[i], r.g[i], rel);
+        close(&format!("{tag} grad_qdot[{i}]"), gv[i], r.g[2 + i], rel);
+    }
+}
+
 /// Checks every ElJet block against the dense reference.
 fn check_el(tag: &str, s: &State, j: &ElJet<2>, r: &Dense, rel: f64) {
-    close(&format!("{tag} value"), j.value(), Mg::leaf(r.v), rel);
+    check_gradient(tag, (j.value(), j.grad_q(), j.grad_qdot()), r, rel);
     for i in 0..2 {
-        close(&format!("{tag} grad_q[{i}]"), j.grad_q()[i], r.g[i], rel);
-        close(
-            &format!("{tag} grad_qdot[{i}]"),
-            j.grad_qdot()[i],
-            r.g[2 + i],
-            rel,
-        );
         for k in 0..2 {
             close(
                 &format!("{tag} hess_qdot({i},{k})"),
@@ -209,15 +213,8 @@ fn check_el(tag: &str, s: &State, j: &ElJet<2>, r: &Dense, rel: f64) {
 
 /// Checks every HessianJet block (q, q̇ only; t is a constant there) against the dense reference.
 fn check_hess(tag: &str, j: &HessianJet<2>, r: &Dense, rel: f64) {
-    close(&format!("{tag} value"), j.value(), Mg::leaf(r.v), rel);
+    check_gradient(tag, (j.value(), j.grad_q(), j.grad_qdot()), r, rel);
     for i in 0..2 {
-        close(&format!("{tag} grad_q[{i}]"), j.grad_q()[i], r.g[i], rel);
-        close(
-            &format!("{tag} grad_qdot[{i}]"),
-            j.grad_qdot()[i],
-            r.g[2 + i],
-            rel,
-        );
         for k in 0..2 {
             close(
                 &format!("{tag} hess_qq[{i}][{k}]"),
@@ -657,20 +654,20 @@ fn arithmetic_with_f64_on_either_side_matches_calculus_tables() {
     let us = [-2.5, 0.625, 3.0];
     for c in [-1.75, 0.3, 4.0] {
         for op in [
-            Op::JetPlusF(c),
-            Op::FPlusJet(c),
-            Op::JetMinusF(c),
-            Op::FMinusJet(c),
-            Op::JetTimesF(c),
-            Op::FTimesJet(c),
-            Op::JetOverF(c),
-            Op::FOverJet(c),
-            Op::AddAssignF(c),
-            Op::SubAssignF(c),
-            Op::MulAssignF(c),
-            Op::DivAssignF(c),
+            Op::JetPlusF,
+            Op::FPlusJet,
+            Op::JetMinusF,
+            Op::FMinusJet,
+            Op::JetTimesF,
+            Op::FTimesJet,
+            Op::JetOverF,
+            Op::FOverJet,
+            Op::AddAssignF,
+            Op::SubAssignF,
+            Op::MulAssignF,
+            Op::DivAssignF,
         ] {
-            run_unary(op, &us);
+            run_unary(op(c), &us);
         }
     }
 }
@@ -948,16 +945,18 @@ fn state_strategy() -> impl Strategy<Value = [f64; NV]> {
 /// max(1, |f|, max|∇f|, max|∇²f|) of dense data; infinite if any entry is not finite.
 fn scale_of(d: &(f64, [f64; NV], [[f64; NV]; NV])) -> f64 {
     let (f, g, h) = d;
-    core::iter::once(f)
-        .chain(g)
-        .chain(h.iter().flatten())
-        .fold(1.0_f64, |m, x| {
-            if x.is_finite() {
-                m.max(x.abs())
-            } else {
-                f64::INFINITY
-            }
-        })
+    max_abs_of(core::iter::once(f).chain(g).chain(h.iter().flatten()))
+}
+
+/// max(1, max|x|) over `xs`; infinite if any is not finite.
+fn max_abs_of<'a>(xs: impl IntoIterator<Item = &'a f64>) -> f64 {
+    xs.into_iter().fold(1.0_f64, |m, x| {
+        if x.is_finite() {
+            m.max(x.abs())
+        } else {
+            f64::INFINITY
+        }
+    })
 }
 
 proptest! {
@@ -1324,13 +1323,7 @@ fn hess_difference(e: &Expr, x: &[f64; NV], z: &[f64; NV], h: f64) -> Vec<f64> {
 }
 
 fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(1.0_f64, |m, x| {
-        if x.is_finite() {
-            m.max(x.abs())
-        } else {
-            f64::INFINITY
-        }
-    })
+    max_abs_of(v)
 }
 
 proptest! {
