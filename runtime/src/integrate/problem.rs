@@ -13,6 +13,9 @@ use crate::lagrangian::Lagrangian;
 pub(crate) trait Space<const N: usize>: Clone {
     /// The numbers: `f64`, or lanes of several members.
     type R: Real;
+    /// Whether a copy is cheap (a fixed array, no allocation): a stage's argument is then a
+    /// local of its own rather than one scratch state.
+    const COPY: bool = false;
     /// The motion's part.
     fn motion(&self) -> &YOf<Self::R, N>;
     /// The motion's part, to be written.
@@ -64,6 +67,7 @@ pub(crate) trait Space<const N: usize>: Clone {
 
 impl<R: Real, const N: usize> Space<N> for YOf<R, N> {
     type R = R;
+    const COPY: bool = true;
     #[inline(always)]
     fn motion(&self) -> &YOf<R, N> {
         self
