@@ -731,14 +731,10 @@ where
             *e = l.hess_qdot(i, k);
         }
     }
-    let gq = l.grad_q();
-    let mixed = l.mixed();
-    let mut f = [0.0; N];
-    for i in 0..N {
-        f[i] = gq[i] - mixed[i];
-    }
-    let applied = applied_from(sys, &qj, &vj, tj, q, qdot, t);
-    Pieces::new(mass, f).with_applied(applied)
+    let applied = forces_minus(sys, q, qdot, t, || {
+        sys.dissipation(&qj, &vj, tj).grad_qdot()
+    });
+    assemble(mass, l.grad_q(), l.mixed(), applied)
 }
 
 /// [`jet_pieces`] column by column: what it is above
@@ -800,36 +796,44 @@ where
         // One seeding along (q̇, 0, 1) serves L and D.
         let (qj, vj, tj) = ColumnJet::seed_along(q, qdot, t, qdot, 1.0);
         let l = sys.lagrangian(&qj, &vj, tj);
-        let (gq, mixed) = (l.grad_q(), l.column_qdot());
-        let mut f = [0.0; N];
-        for i in 0..N {
-            f[i] = gq[i] - mixed[i];
-        }
-        let mut applied = sys.generalized_forces(q, qdot, t);
-        let dd = sys.dissipation(&qj, &vj, tj).grad_qdot();
-        for (a, d) in applied.iter_mut().zip(dd) {
-            *a -= d;
-        }
-        Pieces::new(mass, f).with_applied(applied)
+        let applied = forces_minus(sys, q, qdot, t, || {
+            sys.dissipation(&qj, &vj, tj).grad_qdot()
+        });
+        assemble(mass, l.grad_q(), l.column_qdot(), applied)
     })
 }
 
-/// Q − ∂D/∂q̇ with D evaluated on jets already seeded at (q, q̇, t).
+/// The pieces from M (upper triangle), ∂L/∂q and the mixed term (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t, so
+/// f_L = ∂L/∂q − mixed, and the applied forces.
 #[inline(always)]
-fn applied_from<L, const N: usize>(
+fn assemble<const N: usize>(
+    mass: [[f64; N]; N],
+    grad_q: [f64; N],
+    mixed: [f64; N],
+    applied: [f64; N],
+) -> Pieces<N> {
+    let mut f = [0.0; N];
+    for i in 0..N {
+        f[i] = grad_q[i] - mixed[i];
+    }
+    Pieces::new(mass, f).with_applied(applied)
+}
+
+/// Q − ∂D/∂q̇: Q evaluated in `f64`, then ∂D/∂q̇ from `grad_d` (D's gradient in q̇ from whichever
+/// jet the caller seeded).
+#[inline(always)]
+fn forces_minus<L, const N: usize>(
     sys: &L,
-    qj: &[ElJet<N>; N],
-    vj: &[ElJet<N>; N],
-    tj: ElJet<N>,
     q: &[f64; N],
     qdot: &[f64; N],
     t: f64,
+    grad_d: impl FnOnce() -> [f64; N],
 ) -> [f64; N]
 where
     L: Lagrangian<N> + ?Sized,
 {
     let mut applied = sys.generalized_forces(q, qdot, t);
-    let dd = sys.dissipation(qj, vj, tj).grad_qdot();
+    let dd = grad_d();
     for (a, d) in applied.iter_mut().zip(dd) {
         *a -= d;
     }
@@ -869,7 +873,9 @@ where
         applied_forces_by_column(sys, q, qdot, t)
     } else {
         let (qj, vj, tj) = ElJet::seed(q, qdot, t);
-        applied_from(sys, &qj, &vj, tj, q, qdot, t)
+        forces_minus(sys, q, qdot, t, || {
+            sys.dissipation(&qj, &vj, tj).grad_qdot()
+        })
     }
 }
 
@@ -886,15 +892,12 @@ where
     L: Lagrangian<N> + ?Sized,
 {
     use crate::jet::ColumnJet;
-    let mut applied = sys.generalized_forces(q, qdot, t);
-    let dd = crate::jet::with_jet_stack(N, core::mem::size_of::<ColumnJet<N>>(), || {
-        let (qj, vj) = ColumnJet::seed(q, qdot, None);
-        sys.dissipation(&qj, &vj, ColumnJet::from(t)).grad_qdot()
-    });
-    for (a, d) in applied.iter_mut().zip(dd) {
-        *a -= d;
-    }
-    applied
+    forces_minus(sys, q, qdot, t, || {
+        crate::jet::with_jet_stack(N, core::mem::size_of::<ColumnJet<N>>(), || {
+            let (qj, vj) = ColumnJet::seed(q, qdot, None);
+            sys.dissipation(&qj, &vj, ColumnJet::from(t)).grad_qdot()
+        })
+    })
 }
 
 /// The power dh/dt = (Q − ∂D/∂q̇)·q̇ − ∂L/∂t from the jets: the default of
@@ -1007,11 +1010,7 @@ where
     let forces = sys.generalized_forces(&qj, &vj, tj);
     let d = sys.dissipation(&qj, &vj, tj);
     let (dv, dqv, dvv) = (d.grad_qdot(), d.hess_qqdot(), d.hess_qdotqdot());
-    let mut out = AppliedJacobian {
-        value: [0.0; N],
-        d_q: [[0.0; N]; N],
-        d_qdot: [[0.0; N]; N],
-    };
+    let mut out = AppliedJacobian::ZERO;
     for i in 0..N {
         let (gq, gv) = (forces[i].grad_q(), forces[i].grad_qdot());
         out.value[i] = forces[i].value() - dv[i];
@@ -1039,11 +1038,7 @@ where
     let tj = ColumnJet::from(t);
     let (qj, vj) = ColumnJet::seed(q, qdot, None);
     let forces = sys.generalized_forces(&qj, &vj, tj);
-    let mut out = AppliedJacobian {
-        value: [0.0; N],
-        d_q: [[0.0; N]; N],
-        d_qdot: [[0.0; N]; N],
-    };
+    let mut out = AppliedJacobian::ZERO;
     for i in 0..N {
         let (gq, gv) = (forces[i].grad_q(), forces[i].grad_qdot());
         out.value[i] = forces[i].value();
@@ -1089,6 +1084,15 @@ pub struct AppliedJacobian<const N: usize> {
     pub d_q: [[f64; N]; N],
     /// ∂Fᵢ/∂q̇ₖ (`d_qdot[i][k]`).
     pub d_qdot: [[f64; N]; N],
+}
+
+impl<const N: usize> AppliedJacobian<N> {
+    /// Every entry zero (what the derivations add into).
+    const ZERO: Self = AppliedJacobian {
+        value: [0.0; N],
+        d_q: [[0.0; N]; N],
+        d_qdot: [[0.0; N]; N],
+    };
 }
 
 /// A non-finite dynamics error traced to the applied forces where that is where it starts: at
