@@ -99,6 +99,20 @@ pub trait LinearizeConstrained<const N: usize, const K: usize>: Holonomic<N, K> 
 
 impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> LinearizeConstrained<N, K> for H {}
 
+/// The refusal of a constrained linearization at (q, q̇, t), saying why.
+fn refusal<const N: usize>(
+    q: &[f64; N],
+    qdot: &[f64; N],
+    t: f64,
+) -> impl Fn(String) -> DynamicsError {
+    move |message| DynamicsError::Constrained {
+        t,
+        q: q.to_vec(),
+        qdot: qdot.to_vec(),
+        message,
+    }
+}
+
 /// Whether [`constrained_linearization`] takes the reference (q, q̇, t) of `sys`: constraints
 /// that do not move, and a state on them.
 fn check_reference<H, const N: usize, const K: usize>(
@@ -110,12 +124,7 @@ fn check_reference<H, const N: usize, const K: usize>(
 where
     H: Holonomic<N, K> + ?Sized,
 {
-    let refuse = |message: String| DynamicsError::Constrained {
-        t,
-        q: q.to_vec(),
-        qdot: qdot.to_vec(),
-        message,
-    };
+    let refuse = refusal(q, qdot, t);
     if !H::SCLERONOMIC {
         return Err(refuse(
             "the constraints depend on time (or a velocity constraint has a velocity-free \
@@ -227,12 +236,7 @@ fn first_order<H, const N: usize, const K: usize>(
 where
     H: Holonomic<N, K> + ?Sized,
 {
-    let refuse = |message: String| DynamicsError::Constrained {
-        t,
-        q: q.to_vec(),
-        qdot: qdot.to_vec(),
-        message,
-    };
+    let refuse = refusal(q, qdot, t);
     let (a0, lambda) = sys.constrained_accelerations(q, qdot, t)?;
     let lin = linearize_along(sys, q, qdot, t, &a0)?;
     let kh = K - H::VELOCITY_ROWS;
