@@ -44,7 +44,7 @@
 use nalgebra::SMatrix;
 
 use crate::eom::{self, ConstraintRows, Pieces};
-use crate::error::DynamicsError;
+use crate::error::{DynamicsError, DynamicsResult};
 use crate::jet::ConstraintJet;
 use crate::lagrangian::Lagrangian;
 use crate::scalar::Scalar;
@@ -462,12 +462,7 @@ impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
         p
     }
     #[inline(always)]
-    fn accelerations(
-        &self,
-        q: &[f64; N],
-        qdot: &[f64; N],
-        t: f64,
-    ) -> Result<[f64; N], DynamicsError> {
+    fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> DynamicsResult<[f64; N]> {
         self.sys
             .constrained_accelerations(q, qdot, t)
             .map(|(a, _)| a)
@@ -477,7 +472,7 @@ impl<H: Holonomic<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
         q: &[f64; N],
         qdot: &[f64; N],
         t: f64,
-    ) -> Option<Result<nalgebra::DMatrix<f64>, DynamicsError>> {
+    ) -> Option<DynamicsResult<nalgebra::DMatrix<f64>>> {
         Some(crate::linearize::constrained_state_jacobian(
             self.sys, q, qdot, t,
         ))

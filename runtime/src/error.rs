@@ -2,6 +2,16 @@
 
 use core::fmt;
 
+/// The result of evaluating the dynamics: a value, or the [`DynamicsError`] that stopped it.
+///
+/// ```
+/// use lagrange_runtime::{DynamicsError, DynamicsResult};
+/// let e = DynamicsError::NonFinite { t: 0.5, q: vec![0.0], qdot: vec![f64::NAN], message: "q̇ is NaN".into() };
+/// let r: DynamicsResult<[f64; 1]> = Err(e);
+/// assert_eq!(r.map_err(|e| e.to_string().contains("t = 0.5")), Err(true));
+/// ```
+pub type DynamicsResult<T> = Result<T, DynamicsError>;
+
 /// Why the equations of motion could not be solved at a state.
 ///
 /// Every variant carries the time and the state at which it happened, and its message says what

@@ -3,7 +3,7 @@
 use nalgebra::SMatrix;
 
 use crate::eom::{self, Pieces};
-use crate::error::DynamicsError;
+use crate::error::{DynamicsError, DynamicsResult};
 use crate::jet::{ElJet, HessianJet};
 use crate::linalg::all_finite;
 use crate::real::Real;
@@ -151,12 +151,7 @@ pub trait Lagrangian<const N: usize> {
     ///
     /// Fails with [`DynamicsError::SingularMassMatrix`] where M = ∂²L/∂q̇∂q̇ is singular and with
     /// [`DynamicsError::NonFinite`] where the state or the derivatives are not finite.
-    fn accelerations(
-        &self,
-        q: &[f64; N],
-        qdot: &[f64; N],
-        t: f64,
-    ) -> Result<[f64; N], DynamicsError> {
+    fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> DynamicsResult<[f64; N]> {
         crate::scalar::take_unseen_rate();
         let pieces = self.pieces(q, qdot, t);
         if crate::scalar::take_unseen_rate() {
@@ -364,7 +359,7 @@ pub trait Lagrangian<const N: usize> {
         q: &[f64; N],
         qdot: &[f64; N],
         t: f64,
-    ) -> Option<Result<nalgebra::DMatrix<f64>, DynamicsError>> {
+    ) -> Option<DynamicsResult<nalgebra::DMatrix<f64>>> {
         let _ = (q, qdot, t);
         None
     }

@@ -35,7 +35,7 @@ pub use constraints::{Holonomic, Nonholonomic};
 pub use contact::{Contact, Unilateral};
 pub use ensemble::{Ensemble, Member};
 pub use eom::solve_mass_matrix;
-pub use error::DynamicsError;
+pub use error::{DynamicsError, DynamicsResult};
 pub use integrate::sensitivity;
 pub use integrate::{
     ConstraintResidual, DenseOutputError, Direction, Drift, Event, EventHit, EventSensitivity,

@@ -11,7 +11,7 @@ use nalgebra::SMatrix;
 
 use crate::contact::{ContactRows, Unilateral};
 use crate::eom::Pieces;
-use crate::error::{DynamicsError, Short};
+use crate::error::{DynamicsError, DynamicsResult, Short};
 use crate::impact::{self, Candidate, Equality};
 use crate::lagrangian::Lagrangian;
 use crate::linalg::lu_solve_dyn;
@@ -853,12 +853,7 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> Lagrangian<N>
         }
         p
     }
-    fn accelerations(
-        &self,
-        q: &[f64; N],
-        qdot: &[f64; N],
-        t: f64,
-    ) -> Result<[f64; N], DynamicsError> {
+    fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> DynamicsResult<[f64; N]> {
         // With every contact open and no equality constraints: the system's own accelerations,
         // nothing allocated.
         if self.equalities.0 == 0 && !self.state.closed.get().iter().any(|&c| c) {

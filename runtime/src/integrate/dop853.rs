@@ -5,7 +5,7 @@
 use super::control::Controller;
 use super::dop853_coefficients::{A, C, D, E3, E5};
 use super::explicit::pad_row;
-use super::explicit::{Step, Tableau};
+use super::explicit::{Step, Tableau, Trial, end_rows};
 use super::problem::{Slopes, Space};
 use super::state::{Fault, Real, weighted_by};
 
@@ -26,8 +26,6 @@ impl Tableau for Dop853 {
         (h * err5).ln() - (deno * count as f64).ln() * 0.5
     }
     const ORDER: i32 = 8;
-    const FSAL_IN_ERROR: bool = false;
-    const EAGER_DENSE: bool = false;
     const ROWS: usize = 8;
     /// The shared PI controller with β = 0.04 (expo1 = 1/8 − 0.2 β) and Hairer's dop853 factor
     /// limits [1/3, 6]. `dop853.f` defaults to β = 0 (as SciPy's controller does); over 30 heavy
@@ -43,14 +41,15 @@ impl Tableau for Dop853 {
     }
     /// Hairer's blend of the 5th- and 3rd-order estimates over the motion, as a logarithm.
     #[inline(always)]
-    fn ln_err<S: Space<N>, const N: usize>(
-        x: &S,
-        x1: &S,
-        k: &[S; 16],
-        h: S::R,
-        rtol: S::R,
-        atol: S::R,
-    ) -> S::R {
+    fn ln_err<S: Space<N>, const N: usize>(trial: Trial<'_, S, N>) -> S::R {
+        let Trial {
+            x,
+            x1,
+            k,
+            h,
+            rtol,
+            atol,
+        } = trial;
         let (y, y1) = (x.motion(), x1.motion());
         let e5 = weighted_by(12, &E5, |j| k[j].motion());
         let e3 = weighted_by(12, &E3, |j| k[j].motion());
@@ -101,15 +100,7 @@ impl Tableau for Dop853 {
             S::map([&w], [&mut rows[4 + j]], |[w]| [h * w]);
         }
         let [r0, r1, r2, r3, ..] = rows;
-        S::map(
-            [x, x1, &k[0], &k[12]],
-            [r0, r1, r2, r3],
-            |[y, y1, k0, k12]| {
-                let ydiff = y1 - y;
-                let bspl = h * k0 - ydiff;
-                [y, ydiff, bspl, ydiff - h * k12 - bspl]
-            },
-        );
+        end_rows(h, [x, x1, &k[0], &k[12]], [r0, r1, r2, r3]);
         Ok(())
     }
     /// The dense output at s = (t − t_old)/h ∈ [0, 1].

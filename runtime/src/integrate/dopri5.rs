@@ -3,7 +3,7 @@
 //! continuous extension of Dormand & Prince / Shampine.
 
 use super::control::Controller;
-use super::explicit::{Step, Tableau};
+use super::explicit::{Step, Tableau, Trial, end_rows};
 use super::explicit::{pad, pad_row};
 use super::problem::{Slopes, Space};
 use super::state::{Fault, Real, weighted_by};
@@ -87,14 +87,15 @@ impl Tableau for Dopri5 {
     }
     /// dopri5's norm √(Σ (h eᵢ/wᵢ)² / 2N), wᵢ = atol + rtol max(|xᵢ|, |x₁ᵢ|), as its logarithm.
     #[inline(always)]
-    fn ln_err<S: Space<N>, const N: usize>(
-        x: &S,
-        x1: &S,
-        k: &[S; 16],
-        h: S::R,
-        rtol: S::R,
-        atol: S::R,
-    ) -> S::R {
+    fn ln_err<S: Space<N>, const N: usize>(trial: Trial<'_, S, N>) -> S::R {
+        let Trial {
+            x,
+            x1,
+            k,
+            h,
+            rtol,
+            atol,
+        } = trial;
         let e = weighted_by(7, &E, |j| k[j].motion());
         let (y, y1) = (x.motion(), x1.motion());
         let mut s = S::R::ZERO;
@@ -116,15 +117,8 @@ impl Tableau for Dopri5 {
         let mut d = x.clone();
         S::weighted::<7>(&mut d, &D, k);
         let [r0, r1, r2, r3, r4, ..] = rows;
-        S::map(
-            [x, x1, &k[0], &k[6], &d],
-            [r0, r1, r2, r3, r4],
-            |[y, y1, k0, k6, d]| {
-                let ydiff = y1 - y;
-                let bspl = h * k0 - ydiff;
-                [y, ydiff, bspl, ydiff - h * k6 - bspl, h * d]
-            },
-        );
+        end_rows(h, [x, x1, &k[0], &k[6]], [r0, r1, r2, r3]);
+        S::map([&d], [r4], |[d]| [h * d]);
         Ok(())
     }
     /// y_old + θ(r1 + (1−θ)(r2 + θ(r3 + (1−θ) r4))).

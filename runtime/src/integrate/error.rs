@@ -324,29 +324,29 @@ impl fmt::Display for SimulationError {
                 position_residual,
                 velocity_residual,
                 worst,
-            } => write!(
-                f,
-                "the initial state is off the constraints at t = {t}, q = {q}, q̇ = {qdot}: \
-                 max |g| = {position_residual:.3e}, max |ġ| = {velocity_residual:.3e} (constraint \
-                 {worst}, counting from 0, is the furthest off). A constrained run starts on g = 0 \
-                 with a velocity tangent to it (G q̇ + ∂g/∂t = 0). Try: compute q0 and q̇0 from \
-                 the constraints, or call .project_initial_state() to start from the nearest \
-                 state that satisfies them.",
-                t = Short(*t),
-                q = Short(&q[..]),
-                qdot = Short(&qdot[..])
-            ),
-            SimulationError::StepSizeUnderflow { t, q, qdot, h, .. } => write!(
-                f,
-                "step size underflow at t = {t}, q = {q}, q̇ = {qdot}: the adaptive step shrank to \
-                 h = {h:e}, below what round-off in t allows. The solution is probably singular or \
-                 extremely stiff here (a collision, a blow-up, a chart singularity). Try: check the state \
-                 and parameters near this time, loosen rtol/atol, or use other coordinates. The \
-                 trajectory up to t is kept (partial_trajectory()).",
-                t = Short(*t),
-                q = Short(&q[..]),
-                qdot = Short(&qdot[..])
-            ),
+            } => {
+                let (t, q, qdot) = shorts(t, q, qdot);
+                write!(
+                    f,
+                    "the initial state is off the constraints at t = {t}, q = {q}, q̇ = {qdot}: \
+                     max |g| = {position_residual:.3e}, max |ġ| = {velocity_residual:.3e} (constraint \
+                     {worst}, counting from 0, is the furthest off). A constrained run starts on g = 0 \
+                     with a velocity tangent to it (G q̇ + ∂g/∂t = 0). Try: compute q0 and q̇0 from \
+                     the constraints, or call .project_initial_state() to start from the nearest \
+                     state that satisfies them."
+                )
+            }
+            SimulationError::StepSizeUnderflow { t, q, qdot, h, .. } => {
+                let (t, q, qdot) = shorts(t, q, qdot);
+                write!(
+                    f,
+                    "step size underflow at t = {t}, q = {q}, q̇ = {qdot}: the adaptive step shrank to \
+                     h = {h:e}, below what round-off in t allows. The solution is probably singular or \
+                     extremely stiff here (a collision, a blow-up, a chart singularity). Try: check the state \
+                     and parameters near this time, loosen rtol/atol, or use other coordinates. The \
+                     trajectory up to t is kept (partial_trajectory())."
+                )
+            }
             SimulationError::MaxSteps {
                 t,
                 q,
@@ -354,23 +354,23 @@ impl fmt::Display for SimulationError {
                 max_steps,
                 partial,
             } => match &partial.stiffness {
-                Some(stiff) => write!(
-                    f,
-                    "maximum number of steps ({max_steps}) reached at t = {t}, q = {q}, q̇ = \
-                     {qdot}. {stiff} The trajectory up to t is kept (partial_trajectory()).",
-                    t = Short(*t),
-                    q = Short(&q[..]),
-                    qdot = Short(&qdot[..])
-                ),
-                None => write!(
-                    f,
-                    "maximum number of steps ({max_steps}) reached at t = {t}, q = {q}, q̇ = \
-                     {qdot}. Try: raise .max_steps(), loosen the tolerances or enlarge dt, or \
-                     shorten the run. The trajectory up to t is kept (partial_trajectory()).",
-                    t = Short(*t),
-                    q = Short(&q[..]),
-                    qdot = Short(&qdot[..])
-                ),
+                Some(stiff) => {
+                    let (t, q, qdot) = shorts(t, q, qdot);
+                    write!(
+                        f,
+                        "maximum number of steps ({max_steps}) reached at t = {t}, q = {q}, q̇ = \
+                         {qdot}. {stiff} The trajectory up to t is kept (partial_trajectory())."
+                    )
+                }
+                None => {
+                    let (t, q, qdot) = shorts(t, q, qdot);
+                    write!(
+                        f,
+                        "maximum number of steps ({max_steps}) reached at t = {t}, q = {q}, q̇ = \
+                         {qdot}. Try: raise .max_steps(), loosen the tolerances or enlarge dt, or \
+                         shorten the run. The trajectory up to t is kept (partial_trajectory())."
+                    )
+                }
             },
             SimulationError::MaxSamples {
                 t,
@@ -380,46 +380,46 @@ impl fmt::Display for SimulationError {
                 sample_bytes,
                 default_limit,
                 ..
-            } => write!(
-                f,
-                "the trajectory reached {limit} stored samples at t = {t}, q = {q}, q̇ = {qdot}: \
-                 memory is bounded by that option. Try: record less often (.sample_every(Δ) instead of every step), pass the \
-                 samples to an observer without storing them (.observe(f).keep_samples(false)), or \
-                 raise .max_samples(n). The trajectory up to t is kept (partial_trajectory()).",
-                limit = super::trajectory::max_samples_phrase(
-                    *max_samples,
-                    *sample_bytes,
-                    *default_limit
-                ),
-                t = Short(*t),
-                q = Short(&q[..]),
-                qdot = Short(&qdot[..])
-            ),
+            } => {
+                let (t, q, qdot) = shorts(t, q, qdot);
+                write!(
+                    f,
+                    "the trajectory reached {limit} stored samples at t = {t}, q = {q}, q̇ = {qdot}: \
+                     memory is bounded by that option. Try: record less often (.sample_every(Δ) instead of every step), pass the \
+                     samples to an observer without storing them (.observe(f).keep_samples(false)), or \
+                     raise .max_samples(n). The trajectory up to t is kept (partial_trajectory()).",
+                    limit = super::trajectory::max_samples_phrase(
+                        *max_samples,
+                        *sample_bytes,
+                        *default_limit
+                    )
+                )
+            }
             SimulationError::NonFinite {
                 t,
                 q,
                 qdot,
                 partial,
             } => match &partial.stiffness {
-                Some(stiff) => write!(
-                    f,
-                    "the state became NaN or infinite in the step after t = {t} (last finite state \
-                     q = {q}, q̇ = {qdot}). {stiff} The trajectory up to t is kept \
-                     (partial_trajectory()).",
-                    t = Short(*t),
-                    q = Short(&q[..]),
-                    qdot = Short(&qdot[..])
-                ),
-                None => write!(
-                    f,
-                    "the state became NaN or infinite in the step after t = {t} (last finite state \
-                     q = {q}, q̇ = {qdot}). Try: a smaller dt or tighter tolerances, and check that \
-                     L is defined along the motion. The trajectory up to t is kept \
-                     (partial_trajectory()).",
-                    t = Short(*t),
-                    q = Short(&q[..]),
-                    qdot = Short(&qdot[..])
-                ),
+                Some(stiff) => {
+                    let (t, q, qdot) = shorts(t, q, qdot);
+                    write!(
+                        f,
+                        "the state became NaN or infinite in the step after t = {t} (last finite state \
+                         q = {q}, q̇ = {qdot}). {stiff} The trajectory up to t is kept \
+                         (partial_trajectory())."
+                    )
+                }
+                None => {
+                    let (t, q, qdot) = shorts(t, q, qdot);
+                    write!(
+                        f,
+                        "the state became NaN or infinite in the step after t = {t} (last finite state \
+                         q = {q}, q̇ = {qdot}). Try: a smaller dt or tighter tolerances, and check that \
+                         L is defined along the motion. The trajectory up to t is kept \
+                         (partial_trajectory())."
+                    )
+                }
             },
             SimulationError::Dynamics {
                 source,
@@ -428,13 +428,11 @@ impl fmt::Display for SimulationError {
                 qdot,
                 partial,
             } => {
+                let (t, q, qdot) = shorts(t, q, qdot);
                 write!(
                     f,
                     "the equations of motion failed in the step after t = {t} (last accepted q = \
-                     {q}, q̇ = {qdot}): {source}",
-                    t = Short(*t),
-                    q = Short(&q[..]),
-                    qdot = Short(&qdot[..])
+                     {q}, q̇ = {qdot}): {source}"
                 )?;
                 if let Some(stiff) = &partial.stiffness {
                     write!(f, " Why: {stiff}")?;
@@ -452,6 +450,15 @@ impl fmt::Display for SimulationError {
             } => newton_failed(f, *t, q, qdot, (*iterations, *residual, reason)),
         }
     }
+}
+
+/// The place of a failure as its messages print it: t, q and q̇ shortened.
+fn shorts<'a>(
+    t: &f64,
+    q: &'a [f64],
+    qdot: &'a [f64],
+) -> (Short<f64>, Short<&'a [f64]>, Short<&'a [f64]>) {
+    (Short(*t), Short(q), Short(qdot))
 }
 
 /// The message of [`SimulationError::NewtonFailed`]: which solve failed (a constrained run's

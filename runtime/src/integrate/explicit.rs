@@ -28,33 +28,33 @@ pub(crate) trait Tableau: 'static {
     const ORDER: i32;
     /// Whether the error estimate uses `k[STAGES]` = F(t + h, x₁) (evaluated in every attempt
     /// then; otherwise only in an accepted one).
-    const FSAL_IN_ERROR: bool;
+    const FSAL_IN_ERROR: bool = false;
     /// Whether the dense output is formed at every accepted step (and shifted with the node by
     /// [`shift`](Self::shift)); otherwise on first use, from the stages the step leaves.
-    const EAGER_DENSE: bool;
-    /// Whether the step is adaptive (else fixed, on a grid).
-    const ADAPTIVE: bool;
+    const EAGER_DENSE: bool = false;
+    /// Whether the step is adaptive (else fixed, on a grid: the error estimate and the
+    /// controller below are then not used, and a fixed-step tableau leaves them out).
+    const ADAPTIVE: bool = false;
     /// The step-size controller of an adaptive tableau.
-    fn controller() -> Controller;
+    fn controller() -> Controller {
+        Controller::new(0.2, 0.0, 0.2, 10.0)
+    }
     /// x₁ = x + h Σ b_j k_j (a sum of `STAGES` terms: the constant length of `combine`).
     fn solution<S: Space<N>, const N: usize>(out: &mut S, x: &S, h: S::R, k: &[S; 16]);
     /// The rows of the error estimates Σ_j E_j k_j (`ESTIMATES` of them; DOP853 has its 5th-
     /// and 3rd-order ones, Dormand–Prince one), for a state's parts other than the motion.
-    const ERROR_ROWS: [[f64; 16]; 2];
+    const ERROR_ROWS: [[f64; 16]; 2] = [[0.0; 16]; 2];
     /// How many of [`ERROR_ROWS`](Self::ERROR_ROWS) the estimate takes.
-    const ESTIMATES: usize;
+    const ESTIMATES: usize = 0;
     /// ln err from the sums Σ (e_r,i / w_i)² of each estimate over `count` components (the
     /// motion's norm of [`ln_err`](Self::ln_err), for other parts of a state).
-    fn ln_err_of(sums: [f64; 2], h: f64, count: usize) -> f64;
-    /// ln of the error norm of the step from x to x₁ over the motion (not for a fixed step).
-    fn ln_err<S: Space<N>, const N: usize>(
-        x: &S,
-        x1: &S,
-        k: &[S; 16],
-        h: S::R,
-        rtol: S::R,
-        atol: S::R,
-    ) -> S::R;
+    fn ln_err_of(_sums: [f64; 2], _h: f64, _count: usize) -> f64 {
+        0.0
+    }
+    /// ln of the error norm of a trial step over the motion (0 for a fixed step).
+    fn ln_err<S: Space<N>, const N: usize>(_trial: Trial<'_, S, N>) -> S::R {
+        S::R::ZERO
+    }
     /// The dense-output rows of the step of size h from (t, x) to x₁ (its stages in `k`, with
     /// `k[STAGES]` = F at x₁), into `rows` (as many as [`eval`](Self::eval) reads); extra
     /// stages through `f`.
@@ -90,6 +90,32 @@ pub(crate) const fn pad<const R: usize, const C: usize>(a: [[f64; C]; R]) -> [[f
 /// Pads a row to 16.
 pub(crate) const fn pad_row<const C: usize>(a: [f64; C]) -> [f64; 16] {
     pad([a])[0]
+}
+
+/// A trial step as its error estimate reads it: from x to x₁ with size h, its stages and the
+/// tolerances.
+pub(crate) struct Trial<'a, S: Space<N>, const N: usize> {
+    pub(crate) x: &'a S,
+    pub(crate) x1: &'a S,
+    pub(crate) k: &'a [S; 16],
+    pub(crate) h: S::R,
+    pub(crate) rtol: S::R,
+    pub(crate) atol: S::R,
+}
+
+/// The first four dense-output rows of Hairer's dopri5 and dop853 from the step's ends x, x₁
+/// and slopes k₀, k_end: x, x₁ − x, h k₀ − (x₁ − x), (x₁ − x) − h k_end − (h k₀ − (x₁ − x)).
+#[inline(always)]
+pub(crate) fn end_rows<S: Space<N, R = f64>, const N: usize>(
+    h: f64,
+    ends: [&S; 4],
+    rows: [&mut S; 4],
+) {
+    S::map(ends, rows, |[y, y1, k0, k_end]| {
+        let ydiff = y1 - y;
+        let bspl = h * k0 - ydiff;
+        [y, ydiff, bspl, ydiff - h * k_end - bspl]
+    });
 }
 
 /// An accepted step as its dense output reads it: from (t, x) to x₁ with size h, its stages
@@ -165,7 +191,15 @@ pub(crate) fn attempt<T: Tableau, S: Space<N>, F: Slopes<S, N>, const N: usize>(
         f.slope(t + h, x1, &mut k[T::STAGES])?;
     }
     Ok(if T::ADAPTIVE {
-        let ln_err = T::ln_err(x, x1, k, h, tol.0, tol.1);
+        let (rtol, atol) = tol;
+        let ln_err = T::ln_err(Trial {
+            x,
+            x1,
+            k,
+            h,
+            rtol,
+            atol,
+        });
         // The state's other parts where they take part in the error control (a sensitivity
         // run's columns): the larger norm decides.
         let estimate = (
@@ -345,6 +379,12 @@ impl<P: Problem<N>, T: Tableau, const N: usize> ExplicitRk<P, T, N> {
         } else {
             self.grid.time(self.node + 1)
         };
+        self.attempt_to(t1, h, stats)
+    }
+
+    /// [`attempt`](Self::attempt) of a step of size h that ends at t₁.
+    #[inline(always)]
+    fn attempt_to(&mut self, t1: f64, h: f64, stats: &mut Stats) -> Result<f64, Fault> {
         let (t, tol) = (self.t, self.tol);
         attempt_at::<P, T, N>(
             self.p.sys(),
@@ -487,18 +527,7 @@ impl<P: Problem<N>, T: Tableau, const N: usize> Stepper<N> for ExplicitRk<P, T, 
             // The grid's next node, computed once (`trial` and `attempt` each compute it).
             let t1 = self.grid.time(self.node + 1);
             let h = t1 - self.t;
-            let (t, tol) = (self.t, self.tol);
-            attempt_at::<P, T, N>(
-                self.p.sys(),
-                &self.p,
-                (t, t1),
-                &self.x,
-                &mut self.k,
-                h,
-                tol,
-                &mut self.x1,
-                stats,
-            )?;
+            self.attempt_to(t1, h, stats)?;
             stats.steps += 1;
             self.node += 1;
             return self.moved_to(t1, h, stats);

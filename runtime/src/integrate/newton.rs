@@ -15,6 +15,28 @@ pub(crate) fn inf_norm<const N: usize>(x: &[f64; N]) -> f64 {
     x.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
 }
 
+/// Adds a full Newton correction (Δx to x, Δν to the multipliers ν) and counts the iteration,
+/// which formed the exact Jacobian and factorized it (the full Newton method of the variational
+/// integrator and RATTLE); |Δx|∞.
+pub(crate) fn corrected<const N: usize>(
+    x: &mut [f64; N],
+    dx: &[f64; N],
+    nu: &mut [f64],
+    dnu: &[f64],
+    stats: &mut Stats,
+) -> f64 {
+    for i in 0..N {
+        x[i] += dx[i];
+    }
+    for (n, d) in nu.iter_mut().zip(dnu) {
+        *n += d;
+    }
+    stats.newton_iterations += 1;
+    stats.jacobians += 1;
+    stats.decompositions += 1;
+    inf_norm(dx)
+}
+
 /// One evaluation of the residual at the current iterate x.
 pub(crate) struct Residual<const N: usize, J> {
     /// R(x).
@@ -56,14 +78,7 @@ pub(crate) fn solve<const N: usize, J>(
             return Ok(res.data);
         }
         let dx = correction(x, &res, r_norm, stats)?;
-        for i in 0..N {
-            x[i] += dx[i];
-        }
-        last_dx = inf_norm(&dx);
-        stats.newton_iterations += 1;
-        // Each iteration forms the exact Jacobian and factorizes it.
-        stats.jacobians += 1;
-        stats.decompositions += 1;
+        last_dx = corrected(x, &dx, &mut [], &[], stats);
     }
     Err(Fault::Newton {
         iterations: MAX_NEWTON,

@@ -24,7 +24,7 @@
 use crate::linalg::{RANK_TOL, lu_solve_dyn};
 
 use super::manifold::Manifold;
-use super::newton::{MAX_NEWTON, inf_norm};
+use super::newton::{MAX_NEWTON, corrected, inf_norm};
 use super::state::Stats;
 use super::state::{Fault, Y};
 use super::stepper::{FixedGrid, Stepper};
@@ -217,17 +217,7 @@ impl<'a, const N: usize> Rattle<'a, N> {
                         reason: SINGULAR_STEP,
                     }
                 })?;
-            for i in 0..N {
-                q1[i] += dq[i];
-            }
-            for (n, d) in nu.iter_mut().zip(&dnu) {
-                *n += d;
-            }
-            last_dx = inf_norm(&dq);
-            stats.newton_iterations += 1;
-            // Each iteration forms the exact Jacobian and factorizes it.
-            stats.jacobians += 1;
-            stats.decompositions += 1;
+            last_dx = corrected(&mut q1, &dq, &mut nu, &dnu, stats);
         }
         Err(Fault::Newton {
             iterations: MAX_NEWTON,
@@ -297,17 +287,7 @@ impl<'a, const N: usize> Rattle<'a, N> {
                              = 0) is singular: the constrained system [M Gᵀ; G 0] is singular",
                     }
                 })?;
-            for i in 0..N {
-                v[i] += dv[i];
-            }
-            for (s, d) in sigma.iter_mut().zip(&ds) {
-                *s += d;
-            }
-            last_dv = inf_norm(&dv);
-            stats.newton_iterations += 1;
-            // Each iteration forms the exact Jacobian and factorizes it.
-            stats.jacobians += 1;
-            stats.decompositions += 1;
+            last_dv = corrected(&mut v, &dv, &mut sigma, &ds, stats);
         }
         Err(Fault::Newton {
             iterations: MAX_NEWTON,

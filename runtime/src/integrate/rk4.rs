@@ -18,33 +18,11 @@ impl Tableau for Rk4 {
         [0.0, 0.0, 1.0, 0.0],
         [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
     ]);
-    const ERROR_ROWS: [[f64; 16]; 2] = [[0.0; 16]; 2];
-    const ESTIMATES: usize = 0;
-    fn ln_err_of(_sums: [f64; 2], _h: f64, _count: usize) -> f64 {
-        0.0
-    }
     const ORDER: i32 = 4;
-    const FSAL_IN_ERROR: bool = false;
-    const EAGER_DENSE: bool = false;
     const ROWS: usize = 4;
-    const ADAPTIVE: bool = false;
-    /// Not used (a fixed step): dopri5's.
-    fn controller() -> super::control::Controller {
-        super::control::Controller::new(0.2 - 0.04 * 0.75, 0.04, 0.2, 10.0)
-    }
     #[inline(always)]
     fn solution<S: Space<N>, const N: usize>(out: &mut S, x: &S, h: S::R, k: &[S; 16]) {
         S::combine::<4>(out, x, h, &Self::A[4], k, None);
-    }
-    fn ln_err<S: Space<N>, const N: usize>(
-        _x: &S,
-        _x1: &S,
-        _k: &[S; 16],
-        _h: S::R,
-        _rtol: S::R,
-        _atol: S::R,
-    ) -> S::R {
-        <S::R as super::state::Real>::ZERO
     }
     /// The cubic Hermite interpolant's rows: x and F = ẋ at both nodes (`eval`'s order).
     #[inline(always)]

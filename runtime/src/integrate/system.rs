@@ -4,7 +4,7 @@
 //! system, where the generated kernels inline (DOP853's stages with the cyclic positions known
 //! when it compiles).
 
-use crate::error::DynamicsError;
+use crate::error::{DynamicsError, DynamicsResult};
 use crate::jet::HessianJet;
 use crate::lagrangian::{AppliedJacobian, Lagrangian, applied_jacobian, hessian_jet};
 use crate::linearize::jet_linearize;
@@ -12,12 +12,7 @@ use crate::linearize::jet_linearize;
 /// A system seen by the run machinery (every [`Lagrangian`] is one).
 pub(crate) trait System<const N: usize> {
     /// q̈ at (q, q̇, t) ([`Lagrangian::accelerations`]).
-    fn accelerations(
-        &self,
-        q: &[f64; N],
-        qdot: &[f64; N],
-        t: f64,
-    ) -> Result<[f64; N], DynamicsError>;
+    fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> DynamicsResult<[f64; N]>;
     /// p = ∂L/∂q̇ at (q, q̇, t) ([`Lagrangian::momenta`]).
     fn momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> [f64; N];
     /// L with its gradient and Hessian at (q, q̇, t) ([`hessian_jet`]).
@@ -59,12 +54,7 @@ pub(crate) struct Flags<const N: usize> {
 }
 
 impl<L: Lagrangian<N>, const N: usize> System<N> for L {
-    fn accelerations(
-        &self,
-        q: &[f64; N],
-        qdot: &[f64; N],
-        t: f64,
-    ) -> Result<[f64; N], DynamicsError> {
+    fn accelerations(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> DynamicsResult<[f64; N]> {
         Lagrangian::accelerations(self, q, qdot, t)
     }
     fn momenta(&self, q: &[f64; N], qdot: &[f64; N], t: f64) -> [f64; N] {

@@ -232,43 +232,36 @@ fn lane_series<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
     series
 }
 
-/// The lanes' series where the engines are not compiled for a feature set of their own.
-#[cfg(not(target_arch = "x86_64"))]
-#[inline(always)]
-fn lane_series<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
-    members: &[&L; W],
-    params: &mut Vec<Lanes<W, F>>,
-    t: Lanes<W, F>,
-    out: &mut [YOf<Lanes<W, F>, N>],
-    buf: &mut SeriesBuf<Lanes<W, F>>,
-) -> Option<Result<Mask<W>, DynamicsError>> {
-    L::series_in(members, params, t, out, buf)
+/// Functions that run [`Lagrangian::series_in`] with the attributes given (the target features
+/// they are compiled for).
+macro_rules! series_fns {
+    ($($(#[$attr:meta])* $name:ident;)*) => {$(
+        $(#[$attr])*
+        fn $name<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
+            members: &[&L; W],
+            params: &mut Vec<Lanes<W, F>>,
+            t: Lanes<W, F>,
+            out: &mut [YOf<Lanes<W, F>, N>],
+            buf: &mut SeriesBuf<Lanes<W, F>>,
+        ) -> Option<Result<Mask<W>, DynamicsError>> {
+            L::series_in(members, params, t, out, buf)
+        }
+    )*};
 }
 
-/// [`Lagrangian::series_in`] compiled for AVX2 (the exact lanes).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline(never)]
-fn series_avx2<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
-    members: &[&L; W],
-    params: &mut Vec<Lanes<W, F>>,
-    t: Lanes<W, F>,
-    out: &mut [YOf<Lanes<W, F>, N>],
-    buf: &mut SeriesBuf<Lanes<W, F>>,
-) -> Option<Result<Mask<W>, DynamicsError>> {
-    L::series_in(members, params, t, out, buf)
-}
-
-/// [`Lagrangian::series_in`] compiled for AVX2 and FMA (the fused lanes).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline(never)]
-fn series_avx2_fma<L: Lagrangian<N>, const N: usize, const W: usize, const F: bool>(
-    members: &[&L; W],
-    params: &mut Vec<Lanes<W, F>>,
-    t: Lanes<W, F>,
-    out: &mut [YOf<Lanes<W, F>, N>],
-    buf: &mut SeriesBuf<Lanes<W, F>>,
-) -> Option<Result<Mask<W>, DynamicsError>> {
-    L::series_in(members, params, t, out, buf)
+series_fns! {
+    /// The lanes' series where the engines are not compiled for a feature set of their own.
+    #[cfg(not(target_arch = "x86_64"))]
+    #[inline(always)]
+    lane_series;
+    /// [`Lagrangian::series_in`] compiled for AVX2 (the exact lanes).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[inline(never)]
+    series_avx2;
+    /// [`Lagrangian::series_in`] compiled for AVX2 and FMA (the fused lanes).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline(never)]
+    series_avx2_fma;
 }
