@@ -7,9 +7,17 @@
 //! (`examples/support/testset_system.rs`): a Lagrangian, its constraints, no index hints.
 //!
 //! Run: `cargo run --release --example testset`
+//!
+//! With `-- --work`: the test set's own columns instead (its `report.f`: mescd, scd, steps,
+//! accept, #f, #Jac, #LU), for DOP853 and Radau5 on the car axis and Andrews' squeezer at the
+//! published tolerances rtol = atol = 1e-4, 1e-7, 1e-10, to set beside the published tables of
+//! BIMD, GAMD, MEBDFI, PSIDE, RADAU and RADAU5 (BENCHMARKS.md); with `-- --work-grid` the same
+//! columns on the test set's work-precision grid rtol = atol = 10^−(4 + m/4), m = 0 … 24. See
+//! [`work`] for which components enter scd and mescd.
 
 use std::time::Instant;
 
+use lagrange::Stats;
 use lagrange_examples::cli;
 use lagrange_examples::testset_system::{scd, Andrews, CarAxis};
 
@@ -20,6 +28,22 @@ fn main() {
 }
 
 fn body() -> Result<(), Box<dyn std::error::Error>> {
+    match std::env::args().nth(1).as_deref() {
+        None => digits(),
+        Some("--work") => work(&[1e-4, 1e-7, 1e-10]),
+        Some("--work-grid") => work(
+            &(0..=24)
+                .map(|m| 10f64.powf(-4.0 - f64::from(m) / 4.0))
+                .collect::<Vec<_>>(),
+        ),
+        Some(other) => {
+            Err(format!("unknown argument {other}; usage: testset [--work | --work-grid]").into())
+        }
+    }
+}
+
+/// The significant correct digits of q, q̇ and λ apart, and the work, for every method.
+fn digits() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "{:<9} {:<40} {:>6} {:>6} {:>6} {:>9} {:>8} {:>10} {:>8} {:>6} {:>6} {:>9}",
         "problem",
@@ -81,16 +105,20 @@ fn body() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// One line of the table: `sys` from `start` to `end` by `method`, against `reference` (the
-/// positions, the velocities, then the multipliers).
-fn row<L: Lagrangian<N>, const N: usize>(
-    problem: &str,
+/// The end of one run: the state (q, q̇, then λ, in one vector), the counters and the time in ms.
+struct End {
+    y: Vec<f64>,
+    stats: Stats,
+    ms: f64,
+}
+
+/// `sys` from `start` to `end` by `method`, no samples kept.
+fn run<L: Lagrangian<N>, const N: usize>(
     sys: &L,
     (q0, v0): ([f64; N], [f64; N]),
     end: f64,
-    reference: &[f64],
     method: Method,
-) -> Result<(), Box<dyn std::error::Error>> {
+) -> Result<End, Box<dyn std::error::Error>> {
     let start = Instant::now();
     let tr = Simulation::new(sys, q0, v0)
         .method(method)
@@ -104,7 +132,25 @@ fn row<L: Lagrangian<N>, const N: usize>(
         tr.qdot.last().ok_or("no sample")?,
         tr.lambda.last().ok_or("no multipliers")?,
     );
-    let s = tr.stats;
+    Ok(End {
+        y: q.iter().chain(v).chain(l).copied().collect(),
+        stats: tr.stats,
+        ms,
+    })
+}
+
+/// One line of the table: `sys` from `start` to `end` by `method`, against `reference` (the
+/// positions, the velocities, then the multipliers).
+fn row<L: Lagrangian<N>, const N: usize>(
+    problem: &str,
+    sys: &L,
+    start: ([f64; N], [f64; N]),
+    end: f64,
+    reference: &[f64],
+    method: Method,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let End { y, stats: s, ms } = run(sys, start, end, method)?;
+    let (q, v, l) = (&y[..N], &y[N..2 * N], &y[2 * N..]);
     println!(
         "{:<9} {:<40} {:>6.2} {:>6.2} {:>6.2} {:>9} {:>8} {:>10} {:>8} {:>6} {:>6} {:>9.2}",
         problem,
@@ -120,5 +166,107 @@ fn row<L: Lagrangian<N>, const N: usize>(
         s.decompositions,
         ms
     );
+    Ok(())
+}
+
+/// The test set's mixed error measure (its `report.f`): −log₁₀ of the largest
+/// |yᵢ − refᵢ| / (atol/rtol + |refᵢ|) over the components given.
+fn mescd(y: &[f64], reference: &[f64], rtol: f64, atol: f64) -> f64 {
+    let worst = y
+        .iter()
+        .zip(reference)
+        .map(|(a, b)| (a - b).abs() / (atol / rtol + b.abs()))
+        .fold(0.0_f64, f64::max);
+    -worst.log10()
+}
+
+/// The test set's tables' columns for DOP853 and Radau5 on the car axis (t = 3) and Andrews'
+/// squeezer (t = 0.03) at rtol = atol = each of `tols`, scd and mescd as the test set's
+/// `report.f` computes them, over the components our runs give:
+///
+/// - car axis: the test set's y = (p, q, λ) ∈ R¹⁰ is our (q, q̇, λ) in the same order and sign;
+///   scd and mescd over all 10, as `report.f` (λ computed from the end state, not integrated).
+/// - Andrews: the test set's y = (q, q̇, q̈, λ) ∈ R²⁷. scd over y₁..y₇, the angles, as
+///   `report.f`; mescd over the 20 we have, q, q̇ and λ (the test set's λ negated: its
+///   M q̈ = f − Gᵀλ), without the accelerations y₁₅..y₂₁, which our state does not hold
+///   (`report.f` takes all 27).
+///
+/// steps = accepted + rejected, accept = accepted, #f = evaluations of the (constrained)
+/// accelerations (DOP853's with the 3 per step of the dense output the work integral needs,
+/// Radau5's with the one per step after the projection), #Jac = Jacobians (Andrews: exact, from
+/// the jets; car axis, whose constraint moves: central differences of the constrained
+/// accelerations, 4N evaluations each that #f leaves out, as `radau5.f`'s #f leaves out those of
+/// a numerical Jacobian), #LU = decompositions (Radau5's I − hA⊗J and I − γhJ of one step size
+/// counted as one, as `radau5.f`'s NDEC counts its real and complex pair). The first step size is our own (the
+/// published runs start at h0 = rtol). The test set's grid for Andrews is finer,
+/// 10^−(4 + m/8); `--work-grid` uses the car axis's for both.
+fn work(tols: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
+    println!(
+        "{:<8} {:<7} {:>8} {:>8} {:>6} {:>6} {:>6} {:>6} {:>7} {:>5} {:>5} {:>7} {:>8}",
+        "problem",
+        "solver",
+        "rtol",
+        "atol",
+        "mescd",
+        "scd",
+        "steps",
+        "accept",
+        "#f",
+        "#Jac",
+        "#LU",
+        "newton",
+        "time ms"
+    );
+    let car = CarAxis::TESTSET;
+    let andrews = Andrews::TESTSET;
+    for problem in ["caraxis", "andrews"] {
+        for &tol in tols {
+            for (solver, method) in [
+                (
+                    "DOP853",
+                    Method::Dop853 {
+                        rtol: tol,
+                        atol: tol,
+                    },
+                ),
+                (
+                    "Radau5",
+                    Method::Radau5 {
+                        rtol: tol,
+                        atol: tol,
+                    },
+                ),
+            ] {
+                let (end, scd_of, mescd_of) = if problem == "caraxis" {
+                    let e = run(&car, car.start(), CarAxis::END, method)?;
+                    let r = &CarAxis::REFERENCE;
+                    let (s, m) = (scd(&e.y, r), mescd(&e.y, r, tol, tol));
+                    (e, s, m)
+                } else {
+                    let e = run(&andrews, andrews.start(), Andrews::END, method)?;
+                    let r = &Andrews::REFERENCE;
+                    let (s, m) = (scd(&e.y[..7], &r[..7]), mescd(&e.y, r, tol, tol));
+                    (e, s, m)
+                };
+                let s = end.stats;
+                println!(
+                    "{:<8} {:<7} {:>8.2e} {:>8.2e} {:>6.2} {:>6.2} {:>6} {:>6} {:>7} {:>5} {:>5} {:>7} {:>8.2}",
+                    problem,
+                    solver,
+                    tol,
+                    tol,
+                    mescd_of,
+                    scd_of,
+                    s.steps + s.rejected,
+                    s.steps,
+                    s.rhs_evals,
+                    s.jacobians,
+                    s.decompositions,
+                    s.newton_iterations,
+                    end.ms
+                );
+            }
+        }
+    }
     Ok(())
 }
