@@ -22,6 +22,7 @@ mod contacts;
 mod ensemble;
 mod ensemble_lanes;
 mod impacts;
+mod implicit_sensitivity;
 mod jump_sensitivity;
 mod limits;
 mod one_run;

@@ -214,7 +214,8 @@ impl Method {
                 // projected after each step as the explicit methods are, the Newton matrix that
                 // of the constrained accelerations.
                 contacts: false,
-                sensitivities: false,
+                // Φ as the derivative of its discrete flow (`radau5::Variations`).
+                sensitivities: true,
                 ..EXPLICIT
             },
         }

@@ -290,9 +290,119 @@ pub(crate) struct Radau5<'a, const N: usize> {
     /// the error controller asks for steps 5–8× longer, at which simplified Newton diverges:
     /// without the bound every accepted step was followed by one or two failed attempts.
     newton_cap: f64,
+    /// A sensitivity run's variations, carried through the accepted steps.
+    var: Option<Variations<'a>>,
+}
+
+/// The variations a sensitivity run carries through Radau5's steps: the derivative of the
+/// discrete flow. After an accepted step from y₀ with stages Z (Z = h (A ⊗ I) F(y₀ + Z)), the
+/// implicit function theorem gives D = (∂Z/∂y₀) Φ₀ from
+/// (I − h (A ⊗ I) diag(J₁, J₂, J₃)) D = h (A ⊗ I) (J₁ Φ₀, J₂ Φ₀, J₃ Φ₀), Jᵢ = ∂f/∂y exact at
+/// the stages (the jets), and Φ₁ = Φ₀ + D₃ (the last stage is y₁); between nodes Φ follows
+/// the derivative of the collocation polynomial.
+pub(crate) struct Variations<'l> {
+    /// Columns (2N rows each, column-major): Φ at the node and at the last step's start.
+    cols: usize,
+    phi: Vec<f64>,
+    phi_old: Vec<f64>,
+    /// Dᵢ of the last step.
+    d: [Vec<f64>; 3],
+    log: &'l core::cell::RefCell<super::sensitivity::Log>,
 }
 
 impl<'a, const N: usize> Radau5<'a, N> {
+    /// Carries the variations `phi` (column-major, 2N rows) through the run, recording them in
+    /// `log` at the samples and event hits.
+    pub(crate) fn with_variations(
+        mut self,
+        phi: Vec<f64>,
+        log: &'a core::cell::RefCell<super::sensitivity::Log>,
+    ) -> Self {
+        let cols = phi.len() / (2 * N);
+        self.var = Some(Variations {
+            cols,
+            phi_old: phi.clone(),
+            phi,
+            d: Default::default(),
+            log,
+        });
+        self
+    }
+
+    /// Moves the variations over the step of size h from the node with stages `z` (see
+    /// [`Variations`]); counts its Jacobians and its LU.
+    fn vary(&mut self, h: f64, z: &[Y<N>; 3], stats: &mut Stats) -> Result<(), Fault> {
+        let Some(var) = self.var.as_mut() else {
+            return Ok(());
+        };
+        let (n, m) = (2 * N, var.cols);
+        let mut jac = Vec::with_capacity(3);
+        for (i, zi) in z.iter().enumerate() {
+            let mut yi = self.y;
+            for c in 0..2 {
+                for k in 0..N {
+                    yi[c][k] += zi[c][k];
+                }
+            }
+            jac.push(self.sys.jacobian(self.t + C[i] * h, &yi)?);
+        }
+        stats.jacobians += 3;
+        stats.decompositions += 1;
+        let phi0 = DMatrix::from_column_slice(n, m, &var.phi);
+        let jphi: Vec<DMatrix<f64>> = jac.iter().map(|j| j * &phi0).collect();
+        let mut mat = DMatrix::<f64>::identity(3 * n, 3 * n);
+        let mut rhs = DMatrix::<f64>::zeros(3 * n, m);
+        for bi in 0..3 {
+            for bj in 0..3 {
+                let s = h * A[bi][bj];
+                let mut block = mat.view_mut((bi * n, bj * n), (n, n));
+                block -= &jac[bj] * s;
+                let mut r = rhs.view_mut((bi * n, 0), (n, m));
+                r += &jphi[bj] * s;
+            }
+        }
+        let d = mat.lu().solve(&rhs).ok_or(Fault::Newton {
+            iterations: 0,
+            residual: f64::NAN,
+            reason: "Radau5: the derivative of the step with respect to its start is singular                      (I − h (A ⊗ I) diag(J) has no inverse)",
+        })?;
+        for (i, di) in var.d.iter_mut().enumerate() {
+            *di = d.rows(i * n, n).iter().copied().collect();
+        }
+        var.phi_old.clone_from(&var.phi);
+        for (p, d3) in var.phi.iter_mut().zip(&var.d[2]) {
+            *p += d3;
+        }
+        Ok(())
+    }
+
+    /// Φ at t in the last step (the node's from its time on): column by column, the derivative
+    /// of the collocation polynomial, Φ₀ + p(s; D₁, D₂, D₃).
+    fn phi_at(&self, t: f64) -> Option<Vec<f64>> {
+        let var = self.var.as_ref()?;
+        if t >= self.t || self.h_old == 0.0 {
+            return Some(var.phi.clone());
+        }
+        let (n, s) = (2 * N, (t - self.t_old) / self.h_old);
+        let column = |v: &[f64], j: usize| -> Y<N> {
+            [
+                core::array::from_fn(|k| v[j * n + k]),
+                core::array::from_fn(|k| v[j * n + N + k]),
+            ]
+        };
+        let mut out = Vec::with_capacity(n * var.cols);
+        for j in 0..var.cols {
+            let z = [
+                column(&var.d[0], j),
+                column(&var.d[1], j),
+                column(&var.d[2], j),
+            ];
+            let p = eval_dense(&collocation_rows(&column(&var.phi_old, j), &z), s);
+            out.extend(p.iter().flatten());
+        }
+        Some(out)
+    }
+
     /// Starts at (t0, y0); evaluates f there and picks the first step.
     pub(crate) fn new(
         sys: &'a dyn Dynamics<N>,
@@ -342,6 +452,7 @@ impl<'a, const N: usize> Radau5<'a, N> {
             err_acc: 1e-2,
             accepted: 0,
             newton_cap: f64::INFINITY,
+            var: None,
             last_failure: None,
         })
     }
@@ -689,6 +800,7 @@ impl<const N: usize> Stepper<N> for Radau5<'_, N> {
                     let facgus = (1.0 / FAC_MAX).max((1.0 / FAC_MIN).min(facgus));
                     hnew = h / quot.max(facgus);
                 }
+                self.vary(h, &z, stats)?;
                 self.h_acc = h;
                 self.err_acc = err.max(1e-2);
                 self.accepted += 1;
@@ -739,6 +851,24 @@ impl<const N: usize> Stepper<N> for Radau5<'_, N> {
     fn dense_rows(&mut self, rows: &mut Vec<Y<N>>, _stats: &mut Stats) -> Result<f64, Fault> {
         rows.extend_from_slice(&self.r);
         Ok(self.h_old)
+    }
+    fn recorded(&mut self, t: f64, at: f64, _stats: &mut Stats) -> Result<(), Fault> {
+        if let (Some(var), Some(cols)) = (self.var.as_ref(), self.phi_at(at)) {
+            var.log.borrow_mut().samples.push((t, cols));
+        }
+        Ok(())
+    }
+    fn event_located(&mut self, t: f64, event: usize, stats: &mut Stats) -> Result<(), Fault> {
+        let Some(cols) = self.phi_at(t) else {
+            return Ok(());
+        };
+        let y = self.interp(t, stats)?;
+        if let Some(var) = self.var.as_ref() {
+            let mut log = var.log.borrow_mut();
+            log.events.push((t, event, cols));
+            log.states.push(y.iter().flatten().copied().collect());
+        }
+        Ok(())
     }
 }
 

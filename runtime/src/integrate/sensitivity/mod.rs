@@ -58,10 +58,17 @@
 //! S = ∂R/∂y + (f⁺ − ∂R/∂y f⁻ − ∂R/∂t)(∂h/∂y)/ḣ (f∓ the flow on either side, ḣ the rate h
 //! crosses zero at; ∂R, ∂h by fourth-order differences): the derivative of the flow that jumps.
 //!
+//! **Radau5:** Φ is the derivative of the method's discrete flow, exact for the steps the
+//! motion takes: after a step from y₀ with stages Z = h (A ⊗ I) F(y₀ + Z), the implicit
+//! function theorem gives D = (∂Z/∂y₀) Φ₀ from (I − h (A ⊗ I) diag(J₁, J₂, J₃)) D =
+//! h (A ⊗ I) (J₁ Φ₀, J₂ Φ₀, J₃ Φ₀) with the stages' exact Jacobians Jᵢ (three per step and
+//! one LU of dimension 6N), and Φ₁ = Φ₀ + D₃; between nodes Φ follows the collocation
+//! polynomial. Its error is the method's (order 5), not controlled on its own.
+//!
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
-//! the implicit methods (Radau5 and the variational integrator), parameters of a constrained
-//! run or of one with resetting events (the reset and the event's function are closures the
-//! parameters do not reach), and contacts.
+//! the variational integrator, parameters with Radau5, parameters of a constrained run or of
+//! one with resetting events (the reset and the event's function are closures the parameters
+//! do not reach), and contacts.
 //!
 //! ```
 //! use lagrange_runtime::{Lagrangian, Scalar, Simulation};
