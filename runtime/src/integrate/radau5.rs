@@ -135,6 +135,10 @@ struct Eigen {
     vinv: [[Complex<f64>; 3]; 2],
 }
 
+/// ∂f/∂p at (t, y) of a sensitivity run's parameters (column-major, 2N × P).
+pub(crate) type Forcing<'l, const N: usize> =
+    Box<dyn Fn(f64, &Y<N>) -> Result<Vec<f64>, Fault> + 'l>;
+
 /// [`Eigen`], from A's trace and determinant (γ + 2 Re μ, γ |μ|²) and the null vectors of
 /// A − γ I and A − μ I (the cross product of two of their rows).
 fn eigen() -> Eigen {
@@ -291,7 +295,7 @@ pub(crate) struct Radau5<'a, const N: usize> {
     /// without the bound every accepted step was followed by one or two failed attempts.
     newton_cap: f64,
     /// A sensitivity run's variations, carried through the accepted steps.
-    var: Option<Variations<'a>>,
+    var: Option<Variations<'a, N>>,
 }
 
 /// The variations a sensitivity run carries through Radau5's steps: the derivative of the
@@ -300,9 +304,12 @@ pub(crate) struct Radau5<'a, const N: usize> {
 /// (I − h (A ⊗ I) diag(J₁, J₂, J₃)) D = h (A ⊗ I) (J₁ Φ₀, J₂ Φ₀, J₃ Φ₀), Jᵢ = ∂f/∂y exact at
 /// the stages (the jets), and Φ₁ = Φ₀ + D₃ (the last stage is y₁); between nodes Φ follows
 /// the derivative of the collocation polynomial.
-pub(crate) struct Variations<'l> {
-    /// Columns (2N rows each, column-major): Φ at the node and at the last step's start.
+pub(crate) struct Variations<'l, const N: usize> {
+    /// Columns (2N rows each, column-major): Φ at the node and at the last step's start (Φ's
+    /// columns, then one per parameter, whose derivative adds ∂f/∂p: `forcing`).
     cols: usize,
+    /// ∂f/∂p at (t, y), column-major 2N × P for the last P columns (none without parameters).
+    forcing: Option<Forcing<'l, N>>,
     phi: Vec<f64>,
     phi_old: Vec<f64>,
     /// Dᵢ of the last step.
@@ -311,16 +318,19 @@ pub(crate) struct Variations<'l> {
 }
 
 impl<'a, const N: usize> Radau5<'a, N> {
-    /// Carries the variations `phi` (column-major, 2N rows) through the run, recording them in
-    /// `log` at the samples and event hits.
+    /// Carries the variations `phi` (column-major, 2N rows; the last columns those of the
+    /// parameters whose ∂f/∂p `forcing` gives) through the run, recording them in `log` at the
+    /// samples and event hits.
     pub(crate) fn with_variations(
         mut self,
         phi: Vec<f64>,
+        forcing: Option<Forcing<'a, N>>,
         log: &'a core::cell::RefCell<super::sensitivity::Log>,
     ) -> Self {
         let cols = phi.len() / (2 * N);
         self.var = Some(Variations {
             cols,
+            forcing,
             phi_old: phi.clone(),
             phi,
             d: Default::default(),
@@ -336,7 +346,9 @@ impl<'a, const N: usize> Radau5<'a, N> {
             return Ok(());
         };
         let (n, m) = (2 * N, var.cols);
+        let phi0 = DMatrix::from_column_slice(n, m, &var.phi);
         let mut jac = Vec::with_capacity(3);
+        let mut jphi = Vec::with_capacity(3);
         for (i, zi) in z.iter().enumerate() {
             let mut yi = self.y;
             for c in 0..2 {
@@ -344,12 +356,21 @@ impl<'a, const N: usize> Radau5<'a, N> {
                     yi[c][k] += zi[c][k];
                 }
             }
-            jac.push(self.sys.jacobian(self.t + C[i] * h, &yi)?);
+            let ti = self.t + C[i] * h;
+            let j = self.sys.jacobian(ti, &yi)?;
+            // The stage's slope of the columns: J Φ, plus ∂f/∂p in the parameters' columns.
+            let mut slope = &j * &phi0;
+            if let Some(forcing) = &var.forcing {
+                let fp = forcing(ti, &yi)?;
+                let p = fp.len() / n;
+                let mut tail = slope.columns_mut(m - p, p);
+                tail += DMatrix::from_column_slice(n, p, &fp);
+            }
+            jac.push(j);
+            jphi.push(slope);
         }
         stats.jacobians += 3;
         stats.decompositions += 1;
-        let phi0 = DMatrix::from_column_slice(n, m, &var.phi);
-        let jphi: Vec<DMatrix<f64>> = jac.iter().map(|j| j * &phi0).collect();
         let mut mat = DMatrix::<f64>::identity(3 * n, 3 * n);
         let mut rhs = DMatrix::<f64>::zeros(3 * n, m);
         for bi in 0..3 {

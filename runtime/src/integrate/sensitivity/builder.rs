@@ -11,7 +11,7 @@ use super::super::driver::Driver;
 use super::super::error::SimulationError;
 use super::super::factory::Explicit;
 use super::super::method::Method;
-use super::super::radau5::Radau5;
+use super::super::radau5::{Forcing, Radau5};
 use super::super::simulation::Simulation;
 use super::super::state::{Fault, Y};
 use super::super::system::System;
@@ -22,7 +22,7 @@ use super::event_time::at_event;
 use super::result::Sensitivities;
 use super::saltation::saltation;
 use super::taylor::VarSeries;
-use super::variation::{Parameter, Variation, difference_step};
+use super::variation::{Parameter, Variation, d_accel_d_param, difference_step};
 
 /// A run that also integrates the variational equations: built by
 /// [`Simulation::sensitivity`], it gives Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) and ∂(q, q̇)(t)/∂p at the
@@ -164,7 +164,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     ///
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
     /// step) for what it does not cover yet: the variational integrator
-    /// (`Method::VariationalMidpoint`), parameters with `Method::Radau5`, a run with contacts,
+    /// (`Method::VariationalMidpoint`), a run with contacts,
     /// parameters of a constrained run or of one with a resetting event, a parameter whose
     /// value is not finite.
     ///
@@ -319,7 +319,18 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             (None, Method::Radau5 { rtol, atol }) => driver.run(&p.opts, t0, y0, |t, y, stats| {
                 let cols = start_cols(t, &y)?;
                 let r = Radau5::new(p.sys, t, y, rtol, atol, hmax, stats)?;
-                Ok(r.with_variations(cols, &log))
+                // The parameters' ∂f/∂p at a stage (their columns' forcing).
+                let forcing: Option<Forcing<'_, N>> = (!params.is_empty()).then(|| {
+                    Box::new(|t: f64, y: &Y<N>| {
+                        let mut fp = vec![0.0; 2 * N * params.len()];
+                        for (k, par) in params.iter().enumerate() {
+                            let a = d_accel_d_param(par, &y[0], &y[1], t)?;
+                            fp[2 * N * k + N..2 * N * (k + 1)].copy_from_slice(&a);
+                        }
+                        Ok(fp)
+                    }) as Forcing<'_, N>
+                });
+                Ok(r.with_variations(cols, forcing, &log))
             }),
             // Refused above.
             _ => {
@@ -429,14 +440,6 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                  after it",
                 e.name()
             ));
-        }
-        if matches!(sim.o.method, Method::Radau5 { .. }) && !self.params.is_empty() {
-            return Some(
-                "parameter sensitivities with Method::Radau5 are not covered yet (Φ is, the \
-                 derivative of its discrete flow): use Method::Dop853 {{ rtol, atol }} for the \
-                 parameters"
-                    .into(),
-            );
         }
         if let Some(p) = self.params.iter().find(|p| !p.value.is_finite()) {
             return Some(format!(

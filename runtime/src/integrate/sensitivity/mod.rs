@@ -63,10 +63,11 @@
 //! function theorem gives D = (∂Z/∂y₀) Φ₀ from (I − h (A ⊗ I) diag(J₁, J₂, J₃)) D =
 //! h (A ⊗ I) (J₁ Φ₀, J₂ Φ₀, J₃ Φ₀) with the stages' exact Jacobians Jᵢ (three per step and
 //! one LU of dimension 6N), and Φ₁ = Φ₀ + D₃; between nodes Φ follows the collocation
-//! polynomial. Its error is the method's (order 5), not controlled on its own.
+//! polynomial. Its error is the method's (order 5), not controlled on its own. A parameter's
+//! column moves likewise, its stage slopes J S + ∂f/∂p.
 //!
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
-//! the variational integrator, parameters with Radau5, parameters of a constrained run or of
+//! the variational integrator, parameters of a constrained run or of
 //! one with resetting events (the reset and the event's function are closures the parameters
 //! do not reach), and contacts.
 //!

@@ -178,7 +178,7 @@ impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
 
 /// ∂q̈/∂p by the fourth-order central difference of the parameter's neighbouring systems'
 /// accelerations ([`Parameter`]).
-fn d_accel_d_param<L: Lagrangian<N>, const N: usize>(
+pub(crate) fn d_accel_d_param<L: Lagrangian<N>, const N: usize>(
     par: &Parameter<L>,
     q: &[f64; N],
     v: &[f64; N],
