@@ -100,7 +100,9 @@ impl Tableau for Dop853 {
             S::map([&w], [&mut rows[4 + j]], |[w]| [h * w]);
         }
         let [r0, r1, r2, r3, ..] = rows;
-        end_rows(h, [x, x1, &k[0], &k[12]], [r0, r1, r2, r3]);
+        S::map([x, x1, &k[0], &k[12]], [r0, r1, r2, r3], |ends| {
+            end_rows(h, ends)
+        });
         Ok(())
     }
     /// The dense output at s = (t − t_old)/h ∈ [0, 1].

@@ -117,8 +117,14 @@ impl Tableau for Dopri5 {
         let mut d = x.clone();
         S::weighted::<7>(&mut d, &D, k);
         let [r0, r1, r2, r3, r4, ..] = rows;
-        end_rows(h, [x, x1, &k[0], &k[6]], [r0, r1, r2, r3]);
-        S::map([&d], [r4], |[d]| [h * d]);
+        S::map(
+            [x, x1, &k[0], &k[6], &d],
+            [r0, r1, r2, r3, r4],
+            |[y, y1, k0, k6, d]| {
+                let [a, b, c, e] = end_rows(h, [y, y1, k0, k6]);
+                [a, b, c, e, h * d]
+            },
+        );
         Ok(())
     }
     /// y_old + θ(r1 + (1−θ)(r2 + θ(r3 + (1−θ) r4))).

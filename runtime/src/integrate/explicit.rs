@@ -103,19 +103,14 @@ pub(crate) struct Trial<'a, S: Space<N>, const N: usize> {
     pub(crate) atol: S::R,
 }
 
-/// The first four dense-output rows of Hairer's dopri5 and dop853 from the step's ends x, x₁
-/// and slopes k₀, k_end: x, x₁ − x, h k₀ − (x₁ − x), (x₁ − x) − h k_end − (h k₀ − (x₁ − x)).
+/// The first four dense-output rows of Hairer's dopri5 and dop853 at one component, from the
+/// step's ends y, y₁ and slopes k₀, k_end: y, y₁ − y, h k₀ − (y₁ − y),
+/// (y₁ − y) − h k_end − (h k₀ − (y₁ − y)).
 #[inline(always)]
-pub(crate) fn end_rows<S: Space<N, R = f64>, const N: usize>(
-    h: f64,
-    ends: [&S; 4],
-    rows: [&mut S; 4],
-) {
-    S::map(ends, rows, |[y, y1, k0, k_end]| {
-        let ydiff = y1 - y;
-        let bspl = h * k0 - ydiff;
-        [y, ydiff, bspl, ydiff - h * k_end - bspl]
-    });
+pub(crate) fn end_rows(h: f64, [y, y1, k0, k_end]: [f64; 4]) -> [f64; 4] {
+    let ydiff = y1 - y;
+    let bspl = h * k0 - ydiff;
+    [y, ydiff, bspl, ydiff - h * k_end - bspl]
 }
 
 /// An accepted step as its dense output reads it: from (t, x) to x₁ with size h, its stages
