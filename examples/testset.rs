@@ -4,12 +4,15 @@
 //! reference (scd of the positions, of the velocities and of the multipliers, apart), the steps (and
 //! rejected attempts), right-hand-side evaluations, Newton iterations, Jacobians, LU
 //! decompositions and the time. The problems are written as a user writes them
-//! (`examples/support/testset_system.rs`): a Lagrangian, its constraints, no index hints.
+//! (`examples/support/testset_system.rs`): a Lagrangian, its constraints, no index hints. The
+//! problems: the car axis (t = 3), Andrews' squeezer (t = 0.03) and the flexible slider crank
+//! (t = 0.1; its x₃ compared with the published start's offset added, see
+//! [`SliderCrank::X3_OFFSET`]).
 //!
 //! Run: `cargo run --release --example testset`
 //!
 //! With `-- --work`: the test set's own columns instead (its `report.f`: mescd, scd, steps,
-//! accept, #f, #Jac, #LU), for DOP853 and Radau5 on the car axis and Andrews' squeezer at the
+//! accept, #f, #Jac, #LU), for DOP853 and Radau5 on the three problems at the
 //! published tolerances rtol = atol = 1e-4, 1e-7, 1e-10, to set beside the published tables of
 //! BIMD, GAMD, MEBDFI, PSIDE, RADAU and RADAU5 (BENCHMARKS.md); with `-- --work-grid` the same
 //! columns on the test set's work-precision grid rtol = atol = 10^−(4 + m/4), m = 0 … 24. See
@@ -19,7 +22,7 @@ use std::time::Instant;
 
 use lagrange::Stats;
 use lagrange_examples::cli;
-use lagrange_examples::testset_system::{scd, Andrews, CarAxis};
+use lagrange_examples::testset_system::{scd, Andrews, CarAxis, SliderCrank};
 
 use lagrange::prelude::*;
 
@@ -81,25 +84,37 @@ fn digits() -> Result<(), Box<dyn std::error::Error>> {
             &car,
             (q0, v0),
             CarAxis::END,
-            &CarAxis::REFERENCE,
+            (&CarAxis::REFERENCE, |_| {}),
             method,
         )?;
     }
     let andrews = Andrews::TESTSET;
     let (q0, v0) = andrews.start();
-    for method in methods {
-        // RATTLE's order 2 on 0.03 units of a fast mechanism: a finer step.
-        let method = match method {
-            Method::VariationalMidpoint { dt } => Method::VariationalMidpoint { dt: dt * 1e-2 },
-            m => m,
-        };
+    // RATTLE's order 2 on 0.03 and 0.1 units of fast mechanisms: a finer step.
+    let finer = |method| match method {
+        Method::VariationalMidpoint { dt } => Method::VariationalMidpoint { dt: dt * 1e-2 },
+        m => m,
+    };
+    for &method in &methods {
         row(
             "andrews",
             &andrews,
             (q0, v0),
             Andrews::END,
-            &Andrews::REFERENCE,
-            method,
+            (&Andrews::REFERENCE, |_| {}),
+            finer(method),
+        )?;
+    }
+    let crank = SliderCrank::TESTSET;
+    let (q0, v0) = crank.start();
+    for &method in &methods {
+        row(
+            "crank",
+            &crank,
+            (q0, v0),
+            SliderCrank::END,
+            (&SliderCrank::REFERENCE, SliderCrank::to_testset),
+            finer(method),
         )?;
     }
     Ok(())
@@ -140,16 +155,22 @@ fn run<L: Lagrangian<N>, const N: usize>(
 }
 
 /// One line of the table: `sys` from `start` to `end` by `method`, against `reference` (the
-/// positions, the velocities, then the multipliers).
+/// positions, the velocities, then the multipliers) after `to_reference` (the slider crank's
+/// x₃ offset).
 fn row<L: Lagrangian<N>, const N: usize>(
     problem: &str,
     sys: &L,
     start: ([f64; N], [f64; N]),
     end: f64,
-    reference: &[f64],
+    (reference, to_reference): (&[f64], fn(&mut [f64])),
     method: Method,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let End { y, stats: s, ms } = run(sys, start, end, method)?;
+    let End {
+        mut y,
+        stats: s,
+        ms,
+    } = run(sys, start, end, method)?;
+    to_reference(&mut y);
     let (q, v, l) = (&y[..N], &y[N..2 * N], &y[2 * N..]);
     println!(
         "{:<9} {:<40} {:>6.2} {:>6.2} {:>6.2} {:>9} {:>8} {:>10} {:>8} {:>6} {:>6} {:>9.2}",
@@ -180,9 +201,37 @@ fn mescd(y: &[f64], reference: &[f64], rtol: f64, atol: f64) -> f64 {
     -worst.log10()
 }
 
-/// The test set's tables' columns for DOP853 and Radau5 on the car axis (t = 3) and Andrews'
-/// squeezer (t = 0.03) at rtol = atol = each of `tols`, scd and mescd as the test set's
-/// `report.f` computes them, over the components our runs give:
+/// The slider crank's scd and mescd as `report.f` computes them from our end state `y` (q, q̇, λ,
+/// x₃ with the offset) at rtol = atol = `tol`: scd over y₁..y₇ and y₂₂..y₂₄, mescd over all 24,
+/// the accelerations y₁₅..y₂₁ those of the end state (M q̈ = f + Gᵀλ, G q̈ = −g̈), as the test
+/// set's run has them as unknowns.
+fn crank_digits(
+    crank: &SliderCrank,
+    y: &[f64],
+    tol: f64,
+) -> Result<(f64, f64), Box<dyn std::error::Error>> {
+    let r = &SliderCrank::REFERENCE;
+    let (mut q, v): ([f64; 7], [f64; 7]) = (y[..7].try_into()?, y[7..14].try_into()?);
+    q[2] -= SliderCrank::X3_OFFSET;
+    let (a, _) = crank.constrained_accelerations(&q, &v, SliderCrank::END)?;
+    let positions_and_multipliers =
+        |y: &[f64]| -> Vec<f64> { y[..7].iter().chain(&y[14..]).copied().collect() };
+    let s = scd(&positions_and_multipliers(y), &positions_and_multipliers(r));
+    let all = |y: &[f64], a: &[f64]| -> Vec<f64> {
+        y[..14].iter().chain(a).chain(&y[14..]).copied().collect()
+    };
+    let m = mescd(
+        &all(y, &a),
+        &all(r, &SliderCrank::REFERENCE_ACCELERATIONS),
+        tol,
+        tol,
+    );
+    Ok((s, m))
+}
+
+/// The test set's tables' columns for DOP853 and Radau5 on the car axis (t = 3), Andrews'
+/// squeezer (t = 0.03) and the slider crank (t = 0.1) at rtol = atol = each of `tols`, scd and
+/// mescd as the test set's `report.f` computes them, over the components our runs give:
 ///
 /// - car axis: the test set's y = (p, q, λ) ∈ R¹⁰ is our (q, q̇, λ) in the same order and sign;
 ///   scd and mescd over all 10, as `report.f` (λ computed from the end state, not integrated).
@@ -190,6 +239,9 @@ fn mescd(y: &[f64], reference: &[f64], rtol: f64, atol: f64) -> f64 {
 ///   `report.f`; mescd over the 20 we have, q, q̇ and λ (the test set's λ negated: its
 ///   M q̈ = f − Gᵀλ), without the accelerations y₁₅..y₂₁, which our state does not hold
 ///   (`report.f` takes all 27).
+/// - slider crank: the test set's y = (p, q, v_p, v_q, a_p, a_q, λ) ∈ R²⁴ (index 2); scd over
+///   y₁..y₇ and y₂₂..y₂₄ as `report.f`, mescd over all 24 ([`crank_digits`]). The published
+///   runs start at h0 = 1e-2 rtol and have their rows at rtol = 1e-4, 1e-6, 1e-8.
 ///
 /// steps = accepted + rejected, accept = accepted, #f = evaluations of the (constrained)
 /// accelerations (DOP853's with the 3 per step of the dense output the work integral needs,
@@ -219,7 +271,8 @@ fn work(tols: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
     );
     let car = CarAxis::TESTSET;
     let andrews = Andrews::TESTSET;
-    for problem in ["caraxis", "andrews"] {
+    let crank = SliderCrank::TESTSET;
+    for problem in ["caraxis", "andrews", "crank"] {
         for &tol in tols {
             for (solver, method) in [
                 (
@@ -242,10 +295,15 @@ fn work(tols: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
                     let r = &CarAxis::REFERENCE;
                     let (s, m) = (scd(&e.y, r), mescd(&e.y, r, tol, tol));
                     (e, s, m)
-                } else {
+                } else if problem == "andrews" {
                     let e = run(&andrews, andrews.start(), Andrews::END, method)?;
                     let r = &Andrews::REFERENCE;
                     let (s, m) = (scd(&e.y[..7], &r[..7]), mescd(&e.y, r, tol, tol));
+                    (e, s, m)
+                } else {
+                    let mut e = run(&crank, crank.start(), SliderCrank::END, method)?;
+                    SliderCrank::to_testset(&mut e.y);
+                    let (s, m) = crank_digits(&crank, &e.y, tol)?;
                     (e, s, m)
                 };
                 let s = end.stats;
