@@ -7,7 +7,7 @@ use super::dop853_coefficients::{A, C, D, E3, E5};
 use super::explicit::pad_row;
 use super::explicit::{Step, Tableau, Trial, end_rows};
 use super::problem::{Slopes, Space};
-use super::state::{Fault, Real, weighted_by};
+use super::state::{Fault, Real};
 
 /// The DOP853 tableau.
 pub(crate) struct Dop853;
@@ -42,24 +42,12 @@ impl Tableau for Dop853 {
     /// Hairer's blend of the 5th- and 3rd-order estimates over the motion, as a logarithm.
     #[inline(always)]
     fn ln_err<S: Space<N>, const N: usize>(trial: Trial<'_, S, N>) -> S::R {
-        let Trial {
-            x,
-            x1,
-            k,
-            h,
-            rtol,
-            atol,
-        } = trial;
-        let (y, y1) = (x.motion(), x1.motion());
-        let e5 = weighted_by(12, &E5, |j| k[j].motion());
-        let e3 = weighted_by(12, &E3, |j| k[j].motion());
-        // The weights atol + rtol·max(|y|, |y₁|) and the sums Σ (e/w)² of both estimates, the q
-        // and q̇ halves added pairwise (a serial chain of N additions: it is on the critical
-        // path).
+        let (e5, e3) = (trial.estimate(12, &E5), trial.estimate(12, &E3));
+        // The sums Σ (e/w)² of both estimates, the q and q̇ halves added pairwise (a serial
+        // chain of N additions: it is on the critical path).
         let (mut err5, mut err3) = (S::R::ZERO, S::R::ZERO);
         for i in 0..N {
-            let w = |c: usize| rtol.madd(y[c][i].abs().max(y1[c][i].abs()), atol);
-            let (w0, w1) = (w(0), w(1));
+            let (w0, w1) = (trial.weight(0, i), trial.weight(1, i));
             let (a, b) = (e5[0][i] / w0, e5[1][i] / w1);
             err5 += a.madd(a, b * b);
             let (a, b) = (e3[0][i] / w0, e3[1][i] / w1);
@@ -69,7 +57,7 @@ impl Tableau for Dop853 {
         let deno = S::R::select(deno.at_most(S::R::ZERO), S::R::from(1.0), deno);
         // err = h · err5 / √(2N · deno), as its logarithm: the two logarithms run in parallel
         // where a division and a square root were a chain between this step and the next.
-        (h * err5).ln() - (deno * (2 * N) as f64).ln() * 0.5
+        (trial.h * err5).ln() - (deno * (2 * N) as f64).ln() * 0.5
     }
     /// The 7th-order dense output's rows, scaled by h: the three extra stages into `k[13..16]`
     /// (`k[12]` must hold F at x₁).

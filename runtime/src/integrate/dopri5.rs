@@ -6,7 +6,7 @@ use super::control::Controller;
 use super::explicit::{Step, Tableau, Trial, end_rows};
 use super::explicit::{pad, pad_row};
 use super::problem::{Slopes, Space};
-use super::state::{Fault, Real, weighted_by};
+use super::state::{Fault, Real};
 
 /// The Dormand–Prince 5(4) tableau.
 pub(crate) struct Dopri5;
@@ -88,20 +88,13 @@ impl Tableau for Dopri5 {
     /// dopri5's norm √(Σ (h eᵢ/wᵢ)² / 2N), wᵢ = atol + rtol max(|xᵢ|, |x₁ᵢ|), as its logarithm.
     #[inline(always)]
     fn ln_err<S: Space<N>, const N: usize>(trial: Trial<'_, S, N>) -> S::R {
-        let Trial {
-            x,
-            x1,
-            k,
-            h,
-            rtol,
-            atol,
-        } = trial;
-        let e = weighted_by(7, &E, |j| k[j].motion());
-        let (y, y1) = (x.motion(), x1.motion());
+        let (e, h) = (trial.estimate(7, &E), trial.h);
         let mut s = S::R::ZERO;
         for i in 0..N {
-            let w = |c: usize| atol + rtol * y[c][i].abs().max(y1[c][i].abs());
-            let (a, b) = ((e[0][i] * h) / w(0), (e[1][i] * h) / w(1));
+            let (a, b) = (
+                (e[0][i] * h) / trial.weight(0, i),
+                (e[1][i] * h) / trial.weight(1, i),
+            );
             s += a * a + b * b;
         }
         (s / S::R::from((2 * N) as f64)).ln() * 0.5

@@ -9,7 +9,7 @@ use core::marker::PhantomData;
 use super::control::{Controller, StepControl, effective_atol, initial_step};
 
 use super::problem::{Problem, Slopes, Space};
-use super::state::{Fault, Real, Stats, Y};
+use super::state::{Fault, Real, Stats, Y, YOf, weighted_by};
 use super::stepper::{FixedGrid, Stepper};
 use crate::lagrangian::Lagrangian;
 
@@ -101,6 +101,21 @@ pub(crate) struct Trial<'a, S: Space<N>, const N: usize> {
     pub(crate) h: S::R,
     pub(crate) rtol: S::R,
     pub(crate) atol: S::R,
+}
+
+impl<S: Space<N>, const N: usize> Trial<'_, S, N> {
+    /// The error weight atol + rtol·max(|y|, |y₁|) of the motion's component i of half c
+    /// (positions 0, velocities 1).
+    #[inline(always)]
+    pub(crate) fn weight(&self, c: usize, i: usize) -> S::R {
+        let (y, y1) = (self.x.motion(), self.x1.motion());
+        self.rtol.madd(y[c][i].abs().max(y1[c][i].abs()), self.atol)
+    }
+    /// An error estimate Σ_{j<s} e_j k_j over the motion.
+    #[inline(always)]
+    pub(crate) fn estimate<const R: usize>(&self, s: usize, e: &[f64; R]) -> YOf<S::R, N> {
+        weighted_by(s, e, |j| self.k[j].motion())
+    }
 }
 
 /// The first four dense-output rows of Hairer's dopri5 and dop853 at one component, from the
