@@ -202,7 +202,8 @@ impl Method {
                 projects: false,
                 velocity_constraints: false,
                 contacts: false,
-                sensitivities: false,
+                // Φ as the derivative of its discrete map (unconstrained runs).
+                sensitivities: true,
                 ..EXPLICIT
             },
             Method::Radau5 { rtol, atol } => MethodSpec {

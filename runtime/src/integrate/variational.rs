@@ -21,6 +21,8 @@
 //! (solved by Newton with the mass matrix). So (q_k, q̇_k) is a consistent state: the momenta
 //! computed from it are the conserved p_k, and the energy from it is the integrator's energy.
 
+use nalgebra::DMatrix;
+
 use crate::eom::solve_mass_matrix;
 use crate::jet::HessianJet;
 use crate::lagrangian::AppliedJacobian;
@@ -47,6 +49,22 @@ pub(crate) struct VariationalMidpoint<'a, const N: usize> {
     t_old: f64,
     q_old: [f64; N],
     v_old: [f64; N],
+    /// A sensitivity run's variations, carried through the steps.
+    var: Option<Variations<'a>>,
+}
+
+/// The variations a sensitivity run carries through the variational method: the derivative of
+/// its discrete map (q_k, p_k) ↦ (q_{k+1}, p_{k+1}). Kept in (q, p) as Ψ = ∂(q, p)/∂y₀; Φ in
+/// (q, q̇) at a node from the Legendre map's derivative there, dq̇ = L_q̇q̇⁻¹ (dp − L_q̇q dq).
+struct Variations<'l> {
+    /// Columns (2N rows each, column-major).
+    cols: usize,
+    /// Ψ at the node.
+    psi: DMatrix<f64>,
+    /// Φ at the last node and at the one before it (None until asked).
+    phi: Option<DMatrix<f64>>,
+    phi_old: DMatrix<f64>,
+    log: &'l core::cell::RefCell<super::sensitivity::Log>,
 }
 
 impl<'a, const N: usize> VariationalMidpoint<'a, N> {
@@ -65,7 +83,124 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
             t_old: grid.t0,
             q_old: q0,
             v_old: v0,
+            var: None,
         }
+    }
+
+    /// Carries the variations `phi` (column-major, 2N rows, of (q, q̇) at the start) through
+    /// the run, recording them in `log` at the samples and event hits.
+    pub(crate) fn with_variations(
+        mut self,
+        phi: Vec<f64>,
+        log: &'a core::cell::RefCell<super::sensitivity::Log>,
+    ) -> Self {
+        let n = 2 * N;
+        let cols = phi.len() / n;
+        let phi = DMatrix::from_column_slice(n, cols, &phi);
+        let v = self.v.unwrap_or(self.v_guess);
+        let jet = self.sys.hessian_jet(&self.q, &v, self.t);
+        // dp = L_q̇q dq + L_q̇q̇ dq̇ at the start.
+        let (hqv, hvv) = (jet.hess_qqdot(), jet.hess_qdotqdot());
+        let mut psi = phi.clone();
+        for c in 0..cols {
+            for i in 0..N {
+                psi[(N + i, c)] = (0..N)
+                    .map(|k| hqv[k][i] * phi[(k, c)] + hvv[i][k] * phi[(N + k, c)])
+                    .sum();
+            }
+        }
+        self.var = Some(Variations {
+            cols,
+            psi,
+            phi: Some(phi.clone()),
+            phi_old: phi,
+            log,
+        });
+        self
+    }
+
+    /// Ψ over the step just taken from (q₀, p₀) to q₁ with `m` the converged midpoint: with
+    /// K₁ = −h ∂R/∂q₁ (the Newton matrix) and K₀ = −h ∂R/∂q₀,
+    /// dq₁ = K₁⁻¹ (h dp₀ − K₀ dq₀), dp₁ = dp₀ + h (L_qq + F_q)(dq₀ + dq₁)/2 + (L_qq̇ + F_q̇)(dq₁ − dq₀).
+    fn vary(&mut self, m: &Midpoint<N>, h: f64) -> Result<(), Fault> {
+        let Some(var) = self.var.as_mut() else {
+            return Ok(());
+        };
+        let (jet, forced) = (&m.jet, &m.forced);
+        let (hqq, hqv, hvv) = (jet.hess_qq(), jet.hess_qqdot(), jet.hess_qdotqdot());
+        let (k1, _) = m.jacobian(h);
+        let k1 = DMatrix::from_fn(N, N, |i, k| k1[i][k]);
+        let k0 = DMatrix::from_fn(N, N, |i, k| {
+            -hvv[i][k] - 0.25 * h * h * (hqq[i][k] + forced.d_q[i][k])
+                + 0.5 * h * (hqv[k][i] + hqv[i][k])
+                + 0.5 * h * forced.d_qdot[i][k]
+        });
+        let a = DMatrix::from_fn(N, N, |i, k| hqq[i][k] + forced.d_q[i][k]);
+        let b = DMatrix::from_fn(N, N, |i, k| hqv[i][k] + forced.d_qdot[i][k]);
+        let dq0 = var.psi.rows(0, N).into_owned();
+        let dp0 = var.psi.rows(N, N).into_owned();
+        let rhs = &dp0 * h - &k0 * &dq0;
+        let dq1 = k1.lu().solve(&rhs).ok_or(Fault::Newton {
+            iterations: 0,
+            residual: f64::NAN,
+            reason: SINGULAR_STEP,
+        })?;
+        let dp1 = &dp0 + (&a * (&dq0 + &dq1)) * (0.5 * h) + &b * (&dq1 - &dq0);
+        var.psi.rows_mut(0, N).copy_from(&dq1);
+        var.psi.rows_mut(N, N).copy_from(&dp1);
+        if let Some(phi) = var.phi.take() {
+            var.phi_old = phi;
+        }
+        Ok(())
+    }
+
+    /// Φ at the node (q, q̇), from Ψ by the Legendre map's derivative there.
+    fn phi_node(&mut self, stats: &mut Stats) -> Result<Option<DMatrix<f64>>, Fault> {
+        if self.var.as_ref().is_none_or(|v| v.phi.is_some()) {
+            return Ok(self.var.as_ref().and_then(|v| v.phi.clone()));
+        }
+        let [q, v] = self.node(stats)?;
+        let jet = self.sys.hessian_jet(&q, &v, self.t);
+        let (hqv, hvv) = (jet.hess_qqdot(), jet.hess_qdotqdot());
+        let Some(var) = self.var.as_mut() else {
+            return Ok(None);
+        };
+        let m = DMatrix::from_fn(N, N, |i, k| hvv[i][k]);
+        let lvq = DMatrix::from_fn(N, N, |i, k| hqv[k][i]);
+        let dq = var.psi.rows(0, N).into_owned();
+        let rhs = var.psi.rows(N, N) - &lvq * &dq;
+        let dv = m.lu().solve(&rhs).ok_or(Fault::NonFinite)?;
+        let mut phi = var.psi.clone();
+        phi.rows_mut(N, N).copy_from(&dv);
+        var.phi = Some(phi.clone());
+        Ok(Some(phi))
+    }
+
+    /// Φ at t in the last step: the interpolant's derivative (Hermite in q, linear in q̇) over
+    /// Φ at both nodes.
+    fn phi_at(&mut self, t: f64, stats: &mut Stats) -> Result<Option<Vec<f64>>, Fault> {
+        let Some(phi1) = self.phi_node(stats)? else {
+            return Ok(None);
+        };
+        let Some(var) = self.var.as_ref() else {
+            return Ok(None);
+        };
+        if t >= self.t || self.t == self.t_old {
+            return Ok(Some(phi1.as_slice().to_vec()));
+        }
+        let h = self.t - self.t_old;
+        let mut out = Vec::with_capacity(2 * N * var.cols);
+        for c in 0..var.cols {
+            let col = |m: &DMatrix<f64>| -> Y<N> {
+                [
+                    core::array::from_fn(|k| m[(k, c)]),
+                    core::array::from_fn(|k| m[(N + k, c)]),
+                ]
+            };
+            let y = across_step(self.t_old, h, &col(&var.phi_old), &col(&phi1), t);
+            out.extend(y.iter().flatten());
+        }
+        Ok(Some(out))
     }
 
     /// Solves ∂L/∂q̇(q, v, t) = p for v by Newton's method with the mass matrix.
@@ -131,7 +266,11 @@ impl<const N: usize> Stepper<N> for VariationalMidpoint<'_, N> {
         Ok(())
     }
     fn advance(&mut self, _t_end: f64, stats: &mut Stats) -> Result<(), Fault> {
-        // The left node's velocity is needed by the interpolant (events); compute it lazily there.
+        // The left node's velocity is needed by the interpolant (events); compute it lazily there
+        // — but for a sensitivity run now, with Φ there (the interpolant's left end).
+        if self.var.is_some() {
+            self.phi_node(stats)?;
+        }
         let t1 = self.grid.time(self.k + 1);
         let h = t1 - self.t;
         let tm = self.t + 0.5 * h;
@@ -142,7 +281,7 @@ impl<const N: usize> Stepper<N> for VariationalMidpoint<'_, N> {
             q1[i] = q0[i] + h * self.v_guess[i];
         }
         let p0 = self.p;
-        let (lq, f, v_secant) = newton::solve(
+        let m = newton::solve(
             &mut q1,
             stats,
             "Newton's method on the implicit midpoint step did not converge",
@@ -168,8 +307,9 @@ impl<const N: usize> Stepper<N> for VariationalMidpoint<'_, N> {
                     reason: SINGULAR_STEP,
                 })
             },
-        )
-        .map(|m| (m.lq, m.forced.value, m.v))?;
+        )?;
+        self.vary(&m, h)?;
+        let (lq, f, v_secant) = (m.lq, m.forced.value, m.v);
         // p_{k+1} = p_k + h (∂L/∂q + F): a coordinate on which neither L nor a force depends
         // keeps its momentum bit for bit.
         let mut p1 = self.p;
@@ -204,6 +344,26 @@ impl<const N: usize> Stepper<N> for VariationalMidpoint<'_, N> {
         let y1 = self.node(stats)?;
         rows.extend_from_slice(&[[self.q_old, self.v_old], y1]);
         Ok(self.t - self.t_old)
+    }
+    fn recorded(&mut self, t: f64, at: f64, stats: &mut Stats) -> Result<(), Fault> {
+        if let Some(cols) = self.phi_at(at, stats)?
+            && let Some(var) = self.var.as_ref()
+        {
+            var.log.borrow_mut().samples.push((t, cols));
+        }
+        Ok(())
+    }
+    fn event_located(&mut self, t: f64, event: usize, stats: &mut Stats) -> Result<(), Fault> {
+        let Some(cols) = self.phi_at(t, stats)? else {
+            return Ok(());
+        };
+        let y = self.interp(t, stats)?;
+        if let Some(var) = self.var.as_ref() {
+            let mut log = var.log.borrow_mut();
+            log.events.push((t, event, cols));
+            log.states.push(y.iter().flatten().copied().collect());
+        }
+        Ok(())
     }
 }
 

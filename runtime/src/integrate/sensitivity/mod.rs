@@ -66,8 +66,15 @@
 //! polynomial. Its error is the method's (order 5), not controlled on its own. A parameter's
 //! column moves likewise, its stage slopes J S + ∂f/∂p.
 //!
+//! **The variational integrator:** Φ is the derivative of its discrete map
+//! (q_k, p_k) ↦ (q_{k+1}, p_{k+1}), by the implicit function theorem on its discrete
+//! Euler–Lagrange equation R(q_k, q_{k+1}, p_k) = 0 (the Hessian jet and the applied forces'
+//! Jacobians at the midpoint, which its Newton solve has already), carried in (q, p) and read in
+//! (q, q̇) through the Legendre map's derivative at the nodes and the interpolant's between them.
+//!
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
-//! the variational integrator, parameters of a constrained run or of
+//! parameters or constraints (RATTLE) with the variational integrator, parameters of a
+//! constrained run or of
 //! one with resetting events (the reset and the event's function are closures the parameters
 //! do not reach), and contacts.
 //!
