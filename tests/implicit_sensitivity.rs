@@ -10,6 +10,31 @@ use lagrange::DMatrix;
 use lagrange_examples::driven_pendulum_system::DrivenPendulum;
 use lagrange_examples::stiff_system::{DampedDriven, RigidPendulumXy};
 
+/// Radau5 at the tolerance of the comparisons.
+const RADAU: Method = Method::Radau5 {
+    rtol: 1e-11,
+    atol: 1e-11,
+};
+
+/// DOP853 at the tolerance of the references the comparisons take.
+const REFERENCE: Method = Method::Dop853 {
+    rtol: 1e-13,
+    atol: 1e-13,
+};
+
+/// The damped driven pendulum of the tests: m = l = 1, g = 9.81, friction 0.3, a torque
+/// 1.5 cos 2t.
+fn driven() -> DrivenPendulum {
+    DrivenPendulum {
+        m: 1.0,
+        l: 1.0,
+        g: 9.81,
+        b: 0.3,
+        a: 1.5,
+        w: 2.0,
+    }
+}
+
 /// The largest |a − b| relative to max(1, max |b|).
 fn rel_diff(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
     let scale = b.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
@@ -63,18 +88,8 @@ fn radau5_phi_of_a_stiff_oscillator_is_the_matrix_exponential() {
 /// run's bit for bit (Φ does not steer the steps).
 #[test]
 fn radau5_phi_matches_dop853_on_a_driven_pendulum() {
-    let sys = DrivenPendulum {
-        m: 1.0,
-        l: 1.0,
-        g: 9.81,
-        b: 0.3,
-        a: 1.5,
-        w: 2.0,
-    };
-    let radau = Method::Radau5 {
-        rtol: 1e-11,
-        atol: 1e-11,
-    };
+    let sys = driven();
+    let radau = RADAU;
     let sim = |method: Method| {
         Simulation::new(&sys, [1.2], [-0.4])
             .method(method)
@@ -82,13 +97,7 @@ fn radau5_phi_matches_dop853_on_a_driven_pendulum() {
             .sample_every(0.5)
     };
     let implicit = sim(radau).sensitivity().run().unwrap();
-    let explicit = sim(Method::Dop853 {
-        rtol: 1e-13,
-        atol: 1e-13,
-    })
-    .sensitivity()
-    .run()
-    .unwrap();
+    let explicit = sim(REFERENCE).sensitivity().run().unwrap();
     assert_eq!(implicit.phi.len(), explicit.phi.len());
     let mut worst = 0.0_f64;
     for (a, b) in implicit.phi.iter().zip(&explicit.phi) {
@@ -123,14 +132,8 @@ fn radau5_phi_of_a_constrained_pendulum() {
             .run()
             .unwrap()
     };
-    let implicit = run(Method::Radau5 {
-        rtol: 1e-11,
-        atol: 1e-11,
-    });
-    let explicit = run(Method::Dop853 {
-        rtol: 1e-13,
-        atol: 1e-13,
-    });
+    let implicit = run(RADAU);
+    let explicit = run(REFERENCE);
     let d = rel_diff(implicit.final_phi(), explicit.final_phi());
     println!("constrained pendulum: |Φ_Radau5(3) − Φ_DOP853(3)| = {d:.2e}");
     assert!(d < 1e-6, "{d}");
@@ -148,14 +151,7 @@ fn radau5_phi_of_a_constrained_pendulum() {
 /// variational equations at 1e-13, within 1e-7 of max(1, |∂y/∂p|).
 #[test]
 fn radau5_parameter_sensitivities_match_dop853() {
-    let base = DrivenPendulum {
-        m: 1.0,
-        l: 1.0,
-        g: 9.81,
-        b: 0.3,
-        a: 1.5,
-        w: 2.0,
-    };
+    let base = driven();
     let run = |method: Method| {
         Simulation::new(&base, [1.2], [-0.4])
             .method(method)
@@ -167,14 +163,8 @@ fn radau5_parameter_sensitivities_match_dop853() {
             .run()
             .unwrap()
     };
-    let implicit = run(Method::Radau5 {
-        rtol: 1e-11,
-        atol: 1e-11,
-    });
-    let explicit = run(Method::Dop853 {
-        rtol: 1e-13,
-        atol: 1e-13,
-    });
+    let implicit = run(RADAU);
+    let explicit = run(REFERENCE);
     assert_eq!(implicit.parameters, ["b", "a"]);
     let mut worst = 0.0_f64;
     for (a, b) in implicit.dparams.iter().zip(&explicit.dparams) {
@@ -199,14 +189,7 @@ fn radau5_parameter_sensitivities_match_dop853() {
 /// their order, so there the two agree to 1e-10: tests/variational_equations.rs.)
 #[test]
 fn variational_phi_is_the_derivative_of_its_discrete_map() {
-    let sys = DrivenPendulum {
-        m: 1.0,
-        l: 1.0,
-        g: 9.81,
-        b: 0.3,
-        a: 1.5,
-        w: 2.0,
-    };
+    let sys = driven();
     let method = Method::VariationalMidpoint { dt: 0.01 };
     let sim = |y0: [f64; 2]| {
         Simulation::new(&sys, [y0[0]], [y0[1]])
@@ -274,14 +257,7 @@ fn variational_phi_is_the_derivative_of_its_discrete_map() {
 /// parameters, and constrained runs (RATTLE).
 #[test]
 fn variational_refusals() {
-    let sys = DrivenPendulum {
-        m: 1.0,
-        l: 1.0,
-        g: 9.81,
-        b: 0.3,
-        a: 1.5,
-        w: 2.0,
-    };
+    let sys = driven();
     let err = Simulation::new(&sys, [1.2], [-0.4])
         .method(Method::VariationalMidpoint { dt: 0.01 })
         .until(1.0)

@@ -359,9 +359,7 @@ impl<const N: usize> Stepper<N> for VariationalMidpoint<'_, N> {
         };
         let y = self.interp(t, stats)?;
         if let Some(var) = self.var.as_ref() {
-            let mut log = var.log.borrow_mut();
-            log.events.push((t, event, cols));
-            log.states.push(y.iter().flatten().copied().collect());
+            var.log.borrow_mut().event(t, event, cols, &y);
         }
         Ok(())
     }

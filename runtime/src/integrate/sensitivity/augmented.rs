@@ -269,9 +269,7 @@ impl<L: Lagrangian<N>, const N: usize> Problem<N> for Variational<'_, '_, L, N> 
     }
     fn event_located(&self, t: f64, event: usize, x: &Aug<N>) {
         if let Some(log) = self.log {
-            let mut log = log.borrow_mut();
-            log.events.push((t, event, x.cols.clone()));
-            log.states.push(x.y.iter().flatten().copied().collect());
+            log.borrow_mut().event(t, event, x.cols.clone(), &x.y);
         }
     }
 }

@@ -125,3 +125,17 @@ pub(crate) struct Log {
     /// state before it).
     pub(crate) states: Vec<Vec<f64>>,
 }
+
+impl Log {
+    /// Records a hit of event `event` at t with the columns there and the state y there.
+    pub(crate) fn event<const N: usize>(
+        &mut self,
+        t: f64,
+        event: usize,
+        cols: Vec<f64>,
+        y: &super::state::Y<N>,
+    ) {
+        self.events.push((t, event, cols));
+        self.states.push(y.iter().flatten().copied().collect());
+    }
+}

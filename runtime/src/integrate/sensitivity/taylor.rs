@@ -260,9 +260,7 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> Carried<L, N> for VarSeries<'s, '
         if let Some(log) = self.log {
             let cols = self.cols_at(motion, t);
             let y = motion.motion_at(t);
-            let mut log = log.borrow_mut();
-            log.events.push((t, event, cols));
-            log.states.push(y.iter().flatten().copied().collect());
+            log.borrow_mut().event(t, event, cols, &y);
         }
     }
 }
