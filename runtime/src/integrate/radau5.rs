@@ -341,6 +341,9 @@ impl<'a, const N: usize> Radau5<'a, N> {
 
     /// Moves the variations over the step of size h from the node with stages `z` (see
     /// [`Variations`]); counts its Jacobians and its LU.
+    // Out of line: a sensitivity run's large locals (Hessians of 64 coordinates) stay off
+    // the plain step's frame.
+    #[inline(never)]
     fn vary(&mut self, h: f64, z: &[Y<N>; 3], stats: &mut Stats) -> Result<(), Fault> {
         let Some(var) = self.var.as_mut() else {
             return Ok(());
@@ -399,6 +402,9 @@ impl<'a, const N: usize> Radau5<'a, N> {
 
     /// Φ at t in the last step (the node's from its time on): column by column, the derivative
     /// of the collocation polynomial, Φ₀ + p(s; D₁, D₂, D₃).
+    // Out of line: a sensitivity run's large locals (Hessians of 64 coordinates) stay off
+    // the plain step's frame.
+    #[inline(never)]
     fn phi_at(&self, t: f64) -> Option<Vec<f64>> {
         let var = self.var.as_ref()?;
         if t >= self.t || self.h_old == 0.0 {
@@ -885,7 +891,7 @@ impl<const N: usize> Stepper<N> for Radau5<'_, N> {
         };
         let y = self.interp(t, stats)?;
         if let Some(var) = self.var.as_ref() {
-            var.log.borrow_mut().event(t, event, cols, &y);
+            var.log.borrow_mut().event(t, event, cols, &y, None);
         }
         Ok(())
     }

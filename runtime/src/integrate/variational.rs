@@ -89,6 +89,9 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
 
     /// Carries the variations `phi` (column-major, 2N rows, of (q, q̇) at the start) through
     /// the run, recording them in `log` at the samples and event hits.
+    // Out of line: a sensitivity run's large locals (Hessians of 64 coordinates) stay off
+    // the plain step's frame.
+    #[inline(never)]
     pub(crate) fn with_variations(
         mut self,
         phi: Vec<f64>,
@@ -122,6 +125,9 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
     /// Ψ over the step just taken from (q₀, p₀) to q₁ with `m` the converged midpoint: with
     /// K₁ = −h ∂R/∂q₁ (the Newton matrix) and K₀ = −h ∂R/∂q₀,
     /// dq₁ = K₁⁻¹ (h dp₀ − K₀ dq₀), dp₁ = dp₀ + h (L_qq + F_q)(dq₀ + dq₁)/2 + (L_qq̇ + F_q̇)(dq₁ − dq₀).
+    // Out of line: a sensitivity run's large locals (Hessians of 64 coordinates) stay off
+    // the plain step's frame.
+    #[inline(never)]
     fn vary(&mut self, m: &Midpoint<N>, h: f64) -> Result<(), Fault> {
         let Some(var) = self.var.as_mut() else {
             return Ok(());
@@ -155,6 +161,9 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
     }
 
     /// Φ at the node (q, q̇), from Ψ by the Legendre map's derivative there.
+    // Out of line: a sensitivity run's large locals (Hessians of 64 coordinates) stay off
+    // the plain step's frame.
+    #[inline(never)]
     fn phi_node(&mut self, stats: &mut Stats) -> Result<Option<DMatrix<f64>>, Fault> {
         if self.var.as_ref().is_none_or(|v| v.phi.is_some()) {
             return Ok(self.var.as_ref().and_then(|v| v.phi.clone()));
@@ -178,6 +187,9 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
 
     /// Φ at t in the last step: the interpolant's derivative (Hermite in q, linear in q̇) over
     /// Φ at both nodes.
+    // Out of line: a sensitivity run's large locals (Hessians of 64 coordinates) stay off
+    // the plain step's frame.
+    #[inline(never)]
     fn phi_at(&mut self, t: f64, stats: &mut Stats) -> Result<Option<Vec<f64>>, Fault> {
         let Some(phi1) = self.phi_node(stats)? else {
             return Ok(None);
@@ -281,7 +293,7 @@ impl<const N: usize> Stepper<N> for VariationalMidpoint<'_, N> {
             q1[i] = q0[i] + h * self.v_guess[i];
         }
         let p0 = self.p;
-        let m = newton::solve(
+        let solved = newton::solve(
             &mut q1,
             stats,
             "Newton's method on the implicit midpoint step did not converge",
@@ -307,9 +319,16 @@ impl<const N: usize> Stepper<N> for VariationalMidpoint<'_, N> {
                     reason: SINGULAR_STEP,
                 })
             },
-        )?;
-        self.vary(&m, h)?;
-        let (lq, f, v_secant) = (m.lq, m.forced.value, m.v);
+        );
+        // Read in place: a moved copy of the converged midpoint (its Hessian jet) would double
+        // the step's frame, which a 64-coordinate system's run on a 2 MiB thread cannot take.
+        let (lq, f, v_secant) = match &solved {
+            Ok(m) => {
+                self.vary(m, h)?;
+                (m.lq, m.forced.value, m.v)
+            }
+            Err(_) => return solved.map(|_| ()),
+        };
         // p_{k+1} = p_k + h (∂L/∂q + F): a coordinate on which neither L nor a force depends
         // keeps its momentum bit for bit.
         let mut p1 = self.p;
@@ -358,8 +377,19 @@ impl<const N: usize> Stepper<N> for VariationalMidpoint<'_, N> {
             return Ok(());
         };
         let y = self.interp(t, stats)?;
+        // The hit is located on the interpolant, whose q̇ is linear between the nodes: its rate
+        // there, not f, moves the hit's time.
+        let [q1, v1] = self.node(stats)?;
+        let rate = across_step_rate(
+            self.t_old,
+            self.t - self.t_old,
+            &[self.q_old, self.v_old],
+            &[q1, v1],
+            t,
+        );
         if let Some(var) = self.var.as_ref() {
-            var.log.borrow_mut().event(t, event, cols, &y);
+            let rate = rate.iter().flatten().copied().collect();
+            var.log.borrow_mut().event(t, event, cols, &y, Some(rate));
         }
         Ok(())
     }
@@ -388,6 +418,22 @@ pub(super) fn across_step<const N: usize>(t0: f64, h: f64, y0: &Y<N>, y1: &Y<N>,
     for i in 0..N {
         out[0][i] = h00 * q0[i] + h10 * h * v0[i] + h01 * q1[i] + h11 * h * v1[i];
         out[1][i] = (1.0 - s) * v0[i] + s * v1[i];
+    }
+    out
+}
+
+/// The rate d/dt of [`across_step`]'s interpolant at t.
+fn across_step_rate<const N: usize>(t0: f64, h: f64, y0: &Y<N>, y1: &Y<N>, t: f64) -> Y<N> {
+    let ([q0, v0], [q1, v1]) = (y0, y1);
+    let s = (t - t0) / h;
+    let d00 = 6.0 * s * s - 6.0 * s;
+    let d10 = 3.0 * s * s - 4.0 * s + 1.0;
+    let d01 = -d00;
+    let d11 = 3.0 * s * s - 2.0 * s;
+    let mut out = [[0.0; N]; 2];
+    for i in 0..N {
+        out[0][i] = (d00 * q0[i] + d01 * q1[i]) / h + d10 * v0[i] + d11 * v1[i];
+        out[1][i] = (v1[i] - v0[i]) / h;
     }
     out
 }

@@ -269,7 +269,7 @@ impl<L: Lagrangian<N>, const N: usize> Problem<N> for Variational<'_, '_, L, N> 
     }
     fn event_located(&self, t: f64, event: usize, x: &Aug<N>) {
         if let Some(log) = self.log {
-            log.borrow_mut().event(t, event, x.cols.clone(), &x.y);
+            log.borrow_mut().event(t, event, x.cols.clone(), &x.y, None);
         }
     }
 }

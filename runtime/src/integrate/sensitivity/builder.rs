@@ -323,18 +323,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             (None, Method::Radau5 { rtol, atol }) => driver.run(&p.opts, t0, y0, |t, y, stats| {
                 let cols = start_cols(t, &y)?;
                 let r = Radau5::new(p.sys, t, y, rtol, atol, hmax, stats)?;
-                // The parameters' ∂f/∂p at a stage (their columns' forcing).
-                let forcing: Option<Forcing<'_, N>> = (!params.is_empty()).then(|| {
-                    Box::new(|t: f64, y: &Y<N>| {
-                        let mut fp = vec![0.0; 2 * N * params.len()];
-                        for (k, par) in params.iter().enumerate() {
-                            let a = d_accel_d_param(par, &y[0], &y[1], t)?;
-                            fp[2 * N * k + N..2 * N * (k + 1)].copy_from_slice(&a);
-                        }
-                        Ok(fp)
-                    }) as Forcing<'_, N>
-                });
-                Ok(r.with_variations(cols, forcing, &log))
+                Ok(r.with_variations(cols, forcing(params), &log))
             }),
             (None, Method::VariationalMidpoint { dt }) => driver.run(&p.opts, t0, y0, |t, y, _| {
                 let cols = start_cols(t, &y)?;
@@ -349,62 +338,17 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                 });
             }
         }
-        .map_err(|e| match e {
-            // The limit's message counts the bytes of a sample with its variations.
-            SimulationError::MaxSamples {
-                t,
-                q,
-                qdot,
-                max_samples,
-                default_limit,
-                partial,
-                ..
-            } => SimulationError::MaxSamples {
-                t,
-                q,
-                qdot,
-                max_samples,
-                sample_bytes: bytes,
-                default_limit,
-                partial,
-            },
-            e => e,
-        })?;
+        .map_err(|e| with_sample_bytes(e, bytes))?;
         let log = log.into_inner();
-        // Φ and S at the samples the trajectory kept: the log has every sample recorded (a
-        // repeated time once more, all of them where the trajectory keeps the first and the
-        // latest), in the same order.
-        let split = |c: &[f64]| {
-            (
-                DMatrix::from_column_slice(n2, n2, &c[..n2 * n2]),
-                DMatrix::from_column_slice(n2, cols - n2, &c[n2 * n2..]),
-            )
-        };
-        let mut phi = Vec::with_capacity(traj.t.len());
-        let mut dparams = Vec::with_capacity(traj.t.len());
-        let mut next = 0;
-        for &t in &traj.t {
-            while next < log.samples.len() && log.samples[next].0 != t {
-                next += 1;
-            }
-            let Some((_, c)) = log.samples.get(next) else {
-                return Err(SimulationError::InvalidOptions {
-                    message: format!(
-                        "internal: no variations were recorded with the sample at t = {t}; \
-                         please report this with the run's options"
-                    ),
-                });
-            };
-            let (f, s) = split(c);
-            phi.push(f);
-            dparams.push(s);
-        }
+        let (phi, dparams) = at_samples(&traj.t, &log.samples, n2, cols)?;
         let events = traj
             .events
             .iter()
             .zip(&log.events)
-            .map(|(hit, (t, i, c))| {
-                at_event(p.sys, &p.events[*i], *t, &hit.q, &hit.qdot, c, cols - n2)
+            .zip(&log.rates)
+            .map(|((hit, (t, i, c)), rate)| {
+                let (ev, params) = (&p.events[*i], cols - n2);
+                at_event(p.sys, ev, *t, &hit.q, &hit.qdot, c, params, rate.as_deref())
             })
             .collect();
         Ok(Sensitivities {
@@ -486,6 +430,77 @@ fn unsupported_method(method: Method) -> String {
          output for samples and events)",
         Method::takers(|s| s.sensitivities)
     )
+}
+
+/// The parameters' ∂f/∂p at a state (their columns' forcing in Radau5's steps); none without
+/// parameters.
+fn forcing<L: Lagrangian<N>, const N: usize>(params: &[Parameter<L>]) -> Option<Forcing<'_, N>> {
+    (!params.is_empty()).then(|| {
+        Box::new(move |t: f64, y: &Y<N>| {
+            let mut fp = vec![0.0; 2 * N * params.len()];
+            for (k, par) in params.iter().enumerate() {
+                let a = d_accel_d_param(par, &y[0], &y[1], t)?;
+                fp[2 * N * k + N..2 * N * (k + 1)].copy_from_slice(&a);
+            }
+            Ok(fp)
+        }) as Forcing<'_, N>
+    })
+}
+
+/// A run's failure with the memory limit's message counting the bytes of a sample with its
+/// variations.
+fn with_sample_bytes(e: SimulationError, bytes: usize) -> SimulationError {
+    match e {
+        SimulationError::MaxSamples {
+            t,
+            q,
+            qdot,
+            max_samples,
+            default_limit,
+            partial,
+            ..
+        } => SimulationError::MaxSamples {
+            t,
+            q,
+            qdot,
+            max_samples,
+            sample_bytes: bytes,
+            default_limit,
+            partial,
+        },
+        e => e,
+    }
+}
+
+/// Φ and S (2N × 2N and 2N × (cols − 2N)) at the samples the trajectory kept (times `kept`):
+/// the log has every sample recorded (a repeated time once more, all of them where the
+/// trajectory keeps the first and the latest), in the same order.
+#[allow(clippy::type_complexity)]
+fn at_samples(
+    kept: &[f64],
+    samples: &[(f64, Vec<f64>)],
+    n2: usize,
+    cols: usize,
+) -> Result<(Vec<DMatrix<f64>>, Vec<DMatrix<f64>>), SimulationError> {
+    let mut phi = Vec::with_capacity(kept.len());
+    let mut dparams = Vec::with_capacity(kept.len());
+    let mut next = 0;
+    for &t in kept {
+        while next < samples.len() && samples[next].0 != t {
+            next += 1;
+        }
+        let Some((_, c)) = samples.get(next) else {
+            return Err(SimulationError::InvalidOptions {
+                message: format!(
+                    "internal: no variations were recorded with the sample at t = {t}; please \
+                     report this with the run's options"
+                ),
+            });
+        };
+        phi.push(DMatrix::from_column_slice(n2, n2, &c[..n2 * n2]));
+        dparams.push(DMatrix::from_column_slice(n2, cols - n2, &c[n2 * n2..]));
+    }
+    Ok((phi, dparams))
 }
 
 /// The run of a system as it declares itself with these options and its variations: a system

@@ -58,6 +58,7 @@ pub(super) fn at_event<L: Lagrangian<N>, const N: usize>(
     v: &[f64; N],
     cols: &[f64],
     params: usize,
+    located_rate: Option<&[f64]>,
 ) -> EventSensitivity {
     let n2 = 2 * N;
     let phi = DMatrix::from_column_slice(n2, n2, &cols[..n2 * n2]);
@@ -65,10 +66,14 @@ pub(super) fn at_event<L: Lagrangian<N>, const N: usize>(
     let (gt, grad) = gradient(ev, t, q, v);
     // f = (q̇, q̈) at the hit; where the accelerations fail there (they did not a moment ago,
     // on the same state) the rate is unknown and the hit is treated as grazing.
-    let f: Option<Vec<f64>> = sys
-        .accelerations(q, v, t)
-        .ok()
-        .map(|a| v.iter().chain(a.iter()).copied().collect());
+    // Where the hit was located on a curve whose rate is not f (`Log::rates`), that rate.
+    let f: Option<Vec<f64>> = match located_rate {
+        Some(r) => Some(r.to_vec()),
+        None => sys
+            .accelerations(q, v, t)
+            .ok()
+            .map(|a| v.iter().chain(a.iter()).copied().collect()),
+    };
     let (rate, scale) = match &f {
         Some(f) => {
             let terms = grad.iter().zip(f).map(|(g, f)| g * f);

@@ -124,18 +124,25 @@ pub(crate) struct Log {
     /// The state (q, q̇) at each event hit, flattened (a jump's saltation matrix needs the
     /// state before it).
     pub(crate) states: Vec<Vec<f64>>,
+    /// The rate ẏ at each hit of the curve the hit was located on, where the method's
+    /// interpolant does not follow f to its order (the variational integrator's linear q̇);
+    /// `None`: f.
+    pub(crate) rates: Vec<Option<Vec<f64>>>,
 }
 
 impl Log {
-    /// Records a hit of event `event` at t with the columns there and the state y there.
+    /// Records a hit of event `event` at t with the columns there, the state y there and the
+    /// located curve's rate where it is not f (see [`rates`](Self::rates)).
     pub(crate) fn event<const N: usize>(
         &mut self,
         t: f64,
         event: usize,
         cols: Vec<f64>,
         y: &super::state::Y<N>,
+        rate: Option<Vec<f64>>,
     ) {
         self.events.push((t, event, cols));
         self.states.push(y.iter().flatten().copied().collect());
+        self.rates.push(rate);
     }
 }

@@ -73,7 +73,9 @@ pub struct EventSensitivity {
     pub dparams: DMatrix<f64>,
     /// ∂g/∂(q, q̇) at the hit (a fourth-order central difference of the event function).
     pub gradient: Vec<f64>,
-    /// ġ = ∂g/∂t + ∂g/∂(q, q̇) · (q̇, q̈) at the hit: the rate g crosses zero at.
+    /// ġ = ∂g/∂t + ∂g/∂(q, q̇) · (q̇, q̈) at the hit: the rate g crosses zero at (with the
+    /// variational integrator, along its interpolant, on which the hit was located: (q̇, q̈)
+    /// there is the interpolant's rate).
     pub rate: f64,
     /// dt*/d(q₀, q̇₀) = −(∂g/∂x · Φ(t*))/ġ; `None` at a grazing hit (ġ = 0 to round-off), where
     /// the event's time is not differentiable.

@@ -260,7 +260,7 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> Carried<L, N> for VarSeries<'s, '
         if let Some(log) = self.log {
             let cols = self.cols_at(motion, t);
             let y = motion.motion_at(t);
-            log.borrow_mut().event(t, event, cols, &y);
+            log.borrow_mut().event(t, event, cols, &y, None);
         }
     }
 }
