@@ -92,7 +92,7 @@ fn digits() -> Result<(), Box<dyn std::error::Error>> {
     let (q0, v0) = andrews.start();
     // RATTLE's order 2 on 0.03 and 0.1 units of fast mechanisms: a finer step.
     let finer = |method| match method {
-        Method::VariationalMidpoint { dt } => Method::VariationalMidpoint { dt: dt * 1e-2 },
+        Method::VariationalMidpoint { dt } => Method::VariationalMidpoint { dt: dt / 100.0 },
         m => m,
     };
     for &method in &methods {
