@@ -141,7 +141,14 @@ pub(crate) type Forcing<'l, const N: usize> =
 
 /// [`Eigen`], from A's trace and determinant (γ + 2 Re μ, γ |μ|²) and the null vectors of
 /// A − γ I and A − μ I (the cross product of two of their rows).
-fn eigen() -> Eigen {
+fn eigen() -> &'static Eigen {
+    // A's constants: computed once per process, not at every factorization.
+    static EIGEN: std::sync::OnceLock<Eigen> = std::sync::OnceLock::new();
+    EIGEN.get_or_init(decompose)
+}
+
+/// The computation behind [`eigen`].
+fn decompose() -> Eigen {
     let a = |i: usize, j: usize, l: Complex<f64>| {
         Complex::new(A[i][j], 0.0) - if i == j { l } else { Complex::new(0.0, 0.0) }
     };
@@ -177,7 +184,7 @@ fn eigen() -> Eigen {
 /// a fifth of the flops).
 struct Factors {
     h: f64,
-    eigen: Eigen,
+    eigen: &'static Eigen,
     real: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
     complex: nalgebra::LU<Complex<f64>, nalgebra::Dyn, nalgebra::Dyn>,
 }
@@ -188,7 +195,7 @@ impl Factors {
     /// Δ = (V ⊗ I) X = V₁ X₁ + 2 Re(V₂ X₂). False where a solve fails.
     fn solve_stages(&self, r: &mut DVector<f64>) -> bool {
         let n = r.len() / 3;
-        let Eigen { v, vinv, .. } = &self.eigen;
+        let Eigen { v, vinv, .. } = self.eigen;
         let mut w1 =
             DVector::<f64>::from_fn(n, |k, _| (0..3).map(|j| vinv[0][j].re * r[j * n + k]).sum());
         let mut w2 = DVector::<Complex<f64>>::from_fn(n, |k, _| {
