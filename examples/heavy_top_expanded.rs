@@ -418,6 +418,7 @@ impl ::lagrange::__private::Lagrangian<3> for HeavyTop {
         not_analytic: ::core::option::Option::None,
         constrained: false,
     };
+    const KERNEL_FIELDS: &'static [&'static str] = &["i_perp", "i_par", "m", "g", "l"];
 }
 #[doc(hidden)]
 #[allow(

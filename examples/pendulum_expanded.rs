@@ -253,6 +253,7 @@ impl ::lagrange::__private::Lagrangian<1> for Pendulum {
         not_analytic: ::core::option::Option::None,
         constrained: false,
     };
+    const KERNEL_FIELDS: &'static [&'static str] = &["m", "l", "g"];
 }
 #[doc(hidden)]
 #[allow(

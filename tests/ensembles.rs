@@ -21,6 +21,7 @@ mod contact_constraints;
 mod contacts;
 mod ensemble;
 mod ensemble_lanes;
+mod exact_parameters;
 mod impacts;
 mod implicit_sensitivity;
 mod jump_sensitivity;

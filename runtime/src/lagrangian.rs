@@ -225,6 +225,28 @@ pub trait Lagrangian<const N: usize> {
     /// ```
     const COMPILED: Compiled = Compiled::NONE;
 
+    /// The compiled kernels' parameters slot by slot, each named by the field of `self` it
+    /// holds (`"g"` for `self.g`, `"r.x"` for a `Vector3` field's component) or `""` where the
+    /// slot is not a field (a constant, parameter-only code, a condition): the fields a
+    /// sensitivity run can differentiate by exactly, by seeding their slots in tangents
+    /// ([`Sensitivity::field`](crate::Sensitivity::field)). Empty without compiled kernels (a
+    /// hand-written impl, the jets mode); `#[lagrangian]` fills it in the symbolic mode.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// struct Spring { k: f64 }
+    /// impl Lagrangian<1> for Spring {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+    ///         (v[0] * v[0] - q[0] * q[0] * self.k) * 0.5
+    ///     }
+    /// }
+    /// assert!(Spring::KERNEL_FIELDS.is_empty()); // hand-written: no compiled kernel
+    /// ```
+    const KERNEL_FIELDS: &'static [&'static str] = &[];
+
     /// Whether the system declares unilateral contacts (`fn contacts` under `#[lagrangian]`, which
     /// sets it): a run that would step the motion as if there were none (an analysis that does
     /// not take contacts yet, or a hand-written impl whose [`declared`](Self::declared) does not

@@ -20,6 +20,9 @@ pub struct Code {
     pub values: TokenStream,
     /// The locals `loads` binds, with their types, in order: the inputs of `values`.
     pub inputs: Vec<(Ident, TokenStream)>,
+    /// Per input, the name of the field it loads (`g` for `self.g`), or `None` where it is not
+    /// a field of `self` (a free constant, parameter-only code, a condition).
+    pub fields: Vec<Option<String>>,
     /// How many `let` statements were emitted for DAG nodes.
     pub lets: usize,
 }
@@ -157,6 +160,7 @@ pub fn emit_as(
     // Parameter loads, typed, spanned at the field's first use.
     let mut stmts = TokenStream::new();
     let mut inputs = Vec::new();
+    let mut input_fields = Vec::new();
     let mut loaded = vec![false; fields.len()];
     for (id, needed) in need.iter().enumerate() {
         if let (true, Node::Param(f, _)) = (*needed, dag.node(id as Id)) {
@@ -178,6 +182,7 @@ pub fn emit_as(
         // while errors point at the user's field.
         let this = Ident::new("self", Span::call_site().located_at(field.span));
         inputs.push((local.clone(), ty.clone()));
+        input_fields.push((field.opaque.is_none() && !field.free).then(|| field.name.clone()));
         if let Some((_, tokens)) = &field.opaque {
             stmts.extend(quote_spanned!(field.span=> let #local: #ty = #tokens;));
         } else if field.free {
@@ -200,6 +205,7 @@ pub fn emit_as(
             let tokens = &cond.tokens;
             stmts.extend(quote_spanned!(cond.span=> let #b: bool = #tokens;));
             inputs.push((b, quote!(bool)));
+            input_fields.push(None);
         }
     }
     let loads = std::mem::take(&mut stmts);
@@ -375,6 +381,7 @@ pub fn emit_as(
         loads,
         values: stmts,
         inputs,
+        fields: input_fields,
         lets,
     }
 }
@@ -446,6 +453,11 @@ pub struct KernelParams {
     pub load: TokenStream,
     /// P.
     pub count: usize,
+    /// Per slot, the field it holds (`g`; a vector field's components `r.x`, `r.y`, `r.z`), or
+    /// `""` where the slot is not a field of `self` (a free constant, parameter-only code, a
+    /// condition): the names `Lagrangian::KERNEL_FIELDS` exposes for exact parameter
+    /// derivatives.
+    pub names: Vec<String>,
 }
 
 /// [`KernelParams`] of the derivation's fields and conditions (all of them, whatever a kernel
@@ -459,13 +471,16 @@ pub fn kernel_params(dag: &Dag, fields: &[Field], conds: &[Cond], params: &Ident
     let rt = quote!(::lagrange::__private::Real);
     let mut binds = TokenStream::new();
     let mut values = Vec::new();
+    let mut names = Vec::new();
     let mut k = 0usize;
-    for (x, ty) in &code.inputs {
+    for ((x, ty), field) in code.inputs.iter().zip(&code.fields) {
+        let field = field.as_deref().unwrap_or("");
         let ty = ty.to_string();
         let i = Literal::usize_unsuffixed(k);
         if ty == "bool" {
             binds.extend(quote!(let #x: <#r as #rt>::Mask = <#r as #rt>::nonzero(#params[#i]);));
             values.push(quote!(if #x { 1.0 } else { 0.0 }));
+            names.push(String::new());
             k += 1;
         } else if ty.contains("Vector3") {
             let (j, m) = (
@@ -477,10 +492,18 @@ pub fn kernel_params(dag: &Dag, fields: &[Field], conds: &[Cond], params: &Ident
                     ::lagrange::__private::Vector3::new(#params[#i], #params[#j], #params[#m]);
             });
             values.extend([quote!(#x.x), quote!(#x.y), quote!(#x.z)]);
+            names.extend(["x", "y", "z"].map(|c| {
+                if field.is_empty() {
+                    String::new()
+                } else {
+                    format!("{field}.{c}")
+                }
+            }));
             k += 3;
         } else {
             binds.extend(quote!(let #x: #r = #params[#i];));
             values.push(quote!(#x));
+            names.push(field.to_string());
             k += 1;
         }
     }
@@ -489,6 +512,7 @@ pub fn kernel_params(dag: &Dag, fields: &[Field], conds: &[Cond], params: &Ident
         binds,
         load: quote!(#loads [#(#values),*]),
         count: k,
+        names,
     }
 }
 

@@ -57,9 +57,9 @@ pub struct SymbolicOutput {
     pub taylor: Result<(), super::taylor::NoSeries>,
     /// Whether the lanes run the generic q̈ kernel (`accelerations_in`; a small system).
     pub lanes: bool,
-    /// The body of the inherent `__lagrange_params(&self) -> [f64; P]` and P, where there are
-    /// generic kernels.
-    pub params: Option<(TokenStream, usize)>,
+    /// The body of the inherent `__lagrange_params(&self) -> [f64; P]`, P and the slots' field
+    /// names ([`codegen::KernelParams::names`]), where there are generic kernels.
+    pub params: Option<(TokenStream, usize, Vec<String>)>,
     /// Items to emit next to the user's impl: the generic kernels' module and the modules of a
     /// large system's out-of-line bodies.
     pub items: TokenStream,
@@ -551,7 +551,7 @@ pub fn output(d: &Derivation, decl: &Decl) -> SymbolicOutput {
     });
     let params_load = kernels
         .as_ref()
-        .map(|_| (params.load.clone(), params.count));
+        .map(|_| (params.load.clone(), params.count, params.names.clone()));
     gen.items.extend(kernels);
     let (items, lets) = (gen.items, gen.lets);
 
@@ -898,7 +898,14 @@ pub fn methods(
             };
         });
     }
-    let params_fn = params_load.as_ref().map(|(body, count)| {
+    if let Some((_, _, names)) = params_load.as_ref() {
+        // The kernels' parameters by field, for exact parameter derivatives (a slot seeded in
+        // tangents).
+        methods.extend(quote! {
+            const KERNEL_FIELDS: &'static [&'static str] = &[#(#names),*];
+        });
+    }
+    let params_fn = params_load.as_ref().map(|(body, count, _)| {
         let count = Literal::usize_unsuffixed(*count);
         quote! {
             /// The parameters of the generic kernels, loaded from `self`.

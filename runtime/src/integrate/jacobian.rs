@@ -57,13 +57,41 @@ pub(crate) fn compiled<L: Lagrangian<N>, const N: usize>(
     v: &[f64; N],
     t: f64,
 ) -> Option<([f64; N], Jacobian<N>)> {
+    compiled_along(sys, params, None, true, q, v, t).map(|(a, jac, _)| (a, jac))
+}
+
+/// Directions in the compiled kernels' parameters (the fields): the slots' values `base` and,
+/// per direction, ∂slot/∂p of every slot (see `Lagrangian::KERNEL_FIELDS`).
+#[derive(Clone, Copy)]
+pub(crate) struct Fields<'a> {
+    pub(crate) base: &'a [f64],
+    pub(crate) dirs: &'a [&'a [f64]],
+}
+
+/// [`compiled`], and with `fields` also ∂q̈/∂p along each of its directions, exact (the kernel's
+/// parameter slots seeded in the same tangents, after the state's directions: a direction fills
+/// a chunk's unused slot at no extra evaluation). `params` is then rewritten at each evaluation.
+/// Without `state` only the fields' directions are seeded (the Jacobian returned is then 0).
+pub(crate) fn compiled_along<L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    params: &mut Vec<Tangent<CHUNK>>,
+    fields: Option<Fields<'_>>,
+    state: bool,
+    q: &[f64; N],
+    v: &[f64; N],
+    t: f64,
+) -> Option<([f64; N], Jacobian<N>, Vec<[f64; N]>)> {
     let t = Tangent::constant(t);
     let (mut d_q, mut d_qdot) = (SMatrix::zeros(), SMatrix::zeros());
     let mut a = [0.0; N];
-    let mut dirs = (0..2 * N).filter(|&d| d >= N || !L::CYCLIC[d]).peekable();
+    let extra = fields.map_or(0, |f| f.dirs.len());
+    let mut d_p = vec![[0.0; N]; extra];
+    let end = 2 * N + extra;
+    let first = if state { 0 } else { 2 * N };
+    let mut dirs = (first..end).filter(|&d| d >= N || !L::CYCLIC[d]).peekable();
     while dirs.peek().is_some() {
-        // This evaluation's directions (slot k: direction chunk[k]; 2N for an unused slot).
-        let mut chunk = [2 * N; CHUNK];
+        // This evaluation's directions (slot k: direction chunk[k]; `end` for an unused slot).
+        let mut chunk = [end; CHUNK];
         for (slot, d) in chunk.iter_mut().zip(&mut dirs) {
             *slot = d;
         }
@@ -73,6 +101,19 @@ pub(crate) fn compiled<L: Lagrangian<N>, const N: usize>(
                 core::array::from_fn(|k| f64::from(u8::from(chunk[k] == dir))),
             )
         };
+        if let Some(f) = fields {
+            let along = |k: usize, j: usize| match chunk[k].checked_sub(2 * N) {
+                Some(p) if p < extra => f.dirs[p][j],
+                _ => 0.0,
+            };
+            params.clear();
+            params.extend(
+                f.base
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &x)| Tangent::new(x, core::array::from_fn(|k| along(k, j)))),
+            );
+        }
         let tq = core::array::from_fn(|i| seed(q[i], i));
         let tv = core::array::from_fn(|i| seed(v[i], N + i));
         let (acc, ok) = L::accelerations_in(&[sys], params, &tq, &tv, t)?;
@@ -85,12 +126,29 @@ pub(crate) fn compiled<L: Lagrangian<N>, const N: usize>(
                     d_q[(i, dir)] = x.slopes()[k];
                 } else if dir < 2 * N {
                     d_qdot[(i, dir - N)] = x.slopes()[k];
+                } else if dir < end {
+                    d_p[dir - 2 * N][i] = x.slopes()[k];
                 }
             }
         }
         a = acc.map(Tangent::value);
     }
-    Some((a, Jacobian { d_q, d_qdot }))
+    Some((a, Jacobian { d_q, d_qdot }, d_p))
+}
+
+/// The compiled kernels' parameters of `sys` (the slots `Lagrangian::KERNEL_FIELDS` names), as
+/// its kernels load them; `None` where it has no compiled kernel.
+pub(crate) fn kernel_slots<L: Lagrangian<N>, const N: usize>(sys: &L) -> Option<Vec<f64>> {
+    let mut slots = Vec::new();
+    let z = [0.0; N];
+    if L::accelerations_in::<f64>(&[sys], &mut slots, &z, &z, 0.0).is_some() {
+        return Some(slots);
+    }
+    // A system too large for the generic q̈ kernel may still have the Taylor series.
+    slots.clear();
+    let mut out = vec![[z; 2]; 2];
+    let mut buf = crate::taylor::SeriesBuf::new();
+    L::series_in::<f64>(&[sys], &mut slots, 0.0, &mut out, &mut buf).map(|_| slots)
 }
 
 /// J = ∂f/∂y = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]] of f = (q̇, q̈) at y, from the compiled q̈ in

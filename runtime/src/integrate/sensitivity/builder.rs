@@ -10,6 +10,7 @@ use crate::lagrangian::Lagrangian;
 use super::super::driver::Driver;
 use super::super::error::SimulationError;
 use super::super::factory::Explicit;
+use super::super::jacobian::{Fields, compiled_along, kernel_slots};
 use super::super::method::Method;
 use super::super::radau5::{Forcing, Radau5};
 use super::super::simulation::Simulation;
@@ -24,7 +25,7 @@ use super::event_time::at_event;
 use super::result::Sensitivities;
 use super::saltation::saltation;
 use super::taylor::VarSeries;
-use super::variation::{Parameter, Variation, d_accel_d_param, difference_step};
+use super::variation::{Parameter, Variation, affine_slots, difference_step, exact_dirs};
 
 /// A run that also integrates the variational equations: built by
 /// [`Simulation::sensitivity`], it gives Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) and ∂(q, q̇)(t)/∂p at the
@@ -55,6 +56,8 @@ pub struct Sensitivity<'a, L, const N: usize> {
     sim: Simulation<'a, L, N>,
     params: Vec<Parameter<L>>,
     motion_steps: bool,
+    /// Why a parameter asked for could not be taken (`run` refuses with it).
+    unknown: Option<String>,
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
@@ -83,6 +86,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
             sim: self,
             params: Vec::new(),
             motion_steps: false,
+            unknown: None,
         }
     }
 }
@@ -92,7 +96,11 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// system of the run is `value`, with `build(p)` the same system at the value p (e.g.
     /// `|g| Pendulum { g, ..pendulum }` for a field `g`): ∂(q, q̇)/∂p at every sample
     /// ([`Sensitivities::dparams`](crate::Sensitivities::dparams)) and dt*/dp at every event.
-    /// ∂q̈/∂p comes from a fourth-order central difference of the accelerations of the systems
+    /// Where `build` sets fields the compiled kernels read (the symbolic mode; `p`, `2.0 * p`,
+    /// `p + c`: affine in p, checked here at three values of p), ∂q̈/∂p is exact: the kernel
+    /// evaluated in tangents seeded along those fields. Otherwise (the jets mode, a hand-written
+    /// system, a closure that is not affine in p), and where the kernel declines at a state, it
+    /// comes from a fourth-order central difference of the accelerations of the systems
     /// `build` gives at p ± h, p ± 2h, h = ε^(1/5) s with the scale s that the accelerations at
     /// the initial state vary on, |p| or 1, whichever Richardson's error estimate prefers (a mass
     /// of 1e-6 varies on 1e-6, an offset of 1000 in cos(x − x₀) on 1): accurate to about 1e-12
@@ -130,8 +138,77 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                 .ok()
                 .map(|a| a.to_vec())
         });
+        let slots = if System::flags(&*self.sim.sys).constrained {
+            // q̈ is then the constrained view's, not the kernel's alone.
+            None
+        } else {
+            affine_slots(&*self.sim.sys, value, &build)
+        };
         self.params
-            .push(Parameter::new(name.into(), value, h, build));
+            .push(Parameter::new(name.into(), value, h, build, slots));
+        self
+    }
+
+    /// Also differentiate the motion with respect to the field `name` of the system (`"g"` for
+    /// `self.g`; `"r.x"` for a component of a `Vector3` field), exactly: the compiled kernels
+    /// evaluated in tangents seeded along that field (the symbolic mode; the fields are those
+    /// [`Lagrangian::KERNEL_FIELDS`] names, the ones L, D and Q read). Its value is the
+    /// system's. [`run`](Self::run) refuses a name the kernels do not read, and a system without
+    /// compiled kernels (the jets mode, a hand-written impl: give the parameter with its closure,
+    /// [`parameter`](Self::parameter)); where the kernel declines at a state (a pivot of M below
+    /// the accuracy bound), the run stops with a typed error.
+    ///
+    /// ```
+    /// use lagrange_runtime::{Lagrangian, Scalar, Simulation};
+    /// /// A hand-written system has no compiled kernels: its fields are not seeded.
+    /// struct Fall { g: f64 }
+    /// impl Lagrangian<1> for Fall {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 - q[0] * self.g }
+    /// }
+    /// let err = Simulation::new(&Fall { g: 9.81 }, [0.0], [0.0]).until(2.0).sensitivity()
+    ///     .field("g")
+    ///     .run()
+    ///     .unwrap_err();
+    /// assert!(err.to_string().contains(".parameter(\"g\""));
+    /// ```
+    pub fn field(mut self, name: &str) -> Self {
+        let fields = L::KERNEL_FIELDS;
+        let slots = kernel_slots(&*self.sim.sys);
+        match (fields.iter().position(|f| *f == name), slots) {
+            (Some(slot), Some(values)) if values.len() == fields.len() => {
+                self.params.push(Parameter::field(
+                    name.into(),
+                    values[slot],
+                    slot,
+                    values.len(),
+                ));
+            }
+            _ if self.unknown.is_some() => {}
+            _ if fields.is_empty() => {
+                self.unknown = Some(format!(
+                    "field `{name}`: this system has no compiled kernels to seed its fields in \
+                     (the jets mode or a hand-written impl; `#[lagrangian]`'s symbolic mode \
+                     has them): give the parameter with its closure, \
+                     `.parameter(\"{name}\", value, |p| System {{ {name}: p, ..system }})`"
+                ));
+            }
+            _ => {
+                let known: Vec<&str> = fields.iter().copied().filter(|f| !f.is_empty()).collect();
+                self.unknown = Some(format!(
+                    "field `{name}` is not one the compiled kernels read (they read {}): name \
+                     one of those, or give the parameter with its closure, \
+                     `.parameter(name, value, build)`",
+                    if known.is_empty() {
+                        "no field of the system".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ));
+            }
+        }
         self
     }
 
@@ -234,6 +311,15 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         }
         let (t0, until, method, y0, hmax) = (p.opts.t0, p.opts.until, p.method, p.y0, p.hmax);
         let params = &self.params;
+        // The parameters whose ∂q̈/∂p the kernels give exactly: their directions in the kernels'
+        // parameter slots.
+        let dirs = exact_dirs(params);
+        let base = if dirs.is_empty() {
+            None
+        } else {
+            kernel_slots(p.sys)
+        };
+        let fields = base.as_deref().map(|base| Fields { base, dirs: &dirs });
         // The columns at the start: Φ(t0) = I, S(t0) = 0; on constraints, Φ(t0) = P, the
         // derivative of the projection onto them at y0 (see `tangent_projector`).
         let mut cols0 = vec![0.0; n2 * cols];
@@ -268,6 +354,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             phi_cols: n2,
             phi_unit: unit.get(),
             kernel: Default::default(),
+            fields,
         };
         let log = RefCell::new(Log::default());
         let driver = Driver::new(p.sys, p.manifold, p.events, method, &p.opts, p.observer);
@@ -323,7 +410,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             (None, Method::Radau5 { rtol, atol }) => driver.run(&p.opts, t0, y0, |t, y, stats| {
                 let cols = start_cols(t, &y)?;
                 let r = Radau5::new(p.sys, t, y, rtol, atol, hmax, stats)?;
-                Ok(r.with_variations(cols, forcing(params), &log))
+                Ok(r.with_variations(cols, forcing(p.sys, params, fields), &log))
             }),
             (None, Method::VariationalMidpoint { dt }) => driver.run(&p.opts, t0, y0, |t, y, _| {
                 let cols = start_cols(t, &y)?;
@@ -362,6 +449,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
 
     /// Why this run cannot carry its variations (what it does not cover yet), if so.
     fn refusal(&self) -> Option<String> {
+        if let Some(unknown) = &self.unknown {
+            return Some(unknown.clone());
+        }
         let sim = &self.sim;
         if !sim.o.method.spec().sensitivities {
             return Some(unsupported_method(sim.o.method));
@@ -432,18 +522,34 @@ fn unsupported_method(method: Method) -> String {
     )
 }
 
-/// The parameters' ∂f/∂p at a state (their columns' forcing in Radau5's steps); none without
-/// parameters.
-fn forcing<L: Lagrangian<N>, const N: usize>(params: &[Parameter<L>]) -> Option<Forcing<'_, N>> {
+/// The parameters' ∂f/∂p at a state (their columns' forcing in Radau5's steps): exact from the
+/// kernels along `fields`' directions where a parameter has one, else its differences; none
+/// without parameters.
+fn forcing<'a, L: Lagrangian<N>, const N: usize>(
+    sys: &'a L,
+    params: &'a [Parameter<L>],
+    fields: Option<Fields<'a>>,
+) -> Option<Forcing<'a, N>> {
     (!params.is_empty()).then(|| {
+        let kernel = RefCell::new(Vec::new());
         Box::new(move |t: f64, y: &Y<N>| {
+            let [q, v] = y;
+            let exact = fields
+                .and_then(|f| {
+                    compiled_along(sys, &mut kernel.borrow_mut(), Some(f), false, q, v, t)
+                })
+                .map_or(Vec::new(), |(_, _, d)| d);
+            let mut exact = exact.iter();
             let mut fp = vec![0.0; 2 * N * params.len()];
             for (k, par) in params.iter().enumerate() {
-                let a = d_accel_d_param(par, &y[0], &y[1], t)?;
+                let a = match par.slots.as_ref().and_then(|_| exact.next()) {
+                    Some(d) => *d,
+                    None => par.difference_at(q, v, t)?,
+                };
                 fp[2 * N * k + N..2 * N * (k + 1)].copy_from_slice(&a);
             }
             Ok(fp)
-        }) as Forcing<'_, N>
+        }) as Forcing<'a, N>
     })
 }
 

@@ -290,6 +290,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Lyapunov<'a, L, N> {
             phi_cols: k,
             phi_unit: false,
             kernel: Default::default(),
+            fields: None,
         };
         // The directions take part in the error control: at an equilibrium the motion alone
         // would allow any step.

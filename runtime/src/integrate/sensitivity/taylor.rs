@@ -7,9 +7,11 @@
 //! the variations' series are summed at it, and are their dense output.
 //!
 //! [`CHUNK`] columns per evaluation (`Tangent<CHUNK>`): Φ's 2N columns and the parameters' P in
-//! ⌈(2N + P)/CHUNK⌉ evaluations. A parameter's explicit part ∂(x_k)/∂p comes from a
-//! fourth-order central difference of the series of the systems its closure builds at p ± h,
-//! p ± 2h (as the explicit methods take ∂q̈/∂p).
+//! ⌈(2N + P)/CHUNK⌉ evaluations. A parameter's explicit part ∂(x_k)/∂p comes from the same
+//! evaluation where it has a direction in the kernels' parameters (a field: those slots are
+//! seeded with the column's), exact; otherwise from a fourth-order central difference of the
+//! series of the systems its closure builds at p ± h, p ± 2h (as the explicit methods take
+//! ∂q̈/∂p).
 
 use core::cell::RefCell;
 
@@ -124,6 +126,22 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarSeries<'s, 'l, L, N> {
                 core::array::from_fn(|i| seed(0, i)),
                 core::array::from_fn(|i| seed(1, i)),
             ];
+            // A parameter's column with a direction in the kernels' parameters seeds those too:
+            // its explicit part ∂f/∂p comes out of the same evaluation, exact.
+            if let Some(f) = self.var.fields {
+                let (phi_cols, params) = (self.var.phi_cols, self.var.params);
+                let along = |k: usize, j: usize| match chunk[k].checked_sub(phi_cols) {
+                    Some(p) if chunk[k] < ncols => params[p].slots.as_ref().map_or(0.0, |d| d[j]),
+                    _ => 0.0,
+                };
+                self.params.clear();
+                self.params.extend(
+                    f.base
+                        .iter()
+                        .enumerate()
+                        .map(|(j, &x)| Tangent::new(x, core::array::from_fn(|k| along(k, j)))),
+                );
+            }
             stats.rhs_evals += 1;
             let ok = match L::series_in(
                 &[self.var.sys],
@@ -173,11 +191,12 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarSeries<'s, 'l, L, N> {
         // The parameters' explicit parts, order by order (order 0 is the state: none).
         let phi_cols = self.var.phi_cols;
         for (p, (nb, par)) in self.neighbours.iter_mut().zip(self.var.params).enumerate() {
-            for ((sys, params), series) in par
-                .neighbours
-                .iter()
-                .zip(&mut nb.params)
-                .zip(&mut nb.series)
+            // Exact above where the parameter has a direction in the kernels' parameters.
+            let Some((h, neighbours)) = par.difference.as_ref().filter(|_| par.slots.is_none())
+            else {
+                continue;
+            };
+            for ((sys, params), series) in neighbours.iter().zip(&mut nb.params).zip(&mut nb.series)
             {
                 series.clear();
                 series.resize(rows, y);
@@ -194,7 +213,7 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarSeries<'s, 'l, L, N> {
                 for c in 0..2 {
                     for i in 0..N {
                         row[at + c * N + i] +=
-                            central(par.h, core::array::from_fn(|j| each[j][k][c][i]));
+                            central(*h, core::array::from_fn(|j| each[j][k][c][i]));
                     }
                 }
             }

@@ -15,32 +15,106 @@ use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 use crate::tangent::Tangent;
 
-use super::super::jacobian::{Jacobian, compiled, jacobian};
+use super::super::jacobian::{Fields, Jacobian, compiled_along, jacobian};
 use super::super::state::{Fault, Stats, Y};
 use super::CHUNK;
 
 /// A parameter the run differentiates the motion with respect to: its name, its value in the
-/// system of the run, and the systems at p + h, p − h, p + 2h, p − 2h (built once, at
-/// [`Parameter::new`]) for the fourth-order central difference in p ([`central`]), with the step
-/// h of [`difference_step`].
+/// system of the run, and how ∂q̈/∂p is taken: exactly, along a direction of the compiled
+/// kernels' parameters (the fields: `slots`, ∂slot/∂p per slot), and/or by the fourth-order
+/// central difference ([`central`]) of the systems its closure builds at p + h, p − h, p + 2h,
+/// p − 2h (built once, at [`Parameter::new`]), with the step h of [`difference_step`].
 pub(crate) struct Parameter<L> {
     pub(crate) name: String,
     pub(crate) value: f64,
-    pub(crate) h: f64,
-    pub(crate) neighbours: [L; 4],
+    /// ∂slot/∂p of every slot of the compiled kernels' parameters, where p moves them affinely
+    /// (a field set to p; checked when the parameter is given): ∂q̈/∂p is then the kernel's
+    /// derivative along it, exact.
+    pub(crate) slots: Option<Vec<f64>>,
+    /// The difference step h and the systems at p + h, p − h, p + 2h, p − 2h (a parameter given
+    /// by its closure; a field has none).
+    pub(crate) difference: Option<(f64, [L; 4])>,
 }
 
 impl<L> Parameter<L> {
     /// The parameter `name` at `value` with the difference step h, its neighbouring systems
-    /// from `build`.
-    pub(crate) fn new(name: String, value: f64, h: f64, build: impl Fn(f64) -> L) -> Self {
+    /// from `build`, and its direction in the kernels' parameters where it has one.
+    pub(crate) fn new(
+        name: String,
+        value: f64,
+        h: f64,
+        build: impl Fn(f64) -> L,
+        slots: Option<Vec<f64>>,
+    ) -> Self {
         Parameter {
             name,
             value,
-            h,
-            neighbours: [h, -h, 2.0 * h, -2.0 * h].map(|dp| build(value + dp)),
+            slots,
+            difference: Some((h, [h, -h, 2.0 * h, -2.0 * h].map(|dp| build(value + dp)))),
         }
     }
+
+    /// The field of the kernels' parameters at slot `slot`, whose value is `value`: exact only.
+    pub(crate) fn field(name: String, value: f64, slot: usize, count: usize) -> Self {
+        let mut slots = vec![0.0; count];
+        slots[slot] = 1.0;
+        Parameter {
+            name,
+            value,
+            slots: Some(slots),
+            difference: None,
+        }
+    }
+}
+
+/// The directions of the parameters that have one ([`Parameter::slots`]), in order.
+pub(crate) fn exact_dirs<L>(params: &[Parameter<L>]) -> Vec<&[f64]> {
+    params.iter().filter_map(|p| p.slots.as_deref()).collect()
+}
+
+/// How `build(p)` moves the compiled kernels' parameters of `sys` near p = `value`: ∂slot/∂p per
+/// slot where every slot is affine in p (a field set to p, 2p or p + c; conditions that do not
+/// flip), at least one moves, and `build(value)` loads the slots `sys` loads (the closure
+/// describes the system of the run). Checked at three points p, p + s, p + 2s (s a quarter of
+/// p's binade [2^e, 2^(e+1)), towards its larger room: a field set to p moves by s exactly, and
+/// its derivative comes out 1 exactly; one set to 3p by s to half an ulp of 3p, so ∂slot/∂p is
+/// 3 to 2⁻⁴⁹ — an affine map does not need a small step). `None` otherwise, or where `sys` has no compiled kernel: the
+/// parameter then takes the central difference.
+pub(crate) fn affine_slots<L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    value: f64,
+    build: impl Fn(f64) -> L,
+) -> Option<Vec<f64>> {
+    use super::super::jacobian::kernel_slots;
+    let base = kernel_slots(sys)?;
+    if kernel_slots(&build(value))? != base || !value.is_finite() {
+        return None;
+    }
+    // s = 2^(e−2), towards the binade's larger room (at least 2^(e−1) = 2s: p + 2s stays in it).
+    let s = if value == 0.0 {
+        0.25
+    } else {
+        let e = value.abs().log2().floor() as i32;
+        let room_up = 2f64.powi(e + 1) - value.abs() > value.abs() - 2f64.powi(e);
+        2f64.powi(e - 2) * if room_up == (value > 0.0) { 1.0 } else { -1.0 }
+    };
+    let one = kernel_slots(&build(value + s))?;
+    let two = kernel_slots(&build(value + 2.0 * s))?;
+    if one.len() != base.len() || two.len() != base.len() {
+        return None;
+    }
+    let mut moved = false;
+    let mut dirs = Vec::with_capacity(base.len());
+    for ((&b, &x1), &x2) in base.iter().zip(&one).zip(&two) {
+        let c = (x1 - b) / s;
+        let scale = b.abs().max(x1.abs()).max(x2.abs());
+        if !c.is_finite() || (x2 - b - 2.0 * c * s).abs() > 8.0 * f64::EPSILON * scale {
+            return None;
+        }
+        moved |= c != 0.0;
+        dirs.push(c);
+    }
+    moved.then_some(dirs)
 }
 
 /// The step h = ε^(1/5) s of a fourth-order central difference of `f` (a vector function of one
@@ -108,8 +182,13 @@ pub(crate) struct Variation<'s, L, const N: usize> {
     /// coordinate is then constant (shifting q_i shifts the motion: Φ e_i = e_i, J e_i = 0), and
     /// is not integrated.
     pub(crate) phi_unit: bool,
-    /// The compiled kernels' parameters in tangents (loaded at the first call).
+    /// The compiled kernels' parameters in tangents (loaded at the first call; seeded along the
+    /// parameters' directions at every call where `fields` is given).
     pub(crate) kernel: RefCell<Vec<Tangent<CHUNK>>>,
+    /// The kernels' parameter slots and the directions of the parameters that have one
+    /// ([`exact_dirs`]): their ∂q̈/∂p from the kernel's tangents, exact. `None` without such a
+    /// parameter.
+    pub(crate) fields: Option<Fields<'s>>,
 }
 
 impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
@@ -129,22 +208,26 @@ impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
         stats.rhs_evals += 1;
         let [q, v] = y;
         // A view whose accelerations are not L's own (a constrained run's) gives its Jacobian.
-        let (a, jac) = if let Some(own) = self.sys.first_order_jacobian(q, v, t) {
+        let (a, jac, exact) = if let Some(own) = self.sys.first_order_jacobian(q, v, t) {
             let j = own?;
             let jac = Jacobian {
                 d_q: SMatrix::from_fn(|i, k| j[(N + i, k)]),
                 d_qdot: SMatrix::from_fn(|i, k| j[(N + i, N + k)]),
             };
-            (self.sys.accelerations(q, v, t)?, jac)
+            (self.sys.accelerations(q, v, t)?, jac, Vec::new())
         } else {
-            match compiled(self.sys, &mut self.kernel.borrow_mut(), q, v, t) {
+            let kernel = &mut self.kernel.borrow_mut();
+            match compiled_along(self.sys, kernel, self.fields, true, q, v, t) {
                 // q̈ from the plain kernel where the motion must be the plain run's bit for bit
                 // (the tangent kernel orders its operations differently: the last bits differ).
-                Some((_, jac)) if plain_motion => (self.sys.accelerations(q, v, t)?, jac),
-                Some(both) => both,
+                Some((_, jac, exact)) if plain_motion => {
+                    (self.sys.accelerations(q, v, t)?, jac, exact)
+                }
+                Some(all) => all,
                 None => (
                     self.sys.accelerations(q, v, t)?,
                     jacobian(self.sys, q, v, t)?,
+                    Vec::new(),
                 ),
             }
         };
@@ -158,10 +241,16 @@ impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
                 jac.apply(&cols[at..at + n2], &mut out_cols[at..at + n2]);
             }
         }
+        let mut exact = exact.iter();
         for (p, par) in self.params.iter().enumerate() {
             let at = n2 * (self.phi_cols + p);
             jac.apply(&cols[at..at + n2], &mut out_cols[at..at + n2]);
-            let dp = d_accel_d_param(par, q, v, t)?;
+            // The kernel's exact ∂q̈/∂p where it gave them (in the order of the parameters that
+            // have a direction), else the difference.
+            let dp = match par.slots.as_ref().and_then(|_| exact.next()) {
+                Some(d) => *d,
+                None => par.difference_at(q, v, t)?,
+            };
             for i in 0..N {
                 out_cols[at + N + i] += dp[i];
             }
@@ -176,22 +265,42 @@ impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
     }
 }
 
-/// ∂q̈/∂p by the fourth-order central difference of the parameter's neighbouring systems'
-/// accelerations ([`Parameter`]).
-pub(crate) fn d_accel_d_param<L: Lagrangian<N>, const N: usize>(
-    par: &Parameter<L>,
-    q: &[f64; N],
-    v: &[f64; N],
-    t: f64,
-) -> Result<[f64; N], DynamicsError> {
-    let [p1, m1, p2, m2] = &par.neighbours;
-    let (p1, m1, p2, m2) = (
-        p1.accelerations(q, v, t)?,
-        m1.accelerations(q, v, t)?,
-        p2.accelerations(q, v, t)?,
-        m2.accelerations(q, v, t)?,
-    );
-    Ok(core::array::from_fn(|i| {
-        central(par.h, [p1[i], m1[i], p2[i], m2[i]])
-    }))
+impl<L> Parameter<L> {
+    /// ∂q̈/∂p by the fourth-order central difference of the parameter's neighbouring systems'
+    /// accelerations; for a field (no neighbours), the refusal: the compiled kernel declined
+    /// here, and it is the field's only derivative.
+    pub(crate) fn difference_at<const N: usize>(
+        &self,
+        q: &[f64; N],
+        v: &[f64; N],
+        t: f64,
+    ) -> Result<[f64; N], DynamicsError>
+    where
+        L: Lagrangian<N>,
+    {
+        let Some((h, [p1, m1, p2, m2])) = &self.difference else {
+            return Err(DynamicsError::NonFinite {
+                t,
+                q: q.to_vec(),
+                qdot: v.to_vec(),
+                message: format!(
+                    "the compiled q̈ declines here (its LDLᵀ of M has a pivot below the accuracy \
+                     bound, or a value is not finite), and the derivative with respect to field \
+                     `{}` comes from it alone: give the parameter with its closure \
+                     (`.parameter(name, value, build)`), whose differences stand in where the \
+                     kernel declines",
+                    self.name
+                ),
+            });
+        };
+        let (p1, m1, p2, m2) = (
+            p1.accelerations(q, v, t)?,
+            m1.accelerations(q, v, t)?,
+            p2.accelerations(q, v, t)?,
+            m2.accelerations(q, v, t)?,
+        );
+        Ok(core::array::from_fn(|i| {
+            central(*h, [p1[i], m1[i], p2[i], m2[i]])
+        }))
+    }
 }
