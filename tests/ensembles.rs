@@ -28,5 +28,6 @@ mod jump_sensitivity;
 mod limits;
 mod one_run;
 mod redundant;
+mod sections;
 mod stiff;
 mod testset;

@@ -114,6 +114,21 @@ impl<'a, const N: usize> Event<'a, N> {
         self
     }
 
+    /// The same event at the level g = `level` (a Poincaré section through a start that is not
+    /// quite on it: the start is then on the section, g − level = 0, which is not a crossing),
+    /// named `name`; `None` for an event that resets or rests (a section only observes).
+    pub(crate) fn at_level(self, level: f64, name: String) -> Option<Self> {
+        if self.reset.is_some() || self.rest.is_some() {
+            return None;
+        }
+        let g = self.g;
+        Some(Event {
+            name,
+            g: Box::new(move |t, q, v| g(t, q, v) - level),
+            ..self
+        })
+    }
+
     /// At each hit the state jumps to `reset(t, q⁻, q̇⁻) = (q⁺, q̇⁺)` and the run goes on from it,
     /// the method started afresh (an impact, a switch): the jump is recorded in
     /// [`Trajectory::jumps`](crate::Trajectory::jumps), its energy change enters the work column

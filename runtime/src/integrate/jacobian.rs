@@ -57,7 +57,7 @@ pub(crate) fn compiled<L: Lagrangian<N>, const N: usize>(
     v: &[f64; N],
     t: f64,
 ) -> Option<([f64; N], Jacobian<N>)> {
-    compiled_along(sys, params, None, true, q, v, t).map(|(a, jac, _)| (a, jac))
+    compiled_along::<L, N, false>(sys, params, None, true, q, v, t).map(|(a, jac, _)| (a, jac))
 }
 
 /// Directions in the compiled kernels' parameters (the fields): the slots' values `base` and,
@@ -68,11 +68,30 @@ pub(crate) struct Fields<'a> {
     pub(crate) dirs: &'a [&'a [f64]],
 }
 
+impl Fields<'_> {
+    /// The kernels' parameters in tangents: slot j's slope k is ∂slot_j/∂p of the direction
+    /// `dir(k)` carries in slot k (0 where it carries none). Out of line: the plain evaluations'
+    /// loops stay as they were.
+    #[inline(never)]
+    pub(crate) fn seed<'d>(
+        &self,
+        params: &mut Vec<Tangent<CHUNK>>,
+        dir: impl Fn(usize) -> Option<&'d [f64]>,
+    ) {
+        let dirs: [Option<&[f64]>; CHUNK] = core::array::from_fn(dir);
+        params.clear();
+        params.extend(self.base.iter().enumerate().map(|(j, &x)| {
+            Tangent::new(x, core::array::from_fn(|k| dirs[k].map_or(0.0, |d| d[j])))
+        }));
+    }
+}
+
 /// [`compiled`], and with `fields` also ∂q̈/∂p along each of its directions, exact (the kernel's
 /// parameter slots seeded in the same tangents, after the state's directions: a direction fills
 /// a chunk's unused slot at no extra evaluation). `params` is then rewritten at each evaluation.
 /// Without `state` only the fields' directions are seeded (the Jacobian returned is then 0).
-pub(crate) fn compiled_along<L: Lagrangian<N>, const N: usize>(
+/// `SEED` false compiles the plain evaluation (no fields: the loop as it was).
+pub(crate) fn compiled_along<L: Lagrangian<N>, const N: usize, const SEED: bool>(
     sys: &L,
     params: &mut Vec<Tangent<CHUNK>>,
     fields: Option<Fields<'_>>,
@@ -84,6 +103,7 @@ pub(crate) fn compiled_along<L: Lagrangian<N>, const N: usize>(
     let t = Tangent::constant(t);
     let (mut d_q, mut d_qdot) = (SMatrix::zeros(), SMatrix::zeros());
     let mut a = [0.0; N];
+    let fields = fields.filter(|_| SEED);
     let extra = fields.map_or(0, |f| f.dirs.len());
     let mut d_p = vec![[0.0; N]; extra];
     let end = 2 * N + extra;
@@ -102,17 +122,11 @@ pub(crate) fn compiled_along<L: Lagrangian<N>, const N: usize>(
             )
         };
         if let Some(f) = fields {
-            let along = |k: usize, j: usize| match chunk[k].checked_sub(2 * N) {
-                Some(p) if p < extra => f.dirs[p][j],
-                _ => 0.0,
-            };
-            params.clear();
-            params.extend(
-                f.base
-                    .iter()
-                    .enumerate()
-                    .map(|(j, &x)| Tangent::new(x, core::array::from_fn(|k| along(k, j)))),
-            );
+            f.seed(params, |k| {
+                chunk[k]
+                    .checked_sub(2 * N)
+                    .and_then(|p| f.dirs.get(p).copied())
+            });
         }
         let tq = core::array::from_fn(|i| seed(q[i], i));
         let tv = core::array::from_fn(|i| seed(v[i], N + i));

@@ -536,7 +536,15 @@ fn forcing<'a, L: Lagrangian<N>, const N: usize>(
             let [q, v] = y;
             let exact = fields
                 .and_then(|f| {
-                    compiled_along(sys, &mut kernel.borrow_mut(), Some(f), false, q, v, t)
+                    compiled_along::<L, N, true>(
+                        sys,
+                        &mut kernel.borrow_mut(),
+                        Some(f),
+                        false,
+                        q,
+                        v,
+                        t,
+                    )
                 })
                 .map_or(Vec::new(), |(_, _, d)| d);
             let mut exact = exact.iter();

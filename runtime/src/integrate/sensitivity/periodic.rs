@@ -279,6 +279,10 @@ pub struct Shooting<'a, L, const N: usize> {
     pin: Option<Pin>,
     /// The events of each shot, made afresh for each (an event owns its closures).
     events: Vec<EventMaker<'a, N>>,
+    /// The shift Δq the orbit closes up to: x(t₀ + T) = x₀ + (Δq, 0).
+    shift: [f64; N],
+    /// The Poincaré section each shot runs to (the orbit a fixed point of its return map).
+    section: Option<EventMaker<'a, N>>,
 }
 
 /// What makes one of a shooting's events for each of its runs.
@@ -328,6 +332,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             max_iterations: 30,
             pin: None,
             events: Vec::new(),
+            shift: [0.0; N],
+            section: None,
         }
     }
 
@@ -532,6 +538,80 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         self
     }
 
+    /// An orbit periodic up to a shift of its coordinates: x(t₀ + T) = x₀ + (Δq, 0), the motion
+    /// repeating itself displaced (a pendulum whirling over the top, θ(T) = θ₀ + 2π; a wheel or
+    /// a walker that has moved on by one step while its shape repeats). The monodromy and the
+    /// multipliers are those of that closure (the shift is a symmetry: the flow commutes with it).
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Shooting;
+    /// # struct P;
+    /// # impl Lagrangian<1> for P {
+    /// #     const COORDINATES: [&'static str; 1] = ["theta"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
+    /// # }
+    /// // θ̈ = −sin θ whirling with θ̇ = 3 at the bottom (energy 3.5): one turn in 4 K(2/3)/3.
+    /// let orbit = Shooting::autonomous(&P, [0.0], [3.0], 2.3)
+    ///     .shift([2.0 * std::f64::consts::PI])
+    ///     .pin_energy(3.5)
+    ///     .find()
+    ///     .unwrap();
+    /// assert!((orbit.period - 2.4128900).abs() < 1e-6);
+    /// ```
+    pub fn shift(mut self, dq: [f64; N]) -> Self {
+        self.shift = dq;
+        self
+    }
+
+    /// Shoots to a Poincaré section: each run goes from x₀ until the event `make` gives (its
+    /// function g and direction; made terminal) is crossed, and the orbit is a fixed point of
+    /// the return map P(x₀) = x(t*) on the section g = 0; the period is the time of the return,
+    /// an output (the period given to [`autonomous`](Self::autonomous) bounds the run: twice it).
+    /// Newton's rows are P(x₀) − x₀ (up to a [`shift`](Self::shift)) and g(x₀) = 0, which
+    /// fixes the phase in place of the phase condition. Each run measures the return to the
+    /// section's level through its own start (g − g(x₀) = 0: a start a round-off off the section
+    /// is not a crossing), so [`PeriodicOrbit::monodromy`] is the return map's Jacobian ∂P/∂x₀
+    /// (the event's [`dstate_dx0`](crate::EventSensitivity::dstate_dx0)) and the multipliers its
+    /// eigenvalues: the flow's direction maps to 0 there (the trivial multiplier 1 of the
+    /// monodromy becomes 0), the others are the orbit's Floquet multipliers. With
+    /// [`pin_energy`](Self::pin_energy) for a conservative family; a section is a phase
+    /// condition, so it does not take [`pin_amplitude`](Self::pin_amplitude), and it is for
+    /// autonomous systems.
+    ///
+    /// ```
+    /// # use lagrange_runtime::{Event, Lagrangian, Scalar};
+    /// # use lagrange_runtime::sensitivity::Shooting;
+    /// # struct P;
+    /// # impl Lagrangian<1> for P {
+    /// #     const COORDINATES: [&'static str; 1] = ["theta"];
+    /// #     const CYCLIC: [bool; 1] = [false];
+    /// #     const AUTONOMOUS: bool = true;
+    /// #     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 + q[0].cos() }
+    /// # }
+    /// // The libration of amplitude 1, through θ = 0 going up.
+    /// let orbit = Shooting::autonomous(&P, [0.0], [0.95], 6.7)
+    ///     .section(|| Event::zero_crossing("θ = 0", |_t, q: &[f64; 1], _v| q[0]).rising())
+    ///     .pin_energy(-(1.0_f64).cos())
+    ///     .find()
+    ///     .unwrap();
+    /// assert!((orbit.period - 6.69998).abs() < 1e-5); // 4 K(sin ½)
+    /// assert!(orbit.multipliers.iter().any(|m| m.norm() < 1e-6)); // the flow's direction
+    /// ```
+    pub fn section(mut self, make: impl Fn() -> Event<'a, N> + 'a) -> Self {
+        self.section = Some(Box::new(make));
+        self
+    }
+
+    /// x − x₀ − (Δq, 0): the closure's residual of a shot from x.
+    fn gap(&self, s: &Shot, x: &[f64]) -> Vec<f64> {
+        (0..2 * N)
+            .map(|i| s.end[i] - x[i] - if i < N { self.shift[i] } else { 0.0 })
+            .collect()
+    }
+
     /// The pin's residual at x and its gradient (a Newton row), if pinned.
     fn pin_row(&self, x: &[f64]) -> Option<(f64, Vec<f64>)> {
         let n2 = 2 * N;
@@ -567,12 +647,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
 
     /// The closure |x(T) − x₀| and, pinned, the pin's residuals: the size Newton drives to 0.
     fn residual(&self, s: &Shot, x: &[f64]) -> f64 {
-        let closure = s
-            .end
-            .iter()
-            .zip(x)
-            .map(|(a, b)| (a - b) * (a - b))
-            .sum::<f64>();
+        let closure = self.gap(s, x).iter().map(|d| d * d).sum::<f64>() + s.level * s.level;
         let pin = self.pin_row(x).map_or(0.0, |(r, _)| r * r);
         let turn = match self.pin {
             Some(Pin::Amplitude(i)) => x[N + i] * x[N + i],
@@ -581,7 +656,9 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         (closure + pin + turn).sqrt()
     }
 
-    /// x(t₀ + T), Φ(t₀ + T) and f at both ends, from a sensitivity run from x.
+    /// x(t₀ + T), Φ(t₀ + T) and f at both ends, from a sensitivity run from x; with a section,
+    /// the return x(t*) ([`section`](Self::section)), its Jacobian and the time of the return
+    /// (the run bounded by t₀ + `period`).
     fn shoot(&self, x: &[f64], period: f64) -> Result<Shot, OrbitError> {
         let q: [f64; N] = core::array::from_fn(|i| x[i]);
         let v: [f64; N] = core::array::from_fn(|i| x[N + i]);
@@ -591,6 +668,24 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             .until(self.t0 + period);
         for make in &self.events {
             sim = sim.event(make());
+        }
+        // The section through the start's level, terminal, under a name of its own.
+        let mut level = 0.0;
+        let mut section_name = None;
+        if let Some(make) = &self.section {
+            let ev = make();
+            level = ev.value(self.t0, &q, &v);
+            let name = format!("Poincaré section `{}`", ev.name());
+            let ev =
+                ev.at_level(level, name.clone())
+                    .ok_or_else(|| OrbitError::InvalidOptions {
+                        message: format!(
+                            "the {name} resets the state: a section only observes the motion; give \
+                         the jump as an `.event(..)` and the section as a plain crossing"
+                        ),
+                    })?;
+            sim = sim.event(ev.terminal());
+            section_name = Some(name);
         }
         let run = sim.sensitivity().run().map_err(|e| OrbitError::Run {
             period,
@@ -605,8 +700,30 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 });
             }
         };
+        let (t_end, qe, ve, phi) = match &section_name {
+            None => (self.t0 + period, *qe, *ve, run.final_phi().clone()),
+            Some(name) => {
+                let hit = tr.events.last().filter(|h| &h.name == name);
+                let sens = run.events.last().and_then(|e| e.dstate_dx0.clone());
+                let (Some(hit), Some(jac)) = (hit, sens) else {
+                    return Err(OrbitError::Run {
+                        period,
+                        source: Box::new(SimulationError::InvalidOptions {
+                            message: format!(
+                                "the {name} was not crossed (in its direction) between t = {} \
+                                 and t = {} from q = {q:?}, q̇ = {v:?}: give a period guess \
+                                 (half the time bound) nearer the return time, or a start \
+                                 nearer the orbit",
+                                self.t0,
+                                self.t0 + period
+                            ),
+                        }),
+                    });
+                };
+                (hit.t, hit.q, hit.qdot, jac)
+            }
+        };
         let end: Vec<f64> = qe.iter().chain(ve.iter()).copied().collect();
-        let t_end = self.t0 + period;
         let slope = |t: f64, q: &[f64; N], v: &[f64; N]| -> Result<Vec<f64>, OrbitError> {
             let a = self
                 .sys
@@ -620,10 +737,12 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             Ok(v.iter().chain(a.iter()).copied().collect())
         };
         Ok(Shot {
-            f_end: slope(t_end, qe, ve)?,
+            f_end: slope(t_end, &qe, &ve)?,
             f_start: slope(self.t0, &q, &v)?,
             end,
-            phi: run.final_phi().clone(),
+            phi,
+            period: t_end - self.t0,
+            level,
         })
     }
 
@@ -674,6 +793,14 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                     message: format!("pin_energy({e}): give a finite energy"),
                 });
             }
+            Some(Pin::Amplitude(_)) if self.section.is_some() => {
+                return Err(OrbitError::InvalidOptions {
+                    message: "pin_amplitude is a phase condition (the orbit turns at t₀), and so \
+                              is a Poincaré section: use one or the other (with a section, \
+                              pin_energy picks an orbit out of a family)"
+                        .into(),
+                });
+            }
             Some(_) if self.fixed_period => {
                 return Err(OrbitError::InvalidOptions {
                     message: "a pin picks an orbit out of an autonomous system's family; a \
@@ -684,10 +811,20 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             }
             _ => {}
         }
+        if self.section.is_some() && self.fixed_period {
+            return Err(OrbitError::InvalidOptions {
+                message: "a Poincaré section is for an autonomous system (its return time is the \
+                          period); a forced system's section is the stroboscopic one that \
+                          Shooting::forced shoots to: drop the section"
+                    .into(),
+            });
+        }
         let n2 = 2 * N;
         let mut x: Vec<f64> = self.q0.iter().chain(self.qdot0.iter()).copied().collect();
-        let mut period = self.period;
-        let mut shot = self.shoot(&x, period)?;
+        // A section's run is bounded by twice the period (the return time is its output).
+        let bound = if self.section.is_some() { 2.0 } else { 1.0 };
+        let mut shot = self.shoot(&x, bound * self.period)?;
+        let mut period = shot.period;
         let norm = |s: &Shot, x: &[f64]| -> f64 { self.residual(s, x) };
         let mut closure = norm(&shot, &x);
         let mut iterations = 0;
@@ -714,7 +851,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             let dx = step[..n2].iter().map(|v| v * v).sum::<f64>().sqrt();
             let room = 10.0 * x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
             let mut lambda = (room / dx).min(1.0);
-            if !self.fixed_period {
+            if self.free_period() {
                 lambda = lambda.min(0.5 * period / step[n2].abs());
             }
             if lambda.is_nan() || lambda <= 0.0 {
@@ -723,17 +860,17 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             let mut accepted = None;
             for _ in 0..30 {
                 let xt: Vec<f64> = (0..n2).map(|i| x[i] + lambda * step[i]).collect();
-                let pt = if self.fixed_period {
-                    period
-                } else {
+                let pt = if self.free_period() {
                     period + lambda * step[n2]
+                } else {
+                    period
                 };
                 if pt > 0.0
-                    && let Ok(s) = self.shoot(&xt, pt)
+                    && let Ok(s) = self.shoot(&xt, bound * pt)
                 {
                     let c = norm(&s, &xt);
                     if c < closure {
-                        accepted = Some((xt, pt, s, c));
+                        accepted = Some((xt, s.period, s, c));
                         break;
                     }
                 }
@@ -765,7 +902,13 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         }
         self.not_an_equilibrium(&shot, &x, period, (iterations, closure))?;
         let multipliers = multipliers(&shot.phi)?;
-        let stability = classify(&multipliers, !self.fixed_period);
+        let stability = if self.section.is_some() {
+            // The return map's: the flow's direction maps to 0 (the smallest, last); the rest
+            // are the Floquet multipliers without the trivial one.
+            classify(&multipliers[..multipliers.len() - 1], false)
+        } else {
+            classify(&multipliers, !self.fixed_period)
+        };
         Ok(PeriodicOrbit {
             t0: self.t0,
             q0: core::array::from_fn(|i| x[i]),
@@ -822,17 +965,25 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         let (rows, cols) = if self.fixed_period {
             (n2, n2)
         } else {
-            (n2 + 1 + usize::from(pin.is_some()), n2 + 1)
+            let rows = n2 + 1 + usize::from(pin.is_some());
+            (rows, n2 + usize::from(self.free_period()))
         };
         let mut a = DMatrix::zeros(rows, cols);
         let mut b = DVector::zeros(rows);
+        let gap = self.gap(shot, x);
         for i in 0..n2 {
             for j in 0..n2 {
                 a[(i, j)] = shot.phi[(i, j)] - if i == j { 1.0 } else { 0.0 };
             }
-            b[i] = -(shot.end[i] - x[i]);
+            b[i] = -gap[i];
         }
-        if !self.fixed_period {
+        if let Some(g) = self.section_gradient(x) {
+            // The start stays on the section: ∇g(x₀)·Δx = −g(x₀).
+            for (j, gj) in g.iter().enumerate() {
+                a[(n2, j)] = *gj;
+            }
+            b[n2] = -shot.level;
+        } else if !self.fixed_period {
             for i in 0..n2 {
                 a[(i, n2)] = shot.f_end[i];
                 a[(n2, i)] = shot.f_start[i];
@@ -844,12 +995,14 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 }
                 b[n2] = -x[N + i];
             }
-            if let Some((r, g)) = &pin {
-                for (i, gi) in g.iter().enumerate() {
-                    a[(n2 + 1, i)] = *gi;
-                }
-                b[n2 + 1] = -r;
+        }
+        if let Some((r, g)) = &pin
+            && !self.fixed_period
+        {
+            for (i, gi) in g.iter().enumerate() {
+                a[(n2 + 1, i)] = *gi;
             }
+            b[n2 + 1] = -r;
         }
         let svd = nalgebra::SVD::try_new(a, true, true, f64::EPSILON, 10_000).ok_or_else(|| {
             OrbitError::Eigen {
@@ -881,6 +1034,38 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         Ok(dx.iter().copied().collect())
     }
 
+    /// Whether the period is one of Newton's unknowns (an autonomous system shot without a
+    /// section).
+    fn free_period(&self) -> bool {
+        !self.fixed_period && self.section.is_none()
+    }
+
+    /// ∇g of the section's function at x (t₀), by central differences (a Newton row: its error
+    /// slows the iteration, never moves the orbit, whose residual is g itself); `None` without
+    /// a section.
+    fn section_gradient(&self, x: &[f64]) -> Option<Vec<f64>> {
+        let ev = (self.section.as_ref()?)();
+        let g = |x: &[f64]| {
+            let q: [f64; N] = core::array::from_fn(|i| x[i]);
+            let v: [f64; N] = core::array::from_fn(|i| x[N + i]);
+            ev.value(self.t0, &q, &v)
+        };
+        let mut xt = x.to_vec();
+        Some(
+            (0..2 * N)
+                .map(|j| {
+                    let h = f64::EPSILON.cbrt() * x[j].abs().max(1.0);
+                    xt[j] = x[j] + h;
+                    let up = g(&xt);
+                    xt[j] = x[j] - h;
+                    let down = g(&xt);
+                    xt[j] = x[j];
+                    (up - down) / (2.0 * h)
+                })
+                .collect(),
+        )
+    }
+
     fn no_convergence(
         &self,
         iterations: usize,
@@ -900,12 +1085,15 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     }
 }
 
-/// What one shot gives: x(T), Φ(T), f(x(T)) and f(x₀).
+/// What one shot gives: x(T), Φ(T), f(x(T)) and f(x₀); with a section, the return, the return
+/// map's Jacobian, the return time as T and the section's g at the start.
 struct Shot {
     end: Vec<f64>,
     phi: DMatrix<f64>,
     f_end: Vec<f64>,
     f_start: Vec<f64>,
+    period: f64,
+    level: f64,
 }
 
 /// The eigenvalues of the monodromy matrix, by decreasing modulus.

@@ -85,9 +85,25 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarSeries<'s, 'l, L, N> {
         Taylor::carrying(sys, t0, y0, tol, hmax, carried)
     }
 
+    /// [`column_series`](Self::column_series), with the fields' seeding compiled in only where
+    /// a parameter has a direction in the kernels' parameters.
+    fn columns(
+        &mut self,
+        motion: &mut Taylor<'_, L, N, Self>,
+        rows: usize,
+        install: bool,
+        stats: &mut Stats,
+    ) -> Result<(), Fault> {
+        if self.var.fields.is_some() {
+            self.column_series::<true>(motion, rows, install, stats)
+        } else {
+            self.column_series::<false>(motion, rows, install, stats)
+        }
+    }
+
     /// The columns' series at the current node with `rows` orders; the first evaluation's
     /// values are the motion's series, handed to the motion's stepper where `install`.
-    fn column_series(
+    fn column_series<const SEED: bool>(
         &mut self,
         motion: &mut Taylor<'_, L, N, Self>,
         rows: usize,
@@ -128,19 +144,12 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> VarSeries<'s, 'l, L, N> {
             ];
             // A parameter's column with a direction in the kernels' parameters seeds those too:
             // its explicit part ∂f/∂p comes out of the same evaluation, exact.
-            if let Some(f) = self.var.fields {
+            if let Some(f) = self.var.fields.filter(|_| SEED) {
                 let (phi_cols, params) = (self.var.phi_cols, self.var.params);
-                let along = |k: usize, j: usize| match chunk[k].checked_sub(phi_cols) {
-                    Some(p) if chunk[k] < ncols => params[p].slots.as_ref().map_or(0.0, |d| d[j]),
-                    _ => 0.0,
-                };
-                self.params.clear();
-                self.params.extend(
-                    f.base
-                        .iter()
-                        .enumerate()
-                        .map(|(j, &x)| Tangent::new(x, core::array::from_fn(|k| along(k, j)))),
-                );
+                f.seed(&mut self.params, |k| {
+                    let p = chunk[k].checked_sub(phi_cols)?;
+                    params.get(p)?.slots.as_deref()
+                });
             }
             stats.rhs_evals += 1;
             let ok = match L::series_in(
@@ -254,11 +263,11 @@ impl<'s, 'l, L: Lagrangian<N>, const N: usize> Carried<L, N> for VarSeries<'s, '
         // The variations' series first: its first evaluation's values are the motion's series
         // (so the motion's own is not computed); where the motion widens its series (its top
         // coefficients vanish), the variations' are taken again to its length.
-        self.column_series(motion, motion.order() + 1, true, stats)?;
+        self.columns(motion, motion.order() + 1, true, stats)?;
         let (h, t1) = motion.plan(t_end, stats)?;
         let rows = motion.node_series().len();
         if rows != self.series.len() {
-            self.column_series(motion, rows, false, stats)?;
+            self.columns(motion, rows, false, stats)?;
         }
         let cols = sum(&self.series, h);
         if !cols.iter().all(|x| x.is_finite()) {

@@ -217,7 +217,12 @@ impl<'s, L: Lagrangian<N>, const N: usize> Variation<'s, L, N> {
             (self.sys.accelerations(q, v, t)?, jac, Vec::new())
         } else {
             let kernel = &mut self.kernel.borrow_mut();
-            match compiled_along(self.sys, kernel, self.fields, true, q, v, t) {
+            let both = if self.fields.is_some() {
+                compiled_along::<L, N, true>(self.sys, kernel, self.fields, true, q, v, t)
+            } else {
+                compiled_along::<L, N, false>(self.sys, kernel, None, true, q, v, t)
+            };
+            match both {
                 // q̈ from the plain kernel where the motion must be the plain run's bit for bit
                 // (the tangent kernel orders its operations differently: the last bits differ).
                 Some((_, jac, exact)) if plain_motion => {
