@@ -18,6 +18,7 @@ mod animation;
 mod bicycle;
 mod constrained_sensitivity;
 mod contact_constraints;
+mod contact_sensitivity;
 mod contacts;
 mod ensemble;
 mod ensemble_lanes;

@@ -317,7 +317,8 @@ fn ensembles_run_what_their_systems_declare() {
 }
 
 /// What a run cannot take yet is refused, naming it, never dropped: the parameter
-/// sensitivities of a constrained run, the variations of one with contacts.
+/// sensitivities of a constrained run and of one with contacts (whose Φ is taken: the swap of
+/// two equal masses' motions in an elastic collision).
 #[test]
 fn what_a_run_cannot_take_is_refused() {
     let p = Spherical {
@@ -342,9 +343,36 @@ fn what_a_run_cannot_take_is_refused() {
     let err = Simulation::new(&pair, [0.0, 1.0], [1.0, 0.0])
         .until(1.0)
         .sensitivity()
+        .parameter("e", 1.0, |e| Pair { e, ..pair })
         .run()
         .unwrap_err();
     assert!(err.to_string().contains("contacts"), "{err}");
+    // Φ through the contact is taken (not dropped): equal masses, elastic, swap their motions
+    // at the collision, so after it x₁(T) = x₂(0) + v₂(0) T and x₂(T) = x₁(0) + v₁(0) T, and
+    // Φ(T) is that permutation.
+    let run = Simulation::new(&pair, [0.0, 1.0], [1.0, 0.0])
+        .until(1.5)
+        .sensitivity()
+        .run()
+        .unwrap();
+    assert_eq!(run.trajectory.jumps.len(), 1);
+    let t = 1.5;
+    let want = [
+        [0.0, 1.0, 0.0, t],
+        [1.0, 0.0, t, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0, 0.0],
+    ];
+    let phi = run.final_phi();
+    for (i, row) in want.iter().enumerate() {
+        for (j, w) in row.iter().enumerate() {
+            assert!(
+                (phi[(i, j)] - w).abs() < 1e-10,
+                "Φ[{i}, {j}] = {}",
+                phi[(i, j)]
+            );
+        }
+    }
     // A method that does not take constraints says so.
     let err = Simulation::new(&p, q0, v0)
         .method(Method::Taylor { tol: 1e-12 })

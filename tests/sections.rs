@@ -6,6 +6,7 @@
 use lagrange::prelude::*;
 use lagrange::sensitivity::{OrbitStability, Shooting};
 use lagrange_examples::pendulum_system::{elliptic_ke, Pendulum};
+use lagrange_examples::stiff_system::RigidPendulumXy;
 use std::f64::consts::PI;
 
 /// The van der Pol oscillator ẍ − μ(1 − x²)ẋ + x = 0: L = ½ẋ² − ½x² with the force
@@ -195,4 +196,42 @@ fn section_misuses_are_refused() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("was not crossed"), "{err}");
+}
+
+/// A pendulum written in x, y with its rod a constraint (`fn constraints`): the shooting takes
+/// the system as declared (each shot runs on the constrained view from the iterate's
+/// projection onto the rod, Φ(t₀) that projection's derivative, the flow at the ends from the
+/// run's samples). Pinned to the energy of amplitude 1 (E = −m g l cos 1) from a start at
+/// amplitude 0.9 and a period guess 1 % off: T = 4 √(l/g) K(sin ½) to 1e-8 (the ends' flow by
+/// differences slows Newton, never moves the orbit), the start on the rod to 1e-12; the
+/// multipliers 1, 1 (a conservative family) and two 0 (the directions off the rod, which each
+/// start projects away).
+#[test]
+fn a_constrained_pendulum_is_shot_as_declared() {
+    let p = RigidPendulumXy {
+        m: 0.7,
+        g: 9.81,
+        l: 1.3,
+    };
+    let (kk, _) = elliptic_ke((0.5_f64).sin());
+    let t_closed = 4.0 * (p.l / p.g).sqrt() * kk;
+    let (q0, v0) = p.state(0.9, 0.0);
+    let energy = -p.m * p.g * p.l * (1.0_f64).cos();
+    let orbit = Shooting::autonomous(&p, q0, v0, 1.01 * t_closed)
+        .method(TIGHT)
+        .pin_energy(energy)
+        .find()
+        .unwrap();
+    let rod = orbit.q0[0].hypot(orbit.q0[1]) - p.l;
+    let mut mods: Vec<f64> = orbit.multipliers.iter().map(|m| m.norm()).collect();
+    mods.sort_by(f64::total_cmp);
+    eprintln!(
+        "pendulum in x, y: T off by {:.1e}, rod {rod:.1e}, {} iterations, multipliers {mods:?}",
+        orbit.period - t_closed,
+        orbit.iterations
+    );
+    assert!((orbit.period - t_closed).abs() < 1e-8, "{}", orbit.period);
+    assert!(rod.abs() < 1e-12, "{rod:e}");
+    assert!(mods[..2].iter().all(|m| *m < 1e-6), "{mods:?}");
+    assert!(mods[2..].iter().all(|m| (m - 1.0).abs() < 1e-4), "{mods:?}");
 }

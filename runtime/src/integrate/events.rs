@@ -47,7 +47,24 @@ pub struct Event<'a, const N: usize> {
     /// Where the hits accumulate (Zeno), the state the run goes on from (a contact closed at
     /// rest); without it a Zeno run ends there.
     rest: Option<ResetFn<'a, N>>,
+    /// For an event whose reset changes a mode the flow depends on (a contact's: which contacts
+    /// are closed): puts that mode on one side of the last jump, for the jump's saltation
+    /// matrix ([`Side`]).
+    sides: Option<SidesFn<'a>>,
 }
+
+/// Which side of its last jump a modal event's mode is put on ([`Event::side`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Side {
+    /// The mode before the jump; resets are then evaluated and undone (differences of the
+    /// reset map).
+    Before,
+    /// The mode after the jump, as the run goes on.
+    After,
+}
+
+/// See [`Event::side`]: `Err` says why the last jump has no saltation matrix.
+type SidesFn<'a> = Box<dyn Fn(Side) -> Result<(), String> + 'a>;
 
 impl<'a, const N: usize> Event<'a, N> {
     /// An event at the zeros of g(t, q, q̇), in either direction, not terminal.
@@ -68,6 +85,7 @@ impl<'a, const N: usize> Event<'a, N> {
             terminal: false,
             reset: None,
             rest: None,
+            sides: None,
         }
     }
 
@@ -118,7 +136,7 @@ impl<'a, const N: usize> Event<'a, N> {
     /// quite on it: the start is then on the section, g − level = 0, which is not a crossing),
     /// named `name`; `None` for an event that resets or rests (a section only observes).
     pub(crate) fn at_level(self, level: f64, name: String) -> Option<Self> {
-        if self.reset.is_some() || self.rest.is_some() {
+        if self.reset.is_some() || self.rest.is_some() || self.sides.is_some() {
             return None;
         }
         let g = self.g;
@@ -174,6 +192,21 @@ impl<'a, const N: usize> Event<'a, N> {
     {
         self.rest = Some(Box::new(rest));
         self
+    }
+
+    /// Makes the event modal ([`side`](Self::side)).
+    pub(crate) fn with_sides<F>(mut self, sides: F) -> Self
+    where
+        F: Fn(Side) -> Result<(), String> + 'a,
+    {
+        self.sides = Some(Box::new(sides));
+        self
+    }
+
+    /// Puts the mode of a modal event (a contact's) on `side` of its last jump; nothing for an
+    /// event without modes. `Err` where that jump has no saltation matrix (a Zeno completion).
+    pub(crate) fn side(&self, side: Side) -> Result<(), String> {
+        self.sides.as_ref().map_or(Ok(()), |f| f(side))
     }
 
     /// The reset map at (t, q, q̇), for an event that resets.

@@ -243,9 +243,17 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     ///
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
     /// step) for what it does not cover yet: parameters or constraints with the variational
-    /// integrator (`Method::VariationalMidpoint`), a run with contacts,
-    /// parameters of a constrained run or of one with a resetting event, a parameter whose
-    /// value is not finite.
+    /// integrator (`Method::VariationalMidpoint`), parameters of a constrained run or of one
+    /// with a resetting event or contacts, a parameter whose value is not finite, a field the
+    /// compiled kernels do not read ([`field`](Self::field)), an impact at the start; and with
+    /// [`SimulationError::Dynamics`] where Φ has no value: an event firing grazing,
+    /// contacts closing at a Zeno accumulation.
+    ///
+    /// Through contacts (`fn contacts`) Φ jumps at each impact, closing and lift-off by the
+    /// transition's saltation matrix, each piece taken in the contacts' mode on its side of the
+    /// jump (the mode before it for the event's function, f⁻ and the impact map's differences;
+    /// the mode after it for f⁺); while a contact is closed the variations follow the Jacobian
+    /// of the constrained accelerations.
     ///
     /// With `Method::Radau5` Φ is the exact derivative of the method's discrete flow over the
     /// steps the motion takes (the stages' Jacobians from the jets; see the
@@ -291,7 +299,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         })?;
         // A system that declares its constraints runs on its constrained view, as
         // `Simulation::run` runs it.
-        if self.sim.o.manifold.is_none() && System::flags(&*self.sim.sys).constrained {
+        let flags = System::flags(&*self.sim.sys);
+        if self.sim.o.manifold.is_none() && (flags.constrained || flags.contacts) {
             let Sensitivity {
                 sim: Simulation { sys, o },
                 motion_steps,
@@ -303,6 +312,16 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         let cols = n2 + self.params.len();
         let sim = &mut self.sim;
         let mut p = sim.prepare()?;
+        if let Some(jump) = &p.start_jump {
+            return Err(SimulationError::InvalidOptions {
+                message: format!(
+                    "the run starts with an impact (contact `{}` touches and approaches at t = \
+                     {}): Φ through an impact at the start is not covered; start the sensitivity \
+                     run from the state after it (q = {:?}, q̇ = {:?})",
+                    jump.event, jump.t, jump.after.0, jump.after.1
+                ),
+            });
+        }
         // A sample of this run holds its variations too.
         let bytes = sample_bytes(N, p.manifold.map_or(0, |m| m.count())) + 8 * n2 * cols;
         if p.opts.max_samples_default {
@@ -458,10 +477,11 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         }
         // What the system declares (`Simulation::run` takes it) counts as what the run has.
         let declares = System::flags(&*sim.sys);
-        if sim.o.contact_start.is_some() || declares.contacts {
+        if (sim.o.contact_start.is_some() || declares.contacts) && !self.params.is_empty() {
             return Some(
-                "sensitivities of a run with contacts are not covered yet (the flow jumps at \
-                 the impacts): run the phases between impacts as separate sensitivity runs"
+                "parameter sensitivities of a run with contacts are not covered yet (Φ is, \
+                 through every impact and lift-off): run without parameters, or end the run \
+                 before the first impact"
                     .into(),
             );
         }
@@ -650,14 +670,15 @@ impl<'s, 'a: 's, L: Lagrangian<N> + 's, const N: usize> crate::lagrangian::Decla
         run.run()
     }
 
-    fn contacts<const K: usize>(self, _sys: &'s L) -> Self::Output
+    fn contacts<const K: usize>(self, sys: &'s L) -> Self::Output
     where
         L: crate::contact::Unilateral<N, K>,
     {
-        // Refused before: a run that declares contacts does not get here.
-        Err(SimulationError::InvalidOptions {
-            message: "sensitivities of a run with contacts are not covered yet".into(),
-        })
+        let mut sim = Simulation::contacts(sys, self.o.q0, self.o.qdot0);
+        sim.o = sim.o.adopt(self.o);
+        let mut run = sim.sensitivity();
+        run.motion_steps = self.motion_steps;
+        run.run()
     }
 }
 

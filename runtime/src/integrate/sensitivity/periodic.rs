@@ -662,10 +662,37 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     fn shoot(&self, x: &[f64], period: f64) -> Result<Shot, OrbitError> {
         let q: [f64; N] = core::array::from_fn(|i| x[i]);
         let v: [f64; N] = core::array::from_fn(|i| x[N + i]);
+        // A system that declares constraints or contacts runs on its view, whose flow is not
+        // L's own accelerations: f at the ends then comes from second-order differences of
+        // the run's samples at t₀, t₀ + δ, t₀ + 2δ and T − δ, T, T + δ (δ = 1e-4 T: error
+        // ≈ 1e-8 T² |x‴|, which slows Newton's rows, never moves the orbit).
+        let flags = super::super::system::System::flags(self.sys);
+        let declared = flags.constrained || flags.contacts;
+        let delta = 1e-4 * period;
+        let t_end = self.t0 + period;
         let mut sim = Simulation::new(self.sys, q, v)
             .method(self.method)
             .start_time(self.t0)
             .until(self.t0 + period);
+        if flags.constrained && !flags.contacts {
+            // Newton's iterates leave the constraints (their normal part is the closure's to
+            // remove): each run starts from the iterate's projection, and Φ(t₀) is that
+            // projection's derivative.
+            sim = sim.project_initial_state();
+        }
+        if declared {
+            let t0 = self.t0;
+            let start = [t0, t0 + delta, t0 + 2.0 * delta];
+            sim = if self.section.is_some() {
+                sim.sample_at(start)
+            } else {
+                sim.until(t_end + delta).sample_at(start.into_iter().chain([
+                    t_end - delta,
+                    t_end,
+                    t_end + delta,
+                ]))
+            };
+        }
         for make in &self.events {
             sim = sim.event(make());
         }
@@ -700,8 +727,21 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 });
             }
         };
+        // The samples asked for (a declared system), by their times: a jump adds the sample
+        // before it.
+        let sample = |t: f64| tr.t.iter().rposition(|&s| s == t);
+        let t0 = self.t0;
+        let ends = [t_end - delta, t_end, t_end + delta].map(sample);
+        let at_end = match ends {
+            [Some(a), Some(b), Some(c)] if declared && section_name.is_none() => Some((a, b, c)),
+            _ => None,
+        };
         let (t_end, qe, ve, phi) = match &section_name {
-            None => (self.t0 + period, *qe, *ve, run.final_phi().clone()),
+            None if at_end.is_some() => {
+                let k = at_end.map_or(0, |(_, b, _)| b);
+                (t_end, tr.q[k], tr.qdot[k], run.phi[k].clone())
+            }
+            None => (t_end, *qe, *ve, run.final_phi().clone()),
             Some(name) => {
                 let hit = tr.events.last().filter(|h| &h.name == name);
                 let sens = run.events.last().and_then(|e| e.dstate_dx0.clone());
@@ -736,9 +776,36 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 })?;
             Ok(v.iter().chain(a.iter()).copied().collect())
         };
+        let (f_start, f_end) = if declared {
+            let starts = [t0, t0 + delta, t0 + 2.0 * delta].map(sample);
+            let [Some(k0), Some(k1), Some(k2)] = starts else {
+                return Err(OrbitError::InvalidOptions {
+                    message: "the run did not record the samples of the flow at its start (an \
+                              event ended it within 2e-4 of the period): start away from the \
+                              events"
+                        .into(),
+                });
+            };
+            let y = |k: usize| -> Vec<f64> { tr.q[k].iter().chain(&tr.qdot[k]).copied().collect() };
+            let (y0, y1, y2) = (y(k0), y(k1), y(k2));
+            let forward = (0..2 * N)
+                .map(|i| (-3.0 * y0[i] + 4.0 * y1[i] - y2[i]) / (2.0 * delta))
+                .collect();
+            let central = if let Some((a, _, c)) = at_end {
+                let (a, b) = (y(a), y(c));
+                (0..2 * N).map(|i| (b[i] - a[i]) / (2.0 * delta)).collect()
+            } else {
+                // A section's end (or a run an event ended early): the flow there by the view
+                // is not at hand; a section's Newton rows do not take it.
+                vec![f64::NAN; 2 * N]
+            };
+            (forward, central)
+        } else {
+            (slope(self.t0, &q, &v)?, slope(t_end, &qe, &ve)?)
+        };
         Ok(Shot {
-            f_end: slope(t_end, &qe, &ve)?,
-            f_start: slope(self.t0, &q, &v)?,
+            f_end,
+            f_start,
             end,
             phi,
             period: t_end - self.t0,

@@ -20,7 +20,7 @@ use nalgebra::DMatrix;
 use crate::error::DynamicsError;
 use crate::lagrangian::Lagrangian;
 
-use super::super::events::Event;
+use super::super::events::{Event, Side};
 use super::super::state::{Fault, Y};
 use super::central;
 use super::event_time::gradient;
@@ -33,12 +33,55 @@ pub(super) fn saltation<L: Lagrangian<N>, const N: usize>(
     before: &Y<N>,
     after: &Y<N>,
 ) -> Result<DMatrix<f64>, Fault> {
-    let n2 = 2 * N;
-    let f = |y: &Y<N>| -> Result<Vec<f64>, Fault> {
-        let a = sys.accelerations(&y[0], &y[1], t)?;
-        Ok(y[1].iter().chain(a.iter()).copied().collect())
+    // A modal event (a contact's) is evaluated in the mode before the jump (f⁻, h and the
+    // reset's differences, each reset undone), then in the mode after it (f⁺).
+    let side = |s: Side| {
+        ev.side(s).map_err(|message| {
+            Fault::Dynamics(DynamicsError::NonFinite {
+                t,
+                q: before[0].to_vec(),
+                qdot: before[1].to_vec(),
+                message,
+            })
+        })
     };
-    let (f_minus, f_plus) = (f(before)?, f(after)?);
+    side(Side::Before)?;
+    let jump = reset_derivatives(sys, ev, t, before);
+    side(Side::After)?;
+    let (f_minus, rate, hy, rt, ry) = jump?;
+    let a = sys.accelerations(&after[0], &after[1], t)?;
+    let f_plus: Vec<f64> = after[1].iter().chain(a.iter()).copied().collect();
+    // S = R_y + (f⁺ − R_y f⁻ − R_t) h_yᵀ / ḣ.
+    let n2 = 2 * N;
+    let mut s = ry.clone();
+    for i in 0..n2 {
+        let ry_f: f64 = (0..n2).map(|k| ry[(i, k)] * f_minus[k]).sum();
+        let w = (f_plus[i] - ry_f - rt[i]) / rate;
+        for k in 0..n2 {
+            s[(i, k)] += w * hy[k];
+        }
+    }
+    if s.iter().all(|x| x.is_finite()) {
+        Ok(s)
+    } else {
+        Err(Fault::NonFinite)
+    }
+}
+
+/// What the saltation matrix takes from the side before the jump: f⁻, the event's rate ḣ and
+/// ∂h/∂y, and the reset's ∂R/∂t and ∂R/∂y.
+type BeforeJump = (Vec<f64>, f64, Vec<f64>, Vec<f64>, DMatrix<f64>);
+
+/// [`BeforeJump`] at the jump of `ev` at t from `before`.
+fn reset_derivatives<L: Lagrangian<N>, const N: usize>(
+    sys: &L,
+    ev: &Event<'_, N>,
+    t: f64,
+    before: &Y<N>,
+) -> Result<BeforeJump, Fault> {
+    let n2 = 2 * N;
+    let a = sys.accelerations(&before[0], &before[1], t)?;
+    let f_minus: Vec<f64> = before[1].iter().chain(a.iter()).copied().collect();
     let (ht, hy) = gradient(ev, t, &before[0], &before[1]);
     let rate = ht + (0..n2).map(|k| hy[k] * f_minus[k]).sum::<f64>();
     let scale = (0..n2).map(|k| (hy[k] * f_minus[k]).abs()).sum::<f64>() + ht.abs();
@@ -81,18 +124,5 @@ pub(super) fn saltation<L: Lagrangian<N>, const N: usize>(
             ry[(i, k)] = col[i];
         }
     }
-    // S = R_y + (f⁺ − R_y f⁻ − R_t) h_yᵀ / ḣ.
-    let mut s = ry.clone();
-    for i in 0..n2 {
-        let ry_f: f64 = (0..n2).map(|k| ry[(i, k)] * f_minus[k]).sum();
-        let w = (f_plus[i] - ry_f - rt[i]) / rate;
-        for k in 0..n2 {
-            s[(i, k)] += w * hy[k];
-        }
-    }
-    if s.iter().all(|x| x.is_finite()) {
-        Ok(s)
-    } else {
-        Err(Fault::NonFinite)
-    }
+    Ok((f_minus, rate, hy, rt, ry))
 }
