@@ -23,7 +23,9 @@ fn tight() -> Method {
 /// before the next bounce, τ = T − t₁: ∂y(T) = e τ ∂s − ẏ(T) ∂t₁, ∂ẏ(T) = e ∂s + g ∂t₁, with
 /// ∂t₁/∂y₀ = 1/s, ∂t₁/∂v₀ = (1 + v₀/s)/g, ∂s/∂y₀ = g/s, ∂s/∂v₀ = v₀/s; x moves on alone). The
 /// same ball with its floor a contact (the impact map derived from M and the gap, not a reset
-/// written by hand): Φ(T) against that closed form to 1e-10, with DOP853 and Dormand–Prince.
+/// written by hand): Φ(T) against that closed form to 1e-10, with DOP853, Dormand–Prince and
+/// Radau5 (its Φ the derivative of its discrete flow: exact on the flights, polynomials its
+/// collocation reproduces).
 /// With e = 0 the contact closes at the landing and the ball rests: every start near this one
 /// ends at rest on the floor, so ∂(y, ẏ)(T)/∂y₀ = 0 (the closed contact's saltation and the
 /// resting phase's Jacobian), while x moves on (∂x(T)/∂ẋ₀ = T).
@@ -37,6 +39,10 @@ fn phi_through_a_contact_bounce_is_the_closed_form() {
     for method in [
         tight(),
         Method::DormandPrince {
+            rtol: 1e-12,
+            atol: 1e-12,
+        },
+        Method::Radau5 {
             rtol: 1e-12,
             atol: 1e-12,
         },
@@ -260,4 +266,58 @@ fn contact_sensitivities_refuse_what_they_do_not_cover() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("Zeno"), "{err}");
+}
+
+/// The rimless wheel of `examples/impacts.rs` written with contacts (the hub (x, y) in the
+/// slope's frame and the wheel's angle θ; each spoke's tip sticks where it lands, plastic):
+/// its gait is periodic up to a shift, one step on (x + 2l sin α, y, θ − 2α). Shot from
+/// mid-stance (θ = 0, the hub over its tip) with `.shift` (each shot starts with the stance
+/// spoke closed, Newton's iterate put on it): the monodromy carries the landing's saltation
+/// matrix (the next spoke closing, the last one lifting off), so the multipliers are the
+/// step-to-step map's: the trivial 1, cos² 2α = 1/2, and 0 four times (the directions off the
+/// closed contact, which each start projects away). The period against the closed form
+/// T = ∫ dφ/|φ̇| over the stance (the hub's potential m g l cos(φ − γ), φ the stance spoke's
+/// angle; ω* from the step's energy balance), to 1e-9; the multiplier to 1e-7.
+#[test]
+fn rimless_wheel_gait_and_multiplier_through_its_contacts() {
+    use crate::support::gauss_legendre;
+    use lagrange::sensitivity::Shooting;
+    use lagrange_examples::contact_systems::{omega_star, RimlessWheel, SPOKES};
+    let w = RimlessWheel {
+        m: 1.0,
+        g: 1.0,
+        l: 1.0,
+        slope: 0.08,
+    };
+    let alpha = std::f64::consts::PI / SPOKES as f64;
+    let omega = omega_star(&w);
+    // |φ̇| at φ on the gait: ½ φ̇² + (g/l) cos(φ − γ) = ½ ω*² + (g/l) cos(α − γ).
+    let rate = |phi: f64| {
+        (omega * omega + 2.0 * (w.g / w.l) * ((alpha - w.slope).cos() - (phi - w.slope).cos()))
+            .sqrt()
+    };
+    let period = gauss_legendre(-alpha, alpha, |phi| 1.0 / rate(phi));
+    let r0 = 1.03 * rate(0.0);
+    let orbit = Shooting::autonomous(&w, [0.0, w.l, 0.0], [w.l * r0, 0.0, -r0], 1.03 * period)
+        .method(tight())
+        .shift([2.0 * w.l * alpha.sin(), 0.0, -2.0 * alpha])
+        .find()
+        .unwrap();
+    let mut mods: Vec<f64> = orbit.multipliers.iter().map(|m| m.norm()).collect();
+    mods.sort_by(f64::total_cmp);
+    eprintln!(
+        "contact wheel: T = {} (closed form {period}), start {:?} {:?}, {} iterations, \
+         multipliers {mods:?}",
+        orbit.period, orbit.q0, orbit.qdot0, orbit.iterations
+    );
+    assert!(
+        (orbit.period - period).abs() < 1e-9 * period,
+        "{}",
+        orbit.period
+    );
+    let mu = (2.0 * alpha).cos().powi(2);
+    assert!(mods[..4].iter().all(|m| *m < 1e-7), "{mods:?}");
+    assert!((mods[4] - mu).abs() < 1e-7, "{mods:?} vs {mu}");
+    assert!((mods[5] - 1.0).abs() < 1e-7, "{mods:?}");
+    assert!(orbit.stability.is_stable(), "{:?}", orbit.stability);
 }

@@ -136,7 +136,7 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
     /// ```
     pub fn new(sys: &'a U, q0: &[f64; N], qdot0: &[f64; N], t0: f64) -> Result<Self, String> {
         let view = Self::of(sys, q0, qdot0, t0);
-        view.start(q0, qdot0, t0, false)
+        view.start(q0, qdot0, t0, false, None)
             .map_err(|e| e.to_string())?;
         Ok(view)
     }
@@ -163,13 +163,17 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
     /// returned with the state after it. Errors name the contact (not finite, penetrating).
     /// A system with equality constraints must start on them (checked as for a constrained
     /// run), or is put on them first where `project` (`Simulation::project_initial_state`).
+    /// The contacts of `hold` start closed whatever their gap and rate (a shooting's iterate:
+    /// the state is put on them).
     pub(crate) fn start(
         &self,
         q0: &[f64; N],
         qdot0: &[f64; N],
         t0: f64,
         project: bool,
+        hold: Option<&[bool]>,
     ) -> Result<(Y<N>, Option<Jump<N>>), SimulationError> {
+        let held = |j: usize| hold.is_some_and(|h| h.get(j) == Some(&true));
         self.state.closed.set([false; K]);
         self.state.anchor.set([0.0; K]);
         self.state.last.set(None);
@@ -195,7 +199,7 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
                     rows.normal_rate[j]
                 )));
             }
-            if rows.gap[j] < -1e-9 * gs {
+            if rows.gap[j] < -1e-9 * gs && !held(j) {
                 return Err(invalid(format!(
                     "contact {} penetrates at the start: its gap is {} at t0 = {t0}, q0 = {}; \
                      start with every gap g ≥ 0",
@@ -217,8 +221,8 @@ impl<'a, U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactVi
             // taken for touching, which made the answer depend on the units and on where the
             // origin is).
             let touching = rows.gap[j] <= gap_roundoff(&rows, j, q0);
-            closed[j] = touching && rows.normal_rate[j].abs() <= 1e-9 * vs;
-            if touching && rows.normal_rate[j] < -1e-9 * vs && approaching.is_none() {
+            closed[j] = held(j) || (touching && rows.normal_rate[j].abs() <= 1e-9 * vs);
+            if !held(j) && touching && rows.normal_rate[j] < -1e-9 * vs && approaching.is_none() {
                 approaching = Some(j);
             }
         }
@@ -1012,7 +1016,7 @@ where
     U: Unilateral<N, K>,
 {
     /// A run of a system with unilateral contacts from (q0, q̇0): the same builder as
-    /// [`Simulation::new`], with the explicit methods (DOP853, Dormand–Prince, RK4). It is the
+    /// [`Simulation::new`], with the explicit methods (DOP853, Dormand–Prince, RK4) or Radau5. It is the
     /// run `Simulation::new` gives a system that declares its contacts
     /// ([`Lagrangian::declared`]: every `#[lagrangian]` impl with `fn contacts`); this
     /// constructor names K for a hand-written `impl Unilateral<N, K>` that does not.
@@ -1067,8 +1071,8 @@ where
         let mut sim = Self::with(Sys::Owned(Box::new(view.clone())), q0, qdot0);
         // The view is set up when the run starts, at its start time and initial state.
         let start = view.clone();
-        sim.o.contact_start = Some(Box::new(move |q, v, t, project| {
-            start.start(q, v, t, project)
+        sim.o.contact_start = Some(Box::new(move |q, v, t, project, hold| {
+            start.start(q, v, t, project, hold)
         }));
         sim.o.manifold = Some(Box::new(view));
         sim.o.events = events;

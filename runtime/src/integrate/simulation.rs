@@ -21,6 +21,7 @@ pub(super) type ContactStart<'a, const N: usize> = Box<
             &[f64; N],
             f64,
             bool,
+            Option<&[bool]>,
         ) -> Result<(super::state::Y<N>, Option<Jump<N>>), SimulationError>
         + 'a,
 >;
@@ -91,6 +92,9 @@ pub(super) struct Options<'a, const N: usize> {
     /// where one touches and approaches) with that impact's jump, or says why the initial state
     /// is refused.
     pub(super) contact_start: Option<ContactStart<'a, N>>,
+    /// The contacts a contacts run starts closed whatever their gap (the state put on them):
+    /// a shooting's iterates, which Newton moves off the contacts closed at its guess.
+    pub(super) closed_at_start: Option<Vec<bool>>,
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
@@ -142,6 +146,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
                 keep_dense: false,
                 max_step: None,
                 contact_start: None,
+                closed_at_start: None,
             },
         }
     }
@@ -149,6 +154,14 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
     /// The initial state (q0, q̇0) as given.
     pub(crate) fn initial(&self) -> ([f64; N], [f64; N]) {
         (self.o.q0, self.o.qdot0)
+    }
+
+    /// Starts a contacts run with the contacts of `closed` closed whatever their gap, the state
+    /// put on them (a shooting's iterates, off the contacts closed at its guess by a Newton
+    /// step).
+    pub(crate) fn closed_at_start(mut self, closed: Vec<bool>) -> Self {
+        self.o.closed_at_start = Some(closed);
+        self
     }
 
     /// Start from the projection of (q0, q̇0) onto the constraints (the nearest q with
@@ -716,7 +729,13 @@ impl<const N: usize> Options<'_, N> {
     /// asked.
     fn initial_state(&self) -> Result<([[f64; N]; 2], Option<Jump<N>>), SimulationError> {
         if let Some(start) = &self.contact_start {
-            return start(&self.q0, &self.qdot0, self.t0, self.project_initial);
+            return start(
+                &self.q0,
+                &self.qdot0,
+                self.t0,
+                self.project_initial,
+                self.closed_at_start.as_deref(),
+            );
         }
         let mut y0 = [self.q0, self.qdot0];
         let Some(m) = self.manifold.as_deref() else {

@@ -674,7 +674,19 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             .method(self.method)
             .start_time(self.t0)
             .until(self.t0 + period);
-        if flags.constrained && !flags.contacts {
+        if flags.contacts {
+            // Newton's steps move the start off the contacts closed at the guess (a gap above
+            // round-off would start that contact open: a drop): each shot starts with them
+            // closed, the iterate put on them.
+            let at = ClosedAt {
+                q: self.q0,
+                qdot: self.qdot0,
+                t: self.t0,
+            };
+            if let Some(closed) = self.sys.declared(at) {
+                sim = sim.closed_at_start(closed);
+            }
+        } else if flags.constrained {
             // Newton's iterates leave the constraints (their normal part is the closure's to
             // remove): each run starts from the iterate's projection, and Φ(t₀) is that
             // projection's derivative.
@@ -1205,5 +1217,39 @@ fn classify(mu: &[Complex<f64>], autonomous: bool) -> OrbitStability {
         OrbitStability::AsymptoticallyStable
     } else {
         OrbitStability::Neutral
+    }
+}
+
+/// Which contacts a system that declares contacts has closed at (q, q̇, t) (its contact view's
+/// start); `None` for any other system.
+struct ClosedAt<const N: usize> {
+    q: [f64; N],
+    qdot: [f64; N],
+    t: f64,
+}
+
+impl<'s, L: Lagrangian<N> + 's, const N: usize> crate::lagrangian::Declared<'s, L, N>
+    for ClosedAt<N>
+{
+    type Output = Option<Vec<bool>>;
+
+    fn plain(self, _sys: &'s L) -> Self::Output {
+        None
+    }
+
+    fn constrained<const K: usize>(self, _sys: &'s L) -> Self::Output
+    where
+        L: crate::constraints::Holonomic<N, K>,
+    {
+        None
+    }
+
+    fn contacts<const K: usize>(self, sys: &'s L) -> Self::Output
+    where
+        L: crate::contact::Unilateral<N, K>,
+    {
+        super::super::contacts::ContactView::new(sys, &self.q, &self.qdot, self.t)
+            .ok()
+            .map(|view| view.closed().to_vec())
     }
 }
