@@ -6,6 +6,8 @@
 //! (a ball bouncing, elastic and plastic) and against central differences of runs started on the
 //! constraints (a pendulum on a rod striking a wall; a particle sliding off a sphere).
 
+use crate::contact_constraints::RodWall;
+use crate::contacts::OnSphere;
 use lagrange::prelude::*;
 use lagrange_examples::contact_systems::Ball;
 
@@ -78,28 +80,6 @@ fn phi_through_a_contact_bounce_is_the_closed_form() {
             eprintln!("{method:?}, e = {e}: Φ(T) off the closed form by {worst:.1e}");
             assert!(worst < 1e-10, "{method:?}, e = {e}: {worst:e}\n{phi}");
         }
-    }
-}
-
-/// A pendulum of mass m on a rod of length l, written in x, y, with a wall at x = −d it strikes
-/// (restitution e).
-pub struct RodWall {
-    pub m: f64,
-    pub l: f64,
-    pub d: f64,
-    pub e: f64,
-}
-
-#[lagrangian]
-impl RodWall {
-    fn lagrangian(&self, (_x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
-        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) - self.m * G * y
-    }
-    fn constraints(&self, (x, _): Coord, (y, _): Coord) -> [Scalar; 1] {
-        [x * x + y * y - self.l * self.l]
-    }
-    fn contacts(&self, (x, _): Coord, (_, _): Coord) -> [Contact; 1] {
-        [Contact::gap(x + self.d).restitution(self.e).named("wall")]
     }
 }
 
@@ -183,22 +163,6 @@ fn phi_of_a_rod_pendulum_through_its_wall_impacts_matches_differences() {
     }
 }
 
-/// A particle on top of a sphere of radius r (in a vertical plane), the sphere a contact.
-pub struct OnSphere {
-    pub m: f64,
-    pub r: f64,
-}
-
-#[lagrangian]
-impl OnSphere {
-    fn lagrangian(&self, (_x, x_dot): Coord, (y, y_dot): Coord) -> Scalar {
-        0.5 * self.m * (x_dot * x_dot + y_dot * y_dot) - self.m * G * y
-    }
-    fn contacts(&self, (x, _): Coord, (y, _): Coord) -> [Contact; 1] {
-        [Contact::gap((x * x + y * y).sqrt() - self.r).named("sphere")]
-    }
-}
-
 /// The particle starts on top of the sphere with speed v₀ along it: the contact is closed (a
 /// constraint, the view's Jacobian by differences) until it leaves where the normal force
 /// vanishes (cos θ = (2 + v₀²/(g r))/3), then flies free. Φ(T) on the direction ∂y₀/∂v₀ (along
@@ -207,7 +171,11 @@ impl OnSphere {
 /// the two flows agree).
 #[test]
 fn phi_through_a_resting_phase_and_its_lift_off_matches_differences() {
-    let sys = OnSphere { m: 0.5, r: 1.0 };
+    let sys = OnSphere {
+        m: 0.5,
+        g: G,
+        r: 1.0,
+    };
     let (v0, t_end) = (0.8, 1.2);
     let end = |v: f64| -> (Vec<f64>, usize) {
         let tr = Simulation::new(&sys, [0.0, sys.r], [v, 0.0])

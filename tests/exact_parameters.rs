@@ -94,6 +94,13 @@ fn a_falling_body_differentiates_exactly_by_its_fields() {
     }
 }
 
+/// The pendulum's return to its largest angle: a period from rest (terminal).
+fn theta_max() -> Event<'static, 1> {
+    Event::zero_crossing("theta max", |_t, _q, v: &[f64; 1]| v[0])
+        .falling()
+        .terminal()
+}
+
 /// The pendulum θ̈ = −(g/l) sin θ from rest at θ₀ = 1.3: its period's derivative
 /// dT/dg = −T/(2g) (T = 4 √(l/g) K(sin(θ₀/2)) scales as g^(−1/2)), by an event's time
 /// sensitivity. With the exact ∂q̈/∂g the parameter's column has the accuracy of Φ's: the Taylor
@@ -123,11 +130,7 @@ fn the_pendulum_period_derivative_in_gravity() {
             Simulation::new(&p, [theta0], [0.0])
                 .method(method)
                 .until(10.0)
-                .event(
-                    Event::zero_crossing("theta max", |_t, _q, v: &[f64; 1]| v[0])
-                        .falling()
-                        .terminal(),
-                )
+                .event(theta_max())
                 .sensitivity()
         };
         let dt_dp = |run: &Sensitivities<1>| run.events[0].dt_dp.as_ref().unwrap()[0];
@@ -174,11 +177,7 @@ fn radau5_takes_the_exact_parameter_derivative() {
             atol: 1e-13,
         })
         .until(10.0)
-        .event(
-            Event::zero_crossing("theta max", |_t, _q, v: &[f64; 1]| v[0])
-                .falling()
-                .terminal(),
-        )
+        .event(theta_max())
         .sensitivity()
         .field("g")
         .run()
