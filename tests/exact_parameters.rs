@@ -8,6 +8,7 @@
 
 use lagrange::prelude::*;
 use lagrange::DMatrix;
+use lagrange_examples::driven_pendulum_system::DrivenPendulum;
 use lagrange_examples::pendulum_system::{period, Pendulum};
 
 /// A body of mass m falling under gravity g: ẍ = −g, so ∂x(t)/∂g = −t²/2, ∂ẋ(t)/∂g = −t and
@@ -227,4 +228,77 @@ fn fields_the_kernels_do_not_read_are_refused() {
         .run()
         .unwrap();
     assert!((run.dparams.last().unwrap()[(0, 0)] + 2.0).abs() < 1e-10);
+}
+
+/// A nonlinear, forced, damped case: the driven pendulum m l² θ̈ = −m g l sin θ − b θ̇ + a cos ωt,
+/// differentiated by its fields l (in M and in the gravity term), b (in D) and ω (inside the
+/// drive's cosine, a force depending on time and on the field nonlinearly), exactly, against
+/// central differences of runs at each field ± h (h = 1e-5 of its size: the differences' error
+/// h² ∂³y/∂p³ ≈ 1e-10, the runs' 1e-13 / h = 1e-8), tolerance 1e-7 of max(1, |∂y/∂p|), with
+/// DOP853 and Radau5.
+#[test]
+fn field_derivatives_of_a_driven_pendulum_match_differences_of_runs() {
+    let p = DrivenPendulum {
+        m: 1.0,
+        l: 1.2,
+        g: 9.81,
+        b: 0.3,
+        a: 1.5,
+        w: 2.0,
+    };
+    let t_end = 4.0;
+    let (q0, v0) = ([0.4], [0.0]);
+    for method in [
+        Method::Dop853 {
+            rtol: 1e-13,
+            atol: 1e-13,
+        },
+        Method::Radau5 {
+            rtol: 1e-13,
+            atol: 1e-13,
+        },
+    ] {
+        let run = Simulation::new(&p, q0, v0)
+            .method(method)
+            .until(t_end)
+            .sensitivity()
+            .field("l")
+            .field("b")
+            .field("w")
+            .run()
+            .unwrap();
+        let d = run.dparams.last().unwrap();
+        let end = |sys: DrivenPendulum| {
+            let tr = Simulation::new(&sys, q0, v0)
+                .method(method)
+                .until(t_end)
+                .run()
+                .unwrap();
+            [tr.q.last().unwrap()[0], tr.qdot.last().unwrap()[0]]
+        };
+        // The system with field k (l, b, ω) at x.
+        let set = |k: usize, x: f64| DrivenPendulum {
+            l: if k == 0 { x } else { p.l },
+            b: if k == 1 { x } else { p.b },
+            w: if k == 2 { x } else { p.w },
+            ..p
+        };
+        for (k, value) in [p.l, p.b, p.w].into_iter().enumerate() {
+            let h = 1e-5 * value.abs();
+            let (up, down) = (end(set(k, value + h)), end(set(k, value - h)));
+            for i in 0..2 {
+                let diff = (up[i] - down[i]) / (2.0 * h);
+                let err = (d[(i, k)] - diff).abs() / diff.abs().max(1.0);
+                eprintln!(
+                    "{method:?} field {k} row {i}: exact {:.12e}, differences off {err:.1e}",
+                    d[(i, k)]
+                );
+                assert!(
+                    err < 1e-7,
+                    "{method:?}, field {k}, row {i}: {} vs {diff}",
+                    d[(i, k)]
+                );
+            }
+        }
+    }
 }
