@@ -312,16 +312,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
         let cols = n2 + self.params.len();
         let sim = &mut self.sim;
         let mut p = sim.prepare()?;
-        if let Some(jump) = &p.start_jump {
-            return Err(SimulationError::InvalidOptions {
-                message: format!(
-                    "the run starts with an impact (contact `{}` touches and approaches at t = \
-                     {}): Φ through an impact at the start is not covered; start the sensitivity \
-                     run from the state after it (q = {:?}, q̇ = {:?})",
-                    jump.event, jump.t, jump.after.0, jump.after.1
-                ),
-            });
-        }
+        no_impact_at_start(p.start_jump.as_ref())?;
         // A sample of this run holds its variations too.
         let bytes = sample_bytes(N, p.manifold.map_or(0, |m| m.count())) + 8 * n2 * cols;
         if p.opts.max_samples_default {
@@ -339,31 +330,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             kernel_slots(p.sys)
         };
         let fields = base.as_deref().map(|base| Fields { base, dirs: &dirs });
-        // The columns at the start: Φ(t0) = I, S(t0) = 0; on constraints, Φ(t0) = P, the
-        // derivative of the projection onto them at y0 (see `tangent_projector`).
-        let mut cols0 = vec![0.0; n2 * cols];
-        let phi_unit = match p.manifold {
-            None => {
-                for j in 0..n2 {
-                    cols0[n2 * j + j] = 1.0;
-                }
-                true
-            }
-            Some(m) => {
-                let projector = tangent_projector(m, t0, &y0).map_err(|fault| {
-                    SimulationError::InvalidOptions {
-                        message: format!(
-                            "the projection onto the constraints near the initial state failed \
-                             ({fault:?}), so the derivative of the run with respect to its start \
-                             is not defined there: start away from where the constraints are \
-                             singular"
-                        ),
-                    }
-                })?;
-                cols0[..n2 * n2].copy_from_slice(&projector);
-                false
-            }
-        };
+        let (cols0, phi_unit) = start_columns(p.manifold, t0, &y0, cols)?;
         // Φ's columns of the coordinates absent from L stay unit columns until a jump mixes
         // them (then every column is integrated).
         let unit = core::cell::Cell::new(phi_unit);
@@ -529,6 +496,61 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             ));
         }
         None
+    }
+}
+
+/// The columns at the start and whether Φ's are unit columns: Φ(t0) = I, S(t0) = 0; on
+/// constraints (or closed contacts), Φ(t0) = P, the derivative of the projection onto them at
+/// y0 (see `tangent_projector`). `cols` columns of 2N.
+fn start_columns<const N: usize>(
+    manifold: Option<&dyn super::super::manifold::Manifold<N>>,
+    t0: f64,
+    y0: &Y<N>,
+    cols: usize,
+) -> Result<(Vec<f64>, bool), SimulationError> {
+    let n2 = 2 * N;
+    // The columns at the start: Φ(t0) = I, S(t0) = 0; on constraints, Φ(t0) = P, the
+    // derivative of the projection onto them at y0 (see `tangent_projector`).
+    let mut cols0 = vec![0.0; n2 * cols];
+    let phi_unit = match manifold {
+        None => {
+            for j in 0..n2 {
+                cols0[n2 * j + j] = 1.0;
+            }
+            true
+        }
+        Some(m) => {
+            let projector =
+                tangent_projector(m, t0, y0).map_err(|fault| SimulationError::InvalidOptions {
+                    message: format!(
+                        "the projection onto the constraints near the initial state failed \
+                         ({fault:?}), so the derivative of the run with respect to its start \
+                         is not defined there: start away from where the constraints are \
+                         singular"
+                    ),
+                })?;
+            cols0[..n2 * n2].copy_from_slice(&projector);
+            false
+        }
+    };
+    Ok((cols0, phi_unit))
+}
+
+/// Refuses a run that starts with an impact (a contact touching and approaching at t0): Φ
+/// through it is not covered.
+fn no_impact_at_start<const N: usize>(
+    jump: Option<&super::super::events::Jump<N>>,
+) -> Result<(), SimulationError> {
+    match jump {
+        None => Ok(()),
+        Some(jump) => Err(SimulationError::InvalidOptions {
+            message: format!(
+                "the run starts with an impact (contact `{}` touches and approaches at t = {}): \
+                 Φ through an impact at the start is not covered; start the sensitivity run \
+                 from the state after it (q = {:?}, q̇ = {:?})",
+                jump.event, jump.t, jump.after.0, jump.after.1
+            ),
+        }),
     }
 }
 

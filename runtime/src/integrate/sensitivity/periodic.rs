@@ -37,6 +37,7 @@ use super::super::error::SimulationError;
 use super::super::events::Event;
 use super::super::method::Method;
 use super::super::simulation::Simulation;
+use super::super::trajectory::Trajectory;
 
 /// How far from the unit circle a multiplier may be and still count as on it, in
 /// [`OrbitStability`]: 1e-6.
@@ -789,29 +790,12 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             Ok(v.iter().chain(a.iter()).copied().collect())
         };
         let (f_start, f_end) = if declared {
-            let starts = [t0, t0 + delta, t0 + 2.0 * delta].map(sample);
-            let [Some(k0), Some(k1), Some(k2)] = starts else {
-                return Err(OrbitError::InvalidOptions {
-                    message: "the run did not record the samples of the flow at its start (an \
-                              event ended it within 2e-4 of the period): start away from the \
-                              events"
-                        .into(),
-                });
-            };
-            let y = |k: usize| -> Vec<f64> { tr.q[k].iter().chain(&tr.qdot[k]).copied().collect() };
-            let (y0, y1, y2) = (y(k0), y(k1), y(k2));
-            let forward = (0..2 * N)
-                .map(|i| (-3.0 * y0[i] + 4.0 * y1[i] - y2[i]) / (2.0 * delta))
-                .collect();
-            let central = if let Some((a, _, c)) = at_end {
-                let (a, b) = (y(a), y(c));
-                (0..2 * N).map(|i| (b[i] - a[i]) / (2.0 * delta)).collect()
-            } else {
-                // A section's end (or a run an event ended early): the flow there by the view
-                // is not at hand; a section's Newton rows do not take it.
-                vec![f64::NAN; 2 * N]
-            };
-            (forward, central)
+            sampled_flow(
+                tr,
+                [t0, t0 + delta, t0 + 2.0 * delta].map(sample),
+                at_end,
+                delta,
+            )?
         } else {
             (slope(self.t0, &q, &v)?, slope(t_end, &qe, &ve)?)
         };
@@ -845,59 +829,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     /// assert_eq!(orbit.stability, OrbitStability::Neutral);
     /// ```
     pub fn find(self) -> Result<PeriodicOrbit<N>, OrbitError> {
-        if !(self.period > 0.0 && self.period.is_finite()) {
-            return Err(OrbitError::InvalidOptions {
-                message: format!(
-                    "the period (guess) is {}: give a positive finite period",
-                    self.period
-                ),
-            });
-        }
-        if self.tolerance.is_nan() || self.tolerance <= 0.0 {
-            return Err(OrbitError::InvalidOptions {
-                message: format!("the tolerance is {}: give a positive one", self.tolerance),
-            });
-        }
-        match self.pin {
-            Some(Pin::Amplitude(i)) if i >= N => {
-                return Err(OrbitError::InvalidOptions {
-                    message: format!(
-                        "pin_amplitude({i}): the system's coordinates are numbered 0 to {}",
-                        N - 1
-                    ),
-                });
-            }
-            Some(Pin::Energy(e)) if !e.is_finite() => {
-                return Err(OrbitError::InvalidOptions {
-                    message: format!("pin_energy({e}): give a finite energy"),
-                });
-            }
-            Some(Pin::Amplitude(_)) if self.section.is_some() => {
-                return Err(OrbitError::InvalidOptions {
-                    message: "pin_amplitude is a phase condition (the orbit turns at t₀), and so \
-                              is a Poincaré section: use one or the other (with a section, \
-                              pin_energy picks an orbit out of a family)"
-                        .into(),
-                });
-            }
-            Some(_) if self.fixed_period => {
-                return Err(OrbitError::InvalidOptions {
-                    message: "a pin picks an orbit out of an autonomous system's family; a \
-                              forced system's period is fixed and its orbits isolated: use \
-                              Shooting::autonomous, or drop the pin"
-                        .into(),
-                });
-            }
-            _ => {}
-        }
-        if self.section.is_some() && self.fixed_period {
-            return Err(OrbitError::InvalidOptions {
-                message: "a Poincaré section is for an autonomous system (its return time is the \
-                          period); a forced system's section is the stroboscopic one that \
-                          Shooting::forced shoots to: drop the section"
-                    .into(),
-            });
-        }
+        self.check()?;
         let n2 = 2 * N;
         let mut x: Vec<f64> = self.q0.iter().chain(self.qdot0.iter()).copied().collect();
         // A section's run is bounded by twice the period (the return time is its output).
@@ -999,6 +931,64 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             closure,
             iterations,
         })
+    }
+
+    /// The options' refusals, before any run.
+    fn check(&self) -> Result<(), OrbitError> {
+        if !(self.period > 0.0 && self.period.is_finite()) {
+            return Err(OrbitError::InvalidOptions {
+                message: format!(
+                    "the period (guess) is {}: give a positive finite period",
+                    self.period
+                ),
+            });
+        }
+        if self.tolerance.is_nan() || self.tolerance <= 0.0 {
+            return Err(OrbitError::InvalidOptions {
+                message: format!("the tolerance is {}: give a positive one", self.tolerance),
+            });
+        }
+        match self.pin {
+            Some(Pin::Amplitude(i)) if i >= N => {
+                return Err(OrbitError::InvalidOptions {
+                    message: format!(
+                        "pin_amplitude({i}): the system's coordinates are numbered 0 to {}",
+                        N - 1
+                    ),
+                });
+            }
+            Some(Pin::Energy(e)) if !e.is_finite() => {
+                return Err(OrbitError::InvalidOptions {
+                    message: format!("pin_energy({e}): give a finite energy"),
+                });
+            }
+            Some(Pin::Amplitude(_)) if self.section.is_some() => {
+                return Err(OrbitError::InvalidOptions {
+                    message: "pin_amplitude is a phase condition (the orbit turns at t₀), and so \
+                              is a Poincaré section: use one or the other (with a section, \
+                              pin_energy picks an orbit out of a family)"
+                        .into(),
+                });
+            }
+            Some(_) if self.fixed_period => {
+                return Err(OrbitError::InvalidOptions {
+                    message: "a pin picks an orbit out of an autonomous system's family; a \
+                              forced system's period is fixed and its orbits isolated: use \
+                              Shooting::autonomous, or drop the pin"
+                        .into(),
+                });
+            }
+            _ => {}
+        }
+        if self.section.is_some() && self.fixed_period {
+            return Err(OrbitError::InvalidOptions {
+                message: "a Poincaré section is for an autonomous system (its return time is the \
+                          period); a forced system's section is the stroboscopic one that \
+                          Shooting::forced shoots to: drop the section"
+                    .into(),
+            });
+        }
+        Ok(())
     }
 
     /// Refuses an orbit that the closure cannot tell from an equilibrium (periodic with any
@@ -1252,4 +1242,35 @@ impl<'s, L: Lagrangian<N> + 's, const N: usize> crate::lagrangian::Declared<'s, 
             .ok()
             .map(|view| view.closed().to_vec())
     }
+}
+
+/// f at a shot's start and end by second-order differences of its samples: one-sided at the
+/// start (the samples at t₀, t₀ + δ, t₀ + 2δ: `starts`), central at the end (T ∓ δ of `ends`;
+/// NaN where there are none: a section's end, whose Newton rows do not take it).
+fn sampled_flow<const N: usize>(
+    tr: &Trajectory<N>,
+    starts: [Option<usize>; 3],
+    ends: Option<(usize, usize, usize)>,
+    delta: f64,
+) -> Result<(Vec<f64>, Vec<f64>), OrbitError> {
+    let [Some(k0), Some(k1), Some(k2)] = starts else {
+        return Err(OrbitError::InvalidOptions {
+            message: "the run did not record the samples of the flow at its start (an event \
+                      ended it within 2e-4 of the period): start away from the events"
+                .into(),
+        });
+    };
+    let y = |k: usize| -> Vec<f64> { tr.q[k].iter().chain(&tr.qdot[k]).copied().collect() };
+    let (y0, y1, y2) = (y(k0), y(k1), y(k2));
+    let forward = (0..2 * N)
+        .map(|i| (-3.0 * y0[i] + 4.0 * y1[i] - y2[i]) / (2.0 * delta))
+        .collect();
+    let central = match ends {
+        Some((a, _, c)) => {
+            let (a, b) = (y(a), y(c));
+            (0..2 * N).map(|i| (b[i] - a[i]) / (2.0 * delta)).collect()
+        }
+        None => vec![f64::NAN; 2 * N],
+    };
+    Ok((forward, central))
 }
