@@ -21,6 +21,7 @@ use super::error::SimulationError;
 use super::events::{Event, Jump, Side};
 use super::manifold::{Manifold, Rows, least_norm_dyn};
 use super::newton::inf_norm;
+use super::sensitivity::central;
 use super::simulation::{Simulation, Sys};
 use super::state::{Fault, Y};
 
@@ -993,7 +994,7 @@ impl<U: Unilateral<N, K> + ?Sized, const N: usize, const K: usize> ContactView<'
             };
             let (p1, m1, p2, m2) = (at(h)?, at(-h)?, at(2.0 * h)?, at(-2.0 * h)?);
             for i in 0..N {
-                jac[(N + i, col)] = (8.0 * (p1[i] - m1[i]) - (p2[i] - m2[i])) / (12.0 * h);
+                jac[(N + i, col)] = central(h, [p1[i], m1[i], p2[i], m2[i]]);
             }
         }
         if jac.iter().all(|x| x.is_finite()) {

@@ -14,9 +14,11 @@
 //! two passes (along q, along q̇) — and otherwise, or where that kernel's pivot test declines,
 //! M, C, K of the linearization about the motion through the current state
 //! ([`jet_linearize`](crate::linearize::jet_linearize): third derivatives of L from the jets).
-//! Forces, dissipation and explicit time are included either way. ∂f/∂p = (0, ∂q̈/∂p) comes
-//! from a fourth-order central difference in p of the accelerations of the systems the
-//! parameter's closure builds.
+//! Forces, dissipation and explicit time are included either way. ∂f/∂p = (0, ∂q̈/∂p) is exact
+//! where the parameter is a field the compiled kernels read ([`Sensitivity::field`], or a
+//! closure that sets fields affinely): the kernel's parameter slots seeded in the same tangents
+//! as the state; otherwise a fourth-order central difference in p of the accelerations of the
+//! systems the parameter's closure builds.
 //!
 //! **How it is integrated.** A sensitivity run is a problem, not a method: the motion and its
 //! 2N + P columns of variations form one state (`augmented::Aug`) with the variational
@@ -34,7 +36,8 @@
 //! of the k-th coefficients are the k-th Taylor coefficients of the variations, so the
 //! variational equations get their Taylor series from the same generated code (N columns per
 //! evaluation), summed at the motion's Jorba–Zou step; a parameter's explicit part comes from the
-//! central difference of the neighbouring systems' series.
+//! same evaluation where it is a field (its slots seeded), else from the central difference of
+//! the neighbouring systems' series.
 //!
 //! **Events.** At each located event t* (g(t*, q, q̇) = 0) the run also gives the sensitivity of
 //! the event's time, dt*/dx₀ = −(∂g/∂x · Φ(t*)) / ġ with ġ = ∂g/∂t + ∂g/∂x · f, and
