@@ -175,8 +175,28 @@ impl<'a, const N: usize> Event<'a, N> {
         self
     }
 
-    /// A reset map that may fail (a contact's impact law).
-    pub(crate) fn reset_fallible<F>(mut self, reset: F) -> Self
+    /// A reset map that may fail ([`reset`](Self::reset) whose map returns `Err` where it has
+    /// no answer: an impact law without a solution, a singular matrix): the run stops there
+    /// with that error, as a failing step would.
+    ///
+    /// ```
+    /// use lagrange_runtime::{DynamicsError, Event};
+    /// let e = Event::zero_crossing("floor", |_t, q: &[f64; 1], _v| q[0])
+    ///     .falling()
+    ///     .reset_fallible(|t, q, v| {
+    ///         if v[0] < -100.0 {
+    ///             Err(DynamicsError::Impact {
+    ///                 t, q: q.to_vec(), qdot: v.to_vec(),
+    ///                 message: "too fast for the impact law".into(),
+    ///             })
+    ///         } else {
+    ///             Ok([*q, [-0.5 * v[0]]])
+    ///         }
+    ///     });
+    /// assert_eq!(e.apply_reset(0.0, &[0.0], &[-2.0]), Some(([0.0], [1.0])));
+    /// assert_eq!(e.apply_reset(0.0, &[0.0], &[-200.0]), None);
+    /// ```
+    pub fn reset_fallible<F>(mut self, reset: F) -> Self
     where
         F: Fn(f64, &[f64; N], &[f64; N]) -> Result<[[f64; N]; 2], DynamicsError> + 'a,
     {

@@ -830,14 +830,12 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
     /// ```
     pub fn find(self) -> Result<PeriodicOrbit<N>, OrbitError> {
         self.check()?;
-        let n2 = 2 * N;
         let mut x: Vec<f64> = self.q0.iter().chain(self.qdot0.iter()).copied().collect();
         // A section's run is bounded by twice the period (the return time is its output).
         let bound = if self.section.is_some() { 2.0 } else { 1.0 };
         let mut shot = self.shoot(&x, bound * self.period)?;
         let mut period = shot.period;
-        let norm = |s: &Shot, x: &[f64]| -> f64 { self.residual(s, x) };
-        let mut closure = norm(&shot, &x);
+        let mut closure = self.residual(&shot, &x);
         let mut iterations = 0;
         // A NaN closure (a run that blew up) keeps iterating until the budget ends.
         while closure.is_nan() || closure > self.tolerance {
@@ -853,39 +851,26 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
                 ));
             }
             iterations += 1;
-            let step = self.newton_step(&shot, &x, closure)?;
-            // Backtracking: halve the step until the residual falls, from a step that changes
-            // the period by at most half and the state by at most 10 times its size (a trust
-            // region: where the linear model asks for more, as near an extremum of the energy
-            // pinned to a value it does not reach, a full step would shoot over an enormous
-            // period or from an enormous state, and each of the halvings runs a long shot).
-            let dx = step[..n2].iter().map(|v| v * v).sum::<f64>().sqrt();
-            let room = 10.0 * x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
-            let mut lambda = (room / dx).min(1.0);
-            if self.free_period() {
-                lambda = lambda.min(0.5 * period / step[n2].abs());
-            }
-            if lambda.is_nan() || lambda <= 0.0 {
-                lambda = 1.0;
-            }
+            // Two steps, one after the other where no fraction of the first reduces the
+            // residual: the full least-norm step and the one that sets a family's directions
+            // aside. Without a section the cut goes first (the flow's direction and an
+            // integral's make the matrix nearly singular off the orbit, and inverting them
+            // throws the iterate along the family); a section fixes the phase, and a return
+            // map with a section is often that of an orbit without a family (a walker losing
+            // energy at its impacts), where the cut, relative to the residual, takes
+            // directions Newton needs while the guess is far: the full step goes first.
+            let order = if self.section.is_some() {
+                [false, true]
+            } else {
+                [true, false]
+            };
             let mut accepted = None;
-            for _ in 0..30 {
-                let xt: Vec<f64> = (0..n2).map(|i| x[i] + lambda * step[i]).collect();
-                let pt = if self.free_period() {
-                    period + lambda * step[n2]
-                } else {
-                    period
-                };
-                if pt > 0.0
-                    && let Ok(s) = self.shoot(&xt, bound * pt)
-                {
-                    let c = norm(&s, &xt);
-                    if c < closure {
-                        accepted = Some((xt, s.period, s, c));
-                        break;
-                    }
+            for truncate in order {
+                let step = self.newton_step(&shot, &x, closure, truncate)?;
+                accepted = self.line_search(&x, period, bound, &step, closure);
+                if accepted.is_some() || !self.cuts_families() {
+                    break;
                 }
-                lambda *= 0.5;
             }
             let Some((xt, pt, s, c)) = accepted else {
                 return Err(self.no_convergence(
@@ -1027,8 +1012,65 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         Ok(())
     }
 
-    /// The least-norm Newton step (Δx, ΔT) (ΔT absent for a fixed period).
-    fn newton_step(&self, shot: &Shot, x: &[f64], closure: f64) -> Result<Vec<f64>, OrbitError> {
+    /// Backtracking along a Newton step: halves it until the residual falls, from a step that
+    /// changes the period by at most half and the state by at most 10 times its size (a trust
+    /// region: where the linear model asks for more, as near an extremum of the energy pinned
+    /// to a value it does not reach, a full step would shoot over an enormous period or from
+    /// an enormous state, and each of the halvings runs a long shot). The accepted iterate,
+    /// its period, shot and residual.
+    fn line_search(
+        &self,
+        x: &[f64],
+        period: f64,
+        bound: f64,
+        step: &[f64],
+        closure: f64,
+    ) -> Option<(Vec<f64>, f64, Shot, f64)> {
+        let n2 = 2 * N;
+        let dx = step[..n2].iter().map(|v| v * v).sum::<f64>().sqrt();
+        let room = 10.0 * x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
+        let mut lambda = (room / dx).min(1.0);
+        if self.free_period() {
+            lambda = lambda.min(0.5 * period / step[n2].abs());
+        }
+        if lambda.is_nan() || lambda <= 0.0 {
+            lambda = 1.0;
+        }
+        for _ in 0..30 {
+            let xt: Vec<f64> = (0..n2).map(|i| x[i] + lambda * step[i]).collect();
+            let pt = if self.free_period() {
+                period + lambda * step[n2]
+            } else {
+                period
+            };
+            if pt > 0.0
+                && let Ok(s) = self.shoot(&xt, bound * pt)
+            {
+                let c = self.residual(&s, &xt);
+                if c < closure {
+                    return Some((xt, s.period, s, c));
+                }
+            }
+            lambda *= 0.5;
+        }
+        None
+    }
+
+    /// Whether Newton's steps set aside the directions of a family of orbits (an autonomous
+    /// system without a pin, or one with a cyclic coordinate).
+    fn cuts_families(&self) -> bool {
+        (!self.fixed_period && self.pin.is_none()) || L::CYCLIC.iter().any(|&c| c)
+    }
+
+    /// The least-norm Newton step (Δx, ΔT) (ΔT absent for a fixed period); with `truncate`,
+    /// the singular directions of a family set aside.
+    fn newton_step(
+        &self,
+        shot: &Shot,
+        x: &[f64],
+        closure: f64,
+        truncate: bool,
+    ) -> Result<Vec<f64>, OrbitError> {
         let n2 = 2 * N;
         let pin = self.pin_row(x);
         let (rows, cols) = if self.fixed_period {
@@ -1047,6 +1089,23 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
             b[i] = -gap[i];
         }
         if let Some(g) = self.section_gradient(x) {
+            // The return is to the level through the start, g(x(t*)) = g(x₀), so a step that
+            // moves g(x₀) by ∇g(x₀)·Δx moves the return along the flow by that over
+            // ∇g(x(t*))·f(x(t*)) in time: the closure rows' Jacobian is Φ (the return to a
+            // fixed level) plus f(x(t*)) ∇g(x₀)ᵀ / ∇g(x(t*))·f(x(t*)). Without that term the
+            // rows contradict the section's where the iterate is off the section (Φ's row of
+            // g's own coordinate is 0, the residual's derivative there is 1), and Newton stalls
+            // off it instead of converging.
+            if let Some(g_end) = self.section_gradient(&shot.end) {
+                let rate: f64 = g_end.iter().zip(&shot.f_end).map(|(a, b)| a * b).sum();
+                if rate.is_finite() && rate != 0.0 {
+                    for i in 0..n2 {
+                        for j in 0..n2 {
+                            a[(i, j)] += shot.f_end[i] * g[j] / rate;
+                        }
+                    }
+                }
+            }
             // The start stays on the section: ∇g(x₀)·Δx = −g(x₀).
             for (j, gj) in g.iter().enumerate() {
                 a[(n2, j)] = *gj;
@@ -1091,8 +1150,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Shooting<'a, L, N> {
         let smax = svd.singular_values.max();
         let size = x.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
         // A pin takes the family's direction out (the energy's, for an autonomous system).
-        let families = (!self.fixed_period && pin.is_none()) || L::CYCLIC.iter().any(|&c| c);
-        let cutoff = if families {
+        let cutoff = if truncate && self.cuts_families() {
             (closure / size).clamp(1e-9, 1e-2)
         } else {
             1e-9
