@@ -3,7 +3,8 @@
 //! (`Simulation::new` runs them with their contacts): a bouncing ball whose impacts accumulate (Zeno) into resting
 //! contact, a rocking block losing Housner's ratio 1 − (3/2) sin²α of its angular velocity at
 //! each plastic impact, and a rimless wheel walking down a slope to its limit cycle
-//! ω* = cot 2α √(4 (g/l) sin α sin γ). Each against its closed form; the work column against the
+//! ω* = cot 2α √(4 (g/l) sin α sin γ), whose gait the shooting finds with its step-to-step
+//! multiplier cos² 2α. Each against its closed form; the work column against the
 //! kinetic energy each jump removes. Figures as SVG.
 //!
 //! Run: `cargo run --release --example impacts -- [--out out/impacts.svg]`
@@ -145,6 +146,30 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
         .run()?;
     let omegas: Vec<f64> = wheel_run.jumps.iter().map(|j| -j.after.1[2]).collect();
     println!("  {} steps", omegas.len());
+    // Its gait by shooting (periodic up to one step on: x + 2l sin α, θ − 2α), from mid-stance
+    // 3 % faster than the gait's |θ̇| there, ½ θ̇² + (g/l) cos(θ − γ) being the stance's
+    // invariant: the step-to-step map's multipliers through the landing's saltation matrix.
+    let mid_rate =
+        (w_star * w_star + 2.0 * (g / l) * ((alpha_w - gamma).cos() - gamma.cos())).sqrt();
+    let r0 = 1.03 * mid_rate;
+    let gait = lagrange::sensitivity::Shooting::autonomous(
+        &wheel,
+        [0.0, l, 0.0],
+        [l * r0, 0.0, -r0],
+        2.0 * alpha_w / r0,
+    )
+    .method(tight)
+    .shift([2.0 * l * alpha_w.sin(), 0.0, -2.0 * alpha_w])
+    .find()?;
+    let mut mods: Vec<f64> = gait.multipliers.iter().map(|z| z.norm()).collect();
+    mods.sort_by(|a, b| b.total_cmp(a));
+    println!(
+        "  its gait by shooting: step time {:.12} s, multipliers {:?} (1, cos² 2α = {:.12}, and 0 \
+         for the directions off the closed spoke)",
+        gait.period,
+        mods.iter().map(|m| format!("{m:.12}")).collect::<Vec<_>>(),
+        (2.0 * alpha_w).cos().powi(2)
+    );
 
     println!(
         "bouncing ball t_inf = {:.15} closed form = {t_inf:.15}",
