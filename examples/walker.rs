@@ -42,18 +42,6 @@ fn tight() -> Method {
     }
 }
 
-/// Goswami's walker on a slope of `deg` degrees.
-fn goswami(deg: f64) -> CompassGait {
-    CompassGait {
-        m_hip: 10.0,
-        m: 5.0,
-        a: 0.5,
-        b: 0.5,
-        g: 9.8,
-        slope: deg.to_radians(),
-    }
-}
-
 /// The multipliers of a gait, largest first, as "a ± bi" or "a".
 fn show_multipliers(orbit: &PeriodicOrbit<2>) -> String {
     let mut m = orbit.multipliers.clone();
@@ -88,14 +76,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     let out = cli::or_exit(options(), USAGE);
 
     // The simplest walker, from Garcia et al.'s published state just after a heel strike.
-    let simplest = CompassGait {
-        m_hip: 1.0,
-        m: 1e-20,
-        a: 0.0,
-        b: 1.0,
-        g: 1.0,
-        slope: 0.009,
-    };
+    let simplest = CompassGait::simplest(0.009);
     let (th, thd) = (0.20031090049483, -0.19983247291764);
     let (q, v) = simplest.from_garcia_state(&[th, thd, 2.0 * th, (1.0 - (2.0 * th).cos()) * thd]);
     let (qm, vm) = simplest.to_mid_stance(q, v, tight())?;
@@ -131,7 +112,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     );
 
     // Goswami's walker at 3°: walk it from a rough start until it settles, then shoot.
-    let w = goswami(3.0);
+    let w = CompassGait::goswami(3.0);
     let (q0, v0) = w.to_mid_stance([-0.27, 0.27], [1.1, 0.4], tight())?;
     let settled = Simulation::new(&w, q0, v0)
         .method(tight())
@@ -166,7 +147,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     let (mut deg, mut prev) = (3.0, orbit);
     let doubling = loop {
         let next_deg = deg + 0.2;
-        let wn = goswami(next_deg);
+        let wn = CompassGait::goswami(next_deg);
         let (qg, vg) = wn.to_mid_stance(prev.q0, prev.qdot0, tight())?;
         let next = wn.gait(qg, vg, prev.period, tight())?;
         if most_negative(&next) < -1.0 {
@@ -178,7 +159,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
             let mut start = (prev.q0, prev.qdot0, prev.period);
             for _ in 0..6 {
                 let d = lo.0 + (hi.0 - lo.0) * (-1.0 - lo.1) / (hi.1 - lo.1);
-                let wd = goswami(d);
+                let wd = CompassGait::goswami(d);
                 let (qg, vg) = wd.to_mid_stance(start.0, start.1, tight())?;
                 let o = wd.gait(qg, vg, start.2, tight())?;
                 let r = most_negative(&o);
@@ -208,7 +189,7 @@ fn report() -> Result<(), Box<dyn std::error::Error>> {
     let mut points = Vec::new();
     let (mut qa, mut va) = (q1, v1);
     for &d in &slopes {
-        let wd = goswami(d);
+        let wd = CompassGait::goswami(d);
         let fallen = Event::zero_crossing("fallen", |_t, q: &[f64; 2], _v| 1.2 - q[0].abs())
             .falling()
             .terminal();

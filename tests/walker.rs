@@ -15,31 +15,6 @@ fn tight() -> Method {
     }
 }
 
-/// The simplest walking model: the feet's masses 1e-20 of the hip's (O(β) corrections below
-/// round-off), unit g, l and hip mass.
-fn simplest() -> CompassGait {
-    CompassGait {
-        m_hip: 1.0,
-        m: 1e-20,
-        a: 0.0,
-        b: 1.0,
-        g: 1.0,
-        slope: 0.009,
-    }
-}
-
-/// Goswami's walker (m_H = 10, m = 5, a = b = 0.5, g = 9.8) on `deg` degrees.
-fn goswami(deg: f64) -> CompassGait {
-    CompassGait {
-        m_hip: 10.0,
-        m: 5.0,
-        a: 0.5,
-        b: 0.5,
-        g: 9.8,
-        slope: deg.to_radians(),
-    }
-}
-
 /// The gait of the simplest walker through Garcia et al.'s state (θ, θ̇) just after a strike
 /// (φ = 2θ, φ̇ = (1 − cos 2θ) θ̇ there), and the state just after its strike, Garcia's way.
 fn garcia_gait(w: &CompassGait, th: f64, thd: f64) -> (PeriodicOrbit<2>, [f64; 4]) {
@@ -114,7 +89,7 @@ fn assert_section_columns(orbit: &PeriodicOrbit<2>, jac: &[[f64; 4]; 4], tol: f6
 /// same).
 #[test]
 fn simplest_walker_gaits_as_published() {
-    let w = simplest();
+    let w = CompassGait::simplest(0.009);
     for (th, thd, stable) in [
         (0.20031090049483, -0.19983247291764, true),
         (0.19393736960624, -0.20386692731962, false),
@@ -147,7 +122,7 @@ fn simplest_walker_gaits_as_published() {
 /// 0.557598777i and 4.0039, 0.4596 (docs/ERRATA.md).
 #[test]
 fn simplest_walker_multipliers_three_ways() {
-    let w = simplest();
+    let w = CompassGait::simplest(0.009);
     let (orbit, _) = garcia_gait(&w, 0.20031090049483, -0.19983247291764);
     let x0 = [orbit.q0[0], orbit.q0[1], orbit.qdot0[0], orbit.qdot0[1]];
     let jac = return_map_jacobian(&w, x0, 1e-4);
@@ -245,7 +220,7 @@ fn simplest_walker_multipliers_three_ways() {
 /// real multiplier.
 #[test]
 fn goswami_walker_gait_as_published() {
-    let w = goswami(3.0);
+    let w = CompassGait::goswami(3.0);
     let (q0, v0) = w.to_mid_stance([-0.27, 0.27], [1.1, 0.4], tight()).unwrap();
     let settled = Simulation::new(&w, q0, v0)
         .method(tight())
@@ -289,7 +264,7 @@ fn goswami_walker_gait_as_published() {
 /// settled walk alternates a long and a short step (period two), where below it takes one.
 #[test]
 fn goswami_walker_period_doubling() {
-    let start = goswami(3.0);
+    let start = CompassGait::goswami(3.0);
     let (q0, v0) = start
         .to_mid_stance([-0.27, 0.27], [1.1, 0.4], tight())
         .unwrap();
@@ -303,7 +278,7 @@ fn goswami_walker_period_doubling() {
     let mut at = Vec::new();
     let mut below = orbit.clone();
     for deg in [3.4, 3.8, 4.2, 4.6] {
-        let w = goswami(deg);
+        let w = CompassGait::goswami(deg);
         let (q, v) = w.to_mid_stance(orbit.q0, orbit.qdot0, tight()).unwrap();
         let next = w.gait(q, v, orbit.period, tight()).unwrap();
         below = std::mem::replace(&mut orbit, next);
@@ -314,7 +289,7 @@ fn goswami_walker_period_doubling() {
     // The settled walk from the other slope's gait: the distinct inter-leg angles of its last
     // 8 steps after 300.
     let distinct_steps = |deg: f64, from: &PeriodicOrbit<2>| {
-        let w = goswami(deg);
+        let w = CompassGait::goswami(deg);
         let run = Simulation::new(&w, from.q0, from.qdot0)
             .method(tight())
             .event(w.heel_strike_event())

@@ -79,6 +79,45 @@ impl CompassGait {
     /// of the foot through the ground nearer the normal are the compass gait's scuffing.
     pub const SCUFF: f64 = 0.1;
 
+    /// Goswami, Thuilot & Espiau's walker on a slope of `degrees`: m_H = 10, m = 5,
+    /// a = b = 0.5, g = 9.8 (the parameters of their report and of the literature's passive
+    /// gait at 3°).
+    ///
+    /// ```
+    /// use lagrange_examples::walker_system::CompassGait;
+    /// let w = CompassGait::goswami(3.0);
+    /// assert_eq!((w.leg(), w.m_hip / w.m), (1.0, 2.0));
+    /// ```
+    pub fn goswami(degrees: f64) -> Self {
+        CompassGait {
+            m_hip: 10.0,
+            m: 5.0,
+            a: 0.5,
+            b: 0.5,
+            g: 9.8,
+            slope: degrees.to_radians(),
+        }
+    }
+
+    /// Garcia et al.'s simplest walker on a slope γ (rad): the feet's masses 1e-20 of the
+    /// hip's (their O(β) corrections below round-off), unit hip mass, g and l.
+    ///
+    /// ```
+    /// use lagrange_examples::walker_system::CompassGait;
+    /// let w = CompassGait::simplest(0.009);
+    /// assert_eq!((w.a, w.b, w.leg()), (0.0, 1.0, 1.0));
+    /// ```
+    pub fn simplest(slope: f64) -> Self {
+        CompassGait {
+            m_hip: 1.0,
+            m: 1e-20,
+            a: 0.0,
+            b: 1.0,
+            g: 1.0,
+            slope,
+        }
+    }
+
     /// The leg length l = a + b.
     pub fn leg(&self) -> f64 {
         self.a + self.b
