@@ -751,6 +751,7 @@ impl<const N: usize> Stepper<N> for Radau5<'_, N> {
                 self.factors = Self::factorize(j, h);
                 stats.decompositions += 1;
                 if self.factors.is_none() {
+                    stats.newton_failures += 1;
                     self.retry(
                         h,
                         0.5,
@@ -770,6 +771,7 @@ impl<const N: usize> Stepper<N> for Radau5<'_, N> {
                 Err(Attempt::Retry(factor, fault)) => {
                     if matches!(fault, Fault::Newton { .. }) {
                         self.newton_cap = self.newton_cap.min(0.8 * h);
+                        stats.newton_failures += 1;
                     }
                     self.retry(h, factor, fault, stats);
                     continue;

@@ -8,21 +8,23 @@ use super::state::Stats;
 use super::trajectory::{ConstraintResidual, Drift, Invariants};
 
 impl fmt::Display for Stats {
-    /// `412 steps (3 rejected), 4955 evaluations`, with the Newton iterations, Jacobians and LU
-    /// decompositions where there were any.
+    /// `412 steps (3 rejected), 4955 evaluations`, with the rejections by Newton, the Newton
+    /// iterations, Jacobians and LU decompositions where there were any.
     ///
     /// ```
     /// let s = lagrange_runtime::Stats { steps: 412, rejected: 3, rhs_evals: 4955, ..Default::default() };
     /// assert_eq!(s.to_string(), "412 steps (3 rejected), 4955 evaluations");
     /// let r = lagrange_runtime::Stats { newton_iterations: 900, jacobians: 12, decompositions: 40, ..s };
     /// assert_eq!(r.to_string(), "412 steps (3 rejected), 4955 evaluations, 900 Newton iterations, 12 Jacobians, 40 LU decompositions");
+    /// let n = lagrange_runtime::Stats { newton_failures: 2, ..r };
+    /// assert!(n.to_string().starts_with("412 steps (3 rejected, 2 by Newton), 4955"));
     /// ```
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "{} steps ({} rejected), {} evaluations",
-            self.steps, self.rejected, self.rhs_evals
-        )?;
+        write!(f, "{} steps ({} rejected", self.steps, self.rejected)?;
+        if self.newton_failures > 0 {
+            write!(f, ", {} by Newton", self.newton_failures)?;
+        }
+        write!(f, "), {} evaluations", self.rhs_evals)?;
         if self.newton_iterations > 0 {
             write!(f, ", {} Newton iterations", self.newton_iterations)?;
         }

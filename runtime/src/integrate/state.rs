@@ -26,7 +26,7 @@ pub(crate) use crate::real::Real;
 /// ```
 /// let s = lagrange_runtime::Stats::default();
 /// assert_eq!((s.steps, s.rejected, s.rhs_evals, s.newton_iterations), (0, 0, 0, 0));
-/// assert_eq!((s.jacobians, s.decompositions), (0, 0));
+/// assert_eq!((s.jacobians, s.decompositions, s.newton_failures), (0, 0, 0));
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Stats {
@@ -34,6 +34,11 @@ pub struct Stats {
     pub steps: usize,
     /// Rejected step attempts (adaptive methods).
     pub rejected: usize,
+    /// Of the rejected attempts, those whose Newton iteration on the stage equations failed
+    /// (Radau5: diverging, converging too slowly, or a singular Newton matrix) rather than the
+    /// error test: where they dominate, the step is bounded by the problem's nonlinearity over
+    /// a step, not by the accuracy asked.
+    pub newton_failures: usize,
     /// Right-hand-side evaluations (see the type's documentation).
     pub rhs_evals: usize,
     /// Newton iterations (the implicit methods: variational midpoint, Radau5).
