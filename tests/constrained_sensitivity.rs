@@ -176,3 +176,101 @@ fn phi_through_velocity_constraints_matches_the_sleighs_closed_form() {
         }
     }
 }
+
+/// Parameter sensitivities of a constrained run: the pendulum in x, y (m = 0.7, g = 9.81, rod
+/// l = 1.3, from θ₀ = 0.8, θ̇₀ = 0.3, to t = 3, DOP853 and Radau5) differentiated by g (in L)
+/// and by l (in the constraint x² + y² − l² alone: the start moves with it), against the
+/// same pendulum in its angle (θ̈ = −(g/l) sin θ), whose ∂θ/∂g and ∂θ/∂l are the compiled
+/// kernel's exact field derivatives — a different formulation, sharing only the physics.
+///
+/// Derivation: x = l sin θ, y = −l cos θ, so ∂x/∂g = l cos θ ∂θ/∂g, ∂y/∂g = l sin θ ∂θ/∂g, and
+/// ∂ẋ/∂g = l (cos θ ∂θ̇/∂g − sin θ θ̇ ∂θ/∂g), ∂ẏ/∂g = l (sin θ ∂θ̇/∂g + cos θ θ̇ ∂θ/∂g). For l
+/// the start (q₀, q̇₀) given at l is projected onto the circle of radius l + δl: along the rod
+/// (θ₀ kept), the velocity kept (it is tangent), so θ̇₀ becomes l θ̇₀/(l + δl): dθ̇₀/dl =
+/// −θ̇₀/l. Hence dθ/dl = ∂θ/∂l + Φ_θθ̇₀ (−θ̇₀/l) (and the same for θ̇), and ∂x/∂l = sin θ +
+/// l cos θ dθ/dl, ∂y/∂l = −cos θ + l sin θ dθ/dl, ∂ẋ/∂l = cos θ θ̇ + l (cos θ dθ̇/dl − sin θ θ̇
+/// dθ/dl), ∂ẏ/∂l = sin θ θ̇ + l (sin θ dθ̇/dl + cos θ θ̇ dθ/dl). Tolerance 1e-8 of the columns'
+/// size (the constrained columns take ∂q̈/∂p as fourth-order differences of the constrained
+/// accelerations, error ≈ 1e-11; the runs' 1e-13). A field alone (`.field`) is refused there,
+/// naming the closure form.
+#[test]
+fn parameters_of_a_constrained_run_against_the_pendulum_in_its_angle() {
+    use lagrange_examples::pendulum_system::Pendulum;
+    let (m, g, l) = (0.7, 9.81, 1.3);
+    let xy = RigidPendulumXy { m, g, l };
+    let (th0, thd0) = (0.8, 0.3);
+    let (q0, v0) = xy.state(th0, thd0);
+    for method in [
+        TIGHT,
+        Method::Radau5 {
+            rtol: 1e-13,
+            atol: 1e-13,
+        },
+    ] {
+        let angle = Simulation::new(&Pendulum { g, l }, [th0], [thd0])
+            .method(TIGHT)
+            .until(3.0)
+            .sensitivity()
+            .field("g")
+            .field("l")
+            .run()
+            .unwrap();
+        let run = Simulation::new(&xy, q0, v0)
+            .method(method)
+            .until(3.0)
+            .sensitivity()
+            .parameter("g", g, |p| RigidPendulumXy { m, g: p, l })
+            .parameter("l", l, |p| RigidPendulumXy { m, g, l: p })
+            .run()
+            .unwrap();
+        let (th, thd) = (
+            angle.trajectory.q.last().unwrap()[0],
+            angle.trajectory.qdot.last().unwrap()[0],
+        );
+        let (s, c) = th.sin_cos();
+        let phi = angle.final_phi();
+        let dp = angle.dparams.last().unwrap();
+        // d(θ, θ̇)/dg, and d(θ, θ̇)/dl with the start's move.
+        let (dth_g, dthd_g) = (dp[(0, 0)], dp[(1, 0)]);
+        let (dth_l, dthd_l) = (
+            dp[(0, 1)] + phi[(0, 1)] * (-thd0 / l),
+            dp[(1, 1)] + phi[(1, 1)] * (-thd0 / l),
+        );
+        let want_g = [
+            l * c * dth_g,
+            l * s * dth_g,
+            l * (c * dthd_g - s * thd * dth_g),
+            l * (s * dthd_g + c * thd * dth_g),
+        ];
+        let want_l = [
+            s + l * c * dth_l,
+            -c + l * s * dth_l,
+            c * thd + l * (c * dthd_l - s * thd * dth_l),
+            s * thd + l * (s * dthd_l + c * thd * dth_l),
+        ];
+        let got = run.dparams.last().unwrap();
+        for (col, want) in [(0, want_g), (1, want_l)] {
+            let size = want.iter().fold(0.0_f64, |a, w| a.max(w.abs()));
+            let worst = (0..4).fold(0.0_f64, |a, i| a.max((got[(i, col)] - want[i]).abs()));
+            eprintln!(
+                "{method:?}: ∂(x, y, ẋ, ẏ)/∂{} = {:?} against {want:?}: {:.1e} of {size:.2}",
+                ["g", "l"][col],
+                (0..4).map(|i| got[(i, col)]).collect::<Vec<_>>(),
+                worst / size
+            );
+            assert!(worst < 1e-8 * size, "{worst:e} of {size}");
+        }
+    }
+    // A field alone has no neighbouring systems to take the constrained accelerations of.
+    let err = Simulation::new(&xy, q0, v0)
+        .until(1.0)
+        .sensitivity()
+        .field("g")
+        .run()
+        .unwrap_err();
+    assert!(
+        matches!(err, SimulationError::InvalidOptions { .. }),
+        "{err}"
+    );
+    assert!(err.to_string().contains(".parameter(\"g\""), "{err}");
+}

@@ -25,7 +25,7 @@ use super::event_time::at_event;
 use super::result::Sensitivities;
 use super::saltation::saltation;
 use super::taylor::VarSeries;
-use super::variation::{Parameter, Variation, affine_slots, difference_step, exact_dirs};
+use super::variation::{Parameter, Variation, affine_slots, central, difference_step, exact_dirs};
 
 /// A run that also integrates the variational equations: built by
 /// [`Simulation::sensitivity`], it gives Φ(t) = ∂(q, q̇)(t)/∂(q₀, q̇₀) and ∂(q, q̇)(t)/∂p at the
@@ -58,6 +58,9 @@ pub struct Sensitivity<'a, L, const N: usize> {
     motion_steps: bool,
     /// Why a parameter asked for could not be taken (`run` refuses with it).
     unknown: Option<String>,
+    /// The parameters' columns at the start where the start depends on them (a constrained
+    /// run: ∂/∂p of the start's projection onto the constraints of the system at p), 2N each.
+    param_start: Option<Vec<f64>>,
 }
 
 impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
@@ -87,6 +90,7 @@ impl<'a, L: Lagrangian<N>, const N: usize> Simulation<'a, L, N> {
             params: Vec::new(),
             motion_steps: false,
             unknown: None,
+            param_start: None,
         }
     }
 }
@@ -243,8 +247,10 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     ///
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
     /// step) for what it does not cover yet: parameters or constraints with the variational
-    /// integrator (`Method::VariationalMidpoint`), parameters of a constrained run or of one
-    /// with a resetting event or contacts, a parameter whose value is not finite, a field the
+    /// integrator (`Method::VariationalMidpoint`), parameters of a run with a resetting event
+    /// or contacts, of a run built with `Simulation::constrained`, or a field alone (`.field`) in
+    /// a constrained run (a constrained run built by `Simulation::new` takes parameters given by
+    /// their closure), a parameter whose value is not finite, a field the
     /// compiled kernels do not read ([`field`](Self::field)), an impact at the start; and with
     /// [`SimulationError::Dynamics`] where Φ has no value: an event firing grazing,
     /// contacts closing at a Zeno accumulation.
@@ -304,9 +310,14 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             let Sensitivity {
                 sim: Simulation { sys, o },
                 motion_steps,
+                params,
                 ..
             } = self;
-            return (*sys).declared(Declared { o, motion_steps });
+            return (*sys).declared(Declared {
+                o,
+                motion_steps,
+                params,
+            });
         }
         let n2 = 2 * N;
         let cols = n2 + self.params.len();
@@ -330,7 +341,10 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
             kernel_slots(p.sys)
         };
         let fields = base.as_deref().map(|base| Fields { base, dirs: &dirs });
-        let (cols0, phi_unit) = start_columns(p.manifold, t0, &y0, cols)?;
+        let (mut cols0, phi_unit) = start_columns(p.manifold, t0, &y0, cols)?;
+        if let Some(start) = &self.param_start {
+            cols0[n2 * n2..].copy_from_slice(start);
+        }
         // Φ's columns of the coordinates absent from L stay unit columns until a jump mixes
         // them (then every column is integrated).
         let unit = core::cell::Cell::new(phi_unit);
@@ -452,11 +466,14 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                     .into(),
             );
         }
-        if (sim.o.manifold.is_some() || declares.constrained) && !self.params.is_empty() {
+        // A constrained run takes parameters as its system declares its constraints (the
+        // closure builds the system; its constrained view is taken at each neighbour); a view
+        // given directly (`Simulation::constrained`) has no closure that could build it.
+        if sim.o.manifold.is_some() && self.param_start.is_none() && !self.params.is_empty() {
             return Some(
-                "parameter sensitivities of a constrained run are not covered yet (Φ is): \
-                 write the system in independent coordinates to differentiate it with respect \
-                 to a parameter"
+                "parameter sensitivities of a run built with Simulation::constrained are taken \
+                 through Simulation::new, which runs the system on its constraints as declared: \
+                 Simulation::new(&sys, q0, q̇0).sensitivity().parameter(name, value, |p| ..)"
                     .into(),
             );
         }
@@ -661,13 +678,14 @@ fn at_samples(
 
 /// The run of a system as it declares itself with these options and its variations: a system
 /// with constraints runs on its constrained view (the one `Simulation::run` takes).
-struct Declared<'a, const N: usize> {
+struct Declared<'a, L, const N: usize> {
     o: super::super::simulation::Options<'a, N>,
     motion_steps: bool,
+    params: Vec<Parameter<L>>,
 }
 
 impl<'s, 'a: 's, L: Lagrangian<N> + 's, const N: usize> crate::lagrangian::Declared<'s, L, N>
-    for Declared<'a, N>
+    for Declared<'a, L, N>
 {
     type Output = Result<Sensitivities<N>, SimulationError>;
 
@@ -678,17 +696,72 @@ impl<'s, 'a: 's, L: Lagrangian<N> + 's, const N: usize> crate::lagrangian::Decla
         }
         .sensitivity();
         run.motion_steps = self.motion_steps;
+        run.params = self.params;
         run.run()
     }
 
+    /// The run on the constrained view; each parameter's ∂q̈/∂p from the views of the systems
+    /// its closure built (the constrained accelerations' fourth-order difference: the
+    /// constraints may read the parameter too), its column at the start from those views'
+    /// projections of the start (the start moves with a constraint that reads p).
     fn constrained<const K: usize>(self, sys: &'s L) -> Self::Output
     where
         L: crate::constraints::Holonomic<N, K>,
     {
-        let mut sim = Simulation::constrained(sys, self.o.q0, self.o.qdot0);
-        sim.o = sim.o.adopt(self.o);
+        use super::super::manifold::Manifold;
+        let Declared {
+            o,
+            motion_steps,
+            params,
+        } = self;
+        if let Some(p) = params.iter().find(|p| p.difference.is_none()) {
+            return Err(SimulationError::InvalidOptions {
+                message: format!(
+                    "parameter `{}` is a field alone (`.field`), whose derivative comes from the \
+                     unconstrained kernel; a constrained run differentiates the constrained \
+                     accelerations: give it with its closure, .parameter(\"{}\", value, |p| ..)",
+                    p.name, p.name
+                ),
+            });
+        }
+        let (t0, y0) = (o.t0, [o.q0, o.qdot0]);
+        let n2 = 2 * N;
+        let mut start = vec![0.0; n2 * params.len()];
+        let mut views = Vec::with_capacity(params.len());
+        for (k, par) in params.iter().enumerate() {
+            let Some((h, systems)) = &par.difference else {
+                continue;
+            };
+            let view = systems.each_ref().map(crate::constraints::Constrained::new);
+            let mut ends = [y0; 4];
+            for (v, y) in view.iter().zip(ends.iter_mut()) {
+                v.project(t0, y)
+                    .map_err(|fault| SimulationError::InvalidOptions {
+                        message: format!(
+                            "the start's projection onto the constraints with parameter `{}` moved \
+                         to a neighbouring value failed ({fault:?}): the derivative with \
+                         respect to it is not defined at this start",
+                            par.name
+                        ),
+                    })?;
+            }
+            for i in 0..n2 {
+                let at = |e: usize| ends[e][i / N][i % N];
+                start[n2 * k + i] = central(*h, [at(0), at(1), at(2), at(3)]);
+            }
+            views.push(Parameter {
+                name: par.name.clone(),
+                value: par.value,
+                slots: None,
+                difference: Some((*h, view)),
+            });
+        }
+        let mut sim = Simulation::constrained(sys, o.q0, o.qdot0);
+        sim.o = sim.o.adopt(o);
         let mut run = sim.sensitivity();
-        run.motion_steps = self.motion_steps;
+        run.motion_steps = motion_steps;
+        run.params = views;
+        run.param_start = Some(start);
         run.run()
     }
 

@@ -76,10 +76,18 @@
 //! (q, q̇) through the Legendre map's derivative at the nodes and the interpolant's between them.
 //!
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
-//! parameters or constraints (RATTLE) with the variational integrator, parameters of a
-//! constrained run or of
-//! one with resetting events (the reset and the event's function are closures the parameters
-//! do not reach), and contacts.
+//! parameters or constraints (RATTLE) with the variational integrator, parameters of a run
+//! with resetting events (the reset and the event's function are closures the parameters do
+//! not reach) or contacts, and of a run built on a view given directly
+//! (`Simulation::constrained`: no closure can build it).
+//!
+//! **Parameters of a constrained run** (the system's own constraints, `Simulation::new`): each
+//! parameter's closure builds the system at its neighbouring values, and ∂q̈/∂p is the
+//! fourth-order difference of those systems' *constrained* accelerations (the constraints may
+//! read the parameter: a rod's length); the parameter's column starts at ∂/∂p of the start's
+//! projection onto the constraints of the system at p (the start moves with such a
+//! constraint). A field given alone (`.field`) has no neighbouring systems and is refused
+//! there, naming the closure form.
 //!
 //! ```
 //! use lagrange_runtime::{Lagrangian, Scalar, Simulation};
