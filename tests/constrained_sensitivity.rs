@@ -274,3 +274,66 @@ fn parameters_of_a_constrained_run_against_the_pendulum_in_its_angle() {
     );
     assert!(err.to_string().contains(".parameter(\"g\""), "{err}");
 }
+
+/// Parameter sensitivities through velocity constraints: the Chaplygin sleigh (m = 2, i = 0.3,
+/// a = 0.4, from u₀ = 0.2, ω₀ = 1.5) differentiated by its mass m and its moment of inertia i
+/// (both in L; the blade's constraint and the start do not read them), against central
+/// differences (h = 1e-5: error ~1e-10) of its closed form's (u, ω)(t) in m and i, read from
+/// the columns as in the Φ test above: δu = cos φ δẋ + sin φ δẏ + (ẏ cos φ − ẋ sin φ) δφ,
+/// δω = δφ̇; tolerance 1e-7.
+#[test]
+fn parameters_through_velocity_constraints_match_the_sleighs_closed_form() {
+    use crate::one_run::{sleigh_closed_form, sleigh_start, Sleigh};
+    let s = Sleigh {
+        m: 2.0,
+        i: 0.3,
+        a: 0.4,
+    };
+    let (u0, w0) = (0.2, 1.5);
+    let (q0, v0) = sleigh_start(&s, u0, w0);
+    let run = Simulation::new(&s, q0, v0)
+        .method(TIGHT)
+        .until(4.0)
+        .sample_every(1.0)
+        .sensitivity()
+        .parameter("m", s.m, |m| Sleigh { m, ..s })
+        .parameter("i", s.i, |i| Sleigh { i, ..s })
+        .run()
+        .unwrap();
+    let h = 1e-5;
+    for (k, &t) in run.trajectory.t.iter().enumerate().skip(1) {
+        let (q, v, dp) = (run.trajectory.q[k], run.trajectory.qdot[k], &run.dparams[k]);
+        let (sn, cs) = q[2].sin_cos();
+        for (col, name, up, down) in [
+            (
+                0,
+                "m",
+                Sleigh { m: s.m + h, ..s },
+                Sleigh { m: s.m - h, ..s },
+            ),
+            (
+                1,
+                "i",
+                Sleigh { i: s.i + h, ..s },
+                Sleigh { i: s.i - h, ..s },
+            ),
+        ] {
+            let dy: [f64; 6] = core::array::from_fn(|r| dp[(r, col)]);
+            let du = cs * dy[3] + sn * dy[4] + (v[1] * cs - v[0] * sn) * dy[2];
+            let dw = dy[5];
+            let (a, b) = (
+                sleigh_closed_form(&up, u0, w0, t),
+                sleigh_closed_form(&down, u0, w0, t),
+            );
+            let (du_exact, dw_exact) = ((a.0 - b.0) / (2.0 * h), (a.1 - b.1) / (2.0 * h));
+            eprintln!(
+                "sleigh t = {t}: ∂u/∂{name} {du:.10} (closed form {du_exact:.10}), ∂ω/∂{name} \
+                 {dw:.10} ({dw_exact:.10})"
+            );
+            assert!(
+                (du - du_exact).abs() <= 1e-7 && (dw - dw_exact).abs() <= 1e-7,
+                "t = {t}, {name}: ({du}, {dw}) against ({du_exact}, {dw_exact})"
+            );
+        }
+    }
+}
