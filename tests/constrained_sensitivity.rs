@@ -337,3 +337,40 @@ fn parameters_through_velocity_constraints_match_the_sleighs_closed_form() {
         }
     }
 }
+
+/// How the period of a constrained mechanism depends on a length: the pendulum in x, y on its
+/// rod released from rest at θ₀ = 1 reaches its other turning point (ẋ = 0) at half its
+/// period, T/2 = 2 √(l/g) K(sin ½); released from the same angle on a longer rod (the start's
+/// projection keeps θ₀ and rest), dT/dl = T/(2l), dT/dg = −T/(2g). The event's time
+/// sensitivities dt*/dp through the constrained run against those to 1e-9 relative.
+#[test]
+fn the_half_period_of_a_constrained_pendulum_by_its_length() {
+    use lagrange_examples::pendulum_system::elliptic_ke;
+    let (m, g, l) = (0.7, 9.81, 1.3);
+    let xy = RigidPendulumXy { m, g, l };
+    let (q0, v0) = xy.state(1.0, 0.0);
+    let run = Simulation::new(&xy, q0, v0)
+        .method(TIGHT)
+        .until(2.0)
+        .event(Event::zero_crossing("turning point", |_t, _q, v: &[f64; 2]| v[0]).terminal())
+        .sensitivity()
+        .parameter("l", l, |p| RigidPendulumXy { m, g, l: p })
+        .parameter("g", g, |p| RigidPendulumXy { m, g: p, l })
+        .run()
+        .unwrap();
+    let (kk, _) = elliptic_ke(0.5_f64.sin());
+    let half = 2.0 * (l / g).sqrt() * kk;
+    let hit = run.events.last().unwrap();
+    let dt = hit.dt_dp.as_ref().unwrap();
+    eprintln!(
+        "half period {} (closed form {half}), dt/dl {} ({}), dt/dg {} ({})",
+        hit.t,
+        dt[0],
+        half / (2.0 * l),
+        dt[1],
+        -half / (2.0 * g)
+    );
+    assert!((hit.t - half).abs() < 1e-11 * half);
+    assert!((dt[0] - half / (2.0 * l)).abs() < 1e-9 * half / l);
+    assert!((dt[1] + half / (2.0 * g)).abs() < 1e-9 * half / g);
+}
