@@ -291,9 +291,9 @@ fn pendulum_period_and_its_sensitivities() {
     }
 }
 
-/// What the sensitivity runs do not cover is refused before any step, saying what to use:
-/// parameters with the variational integrator (its Φ and Radau5's are covered:
-/// tests/implicit_sensitivity.rs).
+/// What the sensitivity runs do not cover is refused before any step, saying what to use: a
+/// field alone with the variational integrator (its Φ, its parameters given by their closure
+/// and Radau5's are covered: tests/implicit_sensitivity.rs).
 #[test]
 fn unsupported_runs_are_refused() {
     let p = Pendulum { g: 1.0, l: 1.0 };
@@ -301,7 +301,7 @@ fn unsupported_runs_are_refused() {
         .method(Method::VariationalMidpoint { dt: 1e-2 })
         .until(1.0)
         .sensitivity()
-        .parameter("g", 1.0, |g| Pendulum { g, l: 1.0 })
+        .field("g")
         .run()
         .unwrap_err();
     assert!(

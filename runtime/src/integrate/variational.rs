@@ -50,15 +50,31 @@ pub(crate) struct VariationalMidpoint<'a, const N: usize> {
     q_old: [f64; N],
     v_old: [f64; N],
     /// A sensitivity run's variations, carried through the steps.
-    var: Option<Variations<'a>>,
+    var: Option<Variations<'a, N>>,
+}
+
+/// A parameter's difference step h and the systems at p + h, p − h, p + 2h, p − 2h.
+pub(crate) type Neighbours<'a, const N: usize> = (f64, [&'a dyn System<N>; 4]);
+
+/// ∂/∂p of x(sys) by the fourth-order central difference over a parameter's neighbours.
+fn by_parameter<const N: usize>(
+    (h, systems): &Neighbours<'_, N>,
+    x: impl Fn(&dyn System<N>) -> [f64; N],
+) -> [f64; N] {
+    let [a, b, c, d] = systems.map(x);
+    core::array::from_fn(|i| super::sensitivity::central(*h, [a[i], b[i], c[i], d[i]]))
 }
 
 /// The variations a sensitivity run carries through the variational method: the derivative of
 /// its discrete map (q_k, p_k) ↦ (q_{k+1}, p_{k+1}). Kept in (q, p) as Ψ = ∂(q, p)/∂y₀; Φ in
 /// (q, q̇) at a node from the Legendre map's derivative there, dq̇ = L_q̇q̇⁻¹ (dp − L_q̇q dq).
-struct Variations<'l> {
+struct Variations<'l, const N: usize> {
     /// Columns (2N rows each, column-major).
     cols: usize,
+    /// The parameters' neighbouring systems (at p + h, p − h, p + 2h, p − 2h) and h, one per
+    /// column after the first `cols − params.len()`: the discrete map's dependence on each by
+    /// fourth-order differences of ∂L/∂q, ∂L/∂q̇ and F.
+    params: Vec<Neighbours<'l, N>>,
     /// Ψ at the node.
     psi: DMatrix<f64>,
     /// Φ at the last node and at the one before it (None until asked).
@@ -95,6 +111,7 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
     pub(crate) fn with_variations(
         mut self,
         phi: Vec<f64>,
+        params: Vec<Neighbours<'a, N>>,
         log: &'a core::cell::RefCell<super::sensitivity::Log>,
     ) -> Self {
         let n = 2 * N;
@@ -102,18 +119,28 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
         let phi = DMatrix::from_column_slice(n, cols, &phi);
         let v = self.v.unwrap_or(self.v_guess);
         let jet = self.sys.hessian_jet(&self.q, &v, self.t);
-        // dp = L_q̇q dq + L_q̇q̇ dq̇ at the start.
+        // dp = L_q̇q dq + L_q̇q̇ dq̇ at the start, + ∂L_q̇/∂p for a parameter's column (the start
+        // is given in (q, q̇): its momentum moves with p).
         let (hqv, hvv) = (jet.hess_qqdot(), jet.hess_qdotqdot());
         let mut psi = phi.clone();
+        let first_param = cols - params.len();
         for c in 0..cols {
+            let dp = match params.get(c.wrapping_sub(first_param)) {
+                Some(nb) if c >= first_param => {
+                    by_parameter(nb, |s| s.momenta(&self.q, &v, self.t))
+                }
+                _ => [0.0; N],
+            };
             for i in 0..N {
                 psi[(N + i, c)] = (0..N)
                     .map(|k| hqv[k][i] * phi[(k, c)] + hvv[i][k] * phi[(N + k, c)])
-                    .sum();
+                    .sum::<f64>()
+                    + dp[i];
             }
         }
         self.var = Some(Variations {
             cols,
+            params,
             psi,
             phi: Some(phi.clone()),
             phi_old: phi,
@@ -145,13 +172,38 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
         let b = DMatrix::from_fn(N, N, |i, k| hqv[i][k] + forced.d_qdot[i][k]);
         let dq0 = var.psi.rows(0, N).into_owned();
         let dp0 = var.psi.rows(N, N).into_owned();
-        let rhs = &dp0 * h - &k0 * &dq0;
+        let mut rhs = &dp0 * h - &k0 * &dq0;
+        // A parameter's column: R and p_{k+1} − p_k = h (L_q + F) at the midpoint move with it,
+        // K₁ dq₁ = h dp₀ − K₀ dq₀ + h ∂R/∂p and dp₁ += h ∂(L_q + F)/∂p.
+        let first_param = var.cols - var.params.len();
+        let mut dg = Vec::with_capacity(var.params.len());
+        if !var.params.is_empty() {
+            let (tm, qm): (f64, [f64; N]) = (
+                self.t + 0.5 * h,
+                core::array::from_fn(|i| self.q[i] + 0.5 * h * m.v[i]),
+            );
+            for (k, nb) in var.params.iter().enumerate() {
+                let d_lq = by_parameter(nb, |s| s.hessian_jet(&qm, &m.v, tm).grad_q());
+                let d_lv = by_parameter(nb, |s| s.hessian_jet(&qm, &m.v, tm).grad_qdot());
+                let d_f = by_parameter(nb, |s| s.applied_jacobian(&qm, &m.v, tm).value);
+                for i in 0..N {
+                    let d_r = 0.5 * h * (d_lq[i] + d_f[i]) - d_lv[i];
+                    rhs[(i, first_param + k)] += h * d_r;
+                }
+                dg.push(core::array::from_fn::<f64, N, _>(|i| d_lq[i] + d_f[i]));
+            }
+        }
         let dq1 = k1.lu().solve(&rhs).ok_or(Fault::Newton {
             iterations: 0,
             residual: f64::NAN,
             reason: SINGULAR_STEP,
         })?;
-        let dp1 = &dp0 + (&a * (&dq0 + &dq1)) * (0.5 * h) + &b * (&dq1 - &dq0);
+        let mut dp1 = &dp0 + (&a * (&dq0 + &dq1)) * (0.5 * h) + &b * (&dq1 - &dq0);
+        for (k, g) in dg.iter().enumerate() {
+            for i in 0..N {
+                dp1[(i, first_param + k)] += h * g[i];
+            }
+        }
         var.psi.rows_mut(0, N).copy_from(&dq1);
         var.psi.rows_mut(N, N).copy_from(&dp1);
         if let Some(phi) = var.phi.take() {
@@ -177,7 +229,15 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
         let m = DMatrix::from_fn(N, N, |i, k| hvv[i][k]);
         let lvq = DMatrix::from_fn(N, N, |i, k| hqv[k][i]);
         let dq = var.psi.rows(0, N).into_owned();
-        let rhs = var.psi.rows(N, N) - &lvq * &dq;
+        let mut rhs = var.psi.rows(N, N) - &lvq * &dq;
+        // dq̇ = L_q̇q̇⁻¹ (dp − L_q̇q dq − ∂L_q̇/∂p) for a parameter's column.
+        let first_param = var.cols - var.params.len();
+        for (k, nb) in var.params.iter().enumerate() {
+            let d = by_parameter(nb, |s| s.momenta(&q, &v, self.t));
+            for i in 0..N {
+                rhs[(i, first_param + k)] -= d[i];
+            }
+        }
         let dv = m.lu().solve(&rhs).ok_or(Fault::NonFinite)?;
         let mut phi = var.psi.clone();
         phi.rows_mut(N, N).copy_from(&dv);

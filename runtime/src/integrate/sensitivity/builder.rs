@@ -246,8 +246,8 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// Runs the motion with its variational equations.
     ///
     /// Fails like [`Simulation::run`], and with [`SimulationError::InvalidOptions`] (before any
-    /// step) for what it does not cover yet: parameters or constraints with the variational
-    /// integrator (`Method::VariationalMidpoint`), parameters of a run with a resetting event
+    /// step) for what it does not cover yet: constraints (RATTLE) or a field alone with the
+    /// variational integrator (`Method::VariationalMidpoint`), parameters of a run with a resetting event
     /// or contacts, of a run built with `Simulation::constrained`, or a field alone (`.field`) in
     /// a constrained run (a constrained run built by `Simulation::new` takes parameters given by
     /// their closure), a parameter whose value is not finite, a field the
@@ -281,23 +281,26 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
     /// in 256 MiB with their matrices.
     ///
     /// ```
-    /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, SimulationError, Method};
-    /// # struct Free;
-    /// # impl Lagrangian<1> for Free {
-    /// #     const COORDINATES: [&'static str; 1] = ["x"];
-    /// #     const CYCLIC: [bool; 1] = [true];
-    /// #     const AUTONOMOUS: bool = true;
-    /// #     fn lagrangian<S: Scalar>(&self, _q: &[S; 1], v: &[S; 1], _t: S) -> S { v[0] * v[0] * 0.5 }
-    /// # }
-    /// let err = Simulation::new(&Free, [0.0], [1.0])
-    ///     .method(Method::VariationalMidpoint { dt: 1e-3 })
+    /// use lagrange_runtime::{Lagrangian, Scalar, Simulation, Method};
+    /// /// A constant force k: x(t) = x₀ + v₀ t + k t²/2, which the variational midpoint method
+    /// /// integrates exactly: ∂x(1)/∂k = 1/2.
+    /// struct Push { k: f64 }
+    /// impl Lagrangian<1> for Push {
+    ///     const COORDINATES: [&'static str; 1] = ["x"];
+    ///     const CYCLIC: [bool; 1] = [false];
+    ///     const AUTONOMOUS: bool = true;
+    ///     fn lagrangian<S: Scalar>(&self, q: &[S; 1], v: &[S; 1], _t: S) -> S {
+    ///         v[0] * v[0] * 0.5 + q[0] * self.k
+    ///     }
+    /// }
+    /// let run = Simulation::new(&Push { k: 2.0 }, [0.0], [1.0])
+    ///     .method(Method::VariationalMidpoint { dt: 1e-2 })
     ///     .until(1.0)
     ///     .sensitivity()
-    ///     .parameter("unused", 1.0, |_| Free)
+    ///     .parameter("k", 2.0, |k| Push { k })
     ///     .run()
-    ///     .unwrap_err();
-    /// assert!(matches!(err, SimulationError::InvalidOptions { .. }));
-    /// assert!(err.to_string().contains("Method::Dop853"));
+    ///     .unwrap();
+    /// assert!((run.dparams.last().unwrap()[(0, 0)] - 0.5).abs() < 1e-12);
     /// ```
     pub fn run(mut self) -> Result<Sensitivities<N>, SimulationError> {
         self.refusal().map_or(Ok(()), |message| {
@@ -416,7 +419,12 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                 let cols = start_cols(t, &y)?;
                 let grid = FixedGrid::new(t, dt, until);
                 let s = VariationalMidpoint::new(p.sys, grid, y[0], y[1]);
-                Ok(s.with_variations(cols, &log))
+                let neighbours = params
+                    .iter()
+                    .filter_map(|par| par.difference.as_ref())
+                    .map(|(h, systems)| (*h, systems.each_ref().map(|s| s as &dyn System<N>)))
+                    .collect();
+                Ok(s.with_variations(cols, neighbours, &log))
             }),
             // Refused above.
             _ => {
@@ -497,13 +505,14 @@ impl<'a, L: Lagrangian<N>, const N: usize> Sensitivity<'a, L, N> {
                         .into(),
                 );
             }
-            if !self.params.is_empty() {
-                return Some(
-                    "parameter sensitivities with Method::VariationalMidpoint are not covered \
-                     yet (Φ is, the derivative of its discrete map): use Method::Dop853 \
-                     {{ rtol, atol }} or Method::Radau5 for the parameters"
-                        .into(),
-                );
+            if let Some(p) = self.params.iter().find(|p| p.difference.is_none()) {
+                return Some(format!(
+                    "parameter `{}` is a field alone (`.field`): Method::VariationalMidpoint \
+                     differentiates its discrete map through the systems a parameter's closure \
+                     builds, so give it with its closure, .parameter(\"{}\", value, |p| ..) \
+                     (or use Method::Dop853 {{ rtol, atol }}, which takes the field exactly)",
+                    p.name, p.name
+                ));
             }
         }
         if let Some(p) = self.params.iter().find(|p| !p.value.is_finite()) {

@@ -74,9 +74,13 @@
 //! Euler–Lagrange equation R(q_k, q_{k+1}, p_k) = 0 (the Hessian jet and the applied forces'
 //! Jacobians at the midpoint, which its Newton solve has already), carried in (q, p) and read in
 //! (q, q̇) through the Legendre map's derivative at the nodes and the interpolant's between them.
+//! A parameter's column: R and p_{k+1} − p_k = h (∂L/∂q + F) at the midpoint move with p (their
+//! ∂/∂p by fourth-order differences over the systems the parameter's closure builds), so does
+//! the start's momentum (the start is given in (q, q̇)), and q̇ at a node through the Legendre
+//! map's ∂/∂p.
 //!
 //! **Not covered (refused with [`SimulationError::InvalidOptions`](crate::SimulationError)):**
-//! parameters or constraints (RATTLE) with the variational integrator, parameters of a run
+//! constraints (RATTLE) or a field alone (`.field`) with the variational integrator, parameters of a run
 //! with resetting events (the reset and the event's function are closures the parameters do
 //! not reach) or contacts, and of a run built on a view given directly
 //! (`Simulation::constrained`: no closure can build it).
