@@ -113,6 +113,34 @@ fn phi_of_a_constrained_run_is_the_derivative_of_the_projected_flow() {
     assert_eq!(explicit.final_phi(), phi);
 }
 
+/// A column dy = ∂(x, y, φ, ẋ, ẏ, φ̇) of the sleigh at (q, q̇) and t read as (δu, δω) —
+/// δu = cos φ δẋ + sin φ δẏ + (ẏ cos φ − ẋ sin φ) δφ, δω = δφ̇ — against the central
+/// difference (step h) of the closed form's (u, ω) at the two ends `exact`, to 1e-7.
+fn assert_sleigh_column(
+    t: f64,
+    name: &str,
+    (q, v): (&[f64; 3], &[f64; 3]),
+    dy: [f64; 6],
+    exact: [(f64, f64); 2],
+    h: f64,
+) {
+    let (sn, cs) = q[2].sin_cos();
+    let du = cs * dy[3] + sn * dy[4] + (v[1] * cs - v[0] * sn) * dy[2];
+    let dw = dy[5];
+    let (du_exact, dw_exact) = (
+        (exact[0].0 - exact[1].0) / (2.0 * h),
+        (exact[0].1 - exact[1].1) / (2.0 * h),
+    );
+    eprintln!(
+        "sleigh t = {t}: ∂u/∂{name} {du:.10} (closed form {du_exact:.10}), ∂ω/∂{name} \
+         {dw:.10} ({dw_exact:.10})"
+    );
+    assert!(
+        (du - du_exact).abs() <= 1e-7 && (dw - dw_exact).abs() <= 1e-7,
+        "t = {t}, {name}: ({du}, {dw}) against ({du_exact}, {dw_exact})"
+    );
+}
+
 /// Velocity constraints: the Chaplygin sleigh of tests/one_run.rs. Its forward speed u and
 /// turning rate ω at t follow in closed form from u₀, ω₀ (derived there); their derivatives by
 /// u₀ and ω₀ (central differences of the closed form, h = 1e-5: error ~1e-10) against Φ(t)
@@ -139,7 +167,6 @@ fn phi_through_velocity_constraints_matches_the_sleighs_closed_form() {
     let h = 1e-5;
     for (k, &t) in run.trajectory.t.iter().enumerate().skip(1) {
         let (q, v, phi) = (run.trajectory.q[k], run.trajectory.qdot[k], &run.phi[k]);
-        let (sn, cs) = q[2].sin_cos();
         for (name, d0, exact) in [
             (
                 "u₀",
@@ -159,20 +186,7 @@ fn phi_through_velocity_constraints_matches_the_sleighs_closed_form() {
             ),
         ] {
             let dy: [f64; 6] = core::array::from_fn(|i| (0..6).map(|j| phi[(i, j)] * d0[j]).sum());
-            let du = cs * dy[3] + sn * dy[4] + (v[1] * cs - v[0] * sn) * dy[2];
-            let dw = dy[5];
-            let (du_exact, dw_exact) = (
-                (exact[0].0 - exact[1].0) / (2.0 * h),
-                (exact[0].1 - exact[1].1) / (2.0 * h),
-            );
-            eprintln!(
-                "sleigh t = {t}: ∂u/∂{name} {du:.10} (closed form {du_exact:.10}), ∂ω/∂{name} \
-                 {dw:.10} ({dw_exact:.10})"
-            );
-            assert!(
-                (du - du_exact).abs() <= 1e-7 && (dw - dw_exact).abs() <= 1e-7,
-                "t = {t}, {name}: ({du}, {dw}) against ({du_exact}, {dw_exact})"
-            );
+            assert_sleigh_column(t, name, (&q, &v), dy, exact, h);
         }
     }
 }
@@ -303,7 +317,6 @@ fn parameters_through_velocity_constraints_match_the_sleighs_closed_form() {
     let h = 1e-5;
     for (k, &t) in run.trajectory.t.iter().enumerate().skip(1) {
         let (q, v, dp) = (run.trajectory.q[k], run.trajectory.qdot[k], &run.dparams[k]);
-        let (sn, cs) = q[2].sin_cos();
         for (col, name, up, down) in [
             (
                 0,
@@ -319,21 +332,11 @@ fn parameters_through_velocity_constraints_match_the_sleighs_closed_form() {
             ),
         ] {
             let dy: [f64; 6] = core::array::from_fn(|r| dp[(r, col)]);
-            let du = cs * dy[3] + sn * dy[4] + (v[1] * cs - v[0] * sn) * dy[2];
-            let dw = dy[5];
-            let (a, b) = (
+            let exact = [
                 sleigh_closed_form(&up, u0, w0, t),
                 sleigh_closed_form(&down, u0, w0, t),
-            );
-            let (du_exact, dw_exact) = ((a.0 - b.0) / (2.0 * h), (a.1 - b.1) / (2.0 * h));
-            eprintln!(
-                "sleigh t = {t}: ∂u/∂{name} {du:.10} (closed form {du_exact:.10}), ∂ω/∂{name} \
-                 {dw:.10} ({dw_exact:.10})"
-            );
-            assert!(
-                (du - du_exact).abs() <= 1e-7 && (dw - dw_exact).abs() <= 1e-7,
-                "t = {t}, {name}: ({du}, {dw}) against ({du_exact}, {dw_exact})"
-            );
+            ];
+            assert_sleigh_column(t, name, (&q, &v), dy, exact, h);
         }
     }
 }
