@@ -56,13 +56,18 @@ pub(crate) struct VariationalMidpoint<'a, const N: usize> {
 /// A parameter's difference step h and the systems at p + h, p − h, p + 2h, p − 2h.
 pub(crate) type Neighbours<'a, const N: usize> = (f64, [&'a dyn System<N>; 4]);
 
-/// ∂/∂p of x(sys) by the fourth-order central difference over a parameter's neighbours.
-fn by_parameter<const N: usize>(
+/// ∂/∂p of the rows x(sys) by the fourth-order central difference over a parameter's
+/// neighbours (each neighbour evaluated once for all its rows).
+fn by_parameter<const N: usize, const M: usize>(
     (h, systems): &Neighbours<'_, N>,
-    x: impl Fn(&dyn System<N>) -> [f64; N],
-) -> [f64; N] {
+    x: impl Fn(&dyn System<N>) -> [[f64; N]; M],
+) -> [[f64; N]; M] {
     let [a, b, c, d] = systems.map(x);
-    core::array::from_fn(|i| super::sensitivity::central(*h, [a[i], b[i], c[i], d[i]]))
+    core::array::from_fn(|r| {
+        core::array::from_fn(|i| {
+            super::sensitivity::central(*h, [a[r][i], b[r][i], c[r][i], d[r][i]])
+        })
+    })
 }
 
 /// The variations a sensitivity run carries through the variational method: the derivative of
@@ -125,11 +130,9 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
         let mut psi = phi.clone();
         let first_param = cols - params.len();
         for c in 0..cols {
-            let dp = match params.get(c.wrapping_sub(first_param)) {
-                Some(nb) if c >= first_param => {
-                    by_parameter(nb, |s| s.momenta(&self.q, &v, self.t))
-                }
-                _ => [0.0; N],
+            let dp = match c.checked_sub(first_param).and_then(|k| params.get(k)) {
+                Some(nb) => by_parameter(nb, |s| [s.momenta(&self.q, &v, self.t)])[0],
+                None => [0.0; N],
             };
             for i in 0..N {
                 psi[(N + i, c)] = (0..N)
@@ -183,9 +186,11 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
                 core::array::from_fn(|i| self.q[i] + 0.5 * h * m.v[i]),
             );
             for (k, nb) in var.params.iter().enumerate() {
-                let d_lq = by_parameter(nb, |s| s.hessian_jet(&qm, &m.v, tm).grad_q());
-                let d_lv = by_parameter(nb, |s| s.hessian_jet(&qm, &m.v, tm).grad_qdot());
-                let d_f = by_parameter(nb, |s| s.applied_jacobian(&qm, &m.v, tm).value);
+                let [d_lq, d_lv, d_f] = by_parameter(nb, |s| {
+                    let jet = s.hessian_jet(&qm, &m.v, tm);
+                    let f = s.applied_jacobian(&qm, &m.v, tm).value;
+                    [jet.grad_q(), jet.grad_qdot(), f]
+                });
                 for i in 0..N {
                     let d_r = 0.5 * h * (d_lq[i] + d_f[i]) - d_lv[i];
                     rhs[(i, first_param + k)] += h * d_r;
@@ -233,7 +238,7 @@ impl<'a, const N: usize> VariationalMidpoint<'a, N> {
         // dq̇ = L_q̇q̇⁻¹ (dp − L_q̇q dq − ∂L_q̇/∂p) for a parameter's column.
         let first_param = var.cols - var.params.len();
         for (k, nb) in var.params.iter().enumerate() {
-            let d = by_parameter(nb, |s| s.momenta(&q, &v, self.t));
+            let [d] = by_parameter(nb, |s| [s.momenta(&q, &v, self.t)]);
             for i in 0..N {
                 rhs[(i, first_param + k)] -= d[i];
             }

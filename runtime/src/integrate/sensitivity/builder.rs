@@ -723,23 +723,21 @@ impl<'s, 'a: 's, L: Lagrangian<N> + 's, const N: usize> crate::lagrangian::Decla
             motion_steps,
             params,
         } = self;
-        if let Some(p) = params.iter().find(|p| p.difference.is_none()) {
-            return Err(SimulationError::InvalidOptions {
-                message: format!(
-                    "parameter `{}` is a field alone (`.field`), whose derivative comes from the \
-                     unconstrained kernel; a constrained run differentiates the constrained \
-                     accelerations: give it with its closure, .parameter(\"{}\", value, |p| ..)",
-                    p.name, p.name
-                ),
-            });
-        }
         let (t0, y0) = (o.t0, [o.q0, o.qdot0]);
         let n2 = 2 * N;
         let mut start = vec![0.0; n2 * params.len()];
         let mut views = Vec::with_capacity(params.len());
         for (k, par) in params.iter().enumerate() {
             let Some((h, systems)) = &par.difference else {
-                continue;
+                return Err(SimulationError::InvalidOptions {
+                    message: format!(
+                        "parameter `{}` is a field alone (`.field`), whose derivative comes from \
+                         the unconstrained kernel; a constrained run differentiates the \
+                         constrained accelerations: give it with its closure, \
+                         .parameter(\"{}\", value, |p| ..)",
+                        par.name, par.name
+                    ),
+                });
             };
             let view = systems.each_ref().map(crate::constraints::Constrained::new);
             let mut ends = [y0; 4];
